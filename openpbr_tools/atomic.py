@@ -1,0 +1,32 @@
+"""Atomic output: write to a temporary file beside the target, then rename over it.
+
+A reader of the target sees either the old file or the complete new one, never a partial write,
+and a failure leaves no partial file behind.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+
+
+def write_bytes(path: str | os.PathLike, data: bytes) -> None:
+    target = os.fspath(path)
+    folder = os.path.dirname(os.path.abspath(target))
+    handle, temporary = tempfile.mkstemp(prefix=".openpbr-", suffix=".tmp", dir=folder)
+    try:
+        with os.fdopen(handle, "wb") as stream:
+            stream.write(data)
+            stream.flush()
+            os.fsync(stream.fileno())
+        os.replace(temporary, target)
+    except BaseException:
+        try:
+            os.unlink(temporary)
+        except OSError:
+            pass
+        raise
+
+
+def write_text(path: str | os.PathLike, text: str) -> None:
+    write_bytes(path, text.encode("utf-8"))

@@ -1,0 +1,133 @@
+"""Colour-space names and conversions.
+
+Names are data (``schemas/colorspaces.json``); conversions go through colour-science, which is
+imported only when a conversion is asked for (it costs ~0.5 s to import).
+"""
+
+from __future__ import annotations
+
+import difflib
+from functools import lru_cache
+
+from .resources import load_json
+
+DEFAULT_MATERIALX = "lin_rec709"
+
+
+def _data() -> dict:
+    return load_json("colorspaces.json")
+
+
+@lru_cache(maxsize=None)
+def materialx_names() -> frozenset[str]:
+    return frozenset(_data()["materialx"])
+
+
+@lru_cache(maxsize=None)
+def usd_names() -> frozenset[str]:
+    return frozenset(_data()["usd"]["names"]) | frozenset(_data()["usd"]["aliases"])
+
+
+def usd_uvtexture_names() -> tuple[str, ...]:
+    return tuple(_data()["usd_uvtexture_source"])
+
+
+def is_data(name: str | None, scheme: str = "materialx") -> bool:
+    """True for the names that mean 'no colour management' (raw numbers)."""
+    if name is None:
+        return False
+    if scheme == "usd":
+        return name in _data()["usd"]["data"]
+    if scheme == "usd_uvtexture":
+        return name == "raw"
+    return name == "none"
+
+
+def suggest(name: str, scheme: str = "materialx") -> str | None:
+    """The known name ``name`` most likely means: a case-insensitive match, a vendor/OCIO alias,
+    or the closest spelling. ``None`` when nothing is close."""
+    known = sorted(materialx_names() if scheme == "materialx" else usd_names())
+    lowered = {k.lower(): k for k in known}
+    if name.lower() in lowered:
+        return lowered[name.lower()]
+    aliases = _data()["vendor_aliases"]
+    if scheme == "materialx" and name in aliases:
+        return aliases[name]
+    if scheme == "usd":
+        for alias, target in aliases.items():
+            if alias.lower() == name.lower():
+                spec = _data()["materialx"].get(target)
+                if spec and spec["usd"]:
+                    return spec["usd"]
+    close = difflib.get_close_matches(name.lower(), list(lowered), n=1, cutoff=0.75)
+    return lowered[close[0]] if close else None
+
+
+def usd_equivalent(materialx_name: str) -> str | None:
+    spec = _data()["materialx"].get(materialx_name)
+    return spec["usd"] if spec else None
+
+
+def materialx_equivalent(usd_name: str) -> str | None:
+    usd_name = _data()["usd"]["aliases"].get(usd_name, usd_name)
+    for name, spec in _data()["materialx"].items():
+        if spec["usd"] == usd_name:
+            return name
+    return None
+
+
+def to_lin_rec709(rgb, colorspace: str | None):
+    """Convert colour values (array ``(..., 3)``) from a MaterialX colour space to linear Rec.709.
+
+    Encoded spaces are decoded with their transfer function first (sRGB piecewise curve for
+    ``srgb_texture``, a pure power for the ``g22_``/``g18_`` names), then the primaries are adapted
+    with colour-science's ``RGB_to_RGB`` (CAT02 where white points differ). ``None`` and
+    ``lin_rec709`` return the values unchanged; ``none`` (data) is returned unchanged too.
+    """
+    import numpy as np
+
+    values = np.asarray(rgb, dtype=np.float64)
+    name = colorspace or DEFAULT_MATERIALX
+    spec = _data()["materialx"].get(name)
+    if spec is None:
+        raise KeyError(f"unknown MaterialX colour space {name!r}")
+    if spec["transfer"] == "data" or name == DEFAULT_MATERIALX:
+        return values
+    import colour
+
+    source = colour.RGB_COLOURSPACES[spec["space"]]
+    transfer = spec["transfer"]
+    if transfer == "space":
+        values = source.cctf_decoding(values)
+    elif isinstance(transfer, dict):
+        values = np.sign(values) * np.abs(values) ** transfer["gamma"]
+    target = colour.RGB_COLOURSPACES["sRGB"]
+    if spec["space"] == "sRGB":
+        return np.asarray(values, dtype=np.float64)
+    return colour.RGB_to_RGB(values, source, target, chromatic_adaptation_transform="CAT02")
+
+
+def from_lin_rec709(rgb, colorspace: str | None):
+    """Inverse of :func:`to_lin_rec709`."""
+    import numpy as np
+
+    values = np.asarray(rgb, dtype=np.float64)
+    name = colorspace or DEFAULT_MATERIALX
+    spec = _data()["materialx"].get(name)
+    if spec is None:
+        raise KeyError(f"unknown MaterialX colour space {name!r}")
+    if spec["transfer"] == "data" or name == DEFAULT_MATERIALX:
+        return values
+    import colour
+
+    target = colour.RGB_COLOURSPACES[spec["space"]]
+    if spec["space"] != "sRGB":
+        values = colour.RGB_to_RGB(
+            values, colour.RGB_COLOURSPACES["sRGB"], target, chromatic_adaptation_transform="CAT02"
+        )
+    transfer = spec["transfer"]
+    if transfer == "space":
+        values = target.cctf_encoding(values)
+    elif isinstance(transfer, dict):
+        values = np.sign(values) * np.abs(values) ** (1.0 / transfer["gamma"])
+    return np.asarray(values, dtype=np.float64)

@@ -1,0 +1,62 @@
+"""What a file holds, for ``openpbr info``: materials, models, versions and textures."""
+
+from __future__ import annotations
+
+from .model import Asset, Connection, Texture
+
+
+def describe(asset: Asset) -> dict:
+    return {
+        "file": asset.path,
+        "format": asset.format,
+        "format_version": asset.format_version,
+        "colorspace": asset.colorspace,
+        "meters_per_unit": asset.meters_per_unit,
+        "materials": [
+            {
+                "name": m.name,
+                "material": m.material_name,
+                "model": m.model,
+                "version": m.version,
+                "version_basis": m.version_basis,
+                "location": str(m.location),
+                "inputs": len(m.inputs),
+                "textures": [
+                    {"input": name, "file": t.file, "colorspace": t.colorspace, "channels": list(t.channels) if t.channels else None,
+                     "normal_map": t.normal_map is not None, "udim": t.is_udim}
+                    for name, t in m.textures()
+                ],
+                "procedural_inputs": sorted(n for n, i in m.inputs.items() if isinstance(i.value, Connection)),
+            }
+            for m in asset.materials
+        ],
+    }
+
+
+def describe_text(entries: list[dict]) -> str:
+    lines = []
+    for entry in entries:
+        header = f"{entry['file']} ({entry['format']}"
+        if entry["format_version"]:
+            header += f" {entry['format_version']}"
+        if entry["colorspace"]:
+            header += f", colorspace {entry['colorspace']}"
+        lines.append(header + ")")
+        if not entry["materials"]:
+            lines.append("  no materials")
+        for m in entry["materials"]:
+            bound = f" -> material {m['material']}" if m["material"] else " (not bound to a material)"
+            lines.append(f"  {m['name']}{bound}: {m['model']} {m['version'] or '?'} ({m['version_basis']}), {m['inputs']} inputs")
+            for t in m["textures"]:
+                extra = []
+                if t["channels"]:
+                    extra.append("channel " + ",".join(str(c) for c in t["channels"]))
+                if t["normal_map"]:
+                    extra.append("normal map")
+                if t["udim"]:
+                    extra.append("UDIM")
+                suffix = f" [{'; '.join(extra)}]" if extra else ""
+                lines.append(f"    {t['input']}: {t['file']} ({t['colorspace'] or 'no colour space'}){suffix}")
+            for name in m["procedural_inputs"]:
+                lines.append(f"    {name}: procedural (not interpreted)")
+    return "\n".join(lines) + "\n"

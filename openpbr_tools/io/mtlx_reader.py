@@ -1,0 +1,374 @@
+"""Read MaterialX documents into :class:`~openpbr_tools.model.Asset` objects.
+
+Parsing is MaterialX's (``MaterialX.readFromXmlString``, XInclude disabled so a document can never
+make the reader open another file); line numbers and duplicate children come from the expat
+pre-pass in :mod:`.xmlscan`. Every ``open_pbr_surface``, ``standard_surface``, ``gltf_pbr`` and
+``UsdPreviewSurface`` node is read wherever it sits (top level or inside a node graph), whether or
+not a ``surfacematerial`` or a look reaches it.
+
+Each shader input becomes an :class:`~openpbr_tools.model.Input` whose value is
+
+* a :class:`Constant` parsed strictly from the value string (see :mod:`openpbr_tools.values`);
+* a :class:`Texture` when the upstream chain is an ``image``/``tiledimage`` node, optionally through
+  ``extract``, ``convert``, ``normalmap`` and, on the texture coordinates, ``place2d`` and
+  ``texcoord``; followed through ``nodegraph``/``output`` and ``interfacename`` indirections;
+* a :class:`Connection` otherwise: a procedural graph (kept and reported) or a reference that does
+  not resolve (``dangling``).
+"""
+
+from __future__ import annotations
+
+import os
+from functools import lru_cache
+
+from .. import versioning
+from ..model import Asset, Connection, Constant, Input, Location, Material, Texture, UVTransform
+from ..values import ValueSyntaxError, parse_value
+from . import ReadError
+from .xmlscan import XmlSyntaxError, scan
+
+SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
+IMAGE_CATEGORIES = ("image", "tiledimage", "gltf_image", "gltf_colorimage", "UsdUVTexture")
+PASS_THROUGH = ("convert", "dot")
+MATERIAL_CATEGORIES = ("surfacematerial",)
+
+
+@lru_cache(maxsize=1)
+def standard_library():
+    """MaterialX's standard data libraries, loaded once per process (~30 ms)."""
+    import MaterialX as mx
+
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    return library
+
+
+@lru_cache(maxsize=1)
+def known_categories() -> frozenset[str]:
+    return frozenset(nd.getNodeString() for nd in standard_library().getNodeDefs())
+
+
+def read_mtlx(path: str, data: bytes | None = None) -> Asset:
+    """Read the MaterialX document at ``path`` (or ``data`` when given, with ``path`` as its name)."""
+    import MaterialX as mx
+
+    if data is None:
+        try:
+            with open(path, "rb") as handle:
+                data = handle.read()
+        except OSError as error:
+            raise ReadError("unreadable", f"cannot read file: {error.strerror or error}", Location(path)) from None
+    try:
+        text = data.decode("utf-8-sig")
+    except UnicodeDecodeError as error:
+        raise ReadError(
+            "unreadable", f"not UTF-8 text (MaterialX documents are UTF-8): {error.reason} at byte {error.start}",
+            Location(path),
+        ) from None
+    try:
+        structure = scan(data)
+    except XmlSyntaxError as error:
+        raise ReadError(
+            "not_materialx", f"not well-formed XML: {error} (line {error.line}, column {error.column})",
+            Location(path, line=error.line),
+        ) from None
+    if structure.root_tag != "materialx":
+        raise ReadError(
+            "not_materialx",
+            f"root element is <{structure.root_tag}>, not <materialx>",
+            Location(path, line=1),
+        )
+    document = mx.createDocument()
+    options = mx.XmlReadOptions()
+    options.readXIncludeFunction = None
+    try:
+        mx.readFromXmlString(document, text, mx.FileSearchPath(), options)
+    except Exception as error:  # MaterialX raises its own exception types for parse failures
+        raise ReadError("not_materialx", f"MaterialX cannot read the document: {error}", Location(path)) from None
+
+    asset = Asset(path=path, format="mtlx", line_of=structure.lines)
+    asset.format_version = structure.root_attributes.get("version")
+    asset.colorspace = structure.root_attributes.get("colorspace") or None
+    asset.colorspace_location = Location(path, line=1, path="", input=None)
+    _Reader(asset, document, structure).run()
+    return asset
+
+
+class _Reader:
+    def __init__(self, asset: Asset, document, structure) -> None:
+        self.asset = asset
+        self.document = document
+        self.structure = structure
+        self.path = asset.path
+
+    def location(self, element, input_name: str | None = None) -> Location:
+        name_path = element.getNamePath()
+        return Location(self.path, self.asset.line_of.get(name_path), name_path, input_name)
+
+    def run(self) -> None:
+        import MaterialX as mx
+
+        self.document.setDataLibrary(standard_library())
+        valid, message = self.document.validate()
+        if not valid:
+            self.asset.extra["materialx_validate"] = message.strip()
+        shaders: dict[str, Material] = {}
+        for element in self.document.traverseTree():
+            if not element.isA(mx.Node):
+                continue
+            category = element.getCategory()
+            if category in SHADER_CATEGORIES:
+                material = self.read_shader(element)
+                shaders[element.getNamePath()] = material
+                self.asset.materials.append(material)
+            elif category not in MATERIAL_CATEGORIES and category not in known_categories():
+                if not self.document.getMatchingNodeDefs(category):
+                    self.asset.observe(
+                        "unknown_category", self.location(element), category=category, type=element.getType()
+                    )
+        for duplicate_path, entries in self.structure.duplicates.items():
+            parent, _, child = duplicate_path.rpartition("/")
+            for line, attributes in entries:
+                self.asset.observe(
+                    "duplicate_element", Location(self.path, line, parent or child, child if parent else None),
+                    first_line=self.asset.line_of.get(duplicate_path), attributes=attributes, name=child,
+                )
+        for material_node in self.document.getMaterialNodes():
+            self.read_material(material_node, shaders)
+        for look in self.document.getLooks():
+            for assign in look.getMaterialAssigns():
+                target = assign.getMaterial()
+                if target and self.document.getChild(target) is None:
+                    self.asset.observe(
+                        "dangling_reference", self.location(assign), attribute="material", target=target
+                    )
+        for href_line, href in self.structure.xincludes:
+            self.asset.observe("xinclude", Location(self.path, href_line), href=href)
+
+    # -- materials -------------------------------------------------------------------------
+    def read_material(self, node, shaders: dict[str, Material]) -> None:
+        surface = node.getInput("surfaceshader")
+        location = self.location(node)
+        if surface is None:
+            self.asset.observe("material_without_shader", location, material=node.getName())
+            return
+        shader = self.upstream_node(surface)
+        if shader is None:
+            if surface.getNodeName() or surface.getNodeGraphString() or surface.getOutputString():
+                self.asset.observe(
+                    "dangling_reference", self.location(surface, None), attribute="nodename",
+                    target=surface.getNodeName() or surface.getNodeGraphString(),
+                )
+            else:
+                self.asset.observe("material_without_shader", location, material=node.getName())
+            return
+        material = shaders.get(shader.getNamePath())
+        if material is None:
+            self.asset.observe(
+                "unsupported_shader", location, material=node.getName(), category=shader.getCategory()
+            )
+            return
+        if material.material_name is None:
+            material.material_name = node.getName()
+            material.material_location = location
+
+    # -- shaders ---------------------------------------------------------------------------
+    def read_shader(self, node) -> Material:
+        category = node.getCategory()
+        location = self.location(node)
+        material = Material(
+            name=node.getName(),
+            model=category,
+            location=location,
+            declared_version=node.getVersionString() or None,
+            nodedef=node.getNodeDefString() or None,
+            colorspace=node.getActiveColorSpace() or None,
+        )
+        material.extra["type"] = node.getType()
+        material.extra["node_path"] = node.getNamePath()
+        for port in node.getInputs():
+            entry = self.read_input(port)
+            material.inputs[entry.name] = entry
+        prefix = node.getNamePath() + "/"
+        for duplicate_path, entries in self.structure.duplicates.items():
+            if duplicate_path.startswith(prefix) and "/" not in duplicate_path[len(prefix):]:
+                name = duplicate_path[len(prefix):]
+                for line, attributes in entries:
+                    material.duplicates.append(
+                        Input(
+                            name=name,
+                            type=attributes.get("type"),
+                            value=None,
+                            raw=attributes.get("value"),
+                            location=Location(self.path, line, node.getNamePath(), name),
+                        )
+                    )
+        versioning.settle(material)
+        return material
+
+    def read_input(self, port) -> Input:
+        name = port.getName()
+        location = Location(self.path, self.asset.line_of.get(port.getNamePath()), port.getParent().getNamePath(), name)
+        entry = Input(
+            name=name,
+            type=port.getType() or None,
+            value=None,
+            location=location,
+            colorspace=port.getActiveColorSpace() or None,
+            unit=port.getUnit() or None,
+            unittype=port.getUnitType() or None,
+        )
+        entry.authored_colorspace = port.getColorSpace() or None
+        if port.hasAttribute("nodename") or port.hasAttribute("nodegraph") or port.hasAttribute("interfacename") \
+                or port.hasAttribute("output"):
+            entry.value = self.follow(port)
+            return entry
+        text = port.getValueString()
+        entry.raw = text
+        if not port.hasAttribute("value"):
+            entry.error = "input has neither a value nor a connection"
+            return entry
+        try:
+            entry.value = Constant(parse_value(text, entry.type or "float"))
+        except ValueSyntaxError as error:
+            entry.error = str(error)
+        return entry
+
+    # -- connections -----------------------------------------------------------------------
+    def upstream_node(self, port):
+        """The node feeding ``port`` (through a node graph output or an interface input), or None."""
+        if port.hasAttribute("interfacename"):
+            graph_input = port.getInterfaceInput()
+            if graph_input is None:
+                return None
+            if graph_input.hasAttribute("nodename") or graph_input.hasAttribute("nodegraph"):
+                return self.upstream_node(graph_input)
+            return None
+        output = port.getConnectedOutput()
+        if output is not None:
+            return output.getConnectedNode()
+        return port.getConnectedNode()
+
+    def follow(self, port):
+        """Interpret what feeds ``port``: a :class:`Texture` for an image chain, else a
+        :class:`Connection` (dangling when the reference does not resolve)."""
+        if port.hasAttribute("interfacename"):
+            graph_input = port.getInterfaceInput()
+            if graph_input is None:
+                return Connection(port.getInterfaceName(), None, "interface input not found", dangling=True)
+            if not (graph_input.hasAttribute("nodename") or graph_input.hasAttribute("nodegraph")):
+                if graph_input.hasAttribute("value"):
+                    try:
+                        return Constant(parse_value(graph_input.getValueString(), graph_input.getType()))
+                    except ValueSyntaxError as error:
+                        return Connection(graph_input.getNamePath(), None, str(error))
+                return Connection(graph_input.getNamePath(), None, "interface input has no value")
+            return self.follow(graph_input)
+        target = port.getNodeName() or port.getNodeGraphString()
+        node = self.upstream_node(port)
+        if node is None:
+            return Connection(target or port.getOutputString(), None, "connection target not found", dangling=True)
+        texture = self.texture_chain(node, port.getOutputString() if not port.getNodeGraphString() else "")
+        if texture is not None:
+            return texture
+        return Connection(node.getNamePath(), node.getCategory(), f"{node.getCategory()} node is not a texture lookup")
+
+    def texture_chain(self, node, output_name: str = "") -> Texture | None:
+        """Walk ``extract``/``convert``/``normalmap``/``separate`` to an image node."""
+        channels = None
+        normal_scale = None
+        if output_name in ("outr", "outg", "outb", "outa", "outx", "outy", "outz", "outw") and node.getCategory().startswith("separate"):
+            channels = ("rgba".find(output_name[-1]) if output_name[-1] in "rgba" else "xyzw".find(output_name[-1]),)
+            node = self.upstream_node(node.getInput("in")) if node.getInput("in") else None
+        for _ in range(8):
+            if node is None:
+                return None
+            category = node.getCategory()
+            if category in IMAGE_CATEGORIES:
+                break
+            if category == "extract":
+                index_input = node.getInput("index")
+                index = int(index_input.getValue()) if index_input is not None and index_input.hasAttribute("value") else 0
+                channels = (index,)
+            elif category == "normalmap":
+                scale_input = node.getInput("scale")
+                normal_scale = float(scale_input.getValue()) if scale_input is not None and scale_input.hasAttribute("value") else 1.0
+            elif category not in PASS_THROUGH:
+                return None
+            upstream = node.getInput("in")
+            node = self.upstream_node(upstream) if upstream is not None else None
+        else:
+            return None
+        return self.image(node, channels, normal_scale)
+
+    def image(self, node, channels, normal_scale) -> Texture:
+        file_input = node.getInput("file")
+        file_value = file_input.getValueString() if file_input is not None else ""
+        prefix = file_input.getActiveFilePrefix() if file_input is not None else ""
+        texture = Texture(
+            file=prefix + file_value,
+            image_type=node.getType(),
+            channels=channels,
+            colorspace=(file_input.getActiveColorSpace() if file_input is not None else node.getActiveColorSpace()) or None,
+            normal_map=normal_scale,
+            node=node.getNamePath(),
+            node_category=node.getCategory(),
+            location=Location(self.path, self.asset.line_of.get(node.getNamePath()), node.getNamePath(), "file"),
+        )
+        default = node.getInput("default")
+        if default is not None and default.hasAttribute("value"):
+            try:
+                texture.fallback = parse_value(default.getValueString(), default.getType())
+            except ValueSyntaxError:
+                pass
+        wrap_u, wrap_v = node.getInput("uaddressmode"), node.getInput("vaddressmode")
+        if wrap_u is not None or wrap_v is not None:
+            texture.wrap = (
+                wrap_u.getValueString() if wrap_u is not None else "periodic",
+                wrap_v.getValueString() if wrap_v is not None else "periodic",
+            )
+        texture.uv, texture.texcoord = self.uv_transform(node)
+        return texture
+
+    def uv_transform(self, node) -> tuple[UVTransform | None, int | None]:
+        """The UV transform (``tiledimage`` tiling/offset, an upstream ``place2d``) and the UV
+        set index (an upstream ``texcoord`` node; ``None`` for the default set 0)."""
+        transform = UVTransform()
+        uv_set = None
+        if node.getCategory() == "tiledimage":
+            tiling = _vector2(node.getInput("uvtiling"))
+            offset = _vector2(node.getInput("uvoffset"))
+            if tiling:
+                transform.scale = tiling
+            if offset:
+                transform.offset = offset
+        texcoord = node.getInput("texcoord")
+        place = self.upstream_node(texcoord) if texcoord is not None else None
+        if place is not None and place.getCategory() == "place2d":
+            transform.scale = _vector2(place.getInput("scale")) or transform.scale
+            transform.offset = _vector2(place.getInput("offset")) or transform.offset
+            transform.pivot = _vector2(place.getInput("pivot")) or transform.pivot
+            rotate = place.getInput("rotate")
+            if rotate is not None and rotate.hasAttribute("value"):
+                transform.rotate = float(rotate.getValue())
+            texcoord = place.getInput("texcoord")
+            place = self.upstream_node(texcoord) if texcoord is not None else None
+        if place is not None and place.getCategory() == "texcoord":
+            index = place.getInput("index")
+            if index is not None and index.hasAttribute("value") and int(index.getValue()) != 0:
+                uv_set = int(index.getValue())
+        return (None if transform.is_identity else transform), uv_set
+
+
+def _vector2(port) -> tuple[float, float] | None:
+    if port is None or not port.hasAttribute("value"):
+        return None
+    try:
+        value = parse_value(port.getValueString(), "vector2")
+    except ValueSyntaxError:
+        return None
+    return (float(value[0]), float(value[1]))
+
+
+def file_base(asset: Asset) -> str:
+    return os.path.dirname(os.path.abspath(asset.path))

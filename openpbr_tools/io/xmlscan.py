@@ -1,0 +1,76 @@
+"""A pre-pass over MaterialX XML with the standard library's expat parser.
+
+MaterialX's Python API keeps no line numbers and silently keeps the first of two same-named
+children. This pass records, for every named element, its name path (as ``Element.getNamePath()``
+spells it) and line, and collects same-named siblings, so diagnostics can point at lines and
+duplicate inputs can be reported. It also rejects malformed XML with expat's line and column.
+expat does not fetch external entities, and Python's expat has amplification limits against
+entity-expansion bombs.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from xml.parsers import expat
+
+
+@dataclass(slots=True)
+class XmlScan:
+    root_tag: str | None = None
+    root_attributes: dict[str, str] = field(default_factory=dict)
+    lines: dict[str, int] = field(default_factory=dict)
+    # name path -> list of (line, attributes) for second and later same-named siblings
+    duplicates: dict[str, list[tuple[int, dict[str, str]]]] = field(default_factory=dict)
+    has_doctype: bool = False
+    xincludes: list[tuple[int, str]] = field(default_factory=list)
+
+
+class XmlSyntaxError(ValueError):
+    def __init__(self, message: str, line: int | None, column: int | None):
+        super().__init__(message)
+        self.line = line
+        self.column = column
+
+
+def scan(data: bytes) -> XmlScan:
+    result = XmlScan()
+    parser = expat.ParserCreate()
+    stack: list[str | None] = []
+    seen_lines = result.lines
+
+    def start(tag: str, attributes: dict[str, str]) -> None:
+        line = parser.CurrentLineNumber
+        if result.root_tag is None:
+            result.root_tag = tag
+            result.root_attributes = dict(attributes)
+            stack.append("")
+            return
+        if tag.endswith("include") and ("href" in attributes):
+            result.xincludes.append((line, attributes["href"]))
+        name = attributes.get("name")
+        parent = stack[-1]
+        if name is None or parent is None:
+            stack.append(None)
+            return
+        path = f"{parent}/{name}" if parent else name
+        if path in seen_lines:
+            result.duplicates.setdefault(path, []).append((line, dict(attributes)))
+            stack.append(None)
+            return
+        seen_lines[path] = line
+        stack.append(path)
+
+    def end(tag: str) -> None:
+        stack.pop()
+
+    def doctype(*_args) -> None:
+        result.has_doctype = True
+
+    parser.StartElementHandler = start
+    parser.EndElementHandler = end
+    parser.StartDoctypeDeclHandler = doctype
+    try:
+        parser.Parse(data, True)
+    except expat.ExpatError as error:
+        raise XmlSyntaxError(expat.ErrorString(error.code), error.lineno, error.offset) from None
+    return result

@@ -1,0 +1,209 @@
+"""The model-neutral material representation every reader produces and every rule reads.
+
+An :class:`Asset` is one file: the materials found in it plus what the reader observed about the
+file's structure (document colour space, unit information, nodes it could not place). A
+:class:`Material` is one surface shader of a known shading model (``open_pbr_surface``,
+``standard_surface``, ``gltf_pbr``, ``UsdPreviewSurface``) with one :class:`Input` per authored
+parameter. An input's value is a :class:`Constant`, a :class:`Texture` reference, or a
+:class:`Connection` the reader could not interpret (kept and reported, never dropped).
+
+Everything carries a :class:`Location` so a diagnostic can point at the file, line, element path
+(MaterialX), prim path (USD) or JSON pointer (glTF), and input name.
+
+Readers only record what they see; judging it is the rules' job.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Union
+
+# MaterialX type names are the lingua franca for parameter types (USD and glTF readers map theirs).
+ScalarValue = Union[float, int, bool, str]
+Value = Union[ScalarValue, tuple]
+
+
+@dataclass(frozen=True, slots=True)
+class Location:
+    """Where something is: ``file``, ``line`` (1-based) where the format has lines, ``path``
+    (MaterialX element name path, USD prim path or glTF JSON pointer) and ``input`` name."""
+
+    file: str
+    line: int | None = None
+    path: str | None = None
+    input: str | None = None
+
+    def with_input(self, name: str | None) -> "Location":
+        return Location(self.file, self.line, self.path, name)
+
+    def __str__(self) -> str:
+        text = self.file
+        if self.line is not None:
+            text += f":{self.line}"
+        if self.path:
+            text += f" {self.path}"
+        if self.input:
+            text += f".{self.input}"
+        return text
+
+
+@dataclass(slots=True)
+class UVTransform:
+    """A 2D texture-coordinate transform (MaterialX ``place2d``, ``KHR_texture_transform``,
+    ``UsdTransform2d``). ``rotate`` is in degrees, counter-clockwise as MaterialX ``place2d``
+    defines it; ``pivot`` is the rotation/scale centre."""
+
+    scale: tuple[float, float] = (1.0, 1.0)
+    rotate: float = 0.0
+    offset: tuple[float, float] = (0.0, 0.0)
+    pivot: tuple[float, float] = (0.0, 0.0)
+
+    @property
+    def is_identity(self) -> bool:
+        return self.scale == (1.0, 1.0) and self.rotate == 0.0 and self.offset == (0.0, 0.0)
+
+
+@dataclass(slots=True)
+class Constant:
+    """A literal value, already parsed into Python numbers (tuples for vectors/colours)."""
+
+    value: Value
+
+
+@dataclass(slots=True)
+class Texture:
+    """A reference to an image file feeding a parameter.
+
+    ``channels`` names which channels of the image feed the parameter (``(0,)`` for the red channel,
+    ``(0, 1, 2)`` for RGB); ``None`` means the image's output is used as is. ``colorspace`` is the
+    effective colour-space name as authored (after inheritance), in the naming scheme of the source
+    format. ``scale``/``bias`` apply after the lookup (``value * scale + bias``), as UsdUVTexture
+    and glTF factors do. ``normal_map`` is set when the texture reaches the parameter through a
+    normal-map decode (MaterialX ``normalmap``, glTF ``normalTexture``), with its strength.
+    """
+
+    file: str
+    image_type: str = "color3"
+    channels: tuple[int, ...] | None = None
+    colorspace: str | None = None
+    uv: UVTransform | None = None
+    texcoord: str | int | None = None
+    scale: Value | None = None
+    bias: Value | None = None
+    wrap: tuple[str, str] | None = None
+    fallback: Value | None = None
+    normal_map: float | None = None
+    node: str | None = None
+    node_category: str | None = None
+    location: Location | None = None
+
+    @property
+    def is_udim(self) -> bool:
+        return "<UDIM>" in self.file or "<udim>" in self.file.lower()
+
+
+@dataclass(slots=True)
+class Connection:
+    """A connection the reader could not interpret as a constant or a texture (a procedural
+    graph, an unsupported node) or could not follow at all (``dangling``)."""
+
+    target: str
+    category: str | None = None
+    reason: str = ""
+    dangling: bool = False
+
+
+ParameterValue = Union[Constant, Texture, Connection]
+
+
+@dataclass(slots=True)
+class Input:
+    """One authored parameter of a shader.
+
+    ``type`` is the type as authored (MaterialX type names; USD/glTF readers translate theirs and
+    keep the original in ``source_type``). ``value`` is ``None`` when the text could not be parsed,
+    in which case ``error`` says why and ``raw`` holds the text.
+    """
+
+    name: str
+    type: str | None
+    value: ParameterValue | None
+    location: Location
+    raw: str | None = None
+    error: str | None = None
+    colorspace: str | None = None
+    unit: str | None = None
+    unittype: str | None = None
+    source_type: str | None = None
+    authored_colorspace: str | None = None
+
+    @property
+    def constant(self) -> Value | None:
+        return self.value.value if isinstance(self.value, Constant) else None
+
+    @property
+    def texture(self) -> Texture | None:
+        return self.value if isinstance(self.value, Texture) else None
+
+
+@dataclass(slots=True)
+class Material:
+    """One surface shader of a known shading model, with its authored inputs.
+
+    ``version`` is the model version the toolkit settled on and ``version_basis`` says how
+    (``"node version attribute"``, ``"nodedef ND_..."``, ``"inferred from input names"``,
+    ``"default"``); ``declared_version`` is what the file itself stated, if anything.
+    """
+
+    name: str
+    model: str
+    location: Location
+    inputs: dict[str, Input] = field(default_factory=dict)
+    version: str | None = None
+    version_basis: str = "default"
+    version_candidates: tuple[str, ...] = ()
+    declared_version: str | None = None
+    nodedef: str | None = None
+    material_name: str | None = None
+    material_location: Location | None = None
+    colorspace: str | None = None
+    duplicates: list[Input] = field(default_factory=list)
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def authored(self, name: str) -> Value | None:
+        """The constant authored for ``name``, or ``None`` when unset or not a constant."""
+        entry = self.inputs.get(name)
+        return entry.constant if entry is not None else None
+
+    def textures(self) -> list[tuple[str, Texture]]:
+        return [(n, i.value) for n, i in self.inputs.items() if isinstance(i.value, Texture)]
+
+
+@dataclass(slots=True)
+class Observation:
+    """Something structural a reader saw that is not a material parameter: a node of an unknown
+    category, a material with no surface shader, an element the format does not allow. ``kind`` is
+    a short stable key the rules match on; ``detail`` carries kind-specific facts."""
+
+    kind: str
+    location: Location
+    detail: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(slots=True)
+class Asset:
+    """One file as read: its materials and the structural facts around them."""
+
+    path: str
+    format: str
+    materials: list[Material] = field(default_factory=list)
+    format_version: str | None = None
+    colorspace: str | None = None
+    colorspace_location: Location | None = None
+    meters_per_unit: float | None = None
+    observations: list[Observation] = field(default_factory=list)
+    line_of: dict[str, int] = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    def observe(self, kind: str, location: Location, **detail: Any) -> None:
+        self.observations.append(Observation(kind, location, detail))

@@ -1,0 +1,121 @@
+"""The rule engine: families of checks, each a module with stable codes and a ``check`` generator.
+
+A family module defines ``RULES``, a tuple of :class:`Rule` (code, name, default severity, summary
+and documentation with a passing and a failing example), and ``check(asset, context)``, a generator
+of :class:`~openpbr_tools.diagnostics.Diagnostic`. Adding a family is adding a module to
+``FAMILIES``. ``openpbr rules`` and the README's rule table are generated from these objects.
+"""
+
+from __future__ import annotations
+
+import importlib
+import os
+from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Callable, Iterator
+
+from ..diagnostics import Diagnostic, Severity
+from ..model import Asset, Location
+
+FAMILIES = (
+    "document",
+    "names",
+    "values",
+    "ranges",
+    "version",
+    "colorspace",
+    "units",
+    "textures",
+    "structure",
+    "plausibility",
+)
+
+
+@dataclass(frozen=True, slots=True)
+class Rule:
+    """One check. ``passing``/``failing`` are example documents (a MaterialX fragment placed in a
+    document with ``colorspace="lin_rec709"`` and a ``surfacematerial`` named ``M`` bound to a shader
+    named ``S``, or a whole document); the test suite runs every example. ``example_files`` are
+    files the examples expect to exist beside the document."""
+
+    code: str
+    name: str
+    severity: Severity
+    summary: str
+    doc: str
+    passing: str | bytes
+    failing: str | bytes
+    family: str = ""
+    example_files: tuple[str, ...] = ()
+    failing_name: str = "example.mtlx"
+    formats: tuple[str, ...] = ("mtlx", "usd", "gltf")
+
+
+@dataclass(slots=True)
+class Context:
+    """What a check may consult besides the asset: the active configuration and the file system.
+
+    ``severity`` overrides the default severity per code; ``disabled`` switches codes off.
+    ``file_exists`` is injectable so tests and sandboxed runs can control file look-ups.
+    """
+
+    severity: dict[str, Severity] = field(default_factory=dict)
+    disabled: frozenset[str] = frozenset()
+    file_exists: Callable[[str], bool] = os.path.exists
+    list_dir: Callable[[str], list[str]] = os.listdir
+    thresholds: dict[str, float] = field(default_factory=dict)
+
+    def diagnostic(self, rule: Rule, message: str, location: Location, hint: str | None = None) -> Diagnostic:
+        return Diagnostic(rule.code, self.severity.get(rule.code, rule.severity), message, location, hint)
+
+    def threshold(self, key: str, default: float) -> float:
+        return self.thresholds.get(key, default)
+
+
+@lru_cache(maxsize=None)
+def _family_module(family: str):
+    return importlib.import_module(f"{__name__}.{family}")
+
+
+@lru_cache(maxsize=1)
+def all_rules() -> dict[str, Rule]:
+    """Every rule by code, in code order."""
+    found: dict[str, Rule] = {}
+    for family in FAMILIES:
+        for rule in _family_module(family).RULES:
+            if rule.code in found:
+                raise RuntimeError(f"rule code {rule.code} defined twice")
+            found[rule.code] = Rule(**{**_as_dict(rule), "family": family})
+    return dict(sorted(found.items()))
+
+
+def _as_dict(rule: Rule) -> dict:
+    return {name: getattr(rule, name) for name in Rule.__slots__}
+
+
+def family_doc(family: str) -> str:
+    return (_family_module(family).__doc__ or "").strip()
+
+
+def check_asset(asset: Asset, context: Context | None = None) -> list[Diagnostic]:
+    """Run every family over ``asset``; returns diagnostics sorted by location, without disabled codes."""
+    context = context or Context()
+    found: list[Diagnostic] = []
+    for family in FAMILIES:
+        for diagnostic in _family_module(family).check(asset, context):
+            if diagnostic.code not in context.disabled:
+                found.append(diagnostic)
+    found.sort(key=Diagnostic.sort_key)
+    return found
+
+
+def for_each_input(asset: Asset) -> Iterator[tuple]:
+    """(material, table, input) for every authored input of every material with a table."""
+    from .. import tables
+
+    for material in asset.materials:
+        if material.version is None:
+            continue
+        table = tables.table(material.model, material.version)
+        for entry in material.inputs.values():
+            yield material, table, entry

@@ -1,0 +1,136 @@
+"""Colour spaces: are colour-space names known, and do colour and data inputs get the right kind.
+
+MaterialX accepts any colour-space name (it warns and skips the conversion); USD stores any name and
+treats it as identity. So a misspelt ``srgb_tx`` silently renders a texture unconverted. Colour
+inputs (base, specular, coat, fuzz, emission, transmission, subsurface colours) want a colour
+space; data inputs (weights, roughness, metalness, IOR, normals, tangents) must be read raw
+(``none`` in MaterialX, ``raw`` in USD), or their numbers are bent by a transfer curve.
+
+The OpenPBR specification says colours default to ACEScg when unspecified, while MaterialX's
+examples and its default working space are lin_rec709: a document without a colour space is
+therefore ambiguous (OPBR501).
+"""
+
+from __future__ import annotations
+
+from .. import colorspaces
+from ..diagnostics import Severity
+from ..model import Location, Texture
+from . import Rule, for_each_input
+
+NO_DOCUMENT_COLORSPACE = Rule(
+    "OPBR501", "no-document-colorspace", Severity.WARNING,
+    "Colour values are authored but the document states no colour space.",
+    "The OpenPBR specification says unspecified colours are ACEScg; MaterialX and most of its "
+    "examples assume lin_rec709. The same file therefore renders with different colours depending on "
+    "the reader. Set colorspace on the <materialx> element.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="0.8, 0.2, 0.1" />\n</open_pbr_surface>',
+    failing='<?xml version="1.0"?>\n<materialx version="1.39">\n  <open_pbr_surface name="S" type="surfaceshader">\n    <input name="base_color" type="color3" value="0.8, 0.2, 0.1" />\n  </open_pbr_surface>\n</materialx>\n',
+)
+UNKNOWN_COLORSPACE = Rule(
+    "OPBR502", "unknown-colorspace", Severity.ERROR,
+    "A colour-space name the format does not define (wrong case, a vendor/OCIO name, a typo).",
+    "MaterialX knows lin_rec709, srgb_texture, acescg, g22_rec709, g18_rec709, g22_ap1, lin_adobergb, "
+    "adobergb, lin_displayp3, srgb_displayp3, rec709_display and none. Names such as srgb_tx, sRGB or "
+    "'ACES - ACEScg' are silently treated as no conversion. The hint gives the name most likely meant.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="0.5, 0.5, 0.5" colorspace="srgb_texture" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="0.5, 0.5, 0.5" colorspace="srgb_tx" />\n</open_pbr_surface>',
+)
+COLOR_TEXTURE_RAW = Rule(
+    "OPBR503", "color-texture-raw", Severity.WARNING,
+    "A colour input reads a texture marked as raw data (colorspace none).",
+    "An sRGB-encoded albedo read raw renders too bright and desaturated. Mark it srgb_texture (or the "
+    "space it was painted in).",
+    passing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
+    failing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="none" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
+    example_files=("albedo.png",),
+)
+DATA_TEXTURE_MANAGED = Rule(
+    "OPBR504", "data-texture-colorspace", Severity.ERROR,
+    "A data input (roughness, metalness, weights, IOR, normals) reads a colour-managed texture.",
+    "A colour-space conversion bends the numbers: an sRGB decode turns a roughness of 0.5 into 0.21. "
+    "This often happens by inheritance, when a colour-typed image under a document colour space feeds "
+    "a float input through an extract node. Mark the image colorspace=\"none\".",
+    passing='<image name="rough" type="color3">\n  <input name="file" type="filename" value="orm.png" colorspace="none" />\n</image>\n<extract name="g" type="float">\n  <input name="in" type="color3" nodename="rough" />\n  <input name="index" type="integer" value="1" />\n</extract>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_roughness" type="float" nodename="g" />\n</open_pbr_surface>',
+    failing='<image name="rough" type="color3">\n  <input name="file" type="filename" value="orm.png" colorspace="srgb_texture" />\n</image>\n<extract name="g" type="float">\n  <input name="in" type="color3" nodename="rough" />\n  <input name="index" type="integer" value="1" />\n</extract>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_roughness" type="float" nodename="g" />\n</open_pbr_surface>',
+    example_files=("orm.png",),
+)
+
+RULES = (NO_DOCUMENT_COLORSPACE, UNKNOWN_COLORSPACE, COLOR_TEXTURE_RAW, DATA_TEXTURE_MANAGED)
+
+COLOUR_MANAGED_IMAGE_TYPES = ("color3", "color4")
+
+
+def check(asset, context):
+    if asset.format != "mtlx":
+        return  # USD and glTF name colour spaces differently; their rule modules reuse these codes
+    yield from _unknown_names(asset, context)
+    ambiguous = None
+    for material, table, entry in for_each_input(asset):
+        parameter = table.get(entry.name)
+        if parameter is None:
+            continue
+        texture = entry.texture
+        if parameter.role == "color":
+            if ambiguous is None and asset.colorspace is None and (
+                (texture is None and entry.colorspace is None and entry.constant is not None)
+                or (texture is not None and texture.colorspace is None)
+            ):
+                ambiguous = entry.location
+            if texture is not None and colorspaces.is_data(texture.colorspace):
+                yield context.diagnostic(
+                    COLOR_TEXTURE_RAW, f"{entry.name} reads {texture.file!r} as raw data (colorspace none)",
+                    entry.location, hint="mark the image srgb_texture (or the space it was painted in)",
+                )
+        elif parameter.role in ("data", "normal", "tangent") and texture is not None:
+            if _bends_data(texture, asset):
+                inherited = "" if _authored_on_texture(texture, asset) else " (inherited)"
+                yield context.diagnostic(
+                    DATA_TEXTURE_MANAGED,
+                    f"{entry.name} is data but reads {texture.file!r} through colour space {texture.colorspace!r}{inherited}",
+                    entry.location, hint="set colorspace=\"none\" on the image's file input",
+                )
+    if ambiguous is not None:
+        yield context.diagnostic(
+            NO_DOCUMENT_COLORSPACE,
+            "colours are authored but the document has no colorspace: OpenPBR says ACEScg, MaterialX assumes lin_rec709",
+            Location(asset.path, 1, ""), hint="add colorspace=\"lin_rec709\" (or \"acescg\") to <materialx>",
+        )
+
+
+def _bends_data(texture: Texture, asset) -> bool:
+    if texture.image_type not in COLOUR_MANAGED_IMAGE_TYPES:
+        return False
+    space = texture.colorspace
+    if space is None or colorspaces.is_data(space):
+        return False
+    working = asset.colorspace or colorspaces.DEFAULT_MATERIALX
+    return space != working or space not in ("lin_rec709", "acescg", "lin_adobergb", "lin_displayp3")
+
+
+def _authored_on_texture(texture: Texture, asset) -> bool:
+    return texture.colorspace != asset.colorspace
+
+
+def _unknown_names(asset, context):
+    known = colorspaces.materialx_names()
+    seen = set()
+    candidates = []
+    if asset.colorspace is not None:
+        candidates.append((asset.colorspace, asset.colorspace_location or Location(asset.path, 1)))
+    for material in asset.materials:
+        for entry in material.inputs.values():
+            if entry.authored_colorspace:
+                candidates.append((entry.authored_colorspace, entry.location))
+            texture = entry.texture
+            if texture is not None and texture.colorspace and texture.colorspace != asset.colorspace:
+                candidates.append((texture.colorspace, texture.location or entry.location))
+    for name, location in candidates:
+        if name in known or (name, location) in seen:
+            continue
+        seen.add((name, location))
+        guess = colorspaces.suggest(name)
+        yield context.diagnostic(
+            UNKNOWN_COLORSPACE, f"unknown colour space {name!r}: MaterialX will not convert it",
+            location, hint=f"did you mean {guess!r}?" if guess else f"known: {', '.join(sorted(known))}",
+        )

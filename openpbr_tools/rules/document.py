@@ -1,0 +1,112 @@
+"""Document: can the file be read at all, and does it hold anything to check.
+
+These rules fire before any material is looked at. OPBR001 and OPBR002 make ``openpbr validate``
+exit with code 2 (unreadable input), whatever ``--fail-on`` says.
+"""
+
+from __future__ import annotations
+
+from ..diagnostics import Severity
+from . import Rule
+
+UNREADABLE = Rule(
+    "OPBR001", "unreadable-file", Severity.ERROR,
+    "The file cannot be opened or decoded.",
+    "The file does not exist, cannot be read (permissions, a folder), or is not UTF-8 text. "
+    "Nothing else can be checked; the exit code is 2.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing=b"\xff\xfe<\x00m\x00",
+)
+NOT_MATERIALX = Rule(
+    "OPBR002", "not-materialx", Severity.ERROR,
+    "The file is not a well-formed MaterialX document.",
+    "The XML is malformed (truncated, unbalanced tags: the message gives expat's line and column), "
+    "the root element is not <materialx>, or MaterialX itself refuses the document. The exit code is 2.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<?xml version="1.0"?>\n<materialx version="1.39">\n  <open_pbr_surface name="S" type="surfaceshader">\n',
+)
+NO_MATERIAL = Rule(
+    "OPBR003", "no-material", Severity.WARNING,
+    "The file contains no surface shader of a supported model.",
+    "No open_pbr_surface, standard_surface, gltf_pbr or UsdPreviewSurface node (or USD/glTF "
+    "material) was found, so nothing was validated. Often a file given by mistake, or a library of "
+    "node definitions.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<?xml version="1.0"?>\n<materialx version="1.39">\n  <nodegraph name="NG" />\n</materialx>\n',
+)
+MATERIALX_INVALID = Rule(
+    "OPBR004", "materialx-validate", Severity.WARNING,
+    "MaterialX's own Document.validate() reports a problem.",
+    "The message is MaterialX's, passed through (it covers structure MaterialX knows about, such as "
+    "invalid port connections). MaterialX's check is lenient: a clean result here says little about values.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<image name="albedo" type="color3">\n  <input name="texcoord" type="vector2" nodename="nowhere" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader" />',
+)
+OLD_DOCUMENT = Rule(
+    "OPBR005", "old-document-version", Severity.INFO,
+    "The MaterialX document version is older than 1.39.",
+    "MaterialX upgrades older documents when it reads them, which can rename nodes and inputs; "
+    "other readers may not. Re-save the document as 1.39.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<?xml version="1.0"?>\n<materialx version="1.38">\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
+)
+UNSUPPORTED = Rule(
+    "OPBR006", "unsupported-file", Severity.ERROR,
+    "No reader handles this kind of file.",
+    "The file was named explicitly but its suffix is not one the toolkit reads "
+    "(.mtlx; .usda/.usdc/.usd/.usdz and .gltf/.glb where those readers are installed). The exit code is 2.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing_name="example.xml",
+)
+
+RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED)
+
+READ_ERROR_RULES = {
+    "unreadable": UNREADABLE,
+    "not_materialx": NOT_MATERIALX,
+    "not_usd": NOT_MATERIALX,
+    "not_gltf": NOT_MATERIALX,
+    "unsupported": UNSUPPORTED,
+}
+
+
+def check(asset, context):
+    from ..model import Location
+
+    if not asset.materials:
+        yield context.diagnostic(NO_MATERIAL, "no supported surface shader found", Location(asset.path))
+    message = asset.extra.get("materialx_validate")
+    if message:
+        for line in _not_covered(asset, message):
+            yield context.diagnostic(MATERIALX_INVALID, f"MaterialX: {line}", Location(asset.path))
+    version = asset.format_version
+    if asset.format == "mtlx" and version:
+        try:
+            old = tuple(int(p) for p in version.split(".")[:2]) < (1, 39)
+        except ValueError:
+            old = True
+        if old:
+            yield context.diagnostic(
+                OLD_DOCUMENT, f"MaterialX document version {version} is older than 1.39",
+                Location(asset.path, 1), hint="re-save the document with MaterialX 1.39",
+            )
+
+
+def _not_covered(asset, message: str):
+    """MaterialX's messages, less those about shader nodes and connections the other rules judge
+    more precisely (unknown inputs, dangling connections)."""
+    from ..model import Connection
+
+    shader_tags = [f'<{m.model} name="{m.name}"' for m in asset.materials]
+    dangling = [
+        f'<input name="{name}"' for m in asset.materials for name, entry in m.inputs.items()
+        if isinstance(entry.value, Connection) and entry.value.dangling
+    ]
+    for line in message.splitlines():
+        line = line.strip()
+        if not line or any(tag in line for tag in shader_tags):
+            continue
+        if line.startswith("Invalid port connection") and any(tag in line for tag in dangling):
+            continue
+        yield line

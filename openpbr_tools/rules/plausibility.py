@@ -1,0 +1,178 @@
+"""Plausibility: values that are legal but physically unlikely, the kind a look-dev lead would flag.
+
+These checks read constants only (a textured input is not judged here) and apply to OpenPBR
+materials. Colour thresholds compare linear Rec.709 values, converted from the document colour
+space; their defaults come from Filament's material guide (``schemas/plausibility.json``) and can be
+overridden per project.
+"""
+
+from __future__ import annotations
+
+from .. import colorspaces, tables
+from ..diagnostics import Severity
+from ..resources import load_json
+from . import Rule
+
+METAL_TOO_DARK = Rule(
+    "OPBR901", "metal-base-color-too-dark", Severity.WARNING,
+    "A metal whose base colour is darker than any real metal's reflectance.",
+    "Real metals reflect 50-100% of light at normal incidence; Filament's guide asks for a luminance "
+    "of at least 170 sRGB (0.40 linear). A dark metal is usually a dielectric colour left on a metal, "
+    "or dirt that belongs in a mix.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="base_color" type="color3" value="0.95, 0.64, 0.54" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="base_color" type="color3" value="0.1, 0.1, 0.1" />\n</open_pbr_surface>',
+)
+DIELECTRIC_OUT_OF_RANGE = Rule(
+    "OPBR902", "dielectric-base-color-range", Severity.WARNING,
+    "A non-metal whose base colour is brighter or darker than real diffuse materials.",
+    "Filament's guide gives sRGB 30-240 (tolerant) for non-metallic albedo: fresh snow is about 240, "
+    "charcoal about 30. Pure white or black albedo breaks energy balance and exposure.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="0.5, 0.4, 0.3" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="1, 1, 1" />\n</open_pbr_surface>',
+)
+TRANSMISSIVE_METAL = Rule(
+    "OPBR903", "transmission-on-metal", Severity.WARNING,
+    "Transmission is set on a fully metallic surface, where it has no effect.",
+    "In OpenPBR the metal slab is opaque; transmission only mixes into the dielectric base. "
+    "The author probably meant a dielectric.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="transmission_weight" type="float" value="1" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="transmission_weight" type="float" value="1" />\n</open_pbr_surface>',
+)
+FILM_WITHOUT_THICKNESS = Rule(
+    "OPBR904", "thin-film-without-thickness", Severity.WARNING,
+    "thin_film_weight is set but the film has zero thickness.",
+    "A zero-thickness film produces no interference; the thin film has no visible effect.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_weight" type="float" value="1" />\n  <input name="thin_film_thickness" type="float" value="0.4" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_weight" type="float" value="1" />\n  <input name="thin_film_thickness" type="float" value="0" />\n</open_pbr_surface>',
+)
+IOR_BELOW_ONE = Rule(
+    "OPBR905", "ior-below-one", Severity.WARNING,
+    "An index of refraction below 1 (specular, coat or thin film).",
+    "No common material has an IOR below 1 relative to air; values like 0.5 usually come from a "
+    "'specular level' slider exported as an IOR. The coat's IOR below 1 inverts its Fresnel behaviour.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="coat_weight" type="float" value="1" />\n  <input name="coat_ior" type="float" value="1.5" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="coat_weight" type="float" value="1" />\n  <input name="coat_ior" type="float" value="0.5" />\n</open_pbr_surface>',
+)
+PARTIAL_METALNESS = Rule(
+    "OPBR906", "partial-metalness", Severity.INFO,
+    "A constant metalness between 0.1 and 0.9.",
+    "Metalness is almost binary: intermediate values are meant for texture transitions (metal to "
+    "rust), not for a whole material, which then looks like a blend of two materials.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="base_color" type="color3" value="0.9, 0.9, 0.9" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="0.5" />\n</open_pbr_surface>',
+)
+EMISSION_OFF = Rule(
+    "OPBR907", "emission-no-effect", Severity.INFO,
+    "Emission colour is set but luminance is 0, or luminance is set with a black colour.",
+    "Either way nothing is emitted; usually half of an emissive set-up was lost in export.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="emission_luminance" type="float" value="100" />\n  <input name="emission_color" type="color3" value="1, 0.5, 0.2" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="emission_color" type="color3" value="1, 0.5, 0.2" />\n</open_pbr_surface>',
+)
+INVISIBLE = Rule(
+    "OPBR908", "fully-transparent", Severity.INFO,
+    "geometry_opacity is 0: the surface is invisible.",
+    "Sometimes intended (a holdout), often an exporter mapping a transparency value onto opacity.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_opacity" type="float" value="1" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_opacity" type="float" value="0" />\n</open_pbr_surface>',
+)
+
+RULES = (METAL_TOO_DARK, DIELECTRIC_OUT_OF_RANGE, TRANSMISSIVE_METAL, FILM_WITHOUT_THICKNESS,
+         IOR_BELOW_ONE, PARTIAL_METALNESS, EMISSION_OFF, INVISIBLE)
+
+
+class _Values:
+    """Constants of one material with table defaults filled in; ``None`` for textured or broken inputs."""
+
+    def __init__(self, material):
+        self.material = material
+        self.table = tables.table(material.model, material.version)
+
+    def __call__(self, name):
+        entry = self.material.inputs.get(name)
+        if entry is None:
+            parameter = self.table.get(name)
+            return parameter.default if parameter is not None else None
+        value = entry.constant
+        if entry.type and self.table.get(name) and entry.type != self.table[name].type:
+            return None
+        return value
+
+    def authored(self, name) -> bool:
+        return name in self.material.inputs
+
+
+def _linear(material, asset, rgb):
+    space = material.colorspace or asset.colorspace
+    if space in (None, "lin_rec709", "none") or space not in colorspaces.materialx_names():
+        return tuple(float(c) for c in rgb)
+    return tuple(float(c) for c in colorspaces.to_lin_rec709(rgb, space))
+
+
+def check(asset, context):
+    data = load_json("plausibility.json")
+    limits = {k: context.threshold(k, v) for k, v in data["thresholds"].items()}
+    weights = data["luminance_weights_lin_rec709"]
+    for material in asset.materials:
+        if material.model != "open_pbr_surface" or material.version is None:
+            continue
+        value = _Values(material)
+        metalness = value("base_metalness")
+        base_color = value("base_color")
+        location = material.location
+        if isinstance(base_color, tuple) and isinstance(metalness, float) and value.authored("base_color"):
+            linear = _linear(material, asset, base_color)
+            luminance = sum(w * c for w, c in zip(weights, linear))
+            if metalness >= limits["metalness_metal_above"] and luminance < limits["metal_base_color_min_linear"]:
+                yield context.diagnostic(
+                    METAL_TOO_DARK,
+                    f"{material.name}: metal base_color luminance {luminance:.3f} is below "
+                    f"{limits['metal_base_color_min_linear']:.3f} (sRGB {limits['metal_base_color_min_srgb']:g})",
+                    material.inputs["base_color"].location, hint="real metals reflect 50-100%: brighten base_color",
+                )
+            transmissive = value("transmission_weight")
+            if metalness <= limits["metalness_dielectric_below"] and not (isinstance(transmissive, float) and transmissive >= 0.5):
+                brightest = max(linear)
+                if brightest > limits["dielectric_base_color_max_linear"] or brightest < limits["dielectric_base_color_min_linear"]:
+                    side = "brighter" if brightest > limits["dielectric_base_color_max_linear"] else "darker"
+                    yield context.diagnostic(
+                        DIELECTRIC_OUT_OF_RANGE,
+                        f"{material.name}: dielectric base_color is {side} than real diffuse materials "
+                        f"(sRGB {limits['dielectric_base_color_min_srgb']:g}-{limits['dielectric_base_color_max_srgb']:g})",
+                        material.inputs["base_color"].location,
+                    )
+        transmission = value("transmission_weight")
+        if metalness == 1.0 and isinstance(transmission, float) and transmission > 0:
+            yield context.diagnostic(
+                TRANSMISSIVE_METAL, f"{material.name}: transmission_weight {transmission:g} on a full metal has no effect",
+                material.inputs["transmission_weight"].location,
+            )
+        film = value("thin_film_weight")
+        thickness = value("thin_film_thickness")
+        if isinstance(film, float) and film > 0 and thickness == 0:
+            yield context.diagnostic(
+                FILM_WITHOUT_THICKNESS, f"{material.name}: thin_film_weight {film:g} with zero thickness",
+                material.inputs["thin_film_weight"].location, hint="set thin_film_thickness (micrometres, e.g. 0.4)",
+            )
+        for name, needs in (("specular_ior", None), ("coat_ior", "coat_weight"), ("thin_film_ior", "thin_film_weight")):
+            ior = value(name)
+            active = value(needs) if needs else 1.0
+            if value.authored(name) and isinstance(ior, float) and ior < 1.0 and isinstance(active, float) and active > 0:
+                yield context.diagnostic(IOR_BELOW_ONE, f"{material.name}: {name} = {ior:g} is below 1",
+                                         material.inputs[name].location)
+        if (value.authored("base_metalness") and isinstance(metalness, float)
+                and limits["metalness_dielectric_below"] < metalness < limits["metalness_metal_above"]):
+            yield context.diagnostic(PARTIAL_METALNESS, f"{material.name}: base_metalness {metalness:g} is neither metal nor dielectric",
+                                     material.inputs["base_metalness"].location)
+        luminance = value("emission_luminance")
+        color = value("emission_color")
+        if isinstance(luminance, float) and isinstance(color, tuple):
+            if value.authored("emission_color") and luminance == 0 and max(color) > 0:
+                yield context.diagnostic(EMISSION_OFF, f"{material.name}: emission_color is set but emission_luminance is 0",
+                                         material.inputs["emission_color"].location, hint="set emission_luminance (nits)")
+            elif luminance > 0 and max(color) == 0:
+                yield context.diagnostic(EMISSION_OFF, f"{material.name}: emission_luminance {luminance:g} with a black emission_color",
+                                         material.inputs["emission_luminance"].location)
+        opacity = value("geometry_opacity")
+        if value.authored("geometry_opacity") and opacity == 0:
+            yield context.diagnostic(INVISIBLE, f"{material.name}: geometry_opacity is 0 (invisible)",
+                                     material.inputs["geometry_opacity"].location)

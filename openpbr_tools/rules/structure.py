@@ -1,0 +1,80 @@
+"""Structure: is every material wired to a shader, and does every connection lead somewhere.
+
+A ``surfacematerial`` with no surface shader renders as the renderer's error material; a
+``nodename`` that names no node is read by MaterialX without complaint and renders the input's
+default. Procedural graphs the toolkit cannot interpret are kept and reported (OPBR803), so a
+conversion never drops them silently.
+"""
+
+from __future__ import annotations
+
+from ..diagnostics import Severity
+from ..model import Connection
+from . import Rule
+
+NO_SHADER = Rule(
+    "OPBR801", "material-without-shader", Severity.ERROR,
+    "A material has no surface shader connected.",
+    "The material renders as the renderer's fallback (often bright magenta or black).",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <open_pbr_surface name="S" type="surfaceshader" />\n  <surfacematerial name="M" type="material" />\n</materialx>\n',
+)
+DANGLING = Rule(
+    "OPBR802", "dangling-connection", Severity.ERROR,
+    "A connection or reference names a node, graph output or material that does not exist.",
+    "MaterialX reads it without complaint; the input silently falls back to its default value.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_weight" type="float" value="1" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_weight" type="float" nodename="weight_map" />\n</open_pbr_surface>',
+)
+UNINTERPRETED = Rule(
+    "OPBR803", "procedural-input", Severity.INFO,
+    "An input is driven by a node graph the toolkit does not interpret (not an image lookup).",
+    "Its values cannot be range-checked, and a conversion to glTF or UsdPreviewSurface must bake or "
+    "drop it; it is reported rather than silently lost.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="0.5, 0.5, 0.5" />\n</open_pbr_surface>',
+    failing='<noise3d name="n" type="color3" />\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="n" />\n</open_pbr_surface>',
+)
+UNASSIGNED = Rule(
+    "OPBR804", "shader-without-material", Severity.INFO,
+    "A surface shader no material refers to.",
+    "Harmless but often a leftover: the shader is never rendered.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
+)
+
+RULES = (NO_SHADER, DANGLING, UNINTERPRETED, UNASSIGNED)
+
+
+def check(asset, context):
+    for observation in asset.observations:
+        if observation.kind == "material_without_shader":
+            yield context.diagnostic(
+                NO_SHADER, f"material {observation.detail.get('material')!r} has no surface shader",
+                observation.location, hint="connect its surfaceshader input to a shader node",
+            )
+        elif observation.kind == "dangling_reference":
+            target = observation.detail.get("target")
+            yield context.diagnostic(
+                DANGLING, f"{observation.detail.get('attribute', 'reference')} {target!r} does not exist",
+                observation.location,
+            )
+    for material in asset.materials:
+        if material.material_name is None and asset.format == "mtlx":
+            yield context.diagnostic(
+                UNASSIGNED, f"shader {material.name!r} is not bound to any material", material.location,
+            )
+        for entry in material.inputs.values():
+            value = entry.value
+            if not isinstance(value, Connection):
+                continue
+            if value.dangling:
+                yield context.diagnostic(
+                    DANGLING, f"{entry.name} is connected to {value.target!r}, which does not exist",
+                    entry.location, hint="fix the nodename/nodegraph/output, or author a value",
+                )
+            else:
+                what = f"{value.category} node {value.target!r}" if value.category else repr(value.target)
+                yield context.diagnostic(
+                    UNINTERPRETED, f"{entry.name} is driven by {what}: not checked, and baked or dropped on conversion",
+                    entry.location,
+                )

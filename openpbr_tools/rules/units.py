@@ -1,0 +1,102 @@
+"""Units: are lengths given in a known unit, and are fixed-unit inputs plausible.
+
+``transmission_depth`` and ``subsurface_radius`` are lengths in scene units: without a ``unit``
+attribute (MaterialX) or ``metersPerUnit`` (USD) their meaning depends on whoever reads the file.
+MaterialX converts them only when the input carries ``unittype="distance"`` and a ``unit`` from its
+distance unit definition. ``thin_film_thickness`` is always micrometres (nanometres before OpenPBR
+0.5) and ``emission_luminance`` nits: a unit attribute on them is ignored by renderers.
+"""
+
+from __future__ import annotations
+
+import difflib
+
+from ..diagnostics import Severity
+from ..resources import load_json
+from . import Rule, for_each_input
+
+WRONG_UNITTYPE = Rule(
+    "OPBR601", "wrong-unittype", Severity.ERROR,
+    "A length input carries a unittype other than distance.",
+    "MaterialX converts units only within a unit type; unittype=\"angle\" on a depth makes the "
+    "conversion undefined.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="transmission_depth" type="float" value="2" unittype="distance" unit="centimeter" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="transmission_depth" type="float" value="2" unittype="angle" unit="degree" />\n</open_pbr_surface>',
+)
+UNKNOWN_UNIT = Rule(
+    "OPBR602", "unknown-unit", Severity.ERROR,
+    "A unit name MaterialX's distance unit definition does not have.",
+    "Known distance units: nanometer, micron, millimeter, centimeter, inch, foot, yard, meter, "
+    "kilometer, mile. 'cm' or 'meters' are not converted.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="subsurface_radius" type="float" value="0.5" unittype="distance" unit="centimeter" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="subsurface_radius" type="float" value="0.5" unittype="distance" unit="cm" />\n</open_pbr_surface>',
+)
+LENGTH_WITHOUT_UNIT = Rule(
+    "OPBR603", "length-without-unit", Severity.WARNING,
+    "A length input is set without unit information.",
+    "transmission_depth = 2 means 2 cm in a centimetre scene and 2 m in a metre scene. Add "
+    "unittype=\"distance\" unit=\"...\" so converters and renderers can scale it.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="transmission_depth" type="float" value="2" unittype="distance" unit="centimeter" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="transmission_depth" type="float" value="2" />\n</open_pbr_surface>',
+)
+UNIT_IGNORED = Rule(
+    "OPBR604", "unit-ignored", Severity.WARNING,
+    "A unit attribute on an input whose unit is fixed or that has none.",
+    "thin_film_thickness is in micrometres and emission_luminance in nits by definition; weights "
+    "have no unit. Renderers ignore the attribute, so a value authored in other units is misread.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_thickness" type="float" value="0.5" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_thickness" type="float" value="500" unittype="distance" unit="nanometer" />\n</open_pbr_surface>',
+)
+THICKNESS_IN_NM = Rule(
+    "OPBR605", "thin-film-thickness-nanometres", Severity.WARNING,
+    "A thin-film thickness that looks like nanometres in a micrometre input.",
+    "Since OpenPBR 0.5 thin_film_thickness is in micrometres (0 to 1 typical: soap bubbles and "
+    "oil films are 0.1 to 1 µm). A value like 400 was almost certainly meant as 400 nm = 0.4 µm.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_weight" type="float" value="1" />\n  <input name="thin_film_thickness" type="float" value="0.4" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_weight" type="float" value="1" />\n  <input name="thin_film_thickness" type="float" value="400" />\n</open_pbr_surface>',
+)
+
+RULES = (WRONG_UNITTYPE, UNKNOWN_UNIT, LENGTH_WITHOUT_UNIT, UNIT_IGNORED, THICKNESS_IN_NM)
+
+# Above this many micrometres a thin-film thickness is read as nanometres (interference colours
+# vanish above a few micrometres; no coating a look-dev artist models is 10 µm thick).
+NANOMETRE_SUSPICION_UM = 10.0
+
+
+def check(asset, context):
+    distance_units = load_json("units.json")["distance"]
+    suspicion = context.threshold("thin_film_nanometre_suspicion_um", NANOMETRE_SUSPICION_UM)
+    for material, table, entry in for_each_input(asset):
+        parameter = table.get(entry.name)
+        if parameter is None:
+            continue
+        if parameter.unit == "scene_length":
+            if entry.unittype and entry.unittype != "distance":
+                yield context.diagnostic(
+                    WRONG_UNITTYPE, f"{entry.name} is a length but has unittype={entry.unittype!r}",
+                    entry.location, hint="use unittype=\"distance\"",
+                )
+            elif entry.unit and entry.unit not in distance_units:
+                guess = difflib.get_close_matches(entry.unit, list(distance_units), n=1, cutoff=0.5)
+                yield context.diagnostic(
+                    UNKNOWN_UNIT, f"{entry.name} has unknown distance unit {entry.unit!r}",
+                    entry.location, hint=f"did you mean {guess[0]!r}?" if guess else f"known: {', '.join(distance_units)}",
+                )
+            elif not entry.unit and asset.format == "mtlx" and entry.value is not None and entry.error is None:
+                yield context.diagnostic(
+                    LENGTH_WITHOUT_UNIT, f"{entry.name} is a length in scene units but has no unit",
+                    entry.location, hint="add unittype=\"distance\" unit=\"centimeter\" (or the scene's unit)",
+                )
+        elif entry.unit or entry.unittype:
+            fixed = {"micrometer": "micrometres", "nanometer": "nanometres", "nit": "nits"}.get(parameter.unit or "")
+            why = f"is always in {fixed}" if fixed else "has no unit"
+            yield context.diagnostic(
+                UNIT_IGNORED, f"{entry.name} {why}; its unit attribute ({entry.unit or entry.unittype}) is ignored",
+                entry.location, hint="remove the attribute and author the value in the input's own unit",
+            )
+        if parameter.unit == "micrometer" and isinstance(entry.constant, float) and entry.constant > suspicion:
+            yield context.diagnostic(
+                THICKNESS_IN_NM,
+                f"{entry.name} = {entry.constant:g} µm looks like nanometres ({entry.constant / 1000:g} µm)",
+                entry.location, hint=f"did you mean {entry.constant / 1000:g}?",
+            )

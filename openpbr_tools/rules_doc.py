@@ -1,0 +1,47 @@
+"""Rule documentation generated from the rule objects: ``openpbr rules`` and the README's table."""
+
+from __future__ import annotations
+
+import textwrap
+
+from .rules import Rule, family_doc
+
+
+def rule_table(rules, markdown: bool = False) -> str:
+    rules = list(rules)
+    if markdown:
+        lines = ["| code | name | severity | checks |", "|---|---|---|---|"]
+        lines += [f"| {r.code} | `{r.name}` | {r.severity} | {r.summary} |" for r in rules]
+        return "\n".join(lines) + "\n"
+    width = max(len(r.name) for r in rules)
+    return "".join(f"{r.code}  {r.name:{width}}  {str(r.severity):7}  {r.summary}\n" for r in rules)
+
+
+def _example(text: str | bytes) -> str:
+    if isinstance(text, bytes):
+        return "    (binary bytes: " + text[:16].hex(" ") + ")"
+    return textwrap.indent(text.rstrip(), "    ")
+
+
+def rule_page(rule: Rule) -> str:
+    """The ruff-style page for one rule: what it does, why, examples, family background."""
+    parts = [
+        f"{rule.code} {rule.name} ({rule.severity})",
+        "",
+        "What it checks",
+        textwrap.indent(textwrap.fill(rule.summary, 96), "  "),
+        "",
+        "Why it matters",
+        textwrap.indent(textwrap.fill(rule.doc, 96), "  "),
+        "",
+        "Passes",
+        _example(rule.passing),
+        "",
+        "Fails",
+        _example(rule.failing),
+        "",
+        f"Family: {rule.family}",
+        textwrap.indent(family_doc(rule.family), "  "),
+        "",
+    ]
+    return "\n".join(parts)

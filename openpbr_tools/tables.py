@@ -1,0 +1,137 @@
+"""Parameter tables: the knowledge of each shading model, read from ``schemas/models/``.
+
+One JSON file per model and version (``schemas/models/<model>/<version>.json``), in the shape of
+``schemas/parameter_table.schema.json``. Tables are validated against that schema by the test
+suite (and by :func:`check_tables`), not on every load, so that ``openpbr validate`` on one file
+stays as quick as ``mxvalidate``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import lru_cache
+from typing import Any
+
+from .resources import data_dir, load_json
+
+MODELS = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
+
+
+def version_key(version: str) -> tuple[int, ...]:
+    """``"1.1.1"`` -> ``(1, 1, 1)``; ``"1.1"`` sorts before ``"1.1.1"``."""
+    return tuple(int(part) for part in version.split("."))
+
+
+@dataclass(frozen=True, slots=True)
+class Parameter:
+    name: str
+    type: str
+    default: Any
+    role: str
+    hard_min: Any = None
+    hard_max: Any = None
+    soft_min: Any = None
+    soft_max: Any = None
+    unit: str | None = None
+    uniform: bool = False
+    enum: tuple | None = None
+    group: str | None = None
+    doc: str | None = None
+    range_note: str | None = None
+    default_geomprop: str | None = None
+
+
+@dataclass(frozen=True, slots=True)
+class ParameterTable:
+    model: str
+    version: str
+    node: str
+    nodedef: str | None
+    parameters: dict[str, Parameter]
+    notes: tuple[str, ...]
+    sources: tuple[str, ...]
+
+    def __contains__(self, name: str) -> bool:
+        return name in self.parameters
+
+    def __getitem__(self, name: str) -> Parameter:
+        return self.parameters[name]
+
+    def get(self, name: str) -> Parameter | None:
+        return self.parameters.get(name)
+
+
+def _relative(model: str, version: str) -> str:
+    return f"models/{model}/{version}.json"
+
+
+@lru_cache(maxsize=None)
+def versions(model: str) -> tuple[str, ...]:
+    """Every version of ``model`` with a table, oldest first."""
+    folder = data_dir("schemas") / "models" / model
+    if not folder.is_dir():
+        return ()
+    found = [p.stem for p in folder.glob("*.json")]
+    return tuple(sorted(found, key=version_key))
+
+
+def latest(model: str) -> str:
+    return versions(model)[-1]
+
+
+@lru_cache(maxsize=None)
+def table(model: str, version: str | None = None) -> ParameterTable:
+    """The table of ``model`` at ``version`` (the latest when ``None``)."""
+    version = version or latest(model)
+    raw = load_json(_relative(model, version))
+    params = {
+        name: Parameter(
+            name=name,
+            type=entry["type"],
+            default=_freeze(entry["default"]),
+            role=entry["role"],
+            hard_min=_freeze(entry.get("hard_min")),
+            hard_max=_freeze(entry.get("hard_max")),
+            soft_min=_freeze(entry.get("soft_min")),
+            soft_max=_freeze(entry.get("soft_max")),
+            unit=entry.get("unit"),
+            uniform=entry.get("uniform", False),
+            enum=tuple(entry["enum"]) if "enum" in entry else None,
+            group=entry.get("group"),
+            doc=entry.get("doc"),
+            range_note=entry.get("range_note"),
+            default_geomprop=entry.get("default_geomprop"),
+        )
+        for name, entry in raw["parameters"].items()
+    }
+    return ParameterTable(
+        model=raw["model"],
+        version=raw["version"],
+        node=raw["node"],
+        nodedef=raw.get("nodedef"),
+        parameters=params,
+        notes=tuple(raw.get("notes", ())),
+        sources=tuple(raw["sources"]),
+    )
+
+
+def _freeze(value: Any) -> Any:
+    return tuple(value) if isinstance(value, list) else value
+
+
+def check_tables() -> list[str]:
+    """Validate every table file against ``parameter_table.schema.json``; returns error messages."""
+    import jsonschema
+
+    schema = load_json("parameter_table.schema.json")
+    validator = jsonschema.Draft202012Validator(schema)
+    errors = []
+    for model in MODELS:
+        for version in versions(model):
+            raw = load_json(_relative(model, version))
+            for error in validator.iter_errors(raw):
+                pointer = "/".join(str(p) for p in error.absolute_path)
+                errors.append(f"{model}/{version}.json#/{pointer}: {error.message}")
+            if raw.get("model") != model or raw.get("version") != version:
+                errors.append(f"{model}/{version}.json: model/version fields do not match the file name")
+    return errors

@@ -1,0 +1,125 @@
+"""Validation of files and folders: discovery, reading, rules, and the exit status.
+
+``validate_paths`` is the library entry point behind ``openpbr validate``: it returns a
+:class:`Report` and never prints. A file that cannot be read yields one diagnostic (OPBR001,
+OPBR002, OPBR006) and marks the report ``unreadable``, which the command maps to exit code 2.
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+from dataclasses import dataclass, field
+
+from . import io as readers
+from .diagnostics import Diagnostic, Severity
+from .model import Asset, Location
+from .rules import Context, check_asset
+from .rules.document import READ_ERROR_RULES, UNREADABLE
+
+
+@dataclass(slots=True)
+class FileResult:
+    path: str
+    diagnostics: list[Diagnostic]
+    materials: int = 0
+    unreadable: bool = False
+    asset: Asset | None = None
+
+
+@dataclass(slots=True)
+class Report:
+    files: list[FileResult] = field(default_factory=list)
+    problems: list[Diagnostic] = field(default_factory=list)  # about the arguments, not a file
+
+    @property
+    def diagnostics(self) -> list[Diagnostic]:
+        found = list(self.problems)
+        for result in self.files:
+            found.extend(result.diagnostics)
+        return found
+
+    @property
+    def unreadable(self) -> bool:
+        return bool(self.problems) or any(r.unreadable for r in self.files)
+
+    def count(self, severity: Severity) -> int:
+        return sum(1 for d in self.diagnostics if d.severity == severity)
+
+    def exit_code(self, fail_on: Severity | None = Severity.ERROR) -> int:
+        """0 clean, 1 a finding at or above ``fail_on`` (``None``: never), 2 unreadable input."""
+        if self.unreadable:
+            return 2
+        if fail_on is not None and any(d.severity >= fail_on for d in self.diagnostics):
+            return 1
+        return 0
+
+
+def discover(paths, suffixes: tuple[str, ...] | None = None) -> tuple[list[str], list[Diagnostic]]:
+    """Expand files, folders (recursively) and glob patterns into a sorted list of files.
+
+    A path that does not exist, a pattern that matches nothing and a folder without supported files
+    each give an OPBR001 diagnostic. Explicitly named files are kept whatever their suffix (the
+    reader reports an unsupported one).
+    """
+    suffixes = suffixes or readers.available_suffixes()
+    files: set[str] = set()
+    problems: list[Diagnostic] = []
+    for raw in paths:
+        path = os.fspath(raw)
+        if os.path.isdir(path):
+            found = _walk(path, suffixes)
+            if not found:
+                problems.append(Diagnostic(
+                    UNREADABLE.code, Severity.ERROR,
+                    f"no {', '.join(suffixes)} files in folder", Location(path),
+                ))
+            files.update(found)
+        elif os.path.exists(path) or os.path.islink(path):
+            files.add(path)
+        elif glob.has_magic(path):
+            matched = [m for m in glob.glob(path, recursive=True) if os.path.isfile(m) and m.lower().endswith(suffixes)]
+            if not matched:
+                problems.append(Diagnostic(UNREADABLE.code, Severity.ERROR, "pattern matches no file", Location(path)))
+            files.update(matched)
+        else:
+            problems.append(Diagnostic(UNREADABLE.code, Severity.ERROR, "no such file or folder", Location(path)))
+    return sorted(files), problems
+
+
+def _walk(folder: str, suffixes: tuple[str, ...]) -> list[str]:
+    found = []
+    seen_dirs: set[tuple[int, int]] = set()
+    for root, dirs, names in os.walk(folder, followlinks=True):
+        try:
+            stat = os.stat(root)
+        except OSError:
+            dirs[:] = []
+            continue
+        key = (stat.st_dev, stat.st_ino)
+        if key in seen_dirs:  # a symlink loop: do not walk the same folder twice
+            dirs[:] = []
+            continue
+        seen_dirs.add(key)
+        dirs.sort()
+        found.extend(os.path.join(root, n) for n in names if n.lower().endswith(suffixes))
+    return found
+
+
+def validate_file(path: str, context: Context | None = None, keep_asset: bool = False) -> FileResult:
+    try:
+        asset = readers.read_asset(path)
+    except readers.ReadError as error:
+        rule = READ_ERROR_RULES[error.kind]
+        diagnostic = Diagnostic(rule.code, Severity.ERROR, error.message, error.location)
+        return FileResult(path, [diagnostic], unreadable=True)
+    diagnostics = check_asset(asset, context)
+    return FileResult(path, diagnostics, len(asset.materials), asset=asset if keep_asset else None)
+
+
+def validate_paths(paths, context: Context | None = None) -> Report:
+    files, problems = discover(paths)
+    report = Report(problems=problems)
+    for path in files:
+        report.files.append(validate_file(path, context))
+    return report

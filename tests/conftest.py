@@ -1,0 +1,60 @@
+"""Shared fixtures: writing small MaterialX documents and running the validator on them."""
+
+from __future__ import annotations
+
+import os
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, os.path.dirname(__file__))
+
+DOCUMENT = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+{body}
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="S" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def document(fragment: str) -> str:
+    """Place a MaterialX fragment in a lin_rec709 document with a material M bound to shader S;
+    a fragment that is already a whole document is returned unchanged."""
+    if fragment.lstrip().startswith(("<?xml", "<materialx")):
+        return fragment
+    body = "\n".join("  " + line for line in fragment.splitlines())
+    return DOCUMENT.format(body=body)
+
+
+@pytest.fixture
+def write_mtlx(tmp_path: Path):
+    """write_mtlx(fragment, name="doc.mtlx", files=()) -> path; creates the listed texture files."""
+
+    def write(fragment: str | bytes, name: str = "doc.mtlx", files=()) -> Path:
+        path = tmp_path / name
+        path.parent.mkdir(parents=True, exist_ok=True)
+        if isinstance(fragment, bytes):
+            path.write_bytes(fragment)
+        else:
+            path.write_text(document(fragment), encoding="utf-8")
+        for file in files:
+            target = tmp_path / file
+            target.parent.mkdir(parents=True, exist_ok=True)
+            target.write_bytes(b"")
+        return path
+
+    return write
+
+
+@pytest.fixture
+def codes_of():
+    """codes_of(path) -> list of rule codes the validator reports for the file."""
+    from openpbr_tools.validate import validate_file
+
+    def run(path) -> list[str]:
+        return [d.code for d in validate_file(str(path)).diagnostics]
+
+    return run

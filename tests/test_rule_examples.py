@@ -1,0 +1,29 @@
+"""Every rule's documented examples behave as documented: the failing example triggers the rule,
+the passing one does not. The examples are what `openpbr rules CODE` shows, so documentation and
+behaviour cannot drift apart."""
+
+from __future__ import annotations
+
+import pytest
+
+from openpbr_tools.rules import all_rules
+
+RULES = list(all_rules().values())
+
+
+@pytest.mark.parametrize("rule", RULES, ids=[r.code for r in RULES])
+def test_failing_example_triggers_rule(rule, write_mtlx, codes_of):
+    path = write_mtlx(rule.failing, name=rule.failing_name, files=rule.example_files)
+    assert rule.code in codes_of(path)
+
+
+@pytest.mark.parametrize("rule", RULES, ids=[r.code for r in RULES])
+def test_passing_example_does_not_trigger_rule(rule, write_mtlx, codes_of):
+    path = write_mtlx(rule.passing, files=rule.example_files)
+    assert rule.code not in codes_of(path)
+
+
+def test_every_rule_has_documentation_and_distinct_examples():
+    for rule in RULES:
+        assert rule.summary and rule.doc, rule.code
+        assert rule.passing != rule.failing or rule.failing_name != "example.mtlx", rule.code
