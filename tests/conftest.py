@@ -38,8 +38,10 @@ def write_mtlx(tmp_path: Path):
         path.parent.mkdir(parents=True, exist_ok=True)
         if isinstance(fragment, bytes):
             path.write_bytes(fragment)
-        else:
+        elif name.endswith(".mtlx"):
             path.write_text(document(fragment), encoding="utf-8")
+        else:
+            path.write_text(fragment, encoding="utf-8")
         for file in files:
             target = tmp_path / file
             target.parent.mkdir(parents=True, exist_ok=True)

@@ -19,11 +19,11 @@ def test_failing_example_triggers_rule(rule, write_mtlx, codes_of):
 
 @pytest.mark.parametrize("rule", RULES, ids=[r.code for r in RULES])
 def test_passing_example_does_not_trigger_rule(rule, write_mtlx, codes_of):
-    path = write_mtlx(rule.passing, files=rule.example_files)
+    path = write_mtlx(rule.passing, name=rule.passing_name, files=rule.example_files)
     assert rule.code not in codes_of(path)
 
 
 def test_every_rule_has_documentation_and_distinct_examples():
     for rule in RULES:
         assert rule.summary and rule.doc, rule.code
-        assert rule.passing != rule.failing or rule.failing_name != "example.mtlx", rule.code
+        assert rule.passing != rule.failing or rule.failing_name != rule.passing_name, rule.code

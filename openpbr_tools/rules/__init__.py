@@ -28,15 +28,17 @@ FAMILIES = (
     "textures",
     "structure",
     "plausibility",
+    "usd",
 )
 
 
 @dataclass(frozen=True, slots=True)
 class Rule:
-    """One check. ``passing``/``failing`` are example documents (a MaterialX fragment placed in a
-    document with ``colorspace="lin_rec709"`` and a ``surfacematerial`` named ``M`` bound to a shader
-    named ``S``, or a whole document); the test suite runs every example. ``example_files`` are
-    files the examples expect to exist beside the document."""
+    """One check. ``passing``/``failing`` are example documents written to ``passing_name`` /
+    ``failing_name``: for ``.mtlx`` names, a MaterialX fragment is placed in a document with
+    ``colorspace="lin_rec709"`` and a ``surfacematerial`` named ``M`` bound to a shader named ``S``
+    (a whole document is used as is); other formats are written verbatim. The test suite runs
+    every example. ``example_files`` are files the examples expect to exist beside the document."""
 
     code: str
     name: str
@@ -47,6 +49,7 @@ class Rule:
     failing: str | bytes
     family: str = ""
     example_files: tuple[str, ...] = ()
+    passing_name: str = "example.mtlx"
     failing_name: str = "example.mtlx"
     formats: tuple[str, ...] = ("mtlx", "usd", "gltf")
 
