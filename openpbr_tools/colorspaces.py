@@ -76,6 +76,16 @@ def materialx_equivalent(usd_name: str) -> str | None:
     return None
 
 
+def _colour():
+    """colour-science, imported on first use with its optional-dependency warnings silenced."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        import colour
+    return colour
+
+
 def to_lin_rec709(rgb, colorspace: str | None):
     """Convert colour values (array ``(..., 3)``) from a MaterialX colour space to linear Rec.709.
 
@@ -93,8 +103,7 @@ def to_lin_rec709(rgb, colorspace: str | None):
         raise KeyError(f"unknown MaterialX colour space {name!r}")
     if spec["transfer"] == "data" or name == DEFAULT_MATERIALX:
         return values
-    import colour
-
+    colour = _colour()
     source = colour.RGB_COLOURSPACES[spec["space"]]
     transfer = spec["transfer"]
     if transfer == "space":
@@ -118,8 +127,7 @@ def from_lin_rec709(rgb, colorspace: str | None):
         raise KeyError(f"unknown MaterialX colour space {name!r}")
     if spec["transfer"] == "data" or name == DEFAULT_MATERIALX:
         return values
-    import colour
-
+    colour = _colour()
     target = colour.RGB_COLOURSPACES[spec["space"]]
     if spec["space"] != "sRGB":
         values = colour.RGB_to_RGB(

@@ -105,12 +105,16 @@ class Texture:
 @dataclass(slots=True)
 class Connection:
     """A connection the reader could not interpret as a constant or a texture (a procedural
-    graph, an unsupported node) or could not follow at all (``dangling``)."""
+    graph, an unsupported node) or could not follow at all (``dangling``). ``graph_xml`` holds the
+    upstream nodes as a MaterialX document when the reader could capture them, and ``output`` the
+    name of the node in it that feeds the input, so a writer can put the graph back."""
 
     target: str
     category: str | None = None
     reason: str = ""
     dangling: bool = False
+    graph_xml: str | None = None
+    output: str | None = None
 
 
 ParameterValue = Union[Constant, Texture, Connection]

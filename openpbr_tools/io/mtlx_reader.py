@@ -18,7 +18,6 @@ Each shader input becomes an :class:`~openpbr_tools.model.Input` whose value is
 
 from __future__ import annotations
 
-import os
 from functools import lru_cache
 
 from .. import versioning
@@ -65,13 +64,19 @@ def read_mtlx(path: str, data: bytes | None = None) -> Asset:
             "unreadable", f"not UTF-8 text (MaterialX documents are UTF-8): {error.reason} at byte {error.start}",
             Location(path),
         ) from None
+    lenient_error = None
     try:
         structure = scan(data)
     except XmlSyntaxError as error:
-        raise ReadError(
-            "not_materialx", f"not well-formed XML: {error} (line {error.line}, column {error.column})",
-            Location(path, line=error.line),
-        ) from None
+        # MaterialX's parser (pugixml) accepts some documents expat rejects; judge by MaterialX,
+        # and report the malformation as a finding instead of refusing the file.
+        structure = _scan_with_materialx(text)
+        if structure is None:
+            raise ReadError(
+                "not_materialx", f"not well-formed XML: {error} (line {error.line}, column {error.column})",
+                Location(path, line=error.line),
+            ) from None
+        lenient_error = error
     if structure.root_tag != "materialx":
         raise ReadError(
             "not_materialx",
@@ -90,8 +95,28 @@ def read_mtlx(path: str, data: bytes | None = None) -> Asset:
     asset.format_version = structure.root_attributes.get("version")
     asset.colorspace = structure.root_attributes.get("colorspace") or None
     asset.colorspace_location = Location(path, line=1, path="", input=None)
+    if lenient_error is not None:
+        asset.observe("malformed_xml", Location(path, lenient_error.line),
+                      message=f"{lenient_error} (line {lenient_error.line}, column {lenient_error.column})")
     _Reader(asset, document, structure).run()
     return asset
+
+
+def _scan_with_materialx(text: str):
+    """A scan without line numbers from a document only MaterialX can parse, or ``None``."""
+    import MaterialX as mx
+
+    from .xmlscan import XmlScan
+
+    document = mx.createDocument()
+    options = mx.XmlReadOptions()
+    options.readXIncludeFunction = None
+    try:
+        mx.readFromXmlString(document, text, mx.FileSearchPath(), options)
+    except Exception:  # MaterialX raises its own exception types for parse failures
+        return None
+    attributes = {name: document.getAttribute(name) for name in document.getAttributeNames()}
+    return XmlScan(root_tag="materialx", root_attributes=attributes)
 
 
 class _Reader:
@@ -271,7 +296,10 @@ class _Reader:
         texture = self.texture_chain(node, port.getOutputString() if not port.getNodeGraphString() else "")
         if texture is not None:
             return texture
-        return Connection(node.getNamePath(), node.getCategory(), f"{node.getCategory()} node is not a texture lookup")
+        return Connection(
+            node.getNamePath(), node.getCategory(), f"{node.getCategory()} node is not a texture lookup",
+            graph_xml=_capture_graph(node), output=node.getName(),
+        )
 
     def texture_chain(self, node, output_name: str = "") -> Texture | None:
         """Walk ``extract``/``convert``/``normalmap``/``separate`` to an image node."""
@@ -370,5 +398,26 @@ def _vector2(port) -> tuple[float, float] | None:
     return (float(value[0]), float(value[1]))
 
 
-def file_base(asset: Asset) -> str:
-    return os.path.dirname(os.path.abspath(asset.path))
+def _capture_graph(node, limit: int = 256) -> str | None:
+    """The nodes upstream of ``node`` in its own scope (itself included) as a MaterialX document,
+    so a procedural input survives a read-write round trip. ``None`` past ``limit`` nodes."""
+    import MaterialX as mx
+
+    captured = mx.createDocument()
+    pending, seen = [node], set()
+    while pending:
+        current = pending.pop()
+        if current.getName() in seen:
+            continue
+        seen.add(current.getName())
+        if len(seen) > limit:
+            return None
+        copy = captured.addNode(current.getCategory(), current.getName(), current.getType())
+        copy.copyContentFrom(current)
+        for port in current.getInputs():
+            upstream = port.getConnectedNode()
+            if upstream is not None and upstream.getParent() == current.getParent():
+                pending.append(upstream)
+    options = mx.XmlWriteOptions()
+    options.writeXIncludeEnable = False
+    return mx.writeToXmlString(captured, options)

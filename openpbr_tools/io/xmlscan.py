@@ -70,7 +70,15 @@ def scan(data: bytes) -> XmlScan:
     parser.EndElementHandler = end
     parser.StartDoctypeDeclHandler = doctype
     try:
-        parser.Parse(data, True)
+        parser.Parse(_escape_tile_tokens(data), True)
     except expat.ExpatError as error:
         raise XmlSyntaxError(expat.ErrorString(error.code), error.lineno, error.offset) from None
     return result
+
+
+def _escape_tile_tokens(data: bytes) -> bytes:
+    """MaterialX writes ``<UDIM>`` and ``<UVTILE>`` unescaped inside attribute values, which XML
+    forbids and pugixml tolerates; escape them for expat (same length in lines, so line numbers hold)."""
+    if b"<UDIM>" not in data and b"<UVTILE>" not in data:
+        return data
+    return data.replace(b"<UDIM>", b"&lt;UDIM&gt;").replace(b"<UVTILE>", b"&lt;UVTILE&gt;")

@@ -60,7 +60,16 @@ UNSUPPORTED = Rule(
     failing_name="example.xml",
 )
 
-RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED)
+MALFORMED_XML = Rule(
+    "OPBR007", "malformed-xml", Severity.WARNING,
+    "The document is not well-formed XML, although MaterialX's lenient parser reads it.",
+    "MaterialX (pugixml) accepts, for instance, a raw '<' in an attribute value; standard XML tools, "
+    "linters and other DCCs' readers refuse the file. The message gives the line and column.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_weight" type="float" value="1" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_weight" type="float" value="1" doc="a<b" />\n</open_pbr_surface>',
+)
+
+RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED, MALFORMED_XML)
 
 READ_ERROR_RULES = {
     "unreadable": UNREADABLE,
@@ -80,6 +89,10 @@ def check(asset, context):
     if message:
         for line in _not_covered(asset, message):
             yield context.diagnostic(MATERIALX_INVALID, f"MaterialX: {line}", Location(asset.path))
+    for observation in asset.observations:
+        if observation.kind == "malformed_xml":
+            yield context.diagnostic(MALFORMED_XML, f"not well-formed XML: {observation.detail['message']}",
+                                     observation.location, hint="escape '<' as &lt; and '&' as &amp; in attribute values")
     version = asset.format_version
     if asset.format == "mtlx" and version:
         try:

@@ -1,0 +1,166 @@
+"""Write :class:`~openpbr_tools.model.Material` objects as a MaterialX 1.39 document.
+
+Each material becomes a shader node plus a ``surfacematerial``; a :class:`Texture` becomes an
+``image`` node (with ``extract`` for a single channel, ``normalmap`` for a normal map, and
+``place2d``/``texcoord`` for a UV transform or set); an uninterpreted :class:`Connection` is written
+back from the node graph the reader captured with it. Output is deterministic: elements in a fixed
+order, values in the shortest text that reads back to the same number.
+"""
+
+from __future__ import annotations
+
+import os
+
+from .. import tables
+from ..atomic import write_text
+from ..model import Connection, Constant, Material, Texture
+from ..values import format_value
+
+COLOUR_TYPES = ("color3", "color4")
+
+
+def to_mtlx_string(materials: list[Material], colorspace: str | None = "lin_rec709") -> str:
+    import MaterialX as mx
+
+    document = mx.createDocument()
+    if colorspace:
+        document.setColorSpace(colorspace)
+    used: set[str] = set()
+    for material in materials:
+        _write_material(document, material, colorspace, used)
+    options = mx.XmlWriteOptions()
+    options.writeXIncludeEnable = False
+    text = mx.writeToXmlString(document, options)
+    # MaterialX leaves the UDIM/UVTILE tokens unescaped in attributes; strict XML tools reject that.
+    return text.replace("<UDIM>", "&lt;UDIM&gt;").replace("<UVTILE>", "&lt;UVTILE&gt;")
+
+
+def write_mtlx(materials: list[Material], path: str | os.PathLike, colorspace: str | None = "lin_rec709") -> None:
+    write_text(path, to_mtlx_string(materials, colorspace))
+
+
+def _unique(name: str, used: set[str]) -> str:
+    import MaterialX as mx
+
+    candidate = mx.createValidName(name)
+    base, index = candidate, 1
+    while candidate in used:
+        index += 1
+        candidate = f"{base}_{index}"
+    used.add(candidate)
+    return candidate
+
+
+def _write_material(document, material: Material, colorspace: str | None, used: set[str]) -> None:
+    table = tables.table(material.model, material.version) if material.version and tables.versions(material.model) else None
+    shader_name = _unique(material.name, used)
+    shader = document.addNode(material.model, shader_name, "surfaceshader")
+    if material.declared_version:
+        shader.setVersionString(material.declared_version)
+    if material.nodedef:
+        shader.setNodeDefString(material.nodedef)
+    if material.colorspace and material.colorspace != colorspace:
+        shader.setColorSpace(material.colorspace)
+    for name in sorted(material.inputs):
+        entry = material.inputs[name]
+        parameter = table.get(name) if table else None
+        type_name = entry.type or (parameter.type if parameter else "float")
+        port = shader.addInput(name, type_name)
+        value = entry.value
+        if isinstance(value, Constant):
+            port.setValueString(format_value(value.value, type_name))
+            if entry.authored_colorspace:
+                port.setColorSpace(entry.authored_colorspace)
+            elif type_name in COLOUR_TYPES and entry.colorspace and entry.colorspace != (material.colorspace or colorspace):
+                port.setColorSpace(entry.colorspace)
+        elif isinstance(value, Texture):
+            port.setNodeName(_write_texture(document, shader_name, name, type_name, value, used))
+        elif isinstance(value, Connection):
+            node_name = _write_connection(document, shader_name, name, value, used)
+            if node_name:
+                port.setNodeName(node_name)
+        elif entry.raw is not None:
+            port.setValueString(entry.raw)
+        if entry.unit:
+            port.setUnit(entry.unit)
+        if entry.unittype:
+            port.setUnitType(entry.unittype)
+    material_name = _unique(material.material_name or f"{material.name}_material", used)
+    node = document.addMaterialNode(material_name, shader)
+    node.setType("material")
+
+
+def _write_texture(document, shader_name: str, input_name: str, input_type: str, texture: Texture, used) -> str:
+    prefix = f"{shader_name}_{input_name}"
+    image_type = texture.image_type or input_type
+    image = document.addNode("tiledimage" if texture.node_category == "tiledimage" and texture.uv else "image",
+                             _unique(f"{prefix}_image", used), image_type)
+    file_input = image.addInput("file", "filename")
+    file_input.setValueString(texture.file)
+    if texture.colorspace:
+        file_input.setColorSpace(texture.colorspace)
+    if texture.fallback is not None:
+        image.addInput("default", image_type).setValueString(format_value(texture.fallback, image_type))
+    if texture.wrap:
+        image.addInput("uaddressmode", "string").setValueString(texture.wrap[0])
+        image.addInput("vaddressmode", "string").setValueString(texture.wrap[1])
+    if image.getCategory() == "tiledimage":
+        image.addInput("uvtiling", "vector2").setValueString(format_value(texture.uv.scale, "vector2"))
+        image.addInput("uvoffset", "vector2").setValueString(format_value(texture.uv.offset, "vector2"))
+    elif texture.uv is not None or texture.texcoord:
+        _write_placement(document, image, prefix, texture, used)
+    upstream = image.getName()
+    if texture.channels is not None and len(texture.channels) == 1:
+        extract = document.addNode("extract", _unique(f"{prefix}_extract", used), "float")
+        extract.addInput("in", image_type).setNodeName(upstream)
+        extract.addInput("index", "integer").setValueString(str(texture.channels[0]))
+        upstream = extract.getName()
+    if texture.normal_map is not None:
+        decode = document.addNode("normalmap", _unique(f"{prefix}_normalmap", used), "vector3")
+        decode.addInput("in", "vector3").setNodeName(upstream)
+        if texture.normal_map != 1.0:
+            decode.addInput("scale", "float").setValueString(format_value(texture.normal_map, "float"))
+        upstream = decode.getName()
+    return upstream
+
+
+def _write_placement(document, image, prefix: str, texture: Texture, used) -> None:
+    coordinates = None
+    if texture.texcoord:
+        coordinates = document.addNode("texcoord", _unique(f"{prefix}_texcoord", used), "vector2")
+        coordinates.addInput("index", "integer").setValueString(str(int(texture.texcoord)))
+    target = coordinates
+    if texture.uv is not None:
+        place = document.addNode("place2d", _unique(f"{prefix}_place2d", used), "vector2")
+        if coordinates is not None:
+            place.addInput("texcoord", "vector2").setNodeName(coordinates.getName())
+        uv = texture.uv
+        for name, value, identity in (("scale", uv.scale, (1.0, 1.0)), ("offset", uv.offset, (0.0, 0.0)),
+                                      ("pivot", uv.pivot, (0.0, 0.0))):
+            if tuple(value) != identity:
+                place.addInput(name, "vector2").setValueString(format_value(value, "vector2"))
+        if uv.rotate:
+            place.addInput("rotate", "float").setValueString(format_value(uv.rotate, "float"))
+        target = place
+    image.addInput("texcoord", "vector2").setNodeName(target.getName())
+
+
+def _write_connection(document, shader_name: str, input_name: str, connection: Connection, used) -> str | None:
+    """Re-create the procedural graph the reader captured; ``None`` when there is nothing to write."""
+    import MaterialX as mx
+
+    if not connection.graph_xml:
+        return None
+    source = mx.createDocument()
+    mx.readFromXmlString(source, connection.graph_xml)
+    renamed = {}
+    for node in source.getNodes():
+        renamed[node.getName()] = _unique(f"{shader_name}_{input_name}_{node.getName()}", used)
+    for node in source.getNodes():
+        copy = document.addNode(node.getCategory(), renamed[node.getName()], node.getType())
+        copy.copyContentFrom(node)
+        copy.setName(renamed[node.getName()])
+        for port in copy.getInputs():
+            if port.getNodeName() in renamed:
+                port.setNodeName(renamed[port.getNodeName()])
+    return renamed.get(connection.output or "")

@@ -1,0 +1,62 @@
+"""Colour-space data against its sources: MaterialX's cmlib, usd-core's Gf, colour-science."""
+
+from __future__ import annotations
+
+import os
+import re
+
+import numpy as np
+import pytest
+
+from openpbr_tools import colorspaces
+from openpbr_tools.resources import load_json
+
+
+def test_materialx_names_are_exactly_those_cmlib_converts_plus_lin_rec709_and_none():
+    import MaterialX as mx
+
+    folder = os.path.join(os.path.dirname(mx.__file__), "libraries", "cmlib", "cmlib_defs.mtlx")
+    text = open(folder, encoding="utf-8").read()
+    converted = set(re.findall(r'name="ND_([a-z0-9_]+)_to_lin_rec709_color3"', text))
+    assert colorspaces.materialx_names() == frozenset(converted | {"lin_rec709", "none"})
+
+
+def test_usd_names_are_usd_cores_colorspace_names():
+    from pxr import Gf
+
+    names = {getattr(Gf.ColorSpaceNames, n) for n in dir(Gf.ColorSpaceNames) if not n.startswith("_")}
+    assert set(load_json("colorspaces.json")["usd"]["names"]) == names
+
+
+def test_usd_equivalents_are_real_usd_names():
+    usd = set(load_json("colorspaces.json")["usd"]["names"])
+    for name, spec in load_json("colorspaces.json")["materialx"].items():
+        assert spec["usd"] is None or spec["usd"] in usd, name
+
+
+def test_srgb_texture_decodes_with_the_srgb_curve():
+    # IEC 61966-2-1: 0.5 encoded -> ((0.5 + 0.055) / 1.055) ** 2.4 = 0.21404
+    assert colorspaces.to_lin_rec709([0.5, 0.5, 0.5], "srgb_texture") == pytest.approx([0.214041] * 3, abs=1e-6)
+
+
+def test_acescg_primaries_map_to_rec709_with_white_preserved():
+    white = colorspaces.to_lin_rec709([1.0, 1.0, 1.0], "acescg")
+    assert white == pytest.approx([1.0, 1.0, 1.0], abs=2e-3)
+    red = colorspaces.to_lin_rec709([1.0, 0.0, 0.0], "acescg")
+    assert red[0] > 1.0 and red[1] < 0.0  # AP1 red lies outside the Rec.709 gamut
+
+
+def test_gamma_22_is_a_pure_power():
+    assert colorspaces.to_lin_rec709([0.5, 0.25, 1.0], "g22_rec709") == pytest.approx(np.array([0.5, 0.25, 1.0]) ** 2.2)
+
+
+@pytest.mark.parametrize("name", sorted(colorspaces.materialx_names()))
+def test_conversion_round_trips(name):
+    rgb = np.array([0.18, 0.5, 0.9])
+    # colour-science uses the published (rounded) RGB<->XYZ matrices, so inverses agree to ~1e-4.
+    assert colorspaces.from_lin_rec709(colorspaces.to_lin_rec709(rgb, name), name) == pytest.approx(rgb, abs=2e-4)
+
+
+def test_every_vendor_alias_points_at_a_materialx_name():
+    for alias, target in load_json("colorspaces.json")["vendor_aliases"].items():
+        assert target in colorspaces.materialx_names(), alias
