@@ -29,9 +29,13 @@ def all_names(model: str) -> frozenset[str]:
 
 
 @lru_cache(maxsize=None)
-def _nodedef_versions(model: str) -> dict[str, str]:
+def nodedef_versions(model: str) -> dict[str, str]:
+    """Nodedef name -> version: the names the tables give (MaterialX's current definitions) and
+    the versioned names (``ND_<model>_surfaceshader_<digits>``, as MaterialX names
+    ``ND_standard_surface_surfaceshader_100`` and this toolkit's legacy OpenPBR library does)."""
     found = {}
     for version in tables.versions(model):
+        found[f"ND_{model}_surfaceshader_{version.replace('.', '')}"] = version
         nodedef = tables.table(model, version).nodedef
         if nodedef:
             found[nodedef] = version
@@ -63,7 +67,7 @@ def settle(material: Material) -> None:
     if declared and declared in available:
         material.version, material.version_basis = declared, "node version attribute"
         return
-    nodedef_version = _nodedef_versions(model).get(material.nodedef or "")
+    nodedef_version = nodedef_versions(model).get(material.nodedef or "")
     if nodedef_version:
         material.version, material.version_basis = nodedef_version, f"nodedef {material.nodedef}"
         return

@@ -32,19 +32,41 @@ PASS_THROUGH = ("convert", "dot")
 MATERIAL_CATEGORIES = ("surfacematerial",)
 
 
-@lru_cache(maxsize=1)
-def standard_library():
-    """MaterialX's standard data libraries, loaded once per process (~30 ms)."""
+@lru_cache(maxsize=2)
+def standard_library(complete: bool = False):
+    """MaterialX's standard data libraries, loaded once per process.
+
+    By default only the files that declare node definitions are loaded, not the implementations
+    (``*_ng.mtlx`` node graphs, the ``genglsl``/``genosl``/... folders): validation needs node
+    definitions, and this halves the start-up cost. ``complete=True`` loads everything, as
+    ``mxvalidate`` does.
+    """
+    import os
+
     import MaterialX as mx
 
     library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    if complete:
+        mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+        return library
+    for folder in mx.getDefaultDataSearchPath().asString().split(mx.PATH_LIST_SEPARATOR):
+        for name in mx.getDefaultDataLibraryFolders():
+            root = os.path.join(folder, name)
+            for directory, subdirectories, files in os.walk(root):
+                subdirectories[:] = sorted(d for d in subdirectories if not d.startswith("gen"))
+                for file in sorted(files):
+                    if file.endswith(".mtlx") and not file.endswith("_ng.mtlx"):
+                        mx.loadLibrary(os.path.join(directory, file), library)
     return library
 
 
-@lru_cache(maxsize=1)
-def known_categories() -> frozenset[str]:
-    return frozenset(nd.getNodeString() for nd in standard_library().getNodeDefs())
+@lru_cache(maxsize=2)
+def known_categories(complete: bool = False) -> frozenset[str]:
+    return frozenset(nd.getNodeString() for nd in standard_library(complete).getNodeDefs())
+
+
+def is_known_category(category: str) -> bool:
+    return category in known_categories() or category in known_categories(complete=True)
 
 
 def read_mtlx(path: str, data: bytes | None = None) -> Asset:
@@ -146,7 +168,7 @@ class _Reader:
                 material = self.read_shader(element)
                 shaders[element.getNamePath()] = material
                 self.asset.materials.append(material)
-            elif category not in MATERIAL_CATEGORIES and category not in known_categories():
+            elif category not in MATERIAL_CATEGORIES and not is_known_category(category):
                 if not self.document.getMatchingNodeDefs(category):
                     self.asset.observe(
                         "unknown_category", self.location(element), category=category, type=element.getType()

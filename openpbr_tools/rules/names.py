@@ -108,7 +108,7 @@ def _check_material(material, context):
             material.location, hint=f"use version=\"{available[-1]}\" or remove the attribute",
         )
     if material.nodedef:
-        nodedef_version = versioning._nodedef_versions(model).get(material.nodedef)
+        nodedef_version = versioning.nodedef_versions(model).get(material.nodedef)
         if nodedef_version is None:
             yield context.diagnostic(
                 MISSING_NODEDEF, f"no node definition named {material.nodedef!r} for {model}",

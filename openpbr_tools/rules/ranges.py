@@ -5,6 +5,9 @@ Hard ranges are the physically meaningful bounds (a weight outside [0, 1], a neg
 soft ranges are the recommended UI ranges (specular_weight above 1, an IOR above 3). Where the
 OpenPBR specification and MaterialX's node definition disagree, the table's ``range_note`` says
 which bound the toolkit follows and why; the message repeats it.
+
+Lengths in scene units (``transmission_depth``, ``subsurface_radius``) get no soft-range warning:
+their node definitions' UI ranges assume one scene scale, and 2 (cm) is as normal as 0.02 (m).
 """
 
 from __future__ import annotations
@@ -87,6 +90,8 @@ def check(asset, context):
                 f"{entry.name} = {_fmt(value)} is outside its valid range {_range(parameter.hard_min, parameter.hard_max)}{note}",
                 entry.location, hint=f"default is {_fmt(parameter.default) if parameter.default is not None else 'geometric'}",
             )
+            continue
+        if parameter.unit == "scene_length":
             continue
         low = _outside(values, parameter.soft_min, below=True)
         high = _outside(values, parameter.soft_max, below=False)
