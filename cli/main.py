@@ -18,6 +18,7 @@ COMMANDS = {
     "rules": "cli.validate_cmd:rules",
     "info": "cli.validate_cmd:info",
     "samples": "cli.validate_cmd:samples",
+    "upgrade": "cli.upgrade_cmd:upgrade",
     "preview": "cli.evaluate_cmd:preview",
     "compare": "cli.evaluate_cmd:compare",
 }

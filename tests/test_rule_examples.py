@@ -8,7 +8,8 @@ import pytest
 
 from openpbr_tools.rules import all_rules
 
-RULES = list(all_rules().values())
+RULES = [r for r in all_rules().values() if r.formats]
+REPORT_ONLY = [r for r in all_rules().values() if not r.formats]
 
 
 @pytest.mark.parametrize("rule", RULES, ids=[r.code for r in RULES])
@@ -27,3 +28,8 @@ def test_every_rule_has_documentation_and_distinct_examples():
     for rule in RULES:
         assert rule.summary and rule.doc, rule.code
         assert rule.passing != rule.failing or rule.failing_name != rule.passing_name, rule.code
+
+
+def test_rules_without_examples_are_loss_report_codes_tested_elsewhere():
+    """Codes with no example file describe translation results (tests/test_upgrade.py)."""
+    assert REPORT_ONLY and all(r.family == "translation" for r in REPORT_ONLY)

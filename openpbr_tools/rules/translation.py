@@ -1,0 +1,64 @@
+"""Translation: what an upgrade or a conversion did to each parameter, and what it could not carry.
+
+These codes are not checks of an input file; they make up the loss report of ``openpbr upgrade``
+(and of conversions), in the same formats as validation. Every approximation and every loss is
+reported; a clean report means the result renders as the original did.
+"""
+
+from __future__ import annotations
+
+from ..diagnostics import Severity
+from . import Rule
+
+RENAMED = Rule(
+    "OPBR1101", "input-renamed", Severity.INFO,
+    "An input was renamed between versions or models; the value is carried exactly.",
+    "For instance OpenPBR 0.4 renamed base_roughness to base_diffuse_roughness.",
+    passing="", failing="", formats=(),
+)
+CONVERTED = Rule(
+    "OPBR1102", "value-converted", Severity.INFO,
+    "A value was converted exactly (a unit change, an IOR level folded into the IOR).",
+    "The result renders as the original did; the message gives the formula and both values.",
+    passing="", failing="", formats=(),
+)
+APPROXIMATED = Rule(
+    "OPBR1103", "value-approximated", Severity.WARNING,
+    "A value had no exact equivalent and was approximated.",
+    "The message says how (e.g. a colour opacity averaged to a float) and, where known, the error.",
+    passing="", failing="", formats=(),
+)
+NOT_CARRIED = Rule(
+    "OPBR1104", "not-carried", Severity.ERROR,
+    "A value could not be carried to the target at all.",
+    "The result renders differently where this input mattered (e.g. a textured IOR level, which "
+    "needs a baked IOR texture). The message says what was dropped.",
+    passing="", failing="", formats=(),
+)
+DEFAULT_PINNED = Rule(
+    "OPBR1105", "default-pinned", Severity.INFO,
+    "An unset input whose default changed between versions was written explicitly.",
+    "OpenPBR 1.1 changed thin_film_ior's default from 1.5 to 1.4: an upgraded 1.0 material keeps its "
+    "look only if the old default is written out.",
+    passing="", failing="", formats=(),
+)
+GRAPH_INSERTED = Rule(
+    "OPBR1106", "graph-inserted", Severity.INFO,
+    "A node graph was inserted to carry a parameter the target expresses differently.",
+    "OpenPBR 0.5 removed specular_rotation: the rotation is carried by rotating the tangent "
+    "(a rotate3d node about the normal feeding geometry_tangent).",
+    passing="", failing="", formats=(),
+)
+LOOK_CHANGED = Rule(
+    "OPBR1107", "semantics-changed", Severity.WARNING,
+    "The target version interprets an input differently and no exact compensation is known.",
+    "OpenPBR 1.1.1 no longer scales a metal's edge tint by specular_weight; a metal with "
+    "specular_weight below 1 and a tinted specular_color renders with a different edge colour.",
+    passing="", failing="", formats=(),
+)
+
+RULES = (RENAMED, CONVERTED, APPROXIMATED, NOT_CARRIED, DEFAULT_PINNED, GRAPH_INSERTED, LOOK_CHANGED)
+
+
+def check(asset, context):
+    return iter(())
