@@ -153,3 +153,8 @@ def test_shader_reached_only_through_a_look_is_bound(write_mtlx):
     path = write_mtlx(document)
     assert any("Missing" in d.message for d in findings(path, "OPBR802"))
     assert not findings(path, "OPBR804")
+
+
+def test_shader_node_of_the_wrong_type_has_no_definition(write_mtlx):
+    path = write_mtlx('<open_pbr_surface name="S" type="material" />')
+    assert any("outputs type 'material'" in d.message for d in findings(path, "OPBR105"))

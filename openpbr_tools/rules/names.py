@@ -107,6 +107,12 @@ def _check_material(material, context):
             f"{model} has no version {material.declared_version!r} (known: {', '.join(available)})",
             material.location, hint=f"use version=\"{available[-1]}\" or remove the attribute",
         )
+    node_type = material.extra.get("type")
+    if node_type and node_type != "surfaceshader":
+        yield context.diagnostic(
+            MISSING_NODEDEF, f"no node definition of {model} outputs type {node_type!r}",
+            material.location, hint="shader nodes are type=\"surfaceshader\"",
+        )
     if material.nodedef:
         nodedef_version = versioning.nodedef_versions(model).get(material.nodedef)
         if nodedef_version is None:
