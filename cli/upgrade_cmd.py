@@ -8,6 +8,7 @@ import sys
 import click
 
 from cli.validate_cmd import SEVERITIES, _severity
+from openpbr_tools.reports import FORMATS
 
 
 @click.command()
@@ -15,7 +16,7 @@ from cli.validate_cmd import SEVERITIES, _severity
 @click.option("--output", "-o", required=True, type=click.Path(dir_okay=False), help="The upgraded .mtlx file.")
 @click.option("--to", "target", default=None, help="Target OpenPBR version (default: the latest, 1.1.1).")
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT if it exists.")
-@click.option("--format", "output_format", type=click.Choice(["text", "json"]), default="text", show_default=True,
+@click.option("--format", "output_format", type=click.Choice(FORMATS), default="text", show_default=True,
               help="Format of the report of what was converted, approximated or dropped.")
 @click.option("--fail-on", type=click.Choice(SEVERITIES + ("never",)), default="error", show_default=True,
               callback=_severity, help="Exit 1 when a report entry reaches this severity (error: something was dropped).")
@@ -26,7 +27,7 @@ def upgrade(input_path, output, target, force, output_format, fail_on):
     Exit codes: 0 written, 1 written but a report entry reached --fail-on, 2 unreadable input or
     refused output (existing without --force, or the input itself).
     """
-    from openpbr_tools import report as reporting
+    from openpbr_tools.reports import render
     from openpbr_tools import tables
     from openpbr_tools.atomic import write_text
     from openpbr_tools.io import ReadError
@@ -54,11 +55,11 @@ def upgrade(input_path, output, target, force, output_format, fail_on):
 
             diagnostic = Diagnostic("OPBR001", Severity.ERROR, f"cannot read file: {error}", Location(input_path))
         report = Report(files=[FileResult(input_path, [diagnostic], unreadable=True)])
-        click.echo(reporting.to_json(report) if output_format == "json" else reporting.to_text(report), nl=False)
+        click.echo(render(report, output_format), nl=False)
         sys.exit(2)
     write_text(output, result.text)
     report = Report(files=[FileResult(input_path, result.diagnostics, materials=len(result.upgrades))])
-    text = reporting.to_json(report, fail_on) if output_format == "json" else reporting.to_text(report)
+    text = render(report, output_format, fail_on)
     click.echo(text, nl=False)
     click.echo(f"wrote {output} ({len(result.upgrades)} material(s) upgraded)", err=True)
     sys.exit(report.exit_code(fail_on))

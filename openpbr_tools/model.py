@@ -96,6 +96,7 @@ class Texture:
     node: str | None = None
     node_category: str | None = None
     location: Location | None = None
+    packaged: bool = False  # ``file`` is a path inside the asset's own package (USDZ), not on disk
 
     @property
     def is_udim(self) -> bool:
@@ -140,6 +141,7 @@ class Input:
     unittype: str | None = None
     source_type: str | None = None
     authored_colorspace: str | None = None
+    interface_name: str | None = None  # the material/node-graph interface input the value comes through
 
     @property
     def constant(self) -> Value | None:
@@ -208,6 +210,7 @@ class Asset:
     observations: list[Observation] = field(default_factory=list)
     line_of: dict[str, int] = field(default_factory=dict)
     extra: dict[str, Any] = field(default_factory=dict)
+    suppressions: dict[str, frozenset[str]] = field(default_factory=dict)
 
     def observe(self, kind: str, location: Location, **detail: Any) -> None:
         self.observations.append(Observation(kind, location, detail))

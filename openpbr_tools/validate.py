@@ -10,6 +10,7 @@ from __future__ import annotations
 import glob
 import os
 from dataclasses import dataclass, field
+from typing import Callable
 
 from . import io as readers
 from .diagnostics import Diagnostic, Severity
@@ -117,9 +118,108 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
     return FileResult(path, diagnostics, len(asset.materials), asset=asset if keep_asset else None)
 
 
-def validate_paths(paths, context: Context | None = None) -> Report:
+@dataclass(slots=True)
+class Options:
+    """How ``validate_paths`` runs: rule selection on top of the configuration, parallelism, and
+    the CI narrowing of the file list."""
+
+    select: tuple[str, ...] = ()
+    ignore: tuple[str, ...] = ()
+    use_config: bool = True
+    jobs: int = 1
+    changed_since: str | None = None
+    shard: tuple[int, int] | None = None
+    scheduler: str | None = None
+    scheduler_timeout: float = 30.0
+
+
+def contexts_for(files: list[str], options: Options, problems: list[Diagnostic]) -> dict[str, Context] | None:
+    """The context of every file from its nearest configuration; ``None`` if a configuration is bad
+    (the problem is appended to ``problems``)."""
+    from .config import ConfigError, context_for, find_config
+
+    contexts = {}
+    for path in files:
+        config = None
+        if options.use_config:
+            try:
+                config = find_config(os.path.dirname(os.path.abspath(path)))
+            except ConfigError as error:
+                from .rules.document import INVALID_CONFIG
+
+                problems.append(Diagnostic(INVALID_CONFIG.code, Severity.ERROR, error.message, error.location))
+                return None
+        contexts[path] = context_for(path, config, options.select, options.ignore)
+    return contexts
+
+
+def _validate_chunk(tasks: list[tuple[str, Context]]) -> list[FileResult]:
+    return [validate_file(path, context) for path, context in tasks]
+
+
+def _chunks(tasks: list, count: int) -> list[list]:
+    size = max(1, min(64, len(tasks) // max(1, count)))
+    return [tasks[i:i + size] for i in range(0, len(tasks), size)]
+
+
+# Below this many files a process pool costs more (start-up, a MaterialX library load per worker)
+# than it saves.
+POOL_THRESHOLD = 48
+
+
+def validate_paths(paths, context: Context | None = None, options: Options | None = None,
+                   progress: Callable[[int, int], None] | None = None) -> Report:
+    """Validate files, folders and globs. With ``context`` every file uses it; otherwise each file
+    gets the context of its nearest configuration plus ``options``."""
+    from .selection import SelectionError, changed_since, shard
+
+    options = options or Options()
     files, problems = discover(paths)
     report = Report(problems=problems)
-    for path in files:
-        report.files.append(validate_file(path, context))
+    try:
+        if options.changed_since:
+            files = changed_since(files, options.changed_since)
+        if options.shard:
+            files = shard(files, *options.shard)
+    except SelectionError as error:
+        from .rules.document import UNREADABLE
+
+        report.problems.append(Diagnostic(UNREADABLE.code, Severity.ERROR, str(error), Location(".")))
+        return report
+    if context is not None:
+        tasks = [(path, context) for path in files]
+    else:
+        contexts = contexts_for(files, options, report.problems)
+        if contexts is None:
+            return report
+        tasks = [(path, contexts[path]) for path in files]
+    report.files = _run(tasks, options, progress)
     return report
+
+
+def _run(tasks, options: Options, progress) -> list[FileResult]:
+    total = len(tasks)
+    if options.scheduler:
+        from .distributed import run_on_cluster
+
+        return run_on_cluster(tasks, options.scheduler, _validate_chunk, _chunks, timeout=options.scheduler_timeout)
+    if options.jobs <= 1 or total < POOL_THRESHOLD:
+        results = []
+        for done, (path, context) in enumerate(tasks, 1):
+            results.append(validate_file(path, context))
+            if progress:
+                progress(done, total)
+        return results
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
+    chunks = _chunks(tasks, options.jobs * 8)
+    ordered: list[list[FileResult] | None] = [None] * len(chunks)
+    done = 0
+    with ProcessPoolExecutor(max_workers=options.jobs) as pool:
+        futures = {pool.submit(_validate_chunk, chunk): i for i, chunk in enumerate(chunks)}
+        for future in as_completed(futures):
+            ordered[futures[future]] = future.result()
+            done += len(chunks[futures[future]])
+            if progress:
+                progress(done, total)
+    return [result for chunk in ordered for result in chunk]

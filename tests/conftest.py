@@ -33,8 +33,10 @@ def document(fragment: str) -> str:
 def write_mtlx(tmp_path: Path):
     """write_mtlx(fragment, name="doc.mtlx", files=()) -> path; creates the listed texture files."""
 
-    def write(fragment: str | bytes, name: str = "doc.mtlx", files=()) -> Path:
+    def write(fragment: str | bytes, name: str = "doc.mtlx", files=(), config: str = "") -> Path:
         path = tmp_path / name
+        if config:
+            (tmp_path / ".openpbr.toml").write_text(config, encoding="utf-8")
         path.parent.mkdir(parents=True, exist_ok=True)
         if isinstance(fragment, bytes):
             path.write_bytes(fragment)
@@ -53,10 +55,11 @@ def write_mtlx(tmp_path: Path):
 
 @pytest.fixture
 def codes_of():
-    """codes_of(path) -> list of rule codes the validator reports for the file."""
-    from openpbr_tools.validate import validate_file
+    """codes_of(path) -> list of rule codes the validator reports for the file, with the project
+    configuration found beside it (as `openpbr validate` runs)."""
+    from openpbr_tools.validate import validate_paths
 
     def run(path) -> list[str]:
-        return [d.code for d in validate_file(str(path)).diagnostics]
+        return [d.code for d in validate_paths([str(path)]).diagnostics]
 
     return run

@@ -14,20 +14,22 @@ REPORT_ONLY = [r for r in all_rules().values() if not r.formats]
 
 @pytest.mark.parametrize("rule", RULES, ids=[r.code for r in RULES])
 def test_failing_example_triggers_rule(rule, write_mtlx, codes_of):
-    path = write_mtlx(rule.failing, name=rule.failing_name, files=rule.example_files)
+    config = rule.example_config if rule.failing_config is None else rule.failing_config
+    path = write_mtlx(rule.failing, name=rule.failing_name, files=rule.example_files, config=config)
     assert rule.code in codes_of(path)
 
 
 @pytest.mark.parametrize("rule", RULES, ids=[r.code for r in RULES])
 def test_passing_example_does_not_trigger_rule(rule, write_mtlx, codes_of):
-    path = write_mtlx(rule.passing, name=rule.passing_name, files=rule.example_files)
+    path = write_mtlx(rule.passing, name=rule.passing_name, files=rule.example_files, config=rule.example_config)
     assert rule.code not in codes_of(path)
 
 
 def test_every_rule_has_documentation_and_distinct_examples():
     for rule in RULES:
         assert rule.summary and rule.doc, rule.code
-        assert rule.passing != rule.failing or rule.failing_name != rule.passing_name, rule.code
+        failing = (rule.failing, rule.failing_name, rule.failing_config)
+        assert failing != (rule.passing, rule.passing_name, None), rule.code
 
 
 def test_rules_without_examples_are_loss_report_codes_tested_elsewhere():

@@ -24,7 +24,7 @@ from .. import versioning
 from ..model import Asset, Connection, Constant, Input, Location, Material, Texture, UVTransform
 from ..values import ValueSyntaxError, parse_value
 from . import ReadError
-from .xmlscan import XmlSyntaxError, scan
+from .xmlscan import XmlSyntaxError, parse_suppression, scan
 
 SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
 IMAGE_CATEGORIES = ("image", "tiledimage", "gltf_image", "gltf_colorimage", "UsdUVTexture")
@@ -113,7 +113,7 @@ def read_mtlx(path: str, data: bytes | None = None) -> Asset:
     except Exception as error:  # MaterialX raises its own exception types for parse failures
         raise ReadError("not_materialx", f"MaterialX cannot read the document: {error}", Location(path)) from None
 
-    asset = Asset(path=path, format="mtlx", line_of=structure.lines)
+    asset = Asset(path=path, format="mtlx", line_of=structure.lines, suppressions=dict(structure.suppressions))
     asset.format_version = structure.root_attributes.get("version")
     asset.colorspace = structure.root_attributes.get("colorspace") or None
     asset.colorspace_location = Location(path, line=1, path="", input=None)
@@ -160,7 +160,12 @@ class _Reader:
         if not valid:
             self.asset.extra["materialx_validate"] = message.strip()
         shaders: dict[str, Material] = {}
+        root_doc = self.document.getDocString()
+        if root_doc:
+            self._doc_suppression("", root_doc)
         for element in self.document.traverseTree():
+            if element.hasAttribute("doc"):
+                self._doc_suppression(element.getNamePath(), element.getDocString())
             if not element.isA(mx.Node):
                 continue
             category = element.getCategory()
@@ -191,6 +196,13 @@ class _Reader:
                     )
         for href_line, href in self.structure.xincludes:
             self.asset.observe("xinclude", Location(self.path, href_line), href=href)
+
+    def _doc_suppression(self, path: str, text: str) -> None:
+        found = parse_suppression(text)
+        if found is not None:
+            whole_file, codes = found
+            key = "" if whole_file else path
+            self.asset.suppressions[key] = self.asset.suppressions.get(key, frozenset()) | codes
 
     # -- materials -------------------------------------------------------------------------
     def read_material(self, node, shaders: dict[str, Material]) -> None:

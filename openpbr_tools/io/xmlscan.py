@@ -10,8 +10,22 @@ entity-expansion bombs.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from xml.parsers import expat
+
+# Inline suppression: ``<!-- openpbr-ignore: OPBR301, OPBR302 -->`` before an element applies to
+# it (and what it contains); ``openpbr-ignore-file:`` applies to the whole document. The same
+# marker in an element's ``doc`` attribute applies to that element.
+SUPPRESSION = re.compile(r"openpbr-ignore(-file)?\s*:\s*((?:all|OPBR\d+)(?:\s*,\s*(?:all|OPBR\d+))*)")
+
+
+def parse_suppression(text: str) -> tuple[bool, frozenset[str]] | None:
+    """``(whole_file, codes)`` of a suppression marker in ``text``, or ``None``."""
+    match = SUPPRESSION.search(text)
+    if match is None:
+        return None
+    return bool(match.group(1)), frozenset(c.strip() for c in match.group(2).split(","))
 
 
 @dataclass(slots=True)
@@ -23,6 +37,7 @@ class XmlScan:
     duplicates: dict[str, list[tuple[int, dict[str, str]]]] = field(default_factory=dict)
     has_doctype: bool = False
     xincludes: list[tuple[int, str]] = field(default_factory=list)
+    suppressions: dict[str, frozenset[str]] = field(default_factory=dict)
 
 
 class XmlSyntaxError(ValueError):
@@ -37,9 +52,25 @@ def scan(data: bytes) -> XmlScan:
     parser = expat.ParserCreate()
     stack: list[str | None] = []
     seen_lines = result.lines
+    pending: list[frozenset[str]] = []
+
+    def suppress(path: str, codes: frozenset[str]) -> None:
+        result.suppressions[path] = result.suppressions.get(path, frozenset()) | codes
+
+    def comment(text: str) -> None:
+        found = parse_suppression(text)
+        if found is None:
+            return
+        whole_file, codes = found
+        if whole_file or result.root_tag is None:
+            suppress("", codes)
+        else:
+            pending.append(codes)
 
     def start(tag: str, attributes: dict[str, str]) -> None:
         line = parser.CurrentLineNumber
+        claimed = frozenset().union(*pending) if pending else None
+        pending.clear()
         if result.root_tag is None:
             result.root_tag = tag
             result.root_attributes = dict(attributes)
@@ -58,6 +89,8 @@ def scan(data: bytes) -> XmlScan:
             stack.append(None)
             return
         seen_lines[path] = line
+        if claimed:
+            suppress(path, claimed)
         stack.append(path)
 
     def end(tag: str) -> None:
@@ -69,6 +102,7 @@ def scan(data: bytes) -> XmlScan:
     parser.StartElementHandler = start
     parser.EndElementHandler = end
     parser.StartDoctypeDeclHandler = doctype
+    parser.CommentHandler = comment
     try:
         parser.Parse(_escape_tile_tokens(data), True)
     except expat.ExpatError as error:

@@ -39,7 +39,9 @@ class Rule:
     ``failing_name``: for ``.mtlx`` names, a MaterialX fragment is placed in a document with
     ``colorspace="lin_rec709"`` and a ``surfacematerial`` named ``M`` bound to a shader named ``S``
     (a whole document is used as is); other formats are written verbatim. The test suite runs
-    every example. ``example_files`` are files the examples expect to exist beside the document."""
+    every example. ``example_files`` are files the examples expect to exist beside the document;
+    ``example_config`` is a ``.openpbr.toml`` written beside both examples (``failing_config``, when
+    set, replaces it for the failing one)."""
 
     code: str
     name: str
@@ -52,6 +54,8 @@ class Rule:
     example_files: tuple[str, ...] = ()
     passing_name: str = "example.mtlx"
     failing_name: str = "example.mtlx"
+    example_config: str = ""
+    failing_config: str | None = None
     formats: tuple[str, ...] = ("mtlx", "usd", "gltf")
 
 
@@ -59,8 +63,10 @@ class Rule:
 class Context:
     """What a check may consult besides the asset: the active configuration and the file system.
 
-    ``severity`` overrides the default severity per code; ``disabled`` switches codes off.
-    ``file_exists`` is injectable so tests and sandboxed runs can control file look-ups.
+    ``severity`` overrides the default severity per code; ``disabled`` switches codes off;
+    ``thresholds`` and the ``required_*``/``allowed_*`` policies come from the project
+    configuration (:mod:`openpbr_tools.config`). ``file_exists`` is injectable so tests and
+    sandboxed runs can control file look-ups.
     """
 
     severity: dict[str, Severity] = field(default_factory=dict)
@@ -68,6 +74,9 @@ class Context:
     file_exists: Callable[[str], bool] = os.path.exists
     list_dir: Callable[[str], list[str]] = os.listdir
     thresholds: dict[str, float] = field(default_factory=dict)
+    required_version: str | None = None
+    required_colorspace: str | None = None
+    allowed_texture_colorspaces: frozenset[str] | None = None
 
     def diagnostic(self, rule: Rule, message: str, location: Location, hint: str | None = None) -> Diagnostic:
         return Diagnostic(rule.code, self.severity.get(rule.code, rule.severity), message, location, hint)
@@ -105,12 +114,25 @@ def check_asset(asset: Asset, context: Context | None = None) -> list[Diagnostic
     """Run every family over ``asset``; returns diagnostics sorted by location, without disabled codes."""
     context = context or Context()
     found: list[Diagnostic] = []
+    suppressions = asset.suppressions
     for family in FAMILIES:
         for diagnostic in _family_module(family).check(asset, context):
-            if diagnostic.code not in context.disabled:
+            if diagnostic.code not in context.disabled and not (suppressions and _suppressed(diagnostic, suppressions)):
                 found.append(diagnostic)
     found.sort(key=Diagnostic.sort_key)
     return found
+
+
+def _suppressed(diagnostic: Diagnostic, suppressions: dict[str, frozenset[str]]) -> bool:
+    """Inline suppressions apply to the element they are attached to and everything inside it
+    (the document root's apply to the whole file)."""
+    location = diagnostic.location
+    element = "/".join(p for p in (location.path, location.input) if p)
+    for path, codes in suppressions.items():
+        if path == "" or element == path or element.startswith(path + "/"):
+            if "all" in codes or diagnostic.code in codes:
+                return True
+    return False
 
 
 def for_each_input(asset: Asset) -> Iterator[tuple]:

@@ -56,7 +56,28 @@ DATA_TEXTURE_MANAGED = Rule(
     example_files=("orm.png",),
 )
 
-RULES = (NO_DOCUMENT_COLORSPACE, UNKNOWN_COLORSPACE, COLOR_TEXTURE_RAW, DATA_TEXTURE_MANAGED)
+REQUIRED_COLORSPACE = Rule(
+    "OPBR505", "required-colorspace", Severity.ERROR,
+    "The document's colour space is not the one the project requires (configuration).",
+    "Set `required-colorspace = \"acescg\"` in [tool.openpbr] to make every document state the "
+    "project's working space; silent without that setting.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<?xml version="1.0"?>\n<materialx version="1.39" colorspace="acescg">\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
+    example_config='required-colorspace = "lin_rec709"\n',
+)
+TEXTURE_COLORSPACE_NOT_ALLOWED = Rule(
+    "OPBR506", "texture-colorspace-not-allowed", Severity.ERROR,
+    "A texture uses a colour space the project does not allow (configuration).",
+    "Set `allowed-texture-colorspaces = [\"srgb_texture\", \"acescg\", \"none\"]` in [tool.openpbr] "
+    "to keep, say, display-referred or Adobe RGB textures out of a pipeline; silent without it.",
+    passing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
+    failing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="adobergb" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
+    example_files=("albedo.png",),
+    example_config='allowed-texture-colorspaces = ["srgb_texture", "none"]\n',
+)
+
+RULES = (NO_DOCUMENT_COLORSPACE, UNKNOWN_COLORSPACE, COLOR_TEXTURE_RAW, DATA_TEXTURE_MANAGED,
+         REQUIRED_COLORSPACE, TEXTURE_COLORSPACE_NOT_ALLOWED)
 
 COLOUR_MANAGED_IMAGE_TYPES = ("color3", "color4")
 
@@ -65,6 +86,7 @@ def check(asset, context):
     if asset.format != "mtlx":
         return  # USD and glTF name colour spaces differently; their rule modules reuse these codes
     yield from _unknown_names(asset, context)
+    yield from _policies(asset, context)
     ambiguous = None
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)
@@ -134,3 +156,27 @@ def _unknown_names(asset, context):
             UNKNOWN_COLORSPACE, f"unknown colour space {name!r}: MaterialX will not convert it",
             location, hint=f"did you mean {guess!r}?" if guess else f"known: {', '.join(sorted(known))}",
         )
+
+
+def _policies(asset, context):
+    required = context.required_colorspace
+    if required and asset.colorspace != required:
+        stated = repr(asset.colorspace) if asset.colorspace else "none"
+        yield context.diagnostic(
+            REQUIRED_COLORSPACE, f"document colour space is {stated}; the project requires {required!r}",
+            asset.colorspace_location or Location(asset.path, 1), hint=f"set colorspace=\"{required}\" on <materialx>",
+        )
+    allowed = context.allowed_texture_colorspaces
+    if allowed is None:
+        return
+    seen = set()
+    for material in asset.materials:
+        for name, texture in material.textures():
+            key = (texture.node, texture.colorspace)
+            if texture.colorspace and texture.colorspace not in allowed and key not in seen:
+                seen.add(key)
+                yield context.diagnostic(
+                    TEXTURE_COLORSPACE_NOT_ALLOWED,
+                    f"{name} reads {texture.file!r} as {texture.colorspace!r}, not one of {sorted(allowed)}",
+                    texture.location or material.inputs[name].location,
+                )

@@ -69,7 +69,18 @@ MALFORMED_XML = Rule(
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_weight" type="float" value="1" doc="a<b" />\n</open_pbr_surface>',
 )
 
-RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED, MALFORMED_XML)
+INVALID_CONFIG = Rule(
+    "OPBR008", "invalid-config", Severity.ERROR,
+    "The project configuration ([tool.openpbr] or .openpbr.toml) is invalid.",
+    "Invalid TOML, a key the configuration schema (schemas/config.schema.json) does not define, a "
+    "wrong value type, or an unknown rule code. Nothing is validated; the exit code is 2.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing_config='fail-on = "sometimes"\n',
+)
+
+RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED, MALFORMED_XML,
+         INVALID_CONFIG)
 
 READ_ERROR_RULES = {
     "unreadable": UNREADABLE,

@@ -46,7 +46,17 @@ MIXED_DOCUMENT = Rule(
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_roughness" type="float" value="0.2" />\n</open_pbr_surface>\n<open_pbr_surface name="T" type="surfaceshader">\n  <input name="coat_darkening" type="float" value="0.5" />\n</open_pbr_surface>',
 )
 
-RULES = (INFERRED, LEGACY_VERSION, MIXED_MATERIAL, MIXED_DOCUMENT)
+REQUIRED_VERSION = Rule(
+    "OPBR405", "required-version", Severity.ERROR,
+    "A material's OpenPBR version is not the one the project requires (configuration).",
+    "Set `required-version = \"1.1.1\"` in [tool.openpbr] to make every material in the project "
+    "target one version; this rule is silent without that setting.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" version="1.1.1" />',
+    failing='<open_pbr_surface name="S" type="surfaceshader" version="1.0" />',
+    example_config='required-version = "1.1.1"\n',
+)
+
+RULES = (INFERRED, LEGACY_VERSION, MIXED_MATERIAL, MIXED_DOCUMENT, REQUIRED_VERSION)
 
 
 def check(asset, context):
@@ -67,6 +77,12 @@ def check(asset, context):
             yield context.diagnostic(
                 INFERRED, f"{material.name}: OpenPBR {material.version}, {basis}", material.location,
                 hint=f"state it with version=\"{material.version}\"" if asset.format == "mtlx" else None,
+            )
+        required = context.required_version
+        if required and material.version != required:
+            yield context.diagnostic(
+                REQUIRED_VERSION, f"{material.name} is OpenPBR {material.version}; the project requires {required}",
+                material.location, hint="`openpbr upgrade --to " + required + "`",
             )
         current = tables.latest(material.model)
         if tables.version_key(material.version) < tables.version_key(current):

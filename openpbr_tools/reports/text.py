@@ -1,16 +1,11 @@
-"""Rendering a :class:`~openpbr_tools.validate.Report` as text or JSON (strings; the CLI prints).
-
-Both are deterministic: files and diagnostics are sorted, JSON keys are in a fixed order.
-"""
+"""The human report: findings grouped by file, colour when the CLI passes a styling function."""
 
 from __future__ import annotations
 
-import json
 from typing import Callable
 
-from . import __version__
-from .diagnostics import Severity
-from .validate import Report
+from ..diagnostics import Severity
+from ..validate import Report
 
 Style = Callable[..., str]
 
@@ -24,26 +19,6 @@ SEVERITY_STYLE = {
     Severity.WARNING: {"fg": "yellow"},
     Severity.INFO: {"fg": "cyan"},
 }
-
-
-def as_dict(report: Report, fail_on: Severity | None = Severity.ERROR) -> dict:
-    return {
-        "tool": {"name": "openpbr", "version": __version__},
-        "summary": {
-            "files": len(report.files),
-            "materials": sum(r.materials for r in report.files),
-            "error": report.count(Severity.ERROR),
-            "warning": report.count(Severity.WARNING),
-            "info": report.count(Severity.INFO),
-            "exit_code": report.exit_code(fail_on),
-        },
-        "files": [{"path": r.path, "materials": r.materials, "readable": not r.unreadable} for r in report.files],
-        "diagnostics": [d.as_dict() for d in report.diagnostics],
-    }
-
-
-def to_json(report: Report, fail_on: Severity | None = Severity.ERROR) -> str:
-    return json.dumps(as_dict(report, fail_on), indent=2, ensure_ascii=False) + "\n"
 
 
 def to_text(report: Report, style: Style = _plain, min_severity: Severity = Severity.INFO) -> str:
