@@ -135,8 +135,22 @@ def _expand(codes, known) -> frozenset[str]:
     return frozenset(c for c in known if any(c.startswith(prefix) for prefix in codes))
 
 
-def context_for(file: str, config: Config | None, select=None, ignore=None, base: Context | None = None) -> Context:
-    """The :class:`Context` for one file: configuration, matching overrides, then CLI options."""
+def matching_overrides(file: str, config: Config | None) -> tuple[int, ...]:
+    """Indices of the configuration's ``overrides`` whose paths match ``file``."""
+    if config is None:
+        return ()
+    relative = os.path.relpath(os.path.abspath(file), config.folder).replace(os.sep, "/")
+    return tuple(
+        i for i, override in enumerate(config.settings.get("overrides", []))
+        if any(fnmatch.fnmatch(relative, pattern) or fnmatch.fnmatch(relative, pattern.replace("**/", ""))
+               for pattern in override["paths"])
+    )
+
+
+def context_for(file: str, config: Config | None, select=None, ignore=None, base: Context | None = None,
+                overrides: tuple[int, ...] | None = None) -> Context:
+    """The :class:`Context` for one file: configuration, matching overrides, then CLI options.
+    Files with the same configuration and matching overrides get equal contexts (callers cache)."""
     from .rules import all_rules
 
     known = frozenset(all_rules())
@@ -144,11 +158,9 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
     scopes = []
     if config is not None:
         scopes.append(config.settings)
-        relative = os.path.relpath(os.path.abspath(file), config.folder).replace(os.sep, "/")
-        for override in config.settings.get("overrides", []):
-            if any(fnmatch.fnmatch(relative, pattern) or fnmatch.fnmatch(relative, pattern.replace("**/", ""))
-                   for pattern in override["paths"]):
-                scopes.append(override)
+        if overrides is None:
+            overrides = matching_overrides(file, config)
+        scopes.extend(config.settings["overrides"][i] for i in overrides)
     selected: frozenset[str] | None = None
     ignored: frozenset[str] = frozenset()
     severity: dict[str, Severity] = {}

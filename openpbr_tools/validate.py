@@ -136,9 +136,10 @@ class Options:
 def contexts_for(files: list[str], options: Options, problems: list[Diagnostic]) -> dict[str, Context] | None:
     """The context of every file from its nearest configuration; ``None`` if a configuration is bad
     (the problem is appended to ``problems``)."""
-    from .config import ConfigError, context_for, find_config
+    from .config import ConfigError, context_for, find_config, matching_overrides
 
     contexts = {}
+    shared: dict[tuple, Context] = {}  # one context per (configuration, matching overrides)
     for path in files:
         config = None
         if options.use_config:
@@ -149,7 +150,11 @@ def contexts_for(files: list[str], options: Options, problems: list[Diagnostic])
 
                 problems.append(Diagnostic(INVALID_CONFIG.code, Severity.ERROR, error.message, error.location))
                 return None
-        contexts[path] = context_for(path, config, options.select, options.ignore)
+        overrides = matching_overrides(path, config)
+        key = (config.path if config else None, overrides)
+        if key not in shared:
+            shared[key] = context_for(path, config, options.select, options.ignore, overrides=overrides)
+        contexts[path] = shared[key]
     return contexts
 
 
