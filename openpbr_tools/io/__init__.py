@@ -29,6 +29,40 @@ class ReadError(Exception):
 
 SUPPORTED_SUFFIXES = MTLX_SUFFIXES + USD_SUFFIXES + GLTF_SUFFIXES
 
+# Inputs larger than this are refused before parsing (MaterialX holds a document in memory at about
+# ten times its size on disk); set OPENPBR_MAX_FILE_MB to change it.
+DEFAULT_MAX_FILE_MB = 64
+
+
+def max_file_bytes() -> int:
+    try:
+        return int(float(os.environ.get("OPENPBR_MAX_FILE_MB", DEFAULT_MAX_FILE_MB)) * 1024 * 1024)
+    except ValueError:
+        return DEFAULT_MAX_FILE_MB * 1024 * 1024
+
+
+def read_bytes(path: str) -> bytes:
+    """The bytes of a regular file no larger than :func:`max_file_bytes`; :class:`ReadError` otherwise.
+
+    Only regular files are opened: a FIFO or a device would block or never end."""
+    import stat
+
+    try:
+        info = os.stat(path)
+    except OSError as error:
+        raise ReadError("unreadable", f"cannot read file: {error.strerror or error}", Location(path)) from None
+    if not stat.S_ISREG(info.st_mode):
+        raise ReadError("unreadable", "not a regular file", Location(path))
+    limit = max_file_bytes()
+    if info.st_size > limit:
+        raise ReadError("unreadable", f"file is {info.st_size / 2**20:.0f} MiB, above the {limit / 2**20:.0f} MiB limit "
+                        "(OPENPBR_MAX_FILE_MB)", Location(path))
+    try:
+        with open(path, "rb") as handle:
+            return handle.read(limit + 1)
+    except OSError as error:
+        raise ReadError("unreadable", f"cannot read file: {error.strerror or error}", Location(path)) from None
+
 
 def read_asset(path: str | os.PathLike) -> Asset:
     """Read one file into an :class:`Asset`; raises :class:`ReadError` when it cannot."""

@@ -23,7 +23,7 @@ from functools import lru_cache
 from .. import versioning
 from ..model import Asset, Connection, Constant, Input, Location, Material, Texture, UVTransform
 from ..values import ValueSyntaxError, parse_value
-from . import ReadError
+from . import ReadError, read_bytes
 from .xmlscan import XmlSyntaxError, parse_suppression, scan
 
 SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
@@ -74,11 +74,7 @@ def read_mtlx(path: str, data: bytes | None = None) -> Asset:
     import MaterialX as mx
 
     if data is None:
-        try:
-            with open(path, "rb") as handle:
-                data = handle.read()
-        except OSError as error:
-            raise ReadError("unreadable", f"cannot read file: {error.strerror or error}", Location(path)) from None
+        data = read_bytes(path)
     try:
         text = data.decode("utf-8-sig")
     except UnicodeDecodeError as error:
@@ -90,6 +86,8 @@ def read_mtlx(path: str, data: bytes | None = None) -> Asset:
     try:
         structure = scan(data)
     except XmlSyntaxError as error:
+        if error.fatal:
+            raise ReadError("not_materialx", str(error), Location(path, line=error.line)) from None
         # MaterialX's parser (pugixml) accepts some documents expat rejects; judge by MaterialX,
         # and report the malformation as a finding instead of refusing the file.
         structure = _scan_with_materialx(text)

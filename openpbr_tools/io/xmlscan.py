@@ -41,10 +41,23 @@ class XmlScan:
 
 
 class XmlSyntaxError(ValueError):
-    def __init__(self, message: str, line: int | None, column: int | None):
+    """Malformed XML. ``fatal`` marks input refused on principle (a DOCTYPE, hostile nesting),
+    which must not be handed to MaterialX's lenient parser either."""
+
+    def __init__(self, message: str, line: int | None, column: int | None, fatal: bool = False):
         super().__init__(message)
         self.line = line
         self.column = column
+        self.fatal = fatal
+
+
+class _Refused(Exception):
+    pass
+
+
+# MaterialX documents are a few levels deep; MaterialX builds its tree recursively, so a hostile
+# file nested thousands deep could exhaust the stack. Deeper than this is refused.
+MAX_DEPTH = 64
 
 
 def scan(data: bytes) -> XmlScan:
@@ -69,6 +82,8 @@ def scan(data: bytes) -> XmlScan:
 
     def start(tag: str, attributes: dict[str, str]) -> None:
         line = parser.CurrentLineNumber
+        if len(stack) >= MAX_DEPTH:
+            raise _Refused(f"elements nested deeper than {MAX_DEPTH} levels", line)
         claimed = frozenset().union(*pending) if pending else None
         pending.clear()
         if result.root_tag is None:
@@ -97,7 +112,10 @@ def scan(data: bytes) -> XmlScan:
         stack.pop()
 
     def doctype(*_args) -> None:
+        # MaterialX has no DTD; a DOCTYPE can only declare entities (expansion bombs, external files).
         result.has_doctype = True
+        raise _Refused("DOCTYPE declarations are not allowed in MaterialX documents (entity expansion)",
+                       parser.CurrentLineNumber)
 
     parser.StartElementHandler = start
     parser.EndElementHandler = end
@@ -107,6 +125,9 @@ def scan(data: bytes) -> XmlScan:
         parser.Parse(_escape_tile_tokens(data), True)
     except expat.ExpatError as error:
         raise XmlSyntaxError(expat.ErrorString(error.code), error.lineno, error.offset) from None
+    except _Refused as refused:
+        message, line = refused.args
+        raise XmlSyntaxError(message, line, None, fatal=True) from None
     return result
 
 

@@ -79,8 +79,17 @@ INVALID_CONFIG = Rule(
     failing_config='fail-on = "sometimes"\n',
 )
 
+XINCLUDE = Rule(
+    "OPBR009", "xinclude-not-followed", Severity.WARNING,
+    "The document includes another file (XInclude), which the validator does not open.",
+    "Validating a file never opens another document (an include may point anywhere). Definitions or "
+    "materials from the included file are therefore not checked here: validate it on its own.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <xi:include href="shared_defs.mtlx" />\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
+)
+
 RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED, MALFORMED_XML,
-         INVALID_CONFIG)
+         INVALID_CONFIG, XINCLUDE)
 
 READ_ERROR_RULES = {
     "unreadable": UNREADABLE,
@@ -101,6 +110,9 @@ def check(asset, context):
         for line in _not_covered(asset, message):
             yield context.diagnostic(MATERIALX_INVALID, f"MaterialX: {line}", Location(asset.path))
     for observation in asset.observations:
+        if observation.kind == "xinclude":
+            yield context.diagnostic(XINCLUDE, f"includes {observation.detail['href']!r}, which is not validated here",
+                                     observation.location, hint="validate the included file separately")
         if observation.kind == "malformed_xml":
             yield context.diagnostic(MALFORMED_XML, f"not well-formed XML: {observation.detail['message']}",
                                      observation.location, hint="escape '<' as &lt; and '&' as &amp; in attribute values")

@@ -37,6 +37,7 @@ from .. import tables
 from ..diagnostics import Diagnostic
 from ..model import Connection, Constant, Input, Material
 from ..rules import Context
+from ..values import COMPONENTS
 from ..rules.translation import (APPROXIMATED, CONVERTED, DEFAULT_PINNED, GRAPH_INSERTED, LOOK_CHANGED,
                                  NOT_CARRIED, RENAMED)
 
@@ -94,12 +95,20 @@ class _Step:
         return self.material.inputs.get(name)
 
     def constant(self, name: str):
-        """The authored constant, the source version's default when unset, ``None`` when textured."""
+        """The authored constant, the source version's default when unset; ``None`` when the input
+        is textured, connected, unparsable or of another type than the version defines."""
         entry = self.material.inputs.get(name)
+        parameter = self.source.get(name)
         if entry is None:
-            parameter = self.source.get(name)
             return parameter.default if parameter is not None else None
-        return entry.constant
+        value = entry.constant
+        if parameter is None or value is None or (entry.type and entry.type != parameter.type):
+            return None
+        expected = COMPONENTS.get(parameter.type, 1)
+        if expected == 1:
+            return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else \
+                (value if isinstance(value, bool) and parameter.type == "boolean" else None)
+        return value if isinstance(value, tuple) and len(value) == expected else None
 
     # -- reporting ------------------------------------------------------------------------
     def report(self, rule, message: str, name: str | None = None) -> None:
@@ -187,7 +196,7 @@ def _to_0_3(step: _Step) -> None:
         return
     abbe = step.constant("transmission_dispersion")
     if abbe is None:
-        step.report(NOT_CARRIED, "a textured transmission_dispersion (an Abbe number) cannot become "
+        step.report(NOT_CARRIED, "a textured or mistyped transmission_dispersion (an Abbe number) cannot become "
                     "transmission_dispersion_abbe_number without baking; dropped", "transmission_dispersion")
     elif abbe > 0:
         step.set("transmission_dispersion_abbe_number", float(abbe))
@@ -214,7 +223,7 @@ def _to_0_4(step: _Step) -> None:
             continue
         level, ior = step.constant(level_name), step.constant(ior_name)
         if level is None or ior is None:
-            step.report(NOT_CARRIED, f"{level_name} or {ior_name} is textured: folding the level into the IOR "
+            step.report(NOT_CARRIED, f"{level_name} or {ior_name} is textured or mistyped: folding the level into the IOR "
                         "needs a baked IOR texture; the level was dropped", level_name)
         elif level != 0.5:
             folded = fold_ior_level(float(ior), float(level))
@@ -246,7 +255,7 @@ def _to_0_5(step: _Step) -> None:
             continue
         turns, amount = step.constant(rotation), step.constant(anisotropy)
         if turns is None:
-            step.report(NOT_CARRIED, f"a textured {rotation} needs a baked tangent map; dropped", rotation)
+            step.report(NOT_CARRIED, f"a textured or mistyped {rotation} needs a baked tangent map; dropped", rotation)
         elif turns % 0.5 != 0 and amount != 0:
             if step.authored(tangent):
                 step.report(NOT_CARRIED, f"{rotation} {turns:g} cannot be applied: {tangent} is already set", rotation)
@@ -259,14 +268,14 @@ def _to_0_5(step: _Step) -> None:
     _thin_film_units(step)
     if step.authored("geometry_opacity"):
         entry = step.entry("geometry_opacity")
-        value = entry.constant
+        value = step.constant("geometry_opacity")
         if isinstance(value, tuple):
             mean = sum(value) / len(value)
             step.set("geometry_opacity", mean, "float")
             rule = CONVERTED if max(value) == min(value) else APPROXIMATED
             step.report(rule, f"colour geometry_opacity {value} became the float {mean:.6g} (mean of the channels)",
                         "geometry_opacity")
-        elif entry.texture is not None and entry.texture.image_type in ("color3", "color4"):
+        elif entry.texture is not None and entry.texture.channels is None and entry.texture.image_type in ("color3", "color4"):
             step.edit(Edit("channels", "geometry_opacity", value=(0,), type="float"))
             step.report(APPROXIMATED, "colour opacity texture: its first channel now drives the float "
                         "geometry_opacity (exact for a grey map)", "geometry_opacity")
@@ -279,7 +288,7 @@ def _thin_film_units(step: _Step) -> None:
         return
     thickness = step.constant("thin_film_thickness")
     if thickness is None:
-        step.report(NOT_CARRIED, "a textured thin_film_thickness in nanometres needs a baked texture "
+        step.report(NOT_CARRIED, "a textured or mistyped thin_film_thickness in nanometres needs a baked texture "
                     "in micrometres; the connection was kept unscaled", "thin_film_thickness")
         return
     if source_unit == "nanometer" and target_unit == "micrometer":

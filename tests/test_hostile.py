@@ -1,0 +1,101 @@
+"""Hostile and broken inputs: each yields a diagnostic and the right exit code, quickly, and never
+makes the validator open another file or hang."""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+
+import pytest
+from click.testing import CliRunner
+
+from cli.main import cli
+
+BOMB = b"""<?xml version="1.0"?>
+<!DOCTYPE lolz [
+ <!ENTITY lol "lol">
+ <!ENTITY lol2 "&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;&lol;">
+ <!ENTITY lol3 "&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;&lol2;">
+ <!ENTITY lol4 "&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;&lol3;">
+ <!ENTITY lol5 "&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;&lol4;">
+ <!ENTITY lol6 "&lol5;&lol5;&lol5;&lol5;&lol5;&lol5;&lol5;&lol5;&lol5;&lol5;">
+ <!ENTITY lol7 "&lol6;&lol6;&lol6;&lol6;&lol6;&lol6;&lol6;&lol6;&lol6;&lol6;">
+ <!ENTITY lol8 "&lol7;&lol7;&lol7;&lol7;&lol7;&lol7;&lol7;&lol7;&lol7;&lol7;">
+ <!ENTITY lol9 "&lol8;&lol8;&lol8;&lol8;&lol8;&lol8;&lol8;&lol8;&lol8;&lol8;">
+]>
+<materialx version="1.39"><open_pbr_surface name="S" type="surfaceshader" doc="&lol9;" /></materialx>
+"""
+
+EXTERNAL_ENTITY = b"""<?xml version="1.0"?>
+<!DOCTYPE m [<!ENTITY secret SYSTEM "file:///etc/passwd">]>
+<materialx version="1.39"><open_pbr_surface name="S" type="surfaceshader" doc="&secret;" /></materialx>
+"""
+
+
+def validate(*paths, env=None):
+    result = CliRunner().invoke(cli, ["validate", "--format", "json", "--no-config", *map(str, paths)], env=env)
+    assert result.exception is None or isinstance(result.exception, SystemExit), result.output
+    assert "Traceback" not in result.output
+    return result
+
+
+def codes(result) -> list[str]:
+    return [d["code"] for d in json.loads(result.stdout)["diagnostics"]]
+
+
+@pytest.mark.parametrize("content", [BOMB, EXTERNAL_ENTITY], ids=["billion-laughs", "external-entity"])
+def test_doctype_with_entities_is_refused_quickly(tmp_path, content):
+    path = tmp_path / "bomb.mtlx"
+    path.write_bytes(content)
+    start = time.perf_counter()
+    result = validate(path)
+    assert time.perf_counter() - start < 5
+    assert result.exit_code == 2 and "DOCTYPE" in result.stdout and "root:" not in result.stdout
+
+
+def test_deep_nesting_is_refused_without_recursion(tmp_path):
+    depth = 100_000
+    path = tmp_path / "deep.mtlx"
+    path.write_bytes(b'<?xml version="1.0"?><materialx version="1.39">' + b"<nodegraph name='g'>" * depth
+                     + b"</nodegraph>" * depth + b"</materialx>")
+    result = validate(path)
+    assert result.exit_code == 2 and "nested deeper" in result.stdout
+
+
+def test_a_fifo_is_not_opened(tmp_path):
+    path = tmp_path / "pipe.mtlx"
+    os.mkfifo(path)
+    result = validate(path)
+    assert result.exit_code == 2 and "not a regular file" in result.stdout
+
+
+def test_files_above_the_size_limit_are_refused_before_parsing(tmp_path):
+    path = tmp_path / "huge.mtlx"
+    path.write_bytes(b'<?xml version="1.0"?><materialx version="1.39">' + b" " * (2 * 1024 * 1024) + b"</materialx>")
+    result = validate(path, env={"OPENPBR_MAX_FILE_MB": "1"})
+    assert result.exit_code == 2 and "above the 1 MiB limit" in result.stdout
+
+
+def test_symlink_loop_in_a_folder_terminates(tmp_path, write_mtlx):
+    write_mtlx('<open_pbr_surface name="S" type="surfaceshader" version="1.1.1" />', name="assets/a.mtlx")
+    os.symlink(tmp_path / "assets", tmp_path / "assets" / "loop")
+    result = validate(tmp_path / "assets")
+    assert result.exit_code in (0, 1) and len(json.loads(result.stdout)["files"]) >= 1
+
+
+def test_xinclude_is_reported_and_never_followed(tmp_path):
+    path = tmp_path / "inc.mtlx"
+    path.write_text('<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n'
+                    '  <xi:include href="/etc/passwd" />\n'
+                    '  <open_pbr_surface name="S" type="surfaceshader" version="1.1.1" />\n</materialx>\n')
+    result = validate(path)
+    assert "OPBR009" in codes(result) and "root:" not in result.stdout
+
+
+@pytest.mark.parametrize("content", [b"", b"\x00" * 64, b"<?xml", "<materialx>\u2603".encode("utf-16")],
+                         ids=["empty", "nul", "prolog-only", "utf16"])
+def test_degenerate_files_exit_two(tmp_path, content):
+    path = tmp_path / "x.mtlx"
+    path.write_bytes(content)
+    assert validate(path).exit_code == 2
