@@ -29,6 +29,7 @@ FAMILIES = (
     "structure",
     "plausibility",
     "usd",
+    "gltf",
     "translation",
 )
 
