@@ -100,7 +100,7 @@ def all_rules() -> dict[str, Rule]:
             if rule.code in found:
                 raise RuntimeError(f"rule code {rule.code} defined twice")
             found[rule.code] = Rule(**{**_as_dict(rule), "family": family})
-    return dict(sorted(found.items()))
+    return dict(sorted(found.items(), key=lambda item: int(item[0][4:])))
 
 
 def _as_dict(rule: Rule) -> dict:

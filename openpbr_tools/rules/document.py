@@ -18,10 +18,13 @@ UNREADABLE = Rule(
     failing=b"\xff\xfe<\x00m\x00",
 )
 NOT_MATERIALX = Rule(
-    "OPBR002", "not-materialx", Severity.ERROR,
-    "The file is not a well-formed MaterialX document.",
-    "The XML is malformed (truncated, unbalanced tags: the message gives expat's line and column), "
-    "the root element is not <materialx>, or MaterialX itself refuses the document. The exit code is 2.",
+    "OPBR002", "malformed-document", Severity.ERROR,
+    "The file is not a well-formed document of its format (MaterialX, USD or glTF).",
+    "MaterialX: the XML is malformed (truncated, unbalanced tags: the message gives expat's line and "
+    "column), the root element is not <materialx>, it declares a DOCTYPE or nests absurdly deep, or "
+    "MaterialX itself refuses it. USD: a layer usd-core cannot open (a syntax error with its line, a "
+    "corrupt crate file, a USDZ that is not a package, a missing sublayer, reference or payload). "
+    "glTF: invalid JSON or GLB, broken buffers or data URIs. The exit code is 2.",
     passing='<open_pbr_surface name="S" type="surfaceshader" />',
     failing='<?xml version="1.0"?>\n<materialx version="1.39">\n  <open_pbr_surface name="S" type="surfaceshader">\n',
 )

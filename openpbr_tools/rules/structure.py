@@ -70,7 +70,7 @@ def check(asset, context):
             if value.dangling:
                 yield context.diagnostic(
                     DANGLING, f"{entry.name} is connected to {value.target!r}, which does not exist",
-                    entry.location, hint="fix the nodename/nodegraph/output, or author a value",
+                    entry.location, hint="fix the connection (nodename/nodegraph/output, or the USD connection path), or author a value",
                 )
             else:
                 what = f"{value.category} node {value.target!r}" if value.category else repr(value.target)

@@ -124,6 +124,10 @@ def _check_path(asset, texture, where, context, checked_files):
     if key in checked_files:
         return
     checked_files.add(key)
+    if texture.packaged:  # inside the asset's own package (USDZ): look there, not on disk
+        if file not in asset.extra.get("package_files", ()):
+            yield context.diagnostic(MISSING_TEXTURE, f"texture not found in the package: {file!r}", where)
+        return
     if _URL.match(file) or os.path.isabs(file) or ".." in re.split(r"[\\/]", file):
         yield context.diagnostic(
             UNSAFE_PATH, f"texture path {file!r} points outside the asset's folder", where,

@@ -1,13 +1,685 @@
-"""USD: checks that only make sense for USD stages (shader ids, USD types, metersPerUnit,
-UsdPreviewSurface conventions). Rules whose meaning is the same as a MaterialX rule reuse its code.
+"""USD: checks that only make sense for USD stages (shader ids, USD types, colour-space naming
+schemes, metersPerUnit, UsdPreviewSurface conventions, usd-core's own validators).
+
+The USD reader fills the same model as the MaterialX reader, so the generic families (names,
+values, ranges, version, textures, structure, plausibility) judge USD materials too. This family
+adds what USD needs, and re-uses a MaterialX rule's code where the meaning is the same: an unknown
+colour-space name is OPBR502 here as well, a colour texture read raw OPBR503, a data texture that is
+colour-managed OPBR504, a length without unit information OPBR603 (in USD: ``metersPerUnit`` not
+authored, so the 0.01 default applies), an invalid enumerated token OPBR303, a Material without a
+connected surface output OPBR801, the project's colour-space policies OPBR505/OPBR506 (compared
+through MaterialX names). OPBR501 (no document colour space) does not apply: USD defines its
+default, lin_rec709_scene.
+
+Colour-space names come in three schemes and each place wants one: ``Usd.ColorSpaceAPI`` and
+USD-native shaders (UsdPreviewSurface, UsdUVTexture's file) want USD names (``srgb_rec709_scene``,
+``lin_ap1_scene``, ``raw``); the inputs of MaterialX shaders want MaterialX names (``srgb_texture``,
+``acescg``, ``none``), because UsdMtlx writes them there and Hydra's hdMtlx hands them to MaterialX
+unchanged; UsdUVTexture's ``sourceColorSpace`` wants ``raw``, ``sRGB`` or ``auto``. USD stores any
+name and treats an unknown one as identity, so a name from the wrong scheme silently disables the
+conversion (OPBR1004).
+
+UsdUVTexture's ``sourceColorSpace`` defaults to ``auto``, which decodes 8-bit RGB(A) images (PNG,
+JPEG, ...) as sRGB: a roughness or normal map left on ``auto`` is bent by the sRGB curve (OPBR504).
+The file's bit depth is judged from its suffix; the image is not opened.
 """
 
 from __future__ import annotations
 
-RULES = ()
+import difflib
+
+from .. import colorspaces, tables
+from ..diagnostics import Severity
+from ..io.usd_types import (
+    MATERIALX_ADDRESS_MODES,
+    OPACITY_MODE_TOKENS,
+    UV_TEXTURE_ID,
+    UV_TEXTURE_WRAP_TOKENS,
+    expected_usd_type,
+    is_eight_bit,
+    surface_shader_ids,
+)
+from ..model import Location, Texture
+from ..resources import load_json
+from . import Rule, for_each_input
+from . import colorspace as colorspace_rules
+from .colorspace import COLOR_TEXTURE_RAW, DATA_TEXTURE_MANAGED, UNKNOWN_COLORSPACE
+from .ranges import ENUM_VALUE
+from .structure import NO_SHADER
+from .units import LENGTH_WITHOUT_UNIT
+
+
+def _stage(body: str, metadata: str = 'defaultPrim = "M"\n    metersPerUnit = 0.01\n    upAxis = "Y"') -> str:
+    return f"#usda 1.0\n(\n    {metadata}\n)\n\n{body.strip()}\n"
+
+
+def _openpbr(*inputs: str, shader_id: str = "ND_open_pbr_surface_surfaceshader", extra: str = "") -> str:
+    lines = "".join(f"        {line}\n" for line in inputs)
+    identifier = f'        uniform token info:id = "{shader_id}"\n' if shader_id else ""
+    return _stage(
+        'def Material "M"\n{\n    token outputs:mtlx:surface.connect = </M/S.outputs:surface>\n\n'
+        f'    def Shader "S"\n    {{\n{identifier}{lines}        token outputs:surface\n    }}\n{extra}}}'
+    )
+
+
+def _preview(*inputs: str, extra: str = "") -> str:
+    lines = "".join(f"        {line}\n" for line in inputs)
+    return _stage(
+        'def Material "M"\n{\n    token outputs:surface.connect = </M/P.outputs:surface>\n\n'
+        f'    def Shader "P"\n    {{\n        uniform token info:id = "UsdPreviewSurface"\n{lines}'
+        f"        token outputs:surface\n    }}\n{extra}}}"
+    )
+
+
+def _uv_texture(name: str, file: str, *inputs: str, output: str = "rgb", output_type: str = "float3") -> str:
+    lines = "".join(f"        {line}\n" for line in inputs)
+    return (f'\n    def Shader "{name}"\n    {{\n        uniform token info:id = "UsdUVTexture"\n'
+            f"        asset inputs:file = @{file}@\n{lines}        {output_type} outputs:{output}\n    }}\n")
+
+
+MISSING_SHADER_ID = Rule(
+    "OPBR1001", "usd-missing-shader-id", Severity.ERROR,
+    "A USD Shader prim has no info:id (and no sourceAsset or sourceCode implementation).",
+    "Without info:id no renderer knows which node the prim is: a surface shader without one renders "
+    "as the fallback material, a texture node without one as its input's default. usd-core's "
+    "validators do not report it.",
+    passing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)", shader_id=""),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+TYPE_ROLE_MISMATCH = Rule(
+    "OPBR1002", "usd-type-role-mismatch", Severity.ERROR,
+    "An input's USD type has the right shape but the wrong role or precision (float3 where the "
+    "node declares color3f, normal3f for float3, double for float, int for a token).",
+    "UsdMtlx types a MaterialX color3 as color3f and a vector3 as float3; UsdPreviewSurface declares "
+    "normal as normal3f and opacityMode as a token. Hydra builds the MaterialX network from the "
+    "authored USD type, so a float3 base_color becomes a vector3 input the OpenPBR node does not "
+    "declare. The values are still checked as the parameter's type.",
+    passing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=_openpbr("float3 inputs:base_color = (0.5, 0.4, 0.3)"),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+UNKNOWN_SHADER_ID = Rule(
+    "OPBR1003", "usd-unknown-shader-id", Severity.ERROR,
+    "A shader's info:id names no known node: a misspelling of a known id, or an id under a MaterialX "
+    "surface output that is no MaterialX node definition.",
+    "Renderers look the id up in their shader registry and drop the node when it is missing. The "
+    "hint names the closest known id (MaterialX node definitions, usd-core's registry, the "
+    "toolkit's legacy OpenPBR definitions). Ids of other renderers' nodes outside MaterialX networks "
+    "(PxrSurface, ...) are left to usd-core's validators.",
+    passing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)", shader_id="ND_open_pbr_surface_surfaceshdr"),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+COLORSPACE_SCHEME = Rule(
+    "OPBR1004", "usd-colorspace-scheme", Severity.ERROR,
+    "A colour-space name from the wrong naming scheme: a MaterialX name where USD wants a USD name, "
+    "or the reverse.",
+    "Usd.ColorSpaceAPI and USD-native shaders take USD names (srgb_rec709_scene, lin_ap1_scene, raw); "
+    "MaterialX shaders' inputs take MaterialX names (srgb_texture, acescg, none); UsdUVTexture's "
+    "sourceColorSpace takes raw, sRGB or auto. A name from the other scheme is stored and silently "
+    "treated as no conversion. The hint gives the equivalent name in the right scheme.",
+    passing=_openpbr(
+        "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
+        extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
+              '        asset inputs:file = @albedo.png@ (\n            colorSpace = "srgb_texture"\n        )\n'
+              "        color3f outputs:out\n    }\n",
+    ),
+    failing=_openpbr(
+        "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
+        extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
+              '        asset inputs:file = @albedo.png@ (\n            colorSpace = "srgb_rec709_scene"\n        )\n'
+              "        color3f outputs:out\n    }\n",
+    ),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
+)
+CONNECTION_TYPE_MISMATCH = Rule(
+    "OPBR1005", "usd-connection-type-mismatch", Severity.ERROR,
+    "A connection joins attributes whose values cannot line up (a float output into a color3f "
+    "input, a float3 interface input into a float).",
+    "USD does not convert connected values: renderers read the wrong number of components or fall "
+    "back to the input's default. Roles may differ (float3 into color3f is fine); component counts "
+    "may not. Texture lookups are judged by OPBR702 instead.",
+    passing=_openpbr(
+        "color3f inputs:base_color.connect = </M.inputs:albedo>",
+        extra="\n    color3f inputs:albedo = (0.5, 0.4, 0.3)\n",
+    ),
+    failing=_openpbr(
+        "color3f inputs:base_color.connect = </M.inputs:albedo>",
+        extra="\n    float inputs:albedo = 0.5\n",
+    ),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+NORMAL_MAP_ENCODING = Rule(
+    "OPBR1006", "preview-normal-map-encoding", Severity.ERROR,
+    "A UsdPreviewSurface normal map in an 8-bit image is read without scale (2, 2, 2) and bias "
+    "(-1, -1, -1).",
+    "UsdPreviewSurface's normal input expects tangent-space vectors in [-1, 1]; an 8-bit image stores "
+    "(n + 1) / 2, so the UsdUVTexture must decode it with scale 2 and bias -1 (UsdPreviewSurface "
+    "specification, input normal). Without it every normal tilts towards +X+Y. The colour space "
+    "(must be raw) is OPBR504's concern.",
+    passing=_preview(
+        "normal3f inputs:normal.connect = </M/nrm.outputs:rgb>",
+        extra=_uv_texture("nrm", "normal.png", 'token inputs:sourceColorSpace = "raw"',
+                          "float4 inputs:scale = (2, 2, 2, 1)", "float4 inputs:bias = (-1, -1, -1, 0)"),
+    ),
+    failing=_preview(
+        "normal3f inputs:normal.connect = </M/nrm.outputs:rgb>",
+        extra=_uv_texture("nrm", "normal.png", 'token inputs:sourceColorSpace = "raw"'),
+    ),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("normal.png",),
+)
+OPACITY_THRESHOLD = Rule(
+    "OPBR1007", "preview-opacity-threshold", Severity.WARNING,
+    "UsdPreviewSurface opacityThreshold contradicts opacityMode, or has nothing to cut.",
+    "A non-zero opacityThreshold turns opacity into a cut-out mask and makes the renderer ignore "
+    "opacityMode (UsdPreviewSurface specification), so an authored opacityMode is dead; and a "
+    "threshold with opacity 1 everywhere (unset or constant 1) cuts nothing out.",
+    passing=_preview("float inputs:opacity = 0.4", "float inputs:opacityThreshold = 0.5"),
+    failing=_preview('token inputs:opacityMode = "transparent"', "float inputs:opacity = 0.4",
+                     "float inputs:opacityThreshold = 0.5"),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+WORKFLOW_INPUT_IGNORED = Rule(
+    "OPBR1008", "preview-workflow-input-ignored", Severity.WARNING,
+    "A UsdPreviewSurface input of the other workflow is authored: specularColor with "
+    "useSpecularWorkflow 0, or metallic with useSpecularWorkflow 1.",
+    "useSpecularWorkflow selects the metalness (0, the default) or the specular (1) workflow; the "
+    "other workflow's input is ignored, so the value an artist set has no effect.",
+    passing=_preview("int inputs:useSpecularWorkflow = 1", "color3f inputs:specularColor = (0.04, 0.04, 0.04)"),
+    failing=_preview("color3f inputs:specularColor = (0.04, 0.04, 0.04)"),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
+
+def _both(openpbr_inputs: tuple[str, ...], preview_inputs: tuple[str, ...]) -> str:
+    openpbr = "".join(f"        {line}\n" for line in openpbr_inputs)
+    preview = "".join(f"        {line}\n" for line in preview_inputs)
+    return _stage(
+        'def Material "M"\n{\n    token outputs:mtlx:surface.connect = </M/S.outputs:surface>\n'
+        "    token outputs:surface.connect = </M/P.outputs:surface>\n\n"
+        f'    def Shader "S"\n    {{\n        uniform token info:id = "ND_open_pbr_surface_surfaceshader"\n{openpbr}'
+        "        token outputs:surface\n    }\n\n"
+        f'    def Shader "P"\n    {{\n        uniform token info:id = "UsdPreviewSurface"\n{preview}'
+        "        token outputs:surface\n    }\n}"
+    )
+
+
+PREVIEW_DISAGREES = Rule(
+    "OPBR1009", "preview-disagrees-with-openpbr", Severity.WARNING,
+    "A Material's UsdPreviewSurface fallback and its OpenPBR shader disagree badly (base colour, "
+    "metalness, roughness or opacity far apart).",
+    "Viewports and real-time clients render the UsdPreviewSurface, final renders the OpenPBR shader; "
+    "when they disagree the look-dev artist approves one material and the renderer shows another. "
+    "Colours are compared sRGB-encoded (base_weight x base_color against diffuseColor, per channel, "
+    "default limit 0.2), metalness and opacity with a limit of 0.5, roughness 0.3; only constants.",
+    passing=_both(("color3f inputs:base_color = (0.5, 0.4, 0.3)",), ("color3f inputs:diffuseColor = (0.5, 0.4, 0.3)",)),
+    failing=_both(("color3f inputs:base_color = (0.5, 0.4, 0.3)",), ("color3f inputs:diffuseColor = (0.05, 0.3, 0.8)",)),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+USD_CORE = Rule(
+    "OPBR1010", "usd-core-validation", Severity.WARNING,
+    "usd-core's own validators (UsdValidation) report a problem the other rules do not cover.",
+    "The message is usd-core's, passed through: composition errors, missing upAxis/metersPerUnit/"
+    "defaultPrim, unresolvable references, material-binding and geometry checks, wrong types on "
+    "nodes this toolkit does not model. Findings about shader types, ids, normal maps and texture "
+    "files that OPBR201/OPBR1002/OPBR1003/OPBR1006/OPBR701 already report more precisely are left out. "
+    "The MaterialX node definitions are registered with usd-core first, so OpenPBR shaders raise no "
+    "'not found in sdrRegistry' error.",
+    passing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace('    upAxis = "Y"\n', ""),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
+RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
+         NORMAL_MAP_ENCODING, OPACITY_THRESHOLD, WORKFLOW_INPUT_IGNORED, PREVIEW_DISAGREES, USD_CORE)
+
+# usd-core findings the rules above (or generic ones) report more precisely.
+_COVERED_USD_CORE = {
+    "NonCompliantBiasAndScale", "NonCompliantScaleValues", "NonCompliantBiasValues", "InvalidSourceColorSpace",
+}
+# OPBR1009 limits; a project can override them with thresholds of the same names.
+PREVIEW_LIMITS = {
+    "preview_base_color_max_difference": 0.2,
+    "preview_metalness_max_difference": 0.5,
+    "preview_roughness_max_difference": 0.3,
+    "preview_opacity_max_difference": 0.5,
+}
 
 
 def check(asset, context):
     if asset.format != "usd":
         return
-    yield from ()
+    yield from _observations(asset, context)
+    yield from _types(asset, context)
+    yield from _colour_managed_textures(asset, context)
+    yield from _colour_policies(asset, context)
+    yield from _lengths(asset, context)
+    yield from _tokens(asset, context)
+    for material in asset.materials:
+        if material.model == "UsdPreviewSurface":
+            yield from _preview_conventions(material, context)
+    yield from _preview_agreement(asset, context)
+    yield from _usd_core(asset, context)
+
+
+# -- structure, ids, connections, colour-space names ----------------------------------------------
+
+def _observations(asset, context):
+    for observation in asset.observations:
+        detail, where = observation.detail, observation.location
+        if observation.kind == "usd_material_without_surface":
+            yield context.diagnostic(
+                NO_SHADER, f"material {detail['material']!r} has no surface shader: {detail['reason']}", where,
+                hint="connect outputs:mtlx:surface to the OpenPBR shader's outputs:surface (or outputs:surface "
+                     "to a UsdPreviewSurface)",
+            )
+        elif observation.kind == "usd_missing_shader_id":
+            yield context.diagnostic(
+                MISSING_SHADER_ID, "shader has no info:id: no renderer knows which node it is", where,
+                hint='author uniform token info:id (e.g. "ND_open_pbr_surface_surfaceshader")',
+            )
+        elif observation.kind == "usd_unknown_shader_id":
+            yield from _unknown_id(asset, observation, context)
+        elif observation.kind == "usd_connection_type_mismatch":
+            yield context.diagnostic(
+                CONNECTION_TYPE_MISMATCH,
+                f"{detail['input']} ({detail['input_type']}) is connected to {detail['source']} ({detail['source_type']})",
+                where, hint=f"connect a source of type {detail['input_type']}, or change the input's type",
+            )
+        elif observation.kind == "usd_colorspace":
+            yield from _colorspace_name(detail, where, context)
+
+
+def _unknown_id(asset, observation, context):
+    judged = _judge_unknown_id(asset, observation)
+    if judged is not None:
+        message, guess = judged
+        yield context.diagnostic(UNKNOWN_SHADER_ID, message, observation.location,
+                                 hint=f"did you mean {guess!r}?" if guess else None)
+
+
+def _judge_unknown_id(asset, observation) -> tuple[str, str | None] | None:
+    """(message, closest known id) when an unknown id is this family's business, else ``None``."""
+    shader_id = observation.detail["id"]
+    guess = _closest_id(shader_id, asset.extra.get("usd_sdr_ids", ()))
+    if guess:
+        return f"no node is called {shader_id!r}", guess
+    if observation.detail.get("mtlx_context") or shader_id.startswith("ND_"):
+        return f"{shader_id!r} is in a MaterialX network but is no MaterialX node definition", None
+    return None
+
+
+def _closest_id(shader_id: str, sdr_ids) -> str | None:
+    from ..io.usd_stage import materialx_nodedef_names
+
+    candidates = set(surface_shader_ids()) | set(sdr_ids)
+    match = difflib.get_close_matches(shader_id, sorted(candidates), n=1, cutoff=0.8)
+    if not match and shader_id.startswith("ND_"):
+        match = difflib.get_close_matches(shader_id, materialx_nodedef_names(), n=1, cutoff=0.8)
+    return match[0] if match else None
+
+
+def _colorspace_name(detail, where, context):
+    name, scheme = detail["name"], detail["scheme"]
+    materialx, usd = colorspaces.materialx_names(), colorspaces.usd_names()
+    if scheme == "usd":
+        if name in usd:
+            return
+        if name in materialx:
+            meant = colorspaces.usd_equivalent(name)
+            yield context.diagnostic(
+                COLORSPACE_SCHEME, f"{name!r} is a MaterialX colour-space name; {detail['owner']} takes USD names",
+                where, hint=f"use {meant!r}" if meant else "use a USD colour-space name (Gf.ColorSpaceNames)",
+            )
+            return
+        guess = colorspaces.suggest(name, "usd")
+        yield context.diagnostic(
+            UNKNOWN_COLORSPACE, f"unknown colour space {name!r}: USD treats it as no conversion", where,
+            hint=f"did you mean {guess!r}?" if guess else "use a USD colour-space name (Gf.ColorSpaceNames)",
+        )
+    elif scheme == "materialx":
+        if name in materialx:
+            return
+        if name in usd:
+            meant = colorspaces.materialx_equivalent(name) or ("none" if colorspaces.is_data(name, "usd") else None)
+            yield context.diagnostic(
+                COLORSPACE_SCHEME,
+                f"{name!r} is a USD colour-space name; inputs of MaterialX shaders take MaterialX names", where,
+                hint=f"use {meant!r}" if meant else "use a MaterialX colour-space name",
+            )
+            return
+        guess = colorspaces.suggest(name)
+        yield context.diagnostic(
+            UNKNOWN_COLORSPACE, f"unknown colour space {name!r}: MaterialX will not convert it", where,
+            hint=f"did you mean {guess!r}?" if guess else f"known: {', '.join(sorted(materialx))}",
+        )
+    else:  # UsdUVTexture sourceColorSpace
+        tokens = colorspaces.usd_uvtexture_names()
+        if name in tokens:
+            return
+        if name in materialx or name in usd:
+            meant = "raw" if (colorspaces.is_data(name) or colorspaces.is_data(name, "usd")) else (
+                "sRGB" if _is_encoded(name) else "raw")
+            yield context.diagnostic(
+                COLORSPACE_SCHEME, f"sourceColorSpace takes raw, sRGB or auto, not the colour-space name {name!r}",
+                where, hint=f"use {meant!r}",
+            )
+            return
+        guess = difflib.get_close_matches(name, tokens, n=1, cutoff=0.5)
+        yield context.diagnostic(
+            UNKNOWN_COLORSPACE, f"sourceColorSpace {name!r} is not raw, sRGB or auto", where,
+            hint=f"did you mean {guess[0]!r}?" if guess else "use raw, sRGB or auto",
+        )
+
+
+def _is_encoded(name: str | None) -> bool:
+    """True for colour spaces with a non-linear transfer curve (sRGB, gamma 2.2 ...), in any scheme."""
+    if not name:
+        return False
+    known = load_json("colorspaces.json")["materialx"]
+    spec = known.get(name) or known.get(colorspaces.materialx_equivalent(name) or "")
+    if spec is not None:
+        return spec["transfer"] not in ("linear", "data")
+    return name == "sRGB" or name.startswith(("srgb_", "g18_", "g22_", "g24_"))
+
+
+# -- types ----------------------------------------------------------------------------------------
+
+def _types(asset, context):
+    for material, table, entry in for_each_input(asset):
+        parameter = table.get(entry.name)
+        if parameter is None or entry.source_type is None or entry.type != parameter.type:
+            continue  # unknown inputs and real type mismatches are OPBR101/OPBR201
+        flavour = material.extra.get("usd_flavour", "mtlx")
+        expected = expected_usd_type(flavour, material.model, entry.name, parameter.type)
+        if expected is None or entry.source_type == expected:
+            continue
+        node = material.extra.get("info_id", material.model)
+        yield context.diagnostic(
+            TYPE_ROLE_MISMATCH, f"{entry.name} is {entry.source_type}; {node} declares it {expected}",
+            entry.location, hint=f"author it as {expected} inputs:{entry.name}",
+        )
+
+
+# -- colour-managed textures ------------------------------------------------------------------------
+
+def _colour_managed_textures(asset, context):
+    for material, table, entry in for_each_input(asset):
+        parameter = table.get(entry.name)
+        texture = entry.texture
+        if parameter is None or texture is None:
+            continue
+        space = texture.colorspace
+        if parameter.role == "color":
+            if space is not None and (colorspaces.is_data(space) or colorspaces.is_data(space, "usd")):
+                yield context.diagnostic(
+                    COLOR_TEXTURE_RAW, f"{entry.name} reads {texture.file!r} as raw data ({space})", entry.location,
+                    hint="read it as sRGB (sourceColorSpace = \"sRGB\", or colorSpace \"srgb_texture\" on a MaterialX image)",
+                )
+        elif parameter.role in ("data", "normal", "tangent"):
+            why = _bends(texture)
+            if why:
+                yield context.diagnostic(
+                    DATA_TEXTURE_MANAGED, f"{entry.name} is data but reads {texture.file!r} {why}", entry.location,
+                    hint='set sourceColorSpace = "raw"' if texture.node_category == UV_TEXTURE_ID
+                    else 'set colorSpace = "none" on the image\'s inputs:file',
+                )
+
+
+def _bends(texture: Texture) -> str | None:
+    space = texture.colorspace
+    if texture.node_category == UV_TEXTURE_ID:
+        if space == "sRGB" or (space not in ("raw", "sRGB", "auto", None) and _is_encoded(space)):
+            return f"through colour space {space!r}"
+        if space in (None, "auto") and is_eight_bit(texture.file):
+            return "with sourceColorSpace auto, which decodes 8-bit RGB(A) images as sRGB"
+        return None
+    if texture.image_type in ("color3", "color4") and _is_encoded(space):
+        return f"through colour space {space!r}"
+    return None
+
+
+def _colour_policies(asset, context):
+    """The project's colour-space policies (OPBR505, OPBR506), stated in MaterialX names: USD names
+    and UsdUVTexture tokens are compared through their MaterialX equivalents. A stage without a
+    colour space is in USD's default, lin_rec709_scene."""
+    required_rule = getattr(colorspace_rules, "REQUIRED_COLORSPACE", None)
+    allowed_rule = getattr(colorspace_rules, "TEXTURE_COLORSPACE_NOT_ALLOWED", None)
+    required = getattr(context, "required_colorspace", None)
+    if required and required_rule is not None:
+        stated = _as_materialx(asset.colorspace or "lin_rec709_scene")
+        if stated != required:
+            meant = colorspaces.usd_equivalent(required)
+            yield context.diagnostic(
+                required_rule, f"stage colour space is {asset.colorspace or 'lin_rec709_scene (USD default)'!r}; "
+                               f"the project requires {required!r}",
+                asset.colorspace_location or Location(asset.path), hint=(
+                    f'apply Usd.ColorSpaceAPI to the default prim with colorSpace:name = "{meant}"' if meant else None),
+            )
+    allowed = getattr(context, "allowed_texture_colorspaces", None)
+    if allowed is None or allowed_rule is None:
+        return
+    seen = set()
+    for material in asset.materials:
+        for name, texture in material.textures():
+            space = _as_materialx(texture.colorspace)
+            if space and space not in allowed and texture.node not in seen:
+                seen.add(texture.node)
+                yield context.diagnostic(
+                    allowed_rule, f"{name} reads {texture.file!r} as {texture.colorspace!r}, not one of {sorted(allowed)}",
+                    texture.location or material.inputs[name].location,
+                )
+
+
+def _as_materialx(name: str | None) -> str | None:
+    """A colour-space name of any scheme as MaterialX names it (``None`` for UsdUVTexture's auto)."""
+    if name in (None, "auto"):
+        return None
+    if name in colorspaces.materialx_names():
+        return name
+    if name == "sRGB":
+        return "srgb_texture"
+    if colorspaces.is_data(name, "usd"):
+        return "none"
+    return colorspaces.materialx_equivalent(name) or name
+
+
+# -- units ----------------------------------------------------------------------------------------
+
+def _lengths(asset, context):
+    if asset.meters_per_unit is not None:
+        return
+    default = load_json("units.json")["usd_default_meters_per_unit"]
+    for material, table, entry in for_each_input(asset):
+        parameter = table.get(entry.name)
+        if parameter is None or parameter.unit != "scene_length" or entry.value is None or entry.error:
+            continue
+        yield context.diagnostic(
+            LENGTH_WITHOUT_UNIT,
+            f"{entry.name} is a length in scene units but the stage does not author metersPerUnit, "
+            f"so USD's default {default:g} (centimetres) applies",
+            entry.location, hint="author metersPerUnit in the root layer's metadata",
+        )
+
+
+# -- tokens ---------------------------------------------------------------------------------------
+
+def _tokens(asset, context):
+    seen = set()
+    for material, table, entry in for_each_input(asset):
+        if material.model == "UsdPreviewSurface" and entry.name == "opacityMode" and isinstance(entry.constant, str):
+            yield context.diagnostic(
+                ENUM_VALUE, f"opacityMode = {entry.constant!r} is not one of {list(OPACITY_MODE_TOKENS)}",
+                entry.location, hint="use \"transparent\" or \"presence\"",
+            )
+        texture = entry.texture
+        if texture is None or texture.wrap is None or texture.node in seen:
+            continue
+        seen.add(texture.node)
+        allowed = UV_TEXTURE_WRAP_TOKENS if texture.node_category == UV_TEXTURE_ID else MATERIALX_ADDRESS_MODES
+        names = ("wrapS", "wrapT") if texture.node_category == UV_TEXTURE_ID else ("uaddressmode", "vaddressmode")
+        for name, value in zip(names, texture.wrap):
+            if value not in allowed:
+                yield context.diagnostic(
+                    ENUM_VALUE, f"{name} = {value!r} is not one of {list(allowed)}",
+                    Location(asset.path, None, texture.node, name),
+                )
+
+
+# -- UsdPreviewSurface conventions ------------------------------------------------------------------
+
+def _value(material, name):
+    """The constant of ``name`` (the table default when unauthored; ``None`` when textured)."""
+    entry = material.inputs.get(name)
+    if entry is None:
+        parameter = tables.table(material.model, material.version).get(name)
+        return parameter.default if parameter is not None else None
+    return entry.constant
+
+
+def _preview_conventions(material, context):
+    normal = material.inputs.get("normal")
+    texture = normal.texture if normal is not None else None
+    if texture is not None and texture.node_category == UV_TEXTURE_ID and is_eight_bit(texture.file):
+        scale, bias = _rgb(texture.scale, 1.0), _rgb(texture.bias, 0.0)
+        if scale != (2.0, 2.0, 2.0) or bias != (-1.0, -1.0, -1.0):
+            yield context.diagnostic(
+                NORMAL_MAP_ENCODING,
+                f"normal reads the 8-bit image {texture.file!r} with scale {_fmt(scale)} and bias {_fmt(bias)}, "
+                "so its [0, 1] values are not mapped to [-1, 1]",
+                Location(texture.location.file if texture.location else material.location.file, None, texture.node, "scale"),
+                hint="set inputs:scale = (2, 2, 2, 1) and inputs:bias = (-1, -1, -1, 0) on the UsdUVTexture",
+            )
+    threshold = _value(material, "opacityThreshold")
+    if isinstance(threshold, (int, float)) and threshold > 0:
+        where = material.inputs["opacityThreshold"].location
+        if "opacityMode" in material.inputs:
+            yield context.diagnostic(
+                OPACITY_THRESHOLD,
+                f"opacityThreshold {threshold:g} makes opacity a cut-out mask, so the authored opacityMode is ignored",
+                material.inputs["opacityMode"].location,
+                hint="remove opacityMode, or set opacityThreshold to 0 for translucency",
+            )
+        opacity = _value(material, "opacity")
+        if isinstance(opacity, (int, float)) and opacity >= 1.0:
+            yield context.diagnostic(
+                OPACITY_THRESHOLD, f"opacityThreshold {threshold:g} cuts nothing out: opacity is 1 everywhere", where,
+                hint="connect opacity to a mask texture, or remove opacityThreshold",
+            )
+    workflow = _value(material, "useSpecularWorkflow")
+    if workflow in (0, 1):
+        ignored = "specularColor" if workflow == 0 else "metallic"
+        entry = material.inputs.get(ignored)
+        default = tables.table(material.model, material.version)[ignored].default
+        if entry is not None and entry.value is not None and entry.constant != default:  # a default changes nothing
+            mode = "metalness workflow (useSpecularWorkflow 0)" if workflow == 0 else "specular workflow (useSpecularWorkflow 1)"
+            yield context.diagnostic(
+                WORKFLOW_INPUT_IGNORED, f"{ignored} is ignored in the {mode}", entry.location,
+                hint="set useSpecularWorkflow = 1" if workflow == 0 else "set useSpecularWorkflow = 0, or remove metallic",
+            )
+
+
+def _rgb(value, default: float) -> tuple:
+    """UsdUVTexture's scale or bias for the rgb channels (a float4, a scalar, or unauthored)."""
+    if value is None:
+        return (default,) * 3
+    if not isinstance(value, tuple):
+        return (float(value),) * 3
+    return tuple(float(v) for v in (value + (default,) * 3)[:3])
+
+
+def _srgb_encode(linear: float) -> float:
+    """The sRGB transfer function (IEC 61966-2-1), used to compare colours roughly perceptually."""
+    linear = min(max(linear, 0.0), 1.0)
+    return 12.92 * linear if linear <= 0.0031308 else 1.055 * linear ** (1 / 2.4) - 0.055
+
+
+def _preview_agreement(asset, context):
+    by_material: dict[str, dict[str, object]] = {}
+    for material in asset.materials:
+        if material.material_name and material.version:
+            by_material.setdefault(material.material_name, {})[material.model] = material
+    limits = {key: context.threshold(key, value) for key, value in PREVIEW_LIMITS.items()}
+    for pair in by_material.values():
+        openpbr, preview = pair.get("open_pbr_surface"), pair.get("UsdPreviewSurface")
+        if openpbr is None or preview is None:
+            continue
+        yield from _compare(openpbr, preview, limits, context)
+
+
+def _compare(openpbr, preview, limits, context):
+    def where(name):
+        entry = preview.inputs.get(name)
+        return entry.location if entry is not None else preview.location
+
+    color, weight, albedo = _value(openpbr, "base_color"), _value(openpbr, "base_weight"), _value(preview, "diffuseColor")
+    same_space = _colour_space(openpbr, "base_color") == _colour_space(preview, "diffuseColor")
+    if (isinstance(color, tuple) and isinstance(albedo, tuple) and isinstance(weight, (int, float)) and same_space
+            and ("base_color" in openpbr.inputs or "diffuseColor" in preview.inputs)):
+        effective = tuple(weight * c for c in color)
+        difference = max(abs(_srgb_encode(a) - _srgb_encode(b)) for a, b in zip(effective, albedo))
+        if difference > limits["preview_base_color_max_difference"]:
+            yield context.diagnostic(
+                PREVIEW_DISAGREES,
+                f"diffuseColor {_fmt(albedo)} is far from the OpenPBR base colour {_fmt(effective)} "
+                f"(sRGB difference {difference:.2f})", where("diffuseColor"),
+                hint="bake the preview values from the OpenPBR shader",
+            )
+    pairs = [("base_metalness", "metallic", "preview_metalness_max_difference"),
+             ("specular_roughness", "roughness", "preview_roughness_max_difference"),
+             ("geometry_opacity", "opacity", "preview_opacity_max_difference")]
+    specular_workflow = _value(preview, "useSpecularWorkflow") == 1
+    for openpbr_name, preview_name, limit in pairs:
+        if specular_workflow and preview_name == "metallic":
+            continue
+        a, b = _value(openpbr, openpbr_name), _value(preview, preview_name)
+        if not (isinstance(a, (int, float)) and isinstance(b, (int, float))):
+            continue
+        if openpbr_name not in openpbr.inputs and preview_name not in preview.inputs:
+            continue
+        if abs(a - b) > limits[limit]:
+            yield context.diagnostic(
+                PREVIEW_DISAGREES, f"{preview_name} {b:g} is far from the OpenPBR {openpbr_name} {a:g}",
+                where(preview_name), hint="bake the preview values from the OpenPBR shader",
+            )
+
+
+def _colour_space(material, name):
+    entry = material.inputs.get(name)
+    space = (entry.colorspace if entry is not None else None) or material.colorspace
+    if space is None or space in ("lin_rec709", "lin_rec709_scene"):
+        return "lin_rec709"
+    return colorspaces.materialx_equivalent(space) or space
+
+
+def _fmt(value) -> str:
+    return "(" + ", ".join(f"{v:.3g}" for v in value) + ")"
+
+
+# -- usd-core -------------------------------------------------------------------------------------
+
+def _usd_core(asset, context):
+    findings = asset.extra.get("usd_core_findings") or ()
+    read_shaders = {m.location.path for m in asset.materials}
+    reported_ids = {o.location.path for o in asset.observations
+                    if o.kind == "usd_unknown_shader_id" and _judge_unknown_id(asset, o) is not None}
+    texture_files = {t.file for m in asset.materials for _, t in m.textures()}
+    for finding in findings:
+        name, sites = finding["name"], finding["sites"]
+        prims = {site.split(".", 1)[0] for site in sites}
+        if name in _COVERED_USD_CORE:
+            continue
+        if name == "MismatchedPropertyType" and prims and prims <= read_shaders:
+            continue
+        if name == "MissingShaderIdInRegistry" and prims and prims <= reported_ids:
+            continue
+        if name in ("UnresolvableDependency", "InvalidFile") and any(
+                f"@{file}@" in finding["message"] or f"'{file}'" in finding["message"] for file in texture_files):
+            continue  # OPBR701 reports missing textures
+        site = sites[0] if sites else ""
+        prim, _, attribute = site.partition(".")
+        yield context.diagnostic(
+            USD_CORE, f"usd-core {finding['identifier']}: {finding['message']}",
+            Location(asset.path, None, prim or None, (attribute[len("inputs:"):] if attribute.startswith("inputs:") else attribute) or None),
+        )

@@ -62,10 +62,16 @@ def check(asset, context):
             continue
         if entry.type and entry.type != parameter.type:
             shown = entry.source_type or entry.type
+            if entry.source_type:
+                from ..io.usd_types import MATERIALX_TO_USD
+
+                hint = f"author it as {MATERIALX_TO_USD.get(parameter.type, parameter.type)} inputs:{entry.name}"
+            else:
+                hint = f"declare type=\"{parameter.type}\""
             yield context.diagnostic(
                 TYPE_MISMATCH,
                 f"{entry.name} is declared {shown}; {material.model} {material.version} defines it as {parameter.type}",
-                entry.location, hint=f"declare type=\"{parameter.type}\"",
+                entry.location, hint=hint,
             )
         if parameter.uniform and isinstance(entry.value, (Texture, Connection)) and not getattr(entry.value, "dangling", False):
             yield context.diagnostic(

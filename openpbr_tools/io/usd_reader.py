@@ -1,0 +1,258 @@
+"""Read the materials of a USD stage (``.usda``, ``.usdc``, ``.usd``, ``.usdz``) into an
+:class:`~openpbr_tools.model.Asset`.
+
+usd-core has no MaterialX plug-in, so the prims are read here. The stage is opened with composition
+resolved (sublayers, references, payloads loaded, variants as selected); every ``Material`` prim is
+visited and each of its surface outputs (``outputs:surface``, ``outputs:mtlx:surface``,
+``outputs:<context>:surface``) is followed, through node graphs, to a shader. Shaders with the id of
+a model the toolkit knows become :class:`~openpbr_tools.model.Material` objects: OpenPBR
+(``ND_open_pbr_surface_surfaceshader`` and versioned ids), Standard Surface, glTF PBR and
+UsdPreviewSurface (USD's ``UsdPreviewSurface`` and MaterialX's ``ND_UsdPreviewSurface_surfaceshader``).
+
+Each shader input becomes an :class:`~openpbr_tools.model.Input`:
+
+* ``type`` is the MaterialX type its USD type reads as (``color3f`` -> ``color3``, ``float3`` ->
+  ``vector3``; a ``float3`` where the parameter is a ``color3`` reads as ``color3`` so its values are
+  still checked, and OPBR1002 reports the role), ``source_type`` the USD type;
+* the value (followed by :mod:`.usd_network`) is a :class:`Constant`, read through Material and
+  NodeGraph interface inputs (``interface_name`` remembers which); a
+  :class:`Texture` for MaterialX image chains (``ND_image_*``/``ND_tiledimage_*`` through
+  ``extract``, ``separate``, ``convert``, ``normalmap``, and ``multiply``/``add`` by a constant as
+  scale and bias, with ``place2d``/``texcoord``/``geompropvalue`` on the coordinates) and for
+  ``UsdUVTexture`` (output channel, ``sourceColorSpace``, scale/bias, wrap, fallback,
+  ``UsdTransform2d`` and the primvar reader's name); a :class:`Connection` otherwise (``dangling``
+  when the target does not exist); ``None`` for an input declared without a value (UsdMtlx's
+  interface inputs look like that);
+* ``authored_colorspace`` is the attribute's ``colorSpace`` metadata, ``colorspace`` that or the
+  nearest ``Usd.ColorSpaceAPI`` ancestor's name. ``Material.colorspace`` is the Material prim's
+  ColorSpaceAPI space under its MaterialX name (``lin_ap1_scene`` -> ``acescg``) so colour maths
+  elsewhere can use it; ``Asset.colorspace`` is the default prim's, as authored.
+
+The version: a versioned id (``..._surfaceshader_05``) or the ``customData`` the writer records
+(``openpbr:version``) states it; an unversioned id only says "whatever was current", so the version
+is inferred from the input names as for MaterialX. ``Asset.meters_per_unit`` is ``None`` when the
+stage does not author ``metersPerUnit`` (USD then means 0.01).
+
+USD has no reliable line numbers: a :class:`Location` is the prim path plus the attribute name
+(without ``inputs:``). Facts the USD rules judge are recorded as observations (``usd_*`` kinds);
+usd-core's own validators run too and their findings go to ``asset.extra["usd_core_findings"]``.
+"""
+
+from __future__ import annotations
+
+import os
+import zipfile
+
+from .. import colorspaces, tables, versioning
+from ..model import Asset, Constant, Input, Location, Material
+from . import ReadError
+from .usd_network import MAX_DEPTH, NetworkReader
+from .usd_stage import materialx_nodedef, open_stage, quiet, usd_core_findings, usd_error_message
+from .usd_types import MATERIALX_CONTEXT, OPACITY_MODE_TOKENS, materialx_type_of, surface_shader_ids
+
+CUSTOM_DATA_VERSION_KEY = "openpbr:version"
+
+
+def read_usd(path: str, *, usd_core: bool = True) -> Asset:
+    """Read the stage at ``path``. ``usd_core=False`` skips usd-core's own validators."""
+    stage = open_stage(os.path.abspath(path))
+    from pxr import Tf
+
+    asset = Asset(path=path, format="usd")
+    try:
+        with quiet():  # usd-core would print its warnings about odd scene description to stderr
+            _Reader(asset, stage).run()
+        if usd_core:
+            asset.extra["usd_core_findings"] = usd_core_findings(stage)
+    except Tf.ErrorException as error:
+        message, line = usd_error_message(str(error), os.path.abspath(path))
+        raise ReadError("not_usd", f"USD cannot read the stage: {message}", Location(path, line)) from None
+    return asset
+
+
+class _Reader(NetworkReader):
+    def __init__(self, asset: Asset, stage) -> None:
+        from pxr import Sdr, Usd, UsdGeom, UsdShade
+
+        self.Usd, self.UsdShade = Usd, UsdShade
+        self.asset = asset
+        self.stage = stage
+        self.path = asset.path
+        self.root_layer = stage.GetRootLayer()
+        self.root_dir = os.path.dirname(os.path.abspath(asset.path))
+        self.colorspace_of_prim: dict[str, str | None] = {}
+        self.observed_colorspaces: set[tuple] = set()
+        self.shaders: dict[str, Material] = {}
+        self.mtlx_context_shaders: set[str] = set()
+        self.UsdGeom = UsdGeom
+        asset.extra["usd_sdr_ids"] = tuple(sorted(str(i) for i in Sdr.Registry().GetShaderNodeIdentifiers()))
+
+    def location(self, prim_path, name: str | None = None) -> Location:
+        return Location(self.path, None, str(prim_path), name)
+
+    # -- stage ------------------------------------------------------------------------------
+    def run(self) -> None:
+        stage, asset = self.stage, self.asset
+        asset.format_version = self.root_layer.GetFileFormat().formatId
+        if stage.HasAuthoredMetadata("metersPerUnit"):
+            asset.meters_per_unit = float(self.UsdGeom.GetStageMetersPerUnit(stage))
+        asset.extra["up_axis"] = str(self.UsdGeom.GetStageUpAxis(stage)) if stage.HasAuthoredMetadata("upAxis") else None
+        default_prim = stage.GetDefaultPrim()
+        if default_prim:
+            asset.colorspace = self.inherited_colorspace(default_prim)
+            if asset.colorspace:
+                asset.colorspace_location = self.location(default_prim.GetPath(), "colorSpace:name")
+        if asset.format_version == "usdz":
+            try:
+                with zipfile.ZipFile(self.path) as package:
+                    asset.extra["package_files"] = frozenset(package.namelist())
+            except (OSError, zipfile.BadZipFile):
+                asset.extra["package_files"] = frozenset()
+        shader_prims = []
+        for prim in stage.Traverse():
+            if prim.HasAPI(self.Usd.ColorSpaceAPI):
+                name = self.authored_prim_colorspace(prim)
+                if name:
+                    self.observe_colorspace(self.location(prim.GetPath(), "colorSpace:name"), name, "usd",
+                                            "Usd.ColorSpaceAPI")
+            if prim.IsA(self.UsdShade.Material):
+                self.read_material(prim)
+            elif prim.IsA(self.UsdShade.Shader):
+                shader_prims.append(prim)
+        for prim in shader_prims:
+            self.observe_shader_id(prim)
+
+    def observe_shader_id(self, prim) -> None:
+        shader = self.UsdShade.Shader(prim)
+        shader_id = str(shader.GetShaderId() or "")
+        path = str(prim.GetPath())
+        if not shader_id:
+            if str(shader.GetImplementationSource()) == "id":
+                self.asset.observe("usd_missing_shader_id", self.location(path, "info:id"),
+                                   mtlx_context=path in self.mtlx_context_shaders)
+            return
+        if shader_id in surface_shader_ids() or materialx_nodedef(shader_id) is not None:
+            return
+        if shader_id in self.asset.extra["usd_sdr_ids"]:
+            return
+        self.asset.observe("usd_unknown_shader_id", self.location(path, "info:id"), id=shader_id,
+                           mtlx_context=path in self.mtlx_context_shaders)
+
+    # -- materials --------------------------------------------------------------------------
+    def read_material(self, prim) -> None:
+        material_path = str(prim.GetPath())
+        location = self.location(material_path)
+        outputs = [o for o in self.UsdShade.Material(prim).GetOutputs()
+                   if o.GetBaseName() == "surface" or o.GetBaseName().endswith(":surface")]
+        if not outputs:
+            self.asset.observe("usd_material_without_surface", location, material=material_path,
+                               reason="it has no surface output")
+            return
+        connected = False
+        for output in outputs:
+            base = str(output.GetBaseName())
+            context = base[: -len(":surface")] if base != "surface" else ""
+            attribute = output.GetAttr()
+            if not attribute.GetConnections():
+                continue
+            connected = True
+            kind, *found = self.source(attribute)
+            where = self.location(material_path, f"outputs:{base}")
+            if kind == "dangling":
+                target, reason = found
+                self.asset.observe("dangling_reference", where, attribute=f"outputs:{base}", target=target, reason=reason)
+                continue
+            if kind != "shader":
+                continue
+            shader_prim, output_name, _ = found
+            if context == MATERIALX_CONTEXT:
+                self.mark_mtlx_context(shader_prim)
+            self.read_surface(shader_prim, output_name, prim, context, where)
+        if not connected:
+            self.asset.observe("usd_material_without_surface", location, material=material_path,
+                               reason=f"{', '.join('outputs:' + o.GetBaseName() for o in outputs)} is not connected")
+
+    def mark_mtlx_context(self, prim, depth: int = 0) -> None:
+        """Remember every shader upstream of a MaterialX surface output (their ids must be
+        MaterialX node definitions)."""
+        path = str(prim.GetPath())
+        if path in self.mtlx_context_shaders or depth > MAX_DEPTH:
+            return
+        self.mtlx_context_shaders.add(path)
+        for shader_input in self.UsdShade.Shader(prim).GetInputs():
+            kind, *found = self.source(shader_input.GetAttr())
+            if kind == "shader":
+                self.mark_mtlx_context(found[0], depth + 1)
+
+    def read_surface(self, shader_prim, output_name: str, material_prim, context: str, where: Location) -> None:
+        shader = self.UsdShade.Shader(shader_prim)
+        shader_id = str(shader.GetShaderId() or "")
+        known = surface_shader_ids().get(shader_id)
+        if known is None:
+            self.asset.observe("unsupported_shader", where, material=str(material_prim.GetPath()), category=shader_id)
+            return
+        model, id_version, flavour = known
+        accepted = ("surface",) if flavour == "usd" else ("out", "surface")
+        if output_name not in accepted:
+            self.asset.observe(
+                "dangling_reference", where, attribute=where.input,
+                target=f"{shader_prim.GetPath()}.outputs:{output_name}",
+                reason=f"{shader_id} has no output {output_name!r} (expected {' or '.join('outputs:' + a for a in accepted)})",
+            )
+            return
+        path = str(shader_prim.GetPath())
+        material = self.shaders.get(path)
+        if material is None:
+            material = self.read_shader(shader_prim, shader_id, model, id_version, flavour)
+            self.shaders[path] = material
+            self.asset.materials.append(material)
+        if material.material_name is None:
+            material.material_name = str(material_prim.GetPath())
+            material.material_location = self.location(material_prim.GetPath())
+            material.extra["usd_render_context"] = context
+            material.extra["usd_surface_output"] = where.input
+            # MaterialX's name for it, so colour maths elsewhere (plausibility) can use it
+            space = self.inherited_colorspace(material_prim)
+            material.colorspace = (colorspaces.materialx_equivalent(space) or space) if space else None
+
+    # -- shaders ----------------------------------------------------------------------------
+    def read_shader(self, prim, shader_id: str, model: str, id_version: str | None, flavour: str) -> Material:
+        path = str(prim.GetPath())
+        declared = prim.GetCustomDataByKey(CUSTOM_DATA_VERSION_KEY)
+        material = Material(
+            name=path, model=model, location=self.location(path),
+            declared_version=str(declared) if declared else None,
+            nodedef=shader_id if id_version is not None else None,
+        )
+        material.extra.update(info_id=shader_id, usd_flavour=flavour, node_path=path)
+        attributes = []
+        for shader_input in self.UsdShade.Shader(prim).GetInputs():
+            name = str(shader_input.GetBaseName())
+            attributes.append((name, shader_input.GetAttr()))
+            material.inputs[name] = Input(name=name, type=None, value=None, location=self.location(path, name))
+        versioning.settle(material)
+        if material.declared_version and material.version_basis.startswith("node version"):
+            material.version_basis = f"node version attribute (customData {CUSTOM_DATA_VERSION_KEY})"
+        table = tables.table(model, material.version) if material.version else None
+        for name, attribute in attributes:
+            parameter = table.get(name) if table is not None else None
+            self.read_input(material.inputs[name], attribute, model, flavour, parameter)
+        return material
+
+    def read_input(self, entry: Input, attribute, model: str, flavour: str, parameter) -> None:
+        usd_type = str(attribute.GetTypeName())
+        entry.source_type = usd_type
+        entry.type = materialx_type_of(usd_type, parameter.type if parameter else None)
+        scheme = "materialx" if flavour == "mtlx" else "usd"
+        entry.authored_colorspace = self.attribute_colorspace(attribute, scheme)
+        entry.colorspace = entry.authored_colorspace or self.inherited_colorspace(attribute.GetPrim())
+        opacity_mode = flavour == "usd" and model == "UsdPreviewSurface" and entry.name == "opacityMode"
+        if opacity_mode and usd_type == "token":
+            entry.type = "integer"
+        consumer = (model, flavour, parameter)
+        value = self.interpret(attribute, entry, consumer)
+        if opacity_mode and isinstance(value, Constant) and isinstance(value.value, str):
+            entry.raw = value.value
+            if value.value in OPACITY_MODE_TOKENS:
+                value = Constant(OPACITY_MODE_TOKENS.index(value.value))
+        entry.value = value

@@ -1,0 +1,466 @@
+"""Write :class:`~openpbr_tools.model.Material` objects as USD: ``.usda``, ``.usdc``, ``.usd`` or a
+``.usdz`` package that carries its textures.
+
+Layout: a ``Scope "Looks"`` (the default prim) holds one ``Material`` prim per material name. An
+OpenPBR (or Standard Surface, glTF PBR) shader is a ``Shader`` with its MaterialX node-definition id
+on ``outputs:mtlx:surface``; a UsdPreviewSurface material becomes a ``UsdPreviewSurface`` shader on
+the universal ``outputs:surface`` of the same ``Material`` when both share a material name (so an
+OpenPBR material with a preview fallback is one prim). Inputs get the USD types UsdMtlx gives their
+MaterialX types (``color3f``, ``float3``, ``bool``...; UsdPreviewSurface's own types for it), colour
+spaces go to ``colorSpace`` metadata in the scheme each shader wants (MaterialX names on MaterialX
+shaders, USD names on USD ones) and the material's colour space to ``Usd.ColorSpaceAPI``. The OpenPBR
+version is recorded on the shader as ``customData = {dictionary openpbr = {string version}}``.
+
+Textures become MaterialX image chains under ``mtlx`` (``ND_image_*``/``ND_tiledimage_*``, then
+``ND_convert``/``ND_extract``, ``ND_multiply``/``ND_add`` for scale and bias, ``ND_normalmap``;
+``ND_place2d``, ``ND_texcoord`` or ``ND_geompropvalue`` on the coordinates) and ``UsdUVTexture``
+(+ ``UsdTransform2d``, ``UsdPrimvarReader_float2``) under UsdPreviewSurface. Constants that came
+through a material interface input are written through one again. Stage ``metersPerUnit`` and
+``upAxis`` are always authored; lengths carrying a MaterialX distance unit are converted to stage units.
+
+:func:`write_usd` returns notes about anything it could not carry exactly (an opaque procedural
+connection, a texture missing from a package...).
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import tempfile
+
+from .. import colorspaces, tables
+from ..model import Asset, Connection, Constant, Material, Texture, UVTransform
+from ..resources import load_json
+from .usd_reader import CUSTOM_DATA_VERSION_KEY
+from .usd_stage import quiet, require_pxr
+from .usd_types import (
+    ADDRESS_MODE_TO_WRAP,
+    MATERIALX_TO_USD,
+    OPACITY_MODE_TOKENS,
+    PREVIEW_SURFACE_USD_TYPES,
+    WRAP_TO_ADDRESS_MODE,
+)
+
+LOOKS = "/Looks"
+
+
+def write_usd(materials: list[Material], path: str, *, source: Asset | str | None = None,
+              meters_per_unit: float | None = None, up_axis: str | None = None) -> list[str]:
+    """Write ``materials`` to ``path``; the suffix picks the format.
+
+    ``source`` is the :class:`Asset` (or the path of the file) the materials were read from:
+    relative texture paths are resolved against its folder (and re-expressed relative to ``path``,
+    or copied into a ``.usdz``), and its scene unit is the unit of lengths without a unit of their
+    own. ``meters_per_unit`` defaults to the source's (a USD stage's ``metersPerUnit``, 1 for glTF)
+    and otherwise to USD's 0.01; lengths are converted when it differs. ``up_axis`` defaults to
+    the source stage's, else ``"Y"``.
+    """
+    require_pxr(os.fspath(path))
+    from pxr import Sdf, Usd, UsdGeom
+
+    path = os.fspath(path)
+    suffix = os.path.splitext(path)[1].lower()
+    notes: list[str] = []
+    source_path = source.path if isinstance(source, Asset) else source
+    source_unit = _scene_unit(source) if isinstance(source, Asset) else None
+    meters_per_unit = meters_per_unit or source_unit or load_json("units.json")["usd_default_meters_per_unit"]
+    source_dir = os.path.dirname(os.path.abspath(source_path or path))
+    if up_axis is None:
+        up_axis = (source.extra.get("up_axis") if isinstance(source, Asset) else None) or "Y"
+    package = suffix == ".usdz"
+    folder = os.path.dirname(os.path.abspath(path))
+    stage = Usd.Stage.CreateInMemory()
+    UsdGeom.SetStageMetersPerUnit(stage, meters_per_unit)
+    UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z if up_axis.upper() == "Z" else UsdGeom.Tokens.y)
+    stage.SetDefaultPrim(stage.DefinePrim(LOOKS, "Scope"))
+    writer = _Writer(stage, notes, source_dir, folder, package, meters_per_unit, source_unit)
+    for material in materials:
+        writer.write(material)
+    # Atomically, as openpbr_tools.atomic does: a temporary file beside the target, renamed over it.
+    handle, temporary = tempfile.mkstemp(prefix=".openpbr-", suffix=suffix, dir=folder)
+    os.close(handle)
+    staging = tempfile.mkdtemp(prefix="openpbr-usdz-") if package else None
+    try:
+        if package:
+            layer_path = os.path.join(staging, "root.usdc")
+            stage.GetRootLayer().Export(layer_path)
+            _package(temporary, layer_path, writer.packaged_files)
+        else:
+            stage.GetRootLayer().Export(temporary)
+        os.replace(temporary, path)
+    except BaseException:
+        if os.path.exists(temporary):
+            os.unlink(temporary)
+        raise
+    finally:
+        if staging:
+            shutil.rmtree(staging, ignore_errors=True)
+    cached = Sdf.Layer.Find(path)  # a layer this process already opened from ``path`` is stale now
+    if cached:
+        cached.Reload(force=True)
+    return notes
+
+
+def _package(path: str, layer_path: str, files: dict[str, str]) -> None:
+    """A USDZ: an uncompressed, 64-byte aligned zip whose first file is the root layer."""
+    from pxr import Sdf
+
+    writer = Sdf.ZipFileWriter.CreateNew(path)
+    writer.AddFile(layer_path, os.path.basename(layer_path))
+    for inside, outside in sorted(files.items()):
+        writer.AddFile(outside, inside)
+    writer.Save()
+
+
+def _identifier(name: str) -> str:
+    from pxr import Tf
+
+    return Tf.MakeValidIdentifier(name.rstrip("/").rsplit("/", 1)[-1] or "material")
+
+
+class _Writer:
+    def __init__(self, stage, notes, source_dir, target_dir, package, meters_per_unit, source_unit):
+        from pxr import Sdf, UsdShade
+
+        self.Sdf, self.UsdShade = Sdf, UsdShade
+        self.stage, self.notes = stage, notes
+        self.source_dir, self.target_dir, self.package = source_dir, target_dir, package
+        self.meters_per_unit, self.source_unit = meters_per_unit, source_unit
+        self.material_prims: dict[str, object] = {}
+        self.packaged_files: dict[str, str] = {}
+
+    def unique_child(self, parent_path: str, name: str) -> str:
+        base, candidate, n = _identifier(name), _identifier(name), 1
+        while self.stage.GetPrimAtPath(f"{parent_path}/{candidate}"):
+            candidate, n = f"{base}_{n}", n + 1
+        return f"{parent_path}/{candidate}"
+
+    # -- materials ---------------------------------------------------------------------------
+    def write(self, material: Material) -> None:
+        key = material.material_name or material.name
+        usd_material = self.material_prims.get(key)
+        if usd_material is None:
+            usd_material = self.UsdShade.Material.Define(self.stage, self.unique_child(LOOKS, key))
+            self.material_prims[key] = usd_material
+            if material.colorspace:
+                self.set_material_colorspace(usd_material.GetPrim(), material.colorspace)
+        preview = material.model == "UsdPreviewSurface"
+        shader_path = self.unique_child(str(usd_material.GetPath()), material.name)
+        shader = self.UsdShade.Shader.Define(self.stage, shader_path)
+        if preview:
+            shader.CreateIdAttr("UsdPreviewSurface")
+        else:
+            shader.CreateIdAttr(self.shader_id(material))
+            if material.model == "open_pbr_surface" and material.version:
+                shader.GetPrim().SetCustomDataByKey(CUSTOM_DATA_VERSION_KEY, material.version)
+        output = shader.CreateOutput("surface", self.Sdf.ValueTypeNames.Token)
+        usd_material.CreateSurfaceOutput("" if preview else "mtlx").ConnectToSource(output)
+        table = tables.table(material.model, material.version) if material.version else None
+        for name, entry in material.inputs.items():
+            parameter = table.get(name) if table is not None else None
+            self.write_input(material, usd_material, shader, entry, parameter, preview)
+
+    def shader_id(self, material: Material) -> str:
+        current = tables.table(material.model).nodedef
+        if material.version is None or material.version == tables.latest(material.model):
+            return current or f"ND_{material.model}_surfaceshader"
+        return f"ND_{material.model}_surfaceshader_{material.version.replace('.', '')}"
+
+    def set_material_colorspace(self, prim, name: str) -> None:
+        from pxr import Usd
+
+        usd_name = name if name in colorspaces.usd_names() else colorspaces.usd_equivalent(name)
+        if usd_name:
+            Usd.ColorSpaceAPI.Apply(prim).CreateColorSpaceNameAttr(usd_name)
+
+    # -- inputs ------------------------------------------------------------------------------
+    def usd_type(self, entry, parameter, preview: bool) -> str:
+        """The type the node declares; an input authored with another type (OPBR201) keeps its
+        own, so its value is written as it was rather than refused."""
+        if parameter is not None and entry.type not in (None, parameter.type):
+            return MATERIALX_TO_USD.get(entry.type or "", entry.source_type or "token")
+        if preview and entry.name in PREVIEW_SURFACE_USD_TYPES:
+            return PREVIEW_SURFACE_USD_TYPES[entry.name]
+        materialx_type = parameter.type if parameter is not None else entry.type
+        return MATERIALX_TO_USD.get(materialx_type or "", entry.source_type or "token")
+
+    def write_input(self, material, usd_material, shader, entry, parameter, preview: bool) -> None:
+        value = entry.value
+        if value is None:
+            return
+        usd_type = self.usd_type(entry, parameter, preview)
+        type_name = self.Sdf.ValueTypeNames.Find(usd_type)
+        shader_input = shader.CreateInput(entry.name, type_name)
+        if isinstance(value, Constant):
+            constant = self.convert_length(entry, parameter, value.value, material)
+            if preview and entry.name == "opacityMode" and isinstance(constant, int) and 0 <= constant < len(OPACITY_MODE_TOKENS):
+                constant = OPACITY_MODE_TOKENS[constant]
+            target = shader_input
+            if entry.interface_name:
+                target = usd_material.CreateInput(entry.interface_name, type_name)
+                shader_input.ConnectToSource(target)
+            self.set_value(target.GetAttr(), usd_type, constant)
+            if entry.authored_colorspace:
+                name = self.colorspace_name(entry.authored_colorspace, "usd" if preview else "materialx")
+                if name:
+                    target.GetAttr().SetColorSpace(name)
+        elif isinstance(value, Texture):
+            output = (self.uv_texture if preview else self.materialx_image)(usd_material, entry, value, usd_type)
+            shader_input.ConnectToSource(output)
+        elif isinstance(value, Connection):
+            if value.target.startswith("/") and self.Sdf.Path.IsValidPathString(value.target):
+                shader_input.GetAttr().AddConnection(self.Sdf.Path(value.target))
+            self.notes.append(f"{material.name}.{entry.name}: the {value.category or 'procedural'} network at "
+                              f"{value.target!r} is not written; the connection points at it")
+
+    def convert_length(self, entry, parameter, value, material):
+        """A length in the stage's unit: from its own MaterialX unit, else from the source's scene
+        unit; unchanged when neither is known."""
+        if parameter is None or parameter.unit != "scene_length" or not isinstance(value, (int, float)):
+            return value
+        if entry.unit:
+            scale = load_json("units.json")["distance"].get(entry.unit)
+            if scale is None:
+                self.notes.append(f"{material.name}.{entry.name}: unknown unit {entry.unit!r}; written unconverted")
+                return value
+        elif self.source_unit:
+            scale = self.source_unit
+        else:
+            return value
+        return value * scale / self.meters_per_unit
+
+    def set_value(self, attribute, usd_type: str, value) -> None:
+        from pxr import Tf
+
+        if usd_type == "asset":
+            value = self.Sdf.AssetPath(str(value))
+        elif isinstance(value, tuple):
+            value = tuple(float(v) for v in value)
+        try:
+            with quiet():
+                written = attribute.Set(value)
+        except Tf.ErrorException:
+            written = False
+        if not written:
+            self.notes.append(f"{attribute.GetPath()}: the value {value!r} does not fit {usd_type}; not written")
+
+    @staticmethod
+    def colorspace_name(name: str | None, scheme: str) -> str | None:
+        """``name`` in the scheme a place wants: MaterialX or USD names, or UsdUVTexture tokens."""
+        if not name:
+            return None
+        uv_tokens = {"raw": ("none", "raw"), "sRGB": ("srgb_texture", "srgb_rec709_scene"), "auto": (None, None)}
+        if name in uv_tokens and scheme != "usd_uvtexture":
+            return uv_tokens[name][0 if scheme == "materialx" else 1]
+        if scheme == "materialx":
+            if name in colorspaces.materialx_names():
+                return name
+            return colorspaces.materialx_equivalent(name) or ("none" if colorspaces.is_data(name, "usd") else name)
+        if scheme == "usd":
+            if name in colorspaces.usd_names():
+                return name
+            return colorspaces.usd_equivalent(name) or name
+        if name in colorspaces.usd_uvtexture_names():
+            return name
+        if colorspaces.is_data(name) or colorspaces.is_data(name, "usd"):
+            return "raw"
+        spec = load_json("colorspaces.json")["materialx"].get(colorspaces.materialx_equivalent(name) or name)
+        return "sRGB" if spec is not None and spec["transfer"] not in ("linear", "data") else "raw"
+
+    # -- texture files -----------------------------------------------------------------------
+    def texture_path(self, texture: Texture, owner: str) -> str:
+        file = texture.file
+        if not file or "://" in file:
+            return file
+        if texture.packaged:
+            self.notes.append(f"{owner}: {file!r} is inside the source package and is not copied")
+            return file
+        absolute = file if os.path.isabs(file) else os.path.normpath(os.path.join(self.source_dir, file))
+        if not self.package:
+            if os.path.isabs(file):
+                return file
+            return os.path.relpath(absolute, self.target_dir).replace(os.sep, "/")
+        inside = file.replace(os.sep, "/") if not os.path.isabs(file) and ".." not in file.split("/") else \
+            f"textures/{os.path.basename(file)}"
+        if "<UDIM>" in file.upper():
+            self.notes.append(f"{owner}: UDIM tiles of {file!r} are not packaged")
+            return inside
+        if os.path.isfile(absolute):
+            self.packaged_files[inside] = absolute
+        else:
+            self.notes.append(f"{owner}: {file!r} does not exist and is not packaged")
+        return inside
+
+    # -- MaterialX image chains --------------------------------------------------------------
+    def node(self, material, name: str, node_id: str, output_type: str):
+        shader = self.UsdShade.Shader.Define(self.stage, self.unique_child(str(material.GetPath()), name))
+        shader.CreateIdAttr(node_id)
+        return shader, shader.CreateOutput("out", self.Sdf.ValueTypeNames.Find(MATERIALX_TO_USD[output_type]))
+
+    def constant_input(self, shader, name: str, materialx_type: str, value) -> None:
+        usd_type = MATERIALX_TO_USD[materialx_type]
+        self.set_value(shader.CreateInput(name, self.Sdf.ValueTypeNames.Find(usd_type)).GetAttr(), usd_type, value)
+
+    def materialx_image(self, material, entry, texture: Texture, usd_type: str):
+        owner = f"{entry.location.path}.{entry.name}"
+        image_type = texture.image_type if texture.image_type in MATERIALX_TO_USD else "color3"
+        category = "tiledimage" if texture.node_category == "tiledimage" else "image"
+        base = _identifier(texture.node or f"{entry.name}_image")
+        image, output = self.node(material, base, f"ND_{category}_{image_type}", image_type)
+        file_input = image.CreateInput("file", self.Sdf.ValueTypeNames.Asset)
+        file_input.Set(self.Sdf.AssetPath(self.texture_path(texture, owner)))
+        space = self.colorspace_name(texture.colorspace, "materialx")
+        if space:
+            file_input.GetAttr().SetColorSpace(space)
+        if texture.fallback is not None:
+            self.constant_input(image, "default", image_type, _fit(texture.fallback, image_type))
+        if texture.wrap:
+            for name, mode in zip(("uaddressmode", "vaddressmode"), texture.wrap):
+                mode = WRAP_TO_ADDRESS_MODE.get(mode, mode)
+                if mode != "useMetadata":
+                    self.constant_input(image, name, "string", mode)
+        self.coordinates(material, image, texture, category, base)
+        current = image_type
+        if texture.normal_map is not None and current != "vector3":
+            node, converted = self.node(material, f"{base}_vector", f"ND_convert_{current}_vector3", "vector3")
+            node.CreateInput("in", output.GetTypeName()).ConnectToSource(output)
+            output, current = converted, "vector3"
+        if texture.channels is not None and len(texture.channels) == 1 and current != "float":
+            node, extracted = self.node(material, f"{base}_channel", f"ND_extract_{current}", "float")
+            node.CreateInput("in", output.GetTypeName()).ConnectToSource(output)
+            self.constant_input(node, "index", "integer", int(texture.channels[0]))
+            output, current = extracted, "float"
+        for operation, value, identity in (("multiply", texture.scale, 1.0), ("add", texture.bias, 0.0)):
+            factor = _per_output(value, texture.channels, current)
+            if factor is None or all(v == identity for v in _components(factor)):
+                continue
+            node, result = self.node(material, f"{base}_{operation}", f"ND_{operation}_{current}", current)
+            node.CreateInput("in1", output.GetTypeName()).ConnectToSource(output)
+            self.constant_input(node, "in2", current, factor)
+            output = result
+        if texture.normal_map is not None:
+            node, decoded = self.node(material, f"{base}_normalmap", "ND_normalmap_float", "vector3")
+            node.CreateInput("in", output.GetTypeName()).ConnectToSource(output)
+            self.constant_input(node, "scale", "float", float(texture.normal_map))
+            output = decoded
+        return output
+
+    def coordinates(self, material, image, texture: Texture, category: str, base: str) -> None:
+        transform = texture.uv
+        upstream = None
+        if isinstance(texture.texcoord, int) and texture.texcoord != 0:
+            node, upstream = self.node(material, f"{base}_texcoord", "ND_texcoord_vector2", "vector2")
+            self.constant_input(node, "index", "integer", texture.texcoord)
+        elif isinstance(texture.texcoord, str) and texture.texcoord not in ("", "st"):
+            node, upstream = self.node(material, f"{base}_texcoord", "ND_geompropvalue_vector2", "vector2")
+            self.constant_input(node, "geomprop", "string", texture.texcoord)
+        if transform is not None and category == "tiledimage" and transform.rotate == 0 and transform.pivot == (0.0, 0.0):
+            self.constant_input(image, "uvtiling", "vector2", transform.scale)
+            self.constant_input(image, "uvoffset", "vector2", transform.offset)
+            transform = None
+        if transform is not None:
+            node, placed = self.node(material, f"{base}_place2d", "ND_place2d_vector2", "vector2")
+            for name, value in (("scale", transform.scale), ("offset", transform.offset), ("pivot", transform.pivot)):
+                self.constant_input(node, name, "vector2", value)
+            self.constant_input(node, "rotate", "float", float(transform.rotate))
+            if upstream is not None:
+                node.CreateInput("texcoord", upstream.GetTypeName()).ConnectToSource(upstream)
+            upstream = placed
+        if upstream is not None:
+            image.CreateInput("texcoord", upstream.GetTypeName()).ConnectToSource(upstream)
+
+    # -- UsdUVTexture ------------------------------------------------------------------------
+    def uv_texture(self, material, entry, texture: Texture, usd_type: str):
+        Sdf = self.Sdf
+        owner = f"{entry.location.path}.{entry.name}"
+        base = _identifier(texture.node or f"{entry.name}_texture")
+        reader = self.UsdShade.Shader.Define(self.stage, self.unique_child(str(material.GetPath()), base))
+        reader.CreateIdAttr("UsdUVTexture")
+        reader.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(Sdf.AssetPath(self.texture_path(texture, owner)))
+        source = self.colorspace_name(texture.colorspace, "usd_uvtexture")
+        if source:
+            reader.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set(source)
+        for name, value in (("scale", texture.scale), ("bias", texture.bias), ("fallback", texture.fallback)):
+            if value is not None:
+                reader.CreateInput(name, Sdf.ValueTypeNames.Float4).Set(_float4(value, name))
+        if texture.wrap:
+            for name, mode in zip(("wrapS", "wrapT"), texture.wrap):
+                reader.CreateInput(name, Sdf.ValueTypeNames.Token).Set(ADDRESS_MODE_TO_WRAP.get(mode, mode))
+        primvar = self.UsdShade.Shader.Define(self.stage, self.unique_child(str(material.GetPath()), f"{base}_st"))
+        primvar.CreateIdAttr("UsdPrimvarReader_float2")
+        name = texture.texcoord if isinstance(texture.texcoord, str) and texture.texcoord else "st"
+        if isinstance(texture.texcoord, int) and texture.texcoord != 0:
+            name = f"st{texture.texcoord}"
+            self.notes.append(f"{owner}: UV set {texture.texcoord} written as primvar {name!r}")
+        primvar.CreateInput("varname", Sdf.ValueTypeNames.String).Set(name)
+        coordinates = primvar.CreateOutput("result", Sdf.ValueTypeNames.Float2)
+        if texture.uv is not None:
+            transform = self.UsdShade.Shader.Define(self.stage, self.unique_child(str(material.GetPath()), f"{base}_transform"))
+            transform.CreateIdAttr("UsdTransform2d")
+            scale, rotation, translation = _place2d_as_transform2d(texture.uv)
+            transform.CreateInput("scale", Sdf.ValueTypeNames.Float2).Set(scale)
+            transform.CreateInput("rotation", Sdf.ValueTypeNames.Float).Set(rotation)
+            transform.CreateInput("translation", Sdf.ValueTypeNames.Float2).Set(translation)
+            transform.CreateInput("in", Sdf.ValueTypeNames.Float2).ConnectToSource(coordinates)
+            coordinates = transform.CreateOutput("result", Sdf.ValueTypeNames.Float2)
+        reader.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(coordinates)
+        if texture.channels is not None and len(texture.channels) == 1:
+            return reader.CreateOutput("rgba"[texture.channels[0]], Sdf.ValueTypeNames.Float)
+        return reader.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
+
+
+def _components(value) -> tuple:
+    return tuple(value) if isinstance(value, (tuple, list)) else (value,)
+
+
+def _fit(value, materialx_type: str):
+    """``value`` with the component count of ``materialx_type`` (a float4 fallback for a color3)."""
+    from ..values import COMPONENTS
+
+    count = COMPONENTS.get(materialx_type, 1)
+    values = _components(value)
+    if count == 1:
+        return float(values[0])
+    values = (values * count)[:count] if len(values) == 1 else values[:count]
+    return tuple(float(v) for v in values) + (1.0,) * (count - len(values))
+
+
+def _per_output(value, channels, output_type: str):
+    """A UsdUVTexture-style per-channel scale/bias as the factor for the output actually used."""
+    if value is None:
+        return None
+    values = _components(value)
+    if output_type == "float":
+        return float(values[channels[0]] if channels and len(values) > channels[0] else values[0])
+    return _fit(values, output_type)
+
+
+def _float4(value, name: str) -> tuple:
+    values = _components(value)
+    if len(values) == 1:
+        return (float(values[0]),) * 4
+    padding = {"scale": 1.0, "bias": 0.0, "fallback": 1.0}[name]
+    return tuple(float(v) for v in values[:4]) + (padding,) * (4 - min(len(values), 4))
+
+
+def _place2d_as_transform2d(uv: UVTransform) -> tuple[tuple, float, tuple]:
+    """Inverse of the reader's ``_transform2d_as_place2d``, including a pivot:
+    place2d(st) = R_cw(a)((st - p) / S) - o + p, UsdTransform2d(st) = R_ccw(r)(st * s) + t, so
+    s = 1 / S, r = -a and t = p - o - R_cw(a)(p / S)."""
+    angle = math.radians(uv.rotate)
+    px, py = (p / s if s else 0.0 for p, s in zip(uv.pivot, uv.scale))
+    rotated = (math.cos(angle) * px + math.sin(angle) * py, -math.sin(angle) * px + math.cos(angle) * py)
+    translation = (uv.pivot[0] - uv.offset[0] - rotated[0], uv.pivot[1] - uv.offset[1] - rotated[1])
+    scale = tuple(1.0 / s if s else 0.0 for s in uv.scale)
+    return scale, -uv.rotate + 0.0, tuple(t + 0.0 for t in translation)
+
+
+def _scene_unit(asset: Asset) -> float | None:
+    """Metres per scene unit of the asset the materials came from, when its format defines one."""
+    units = load_json("units.json")
+    if asset.format == "usd":
+        return asset.meters_per_unit or units["usd_default_meters_per_unit"]
+    if asset.format == "gltf":
+        return units["gltf_meters_per_unit"]
+    return asset.meters_per_unit
