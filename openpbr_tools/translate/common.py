@@ -1,0 +1,216 @@
+"""The machinery every model-to-model translation shares.
+
+A translation is a list of :class:`Mapping` objects: a target parameter, the source parameters it
+reads, and a vectorised NumPy function of those (``None`` for a plain copy). The same function
+serves a constant (arrays of shape ``()`` or ``(3,)``), a whole texture baked texel by texel, and
+the evaluator. :func:`translate` applies the mappings:
+
+* every source parameter constant: the formula gives the target constant;
+* one textured source and a plain copy: the texture passes through unchanged (resolution, texels,
+  colour space, UV transform all kept);
+* a texture the formula would have to transform: needs baking, reported (OPBR1104) until baking
+  is wired in, and the texture's fallback or the parameter default stands in;
+* a procedural connection: reported, never dropped silently.
+
+Each mapping says whether it is exact; an inexact one reports OPBR1103 with its ``note`` when the
+source values are not at the defaults where the approximation is harmless (``matters``).
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+import numpy as np
+
+from .. import tables
+from ..diagnostics import Diagnostic
+from ..model import Connection, Constant, Input, Location, Material, Texture
+from ..rules import Context
+from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
+
+
+@dataclass(frozen=True, slots=True)
+class Mapping:
+    """``target`` = ``formula(*sources)``; ``formula=None`` copies the single source."""
+
+    target: str
+    sources: tuple[str, ...]
+    formula: Callable[..., Any] | None = None
+    exact: bool = True
+    note: str = ""
+    matters: Callable[..., bool] | None = None  # given the source values: is the approximation visible?
+    converted: str = ""  # for exact conversions worth reporting (units, folded parameters)
+    when: Callable[..., bool] | None = None  # given the source values: does the target need this at all?
+
+
+@dataclass(frozen=True, slots=True)
+class Dropped:
+    """A source parameter with no equivalent in the target. ``matters`` decides, from the source
+    values, whether dropping it changes the look (then OPBR1104 is reported)."""
+
+    source: str
+    why: str
+    matters: Callable[..., bool] | None = None
+    needs: tuple[str, ...] = ()
+
+
+@dataclass(slots=True)
+class Translation:
+    material: Material
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    source: Material | None = None
+
+
+@dataclass(slots=True)
+class Settings:
+    """Conventions a translation needs that no file states.
+
+    ``nits_per_unit``: how many nits one unit of a unitless emission weight stands for. The default,
+    1, is MaterialX's reference implementation (``emission_luminance`` 1 renders as radiance 1).
+    ``meters_per_unit``: the scene unit of lengths in the source (MaterialX ``unit`` attributes
+    override it per input; USD's ``metersPerUnit``); glTF is always metres.
+    """
+
+    nits_per_unit: float = 1.0
+    meters_per_unit: float | None = None
+    context: Context = field(default_factory=Context)
+
+
+class Values:
+    """Source parameter values for formulas: authored constants, else the source table's default."""
+
+    def __init__(self, material: Material, table):
+        self.material, self.table = material, table
+
+    def entry(self, name: str) -> Input | None:
+        return self.material.inputs.get(name)
+
+    def authored(self, name: str) -> bool:
+        return name in self.material.inputs
+
+    def constant(self, name: str):
+        entry = self.material.inputs.get(name)
+        parameter = self.table.get(name)
+        if entry is None or entry.value is None:
+            default = parameter.default if parameter is not None else None
+            if default is None and parameter is not None and parameter.type == "float":
+                return np.asarray(np.inf)  # an unset float without a default is unbounded (attenuation_distance)
+            return None if default is None else np.asarray(default, dtype=np.float64)
+        if isinstance(entry.value, Constant):
+            value = entry.value.value
+            if isinstance(value, str):
+                return None
+            return np.asarray(value, dtype=np.float64)
+        return None  # textured or connected
+
+    def is_constant(self, name: str) -> bool:
+        entry = self.material.inputs.get(name)
+        return entry is None or isinstance(entry.value, Constant) or entry.value is None
+
+
+def as_value(array, type_name: str):
+    """A NumPy result as the Python value of a MaterialX type."""
+    values = np.asarray(array, dtype=np.float64)
+    if type_name == "boolean":
+        return bool(values.reshape(-1)[0] >= 0.5)
+    if type_name == "integer":
+        return int(round(float(values.reshape(-1)[0])))
+    if type_name in ("float",):
+        return float(values.reshape(-1)[0]) if values.size else 0.0
+    count = {"color3": 3, "vector3": 3, "color4": 4, "vector4": 4, "vector2": 2}[type_name]
+    flat = np.broadcast_to(values.reshape(-1) if values.size > 1 else values.reshape(()), (count,))
+    return tuple(float(v) for v in flat)
+
+
+def _equal(a, b) -> bool:
+    if b is None and isinstance(a, float):
+        return a == float("inf")  # an unset unbounded float (attenuation_distance) is infinite
+    if a is None or b is None:
+        return a is b
+    return bool(np.allclose(np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64), rtol=0, atol=1e-9))
+
+
+def translate(material: Material, target_model: str, mappings: tuple[Mapping, ...], dropped: tuple[Dropped, ...],
+              settings: Settings, label: str) -> Translation:
+    """Apply ``mappings`` to ``material``; returns the target material and the loss report."""
+    source_table = tables.table(material.model, material.version or tables.latest(material.model))
+    target_table = tables.table(target_model)
+    values = Values(material, source_table)
+    context = settings.context
+    result = Material(
+        name=material.name, model=target_model, location=material.location, version=target_table.version,
+        version_basis="written by openpbr convert", material_name=material.material_name,
+        material_location=material.material_location, colorspace=material.colorspace,
+    )
+    report: list[Diagnostic] = []
+
+    def say(rule, message: str, name: str | None) -> None:
+        entry = material.inputs.get(name) if name else None
+        location = entry.location if entry is not None else material.location.with_input(name)
+        report.append(context.diagnostic(rule, f"{material.name} ({label}): {message}", location))
+
+    for mapping in mappings:
+        parameter = target_table[mapping.target]
+        authored = any(values.authored(s) for s in mapping.sources)
+        textured = [s for s in mapping.sources if not values.is_constant(s)]
+        if not textured:
+            arrays = [values.constant(s) for s in mapping.sources]
+            if any(a is None for a in arrays):
+                continue
+            if mapping.when is not None and not mapping.when(*arrays):
+                continue
+            value = arrays[0] if mapping.formula is None else mapping.formula(*arrays)
+            if parameter.role in ("normal", "tangent"):
+                continue  # a constant normal is the geometry's own (each model's default means "unperturbed")
+            typed = as_value(value, parameter.type)
+            plain_copy = mapping.formula is None and values.authored(mapping.sources[0])
+            if _equal(typed, parameter.default) and not plain_copy:
+                continue  # the target's default already says it (source defaults can differ: then written)
+            result.inputs[mapping.target] = _constant_input(material, mapping, typed, parameter.type)
+            if not mapping.exact and (mapping.matters is None or mapping.matters(*arrays)):
+                say(APPROXIMATED, f"{mapping.target}: {mapping.note}", mapping.sources[0])
+            elif mapping.converted and authored:
+                say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0])
+            continue
+        source_name = textured[0]
+        entry = material.inputs[source_name]
+        if isinstance(entry.value, Texture) and mapping.formula is None and len(mapping.sources) == 1:
+            carried = copy.deepcopy(entry)
+            carried.name, carried.type = mapping.target, parameter.type
+            carried.location = entry.location
+            result.inputs[mapping.target] = carried
+            continue
+        what = f"texture {entry.value.file!r}" if isinstance(entry.value, Texture) else \
+            f"procedural input ({getattr(entry.value, 'category', None) or 'graph'})"
+        say(NOT_CARRIED, f"{mapping.target} needs {what} transformed per texel "
+                         f"({mapping.note or 'a formula of ' + ', '.join(mapping.sources)}); baking is not available, "
+                         "so the target keeps its default", source_name)
+    for drop in dropped:
+        if not values.authored(drop.source):
+            continue
+        arrays = [values.constant(s) for s in (drop.source, *drop.needs)]
+        if not values.is_constant(drop.source) or drop.matters is None or \
+                (all(a is not None for a in arrays) and drop.matters(*arrays)):
+            say(NOT_CARRIED, f"{drop.source} has no equivalent: {drop.why}", drop.source)
+    report.sort(key=Diagnostic.sort_key)
+    return Translation(result, report, material)
+
+
+def _constant_input(material: Material, mapping: Mapping, value, type_name: str) -> Input:
+    source = material.inputs.get(mapping.sources[0])
+    location = source.location if source is not None else material.location.with_input(mapping.target)
+    return Input(
+        mapping.target, type_name, Constant(value), location,
+        colorspace=source.colorspace if source is not None else material.colorspace,
+        unit=source.unit if source is not None and source.unit else None,
+        unittype=source.unittype if source is not None and source.unittype else None,
+    )
+
+
+def differs(value, reference) -> bool:
+    return not np.allclose(np.asarray(value, dtype=np.float64), reference, atol=1e-6)
+
+
+__all__ = ["Mapping", "Dropped", "Translation", "Settings", "translate", "differs", "Location", "Connection"]

@@ -1,0 +1,46 @@
+"""Conversion between any two of the four shading models, through OpenPBR.
+
+A legacy OpenPBR material is upgraded first; a non-OpenPBR source is translated to OpenPBR and then,
+if the target is not OpenPBR, on to the target. The loss reports of every step are concatenated.
+"""
+
+from __future__ import annotations
+
+from .. import tables
+from ..model import Material
+from .common import Settings, Translation
+from .gltf import gltf_to_openpbr, openpbr_to_gltf
+from .standard_surface import openpbr_to_standard_surface, standard_surface_to_openpbr
+from .usd_preview import openpbr_to_usd_preview, usd_preview_to_openpbr
+
+MODELS = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
+TO_OPENPBR = {"standard_surface": standard_surface_to_openpbr, "gltf_pbr": gltf_to_openpbr,
+              "UsdPreviewSurface": usd_preview_to_openpbr}
+FROM_OPENPBR = {"standard_surface": openpbr_to_standard_surface, "gltf_pbr": openpbr_to_gltf,
+                "UsdPreviewSurface": openpbr_to_usd_preview}
+
+
+def convert(material: Material, target: str, settings: Settings | None = None) -> Translation:
+    if target not in MODELS:
+        raise ValueError(f"unknown shading model {target!r} (known: {', '.join(MODELS)})")
+    if material.model not in MODELS:
+        raise ValueError(f"cannot convert a {material.model} material")
+    settings = settings or Settings()
+    diagnostics = []
+    current = material
+    if current.model == "open_pbr_surface":
+        if current.version and current.version != tables.latest("open_pbr_surface"):
+            from .upgrade import upgrade
+
+            upgraded = upgrade(current, context=settings.context)
+            diagnostics += upgraded.diagnostics
+            current = upgraded.material
+    elif current.model != target:
+        step = TO_OPENPBR[current.model](current, settings)
+        diagnostics += step.diagnostics
+        current = step.material
+    if current.model != target:
+        step = FROM_OPENPBR[target](current, settings)
+        diagnostics += step.diagnostics
+        current = step.material
+    return Translation(current, diagnostics, material)
