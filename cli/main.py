@@ -19,6 +19,7 @@ COMMANDS = {
     "info": "cli.validate_cmd:info",
     "samples": "cli.validate_cmd:samples",
     "upgrade": "cli.upgrade_cmd:upgrade",
+    "convert": "cli.convert_cmd:convert",
     "preview": "cli.evaluate_cmd:preview",
     "compare": "cli.evaluate_cmd:compare",
 }

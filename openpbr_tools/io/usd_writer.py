@@ -381,7 +381,15 @@ class _Writer:
         source = self.colorspace_name(texture.colorspace, "usd_uvtexture")
         if source:
             reader.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set(source)
-        for name, value in (("scale", texture.scale), ("bias", texture.bias), ("fallback", texture.fallback)):
+        scale, bias = texture.scale, texture.bias
+        if texture.normal_map is not None and scale is None and bias is None:
+            # A tangent-space normal map decoded by a MaterialX normalmap node: UsdUVTexture decodes it
+            # with scale 2 and bias -1 (UsdPreviewSurface spec, "normal"); the node's strength scales x, y.
+            strength = float(texture.normal_map)
+            scale, bias = (2.0 * strength, 2.0 * strength, 2.0, 1.0), (-strength, -strength, -1.0, 0.0)
+            if not source:
+                reader.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("raw")
+        for name, value in (("scale", scale), ("bias", bias), ("fallback", texture.fallback)):
             if value is not None:
                 reader.CreateInput(name, Sdf.ValueTypeNames.Float4).Set(_float4(value, name))
         if texture.wrap:

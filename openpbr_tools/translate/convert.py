@@ -44,3 +44,135 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         diagnostics += step.diagnostics
         current = step.material
     return Translation(current, diagnostics, material)
+
+
+# -- files ---------------------------------------------------------------------------------------
+
+import os  # noqa: E402
+from dataclasses import dataclass, field  # noqa: E402
+
+from ..diagnostics import Diagnostic  # noqa: E402
+from ..model import Asset, Location  # noqa: E402
+from ..rules.translation import APPROXIMATED, NOT_CARRIED  # noqa: E402
+
+OUTPUT_KINDS = {".mtlx": "mtlx", ".usda": "usd", ".usdc": "usd", ".usd": "usd", ".usdz": "usd",
+                ".gltf": "gltf", ".glb": "gltf"}
+
+
+@dataclass(slots=True)
+class Conversion:
+    """What ``convert_file`` did: the written materials, the loss report, and the source asset."""
+
+    asset: Asset
+    materials: list[Material] = field(default_factory=list)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    pairs: list[tuple[Material, Material]] = field(default_factory=list)  # (source, result) per material
+
+
+def output_kind(path: str) -> str | None:
+    return OUTPUT_KINDS.get(os.path.splitext(path)[1].lower())
+
+
+def _meters_per_unit(material: Material, asset: Asset) -> tuple[float, str | None]:
+    """The scene unit of the material's lengths: a MaterialX ``unit`` on a length input, else the
+    asset's (USD ``metersPerUnit``; glTF metres), else metres with a warning."""
+    from ..resources import load_json
+
+    distance = load_json("units.json")["distance"]
+    for name in ("transmission_depth", "subsurface_radius", "attenuation_distance", "thickness"):
+        entry = material.inputs.get(name)
+        if entry is not None and entry.unit in distance:
+            return distance[entry.unit], None
+    if asset.meters_per_unit:
+        return asset.meters_per_unit, None
+    if asset.format == "gltf":
+        return 1.0, None
+    if asset.format == "usd":
+        return load_json("units.json")["usd_default_meters_per_unit"], None
+    lengths = [n for n in ("transmission_depth", "subsurface_radius") if n in material.inputs]
+    if lengths:
+        return 1.0, f"{', '.join(lengths)} carry no unit; taken as metres"
+    return 1.0, None
+
+
+def convert_file(input_path: str, output_path: str, target: str | None = None, settings: Settings | None = None,
+                 mesh: str | None = None, allow_outside: tuple[str, ...] = ()) -> Conversion:
+    """Read ``input_path``, translate every material for the output's format, and write ``output_path``.
+
+    ``.mtlx`` output takes ``target`` (default OpenPBR); USD output gets OpenPBR on
+    ``outputs:mtlx:surface`` plus a translated UsdPreviewSurface fallback on ``outputs:surface``;
+    glTF output gets glTF PBR. Raises :class:`openpbr_tools.io.ReadError` for unreadable input and
+    ``ValueError`` for an unsupported output.
+    """
+    from ..io import read_asset
+
+    kind = output_kind(output_path)
+    if kind is None:
+        raise ValueError(f"cannot write {os.path.splitext(output_path)[1] or 'files without a suffix'}")
+    settings = settings or Settings()
+    asset = read_asset(input_path)
+    target = {"mtlx": target or "open_pbr_surface", "usd": "open_pbr_surface", "gltf": "gltf_pbr"}[kind]
+    result = Conversion(asset)
+    for material in asset.materials:
+        if material.model not in MODELS:
+            continue
+        meters, warning = _meters_per_unit(material, asset)
+        step_settings = Settings(settings.nits_per_unit, meters, settings.context)
+        if warning:
+            result.diagnostics.append(settings.context.diagnostic(APPROXIMATED, f"{material.name}: {warning}", material.location))
+        translation = convert(material, target, step_settings)
+        result.diagnostics += translation.diagnostics
+        translated = translation.material
+        translated.material_name = material.material_name or material.name
+        result.materials.append(translated)
+        result.pairs.append((material, translated))
+        if kind == "usd":
+            preview = convert(translated, "UsdPreviewSurface", step_settings)
+            result.diagnostics += preview.diagnostics
+            preview.material.name = f"{translated.name}_preview"
+            preview.material.material_name = translated.material_name
+            result.materials.append(preview.material)
+    notes = _write(kind, result, output_path, mesh, allow_outside)
+    for note in notes:
+        result.diagnostics.append(settings.context.diagnostic(NOT_CARRIED, note, Location(output_path)))
+    result.diagnostics.sort(key=Diagnostic.sort_key)
+    return result
+
+
+def _rebase_textures(materials: list[Material], source_path: str, output_path: str) -> None:
+    """Re-express relative texture paths relative to the output's folder, so they still resolve."""
+    import copy
+
+    from ..model import Texture
+
+    source_dir = os.path.dirname(os.path.abspath(source_path))
+    output_dir = os.path.dirname(os.path.abspath(output_path))
+    if source_dir == output_dir:
+        return
+    for material in materials:
+        for name, entry in list(material.inputs.items()):
+            texture = entry.value
+            if isinstance(texture, Texture) and not texture.packaged and not os.path.isabs(texture.file) \
+                    and "://" not in texture.file:
+                moved = copy.copy(texture)
+                moved.file = os.path.relpath(os.path.join(source_dir, texture.file), output_dir).replace(os.sep, "/")
+                entry.value = moved
+
+
+def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside) -> list[str]:
+    asset = result.asset
+    if kind == "mtlx":
+        from ..io.mtlx_writer import write_mtlx
+
+        _rebase_textures(result.materials, asset.path, output_path)
+        write_mtlx(result.materials, output_path, colorspace=asset.colorspace or "lin_rec709")
+        return []
+    if kind == "usd":
+        from ..io.usd_writer import write_usd
+
+        return write_usd(result.materials, output_path, source=asset)
+    try:
+        from ..io.gltf_writer import write_gltf
+    except ImportError:
+        raise ValueError("glTF output needs the glTF writer, which this installation lacks") from None
+    return write_gltf(result.materials, output_path, mesh=mesh, allow_outside=allow_outside, source=asset) or []

@@ -1,0 +1,91 @@
+"""`openpbr convert` as a user runs it: outputs that validate, loss reports, safety of outputs."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+
+import pytest
+from click.testing import CliRunner
+
+from cli.main import cli
+from openpbr_tools.io import read_asset
+from openpbr_tools.resources import data_dir
+from openpbr_tools.validate import validate_file
+
+SAMPLES = data_dir("samples")
+
+
+def run(*args):
+    result = CliRunner().invoke(cli, [str(a) for a in args])
+    assert result.exception is None or isinstance(result.exception, SystemExit), result.output
+    assert "Traceback" not in result.output
+    return result
+
+
+@pytest.mark.parametrize("model", ["standard_surface", "gltf_pbr", "UsdPreviewSurface", "open_pbr_surface"])
+def test_mtlx_to_each_model_writes_a_document_without_errors(tmp_path, model):
+    out = tmp_path / "out" / f"{model}.mtlx"
+    out.parent.mkdir()
+    result = run("convert", SAMPLES / "textured_wood.mtlx", "-o", out, "--to", model)
+    assert result.exit_code == 0
+    (material,) = read_asset(out).materials
+    assert material.model == model
+    errors = [d for d in validate_file(str(out)).diagnostics if d.severity.name == "ERROR"]
+    assert errors == []  # textures still resolve from the new folder, values in range
+
+
+def test_usd_output_carries_openpbr_and_a_preview_fallback(tmp_path):
+    out = tmp_path / "wood.usda"
+    assert run("convert", SAMPLES / "car_paint.mtlx", "-o", out).exit_code == 0
+    models = sorted(m.model for m in read_asset(out).materials)
+    assert models == ["UsdPreviewSurface", "open_pbr_surface"]
+    assert not [d for d in validate_file(str(out)).diagnostics if d.severity.name == "ERROR"]
+
+
+def test_loss_report_in_json_and_fail_on(tmp_path):
+    out = tmp_path / "preview.mtlx"
+    result = run("convert", SAMPLES / "car_paint.mtlx", "-o", out, "--to", "UsdPreviewSurface", "--format", "json",
+                 "--fail-on", "error")
+    report = json.loads(result.stdout)
+    assert result.exit_code == 1  # the thin film cannot be carried
+    assert any(d["code"] == "OPBR1104" and "thin film" in d["message"] for d in report["diagnostics"])
+
+
+def test_legacy_input_is_upgraded_on_the_way(tmp_path):
+    out = tmp_path / "ss.mtlx"
+    assert run("convert", SAMPLES / "broken" / "legacy_openpbr_0_2.mtlx", "-o", out, "--to", "standard_surface").exit_code == 0
+    bubble = next(m for m in read_asset(out).materials if m.name == "OldSoapBubble")
+    assert bubble.inputs["thin_film_thickness"].constant == pytest.approx(380.0)  # nm in 0.2 and in Standard Surface
+
+
+def test_output_is_deterministic_and_the_input_untouched(tmp_path):
+    source = SAMPLES / "brushed_aluminium.mtlx"
+    before = hashlib.sha256(source.read_bytes()).hexdigest()
+    first, second = tmp_path / "a.mtlx", tmp_path / "b.mtlx"
+    run("convert", source, "-o", first, "--to", "gltf_pbr")
+    run("convert", source, "-o", second, "--to", "gltf_pbr")
+    assert first.read_bytes() == second.read_bytes()
+    assert hashlib.sha256(source.read_bytes()).hexdigest() == before
+
+
+def test_existing_output_needs_force_and_input_is_never_the_output(tmp_path):
+    out = tmp_path / "o.mtlx"
+    out.write_text("keep")
+    assert run("convert", SAMPLES / "car_paint.mtlx", "-o", out).exit_code == 2
+    assert out.read_text() == "keep"
+    copy = tmp_path / "copy.mtlx"
+    copy.write_bytes((SAMPLES / "car_paint.mtlx").read_bytes())
+    assert run("convert", copy, "-o", copy, "--force").exit_code == 2
+
+
+def test_unreadable_input_exits_two_and_writes_nothing(tmp_path):
+    bad = tmp_path / "bad.mtlx"
+    bad.write_bytes(b"<materialx")
+    out = tmp_path / "o.mtlx"
+    assert run("convert", bad, "-o", out).exit_code == 2
+    assert not out.exists()
+
+
+def test_unknown_output_suffix_is_a_usage_error(tmp_path):
+    assert run("convert", SAMPLES / "car_paint.mtlx", "-o", tmp_path / "x.fbx").exit_code == 2
