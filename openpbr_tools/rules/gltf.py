@@ -1,13 +1,315 @@
-"""glTF: checks that only make sense for glTF assets (extension declarations, texture and image
-references, KHR_texture_transform). Rules whose meaning is the same as a MaterialX rule reuse its code.
+"""glTF: checks that only make sense for glTF assets (extension declarations, exclusive material
+extensions, texture coordinates, images, embedded resources).
+
+The glTF reader fills the same model as the MaterialX reader (``gltf_pbr`` materials), so the generic
+families judge glTF materials too: a factor outside its range is OPBR301 (here also a factor that
+multiplies a texture: ``roughnessFactor`` 1.5 is as wrong with a texture as without), a property of
+the wrong JSON type OPBR202, a texture, image or sampler index that points nowhere OPBR802, an
+image file that does not exist OPBR701, an image URI that is absolute, climbs out of the asset's
+folder or is a URL OPBR704, an empty URI OPBR705. Colour spaces are implied by the texture slot in
+glTF (colour textures sRGB, data textures linear), so the colour-space family does not apply.
 """
 
 from __future__ import annotations
 
-RULES = ()
+from ..diagnostics import Severity
+from ..io import gltf_slots as slots
+from ..model import Location, Texture
+from . import Rule
+from .ranges import HARD_RANGE
+
+_PNG_3X3 = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAMAAAADCAIAAADZSiLoAAAAF0lEQVR42mM8kWLEwMDAwMDAxAADCBYA"
+            "J1YBZLcOOO0AAAAASUVORK5CYII=")
+_PNG_4X4 = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAQAAAAECAIAAAAmkwkpAAAAFElEQVR42mM8kWLEAANMDEgANwcA"
+            "RfYBZsiXQosAAAAASUVORK5CYII=")
+
+
+def _gltf(*members: str) -> str:
+    """A glTF document: the asset header plus the given top-level members (JSON text)."""
+    body = ",\n  ".join(('"asset": {"version": "2.0"}',) + members)
+    return "{\n  " + body + "\n}\n"
+
+
+def _textured(uri: str) -> str:
+    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]',
+                 '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]')
+
+
+_CLEARCOAT = '"materials": [{"name": "M", "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0}}}]'
+_PRIMITIVE = ('"accessors": [{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}, '
+              '{"componentType": 5126, "count": 3, "type": "VEC2"}]')
+
+
+def _mesh(texcoord: int) -> str:
+    return _gltf(
+        f'"images": [{{"uri": "{_PNG_4X4}"}}]', '"textures": [{"source": 0}]',
+        f'"materials": [{{"name": "M", "pbrMetallicRoughness": {{"baseColorTexture": {{"index": 0, "texCoord": {texcoord}}}}}}}]',
+        _PRIMITIVE,
+        '"meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}]',
+    )
+
+
+UNDECLARED_EXTENSION = Rule(
+    "OPBR1201", "gltf-extension-not-declared", Severity.ERROR,
+    "An extension is used but not listed in extensionsUsed (or listed in extensionsRequired only).",
+    "glTF 2.0 (section 3.12) requires every extension used anywhere in the asset to be named in "
+    "extensionsUsed, and every name in extensionsRequired to be in extensionsUsed too. Loaders that "
+    "trust the declaration skip the undeclared extension, so the material renders without it; the "
+    "Khronos glTF-Validator reports it as an error.",
+    passing=_gltf('"extensionsUsed": ["KHR_materials_clearcoat"]', _CLEARCOAT),
+    failing=_gltf(_CLEARCOAT),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+REQUIRED_UNSUPPORTED = Rule(
+    "OPBR1202", "gltf-required-extension-not-interpreted", Severity.WARNING,
+    "extensionsRequired names an extension this toolkit cannot interpret.",
+    "A required extension changes what the file means; a reader that does not implement it must not "
+    "load the asset. The toolkit reads the material anyway, so its findings (and any conversion) may "
+    "miss what the extension changes. Interpreted: KHR_texture_transform, EXT_texture_webp, the "
+    "KHR_materials_* extensions the gltf_pbr node carries, and extensions that do not affect materials "
+    "(mesh compression, lights, instancing, variants).",
+    passing=_gltf('"extensionsUsed": ["KHR_materials_clearcoat"]', '"extensionsRequired": ["KHR_materials_clearcoat"]', _CLEARCOAT),
+    failing=_gltf('"extensionsUsed": ["VENDOR_materials_magic"]', '"extensionsRequired": ["VENDOR_materials_magic"]',
+                  '"materials": [{"name": "M", "extensions": {"VENDOR_materials_magic": {"sparkle": 1}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+EXCLUSIVE_EXTENSIONS = Rule(
+    "OPBR1203", "gltf-exclusive-material-extensions", Severity.ERROR,
+    "A material combines extensions the glTF specification forbids together.",
+    "Every KHR_materials_* extension \"must not be used on a material that also uses\" "
+    "KHR_materials_unlit, and all but KHR_materials_emissive_strength not with "
+    "KHR_materials_pbrSpecularGlossiness (the Exclusions section of each extension). Viewers pick one "
+    "interpretation or the other, so the material looks different everywhere.",
+    passing=_gltf('"extensionsUsed": ["KHR_materials_unlit"]', '"materials": [{"name": "M", "extensions": {"KHR_materials_unlit": {}}}]'),
+    failing=_gltf('"extensionsUsed": ["KHR_materials_unlit", "KHR_materials_clearcoat"]',
+                  '"materials": [{"name": "M", "extensions": {"KHR_materials_unlit": {}, '
+                  '"KHR_materials_clearcoat": {"clearcoatFactor": 1.0}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+NOT_CONVERTED = Rule(
+    "OPBR1204", "gltf-material-model-not-converted", Severity.WARNING,
+    "A material uses KHR_materials_unlit or KHR_materials_pbrSpecularGlossiness, which the gltf_pbr node does not carry.",
+    "Unlit materials (no lighting at all) and the archived specular-glossiness workflow have no "
+    "gltf_pbr parameters. The extension is kept as data for a translator (Material.extra) and the "
+    "material is checked as its metallic-roughness fallback, which is what conversions use.",
+    passing=_gltf('"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0]}}]'),
+    failing=_gltf('"extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"]',
+                  '"materials": [{"name": "M", "extensions": {"KHR_materials_pbrSpecularGlossiness": '
+                  '{"diffuseFactor": [0.8, 0.8, 0.8, 1.0], "glossinessFactor": 0.5}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+MISSING_TEXCOORD = Rule(
+    "OPBR1205", "gltf-texcoord-missing", Severity.ERROR,
+    "A texture reads a UV set (texCoord n) that a mesh primitive using the material does not have.",
+    "The primitive has no TEXCOORD_n attribute, so the texture is sampled at undefined coordinates "
+    "(most viewers read (0, 0) everywhere: one flat colour). Checked only when the file has meshes.",
+    passing=_mesh(0), failing=_mesh(1),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+NOT_POWER_OF_TWO = Rule(
+    "OPBR1206", "gltf-image-not-power-of-two", Severity.INFO,
+    "An image's width or height is not a power of two.",
+    "Legal in glTF 2.0, but WebGL 1 viewers cannot mipmap or repeat such textures and resample them, "
+    "and GPU block compression (KTX2/Basis) wants multiples of 4. Worth resizing for real-time use.",
+    passing=_gltf(f'"images": [{{"uri": "{_PNG_4X4}"}}]', '"textures": [{"source": 0}]',
+                  '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]'),
+    failing=_gltf(f'"images": [{{"uri": "{_PNG_3X3}"}}]', '"textures": [{"source": 0}]',
+                  '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+UNSUPPORTED_IMAGE = Rule(
+    "OPBR1207", "gltf-unsupported-image-type", Severity.WARNING,
+    "An image is neither PNG nor JPEG (nor WebP/KTX2 through their texture extension).",
+    "glTF 2.0 core images are image/png or image/jpeg (section 3.8.2); EXR, TIFF, TGA or HDR files "
+    "are not loaded by glTF viewers, so the texture is missing there. Convert it (`openpbr convert` "
+    "writes PNG).",
+    passing=_textured("albedo.png"), failing=_textured("albedo.exr"),
+    example_files=("albedo.png", "albedo.exr"),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+STRENGTH_WITHOUT_EMISSIVE = Rule(
+    "OPBR1208", "gltf-emissive-strength-without-emissive", Severity.WARNING,
+    "KHR_materials_emissive_strength is set but the material emits nothing (emissiveFactor is black or absent).",
+    "emissiveStrength multiplies emissiveFactor (default (0, 0, 0)) and the emissive texture; with a "
+    "black factor the strength has no effect. Usually an exporter that dropped the emissive colour.",
+    passing=_gltf('"extensionsUsed": ["KHR_materials_emissive_strength"]',
+                  '"materials": [{"name": "M", "emissiveFactor": [1.0, 0.5, 0.2], '
+                  '"extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5.0}}}]'),
+    failing=_gltf('"extensionsUsed": ["KHR_materials_emissive_strength"]',
+                  '"materials": [{"name": "M", "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5.0}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+BROKEN_RESOURCE = Rule(
+    "OPBR1209", "gltf-broken-resource", Severity.ERROR,
+    "A buffer or embedded image cannot be loaded: invalid base64, above the size limit, missing, or outside its buffer.",
+    "A data URI that is not valid base64, a buffer file that does not exist, a bufferView past the "
+    "end of its buffer or a GLB without the binary chunk its buffer needs: loaders fail on the whole "
+    "file or show the mesh without the texture.",
+    passing=_gltf(f'"images": [{{"uri": "{_PNG_4X4}"}}]', '"textures": [{"source": 0}]',
+                  '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]'),
+    failing=_gltf('"images": [{"uri": "data:image/png;base64,iVBORw0KGgo!!!not-base64!!!"}]', '"textures": [{"source": 0}]',
+                  '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+INVALID_PROPERTY = Rule(
+    "OPBR1210", "gltf-invalid-property", Severity.ERROR,
+    "A material property has the wrong JSON type (a textureInfo without an integer index, an "
+    "extension that is not an object, a malformed KHR_texture_transform).",
+    "The glTF schema rejects the file; lenient loaders skip the property, so the texture or extension "
+    "silently disappears. Factors of the wrong type are OPBR202.",
+    passing=_gltf('"materials": [{"name": "M", "normalTexture": {"index": 0}}]', '"textures": [{"source": 0}]',
+                  f'"images": [{{"uri": "{_PNG_4X4}"}}]'),
+    failing=_gltf('"materials": [{"name": "M", "normalTexture": {"index": "0"}}]', '"textures": [{"source": 0}]',
+                  f'"images": [{{"uri": "{_PNG_4X4}"}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+RULES = (UNDECLARED_EXTENSION, REQUIRED_UNSUPPORTED, EXCLUSIVE_EXTENSIONS, NOT_CONVERTED, MISSING_TEXCOORD,
+         NOT_POWER_OF_TWO, UNSUPPORTED_IMAGE, STRENGTH_WITHOUT_EMISSIVE, BROKEN_RESOURCE, INVALID_PROPERTY)
 
 
 def check(asset, context):
     if asset.format != "gltf":
         return
-    yield from ()
+    facts = asset.extra.get("gltf", {})
+    yield from _declarations(asset, facts, context)
+    yield from _observations(asset, context)
+    for material in asset.materials:
+        yield from _exclusions(material, context)
+        yield from _emissive_strength(material, context)
+        yield from _texture_factors(material, context)
+    yield from _texcoords(asset, facts, context)
+    yield from _images(asset, facts, context)
+
+
+def _declarations(asset, facts, context):
+    used = set(facts.get("extensions_used", ()))
+    reported = set()
+    for pointer, name in facts.get("extension_uses", ()):
+        if name not in used and name not in reported:
+            reported.add(name)
+            yield context.diagnostic(UNDECLARED_EXTENSION, f"{name} is used but not declared in extensionsUsed",
+                                     Location(asset.path, None, pointer), hint=f'add "{name}" to extensionsUsed')
+    for index, name in enumerate(facts.get("extensions_required", ())):
+        where = Location(asset.path, None, f"/extensionsRequired/{index}")
+        if name not in used:
+            yield context.diagnostic(UNDECLARED_EXTENSION, f"{name} is in extensionsRequired but not in extensionsUsed",
+                                     where, hint=f'add "{name}" to extensionsUsed')
+        if name not in slots.UNDERSTOOD_EXTENSIONS:
+            yield context.diagnostic(REQUIRED_UNSUPPORTED, f"{name} is required, and the toolkit does not interpret it",
+                                     where, hint="findings and conversions ignore what this extension changes")
+
+
+def _observations(asset, context):
+    for observation in asset.observations:
+        detail = observation.detail
+        if observation.kind == "gltf_resource":
+            yield context.diagnostic(BROKEN_RESOURCE, detail["message"], observation.location)
+        elif observation.kind == "gltf_invalid":
+            yield context.diagnostic(INVALID_PROPERTY, detail["message"], observation.location)
+        elif observation.kind == "gltf_not_converted":
+            yield context.diagnostic(
+                NOT_CONVERTED, f"material {detail['material']!r} uses {detail['extension']}, which gltf_pbr does not carry",
+                observation.location, hint="it is kept as data; findings describe the metallic-roughness fallback",
+            )
+
+
+def _exclusions(material, context):
+    present = set(material.extra.get("gltf", {}).get("material_extensions", ()))
+    for exclusive, excluded in ((slots.UNLIT, slots.EXCLUDED_WITH_UNLIT),
+                                (slots.SPECULAR_GLOSSINESS, slots.EXCLUDED_WITH_SPECULAR_GLOSSINESS)):
+        if exclusive not in present:
+            continue
+        clash = sorted(present.intersection(excluded))
+        if clash:
+            yield context.diagnostic(
+                EXCLUSIVE_EXTENSIONS, f"{material.name}: {', '.join(clash)} must not be used together with {exclusive}",
+                Location(material.location.file, None, f"{material.location.path}/extensions/{exclusive}"),
+                hint=f"remove {exclusive} or the other extensions",
+            )
+
+
+def _emissive_strength(material, context):
+    strength = material.inputs.get("emissive_strength")
+    if strength is None or strength.constant is None or strength.constant == 1.0:
+        return
+    emissive = material.inputs.get("emissive")
+    if emissive is None:
+        black = True
+    elif isinstance(emissive.value, Texture):
+        black = emissive.value.scale is not None and not any(emissive.value.scale)
+    else:
+        black = emissive.constant is not None and not any(emissive.constant)
+    if black:
+        yield context.diagnostic(
+            STRENGTH_WITHOUT_EMISSIVE,
+            f"{material.name}: emissiveStrength {strength.constant:g} multiplies a black emissiveFactor",
+            strength.location, hint="set emissiveFactor (e.g. [1, 1, 1]) or remove the extension",
+        )
+
+
+def _texture_factors(material, context):
+    """OPBR301 for factors that multiply a texture (the ranges family sees only constants)."""
+    from .. import tables
+
+    if material.version is None:
+        return
+    table = tables.table(material.model, material.version)
+    for name, texture in material.textures():
+        slot = slots.SLOT_BY_PARAMETER.get(name)
+        parameter = table.get(name)
+        if slot is None or parameter is None or slot.factor is None or texture.scale is None \
+                or name == "iridescence_thickness":
+            continue
+        values = texture.scale if isinstance(texture.scale, tuple) else (texture.scale,)
+        low, high = parameter.hard_min, parameter.hard_max
+        lows = low if isinstance(low, tuple) else (low,) * len(values)
+        highs = high if isinstance(high, tuple) else (high,) * len(values)
+        if any((lo is not None and v < lo) or (hi is not None and v > hi) for v, lo, hi in zip(values, lows, highs)):
+            shown = ", ".join(f"{v:g}" for v in values)
+            yield context.diagnostic(
+                HARD_RANGE, f"{slot.factor} = {shown} (multiplying {name}'s texture) is outside its valid range "
+                            f"[{_fmt(low)}, {_fmt(high)}]",
+                Location(material.location.file, None, material.inputs[name].location.path, slot.factor),
+            )
+
+
+def _fmt(bound) -> str:
+    if bound is None:
+        return "inf"
+    if isinstance(bound, tuple):
+        return "(" + ", ".join(f"{b:g}" for b in bound) + ")"
+    return f"{bound:g}"
+
+
+def _texcoords(asset, facts, context):
+    primitives = facts.get("primitives", ())
+    if not primitives:
+        return
+    for use in facts.get("texture_uses", ()):
+        lacking = [p["pointer"] for p in primitives if p["material"] == use["material"] and use["texcoord"] not in p["texcoords"]]
+        if lacking:
+            more = f" (and {len(lacking) - 1} more)" if len(lacking) > 1 else ""
+            yield context.diagnostic(
+                MISSING_TEXCOORD, f"texCoord {use['texcoord']} but primitive {lacking[0]}{more} has no TEXCOORD_{use['texcoord']}",
+                Location(asset.path, None, use["pointer"], "texCoord"),
+                hint="use a UV set the mesh has, or add the attribute",
+            )
+
+
+def _images(asset, facts, context):
+    used = {use["image"] for use in facts.get("texture_uses", ())}
+    for image in facts.get("images", ()):
+        where = Location(asset.path, None, image["pointer"])
+        width, height = image.get("width"), image.get("height")
+        if width and height and (width & (width - 1) or height & (height - 1)):
+            yield context.diagnostic(NOT_POWER_OF_TWO, f"image {image['index']} is {width} x {height}, not a power of two",
+                                     where, hint="resize to a power of two for WebGL 1 and mipmapping")
+        mime = image.get("detected_mime") or image.get("mime")
+        if mime is None or image["index"] not in used:
+            continue
+        extension = slots.EXTENSION_MIME_TYPES.get(mime)
+        allowed = mime in slots.core_mime_types() or (extension and extension in image.get("via_extensions", ()))
+        if not allowed:
+            yield context.diagnostic(UNSUPPORTED_IMAGE, f"image {image['index']} ({image['file']}) is {mime}, not PNG or JPEG",
+                                     where, hint="convert it to PNG" if not extension else f"reference it through {extension}")

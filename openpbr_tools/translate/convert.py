@@ -147,20 +147,51 @@ def _rebase_textures(materials: list[Material], source_path: str, output_path: s
 
     source_dir = os.path.dirname(os.path.abspath(source_path))
     output_dir = os.path.dirname(os.path.abspath(output_path))
-    if source_dir == output_dir:
-        return
     for material in materials:
         for name, entry in list(material.inputs.items()):
             texture = entry.value
-            if isinstance(texture, Texture) and not texture.packaged and not os.path.isabs(texture.file) \
-                    and "://" not in texture.file:
+            if isinstance(texture, Texture) and not texture.packaged and "://" not in texture.file:
+                absolute = texture.file if os.path.isabs(texture.file) else os.path.join(source_dir, texture.file)
+                if os.path.isabs(texture.file) and not absolute.startswith(output_dir):
+                    continue  # an absolute path the user authored stays as it is
                 moved = copy.copy(texture)
-                moved.file = os.path.relpath(os.path.join(source_dir, texture.file), output_dir).replace(os.sep, "/")
+                moved.file = os.path.relpath(absolute, output_dir).replace(os.sep, "/")
                 entry.value = moved
+
+
+def _unpack_gltf_images(materials: list[Material], asset: Asset, output_path: str) -> list[str]:
+    """Images embedded in a glTF (``#/images/N``) written beside a .mtlx or USD output, which can only
+    reference files: ``<output stem>_textures/image_N.<ext>``."""
+    from ..atomic import write_bytes
+    from ..io.gltf_document import load_document
+    from ..model import Texture
+
+    extensions = {"image/png": ".png", "image/jpeg": ".jpg", "image/webp": ".webp", "image/ktx2": ".ktx2"}
+    folder = os.path.splitext(output_path)[0] + "_textures"
+    document, written, notes = None, {}, []
+    for material in materials:
+        for entry in material.inputs.values():
+            texture = entry.value
+            if not (isinstance(texture, Texture) and texture.packaged and texture.file.startswith("#/images/")):
+                continue
+            if texture.file not in written:
+                document = document or load_document(asset.path)
+                index = int(texture.file.rsplit("/", 1)[1])
+                data, mime = document.image_bytes(index)
+                os.makedirs(folder, exist_ok=True)
+                target = os.path.join(folder, f"image_{index}{extensions.get(mime or '', '.bin')}")
+                write_bytes(target, data)
+                written[texture.file] = os.path.abspath(target)
+            texture.file, texture.packaged = written[texture.file], False
+    if written:
+        notes.append(f"{len(written)} image(s) embedded in {os.path.basename(asset.path)} written to {folder}")
+    return notes
 
 
 def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside) -> list[str]:
     asset = result.asset
+    if kind != "gltf" and asset.format == "gltf":
+        _unpack_gltf_images(result.materials, asset, output_path)
     if kind == "mtlx":
         from ..io.mtlx_writer import write_mtlx
 

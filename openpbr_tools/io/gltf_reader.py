@@ -1,0 +1,437 @@
+"""Read glTF 2.0 (``.gltf`` JSON with external or data-URI resources, ``.glb``) into an
+:class:`~openpbr_tools.model.Asset`.
+
+Every glTF material becomes a ``gltf_pbr`` 2.0.1 :class:`~openpbr_tools.model.Material` (MaterialX's
+``ND_gltf_pbr_surfaceshader``) whose inputs are the gltf_pbr parameters the material authors (see
+:mod:`.gltf_slots` for where each lives):
+
+* a factor without a texture is a :class:`Constant`; a texture is a :class:`Texture` whose
+  ``channels`` are the ones glTF reads for that slot, ``colorspace`` ``srgb_texture`` for colour
+  slots and ``none`` for data, ``scale`` the factor that multiplies it (its default when not
+  authored: an ``emissiveTexture`` without ``emissiveFactor`` has scale (0, 0, 0)), ``texcoord``
+  the UV set (``None`` for set 0), ``uv`` the KHR_texture_transform as ``place2d`` parameters
+  (:mod:`.gltf_uv`), ``wrap`` the sampler's wrap modes as MaterialX address modes;
+* ``normalTexture.scale`` is ``Texture.normal_map``; occlusion is ``1 + strength (r - 1)``, i.e.
+  ``scale = strength`` and ``bias = 1 - strength``;
+* iridescence thickness is ``mix(iridescenceThicknessMinimum, iridescenceThicknessMaximum, g)``
+  with a texture (``scale = max - min``, ``bias = min``) and the maximum without one;
+* the anisotropy texture's B channel is ``anisotropy_strength``'s texture; its RG direction has no
+  gltf_pbr input of its own (MaterialX's ``gltf_anisotropy_image`` adds ``atan2`` of it to
+  ``anisotropy_rotation``), so it is kept as a :class:`Texture` in ``extra["gltf"]["anisotropy_direction"]``.
+
+Texture files are the image URI, percent-decoded, relative to the asset; an image inside the asset
+(data URI, GLB buffer view) is ``"#/images/<index>"`` with ``packaged=True``. What gltf_pbr cannot
+hold goes to ``Material.extra["gltf"]`` as raw JSON for a translator: ``doubleSided``, ``extras``,
+and the extensions the node does not carry (``KHR_materials_diffuse_transmission``,
+``KHR_materials_unlit``, ``KHR_materials_pbrSpecularGlossiness`` (reported, not converted), unknown
+ones). Every value's :class:`Location` is the file, a JSON pointer to the object holding the property
+and the glTF property name.
+
+Facts for the glTF rules (declared and used extensions, images, texture coordinates each primitive
+provides) are recorded in ``Asset.extra["gltf"]``; broken references and resources are
+:class:`Observation` s. Only a file that is not glTF at all raises :class:`ReadError`.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+from urllib.parse import unquote
+
+from .. import tables, versioning
+from ..model import Asset, Connection, Constant, Input, Location, Material, Texture
+from . import gltf_slots as slots
+from .gltf_document import GltfDocument, ResourceError, data_uri_mime, load_document
+from .gltf_uv import from_texture_transform
+
+MODEL, VERSION = "gltf_pbr", "2.0.1"
+SCENE_LENGTH_UNIT = "meter"  # glTF is metres (specification 3.4)
+SNIFF = ((b"\x89PNG\r\n\x1a\n", "image/png"), (b"\xff\xd8\xff", "image/jpeg"),
+         (b"\xabKTX 20\xbb\r\n\x1a\n", "image/ktx2"), (b"v/1\x01", "image/x-exr"), (b"#?RADIANCE", "image/vnd.radiance"))
+SUFFIX_MIME = {".png": "image/png", ".jpg": "image/jpeg", ".jpeg": "image/jpeg", ".webp": "image/webp",
+               ".ktx2": "image/ktx2", ".exr": "image/x-exr", ".hdr": "image/vnd.radiance", ".tif": "image/tiff",
+               ".tiff": "image/tiff", ".tga": "image/x-tga", ".bmp": "image/bmp"}
+
+
+def read_gltf(path: str) -> Asset:
+    """Read the glTF or GLB file at ``path``; :class:`~openpbr_tools.io.ReadError` if it is not glTF."""
+    try:
+        import pygltflib  # noqa: F401  (gltf_slots takes the glTF enums from it)
+    except ImportError:
+        raise ReadError("unsupported", "reading glTF needs pygltflib: pip install 'openpbr-tools[gltf]'",
+                        Location(path)) from None
+    document = load_document(path)
+    asset = Asset(path=path, format="gltf", format_version=document.json["asset"]["version"],
+                  colorspace="lin_rec709", colorspace_location=Location(path, path="/asset"), meters_per_unit=1.0)
+    _Reader(asset, document).run()
+    return asset
+
+
+class _Reader:
+    def __init__(self, asset: Asset, document: GltfDocument) -> None:
+        self.asset, self.document, self.path = asset, document, asset.path
+        self.table = tables.table(MODEL, VERSION)
+        self.wrap_modes = slots.wrap_to_address()
+        self.bad_samplers: set = set()
+        self.package_files: set[str] = set()  # embedded images that decode: the textures rule looks them up here
+        self.facts: dict = {"extensions_used": _names(document.json.get("extensionsUsed")),
+                            "extensions_required": _names(document.json.get("extensionsRequired")),
+                            "extension_uses": [], "images": [], "texture_uses": [], "primitives": [],
+                            "glb": document.is_glb}
+        asset.extra["gltf"] = self.facts
+
+    def location(self, pointer: str, name: str | None = None) -> Location:
+        return Location(self.path, None, pointer, name)
+
+    def invalid(self, pointer: str, message: str, name: str | None = None) -> None:
+        self.asset.observe("gltf_invalid", self.location(pointer, name), message=message)
+
+    def run(self) -> None:
+        _extension_uses(self.document.json, "", self.facts["extension_uses"])
+        self.images = [self.read_image(i) for i in range(len(self.document.array("images")))]
+        self.facts["images"] = self.images
+        self.asset.extra["package_files"] = frozenset(self.package_files)
+        self.check_buffers()
+        self.read_primitives()
+        materials = self.document.json.get("materials", [])
+        if not isinstance(materials, list):
+            self.invalid("/materials", "materials is not an array")
+            return
+        for index, raw in enumerate(materials):
+            if not isinstance(raw, dict):
+                self.invalid(f"/materials/{index}", "material is not an object")
+                continue
+            self.asset.materials.append(self.read_material(index, raw))
+
+    # -- resources ---------------------------------------------------------------------------
+    def read_image(self, index: int) -> dict:
+        pointer = f"/images/{index}"
+        image = self.document.item("images", index) or {}
+        uri = image.get("uri")
+        declared = image.get("mimeType")
+        info = {"index": index, "pointer": pointer, "file": f"#/images/{index}", "packaged": True,
+                "mime": declared if isinstance(declared, str) else None, "width": None, "height": None, "readable": False}
+        if isinstance(uri, str) and not uri.startswith("data:"):
+            info["file"], info["packaged"] = unquote(uri), False
+            info["mime"] = info["mime"] or SUFFIX_MIME.get(os.path.splitext(info["file"])[1].lower())
+            local = os.path.realpath(os.path.join(self.document.folder, info["file"]))
+            folder = os.path.realpath(self.document.folder)
+            inside = "://" not in uri and not os.path.isabs(info["file"]) and os.path.commonpath([local, folder]) == folder
+            if inside and os.path.isfile(local):  # only the header is read, and never outside the asset
+                _measure(local, info)
+            return info
+        try:
+            data, mime = self.document.image_bytes(index)
+        except ResourceError as error:
+            self.asset.observe("gltf_resource", self.location(error.pointer), message=error.message)
+            return info
+        info["mime"] = info["mime"] or (mime if isinstance(mime, str) else None) or data_uri_mime(uri or "")
+        self.package_files.add(info["file"])
+        _measure(io.BytesIO(data), info, data[:16])
+        if not info["readable"] and info["mime"] in slots.core_mime_types():
+            self.asset.observe("gltf_resource", self.location(pointer),
+                               message=f"embedded image ({len(data)} bytes) is not a decodable {info['mime']}")
+        return info
+
+    def check_buffers(self) -> None:
+        """Data URIs that do not decode and external buffers that are missing (they carry the geometry)."""
+        for index, buffer in enumerate(self.document.array("buffers")):
+            uri = buffer.get("uri") if isinstance(buffer, dict) else None
+            pointer = f"/buffers/{index}"
+            if isinstance(uri, str) and uri.startswith("data:"):
+                try:
+                    self.document.buffer(index)
+                except ResourceError as error:
+                    self.asset.observe("gltf_resource", self.location(error.pointer), message=error.message)
+            elif isinstance(uri, str) and "://" not in uri and not os.path.isabs(unquote(uri)):
+                if not os.path.isfile(os.path.join(self.document.folder, unquote(uri))):
+                    self.asset.observe("gltf_resource", self.location(pointer + "/uri"),
+                                       message=f"buffer file {unquote(uri)!r} not found")
+            elif uri is not None and not isinstance(uri, str):
+                self.invalid(pointer, f"uri must be a string, not {_raw(uri)}", "uri")
+            elif uri is None and not (self.document.is_glb and index == 0 and self.document.binary is not None):
+                self.asset.observe("gltf_resource", self.location(pointer),
+                                   message="buffer has no uri and there is no GLB binary chunk for it")
+
+    def read_primitives(self) -> None:
+        for mesh_index, mesh in enumerate(self.document.array("meshes")):
+            primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
+            for index, primitive in enumerate(primitives if isinstance(primitives, list) else []):
+                if not isinstance(primitive, dict):
+                    continue
+                attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
+                sets = sorted(int(name[9:]) for name in attributes if name.startswith("TEXCOORD_") and name[9:].isdigit())
+                self.facts["primitives"].append({"pointer": f"/meshes/{mesh_index}/primitives/{index}",
+                                                 "material": primitive.get("material"), "texcoords": sets})
+                material = primitive.get("material")
+                if material is not None and self.document.item("materials", material) is None:
+                    self.asset.observe("dangling_reference", self.location(f"/meshes/{mesh_index}/primitives/{index}", "material"),
+                                       attribute="material", target=material)
+
+    # -- materials ---------------------------------------------------------------------------
+    def read_material(self, index: int, raw: dict) -> Material:
+        pointer = f"/materials/{index}"
+        name = raw.get("name") if isinstance(raw.get("name"), str) and raw.get("name") else f"material_{index}"
+        material = Material(name=name, model=MODEL, location=self.location(pointer), material_name=name,
+                            material_location=self.location(pointer))
+        extensions = raw.get("extensions") if isinstance(raw.get("extensions"), dict) else {}
+        extra = {"index": index, "material_extensions": sorted(extensions)}
+        for key in ("doubleSided", "extras"):
+            if key in raw:
+                extra[key] = raw[key]
+        kept = {n: v for n, v in extensions.items() if n not in slots.INTERPRETED_MATERIAL_EXTENSIONS}
+        if kept:
+            extra["extensions"] = kept
+        material.extra["gltf"] = extra
+        for recorded in (slots.UNLIT, slots.SPECULAR_GLOSSINESS):
+            if recorded in extensions:
+                self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{recorded}"),
+                                   extension=recorded, material=name)
+        self.index, self.reported = index, set()
+        # glTF ignores alpha in OPAQUE mode (specification 3.9.4): only MASK and BLEND read the
+        # base colour texture's A channel, so only they get an alpha texture input.
+        self.reads_alpha = raw.get("alphaMode") in ("MASK", "BLEND")
+        for slot in slots.SLOTS:
+            container, container_pointer = self.container(raw, extensions, slot, pointer)
+            if container is not None:
+                self.read_slot(material, slot, container, container_pointer)
+        versioning.settle(material)
+        if material.version == VERSION and material.version_basis.startswith("default"):
+            material.version_basis = "glTF 2.0 material"
+        return material
+
+    def container(self, raw: dict, extensions: dict, slot: slots.Slot, pointer: str) -> tuple[dict | None, str]:
+        if slot.container == slots.CORE:
+            return raw, pointer
+        if slot.container == slots.PBR:
+            found, where = raw.get(slots.PBR), f"{pointer}/{slots.PBR}"
+        else:
+            found, where = extensions.get(slot.container), f"{pointer}/extensions/{slot.container}"
+        if found is not None and not isinstance(found, dict):
+            if where not in self.reported:
+                self.reported.add(where)
+                self.invalid(where, f"{where.rsplit('/', 1)[-1]} is not an object")
+            return None, where
+        return found, where
+
+    def read_slot(self, material: Material, slot: slots.Slot, container: dict, pointer: str) -> None:
+        parameter = self.table[slot.parameter]
+        factor, factor_error = self.factor(slot, container)
+        texture_info = container.get(slot.texture) if slot.texture else None
+        if slot.parameter == "alpha" and not self.reads_alpha:
+            texture_info = None
+        if texture_info is not None:
+            if factor_error:
+                if (pointer, slot.factor) not in self.reported:  # baseColorFactor feeds two parameters
+                    self.reported.add((pointer, slot.factor))
+                    self.invalid(pointer, factor_error, slot.factor)
+                factor = None
+            value = self.texture(slot, texture_info, f"{pointer}/{slot.texture}", factor, container)
+            entry = Input(slot.parameter, parameter.type, value, self.location(pointer, slot.texture))
+        elif slot.factor is not None and slot.factor in container:
+            entry = Input(slot.parameter, parameter.type, None, self.location(pointer, slot.factor))
+            if factor_error:
+                entry.raw, entry.error = _raw(container[slot.factor]), factor_error
+            else:
+                entry.value = Constant(factor)
+        else:
+            return
+        if parameter.unit == "scene_length":
+            entry.unit, entry.unittype = SCENE_LENGTH_UNIT, "distance"
+        if parameter.role == "color" and isinstance(entry.value, Constant):
+            entry.colorspace = "lin_rec709"  # glTF factors are linear Rec.709 (specification 3.9.2)
+        material.inputs[slot.parameter] = entry
+        if slot.parameter == "anisotropy_strength" and isinstance(entry.value, Texture):
+            strength = entry.value
+            material.extra["gltf"]["anisotropy_direction"] = Texture(
+                file=strength.file, image_type="color3", channels=(0, 1), colorspace=slots.DATA, uv=strength.uv,
+                texcoord=strength.texcoord, wrap=strength.wrap, node=strength.node, node_category=strength.node_category,
+                location=strength.location, packaged=strength.packaged)
+
+    def factor(self, slot: slots.Slot, container: dict):
+        """(value, error): the authored factor converted to gltf_pbr's value, or its default."""
+        if slot.factor is None or slot.factor not in container:
+            return slot.default, None
+        raw = container[slot.factor]
+        if slot.parameter == "alpha_mode":
+            if raw in slots.ALPHA_MODES:
+                return slots.ALPHA_MODES.index(raw), None
+            return None, f"alphaMode must be one of {', '.join(slots.ALPHA_MODES)}, not {_raw(raw)}"
+        if slot.factor_components is not None:  # baseColorFactor: RGB for base_color, A for alpha
+            if not _numbers(raw, 4):
+                return None, f"baseColorFactor must be an array of 4 numbers, not {_raw(raw)}"
+            part = tuple(float(v) for v in raw[slot.factor_components])
+            return (part if len(part) > 1 else part[0]), None
+        width = len(slot.default) if isinstance(slot.default, tuple) else 1
+        if width > 1:
+            if not _numbers(raw, width):
+                return None, f"{slot.factor} must be an array of {width} numbers, not {_raw(raw)}"
+            return tuple(float(v) for v in raw), None
+        if not _numbers([raw], 1):
+            return None, f"{slot.factor} must be a number, not {_raw(raw)}"
+        return float(raw), None
+
+    # -- textures ----------------------------------------------------------------------------
+    def texture(self, slot: slots.Slot, info, pointer: str, factor, container: dict):
+        if not isinstance(info, dict) or isinstance(info.get("index"), bool) or not isinstance(info.get("index"), int):
+            self.invalid(pointer, "textureInfo needs an integer index", "index")
+            return Connection(pointer, None, "textureInfo has no valid index", dangling=True)
+        index = info["index"]
+        texture = self.document.item("textures", index)
+        if texture is None:
+            return Connection(f"/textures/{index}", None, f"texture {index} does not exist", dangling=True)
+        source, via_extension = texture.get("source"), None
+        for extension in slots.EXTENSION_MIME_TYPES.values():
+            alternative = (texture.get("extensions") or {}).get(extension) if isinstance(texture.get("extensions"), dict) else None
+            if isinstance(alternative, dict) and isinstance(alternative.get("source"), int):
+                source, via_extension = alternative["source"], extension
+        if source is None or self.document.item("images", source) is None:
+            what = f"image {source}" if source is not None else "an image source"
+            self.asset.observe("dangling_reference", self.location(f"/textures/{index}", "source"),
+                               attribute="source", target=source if source is not None else "(none)")
+            return Connection(f"/textures/{index}", None, f"texture {index} has no {what}", dangling=True)
+        image = self.images[source]
+        if via_extension:
+            image.setdefault("via_extensions", []).append(via_extension)
+        texcoord = info.get("texCoord", 0)
+        result = Texture(
+            file=image["file"], image_type=slot.image_type, channels=slot.channels, colorspace=slot.colorspace,
+            node=pointer, node_category="gltf_texture", location=self.location(pointer, "index"),
+            packaged=image["packaged"],
+        )
+        result.wrap = self.sampler(texture.get("sampler"), index)
+        transform = _transform(info)
+        if transform is not None:
+            texcoord = transform.get("texCoord", texcoord)
+            try:
+                result.uv = _uv(transform)
+            except (TypeError, ValueError, ZeroDivisionError) as error:
+                self.invalid(f"{pointer}/extensions/{slots.TEXTURE_TRANSFORM}", f"KHR_texture_transform ignored: {error}")
+        if not isinstance(texcoord, int) or isinstance(texcoord, bool) or texcoord < 0:
+            self.invalid(pointer, f"texCoord must be a non-negative integer, not {_raw(texcoord)}", "texCoord")
+            texcoord = 0
+        result.texcoord = texcoord or None
+        if not any(use["pointer"] == pointer for use in self.facts["texture_uses"]):
+            self.facts["texture_uses"].append({"pointer": pointer, "material": self.index, "texcoord": texcoord,
+                                               "image": source})
+        self.apply_factor(slot, result, info, factor, container, pointer)
+        return result
+
+    def apply_factor(self, slot: slots.Slot, texture: Texture, info: dict, factor, container: dict, pointer: str) -> None:
+        if slot.texture_kind in ("normalTextureInfo", "occlusionTextureInfo"):
+            name = "scale" if slot.texture_kind == "normalTextureInfo" else "strength"
+            if name in info and not _numbers([info[name]], 1):
+                self.invalid(pointer, f"{name} must be a number, not {_raw(info[name])}", name)
+        if slot.texture_kind == "normalTextureInfo":
+            texture.normal_map = float(info["scale"]) if _numbers([info.get("scale")], 1) else 1.0
+            texture.channels = None
+            return
+        if slot.texture_kind == "occlusionTextureInfo":
+            strength = float(info["strength"]) if _numbers([info.get("strength")], 1) else 1.0
+            if strength != 1.0:
+                texture.scale, texture.bias = strength, 1.0 - strength
+            return
+        if slot.parameter == "iridescence_thickness":
+            low_name, low_default = slots.IRIDESCENCE_THICKNESS_MINIMUM
+            low = container.get(low_name, low_default)
+            high = factor if isinstance(factor, float) else slot.default
+            low = float(low) if _numbers([low], 1) else low_default
+            texture.scale, texture.bias = high - low, low
+            return
+        if factor is None:
+            return
+        identity = tuple(1.0 for _ in factor) if isinstance(factor, tuple) else 1.0
+        if factor != identity:
+            texture.scale = factor
+
+    def sampler(self, index, texture_index: int) -> tuple[str, str] | None:
+        if index is None:
+            return None
+        sampler = self.document.item("samplers", index)
+        if sampler is None:
+            self.asset.observe("dangling_reference", self.location(f"/textures/{texture_index}", "sampler"),
+                               attribute="sampler", target=index)
+            return None
+        modes = []
+        for name in ("wrapS", "wrapT"):
+            value = sampler.get(name, 10497)  # REPEAT, the schema's default
+            if not isinstance(value, int) or isinstance(value, bool) or value not in self.wrap_modes:
+                if (index, name) not in self.bad_samplers:
+                    self.bad_samplers.add((index, name))
+                    self.invalid(f"/samplers/{index}", f"{name} must be 33071, 33648 or 10497, not {_raw(value)}", name)
+                value = 10497
+            modes.append(self.wrap_modes[value])
+        return modes[0], modes[1]
+
+
+def _transform(info: dict) -> dict | None:
+    extensions = info.get("extensions")
+    if not isinstance(extensions, dict):
+        return None
+    found = extensions.get(slots.TEXTURE_TRANSFORM)
+    return found if isinstance(found, dict) else None
+
+
+def _uv(transform: dict):
+    offset = transform.get("offset", [0.0, 0.0])
+    rotation = transform.get("rotation", 0.0)
+    scale = transform.get("scale", [1.0, 1.0])
+    if not _numbers(offset, 2) or not _numbers(scale, 2) or not _numbers([rotation], 1):
+        raise ValueError("offset and scale must be arrays of 2 numbers, rotation a number")
+    uv = from_texture_transform((float(offset[0]), float(offset[1])), float(rotation), (float(scale[0]), float(scale[1])))
+    return None if (offset, rotation, scale) == ([0.0, 0.0], 0.0, [1.0, 1.0]) else uv
+
+
+def _measure(source, info: dict, head: bytes | None = None) -> None:
+    """Fill ``width``, ``height``, ``readable`` and (when undeclared) ``mime`` from the image header."""
+    if head is not None and not info["mime"]:
+        info["mime"] = next((mime for magic, mime in SNIFF if head.startswith(magic)), None)
+        if head[:4] == b"RIFF" and head[8:12] == b"WEBP":
+            info["mime"] = "image/webp"
+    try:
+        from PIL import Image
+
+        with Image.open(source) as image:
+            info["width"], info["height"] = image.size
+            info["readable"] = True
+            detected = Image.MIME.get(image.format or "")
+            info["detected_mime"] = detected
+            info["mime"] = info["mime"] or detected
+    except Exception:  # Pillow raises many exception types for images it cannot identify
+        info["readable"] = False
+
+
+def _extension_uses(value, pointer: str, found: list) -> None:
+    """Every (JSON pointer, extension name) under an ``extensions`` object anywhere in the document."""
+    if isinstance(value, dict):
+        for key, child in value.items():
+            where = f"{pointer}/{_escape(key)}"
+            if key == "extensions" and isinstance(child, dict):
+                for name in child:
+                    found.append((f"{where}/{_escape(name)}", name))
+            if isinstance(child, (dict, list)):
+                _extension_uses(child, where, found)
+    elif isinstance(value, list):
+        for index, child in enumerate(value):
+            if isinstance(child, (dict, list)):
+                _extension_uses(child, f"{pointer}/{index}", found)
+
+
+def _escape(token: str) -> str:
+    return str(token).replace("~", "~0").replace("/", "~1")
+
+
+def _names(value) -> list[str]:
+    return [v for v in value if isinstance(v, str)] if isinstance(value, list) else []
+
+
+def _numbers(value, count: int) -> bool:
+    """``value`` is a list of ``count`` JSON numbers (NaN and infinity included: the values rules judge them)."""
+    return isinstance(value, list) and len(value) == count and all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+
+
+def _raw(value) -> str:
+    import json
+
+    return json.dumps(value)

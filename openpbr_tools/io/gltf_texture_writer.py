@@ -1,0 +1,256 @@
+"""The texture half of writing a glTF material: one textureInfo per glTF texture property, its
+image (passed through or baked), sampler, UV set and KHR_texture_transform, and the factors that
+multiply it.
+
+glTF reads fixed channels of one image per property (:mod:`.gltf_slots`). An image passes through
+unchanged when every parameter sharing the property reads its own channel from it in the encoding
+glTF expects (sRGB for colour, linear for data) and nothing unintended sits in the channels no
+parameter feeds (a metallicRoughness image whose G would scale a constant roughness, an alpha
+channel under a blended base colour). Otherwise a PNG is baked (:mod:`.gltf_bake`) with each
+channel from its source, re-encoded where needed, and ``1.0`` in the channels nothing feeds, so the
+factor alone applies there.
+"""
+
+from __future__ import annotations
+
+import re
+
+from .. import colorspaces
+from ..model import Texture
+from . import gltf_slots as slots
+from .gltf_bake import ChannelSource, pack
+from .gltf_uv import to_texture_transform
+
+
+class TextureWriting:
+    """Mixed into the material writer, which provides ``material``, ``extra``, ``images``,
+    ``builder``, ``note``, ``container`` and ``clamped``."""
+
+    def texture_group(self, prop: str, members: list[slots.Slot]) -> None:
+        """One textureInfo ``prop`` fed by the textures of ``members`` (the parameters sharing it)."""
+        inputs = self.material.inputs
+        textures = {s.parameter: inputs[s.parameter].value for s in members}
+        sources = {}
+        for slot in members:
+            located = self.images.locate(textures[slot.parameter], f"{self.material.name}.{slot.parameter}")
+            if located is not None:
+                sources[slot.parameter] = located
+        members = [s for s in members if s.parameter in sources]
+        if not members:
+            return
+        first = textures[members[0].parameter]
+        for slot in members[1:]:
+            other = textures[slot.parameter]
+            if (other.uv, other.texcoord, other.wrap) != (first.uv, first.texcoord, first.wrap):
+                self.note(f"{slot.parameter} shares {prop} with {members[0].parameter} but has another UV transform, "
+                          f"UV set or wrap; {members[0].parameter}'s is used")
+        image_index = self.image_for(prop, members, textures, sources)
+        info = {"index": self.builder.add_texture(image_index, self.sampler(first))}
+        self.uv(info, first)
+        slot = members[0]
+        if slot.texture_kind == "normalTextureInfo":
+            if first.normal_map is None:
+                self.note(f"{slot.parameter}: texture without a normal-map decode written as a glTF normal map")
+            elif first.normal_map != 1.0:
+                info["scale"] = first.normal_map
+        elif slot.texture_kind == "occlusionTextureInfo":
+            strength = 1.0 if first.scale is None else float(first.scale)
+            expected_bias = 1.0 - strength
+            if abs((first.bias or 0.0) - expected_bias) > 1e-9 and not (first.bias is None and strength == 1.0):
+                self.note(f"occlusion: scale {strength:g} / bias {first.bias} is not glTF's 1 + strength (r - 1); strength {strength:g} used")
+            if strength != 1.0:
+                info["strength"] = strength
+        self.container(slot)[prop] = info
+        for member in members:
+            self.texture_factor(member, textures[member.parameter])
+
+    def texture_factor(self, slot: slots.Slot, texture: Texture) -> None:
+        if slot.parameter == "iridescence_thickness":
+            low = 0.0 if texture.bias is None else float(texture.bias)
+            span = 1.0 if texture.scale is None else float(texture.scale)
+            self.container(slot)["iridescenceThicknessMinimum"] = low
+            self.container(slot)["iridescenceThicknessMaximum"] = low + span
+            return
+        if slot.factor is None:
+            return
+        if texture.bias not in (None, 0.0, (0.0, 0.0, 0.0)) and slot.texture_kind == "textureInfo":
+            self.note(f"{slot.parameter}: texture bias {texture.bias} has no glTF equivalent; dropped")
+        scale = texture.scale
+        if slot.parameter in ("base_color", "alpha"):
+            pbr = self.containers[slots.PBR]
+            factor = list(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]))
+            if slot.parameter == "base_color" and scale is not None:
+                factor[:3] = self.clamped(slot, list(scale) if isinstance(scale, tuple) else [float(scale)] * 3)
+            elif scale is not None:
+                factor[3] = self.clamped(slot, float(scale))
+            if factor != [1.0, 1.0, 1.0, 1.0] or "baseColorFactor" in pbr:
+                pbr["baseColorFactor"] = factor
+            return
+        if scale is None:
+            # glTF multiplies the texture by the factor's default: say 1 where that default is not 1
+            if slot.default not in (1.0, (1.0, 1.0, 1.0)):
+                self.container(slot)[slot.factor] = [1.0, 1.0, 1.0] if isinstance(slot.default, tuple) else 1.0
+            return
+        if isinstance(slot.default, tuple):
+            scale = list(scale) if isinstance(scale, tuple) else [float(scale)] * len(slot.default)
+        elif isinstance(scale, tuple):
+            self.note(f"{slot.parameter}: a {len(scale)}-component texture scale on a float; its first component is used")
+            scale = float(scale[0])
+        self.container(slot)[slot.factor] = self.clamped(slot, scale if isinstance(scale, list) else float(scale))
+
+    def sampler(self, texture: Texture) -> int | None:
+        if texture.wrap is None:
+            return None
+        table = slots.address_to_wrap()
+        modes = []
+        for mode in texture.wrap:
+            if mode not in table:
+                self.note(f"address mode {mode!r} is unknown; REPEAT used")
+            elif mode == "constant":
+                self.note("address mode 'constant' (border colour) has no glTF equivalent; CLAMP_TO_EDGE used")
+            modes.append(table.get(mode, table["periodic"]))
+        return self.builder.add_sampler(modes[0], modes[1])
+
+    def uv(self, info: dict, texture: Texture) -> None:
+        if texture.texcoord:
+            try:
+                info["texCoord"] = int(texture.texcoord)
+            except (TypeError, ValueError):
+                self.note(f"UV set {texture.texcoord!r} is not a glTF TEXCOORD index; set 0 used")
+        if texture.uv is None or texture.uv.is_identity and tuple(texture.uv.pivot) in ((0.0, 0.0), (0.0, 1.0)):
+            return
+        try:
+            offset, rotation, scale = to_texture_transform(texture.uv)
+        except ZeroDivisionError:
+            self.note("a UV transform with scale 0 has no KHR_texture_transform equivalent; dropped")
+            return
+        transform = {}
+        if offset != (0.0, 0.0):
+            transform["offset"] = [_round(offset[0]), _round(offset[1])]
+        if rotation != 0.0:
+            transform["rotation"] = _round(rotation)
+        if scale != (1.0, 1.0):
+            transform["scale"] = [_round(scale[0]), _round(scale[1])]
+        if transform:
+            info.setdefault("extensions", {})[slots.TEXTURE_TRANSFORM] = transform
+
+    def image_for(self, prop, members, textures, sources) -> int:
+        """The image index for ``prop``: a source image unchanged when it already has glTF's shape, else a baked PNG."""
+        source = sources[members[0].parameter]
+        same_image = len({sources[s.parameter].key for s in members}) == 1
+        fitting = all(self.fits(s, textures[s.parameter], sources[s.parameter]) for s in members)
+        covered = self.covers(prop, members, source)
+        if same_image and fitting and covered and source.passes_through:
+            return self.builder.add_image(source.key, source.data, source.mime, source.name)
+        plan = self.bake_plan(prop, members, textures, sources)
+        label = f"{self.material.name}.{prop}"
+        data = pack(plan, self.notes, label)
+        why = "re-encoded as PNG" if same_image and fitting and covered else "baked: channels packed as glTF reads them"
+        self.note(f"{prop}: {why}")
+        name = f"{_safe(self.material.material_name or self.material.name)}_{prop}.png"
+        return self.builder.add_image(("baked", data), data, "image/png", name)
+
+    def conversion(self, slot: slots.Slot, space: str | None) -> tuple[str | None, bool]:
+        """(colour space to decode from, whether to encode sRGB) so texels reach glTF's encoding:
+        sRGB for colour slots, linear for data. An unknown name is taken as already right (noted)."""
+        if space is None or colorspaces.is_data(space) or (slot.colour and space == slots.SRGB):
+            return None, False
+        if space not in colorspaces.materialx_names():
+            self.note(f"{slot.parameter}: unknown colour space {space!r}; texels used as they are")
+            return None, False
+        if slot.colour:
+            return space, True
+        return (space, False) if _encoded(space) else (None, False)
+
+    def fits(self, slot: slots.Slot, texture: Texture, source) -> bool:
+        """Does the texture read ``slot``'s channels of its image, in the encoding glTF expects?"""
+        space = texture.colorspace
+        if slot.colour:
+            if space not in (None, slots.SRGB):
+                return False
+        elif space is not None and space in colorspaces.materialx_names() and _encoded(space):
+            return False
+        if slot.texture_kind == "normalTextureInfo":
+            return texture.channels in (None, (0, 1, 2))
+        channels = texture.channels
+        if channels is None:  # the whole image: RGB for colour slots, the first channel for single ones
+            return slot.channels in ((0, 1, 2), (0,)) or (source.channels in (1, 2) and slot.channels[0] < 3)
+        return tuple(channels) == slot.channels
+
+    def covers(self, prop: str, members, source) -> bool:
+        """Does the image leave nothing unintended in the channels no member feeds?"""
+        present = {s.parameter for s in members}
+        if prop == "metallicRoughnessTexture":
+            return present == {"metallic", "roughness"}
+        if prop == "baseColorTexture" and present == {"base_color"}:
+            mode = self.material.inputs.get("alpha_mode")
+            opaque = mode is None or mode.constant in (0, None)
+            return opaque or source.channels in (1, 3)
+        if prop == "baseColorTexture" and present == {"alpha"}:
+            return False
+        if prop == "anisotropyTexture":
+            direction = self.extra.get("anisotropy_direction")
+            return isinstance(direction, Texture) and direction.file == self.material.inputs["anisotropy_strength"].value.file \
+                and tuple(direction.channels or ()) == (0, 1)
+        return True
+
+    def bake_plan(self, prop, members, textures, sources) -> list:
+        """The channels of the image to bake for ``prop``."""
+        def channel(slot: slots.Slot, index: int):
+            """Channel ``index`` of what feeds ``slot`` (a single-channel read of a whole image is
+            its first channel, as MaterialX reads a float image)."""
+            texture, source = textures[slot.parameter], sources[slot.parameter]
+            if texture.channels:
+                picked = texture.channels[min(index, len(texture.channels) - 1)]
+            else:
+                picked = index if slot.channels in (None, (0, 1, 2)) else 0
+            decode, encode = self.conversion(slot, texture.colorspace)
+            return ChannelSource(source.image, picked, decode=decode, encode_srgb=encode)
+
+        by_name = {s.parameter: s for s in members}
+        if prop == "baseColorTexture":
+            rgb = [channel(by_name["base_color"], i) for i in range(3)] if "base_color" in by_name else [1.0, 1.0, 1.0]
+            if "alpha" in by_name:
+                return rgb + [channel(by_name["alpha"], 0)]
+            return rgb
+        if prop == "metallicRoughnessTexture":
+            roughness = channel(by_name["roughness"], 0) if "roughness" in by_name else 1.0
+            metallic = channel(by_name["metallic"], 0) if "metallic" in by_name else 1.0
+            return [1.0, roughness, metallic]
+        if prop == "anisotropyTexture":
+            direction = self.extra.get("anisotropy_direction")
+            strength = channel(by_name["anisotropy_strength"], 0)
+            if isinstance(direction, Texture):
+                located = self.images.locate(direction, f"{self.material.name}.anisotropy direction")
+                if located is not None:
+                    return [ChannelSource(located.image, (direction.channels or (0, 1))[0]),
+                            ChannelSource(located.image, (direction.channels or (0, 1))[1]), strength]
+            return [slots.ANISOTROPY_DIRECTION_DEFAULT[0], slots.ANISOTROPY_DIRECTION_DEFAULT[1], strength]
+        slot = members[0]
+        if slot.texture_kind == "normalTextureInfo" or slot.channels == (0, 1, 2):
+            return [channel(slot, i) for i in range(3)]
+        if slot.channels == (3,):
+            return [1.0, channel(slot, 0)]  # grey + alpha: the value in A
+        return [channel(slot, 0)]  # grey: R = G = B = the value
+
+
+def _encoded(space: str) -> bool:
+    """A colour space with a non-linear transfer (srgb_texture, g22_...): data read through it is bent."""
+    from ..resources import load_json
+
+    spec = load_json("colorspaces.json")["materialx"].get(space)
+    return spec is not None and spec["transfer"] not in ("linear", "data")
+
+
+
+def _round(value: float) -> float:
+    """Fifteen significant digits: the last-bit noise of the UV transform inversion (1 / (1 / x),
+    degrees to radians and back) disappears, and the value is otherwise unchanged."""
+    return float(f"{value:.15g}") + 0.0
+
+
+
+def _safe(name: str) -> str:
+    return re.sub(r"[^A-Za-z0-9_.-]+", "_", name).strip("._") or "material"
+
+

@@ -1,0 +1,267 @@
+"""Write ``gltf_pbr`` :class:`~openpbr_tools.model.Material` objects as glTF 2.0 (``.gltf`` or ``.glb``).
+
+Each material becomes a glTF material: constants become factors (colours converted to linear
+Rec.709 from the colour space they were authored in; an emissive colour above 1 is normalised into
+``KHR_materials_emissive_strength``), textures become textureInfos with ``KHR_texture_transform``
+for UV transforms (:mod:`.gltf_uv`), ``texCoord`` for UV sets and a sampler for wrap modes. Every
+``KHR_*`` extension written is declared in ``extensionsUsed``. ``Material.extra["gltf"]`` (from the
+glTF reader or a translator) adds ``doubleSided``, ``extras`` and extensions the node does not carry,
+when they reference no texture.
+
+glTF reads fixed channels of one image per texture property: images already in that shape pass
+through unchanged, others are baked into a new PNG (:mod:`.gltf_texture_writer`, :mod:`.gltf_bake`).
+
+Images: a ``.glb`` carries them in its binary chunk; a ``.gltf`` references files copied beside it
+(keeping their path relative to the source asset's folder), or data URIs with ``embed=True``.
+Source images are only ever read from the source asset's folder (``source``: the :class:`Asset`
+or file the materials came from; else the folder of the file a texture was read from; else the
+output's folder) or a folder listed in ``allow_outside``; anything else raises
+:class:`GltfWriteError`. Images inside a source glTF (``#/images/N``) are extracted from it.
+
+``mesh="sphere"`` adds a UV sphere (:mod:`.gltf_mesh`) per material, in a row along +X, so the file
+shows something in any viewer. Output is deterministic (no timestamps, fixed key order, Python's
+shortest round-trip float text) and written atomically. Returns notes on anything not carried exactly.
+"""
+
+from __future__ import annotations
+
+import base64
+import json
+import math
+import os
+
+from .. import colorspaces
+from ..atomic import write_bytes
+from ..model import Asset, Connection, Constant, Material, Texture
+from . import gltf_slots as slots
+from .gltf_images import GltfWriteError, ImageResolver
+from .gltf_texture_writer import TextureWriting
+
+
+def write_gltf(materials: list[Material], path, *, mesh: str | None = None, embed: bool | None = None,
+               allow_outside=None, source: Asset | str | None = None) -> list[str]:
+    """Write ``materials`` (``gltf_pbr``) to ``path`` (``.gltf`` or ``.glb``); returns notes.
+
+    ``embed`` defaults to ``True`` for ``.glb`` (images in the binary chunk) and ``False`` for
+    ``.gltf`` (image files beside the output); ``embed=True`` with ``.gltf`` writes data URIs.
+    ``allow_outside`` lists folders outside the source asset's folder images may be read from.
+    """
+    from .gltf_document_writer import DocumentBuilder
+
+    try:
+        import PIL  # noqa: F401  (baking and image inspection)
+        import pygltflib  # noqa: F401  (glTF enums)
+    except ImportError as error:
+        raise GltfWriteError(f"writing glTF needs {error.name}: pip install 'openpbr-tools[gltf,images]'") from None
+    path = os.fspath(path)
+    suffix = os.path.splitext(path)[1].lower()
+    if suffix not in (".gltf", ".glb"):
+        raise GltfWriteError(f"cannot write {suffix or 'a file without suffix'} as glTF: use .gltf or .glb")
+    if mesh not in (None, "sphere"):
+        raise GltfWriteError(f"unknown mesh {mesh!r}: use None or 'sphere'")
+    glb = suffix == ".glb"
+    embed = glb if embed is None else bool(embed)
+    source_path = source.path if isinstance(source, Asset) else (os.fspath(source) if source else None)
+    notes: list[str] = []
+    builder = DocumentBuilder(path, glb=glb, embed=embed, notes=notes)
+    images = ImageResolver(builder, source_path, path, tuple(allow_outside or ()), notes)
+    written = []
+    for material in materials:
+        if material.model != "gltf_pbr":
+            notes.append(f"{material.name}: a {material.model} material is not written (translate it to gltf_pbr first)")
+            continue
+        written.append(builder.add_material(_MaterialWriter(material, images, builder, notes).write()))
+    if mesh == "sphere" and written:
+        builder.add_spheres(written, [_texcoords_of(builder.materials[i]) for i in written])
+    files = builder.finish()
+    for file_path, data in files[1:]:
+        os.makedirs(os.path.dirname(file_path), exist_ok=True)
+        write_bytes(file_path, data)
+    write_bytes(files[0][0], files[0][1])
+    return notes
+
+
+def _texcoords_of(material: dict) -> set[int]:
+    found = {0}
+
+    def walk(value):
+        if isinstance(value, dict):
+            if "index" in value and isinstance(value.get("texCoord"), int):
+                found.add(value["texCoord"])
+            transform = (value.get("extensions") or {}).get(slots.TEXTURE_TRANSFORM) if isinstance(value.get("extensions"), dict) else None
+            if isinstance(transform, dict) and isinstance(transform.get("texCoord"), int):
+                found.add(transform["texCoord"])
+            for child in value.values():
+                walk(child)
+
+    walk(material)
+    return found
+
+
+# -- one material ------------------------------------------------------------------------------
+
+class _MaterialWriter(TextureWriting):
+    def __init__(self, material: Material, images: ImageResolver, builder, notes: list[str]):
+        self.material, self.images, self.builder, self.notes = material, images, builder, notes
+        self.out: dict = {"name": material.material_name or material.name}
+        self.containers: dict[str, dict] = {slots.CORE: self.out, slots.PBR: {}}
+        self.extra = material.extra.get("gltf", {}) if isinstance(material.extra.get("gltf"), dict) else {}
+
+    def note(self, message: str) -> None:
+        self.notes.append(f"{self.material.name}: {message}")
+
+    def container(self, slot: slots.Slot) -> dict:
+        return self.containers.setdefault(slot.container, {})
+
+    def write(self) -> dict:
+        inputs = self.material.inputs
+        for slot in slots.SLOTS:
+            entry = inputs.get(slot.parameter)
+            if entry is None or isinstance(entry.value, Texture):
+                continue
+            if isinstance(entry.value, Constant):
+                self.constant(slot, entry)
+            elif isinstance(entry.value, Connection):
+                self.note(f"{slot.parameter} is driven by {entry.value.category or entry.value.target!r}, which glTF cannot hold; not written")
+            else:
+                self.note(f"{slot.parameter} has no usable value ({entry.error or 'unset'}); not written")
+        for name in sorted(set(inputs) - set(slots.SLOT_BY_PARAMETER)):
+            self.note(f"{name} is not a glTF parameter; not written")
+        for prop in dict.fromkeys(s.texture for s in slots.SLOTS if s.texture):
+            members = [s for s in slots.SLOTS if s.texture == prop and isinstance(getattr(inputs.get(s.parameter), "value", None), Texture)]
+            if members:
+                self.texture_group(prop, members)
+        self.fold_emission()
+        self.passthrough()
+        pbr = self.containers.pop(slots.PBR)
+        extensions = {name: self.containers[name] for name in sorted(self.containers) if name != slots.CORE}
+        ordered = {"name": self.out.pop("name")}
+        if pbr:
+            ordered[slots.PBR] = pbr
+        ordered.update(self.out)
+        if extensions:
+            ordered.setdefault("extensions", {}).update(extensions)
+        return ordered
+
+    # -- constants ---------------------------------------------------------------------------
+    def constant(self, slot: slots.Slot, entry) -> None:
+        value = entry.value.value
+        if slot.parameter == "alpha_mode":
+            if value in (0, 1, 2) and not isinstance(value, bool):
+                self.out["alphaMode"] = slots.ALPHA_MODES[int(value)]
+            else:
+                self.note(f"alpha_mode {value!r} is not 0, 1 or 2; not written")
+            return
+        if not _finite(value):
+            self.note(f"{slot.parameter} = {value!r} is not a finite number; not written")
+            return
+        if slot.parameter in ("base_color", "alpha"):
+            self.base_color_factor(slot, value)
+            return
+        if self.material.inputs[slot.parameter].type and isinstance(value, tuple) != isinstance(slot.default, tuple):
+            self.note(f"{slot.parameter} = {value!r} does not have the parameter's type; not written")
+            return
+        if entry.type == "color3" or slot.parameter.endswith("color"):
+            value = self.linear(value, entry)
+        if slot.parameter == "attenuation_distance" and value <= 0:
+            self.note(f"attenuation_distance {value:g} is not above 0 (glTF requires > 0; absent means infinite); not written")
+            return
+        self.container(slot)[slot.factor] = self.clamped(slot, _json_value(value))
+
+    def clamped(self, slot: slots.Slot, value):
+        """``value`` inside the parameter's hard range, which glTF's schema enforces (the Khronos
+        validator rejects, and viewers clamp, a roughnessFactor of 1.5); noted when it moves."""
+        from .. import tables
+
+        parameter = tables.table("gltf_pbr").get(slot.parameter)
+        if parameter is None or slot.parameter == "emissive":  # emissive above 1 is folded, not clamped
+            return value
+        values = value if isinstance(value, list) else [value]
+        lows = parameter.hard_min if isinstance(parameter.hard_min, tuple) else (parameter.hard_min,) * len(values)
+        highs = parameter.hard_max if isinstance(parameter.hard_max, tuple) else (parameter.hard_max,) * len(values)
+        fixed = []
+        for v, low, high in zip(values, lows, highs):
+            v = v if low is None else max(v, low)
+            fixed.append(v if high is None else min(v, high))
+        if fixed != values:
+            self.note(f"{slot.factor} {values if len(values) > 1 else values[0]} is outside glTF's range; clamped to "
+                      f"{fixed if len(fixed) > 1 else fixed[0]}")
+        return fixed if isinstance(value, list) else fixed[0]
+
+    def linear(self, value, entry):
+        """A colour constant in linear Rec.709, as glTF factors are (specification 3.9.2)."""
+        space = entry.colorspace or self.material.colorspace
+        if space in (None, "lin_rec709") or colorspaces.is_data(space):
+            return value
+        try:
+            converted = colorspaces.to_lin_rec709(value, space)
+        except KeyError:
+            self.note(f"{entry.name}: unknown colour space {space!r}, written unconverted")
+            return value
+        return tuple(float(c) for c in converted)
+
+    def base_color_factor(self, slot: slots.Slot, value) -> None:
+        pbr = self.containers[slots.PBR]
+        factor = list(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]))
+        if slot.parameter == "base_color":
+            factor[:3] = self.clamped(slot, _json_value(self.linear(value, self.material.inputs["base_color"])))
+        else:
+            factor[3] = self.clamped(slot, float(value))
+        pbr["baseColorFactor"] = factor
+
+    def fold_emission(self) -> None:
+        """glTF's emissiveFactor is at most 1 (schema); the rest of a brighter colour becomes
+        KHR_materials_emissive_strength (the product is what renders)."""
+        factor = self.out.get("emissiveFactor")
+        if not factor or max(factor) <= 1.0:
+            return
+        peak = max(factor)
+        self.out["emissiveFactor"] = [c / peak for c in factor]
+        strength = self.containers.setdefault(slots.EMISSIVE_STRENGTH, {})
+        strength["emissiveStrength"] = strength.get("emissiveStrength", 1.0) * peak
+        self.note(f"emissive {factor} exceeds 1: written as emissiveFactor / {peak:g} with emissiveStrength x {peak:g}")
+
+    def passthrough(self) -> None:
+        for key in ("doubleSided", "extras"):
+            if key in self.extra:
+                self.out[key] = self.extra[key]
+        for name, value in sorted((self.extra.get("extensions") or {}).items()):
+            if name in slots.INTERPRETED_MATERIAL_EXTENSIONS:
+                continue
+            if _references_textures(value):
+                self.note(f"{name} references textures of the source file; not written")
+                continue
+            self.containers[name] = value
+
+
+def _references_textures(value) -> bool:
+    if isinstance(value, dict):
+        return "index" in value and isinstance(value["index"], int) or any(_references_textures(v) for v in value.values())
+    if isinstance(value, list):
+        return any(_references_textures(v) for v in value)
+    return False
+
+
+def _finite(value) -> bool:
+    values = value if isinstance(value, tuple) else (value,)
+    return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
+
+
+def _json_value(value):
+    if isinstance(value, tuple):
+        return [float(v) for v in value]
+    if isinstance(value, bool):
+        return value
+    return float(value) if isinstance(value, (int, float)) else value
+
+
+def dumps(document: dict) -> str:
+    """The glTF JSON text: insertion order, two-space indent, UTF-8, shortest round-trip floats."""
+    return json.dumps(document, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+
+
+def data_uri(data: bytes, mime: str) -> str:
+    return f"data:{mime};base64,{base64.b64encode(data).decode('ascii')}"
+
+
+__all__ = ["write_gltf", "GltfWriteError"]
