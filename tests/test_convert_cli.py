@@ -89,3 +89,28 @@ def test_unreadable_input_exits_two_and_writes_nothing(tmp_path):
 
 def test_unknown_output_suffix_is_a_usage_error(tmp_path):
     assert run("convert", SAMPLES / "car_paint.mtlx", "-o", tmp_path / "x.fbx").exit_code == 2
+
+
+@pytest.mark.parametrize("sample", ["textured_wood", "car_paint", "tinted_glass", "brushed_aluminium"])
+def test_gltf_output_passes_the_khronos_validator(tmp_path, sample):
+    from gltf_support import describe_issues, require_validator, validate_with_khronos
+
+    require_validator()
+    out = tmp_path / f"{sample}.glb"
+    assert run("convert", SAMPLES / f"{sample}.mtlx", "-o", out, "--mesh", "sphere").exit_code == 0
+    report = validate_with_khronos(out, tmp_path)
+    assert report["issues"]["numErrors"] == 0, describe_issues(report)
+    (material,) = read_asset(out).materials
+    assert material.model == "gltf_pbr"
+
+
+def test_gltf_round_trip_back_to_openpbr_mtlx(tmp_path):
+    glb, back = tmp_path / "glass.glb", tmp_path / "glass.mtlx"
+    run("convert", SAMPLES / "tinted_glass.mtlx", "-o", glb)
+    assert run("convert", glb, "-o", back).exit_code == 0
+    (material,) = read_asset(back).materials
+    assert material.inputs["transmission_weight"].constant == pytest.approx(1.0)
+    assert material.inputs["specular_ior"].constant == pytest.approx(1.52)
+    # 2 cm in the source became 0.02 m in glTF and comes back as 0.02, now labelled metres
+    depth = material.inputs["transmission_depth"]
+    assert depth.constant == pytest.approx(0.02, rel=1e-6) and (depth.unit, depth.unittype) == ("meter", "distance")

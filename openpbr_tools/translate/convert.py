@@ -188,6 +188,25 @@ def _unpack_gltf_images(materials: list[Material], asset: Asset, output_path: st
     return notes
 
 
+def _tag_length_units(materials: list[Material], asset: Asset) -> None:
+    """Lengths from glTF (metres) or USD (``metersPerUnit``) get a MaterialX distance unit, so the
+    written document says what its numbers mean."""
+    from ..resources import load_json
+
+    if asset.format not in ("gltf", "usd"):
+        return
+    scale = 1.0 if asset.format == "gltf" else (asset.meters_per_unit or load_json("units.json")["usd_default_meters_per_unit"])
+    names = [name for name, factor in load_json("units.json")["distance"].items() if abs(factor - scale) <= 1e-12 * max(1, scale)]
+    if not names:
+        return
+    for material in materials:
+        table = tables.table(material.model)
+        for name, entry in material.inputs.items():
+            parameter = table.get(name)
+            if parameter is not None and parameter.unit == "scene_length" and not entry.unit:
+                entry.unit, entry.unittype = names[0], "distance"
+
+
 def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside) -> list[str]:
     asset = result.asset
     if kind != "gltf" and asset.format == "gltf":
@@ -196,6 +215,7 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside)
         from ..io.mtlx_writer import write_mtlx
 
         _rebase_textures(result.materials, asset.path, output_path)
+        _tag_length_units(result.materials, asset)
         write_mtlx(result.materials, output_path, colorspace=asset.colorspace or "lin_rec709")
         return []
     if kind == "usd":
