@@ -1,0 +1,127 @@
+"""``openpbr preview`` and ``openpbr compare``: lit-sphere contact sheets and CIEDE2000 checks of
+translations, on top of :mod:`openpbr_tools.evaluate`."""
+
+from __future__ import annotations
+
+import io
+import json
+import sys
+
+import click
+
+METRICS = ("mean", "p95", "max")
+
+
+def _read(path):
+    from openpbr_tools.io import ReadError, read_asset
+
+    try:
+        return read_asset(path)
+    except ReadError as error:
+        click.echo(f"openpbr: {path}: {error.message}", err=True)
+        sys.exit(2)
+    except OSError as error:
+        click.echo(f"openpbr: {path}: {error}", err=True)
+        sys.exit(2)
+
+
+@click.command()
+@click.argument("file", type=click.Path(dir_okay=False))
+@click.option("--output", "-o", required=True, type=click.Path(dir_okay=False), help="PNG file to write.")
+@click.option("--size", type=click.IntRange(min=16, max=1024), default=128, show_default=True, help="Swatch size in pixels.")
+@click.option("--columns", type=click.IntRange(min=1), default=None, help="Swatches per row [default: up to 6].")
+def preview(file, output, size, columns):
+    """Render every material in FILE (OpenPBR, Standard Surface, glTF PBR or UsdPreviewSurface)
+    on a lit sphere and write a contact sheet (sRGB PNG) with each material's name under it.
+
+    Lighting: a uniform environment plus one directional key light (see
+    openpbr_tools.evaluate.preview). Textured inputs are shown at their fallback or default
+    value and listed on stderr.
+
+    Exit codes: 0 written, 2 unreadable input, no materials, or output not writable.
+    """
+    from openpbr_tools.atomic import write_bytes
+    from openpbr_tools.evaluate.preview import Rig, contact_sheet
+    from openpbr_tools.evaluate.verify import render_material
+
+    asset = _read(file)
+    if not asset.materials:
+        click.echo(f"openpbr: {file}: no materials to preview", err=True)
+        sys.exit(2)
+    rig = Rig(size=size)
+    swatches = []
+    for material in asset.materials:
+        swatch = render_material(material, rig)
+        for note in swatch.notes:
+            click.echo(f"{file}: {material.name}: {note}", err=True)
+        swatches.append((material.name, swatch.image))
+    try:
+        sheet = contact_sheet(swatches, columns=columns)
+    except ImportError:
+        click.echo("openpbr: preview needs Pillow (pip install 'openpbr-tools[images]')", err=True)
+        sys.exit(2)
+    buffer = io.BytesIO()
+    sheet.save(buffer, format="PNG")
+    try:
+        write_bytes(output, buffer.getvalue())
+    except OSError as error:
+        click.echo(f"openpbr: {output}: {error}", err=True)
+        sys.exit(2)
+    click.echo(f"{output}: {len(swatches)} material(s)")
+
+
+@click.command()
+@click.argument("file_a", type=click.Path(dir_okay=False))
+@click.argument("file_b", type=click.Path(dir_okay=False))
+@click.option("--format", "output_format", type=click.Choice(("text", "json")), default="text", show_default=True)
+@click.option("--threshold", type=click.FloatRange(min=0.0), default=None,
+              help="Exit 1 when a pair's ΔE2000 (see --metric) exceeds this value.")
+@click.option("--metric", type=click.Choice(METRICS), default="mean", show_default=True,
+              help="Which preview statistic --threshold applies to.")
+@click.option("--size", type=click.IntRange(min=16, max=1024), default=128, show_default=True, help="Preview size in pixels.")
+def compare(file_a, file_b, output_format, threshold, metric, size):
+    """Print the CIEDE2000 colour difference (mean / p95 / max over the preview sphere, and the
+    mean over the directional-albedo curve) of each pair of materials in FILE_A and FILE_B.
+
+    Pairs are matched by material name, or are the single material of each file. Exposure and
+    white point: D65, an ideal white diffuser facing the key light has L* = 100.
+
+    Exit codes: 0 all pairs within --threshold (or no threshold), 1 a pair above it, 2 unreadable
+    input or nothing to compare.
+    """
+    from openpbr_tools.evaluate.preview import Rig
+    from openpbr_tools.evaluate.verify import compare_materials, pair_materials
+
+    asset_a, asset_b = _read(file_a), _read(file_b)
+    pairing = pair_materials(asset_a.materials, asset_b.materials)
+    if not pairing.pairs:
+        click.echo(f"openpbr: no materials to compare (no common names between {file_a} and {file_b})", err=True)
+        sys.exit(2)
+    rig = Rig(size=size)
+    results = [compare_materials(a, b, rig) for a, b in pairing.pairs]
+    failed = [r for r in results if threshold is not None and getattr(r.preview, metric) > threshold]
+    if output_format == "json":
+        document = {
+            "a": file_a,
+            "b": file_b,
+            "metric": metric,
+            "threshold": threshold,
+            "pairs": [dict(r.as_dict(), exceeds=r in failed) for r in results],
+            "unmatched": {"a": pairing.unmatched_a, "b": pairing.unmatched_b},
+        }
+        click.echo(json.dumps(document, indent=2))
+    else:
+        for r in results:
+            label = r.name_a if r.name_a == r.name_b else f"{r.name_a} <-> {r.name_b}"
+            flag = "  FAIL" if r in failed else ""
+            click.echo(
+                f"{label}: ΔE2000 mean {r.preview.mean:.2f}  p95 {r.preview.p95:.2f}  max {r.preview.max:.2f}"
+                f"  (albedo mean {r.albedo.mean:.2f}){flag}"
+            )
+            for note in r.notes:
+                click.echo(f"  note: {note}")
+        for name in pairing.unmatched_a:
+            click.echo(f"only in {file_a}: {name}", err=True)
+        for name in pairing.unmatched_b:
+            click.echo(f"only in {file_b}: {name}", err=True)
+    sys.exit(1 if failed else 0)

@@ -1,0 +1,136 @@
+"""Fresnel factors: exact dielectric and conductor, Schlick, F82-tint, artistic IOR.
+
+Every function takes NumPy arrays (any shape, broadcasting) of cosines between the incident or
+outgoing direction and the (micro)facet normal. Colours are arrays whose last axis is RGB; a
+cosine array of shape ``S`` combined with a colour of shape ``C + (3,)`` broadcasts as
+``cos[..., None]`` against the colour, so call the colour functions with cosines that already
+carry the trailing axis when mixing shapes.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+#: Cosine at which the F82 tint is specified: theta = 82 degrees, cos = 1/7 (Hoffman 2023).
+F82_COSINE = 1.0 / 7.0
+
+
+def fresnel_dielectric(cos_theta, eta):
+    """Unpolarised Fresnel reflectance of a smooth dielectric interface, with total internal
+    reflection.
+
+    ``cos_theta`` is the cosine of the angle of incidence (its sign is ignored) and ``eta`` the
+    relative index of refraction n_transmitted / n_incident. Returns 1 where light cannot be
+    transmitted (total internal reflection).
+
+    References: Walter, Marschner, Li, Torrance, "Microfacet Models for Refraction through Rough
+    Surfaces", EGSR 2007, eq. 22 (the exact form with g = sqrt(eta^2 + c^2 - 1)); Cook & Torrance
+    1982, "A Reflectance Model for Computer Graphics", eq. in section "Fresnel term".
+    """
+    c = np.abs(cos_theta)
+    eta = np.asarray(eta, dtype=float)
+    g2 = eta * eta + c * c - 1.0
+    tir = g2 < 0.0
+    g = np.sqrt(np.where(tir, 0.0, g2))
+    a = (g - c) / np.maximum(g + c, 1e-300)
+    b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0)
+    f = 0.5 * a * a * (1.0 + b * b)
+    return np.where(tir, 1.0, np.clip(f, 0.0, 1.0))
+
+
+def fresnel_dielectric_polarized(cos_theta, eta):
+    """s- and p-polarised Fresnel reflectances ``(Rs, Rp)`` of a smooth dielectric interface.
+
+    Computed from Snell's law and the Fresnel amplitude coefficients r_s, r_p (Born & Wolf,
+    *Principles of Optics*, 7th ed., section 1.5.2, eq. 21a/21b); total internal reflection gives
+    1 for both.
+    """
+    c = np.abs(np.asarray(cos_theta, dtype=float))
+    eta = np.asarray(eta, dtype=float)
+    sin2_t = (1.0 - c * c) / (eta * eta)
+    tir = sin2_t >= 1.0
+    cos_t = np.sqrt(np.clip(1.0 - sin2_t, 0.0, 1.0))
+    rs = (c - eta * cos_t) / (c + eta * cos_t)
+    rp = (eta * c - cos_t) / (eta * c + cos_t)
+    return np.where(tir, 1.0, rs * rs), np.where(tir, 1.0, rp * rp)
+
+
+def fresnel_conductor(cos_theta, n, k):
+    """Unpolarised Fresnel reflectance of a conductor with complex index n + ik, seen from a
+    medium of index 1.
+
+    Uses complex Snell's law and the Fresnel amplitude equations (Born & Wolf, section 14.2;
+    the same quantity as pbrt-v4 ``FrComplex``). ``n`` and ``k`` broadcast against
+    ``cos_theta`` (typically colours with a trailing RGB axis).
+    """
+    c = np.clip(np.abs(np.asarray(cos_theta, dtype=float)), 0.0, 1.0)
+    eta = np.asarray(n, dtype=float) + 1j * np.asarray(k, dtype=float)
+    sin2_i = 1.0 - c * c
+    cos_t = np.sqrt(1.0 - sin2_i / (eta * eta))
+    rs = (c - eta * cos_t) / (c + eta * cos_t)
+    rp = (eta * c - cos_t) / (eta * c + cos_t)
+    return 0.5 * (np.abs(rs) ** 2 + np.abs(rp) ** 2)
+
+
+def fresnel_schlick(cos_theta, f0, f90=1.0, exponent=5.0):
+    """Schlick's approximation F = F0 + (F90 - F0)(1 - cos)^p, generalised to any F90 and
+    exponent.
+
+    References: Schlick, "An Inexpensive BRDF Model for Physically-based Rendering",
+    Computer Graphics Forum 13(3), 1994, eq. 24; the F90/exponent generalisation is MaterialX's
+    ``generalized_schlick_bsdf`` (MaterialX PBS nodes spec, v1.39).
+    """
+    x = np.clip(1.0 - np.abs(cos_theta), 0.0, 1.0)
+    w = x**5 if np.isscalar(exponent) and exponent == 5.0 else x**exponent
+    f0 = np.asarray(f0, dtype=float)
+    return f0 + (np.asarray(f90, dtype=float) - f0) * w
+
+
+def f82_tint(cos_theta, f0, tint, f90=1.0, exponent=5.0):
+    """Conductor Fresnel with an F82 edge tint: Schlick minus a correction peaking near 82 deg.
+
+    F(mu) = F_schlick(mu) - a * mu * (1 - mu)^6 with a chosen so that at mu = 1/7,
+    F = tint * F_schlick(1/7). ``tint`` = 1 gives plain Schlick.
+
+    References: Hoffman, "Generalization of Adobe's Fresnel Model", 2023, eq. 5-7;
+    Kutz, Hasan, Edmondson, "Novel aspects of the Adobe Standard Material", 2021, section 2.2;
+    OpenPBR Surface 1.1, section "Metal" (F82-tint model).
+    """
+    mu_bar = F82_COSINE
+    f0 = np.asarray(f0, dtype=float)
+    f90 = np.asarray(f90, dtype=float)
+    schlick_bar = f0 + (f90 - f0) * (1.0 - mu_bar) ** exponent
+    a = schlick_bar * (1.0 - np.asarray(tint, dtype=float)) / (mu_bar * (1.0 - mu_bar) ** 6)
+    mu = np.clip(np.abs(cos_theta), 0.0, 1.0)
+    return fresnel_schlick(mu, f0, f90, exponent) - a * mu * (1.0 - mu) ** 6
+
+
+def ior_to_f0(eta):
+    """Normal-incidence reflectance ((eta - 1) / (eta + 1))^2 of a dielectric (Fresnel at
+    cos = 1)."""
+    eta = np.asarray(eta, dtype=float)
+    return ((eta - 1.0) / (eta + 1.0)) ** 2
+
+
+def f0_to_ior(f0):
+    """The IOR >= 1 whose normal-incidence reflectance is ``f0`` (inverse of
+    :func:`ior_to_f0`); ``f0`` is clamped below 1."""
+    s = np.sqrt(np.clip(np.asarray(f0, dtype=float), 0.0, 0.9999))
+    return (1.0 + s) / (1.0 - s)
+
+
+def artistic_ior(reflectivity, edge_color):
+    """Complex IOR (n, k) from a normal-incidence ``reflectivity`` and an ``edge_color``.
+
+    Reference: Gulbrandsen, "Artist Friendly Metallic Fresnel", JCGT 3(4), 2014, eq. 11-13
+    (n interpolated between n_min and n_max by the edge colour, k from r and n). Reflectivity is
+    clamped to [0, 0.99] as MaterialX's ``artistic_ior`` node does.
+    """
+    r = np.clip(np.asarray(reflectivity, dtype=float), 0.0, 0.99)
+    g = np.asarray(edge_color, dtype=float)
+    sqrt_r = np.sqrt(r)
+    n_min = (1.0 - r) / (1.0 + r)
+    n_max = (1.0 + sqrt_r) / (1.0 - sqrt_r)
+    n = g * n_min + (1.0 - g) * n_max
+    k2 = ((n + 1.0) ** 2 * r - (n - 1.0) ** 2) / (1.0 - r)
+    return n, np.sqrt(np.maximum(k2, 0.0))

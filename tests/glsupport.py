@@ -1,0 +1,264 @@
+"""Headless OpenGL for the tests that compare the evaluator with MaterialX's GLSL renderer.
+
+``gl_display()`` makes sure an X display is available: it uses ``$DISPLAY`` when set, otherwise
+starts ``Xvfb`` (if installed) on a free display number for the rest of the process and sets
+``DISPLAY``. ``gl_status()`` then checks, in a subprocess (a failing GL context can abort the
+process), that MaterialX's ``GlslRenderer`` can create a context. Tests call
+``require_gl()`` (or use the ``materialx_renderer`` helper), which skips with a reason naming what
+is missing; skips are listed by ``pytest -ra``.
+
+:class:`MaterialXRenderer` renders a material node of any of the four models on the same sphere,
+camera and lighting as :func:`openpbr_tools.evaluate.preview.shade_sphere` (its ``Rig``): a
+tessellated UV sphere of radius 1 (OBJ written to a temporary folder, 256 x 128 quads),
+orthographic camera looking down -z over [-extent, extent]^2, one MaterialX
+``directional_light`` (direction = -rig.key, intensity = rig.key_irradiance) and uniform
+radiance/irradiance environment maps of value rig.environment_radiance (FIS environment
+sampling, MaterialX's default), float framebuffer, no sRGB encoding. One shader is compiled per
+model; materials set its uniforms.
+"""
+
+from __future__ import annotations
+
+import atexit
+import ctypes
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+
+NODEDEFS = {
+    "open_pbr_surface": "ND_open_pbr_surface_surfaceshader",
+    "standard_surface": "ND_standard_surface_surfaceshader",
+    "gltf_pbr": "ND_gltf_pbr_surfaceshader",
+    "UsdPreviewSurface": "ND_UsdPreviewSurface_surfaceshader",
+}
+
+_xvfb: subprocess.Popen | None = None
+
+
+def _stop_xvfb() -> None:
+    global _xvfb
+    if _xvfb is not None and _xvfb.poll() is None:
+        _xvfb.terminate()
+        try:
+            _xvfb.wait(timeout=5)
+        except subprocess.TimeoutExpired:
+            _xvfb.kill()
+    _xvfb = None
+
+
+@lru_cache(maxsize=1)
+def gl_display() -> tuple[str | None, str]:
+    """``(display, how)``: the X display to use and how it was obtained, or ``(None, reason)``."""
+    global _xvfb
+    if os.environ.get("DISPLAY"):
+        return os.environ["DISPLAY"], "DISPLAY from the environment"
+    xvfb = shutil.which("Xvfb")
+    if xvfb is None:
+        return None, "DISPLAY is unset and Xvfb is not installed (apt-get install xvfb xauth libgl1-mesa-dri)"
+    for number in range(91, 200):
+        if Path(f"/tmp/.X{number}-lock").exists() or Path(f"/tmp/.X11-unix/X{number}").exists():
+            continue
+        proc = subprocess.Popen(
+            [xvfb, f":{number}", "-screen", "0", "640x480x24", "-nolisten", "tcp"],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.DEVNULL,
+        )
+        for _ in range(100):
+            if Path(f"/tmp/.X11-unix/X{number}").exists() or proc.poll() is not None:
+                break
+            time.sleep(0.05)
+        if proc.poll() is None:
+            _xvfb = proc
+            atexit.register(_stop_xvfb)
+            os.environ["DISPLAY"] = f":{number}"
+            return os.environ["DISPLAY"], f"Xvfb started on :{number}"
+    return None, "could not start Xvfb on any display :91-:199"
+
+
+_PROBE = (
+    "import MaterialX.PyMaterialXRender as mr, MaterialX.PyMaterialXRenderGlsl as rg\n"
+    "r = rg.GlslRenderer.create(8, 8, mr.BaseType.FLOAT)\n"
+    "r.initialize()\n"
+    "print('ok')\n"
+)
+
+
+@lru_cache(maxsize=1)
+def gl_status() -> tuple[bool, str]:
+    """``(available, reason)`` for an OpenGL context usable by MaterialX's GLSL renderer."""
+    display, how = gl_display()
+    if display is None:
+        return False, how
+    try:
+        import MaterialX.PyMaterialXRenderGlsl  # noqa: F401
+    except ImportError as error:
+        return False, f"MaterialX GLSL renderer bindings missing: {error}"
+    try:
+        proc = subprocess.run([sys.executable, "-c", _PROBE], capture_output=True, text=True, timeout=60, env=os.environ.copy())
+    except subprocess.TimeoutExpired:
+        return False, f"creating a GL context timed out ({how})"
+    if proc.returncode != 0 or "ok" not in proc.stdout:
+        detail = (proc.stderr or proc.stdout).strip().splitlines()[-1:] or ["no output"]
+        return False, f"no OpenGL context on {display} ({how}): {detail[0]}"
+    return True, f"OpenGL context on {display} ({how})"
+
+
+def require_gl() -> None:
+    """Skip the calling test with the reason when no GL context can be created."""
+    import pytest
+
+    ok, reason = gl_status()
+    if not ok:
+        pytest.skip(f"MaterialX GLSL reference unavailable: {reason}")
+
+
+def write_sphere_obj(path: Path, segments_u: int = 256, segments_v: int = 128) -> Path:
+    """A UV sphere of radius 1 with normals and texture coordinates (u along the longitude
+    atan2(x, z), v from the south pole), as a Wavefront OBJ."""
+    lines = []
+    for j in range(segments_v + 1):
+        theta = np.pi * j / segments_v
+        for i in range(segments_u + 1):
+            phi = 2.0 * np.pi * i / segments_u
+            x, y, z = np.sin(theta) * np.sin(phi), np.cos(theta), np.sin(theta) * np.cos(phi)
+            lines.append(f"v {x:.8f} {y:.8f} {z:.8f}")
+            lines.append(f"vn {x:.8f} {y:.8f} {z:.8f}")
+            lines.append(f"vt {i / segments_u:.8f} {1.0 - j / segments_v:.8f}")
+    for j in range(segments_v):
+        for i in range(segments_u):
+            a = j * (segments_u + 1) + i + 1
+            b, c = a + 1, a + segments_u + 1
+            d = c + 1
+            lines.append(f"f {a}/{a}/{a} {c}/{c}/{c} {d}/{d}/{d}")
+            lines.append(f"f {a}/{a}/{a} {d}/{d}/{d} {b}/{b}/{b}")
+    path.write_text("\n".join(lines) + "\n")
+    return path
+
+
+class MaterialXRenderer:
+    """MaterialX GLSL rendering of single materials under a preview ``Rig``."""
+
+    def __init__(self, rig):
+        import MaterialX as mx
+        import MaterialX.PyMaterialXGenGlsl as gg
+        import MaterialX.PyMaterialXGenShader as gs
+        import MaterialX.PyMaterialXRender as mr
+        import MaterialX.PyMaterialXRenderGlsl as rg
+
+        self.mx, self.mr = mx, mr
+        self.rig = rig
+        self.library = mx.createDocument()
+        search_path = mx.getDefaultDataSearchPath()
+        mx.loadLibraries(mx.getDefaultDataLibraryFolders(), search_path, self.library)
+        self.generator = gg.GlslShaderGenerator.create()
+        self.context = gs.GenContext(self.generator)
+        self.context.registerSourceCodeSearchPath(search_path)
+        options = self.context.getOptions()
+        options.hwMaxActiveLightSources = 1
+        options.hwSrgbEncodeOutput = False
+        options.hwSpecularEnvironmentMethod = gs.HwSpecularEnvironmentMethod.SPECULAR_ENVIRONMENT_FIS
+        self.renderer = rg.GlslRenderer.create(rig.size, rig.size, mr.BaseType.FLOAT)
+        self.renderer.initialize()
+        self.renderer.setImageHandler(rg.GLTextureHandler.create(mr.StbImageLoader.create()))
+        self._light_doc = mx.createDocument()
+        self._light_doc.importLibrary(self.library)
+        light = self._light_doc.addNode("directional_light", "key", "lightshader")
+        d = -np.asarray(rig.key, dtype=float)
+        light.setInputValue("direction", mx.Vector3(float(d[0]), float(d[1]), float(d[2])))
+        light.setInputValue("color", mx.Color3(1.0, 1.0, 1.0))
+        light.setInputValue("intensity", float(rig.key_irradiance))
+        handler = mr.LightHandler.create()
+        handler.registerLights(self._light_doc, [light], self.context)
+        handler.setLightSources([light])
+        e = float(rig.environment_radiance)
+        self._environment = mr.createUniformImage(64, 32, 4, mr.BaseType.FLOAT, mx.Color4(e, e, e, 1.0))
+        handler.setEnvRadianceMap(self._environment)
+        handler.setEnvIrradianceMap(self._environment)
+        handler.setDirectLighting(True)
+        handler.setIndirectLighting(True)
+        self.renderer.setLightHandler(handler)
+        self._tmp = Path(tempfile.mkdtemp(prefix="openpbr-gl-"))
+        atexit.register(shutil.rmtree, self._tmp, True)
+        geometry = self.renderer.getGeometryHandler()
+        geometry.addLoader(mr.TinyObjLoader.create())
+        geometry.clearGeometry()
+        geometry.loadGeometry(mx.FilePath(str(write_sphere_obj(self._tmp / "sphere.obj"))), False)
+        camera = self.renderer.getCamera()
+        camera.setWorldMatrix(mx.Matrix44.IDENTITY)
+        camera.setViewMatrix(mr.Camera.createViewMatrix(mx.Vector3(0, 0, 50), mx.Vector3(0, 0, 0), mx.Vector3(0, 1, 0)))
+        ex = float(rig.extent)
+        camera.setProjectionMatrix(mr.Camera.createOrthographicMatrix(-ex, ex, -ex, ex, 1.0, 100.0))
+        self._documents = {}
+        self._current = None
+
+    def _program(self, model: str):
+        mx = self.mx
+        if self._current == model:
+            return self._documents[model][1]
+        if model not in self._documents:
+            doc = mx.createDocument()
+            doc.importLibrary(self.library)
+            node = doc.addNodeInstance(doc.getNodeDef(NODEDEFS[model]), "SR_preview")
+            self._documents[model] = (doc, node, self.generator.generate(f"preview_{model}", node, self.context))
+        doc, node, shader = self._documents[model]
+        self.renderer.createProgram(shader)
+        self._current = model
+        return node
+
+    def _uniform(self, nodedef, name, value):
+        mx = self.mx
+        kind = nodedef.getActiveInput(name).getType()
+        if kind == "color3":
+            v = [float(x) for x in np.broadcast_to(np.asarray(value, dtype=float), (3,))]
+            return mx.TypedValue_color3.createValue(mx.Color3(*v))
+        if kind == "float":
+            return mx.TypedValue_float.createValue(float(value))
+        if kind == "integer":
+            return mx.TypedValue_integer.createValue(int(value))
+        if kind == "boolean":
+            return mx.TypedValue_boolean.createValue(bool(value))
+        raise TypeError(f"unsupported uniform type {kind} for {name}")
+
+    def render(self, model: str, values: dict) -> np.ndarray:
+        """Render ``model`` with ``values`` (linear numbers; unset inputs keep the nodedef
+        defaults); returns linear RGB, shape (size, size, 3), row 0 at the top."""
+        self._program(model)
+        nodedef = self.library.getNodeDef(NODEDEFS[model])
+        for inp in nodedef.getActiveInputs():
+            if inp.hasDefaultGeomPropString() or inp.getType() not in ("float", "color3", "integer", "boolean"):
+                continue
+            value = values[inp.getName()] if inp.getName() in values else inp.getValue()
+            if value is None:
+                continue
+            if inp.getType() == "color3" and hasattr(value, "asTuple"):
+                value = value.asTuple()
+            self.renderer.updateUniform(inp.getName(), self._uniform(nodedef, inp.getName(), value))
+        self.renderer.render()
+        image = self.renderer.captureImage(None)
+        h, w, c = image.getHeight(), image.getWidth(), image.getChannelCount()
+        buffer = (ctypes.c_float * (h * w * c)).from_address(image.getResourceBuffer())
+        pixels = np.ctypeslib.as_array(buffer).reshape(h, w, c).copy()
+        return pixels[::-1, :, :3].astype(float)
+
+
+@lru_cache(maxsize=2)
+def materialx_renderer(rig) -> MaterialXRenderer:
+    """A shared renderer for ``rig`` (skips the calling test when GL is unavailable)."""
+    require_gl()
+    return MaterialXRenderer(rig)
+
+
+def comparison_mask(rig, radius: float = 0.96) -> np.ndarray:
+    """Pixels whose centre lies within ``radius`` of the sphere's outline centre: the
+    silhouette band is excluded because the tessellated outline differs from the analytic one."""
+    n = rig.size
+    c = -rig.extent + (np.arange(n) + 0.5) * (2.0 * rig.extent / n)
+    x, y = np.meshgrid(c, -c)
+    return x * x + y * y < radius * radius

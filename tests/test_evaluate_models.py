@@ -1,0 +1,188 @@
+"""Model behaviours the specifications state in closed form, checked at normal incidence on
+near-mirror or black configurations where the albedo is the Fresnel factor itself."""
+
+import numpy as np
+import pytest
+
+from openpbr_tools.evaluate import build_model
+from openpbr_tools.evaluate.openpbr import openpbr_anisotropy
+
+NORMAL = np.array([0.0, 0.0, 1.0])
+
+
+def albedo_at_normal(model, values):
+    return build_model(model, values).albedo(NORMAL).total
+
+
+# ---------------------------------------------------------------- OpenPBR 1.1.1
+
+
+def test_openpbr_specular_weight_scales_the_dielectric_f0():
+    """OpenPBR 1.1.1: the modulated IOR gives F0 = specular_weight * F0(specular_ior)."""
+    values = {"base_color": [0, 0, 0], "specular_roughness": 0.0, "specular_ior": 1.5, "specular_weight": 0.5}
+    f0 = 0.5 * ((1.5 - 1) / (1.5 + 1)) ** 2
+    np.testing.assert_allclose(albedo_at_normal("open_pbr_surface", values), f0, rtol=2e-3)
+
+
+@pytest.mark.parametrize("ior", [1.33, 1.5, 2.0])
+def test_openpbr_smooth_dielectric_reflects_the_exact_fresnel_factor_at_every_angle(ior):
+    from test_evaluate_fresnel import snell_fresnel
+
+    model = build_model("open_pbr_surface", {"base_color": [0, 0, 0], "specular_roughness": 0.0, "specular_ior": ior})
+    mu = np.linspace(0.1, 1.0, 19)  # up to 84 degrees; closer to grazing the tables interpolate
+    wo = np.stack([np.sqrt(1 - mu * mu), np.zeros_like(mu), mu], -1)
+    np.testing.assert_allclose(model.albedo(wo).total[:, 0], snell_fresnel(mu, 1.0, ior), atol=2e-3)
+
+
+def test_openpbr_specular_weight_zero_leaves_no_reflection():
+    values = {"base_color": [0, 0, 0], "specular_weight": 0.0}
+    np.testing.assert_allclose(albedo_at_normal("open_pbr_surface", values), 0.0, atol=1e-9)
+
+
+def test_openpbr_specular_color_tints_dielectric_reflection():
+    values = {"base_color": [0, 0, 0], "specular_roughness": 0.0, "specular_color": [1.0, 0.5, 0.25]}
+    np.testing.assert_allclose(albedo_at_normal("open_pbr_surface", values), 0.04 * np.array([1.0, 0.5, 0.25]), rtol=2e-3)
+
+
+def test_openpbr_smooth_metal_reflects_its_base_color_at_normal_incidence():
+    colour = np.array([0.95, 0.64, 0.54])
+    values = {"base_metalness": 1.0, "base_color": colour, "specular_roughness": 0.0, "specular_color": [0.3, 0.6, 0.9]}
+    np.testing.assert_allclose(albedo_at_normal("open_pbr_surface", values), colour, rtol=2e-3)
+
+
+def test_openpbr_metal_edge_tint_is_not_scaled_by_specular_weight_in_1_1_1():
+    base = {"base_metalness": 1.0, "base_color": [0.9, 0.9, 0.9], "specular_roughness": 0.0, "specular_color": [0.5, 0.5, 0.5]}
+    grazing = np.array([np.sqrt(1 - (1 / 7) ** 2), 0.0, 1 / 7])
+    full = build_model("open_pbr_surface", base).albedo(grazing).total
+    half = build_model("open_pbr_surface", dict(base, specular_weight=0.5)).albedo(grazing).total
+    np.testing.assert_allclose(half, 0.5 * full, rtol=1e-6)  # the weight scales the lobe, not the tint
+
+
+def test_openpbr_anisotropy_mapping():
+    r, a = 0.6, 0.5
+    alpha_t = r * r * np.sqrt(2 / (1 + (1 - a) ** 2))
+    np.testing.assert_allclose(openpbr_anisotropy(r, a), (alpha_t, (1 - a) * alpha_t))
+    np.testing.assert_allclose(openpbr_anisotropy(r, 0.0), (r * r, r * r))
+
+
+def test_openpbr_coat_darkening_follows_the_spec_formula():
+    """Base darkening (1 - K) / (1 - E_base K), K = 1 - (1 - F0_coat) / coat_ior^2, for a white
+    Lambertian base under a clear, non-reflecting-at-normal... coat: compare coated base albedo
+    with darkening on and off at normal incidence."""
+    base = {"base_color": [0.6, 0.6, 0.6], "specular_weight": 0.0, "coat_weight": 1.0, "coat_roughness": 0.0, "coat_ior": 1.6}
+    on = albedo_at_normal("open_pbr_surface", dict(base, coat_darkening=1.0))
+    off = albedo_at_normal("open_pbr_surface", dict(base, coat_darkening=0.0))
+    f0 = ((1.6 - 1) / 2.6) ** 2
+    k = 1 - (1 - f0) / 1.6**2
+    darkening = (1 - k) / (1 - 0.6 * k)
+    np.testing.assert_allclose(on - f0, (off - f0) * darkening, rtol=2e-3)
+
+
+def test_openpbr_coat_color_absorbs_the_base_but_not_the_coat_reflection():
+    base = {"base_color": [1, 1, 1], "specular_weight": 0.0, "coat_weight": 1.0, "coat_roughness": 0.0, "coat_darkening": 0.0}
+    tinted = albedo_at_normal("open_pbr_surface", dict(base, coat_color=[1.0, 0.5, 0.0]))
+    f0 = ((1.6 - 1) / 2.6) ** 2
+    np.testing.assert_allclose(tinted, f0 + (1 - f0) * np.array([1.0, 0.5, 0.0]), rtol=2e-3)
+
+
+def test_openpbr_emission_is_luminance_times_colour_and_dimmed_by_a_coat():
+    values = {"emission_luminance": 2.0, "emission_color": [1.0, 0.5, 0.25]}
+    np.testing.assert_allclose(build_model("open_pbr_surface", values).emission(NORMAL), [2.0, 1.0, 0.5])
+    coated = build_model("open_pbr_surface", dict(values, coat_weight=1.0, coat_color=[0.5, 1, 1])).emission(NORMAL)
+    f0 = ((1.6 - 1) / 2.6) ** 2
+    np.testing.assert_allclose(coated, np.array([2.0, 1.0, 0.5]) * [0.5, 1, 1] * (1 - f0))
+
+
+def test_openpbr_fuzz_over_black_reflects_the_zeltner_albedo():
+    from openpbr_tools.evaluate.sheen import zeltner_sheen_albedo
+
+    values = {"base_color": [0, 0, 0], "specular_weight": 0.0, "fuzz_weight": 1.0, "fuzz_color": [1.0, 0.5, 0.2], "fuzz_roughness": 0.4}
+    np.testing.assert_allclose(albedo_at_normal("open_pbr_surface", values), zeltner_sheen_albedo(1.0, 0.4) * np.array([1, 0.5, 0.2]))
+
+
+def test_openpbr_opacity_is_the_coverage():
+    assert build_model("open_pbr_surface", {"geometry_opacity": 0.3}).opacity == pytest.approx(0.3)
+
+
+def test_openpbr_transmission_depth_turns_the_colour_into_absorption():
+    model = build_model("open_pbr_surface", {"transmission_weight": 1.0, "transmission_color": [0.5, 0.25, 1.0], "transmission_depth": 2.0})
+    # Beer-Lambert: after transmission_depth the light has the transmission colour.
+    np.testing.assert_allclose(np.exp(-model.volume_absorption * 2.0), [0.5, 0.25, 1.0], rtol=1e-9)
+
+
+# ---------------------------------------------------------------- glTF
+
+
+def test_gltf_specular_extension_sets_f0():
+    values = {"metallic": 0.0, "base_color": [0, 0, 0], "roughness": 0.0, "ior": 1.5, "specular": 0.5, "specular_color": [1.0, 0.5, 0.2]}
+    expected = 0.04 * np.array([1.0, 0.5, 0.2]) * 0.5
+    np.testing.assert_allclose(albedo_at_normal("gltf_pbr", values), expected, rtol=2e-3)
+
+
+def test_gltf_clearcoat_reflects_four_percent_at_normal_incidence():
+    values = {"metallic": 0.0, "base_color": [0, 0, 0], "specular": 0.0, "clearcoat": 1.0, "clearcoat_roughness": 0.0}
+    np.testing.assert_allclose(albedo_at_normal("gltf_pbr", values), 0.04, rtol=2e-3)
+
+
+def test_gltf_emission_strength_multiplies_emissive():
+    model = build_model("gltf_pbr", {"emissive": [1.0, 0.5, 0.0], "emissive_strength": 4.0})
+    np.testing.assert_allclose(model.emission(NORMAL), [4.0, 2.0, 0.0])
+
+
+@pytest.mark.parametrize("mode,alpha,expected", [(0, 0.2, 1.0), (1, 0.4, 0.0), (1, 0.6, 1.0), (2, 0.3, 0.3)])
+def test_gltf_alpha_modes(mode, alpha, expected):
+    model = build_model("gltf_pbr", {"alpha_mode": mode, "alpha": alpha, "alpha_cutoff": 0.5})
+    assert float(model.opacity) == pytest.approx(expected)
+
+
+def test_gltf_smooth_metal_reflects_its_base_color():
+    np.testing.assert_allclose(
+        albedo_at_normal("gltf_pbr", {"metallic": 1.0, "base_color": [1.0, 0.77, 0.34], "roughness": 0.0}), [1.0, 0.77, 0.34], rtol=2e-3
+    )
+
+
+# ---------------------------------------------------------------- UsdPreviewSurface
+
+
+def test_usd_metallic_workflow_interpolates_f0_and_diffuse():
+    values = {"diffuseColor": [1.0, 0.0, 0.0], "metallic": 0.5, "roughness": 0.0, "ior": 1.5}
+    f0 = 0.04 + (np.array([1.0, 0.0, 0.0]) - 0.04) * 0.5
+    # Specular F0 plus the diffuse (weight 1 - metallic) under it.
+    expected = f0 + (1 - np.mean(f0)) * 0.5 * np.array([1.0, 0.0, 0.0])
+    np.testing.assert_allclose(albedo_at_normal("UsdPreviewSurface", values), expected, rtol=3e-3)
+
+
+def test_usd_specular_workflow_uses_specular_color_as_f0():
+    values = {"useSpecularWorkflow": 1, "diffuseColor": [0, 0, 0], "specularColor": [0.5, 0.3, 0.1], "roughness": 0.0}
+    np.testing.assert_allclose(albedo_at_normal("UsdPreviewSurface", values), [0.5, 0.3, 0.1], rtol=2e-3)
+
+
+def test_usd_opacity_threshold_cuts_out():
+    assert float(build_model("UsdPreviewSurface", {"opacity": 0.3, "opacityThreshold": 0.5}).opacity) == 0.0
+    assert float(build_model("UsdPreviewSurface", {"opacity": 0.7, "opacityThreshold": 0.5}).opacity) == 1.0
+
+
+# ---------------------------------------------------------------- Standard Surface
+
+
+def test_standard_surface_coat_affect_color_raises_the_base_colour_to_a_power():
+    values = {"base_color": [0.5, 0.5, 0.5], "specular": 0.0, "coat": 1.0, "coat_IOR": 1.0, "coat_affect_color": 1.0}
+    np.testing.assert_allclose(albedo_at_normal("standard_surface", values), 0.5**2, rtol=2e-3)
+
+
+def test_standard_surface_thin_film_colours_the_specular_reflection():
+    plain = albedo_at_normal("standard_surface", {"base_color": [0, 0, 0], "specular_roughness": 0.2})
+    film = albedo_at_normal("standard_surface", {"base_color": [0, 0, 0], "specular_roughness": 0.2, "thin_film_thickness": 400.0, "thin_film_IOR": 1.4})
+    assert np.ptp(plain) < 1e-9
+    assert np.ptp(film) > 0.01
+
+
+def test_models_evaluate_from_a_material():
+    from openpbr_tools.evaluate import model_for_material
+    from openpbr_tools.model import Constant, Input, Location, Material
+
+    loc = Location("memory.mtlx")
+    material = Material("m", "open_pbr_surface", loc, {"base_metalness": Input("base_metalness", "float", Constant(1.0), loc)})
+    model, resolved = model_for_material(material)
+    assert resolved.values["base_metalness"] == 1.0
+    assert model.evaluate(np.array([[0.0, 0.6, 0.8]]), np.array([[0.0, -0.6, 0.8]])).shape == (1, 3)
