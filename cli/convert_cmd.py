@@ -23,12 +23,16 @@ MODELS = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface
               help="Nits one unit of a unitless emission weight stands for (MaterialX's reference renders 1).")
 @click.option("--allow-outside", multiple=True, type=click.Path(file_okay=False),
               help="A folder outside the input's from which textures may be read or embedded (repeatable).")
+@click.option("--verify", is_flag=True, help="Render original and result with the lobe evaluator and report CIEDE2000.")
+@click.option("--threshold", type=click.FloatRange(min=0), default=2.0, show_default=True,
+              help="With --verify: warn when a material's mean CIEDE2000 exceeds this.")
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT if it exists.")
 @click.option("--format", "output_format", type=click.Choice(FORMATS), default="text", show_default=True,
               help="Format of the loss report.")
 @click.option("--fail-on", type=click.Choice(SEVERITIES + ("never",)), default="never", show_default=True,
               callback=_severity, help="Exit 1 when a report entry reaches this severity (error: something was dropped).")
-def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, force, output_format, fail_on):
+def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, verify, threshold, force, output_format,
+            fail_on):
     """Convert every material of INPUT (.mtlx, USD, glTF) and write OUTPUT; the report lists every
     conversion, approximation and loss.
 
@@ -60,6 +64,10 @@ def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, forc
         sys.exit(2)
     except ValueError as error:
         raise click.UsageError(str(error)) from None
+    if verify:
+        from openpbr_tools.translate.convert import verify as verify_conversion
+
+        result.diagnostics = sorted(result.diagnostics + verify_conversion(result, threshold), key=Diagnostic.sort_key)
     report = Report(files=[FileResult(input_path, result.diagnostics, materials=len(result.pairs))])
     click.echo(render(report, output_format, fail_on), nl=False)
     click.echo(f"wrote {output} ({len(result.pairs)} material(s))", err=True)

@@ -114,3 +114,20 @@ def test_gltf_round_trip_back_to_openpbr_mtlx(tmp_path):
     # 2 cm in the source became 0.02 m in glTF and comes back as 0.02, now labelled metres
     depth = material.inputs["transmission_depth"]
     assert depth.constant == pytest.approx(0.02, rel=1e-6) and (depth.unit, depth.unittype) == ("meter", "distance")
+
+
+def test_verify_reports_delta_e_per_material(tmp_path):
+    out = tmp_path / "paint.mtlx"
+    result = run("convert", SAMPLES / "car_paint.mtlx", "-o", out, "--to", "standard_surface", "--verify",
+                 "--format", "json")
+    verified = [d for d in json.loads(result.stdout)["diagnostics"] if d["code"] in ("OPBR1108", "OPBR1109")]
+    assert len(verified) == 1 and "CIEDE2000 mean" in verified[0]["message"]
+
+
+def test_verify_flags_a_lossy_conversion_above_the_threshold(tmp_path):
+    # A thick green glass has no transmission in UsdPreviewSurface: it cannot look the same.
+    out = tmp_path / "glass.mtlx"
+    result = run("convert", SAMPLES / "tinted_glass.mtlx", "-o", out, "--to", "UsdPreviewSurface", "--verify",
+                 "--threshold", "1", "--format", "json")
+    codes = [d["code"] for d in json.loads(result.stdout)["diagnostics"]]
+    assert "OPBR1109" in codes

@@ -45,6 +45,7 @@ def random_openpbr(rng) -> dict:
         fuzz_weight=rng.uniform(0, 1), fuzz_color=colour(), fuzz_roughness=rng.uniform(0, 1),
         coat_weight=rng.uniform(0, 1), coat_color=colour(), coat_roughness=rng.uniform(0.05, 0.5),
         coat_roughness_anisotropy=rng.uniform(0, 0.9), coat_ior=rng.uniform(1.3, 2.0),
+        coat_darkening=0.0,  # darkening is folded into the base colour (tested on its own below)
         thin_film_weight=1.0, thin_film_thickness=rng.uniform(0.1, 1.0), thin_film_ior=rng.uniform(1.2, 2.0),
         emission_luminance=rng.uniform(0, 100), emission_color=colour(),
         geometry_opacity=rng.uniform(0.1, 1), geometry_thin_walled=bool(rng.integers(0, 2)),
@@ -54,7 +55,7 @@ def random_openpbr(rng) -> dict:
 # What each intermediate model can represent of OpenPBR (the rest is reported as approximated or dropped).
 REPRESENTABLE_IN = {
     "standard_surface": [n for n in tables.table("open_pbr_surface").parameters
-                         if n not in ("coat_darkening", "geometry_coat_tangent", "geometry_normal", "geometry_tangent",
+                         if n not in ( "geometry_coat_tangent", "geometry_normal", "geometry_tangent",
                                       "geometry_coat_normal", "transmission_dispersion_scale",
                                       "transmission_dispersion_abbe_number")],
     "gltf_pbr": ["base_metalness", "specular_ior", "transmission_weight", "coat_weight", "coat_roughness",
@@ -254,3 +255,17 @@ def test_gltf_volume_keeps_attenuation_and_reports_the_shared_tint():
     np.testing.assert_allclose(value(openpbr.material, "transmission_color"), (0.2, 0.6, 0.3))
     assert float(value(openpbr.material, "transmission_depth")) == pytest.approx(25.0)  # 0.25 m in centimetres
     assert float(value(openpbr.material, "geometry_thin_walled")) == 0.0
+
+
+def test_coat_darkening_is_folded_into_the_base_colour():
+    # OpenPBR spec, "Coat" (darkening): base albedo E_b under a coat of IOR n_c is scaled by
+    # (1 - K) / (1 - E_b K), K = 1 - (1 - F0(n_c)) / n_c^2, blended by coat weight (and coat_darkening).
+    base, n_c, w = np.array([0.6, 0.3, 0.1]), 1.5, 0.75
+    f0 = ((n_c - 1) / (n_c + 1)) ** 2
+    k = 1 - (1 - f0) / n_c ** 2
+    expected = base * (1 + ((1 - k) / (1 - base * k) - 1) * w)
+    source = material("open_pbr_surface", base_color=tuple(base), coat_weight=w, coat_ior=n_c)
+    for target, name in (("standard_surface", "base_color"), ("gltf_pbr", "base_color")):
+        np.testing.assert_allclose(value(convert(source, target).material, name), expected, rtol=1e-9)
+    ss_back = convert(convert(source, "standard_surface").material, "open_pbr_surface").material
+    assert float(value(ss_back, "coat_darkening")) == 0.0  # the same look: no second darkening

@@ -57,7 +57,24 @@ LOOK_CHANGED = Rule(
     passing="", failing="", formats=(),
 )
 
-RULES = (RENAMED, CONVERTED, APPROXIMATED, NOT_CARRIED, DEFAULT_PINNED, GRAPH_INSERTED, LOOK_CHANGED)
+VERIFIED = Rule(
+    "OPBR1108", "verified", Severity.INFO,
+    "`convert --verify`: the colour difference between the original and the converted material.",
+    "Both materials are rendered by the toolkit's lobe evaluator on the same lit sphere; the message "
+    "gives CIEDE2000 mean, 95th percentile and maximum over the sphere's pixels. Textured inputs are "
+    "evaluated at their fallback or default value.",
+    passing="", failing="", formats=(),
+)
+VERIFY_THRESHOLD = Rule(
+    "OPBR1109", "verify-above-threshold", Severity.WARNING,
+    "`convert --verify`: the converted material differs visibly from the original.",
+    "The mean CIEDE2000 over the preview sphere is above --threshold (default 2, about the smallest "
+    "difference a viewer notices side by side). The other entries of the report say what was approximated.",
+    passing="", failing="", formats=(),
+)
+
+RULES = (RENAMED, CONVERTED, APPROXIMATED, NOT_CARRIED, DEFAULT_PINNED, GRAPH_INSERTED, LOOK_CHANGED,
+         VERIFIED, VERIFY_THRESHOLD)
 
 
 def check(asset, context):

@@ -176,7 +176,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             continue
         source_name = textured[0]
         entry = material.inputs[source_name]
-        if isinstance(entry.value, Texture) and mapping.formula is None and len(mapping.sources) == 1:
+        if isinstance(entry.value, Texture) and len(textured) == 1 and _is_identity(mapping, source_name, values):
             carried = copy.deepcopy(entry)
             carried.name, carried.type = mapping.target, parameter.type
             carried.location = entry.location
@@ -198,6 +198,26 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     return Translation(result, report, material)
 
 
+def _is_identity(mapping: Mapping, textured: str, values: Values) -> bool:
+    """Whether ``mapping``, with its other sources at their constant values, copies ``textured``:
+    then a texture passes through unchanged. Checked by evaluating the formula on probe values."""
+    if mapping.formula is None:
+        return len(mapping.sources) == 1
+    others = {name: values.constant(name) for name in mapping.sources if name != textured}
+    if any(v is None for v in others.values()):
+        return False
+    parameter = values.table.get(textured)
+    width = 3 if parameter is not None and parameter.type in ("color3", "vector3") else 1
+    for probe in (0.0, 0.2, 0.55, 1.0):
+        sample = np.full(width, probe) if width > 1 else np.asarray(probe)
+        arguments = [sample if name == textured else others[name] for name in mapping.sources]
+        with np.errstate(all="ignore"):
+            produced = np.asarray(mapping.formula(*arguments), dtype=np.float64)
+        if produced.shape != sample.shape or not np.allclose(produced, sample, atol=1e-9):
+            return False
+    return True
+
+
 def _constant_input(material: Material, mapping: Mapping, value, type_name: str) -> Input:
     source = material.inputs.get(mapping.sources[0])
     location = source.location if source is not None else material.location.with_input(mapping.target)
@@ -207,6 +227,24 @@ def _constant_input(material: Material, mapping: Mapping, value, type_name: str)
         unit=source.unit if source is not None and source.unit else None,
         unittype=source.unittype if source is not None and source.unittype else None,
     )
+
+
+def coat_darkening_factor(base_color, metalness, specular_weight, subsurface_weight, subsurface_color,
+                          coat_weight, coat_darkening, coat_ior):
+    """The view-independent darkening OpenPBR applies to the base under a coat (internal reflection at
+    the coat's top; OpenPBR spec, "Coat", and MaterialX's open_pbr_surface graph):
+    K = 1 - (1 - F0(n_c)) / n_c^2, factor = (1 - K) / (1 - E_base K), blended by coat weight x darkening."""
+    f0 = ((coat_ior - 1.0) / (coat_ior + 1.0)) ** 2
+    k = 1.0 - (1.0 - f0) / (coat_ior * coat_ior)
+    dielectric = base_color + subsurface_weight * (subsurface_color - base_color)
+    metal = base_color * specular_weight
+    e_base = dielectric + metalness * (metal - dielectric)
+    factor = (1.0 - k) / (1.0 - e_base * k)
+    return 1.0 + (factor - 1.0) * coat_weight * coat_darkening
+
+
+DARKENING_SOURCES = ("base_metalness", "specular_weight", "subsurface_weight", "subsurface_color", "coat_weight",
+                     "coat_darkening", "coat_ior")
 
 
 def differs(value, reference) -> bool:

@@ -227,3 +227,24 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside)
     except ImportError:
         raise ValueError("glTF output needs the glTF writer, which this installation lacks") from None
     return write_gltf(result.materials, output_path, mesh=mesh, allow_outside=allow_outside, source=asset) or []
+
+
+def verify(conversion: Conversion, threshold: float = 2.0, context=None) -> list[Diagnostic]:
+    """CIEDE2000 between each source material and its conversion, rendered by the lobe evaluator.
+
+    Colours are compared in each material's own colour space converted to linear Rec.709, so a
+    glTF result (linear Rec.709 factors) and an ACEScg source are compared fairly."""
+    from ..evaluate.verify import compare_materials
+    from ..rules import Context
+    from ..rules.translation import VERIFIED, VERIFY_THRESHOLD
+
+    context = context or Context()
+    found = []
+    for source, result in conversion.pairs:
+        comparison = compare_materials(source, result)
+        delta = comparison.preview
+        message = (f"{source.name}: {source.model} -> {result.model}, CIEDE2000 mean {delta.mean:.2f}, "
+                   f"p95 {delta.p95:.2f}, max {delta.max:.2f} (lit sphere)")
+        rule = VERIFY_THRESHOLD if delta.mean > threshold else VERIFIED
+        found.append(context.diagnostic(rule, message, source.location))
+    return found

@@ -21,11 +21,14 @@ Approximated (reported when visible):
   * glTF tints transmission with the base colour; OpenPBR has ``transmission_color``. A partly
     transmissive material gets a base colour mixed between its diffuse and transmission colours;
   * with ``transmission_depth`` > 0 the volume (KHR_materials_volume) gets attenuation colour and
-    distance, and a thickness of one attenuation distance (glTF's thickness is the mesh's, unknown here);
+    distance, and a thickness of one scene unit (glTF's thickness is the mesh's, unknown here; one
+    unit is the path MaterialX's reference renders OpenPBR's absorption over);
   * ``specular_weight``/``specular_color`` as KHR_materials_specular agree at normal incidence;
     towards grazing angles glTF reaches ``specular`` untinted, OpenPBR the tinted Fresnel;
-  * a metal's F82 edge tint, the coat's colour, IOR (glTF fixes 1.5) and darkening, subsurface
-    (folded into the base colour), fuzz as sheen (colour times weight; roughness copied).
+  * a metal's F82 edge tint, the coat's colour and IOR (glTF fixes 1.5), subsurface (folded into the
+    base colour), fuzz as sheen (colour times weight; roughness copied). OpenPBR's darkening of the
+    base under a coat is folded into the base colour (its view-independent factor); coming back,
+    ``coat_darkening`` is 0.
 """
 
 from __future__ import annotations
@@ -33,7 +36,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import Material
-from .common import Dropped, Mapping, Settings, Translation, differs, translate
+from .common import Dropped, Mapping, Settings, Translation, coat_darkening_factor, differs, translate
 
 WHITE = np.ones(3)
 
@@ -71,14 +74,17 @@ def openpbr_anisotropy(r_g, s):
         return np.where(alpha_t > 0, 1.0 - alpha_b / np.where(alpha_t > 0, alpha_t, 1.0), 0.0)
 
 
-def gltf_base_color(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color):
+def gltf_base_color(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color,
+                    metalness=0.0, specular_weight=1.0, coat_weight=0.0, coat_darkening=0.0, coat_ior=1.5):
+    color = color * coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color,
+                                          coat_weight, coat_darkening, coat_ior)
     diffuse = weight * color
     diffuse = diffuse + subsurface * (weight * subsurface_color - diffuse)
     tint = np.where(depth > 0, WHITE, transmission_color)
     return diffuse + transmission * (tint - diffuse)
 
 
-def _base_color_matters(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color):
+def _base_color_matters(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color, *coat):
     mixed_transmission = 0 < transmission < 1 and (depth > 0 or differs(transmission_color, weight * color))
     full_volume = transmission >= 1 and depth > 0 and differs(color, WHITE)
     return bool(subsurface > 0 or mixed_transmission or full_volume)
@@ -102,7 +108,8 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
     base_sources = ("base_weight", "base_color", "transmission_weight", "transmission_color", "transmission_depth",
-                    "subsurface_weight", "subsurface_color")
+                    "subsurface_weight", "subsurface_color", "base_metalness", "specular_weight", "coat_weight",
+                    "coat_darkening", "coat_ior")
     return (
         Mapping("base_color", base_sources, gltf_base_color, exact=False, matters=_base_color_matters,
                 note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed"),
@@ -121,9 +128,11 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
         Mapping("attenuation_color", ("transmission_color", "transmission_depth"), lambda c, d: np.where(d > 0, c, WHITE)),
         Mapping("attenuation_distance", ("transmission_depth",), lambda d: np.where(d > 0, d * mpu, np.inf),
                 converted=f"scene units to metres at {mpu:g} m per unit"),
-        Mapping("thickness", ("transmission_depth", "geometry_thin_walled"), lambda d, thin: np.where(thin > 0.5, 0.0, d * mpu),
+        Mapping("thickness", ("transmission_depth", "geometry_thin_walled"),
+                lambda d, thin: np.where((thin > 0.5) | (d <= 0), 0.0, mpu),
                 exact=False, matters=lambda d, thin: d > 0 and thin < 0.5,
-                note="glTF's volume thickness is the mesh's; set to one attenuation distance"),
+                note="glTF's volume thickness is the mesh's; set to one scene unit, the path MaterialX's "
+                     "reference renders OpenPBR's absorption over"),
         Mapping("dispersion", ("transmission_dispersion_scale", "transmission_dispersion_abbe_number"),
                 lambda s, v: np.where(v > 0, 20.0 * s / np.where(v > 0, v, 1.0), 0.0),
                 converted="KHR_materials_dispersion = 20 * scale / Abbe number"),
@@ -152,8 +161,6 @@ DROPPED_TO_GLTF = (
     Dropped("coat_color", "glTF's clearcoat is colourless", matters=lambda c, w: w > 0 and differs(c, WHITE),
             needs=("coat_weight",)),
     Dropped("coat_ior", "glTF's clearcoat IOR is fixed at 1.5", matters=lambda n, w: w > 0 and abs(n - 1.5) > 1e-6,
-            needs=("coat_weight",)),
-    Dropped("coat_darkening", "glTF does not darken under a clearcoat", matters=lambda d, w: d > 0 and w > 0,
             needs=("coat_weight",)),
     Dropped("coat_roughness_anisotropy", "glTF's clearcoat is isotropic", matters=lambda a, w: a > 0 and w > 0,
             needs=("coat_weight",)),

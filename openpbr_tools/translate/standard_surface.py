@@ -25,7 +25,9 @@ Approximated (reported when the values make it visible):
   * OpenPBR roughens the base under a coat and darkens it by internal reflection on its own;
     Standard Surface has ``coat_affect_roughness`` and ``coat_affect_color``. Going to Standard
     Surface, ``coat_affect_roughness`` is solved so the roughened base roughness matches OpenPBR's
-    (spec: r_b = min(1, (r^4 + 2 r_c^4)^(1/4))); ``coat_darkening`` is not carried;
+    (spec: r_b = min(1, (r^4 + 2 r_c^4)^(1/4))) and the base colour is pre-darkened by OpenPBR's
+    view-independent darkening factor; coming back, ``coat_darkening`` is 0 (the same look). The
+    base's specular IOR, which OpenPBR makes relative to the coat, is copied;
   * Standard Surface's colour ``opacity`` becomes OpenPBR's scalar opacity (mean of the channels),
     ``transmission_extra_roughness`` and ``coat_affect_color`` have no OpenPBR equivalent.
 """
@@ -35,7 +37,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import Material
-from .common import Dropped, Mapping, Settings, Translation, differs, translate
+from .common import DARKENING_SOURCES, Dropped, Mapping, Settings, Translation, coat_darkening_factor, differs, translate
 
 WHITE = np.ones(3)
 
@@ -88,7 +90,10 @@ def _radius_scalar(radius_scale, scale):
 
 TO_SS = (
     Mapping("base", ("base_weight",)),
-    Mapping("base_color", ("base_color",)),
+    Mapping("base_color", ("base_color",) + DARKENING_SOURCES,
+            lambda c, *rest: c * coat_darkening_factor(c, *rest),
+            converted="darkened as OpenPBR darkens the base under its coat (Standard Surface does not)",
+            when=lambda c, m, sw, ssw, ssc, cw, cd, ci: True),
     Mapping("diffuse_roughness", ("base_diffuse_roughness",)),
     Mapping("metalness", ("base_metalness",)),
     Mapping("specular", ("specular_weight",)),
@@ -166,6 +171,8 @@ FROM_SS = (
     Mapping("fuzz_color", ("sheen_color",)),
     Mapping("fuzz_roughness", ("sheen_roughness",)),
     Mapping("coat_weight", ("coat",)),
+    Mapping("coat_darkening", ("coat",), lambda w: 0.0, when=lambda w: w > 0,
+            converted="Standard Surface does not darken under a coat: OpenPBR's darkening switched off"),
     Mapping("coat_color", ("coat_color",)),
     Mapping("coat_roughness", ("coat_roughness", "coat_anisotropy"), ss_roughness_to_openpbr),
     Mapping("coat_roughness_anisotropy", ("coat_anisotropy",)),
@@ -184,8 +191,6 @@ FROM_SS = (
 )
 
 DROPPED_TO_SS = (
-    Dropped("coat_darkening", "Standard Surface does not darken the base under a coat by internal reflection",
-            matters=lambda d, w: d > 0 and w > 0, needs=("coat_weight",)),
     Dropped("geometry_coat_tangent", "Standard Surface's coat uses the base tangent"),
 )
 DROPPED_FROM_SS = (
