@@ -86,6 +86,18 @@ def _colour():
     return colour
 
 
+def _conversion(colorspace: str | None):
+    """The colour-space entry to convert with, or ``None`` when no conversion applies (the default
+    working space, ``none`` data). Raises ``KeyError`` for a name that is not a MaterialX one."""
+    name = colorspace or DEFAULT_MATERIALX
+    spec = _data()["materialx"].get(name)
+    if spec is None:
+        raise KeyError(f"unknown MaterialX colour space {name!r}")
+    if spec["transfer"] == "data" or name == DEFAULT_MATERIALX:
+        return None
+    return spec
+
+
 def to_lin_rec709(rgb, colorspace: str | None):
     """Convert colour values (array ``(..., 3)``) from a MaterialX colour space to linear Rec.709.
 
@@ -97,11 +109,8 @@ def to_lin_rec709(rgb, colorspace: str | None):
     import numpy as np
 
     values = np.asarray(rgb, dtype=np.float64)
-    name = colorspace or DEFAULT_MATERIALX
-    spec = _data()["materialx"].get(name)
+    spec = _conversion(colorspace)
     if spec is None:
-        raise KeyError(f"unknown MaterialX colour space {name!r}")
-    if spec["transfer"] == "data" or name == DEFAULT_MATERIALX:
         return values
     colour = _colour()
     source = colour.RGB_COLOURSPACES[spec["space"]]
@@ -110,10 +119,9 @@ def to_lin_rec709(rgb, colorspace: str | None):
         values = source.cctf_decoding(values)
     elif isinstance(transfer, dict):
         values = np.sign(values) * np.abs(values) ** transfer["gamma"]
-    target = colour.RGB_COLOURSPACES["sRGB"]
     if spec["space"] == "sRGB":
         return np.asarray(values, dtype=np.float64)
-    return colour.RGB_to_RGB(values, source, target, chromatic_adaptation_transform="CAT02")
+    return colour.RGB_to_RGB(values, source, colour.RGB_COLOURSPACES["sRGB"], chromatic_adaptation_transform="CAT02")
 
 
 def from_lin_rec709(rgb, colorspace: str | None):
@@ -121,11 +129,8 @@ def from_lin_rec709(rgb, colorspace: str | None):
     import numpy as np
 
     values = np.asarray(rgb, dtype=np.float64)
-    name = colorspace or DEFAULT_MATERIALX
-    spec = _data()["materialx"].get(name)
+    spec = _conversion(colorspace)
     if spec is None:
-        raise KeyError(f"unknown MaterialX colour space {name!r}")
-    if spec["transfer"] == "data" or name == DEFAULT_MATERIALX:
         return values
     colour = _colour()
     target = colour.RGB_COLOURSPACES[spec["space"]]
