@@ -58,7 +58,7 @@ def preview(file, output, size, columns):
     try:
         sheet = contact_sheet(swatches, columns=columns)
     except ImportError:
-        click.echo("openpbr: preview needs Pillow (pip install 'openpbr-tools[images]')", err=True)
+        click.echo("openpbr: preview needs Pillow (pip install pillow)", err=True)
         sys.exit(2)
     buffer = io.BytesIO()
     sheet.save(buffer, format="PNG")

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from .model import Asset, Connection, Texture
+from .model import Asset, Connection
 
 
 def describe(asset: Asset) -> dict:

@@ -6,7 +6,6 @@ from __future__ import annotations
 import json
 import os
 import subprocess
-import sys
 import xml.etree.ElementTree as ElementTree
 
 import jsonschema
@@ -249,7 +248,7 @@ def test_changed_since_takes_only_changed_and_untracked_files(tmp_path, write_mt
     git("-c", "user.email=t@t", "-c", "user.name=t", "add", ".")
     git("-c", "user.email=t@t", "-c", "user.name=t", "commit", "-qm", "base")
     edited.write_text(edited.read_text().replace("0.5, 0.4", "0.6, 0.4"))
-    new = write_mtlx(CLEAN, name="new.mtlx")
+    write_mtlx(CLEAN, name="new.mtlx")
     result = run("validate", "--format", "json", "--changed-since", "HEAD", tmp_path, cwd=tmp_path)
     assert sorted(os.path.basename(f["path"]) for f in json.loads(result.stdout)["files"]) == ["edited.mtlx", "new.mtlx"]
     assert old.exists()

@@ -40,6 +40,7 @@ from urllib.parse import unquote
 
 from .. import tables, versioning
 from ..model import Asset, Connection, Constant, Input, Location, Material, Texture
+from . import ReadError
 from . import gltf_slots as slots
 from .gltf_document import GltfDocument, ResourceError, data_uri_mime, load_document
 from .gltf_uv import from_texture_transform
@@ -58,7 +59,7 @@ def read_gltf(path: str) -> Asset:
     try:
         import pygltflib  # noqa: F401  (gltf_slots takes the glTF enums from it)
     except ImportError:
-        raise ReadError("unsupported", "reading glTF needs pygltflib: pip install 'openpbr-tools[gltf]'",
+        raise ReadError("unsupported", "reading glTF needs pygltflib: pip install pygltflib",
                         Location(path)) from None
     document = load_document(path)
     asset = Asset(path=path, format="gltf", format_version=document.json["asset"]["version"],

@@ -64,12 +64,3 @@ def _unique(scope, name: str) -> str:
         index += 1
         candidate = f"{base}_{index}"
     return candidate
-
-
-def to_string(document) -> str:
-    import MaterialX as mx
-
-    options = mx.XmlWriteOptions()
-    options.writeXIncludeEnable = False
-    text = mx.writeToXmlString(document, options)
-    return text.replace("<UDIM>", "&lt;UDIM&gt;").replace("<UVTILE>", "&lt;UVTILE&gt;")

@@ -450,6 +450,6 @@ def _capture_graph(node, limit: int = 256) -> str | None:
             upstream = port.getConnectedNode()
             if upstream is not None and upstream.getParent() == current.getParent():
                 pending.append(upstream)
-    options = mx.XmlWriteOptions()
-    options.writeXIncludeEnable = False
-    return mx.writeToXmlString(captured, options)
+    from .mtlx_writer import document_text
+
+    return document_text(captured)

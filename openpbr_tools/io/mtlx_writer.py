@@ -28,10 +28,17 @@ def to_mtlx_string(materials: list[Material], colorspace: str | None = "lin_rec7
     used: set[str] = set()
     for material in materials:
         _write_material(document, material, colorspace, used)
+    return document_text(document)
+
+
+def document_text(document) -> str:
+    """A MaterialX document as text: XIncludes inlined rather than referenced, and the UDIM/UVTILE
+    tokens escaped (MaterialX leaves them raw in attributes, which strict XML tools reject)."""
+    import MaterialX as mx
+
     options = mx.XmlWriteOptions()
     options.writeXIncludeEnable = False
     text = mx.writeToXmlString(document, options)
-    # MaterialX leaves the UDIM/UVTILE tokens unescaped in attributes; strict XML tools reject that.
     return text.replace("<UDIM>", "&lt;UDIM&gt;").replace("<UVTILE>", "&lt;UVTILE&gt;")
 
 

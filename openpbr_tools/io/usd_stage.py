@@ -34,7 +34,7 @@ def require_pxr(path: str = "") -> None:
         from pxr import Usd  # noqa: F401
     except ImportError:
         raise ReadError(
-            "unsupported", "reading or writing USD needs usd-core: pip install 'openpbr-tools[usd]'", Location(path)
+            "unsupported", "reading or writing USD needs usd-core: pip install usd-core", Location(path)
         ) from None
 
 

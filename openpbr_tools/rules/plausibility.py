@@ -118,7 +118,6 @@ def check(asset, context):
         value = _Values(material)
         metalness = value("base_metalness")
         base_color = value("base_color")
-        location = material.location
         if isinstance(base_color, tuple) and isinstance(metalness, float) and value.authored("base_color"):
             linear = _linear(material, asset, base_color)
             luminance = sum(w * c for w, c in zip(weights, linear))

@@ -26,7 +26,7 @@ import numpy as np
 
 from .. import tables
 from ..diagnostics import Diagnostic
-from ..model import Connection, Constant, Input, Location, Material, Texture
+from ..model import Constant, Input, Material, Texture
 from ..rules import Context
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 
@@ -250,5 +250,3 @@ DARKENING_SOURCES = ("base_metalness", "specular_weight", "subsurface_weight", "
 def differs(value, reference) -> bool:
     return not np.allclose(np.asarray(value, dtype=np.float64), reference, atol=1e-6)
 
-
-__all__ = ["Mapping", "Dropped", "Translation", "Settings", "translate", "differs", "Location", "Connection"]

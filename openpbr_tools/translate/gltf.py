@@ -100,10 +100,6 @@ def _emissive_strength(color, luminance, nits_per_unit=1.0):
     return luminance / nits_per_unit * (peak if peak > 1.0 else 1.0)
 
 
-def _to(meters_per_unit):
-    return lambda depth: depth * meters_per_unit
-
-
 def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit

@@ -184,9 +184,9 @@ def graph_document(nodes: tuple[GraphNode, ...]) -> str:
                 port.setNodeName(value[1:])
             else:
                 port.setValueString(value)
-    options = mx.XmlWriteOptions()
-    options.writeXIncludeEnable = False
-    return mx.writeToXmlString(document, options)
+    from ..io.mtlx_writer import document_text
+
+    return document_text(document)
 
 
 # -- the steps ----------------------------------------------------------------------------------
@@ -389,7 +389,8 @@ def upgrade_mtlx_file(path: str, target: str | None = None, context: Context | N
     """
     import MaterialX as mx
 
-    from ..io.mtlx_patch import apply_edits, to_string
+    from ..io.mtlx_patch import apply_edits
+    from ..io.mtlx_writer import document_text
     from ..io.mtlx_reader import read_mtlx
 
     target = target or tables.latest(MODEL)
@@ -409,4 +410,4 @@ def upgrade_mtlx_file(path: str, target: str | None = None, context: Context | N
         result = upgrade(material, target, context)
         apply_edits(document.getDescendant(material.extra["node_path"]), result.edits, result.material.version)
         upgrades.append(result)
-    return UpgradedDocument(to_string(document), upgrades)
+    return UpgradedDocument(document_text(document), upgrades)
