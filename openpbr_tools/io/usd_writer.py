@@ -45,8 +45,13 @@ from .usd_types import (
 LOOKS = "/Looks"
 
 
+class UsdWriteError(ValueError):
+    """The USD cannot be written as asked (a texture to package from outside the allowed folders)."""
+
+
 def write_usd(materials: list[Material], path: str, *, source: Asset | str | None = None,
-              meters_per_unit: float | None = None, up_axis: str | None = None) -> list[str]:
+              meters_per_unit: float | None = None, up_axis: str | None = None,
+              allow_outside: tuple[str, ...] = ()) -> list[str]:
     """Write ``materials`` to ``path``; the suffix picks the format.
 
     ``source`` is the :class:`Asset` (or the path of the file) the materials were read from:
@@ -55,6 +60,10 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
     own. ``meters_per_unit`` defaults to the source's (a USD stage's ``metersPerUnit``, 1 for glTF)
     and otherwise to USD's 0.01; lengths are converted when it differs. ``up_axis`` defaults to
     the source stage's, else ``"Y"``.
+
+    A ``.usdz`` reads and packages texture files only from inside the source's folder (after
+    resolving symlinks) or a folder in ``allow_outside``; any other raises :class:`UsdWriteError`
+    before anything is written. Other outputs only reference textures (never read them).
     """
     require_pxr(os.fspath(path))
     from pxr import Sdf, Usd, UsdGeom
@@ -75,6 +84,7 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z if up_axis.upper() == "Z" else UsdGeom.Tokens.y)
     stage.SetDefaultPrim(stage.DefinePrim(LOOKS, "Scope"))
     writer = _Writer(stage, notes, source_dir, folder, package, meters_per_unit, source_unit)
+    writer.allowed = [os.path.realpath(source_dir)] + [os.path.realpath(f) for f in allow_outside]
     for material in materials:
         writer.write(material)
     # Atomically, as openpbr_tools.atomic does: a temporary file beside the target, renamed over it.
@@ -103,13 +113,27 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
 
 
 def _package(path: str, layer_path: str, files: dict[str, str]) -> None:
-    """A USDZ: an uncompressed, 64-byte aligned zip whose first file is the root layer."""
+    """A USDZ: an uncompressed, 64-byte aligned zip whose first file is the root layer.
+
+    Sdf's zip writer stamps each entry with its file's modification time in local time; every
+    file is staged beside the root layer with one fixed local time (2000-01-01 00:00), so the same
+    input gives the same bytes on any machine, in any time zone, at any time."""
+    import time
+
     from pxr import Sdf
 
+    stamp = time.mktime((2000, 1, 1, 0, 0, 0, 0, 0, -1))
+    staged = []
+    for index, (inside, outside) in enumerate(sorted(files.items())):
+        copy = os.path.join(os.path.dirname(layer_path), f"file{index}")
+        shutil.copyfile(outside, copy)
+        staged.append((inside, copy))
+    for file in [layer_path] + [copy for _, copy in staged]:
+        os.utime(file, (stamp, stamp))
     writer = Sdf.ZipFileWriter.CreateNew(path)
     writer.AddFile(layer_path, os.path.basename(layer_path))
-    for inside, outside in sorted(files.items()):
-        writer.AddFile(outside, inside)
+    for inside, copy in staged:
+        writer.AddFile(copy, inside)
     writer.Save()
 
 
@@ -129,6 +153,7 @@ class _Writer:
         self.meters_per_unit, self.source_unit = meters_per_unit, source_unit
         self.material_prims: dict[str, object] = {}
         self.packaged_files: dict[str, str] = {}
+        self.allowed: list[str] = [os.path.realpath(source_dir)]
 
     def unique_child(self, parent_path: str, name: str) -> str:
         base, candidate, n = _identifier(name), _identifier(name), 1
@@ -279,17 +304,29 @@ class _Writer:
         absolute = file if os.path.isabs(file) else os.path.normpath(os.path.join(self.source_dir, file))
         if not self.package:
             if os.path.isabs(file):
-                return file
+                inside_target = os.path.commonpath([absolute, self.target_dir]) == self.target_dir
+                return os.path.relpath(absolute, self.target_dir).replace(os.sep, "/") if inside_target else file
             return os.path.relpath(absolute, self.target_dir).replace(os.sep, "/")
-        inside = file.replace(os.sep, "/") if not os.path.isabs(file) and ".." not in file.split("/") else \
-            f"textures/{os.path.basename(file)}"
         if "<UDIM>" in file.upper():
             self.notes.append(f"{owner}: UDIM tiles of {file!r} are not packaged")
-            return inside
-        if os.path.isfile(absolute):
-            self.packaged_files[inside] = absolute
-        else:
+            return file
+        real = os.path.realpath(absolute)
+        root = next((r for r in self.allowed if os.path.commonpath([real, r]) == r), None)
+        if root is None:
+            raise UsdWriteError(
+                f"{owner}: texture {file!r} resolves to {real}, outside the source asset's folder {self.allowed[0]}; "
+                "it is not packaged into the .usdz unless its folder is allowed (allow_outside / --allow-outside)")
+        if not os.path.isfile(real):
             self.notes.append(f"{owner}: {file!r} does not exist and is not packaged")
+            return file
+        inside = os.path.relpath(real, root).replace(os.sep, "/") if root == self.allowed[0] else \
+            f"textures/{os.path.basename(real)}"
+        stem, suffix = os.path.splitext(inside)
+        count = 1
+        while self.packaged_files.get(inside, real) != real:
+            count += 1
+            inside = f"{stem}_{count}{suffix}"
+        self.packaged_files[inside] = real
         return inside
 
     # -- MaterialX image chains --------------------------------------------------------------

@@ -8,8 +8,11 @@ the evaluator. :func:`translate` applies the mappings:
 * every source parameter constant: the formula gives the target constant;
 * one textured source and a plain copy: the texture passes through unchanged (resolution, texels,
   colour space, UV transform all kept);
-* a texture the formula would have to transform: needs baking, reported (OPBR1104) until baking
-  is wired in, and the texture's fallback or the parameter default stands in;
+* a texture the formula would have to transform: with a :class:`~.bake.Baker` in the settings,
+  the same formula is evaluated on every texel into a new image (reported as OPBR1102); without
+  one (a translation in memory, with nowhere to put images), or when the textures cannot be baked
+  (UDIM sets, different UV transforms, unreadable images), it is reported (OPBR1104) and the
+  target keeps its default;
 * a procedural connection: reported, never dropped silently.
 
 Each mapping says whether it is exact; an inexact one reports OPBR1103 with its ``note`` when the
@@ -76,6 +79,7 @@ class Settings:
     nits_per_unit: float = 1.0
     meters_per_unit: float | None = None
     context: Context = field(default_factory=Context)
+    baker: Any = None  # a translate.bake.Baker: textures a formula transforms are baked per texel
 
 
 class Values:
@@ -182,11 +186,25 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             carried.location = entry.location
             result.inputs[mapping.target] = carried
             continue
+        if settings.baker is not None and mapping.formula is not None:
+            from .bake import BakeError
+
+            try:
+                baked = settings.baker.bake(material, mapping, values, parameter.type, f"{label} {mapping.target}",
+                                            texturable=_texturable(target_model, mapping.target))
+            except BakeError as error:
+                say(NOT_CARRIED, f"{mapping.target} cannot be baked: {error}; the target keeps its default", source_name)
+                continue
+            result.inputs[mapping.target] = baked.input
+            say(APPROXIMATED if baked.clipped else CONVERTED, baked.message, source_name)
+            if not mapping.exact and _matters_on_average(mapping, values, baked.averages):
+                say(APPROXIMATED, f"{mapping.target}: {mapping.note}", source_name)
+            continue
         what = f"texture {entry.value.file!r}" if isinstance(entry.value, Texture) else \
             f"procedural input ({getattr(entry.value, 'category', None) or 'graph'})"
         say(NOT_CARRIED, f"{mapping.target} needs {what} transformed per texel "
-                         f"({mapping.note or 'a formula of ' + ', '.join(mapping.sources)}); baking is not available, "
-                         "so the target keeps its default", source_name)
+                         f"({mapping.note or 'a formula of ' + ', '.join(mapping.sources)}); nothing to bake into "
+                         "(a conversion without an output), so the target keeps its default", source_name)
     for drop in dropped:
         if not values.authored(drop.source):
             continue
@@ -196,6 +214,30 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             say(NOT_CARRIED, f"{drop.source} has no equivalent: {drop.why}", drop.source)
     report.sort(key=Diagnostic.sort_key)
     return Translation(result, report, material)
+
+
+def _matters_on_average(mapping: Mapping, values: Values, averages: dict) -> bool:
+    """``mapping.matters`` for a baked mapping, judged at the textures' mean values (``matters``
+    takes constants); without a ``matters`` an approximation always matters."""
+    if mapping.matters is None:
+        return True
+    arguments = [averages[name] if name in averages else values.constant(name) for name in mapping.sources]
+    if any(a is None for a in arguments):
+        return True
+    try:
+        return bool(mapping.matters(*arguments))
+    except (TypeError, ValueError):
+        return True
+
+
+def _texturable(model: str, name: str) -> bool:
+    """Whether the target model can take a texture on ``name`` (glTF has factor-only parameters)."""
+    if model != "gltf_pbr":
+        return True
+    from ..io.gltf_slots import SLOT_BY_PARAMETER
+
+    slot = SLOT_BY_PARAMETER.get(name)
+    return slot is None or slot.texture is not None
 
 
 def _is_identity(mapping: Mapping, textured: str, values: Values) -> bool:

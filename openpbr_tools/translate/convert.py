@@ -53,7 +53,7 @@ from dataclasses import dataclass, field  # noqa: E402
 
 from ..diagnostics import Diagnostic  # noqa: E402
 from ..model import Asset, Location  # noqa: E402
-from ..rules.translation import APPROXIMATED, NOT_CARRIED  # noqa: E402
+from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED  # noqa: E402
 
 OUTPUT_KINDS = {".mtlx": "mtlx", ".usda": "usd", ".usdc": "usd", ".usd": "usd", ".usdz": "usd",
                 ".gltf": "gltf", ".glb": "gltf"}
@@ -104,7 +104,11 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     glTF output gets glTF PBR. Raises :class:`openpbr_tools.io.ReadError` for unreadable input and
     ``ValueError`` for an unsupported output.
     """
+    import shutil
+    import tempfile
+
     from ..io import read_asset
+    from .bake import Baker
 
     kind = output_kind(output_path)
     if kind is None:
@@ -113,30 +117,78 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     asset = read_asset(input_path)
     target = {"mtlx": target or "open_pbr_surface", "usd": "open_pbr_surface", "gltf": "gltf_pbr"}[kind]
     result = Conversion(asset)
-    for material in asset.materials:
-        if material.model not in MODELS:
-            continue
-        meters, warning = _meters_per_unit(material, asset)
-        step_settings = Settings(settings.nits_per_unit, meters, settings.context)
-        if warning:
-            result.diagnostics.append(settings.context.diagnostic(APPROXIMATED, f"{material.name}: {warning}", material.location))
-        translation = convert(material, target, step_settings)
-        result.diagnostics += translation.diagnostics
-        translated = translation.material
-        translated.material_name = material.material_name or material.name
-        result.materials.append(translated)
-        result.pairs.append((material, translated))
-        if kind == "usd":
-            preview = convert(translated, "UsdPreviewSurface", step_settings)
-            result.diagnostics += preview.diagnostics
-            preview.material.name = f"{translated.name}_preview"
-            preview.material.material_name = translated.material_name
-            result.materials.append(preview.material)
-    notes = _write(kind, result, output_path, mesh, allow_outside)
+    # Baked images go beside a .mtlx/.usda/.usdc output (<stem>_textures/); a glTF or USDZ output
+    # embeds or copies them, so they wait in a temporary folder that is removed afterwards.
+    packaged = kind == "gltf" or output_path.lower().endswith(".usdz")
+    staging = tempfile.mkdtemp(prefix="openpbr-bake-") if packaged else None
+    baker = Baker(asset.path, staging or os.path.abspath(os.path.splitext(output_path)[0] + "_textures"),
+                  tuple(allow_outside), png_only=kind == "gltf")
+    try:
+        for material in asset.materials:
+            if material.model not in MODELS:
+                continue
+            meters, warning = _meters_per_unit(material, asset)
+            step_settings = Settings(settings.nits_per_unit, meters, settings.context, baker)
+            if warning:
+                result.diagnostics.append(settings.context.diagnostic(APPROXIMATED, f"{material.name}: {warning}",
+                                                                      material.location))
+            translation = convert(material, target, step_settings)
+            result.diagnostics += translation.diagnostics
+            translated = translation.material
+            translated.material_name = material.material_name or material.name
+            result.materials.append(translated)
+            result.pairs.append((material, translated))
+            if kind == "usd":
+                preview = convert(translated, "UsdPreviewSurface", step_settings)
+                result.diagnostics += preview.diagnostics
+                preview.material.name = f"{translated.name}_preview"
+                preview.material.material_name = translated.material_name
+                result.materials.append(preview.material)
+        written = _write_baked(baker, result.materials)
+        try:
+            allowed = tuple(allow_outside) + ((staging,) if staging else ())
+            notes = _write(kind, result, output_path, mesh, allowed)
+        except BaseException:
+            for path in written:  # a failed conversion leaves no partial output behind
+                if os.path.exists(path):
+                    os.unlink(path)
+            raise
+    finally:
+        if staging:
+            shutil.rmtree(staging, ignore_errors=True)
     for note in notes:
-        result.diagnostics.append(settings.context.diagnostic(NOT_CARRIED, note, Location(output_path)))
+        result.diagnostics.append(settings.context.diagnostic(_note_rule(note), note, Location(output_path)))
     result.diagnostics.sort(key=Diagnostic.sort_key)
     return result
+
+
+LOST = ("not written", "dropped", "not packaged", "not copied", "unconverted", "as they are", "clamped", "cannot")
+APPROXIMATE = (" used", "resampled", "approximat")
+
+
+def _note_rule(note: str):
+    """How much a writer's note matters: something lost (OPBR1104), approximated (OPBR1103), or a
+    faithful change of form such as channel packing or an sRGB re-encoding (OPBR1102)."""
+    if any(word in note for word in LOST):
+        return NOT_CARRIED
+    if any(word in note for word in APPROXIMATE):
+        return APPROXIMATED
+    return CONVERTED
+
+
+def _write_baked(baker, materials: list[Material]) -> list[str]:
+    """Write the baked images the written materials still use (atomically); returns their paths."""
+    from ..atomic import write_bytes
+    from ..model import Texture
+
+    used = sorted({entry.value.file for material in materials for entry in material.inputs.values()
+                   if isinstance(entry.value, Texture) and entry.value.file in baker.images})
+    written = []
+    for path in used:
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        write_bytes(path, baker.images[path])
+        written.append(path)
+    return written
 
 
 def _rebase_textures(materials: list[Material], source_path: str, output_path: str) -> None:
@@ -221,7 +273,7 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside)
     if kind == "usd":
         from ..io.usd_writer import write_usd
 
-        return write_usd(result.materials, output_path, source=asset)
+        return write_usd(result.materials, output_path, source=asset, allow_outside=allow_outside)
     try:
         from ..io.gltf_writer import write_gltf
     except ImportError:

@@ -1,0 +1,317 @@
+"""Baking: a translation formula applied texel by texel to the textures that feed it.
+
+When a target parameter is a function of a textured source parameter that is not the identity
+(glTF's roughness from OpenPBR's roughness and anisotropy, a base colour mixed with a transmission
+colour, a coat darkening folded into the base colour...), :class:`Baker` evaluates the *same*
+vectorised NumPy formula the constant path uses on every texel and encodes the result as a new
+image. What happens, in order:
+
+1. every textured source is located with the writers' path rules (inside the source asset's folder
+   or a folder the caller allowed; never a URL; images inside a glTF are extracted from it) and
+   decoded (Pillow; OpenImageIO for EXR/HDR);
+2. its channels are selected (``Texture.channels``, else R for a float and RGB for a colour), a
+   colour is converted from the texture's colour space to the material's working space (linear;
+   colour-science), then ``scale``/``bias`` apply;
+3. all textured sources must share their UV transform and texture coordinates (a texel of one is
+   then a texel of the other); sources of different sizes are resampled (bilinear) to the largest;
+4. constant sources broadcast: floats arrive as ``(H, W, 1)`` or ``()``, colours as ``(H, W, 3)``
+   or ``(3,)``;
+5. the result is encoded: a colour in linear Rec.709 as an 8-bit sRGB PNG (``srgb_texture``), in
+   another working space as a 16-bit linear PNG in that space (OpenImageIO), a float as a 16-bit
+   greyscale PNG (raw). Values outside [0, 1] go to a half-float OpenEXR (OpenImageIO) unless the
+   output can only hold PNG (glTF), where they are clipped and the clipping is reported.
+
+Baked images keep the UV transform, texture coordinates and wrap modes of their sources, and a
+resolution equal to the largest source. UDIM sets, normal maps under a formula and procedural
+graphs are not baked (the caller reports them). The images live in :attr:`Baker.images` until the
+caller writes them; nothing is written here.
+"""
+
+from __future__ import annotations
+
+import io
+import os
+import re
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .. import colorspaces
+from ..model import Constant, Input, Texture
+
+LINEAR_REC709 = "lin_rec709"
+
+
+class BakeError(ValueError):
+    """A texture that cannot be baked, with the reason."""
+
+
+@dataclass(slots=True)
+class Baked:
+    """What :meth:`Baker.bake` produced: an input (a texture or, where every texel agrees, a
+    constant) and a sentence for the report."""
+
+    input: Input
+    message: str
+    clipped: float = 0.0  # fraction of texels clipped to [0, 1] by a PNG-only output
+    averages: dict = field(default_factory=dict)  # each textured source's mean value
+
+
+@dataclass(slots=True)
+class Baker:
+    """Bakes formulas over textures for one conversion.
+
+    ``source_path``: the asset textures resolve against. ``folder``: where the caller will write the
+    baked images (their ``Texture.file`` is an absolute path there). ``allow_outside``: folders
+    outside the asset's from which textures may be read. ``png_only``: the output takes only PNG
+    and JPEG (glTF).
+    """
+
+    source_path: str
+    folder: str
+    allow_outside: tuple[str, ...] = ()
+    png_only: bool = False
+    images: dict[str, bytes] = field(default_factory=dict)  # absolute path -> encoded image
+    _pixels: dict = field(default_factory=dict)
+    _resolver: object = None
+
+    # -- reading ----------------------------------------------------------------------------
+    def _resolve(self, texture: Texture, owner: str):
+        from ..io.gltf_images import GltfWriteError, ImageResolver
+
+        if self._resolver is None:
+            self._resolver = ImageResolver(None, self.source_path, os.path.join(self.folder, "_"),
+                                           self.allow_outside, [])
+        resolver = self._resolver
+        resolver.notes.clear()
+        try:
+            located = resolver.locate(texture, owner)
+        except GltfWriteError as error:
+            raise BakeError(str(error)) from None
+        if located is None:
+            raise BakeError(resolver.notes[-1] if resolver.notes else f"{owner}: {texture.file!r} cannot be read")
+        return located
+
+    def _load(self, texture: Texture, owner: str):
+        from ..io.gltf_bake import load_pixels
+
+        if ("baked", texture.file) in self._pixels:  # baked by an earlier step of this conversion
+            return self._pixels[("baked", texture.file)]
+        located = self._resolve(texture, owner)
+        if located.key not in self._pixels:
+            try:
+                self._pixels[located.key] = load_pixels(located.image)
+            except Exception as error:  # noqa: BLE001 - Pillow and OpenImageIO raise many types for undecodable data
+                raise BakeError(f"{owner}: {texture.file!r} cannot be decoded ({error})") from None
+        return self._pixels[located.key]
+
+    def texels(self, texture: Texture, type_name: str, working_space: str, owner: str):
+        """The texture's values for a parameter of ``type_name``: ``(H, W, 1)`` or ``(H, W, 3)``,
+        in the working space, after scale and bias."""
+        if texture.is_udim:
+            raise BakeError(f"{owner}: UDIM set {texture.file!r} is not baked")
+        if texture.normal_map is not None:
+            raise BakeError(f"{owner}: normal map {texture.file!r} cannot go through a formula")
+        pixels = self._load(texture, owner)
+        width = 3 if type_name in ("color3", "vector3") else 1
+        channels = list(texture.channels) if texture.channels else ([0, 1, 2] if width == 3 else [0])
+        channels = (channels * 3)[:3] if width == 3 and len(channels) == 1 else channels[:width]
+        planes = [pixels[:, :, c] if c < pixels.shape[2] else np.ones(pixels.shape[:2]) for c in channels]
+        values = np.stack(planes, axis=-1)
+        if width == 3 and type_name == "color3":
+            space = _materialx_space(texture.colorspace)
+            if space is not None and space != working_space and not colorspaces.is_data(space):
+                values = colorspaces.from_lin_rec709(colorspaces.to_lin_rec709(values, space), working_space)
+        if texture.scale is not None:
+            values = values * np.asarray(texture.scale, dtype=np.float64)
+        if texture.bias is not None:
+            values = values + np.asarray(texture.bias, dtype=np.float64)
+        return np.asarray(values, dtype=np.float64)
+
+    # -- baking -----------------------------------------------------------------------------
+    def bake(self, material, mapping, values, target_type: str, label: str, texturable: bool = True) -> Baked:
+        """``mapping.formula`` over the textured sources of ``mapping`` (see the module docstring)."""
+        working = _materialx_space(material.colorspace) or LINEAR_REC709
+        textured = [s for s in mapping.sources if not values.is_constant(s)]
+        entries = [values.entry(s) for s in textured]
+        for name, entry in zip(textured, entries):
+            if not isinstance(entry.value, Texture):
+                raise BakeError(f"{name} is a procedural input, which is not baked")
+        first = entries[0].value
+        for name, entry in zip(textured[1:], entries[1:]):
+            other = entry.value
+            if (other.uv or None) != (first.uv or None) or _texcoord(other) != _texcoord(first):
+                raise BakeError(f"{textured[0]} and {name} use different texture coordinates or UV transforms, "
+                                "so their texels do not line up")
+        loaded = {}
+        for name, entry in zip(textured, entries):
+            parameter = values.table.get(name)
+            type_name = parameter.type if parameter is not None else (entry.type or "float")
+            loaded[name] = self.texels(entry.value, type_name, working, f"{material.name}.{name}")
+        height = max(v.shape[0] for v in loaded.values())
+        width = max(v.shape[1] for v in loaded.values())
+        resampled = [n for n, v in loaded.items() if v.shape[:2] != (height, width)]
+        for name in resampled:
+            loaded[name] = _resample(loaded[name], height, width)
+        arguments = []
+        for name in mapping.sources:
+            if name in loaded:
+                arguments.append(loaded[name])
+            else:
+                constant = values.constant(name)
+                if constant is None:
+                    raise BakeError(f"{name} has no value to bake with")
+                arguments.append(constant)
+        with np.errstate(all="ignore"):
+            result = np.asarray(mapping.formula(*arguments), dtype=np.float64)
+        channels = 3 if target_type in ("color3", "vector3") else 1
+        try:
+            if result.ndim == 3 and result.shape[2] != channels:
+                result = result[:, :, :1] if channels == 1 else np.broadcast_to(result[:, :, :1], (height, width, 3))
+            result = np.broadcast_to(result, (height, width, channels)).copy()
+        except ValueError:
+            raise BakeError(f"the formula for {mapping.target} does not give one value per texel") from None
+        if not np.all(np.isfinite(result)):
+            raise BakeError(f"the formula for {mapping.target} gives non-finite values on some texels")
+        averages = {name: _average(loaded[name]) for name in textured}
+        sources = ", ".join(f"{n} ({os.path.basename(values.entry(n).value.file)})" for n in textured)
+        entry = values.entry(textured[0])
+        if np.ptp(result, axis=(0, 1)).max() <= 1e-7 or not texturable:
+            value = result.reshape(-1, channels).mean(axis=0)
+            constant = float(value[0]) if channels == 1 else tuple(float(v) for v in value)
+            why = "every texel gives the same value" if texturable else f"{label} takes a single value here"
+            made = Input(mapping.target, target_type, Constant(constant), entry.location,
+                         colorspace=working if channels == 3 else None)
+            return Baked(made, f"{mapping.target}: from {sources} evaluated per texel; {why}, so the mean is written",
+                         averages=averages)
+        data, space, clipped, kind = self._encode(result, target_type, working)
+        name = self._name(material, mapping.target, kind)
+        path = os.path.join(self.folder, name)
+        self.images[path] = data
+        self._pixels[("baked", path)] = _as_read(data, result, kind)
+        texture = Texture(file=path, image_type=target_type if channels == 3 else "float", channels=None,
+                          colorspace=space, uv=first.uv, texcoord=first.texcoord, wrap=first.wrap,
+                          node=None, location=first.location)
+        made = Input(mapping.target, target_type, texture, entry.location, colorspace=space)
+        note = f" ({', '.join(resampled)} resampled to {width} x {height})" if resampled else ""
+        message = f"{mapping.target}: baked per texel from {sources} into {name}, {width} x {height}{note}"
+        if clipped:
+            message += f"; {clipped:.1%} of texels clipped to [0, 1] (this output takes PNG only)"
+        return Baked(made, message, clipped, averages)
+
+    def _name(self, material, target: str, suffix: str) -> str:
+        stem = re.sub(r"[^A-Za-z0-9_.-]", "_", f"{material.name}_{target}")
+        name, count = f"{stem}{suffix}", 1
+        while os.path.join(self.folder, name) in self.images:
+            count += 1
+            name = f"{stem}_{count}{suffix}"
+        return name
+
+    def _encode(self, values, target_type: str, working: str):
+        """(bytes, colour space, clipped fraction, file suffix) for baked values."""
+        in_range = bool(np.all(values >= -1e-6) and np.all(values <= 1.0 + 1e-6))
+        colour = target_type == "color3"
+        if not in_range and not self.png_only and _has_openimageio():
+            return _exr(values), (working if colour else None), 0.0, ".exr"
+        clipped = 0.0 if in_range else float(np.mean(np.any((values < 0) | (values > 1), axis=-1)))
+        values = np.clip(values, 0.0, 1.0)
+        if colour and (working == LINEAR_REC709 or self.png_only or not _has_openimageio()):
+            linear = values if working == LINEAR_REC709 else np.clip(colorspaces.to_lin_rec709(values, working), 0, 1)
+            encoded = colorspaces.from_lin_rec709(linear, "srgb_texture")
+            return _png8(encoded), "srgb_texture", clipped, ".png"
+        if colour:
+            return _png16_oiio(values), working, clipped, ".png"
+        return _png16_grey(values[:, :, 0]), None, clipped, ".png"
+
+
+def _average(values):
+    mean = values.reshape(-1, values.shape[-1]).mean(axis=0)
+    return np.asarray(mean[0]) if mean.size == 1 else mean
+
+
+def _as_read(data: bytes, values, suffix: str):
+    """The pixels a later step reads back from a baked image (as :func:`load_pixels` gives them)."""
+    if suffix == ".exr":
+        return values if values.shape[2] >= 3 else np.repeat(values, 3, axis=2)
+    from ..io.gltf_bake import load_pixels
+
+    return load_pixels(data)
+
+
+def _texcoord(texture: Texture):
+    return texture.texcoord if texture.texcoord not in (None, 0, "st", "UV0") else None
+
+
+def _materialx_space(name: str | None) -> str | None:
+    if name is None:
+        return None
+    if name in colorspaces.materialx_names():
+        return name
+    return colorspaces.materialx_equivalent(name) or name
+
+
+def _resample(values, height: int, width: int):
+    from PIL import Image
+
+    planes = [np.asarray(Image.fromarray(values[:, :, c].astype(np.float32), mode="F").resize((width, height), Image.BILINEAR),
+                         dtype=np.float64) for c in range(values.shape[2])]
+    return np.stack(planes, axis=-1)
+
+
+def _png8(values) -> bytes:
+    from PIL import Image
+
+    quantised = np.round(np.clip(values, 0, 1) * 255.0).astype(np.uint8)
+    out = io.BytesIO()
+    Image.fromarray(quantised).save(out, format="PNG", compress_level=6)
+    return out.getvalue()
+
+
+def _png16_grey(values) -> bytes:
+    from PIL import Image
+
+    quantised = np.round(np.clip(values, 0, 1) * 65535.0).astype(np.uint16)
+    out = io.BytesIO()
+    Image.fromarray(quantised).save(out, format="PNG", compress_level=6)
+    return out.getvalue()
+
+
+def _has_openimageio() -> bool:
+    try:
+        import OpenImageIO  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
+def _oiio_bytes(values, suffix: str, pixel_type: str) -> bytes:
+    """Encode with OpenImageIO through a temporary file (its Python API writes files)."""
+    import tempfile
+
+    import OpenImageIO as oiio
+
+    height, width, channels = values.shape
+    spec = oiio.ImageSpec(width, height, channels, getattr(oiio, pixel_type))
+    spec.attribute("Software", "openpbr-tools")  # fixed, so the bytes do not depend on the library version
+    folder = tempfile.mkdtemp(prefix="openpbr-bake-")
+    path = os.path.join(folder, "image" + suffix)
+    try:
+        output = oiio.ImageOutput.create(path)
+        if output is None or not output.open(path, spec):
+            raise BakeError(f"OpenImageIO cannot write {suffix} ({oiio.geterror()})")
+        output.write_image(np.ascontiguousarray(values, dtype=np.float32))
+        output.close()
+        with open(path, "rb") as handle:
+            return handle.read()
+    finally:
+        for name in os.listdir(folder):
+            os.unlink(os.path.join(folder, name))
+        os.rmdir(folder)
+
+
+def _exr(values) -> bytes:
+    return _oiio_bytes(values, ".exr", "HALF")
+
+
+def _png16_oiio(values) -> bytes:
+    return _oiio_bytes(np.clip(values, 0, 1), ".png", "UINT16")
