@@ -95,8 +95,11 @@ class Baker:
     def _load(self, texture: Texture, owner: str):
         from ..io.gltf_bake import load_pixels
 
-        if ("baked", texture.file) in self._pixels:  # baked by an earlier step of this conversion
-            return self._pixels[("baked", texture.file)]
+        key = ("baked", texture.file)
+        if key in self._pixels:  # baked by an earlier step of this conversion: decoded on first use
+            if isinstance(self._pixels[key], tuple):
+                self._pixels[key] = _as_read(*self._pixels[key])
+            return self._pixels[key]
         located = self._resolve(texture, owner)
         if located.key not in self._pixels:
             try:
@@ -188,7 +191,7 @@ class Baker:
         name = self._name(material, mapping.target, kind)
         path = os.path.join(self.folder, name)
         self.images[path] = data
-        self._pixels[("baked", path)] = _as_read(data, result, kind)
+        self._pixels[("baked", path)] = (data, result, kind)
         texture = Texture(file=path, image_type=target_type if channels == 3 else "float", channels=None,
                           colorspace=space, uv=first.uv, texcoord=first.texcoord, wrap=first.wrap,
                           node=None, location=first.location)
