@@ -99,3 +99,24 @@ def test_degenerate_files_exit_two(tmp_path, content):
     path = tmp_path / "x.mtlx"
     path.write_bytes(content)
     assert validate(path).exit_code == 2
+
+
+def test_a_texture_escaping_through_a_symlink_is_reported(tmp_path):
+    outside = tmp_path / "elsewhere"
+    outside.mkdir()
+    (outside / "albedo.png").write_bytes(b"\x89PNG\r\n\x1a\n")
+    asset = tmp_path / "asset"
+    asset.mkdir()
+    (asset / "linked").symlink_to(outside, target_is_directory=True)
+    (asset / "m.mtlx").write_text(
+        '<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n'
+        '  <image name="c" type="color3"><input name="file" type="filename" value="linked/albedo.png" colorspace="srgb_texture"/></image>\n'
+        '  <open_pbr_surface name="S" type="surfaceshader"><input name="base_color" type="color3" nodename="c"/></open_pbr_surface>\n'
+        '</materialx>\n')
+    found = json.loads(validate(asset / "m.mtlx").stdout)["diagnostics"]
+    escapes = [d for d in found if d["code"] == "OPBR704"]
+    assert escapes and "symbolic link" in escapes[0]["message"]
+    (asset / "linked").unlink()
+    (asset / "linked").mkdir()
+    (asset / "linked" / "albedo.png").write_bytes(b"\x89PNG\r\n\x1a\n")
+    assert "OPBR704" not in codes(validate(asset / "m.mtlx"))

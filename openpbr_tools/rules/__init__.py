@@ -74,6 +74,7 @@ class Context:
     disabled: frozenset[str] = frozenset()
     file_exists: Callable[[str], bool] = os.path.exists
     list_dir: Callable[[str], list[str]] = os.listdir
+    real_path: Callable[[str], str] = os.path.realpath
     thresholds: dict[str, float] = field(default_factory=dict)
     required_version: str | None = None
     required_colorspace: str | None = None

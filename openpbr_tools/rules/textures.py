@@ -43,7 +43,8 @@ NORMAL_WITHOUT_DECODE = Rule(
 )
 UNSAFE_PATH = Rule(
     "OPBR704", "texture-path-outside-asset", Severity.WARNING,
-    "A texture path is absolute, climbs out of the asset's folder, or is a URL.",
+    "A texture path is absolute, climbs out of the asset's folder, is a URL, or escapes the folder "
+    "through a symbolic link.",
     "Such an asset does not survive being copied, packaged (USDZ, GLB) or checked out elsewhere; "
     "`openpbr convert` will not read or embed such files unless --allow-outside is given.",
     passing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
@@ -133,6 +134,14 @@ def _check_path(asset, texture, where, context, checked_files):
             UNSAFE_PATH, f"texture path {file!r} points outside the asset's folder", where,
             hint="copy the texture next to the asset and use a relative path",
         )
+    elif not _URL.match(file):
+        folder = os.path.dirname(os.path.abspath(asset.path))
+        real, real_folder = context.real_path(resolve(asset.path, file)), context.real_path(folder)
+        if os.path.commonpath([real, real_folder]) != real_folder:
+            yield context.diagnostic(
+                UNSAFE_PATH, f"texture path {file!r} leads through a symbolic link to {real}, outside the asset's folder",
+                where, hint="copy the texture into the asset's folder instead of linking it",
+            )
     if _URL.match(file):
         return
     if not exists(resolve(asset.path, file), context):
