@@ -120,3 +120,19 @@ def test_a_texture_escaping_through_a_symlink_is_reported(tmp_path):
     (asset / "linked").mkdir()
     (asset / "linked" / "albedo.png").write_bytes(b"\x89PNG\r\n\x1a\n")
     assert "OPBR704" not in codes(validate(asset / "m.mtlx"))
+
+
+def test_an_unreadable_file_is_a_diagnostic_with_exit_two(tmp_path, monkeypatch):
+    import openpbr_tools.io as io_module
+
+    path = tmp_path / "locked.mtlx"
+    path.write_text('<?xml version="1.0"?><materialx version="1.39"/>')
+
+    def refuse(*args, **kwargs):
+        raise PermissionError(13, "Permission denied")
+
+    monkeypatch.setattr(io_module, "open", refuse, raising=False)  # as root, chmod 000 would not stop a read
+    result = validate(path)
+    assert result.exit_code == 2
+    found = json.loads(result.stdout)["diagnostics"]
+    assert found and "Permission denied" in found[0]["message"] and found[0]["location"]["file"].endswith("locked.mtlx")
