@@ -10,11 +10,19 @@ import os
 import tempfile
 
 
+def default_mode() -> int:
+    """The permissions a newly created file gets (0666 minus the umask); ``mkstemp`` creates 0600."""
+    mask = os.umask(0)
+    os.umask(mask)
+    return 0o666 & ~mask
+
+
 def write_bytes(path: str | os.PathLike, data: bytes) -> None:
     target = os.fspath(path)
     folder = os.path.dirname(os.path.abspath(target))
     handle, temporary = tempfile.mkstemp(prefix=".openpbr-", suffix=".tmp", dir=folder)
     try:
+        os.fchmod(handle, default_mode())
         with os.fdopen(handle, "wb") as stream:
             stream.write(data)
             stream.flush()

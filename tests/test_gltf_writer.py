@@ -353,3 +353,17 @@ def test_textures_are_re_encoded_to_the_encoding_glTF_reads(tmp_path):
     data = image_of(asset, found.inputs["clearcoat"].texture)[:, :, 0] / 255.0
     assert np.allclose(colour, srgb_encode(values / 255.0), atol=0.5 / 255 + 1e-9)
     assert np.allclose(data, srgb_decode(values / 255.0), atol=0.5 / 255 + 1e-9)
+
+
+def test_inert_volume_and_dispersion_are_omitted(tmp_path):
+    """KHR_materials_volume needs transmission, KHR_materials_dispersion a volume (their READMEs)."""
+    opaque = gltf_pbr_material("Opaque", thickness=0.02, attenuation_distance=0.5, dispersion=0.4)
+    glass = gltf_pbr_material("Glass", transmission=1.0, thickness=0.02, attenuation_distance=0.5, dispersion=0.4)
+    out = tmp_path / "v.gltf"
+    notes = write_gltf([opaque, glass], out)
+    document = json.loads(out.read_text())
+    by_name = {m["name"]: m.get("extensions", {}) for m in document["materials"]}
+    assert "KHR_materials_volume" not in by_name["Opaque"] and "KHR_materials_dispersion" not in by_name["Opaque"]
+    assert by_name["Glass"]["KHR_materials_volume"]["thicknessFactor"] == 0.02
+    assert by_name["Glass"]["KHR_materials_dispersion"]["dispersion"] == 0.4
+    assert any("omitted" in note and "Opaque" in note for note in notes)

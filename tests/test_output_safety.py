@@ -127,3 +127,14 @@ def test_references_without_packaging_are_written_not_read(outside_asset):
             assert "../library/albedo.png" in (asset / name).read_text()
     finally:
         os.chmod(library / "albedo.png", 0o644)
+
+
+@pytest.mark.parametrize("name", ["o.mtlx", "o.usda", "o.usdz", "o.gltf", "o.glb"])
+def test_outputs_get_the_usual_permissions_not_the_temporary_files(tmp_path, name):
+    previous = os.umask(0o022)
+    try:
+        assert convert(SAMPLES / "textured_wood.mtlx", "-o", tmp_path / name).exit_code == 0
+    finally:
+        os.umask(previous)
+    written = [p for p in tmp_path.rglob("*") if p.is_file()]
+    assert written and all(p.stat().st_mode & 0o777 == 0o644 for p in written)

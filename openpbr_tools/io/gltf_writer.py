@@ -133,6 +133,7 @@ class _MaterialWriter(TextureWriting):
                 self.texture_group(prop, members)
         self.fold_emission()
         self.passthrough()
+        self.omit_inert()
         pbr = self.containers.pop(slots.PBR)
         extensions = {name: self.containers[name] for name in sorted(self.containers) if name != slots.CORE}
         ordered = {"name": self.out.pop("name")}
@@ -220,6 +221,21 @@ class _MaterialWriter(TextureWriting):
         strength = self.containers.setdefault(slots.EMISSIVE_STRENGTH, {})
         strength["emissiveStrength"] = strength.get("emissiveStrength", 1.0) * peak
         self.note(f"emissive {factor} exceeds 1: written as emissiveFactor / {peak:g} with emissiveStrength x {peak:g}")
+
+    def omit_inert(self) -> None:
+        """KHR_materials_volume acts only through transmission (KHR_materials_transmission or
+        diffuse_transmission), and KHR_materials_dispersion only through a volume (their READMEs; the
+        Khronos validator warns VOLUME_NO_TRANSMISSION / DISPERSION_NO_VOLUME): inert ones are omitted."""
+        transmission = self.containers.get(slots.TRANSMISSION, {})
+        transmits = transmission.get("transmissionFactor", 0.0) > 0 or "transmissionTexture" in transmission \
+            or slots.DIFFUSE_TRANSMISSION in self.containers
+        if slots.VOLUME in self.containers and not transmits:
+            del self.containers[slots.VOLUME]
+            self.note(f"{slots.VOLUME} omitted: it has no effect on a material without transmission")
+        volume = self.containers.get(slots.VOLUME, {})
+        if slots.DISPERSION in self.containers and not (volume.get("thicknessFactor", 0.0) > 0 or "thicknessTexture" in volume):
+            del self.containers[slots.DISPERSION]
+            self.note(f"{slots.DISPERSION} omitted: it has no effect without a volume (thickness > 0)")
 
     def passthrough(self) -> None:
         for key in ("doubleSided", "extras"):

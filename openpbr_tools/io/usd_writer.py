@@ -88,7 +88,10 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
     for material in materials:
         writer.write(material)
     # Atomically, as openpbr_tools.atomic does: a temporary file beside the target, renamed over it.
+    from ..atomic import default_mode
+
     handle, temporary = tempfile.mkstemp(prefix=".openpbr-", suffix=suffix, dir=folder)
+    os.fchmod(handle, default_mode())
     os.close(handle)
     staging = tempfile.mkdtemp(prefix="openpbr-usdz-") if package else None
     try:

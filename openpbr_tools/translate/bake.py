@@ -180,12 +180,17 @@ class Baker:
         sources = ", ".join(f"{n} ({os.path.basename(values.entry(n).value.file)})" for n in textured)
         entry = values.entry(textured[0])
         if np.ptp(result, axis=(0, 1)).max() <= 1e-7 or not texturable:
-            value = result.reshape(-1, channels).mean(axis=0)
+            # A mode or switch (glTF alpha_mode, a boolean) takes the largest per-texel value: one
+            # translucent texel needs blending. Anything else takes the mean.
+            discrete = target_type in ("integer", "boolean")
+            flat = result.reshape(-1, channels)
+            value = flat.max(axis=0) if discrete else flat.mean(axis=0)
             constant = float(value[0]) if channels == 1 else tuple(float(v) for v in value)
             why = "every texel gives the same value" if texturable else f"{label} takes a single value here"
             made = Input(mapping.target, target_type, Constant(constant), entry.location,
                          colorspace=working if channels == 3 else None)
-            return Baked(made, f"{mapping.target}: from {sources} evaluated per texel; {why}, so the mean is written",
+            which = "the largest" if discrete else "the mean"
+            return Baked(made, f"{mapping.target}: from {sources} evaluated per texel; {why}, so {which} is written",
                          averages=averages)
         data, space, clipped, kind = self._encode(result, target_type, working)
         name = self._name(material, mapping.target, kind)

@@ -175,7 +175,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             result.inputs[mapping.target] = _constant_input(material, mapping, typed, parameter.type)
             if not mapping.exact and (mapping.matters is None or mapping.matters(*arrays)):
                 say(APPROXIMATED, f"{mapping.target}: {mapping.note}", mapping.sources[0])
-            elif mapping.converted and authored:
+            elif mapping.converted and authored and _changed(arrays[0], value):
                 say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0])
             continue
         source_name = textured[0]
@@ -228,6 +228,14 @@ def _matters_on_average(mapping: Mapping, values: Values, averages: dict) -> boo
         return bool(mapping.matters(*arguments))
     except (TypeError, ValueError):
         return True
+
+
+def _changed(source, value) -> bool:
+    """Whether a formula changed the first source's value (a conversion worth reporting)."""
+    source, value = np.asarray(source, dtype=np.float64), np.asarray(value, dtype=np.float64)
+    if source.shape != value.shape:
+        return True
+    return not np.allclose(source, value, rtol=1e-9, atol=1e-12, equal_nan=True)
 
 
 def _texturable(model: str, name: str) -> bool:
