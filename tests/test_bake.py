@@ -276,3 +276,24 @@ def test_values_beyond_one_are_baked_to_half_float_exr(tmp_path):
     texels = np.asarray(oiio.ImageBuf(str(path)).get_pixels(oiio.FLOAT))[:, :, 0]
     expected = 1000.0 * np.array([[0, 64], [128, 255]]) / 255.0
     assert np.allclose(texels, expected, rtol=1e-3)  # half float: 11 significant bits
+
+
+def test_a_baked_texture_falls_back_to_its_mean_so_verify_sees_it(tmp_path):
+    """The image default is the mean baked value, encoded like the texels (MaterialX applies the
+    file's colour space to the default as well): --verify then evaluates the texture at its mean."""
+    colour = np.array([[[255, 0, 0], [0, 255, 0]], [[0, 0, 255], [255, 255, 255]]], dtype=np.uint8)
+    write_png(tmp_path / "albedo.png", colour)
+    path = tmp_path / "m.mtlx"
+    path.write_text(document('    <input name="base_color" type="color3" nodename="c"/>\n'
+                             '    <input name="coat_weight" type="float" value="1"/>',
+                             image_node("c", "albedo.png", "color3", "srgb_texture")))
+    from openpbr_tools.io import read_asset
+    from openpbr_tools.translate.convert import convert_file
+
+    conversion = convert_file(str(path), str(tmp_path / "ss.mtlx"), "standard_surface")
+    texture = read_asset(str(tmp_path / "ss.mtlx")).materials[0].inputs["base_color"].value
+    with Image.open(tmp_path / texture.file) as image:
+        texels = srgb_decode(np.asarray(image, dtype=np.float64) / 255.0)
+    assert texture.colorspace == "srgb_texture"
+    assert srgb_decode(np.asarray(texture.fallback)) == pytest.approx(texels.reshape(-1, 3).mean(axis=0), abs=2e-3)
+    assert conversion.materials[0].inputs["base_color"].value.fallback == pytest.approx(texture.fallback, abs=1e-6)

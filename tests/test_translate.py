@@ -62,8 +62,39 @@ REPRESENTABLE_IN = {
                  "thin_film_weight", "thin_film_thickness", "thin_film_ior", "geometry_opacity",
                  "specular_roughness", "specular_roughness_anisotropy", "specular_color", "specular_weight",
                  "fuzz_roughness"],
-    "UsdPreviewSurface": ["base_metalness", "specular_ior", "coat_weight", "coat_roughness"],
+    # UsdPreviewSurface's one ior gives the F0 of its base and of its clear coat, and it has no specular
+    # weight: what it represents of specular_ior, specular_weight and the coat's IOR is the reflectance
+    # of coat plus base at normal incidence (checked below).
+    "UsdPreviewSurface": ["base_metalness", "coat_weight", "coat_roughness"],
 }
+
+#: Fitted target parameters that meet a bound of the target's range: there the source value lies
+#: outside what the target reaches (Standard Surface's conductor cannot reach every F82 tint, its
+#: sheen weight stops at 1 where Zeltner's fuzz reflects more than Charlie's sheen can), so it is not
+#: expected back. Source parameter -> the target parameters that carry it.
+CARRIED_BY = {
+    "standard_surface": {"specular_color": ("specular_color",), "fuzz_weight": ("sheen",)},
+    "gltf_pbr": {},
+    "UsdPreviewSurface": {},
+}
+
+
+def at_bound(m: Material, name: str) -> bool:
+    """Whether a channel of ``name`` sits on a hard bound of its model's range (tables)."""
+    parameter = tables.table(m.model)[name]
+    bounds = [np.asarray(b, dtype=np.float64) for b in (parameter.hard_min, parameter.hard_max) if b is not None]
+    return any(np.any(np.abs(value(m, name) - b) <= 1e-9) for b in bounds)
+
+
+def coated_f0(m: Material) -> float:
+    """Normal-incidence reflectance of OpenPBR's coat over its dielectric base (OpenPBR 1.1, "Coat"):
+    the base's IOR is relative to the coat's, n_b / n_c, inverted below 1, mixed with n_b by the coat
+    weight; specular_weight scales the base's F0; the coat is layered by albedo scaling."""
+    f0 = lambda n: ((n - 1) / (n + 1)) ** 2  # noqa: E731
+    n_b, n_c, w = (float(value(m, n)) for n in ("specular_ior", "coat_ior", "coat_weight"))
+    ratio = n_b / n_c if n_b > n_c else n_c / n_b
+    base = min(1.0, float(value(m, "specular_weight")) * f0(n_b + (ratio - n_b) * w))
+    return w * f0(n_c) + (1 - w * f0(n_c)) * base
 
 
 @pytest.mark.parametrize("target", sorted(REPRESENTABLE_IN))
@@ -74,26 +105,38 @@ def test_openpbr_round_trip_recovers_what_the_target_represents(target):
         there = convert(source, target).material
         back = convert(there, "open_pbr_surface").material
         for name in REPRESENTABLE_IN[target]:
+            if any(at_bound(there, carrier) for carrier in CARRIED_BY[target].get(name, ())):
+                continue
             np.testing.assert_allclose(value(back, name), value(source, name), atol=1e-5, err_msg=f"{target}: {name}")
         if target != "UsdPreviewSurface":  # the effective Abbe number (Abbe / scale) is what renders
             ratio = lambda m: value(m, "transmission_dispersion_abbe_number") / value(m, "transmission_dispersion_scale")  # noqa: E731
             np.testing.assert_allclose(ratio(back), ratio(source), rtol=1e-6)
+        elif float(value(source, "base_metalness")) == 0.0:
+            assert coated_f0(back) == pytest.approx(coated_f0(source), abs=1e-9)
+        elif float(value(source, "coat_weight")) > 0.0:  # a metal's F0 is its colour: the ior is the coat's
+            assert float(value(back, "coat_ior")) == pytest.approx(float(value(source, "coat_ior")), abs=1e-9)
 
 
 def test_openpbr_to_gltf_keeps_the_products_gltf_has():
     rng = np.random.default_rng(11)
     for _ in range(40):
         values = random_openpbr(rng)
-        values.update(transmission_weight=0.0, subsurface_weight=0.0)
+        # glTF's clearcoat is colourless: OpenPBR's coat colour is folded into the base colour (see
+        # test_translate_fit.py), so the product returns under a white coat.
+        values.update(transmission_weight=0.0, subsurface_weight=0.0, coat_color=(1.0, 1.0, 1.0))
         source = material("open_pbr_surface", **values)
-        back = convert(convert(source, "gltf_pbr").material, "open_pbr_surface").material
-        # glTF has no base weight: the base colour carries the product.
-        np.testing.assert_allclose(value(back, "base_weight") * value(back, "base_color"),
-                                   values["base_weight"] * np.asarray(values["base_color"]), atol=1e-5)
+        there = convert(source, "gltf_pbr").material
+        back = convert(there, "open_pbr_surface").material
+        # glTF has no base weight: the base colour carries the product (a metal's, through the fit of its
+        # edge tint, unless the fit meets a bound of glTF's or OpenPBR's colour range).
+        if not (at_bound(there, "base_color") or at_bound(back, "base_color")):
+            np.testing.assert_allclose(value(back, "base_weight") * value(back, "base_color"),
+                                       values["base_weight"] * np.asarray(values["base_color"]), atol=1e-5)
         np.testing.assert_allclose(value(back, "emission_luminance") * value(back, "emission_color"),
                                    values["emission_luminance"] * np.asarray(values["emission_color"]), atol=1e-4)
-        np.testing.assert_allclose(value(back, "fuzz_weight") * value(back, "fuzz_color"),
-                                   values["fuzz_weight"] * np.asarray(values["fuzz_color"]), atol=1e-5)
+        if not at_bound(there, "sheen_color"):  # Zeltner's fuzz can reflect more than glTF's sheen colour reaches
+            np.testing.assert_allclose(value(back, "fuzz_weight") * value(back, "fuzz_color"),
+                                       values["fuzz_weight"] * np.asarray(values["fuzz_color"]), atol=1e-5)
 
 
 def random_model(model: str, rng) -> dict:
@@ -139,15 +182,27 @@ NOT_REPRESENTABLE = {
 }
 
 
+#: As CARRIED_BY, the other way: the OpenPBR parameters that carry a fitted parameter of the model.
+CARRIED_BY_OPENPBR = {
+    "standard_surface": {"specular_color": ("specular_color", "base_color"), "sheen": ("fuzz_weight",),
+                         "base_color": ("base_color",)},
+    "gltf_pbr": {"base_color": ("base_color",)},
+    "UsdPreviewSurface": {"diffuseColor": ("base_color",)},
+}
+
+
 @pytest.mark.parametrize("model", sorted(NOT_REPRESENTABLE))
 def test_model_round_trip_through_openpbr_recovers_every_representable_parameter(model):
     rng = np.random.default_rng(3)
     for _ in range(40):
         values = random_model(model, rng)
         source = material(model, **values)
-        back = convert(convert(source, "open_pbr_surface").material, model).material
+        there = convert(source, "open_pbr_surface").material
+        back = convert(there, model).material
         for name in values:
             if name in NOT_REPRESENTABLE[model]:
+                continue
+            if any(at_bound(there, carrier) for carrier in CARRIED_BY_OPENPBR[model].get(name, ())):
                 continue
             if model == "gltf_pbr" and name in ("attenuation_distance", "attenuation_color") and values["transmission"] == 0:
                 continue

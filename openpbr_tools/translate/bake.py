@@ -197,9 +197,19 @@ class Baker:
         path = os.path.join(self.folder, name)
         self.images[path] = data
         self._pixels[("baked", path)] = (data, result, kind)
+        # The fallback (MaterialX image ``default``) is the mean baked value: what a renderer shows
+        # without the file, and the value the lobe evaluator (--verify) uses for a texture.
+        # MaterialX applies the file's colour space to the default too: it is encoded like the texels.
+        mean = result.reshape(-1, channels).mean(axis=0)
+        if space == "srgb_texture":
+            linear = mean if working == LINEAR_REC709 else colorspaces.to_lin_rec709(mean, working)
+            mean = colorspaces.from_lin_rec709(np.clip(linear, 0.0, 1.0), "srgb_texture")
+        elif kind == ".png":
+            mean = np.clip(mean, 0.0, 1.0)
+        fallback = float(mean[0]) if channels == 1 else tuple(float(v) for v in mean)
         texture = Texture(file=path, image_type=target_type if channels == 3 else "float", channels=None,
                           colorspace=space, uv=first.uv, texcoord=first.texcoord, wrap=first.wrap,
-                          node=None, location=first.location)
+                          fallback=fallback, node=None, location=first.location)
         made = Input(mapping.target, target_type, texture, entry.location, colorspace=space)
         note = f" ({', '.join(resampled)} resampled to {width} x {height})" if resampled else ""
         message = f"{mapping.target}: baked per texel from {sources} into {name}, {width} x {height}{note}"

@@ -12,23 +12,41 @@ Exact:
   * roughness and anisotropy (KHR_materials_anisotropy: alpha_t = mix(alpha, 1, s^2),
     alpha_b = alpha, alpha = r_g^2). OpenPBR's alpha_t = r^2 sqrt(2 / (1 + (1 - a)^2)) and
     alpha_b = (1 - a) alpha_t give r_g = sqrt(alpha_b) and s = sqrt((alpha_t - alpha_b) / (1 - alpha_b));
-  * the base colour of an opaque material (``base_weight * base_color``: glTF has no base weight,
-    and a metal's base colour is its F0 in both models);
+  * the base colour of an opaque dielectric (``base_weight * base_color``: glTF has no base weight),
+    and of an untinted metal of specular weight 1 (its F0 in both models);
   * emission: colour normalised to glTF's [0, 1] factor with the rest moved to
     KHR_materials_emissive_strength; ``emission_luminance`` / ``nits_per_unit``.
 
-Approximated (reported when visible):
+Approximated (reported when visible; residuals are mean CIEDE2000 on the evaluator's lit sphere,
+before -> after the fits of :mod:`.fit`, from ``openpbr convert --verify``):
   * glTF tints transmission with the base colour; OpenPBR has ``transmission_color``. A partly
     transmissive material gets a base colour mixed between its diffuse and transmission colours;
-  * with ``transmission_depth`` > 0 the volume (KHR_materials_volume) gets attenuation colour and
-    distance, and a thickness of one scene unit (glTF's thickness is the mesh's, unknown here; one
+  * a solid (not thin-walled) transmissive material is a volume (KHR_materials_volume; glTF's
+    thickness 0 would make it thin-walled, without refraction or dispersion); with
+    ``transmission_depth`` > 0 the volume gets attenuation colour and distance, and its thickness is
+    one scene unit (glTF's thickness is the mesh's, unknown here; one
     unit is the path MaterialX's reference renders OpenPBR's absorption over);
-  * ``specular_weight``/``specular_color`` as KHR_materials_specular agree at normal incidence;
-    towards grazing angles glTF reaches ``specular`` untinted, OpenPBR the tinted Fresnel;
-  * a metal's F82 edge tint, the coat's colour and IOR (glTF fixes 1.5), subsurface (folded into the
-    base colour), fuzz as sheen (colour times weight; roughness copied). OpenPBR's darkening of the
-    base under a coat is folded into the base colour (its view-independent factor); coming back,
-    ``coat_darkening`` is 0.
+  * the base under a coat: OpenPBR computes its Fresnel with its IOR relative to the coat's and
+    darkens it; KHR_materials_specular's ``specular`` scales the bare base's F0 (and F90) to
+    OpenPBR's (:func:`.fit.dielectric_specular_scale`), keeping ``ior`` for refraction. OpenPBR's
+    ``specular_weight`` changes F0 only, glTF's F0 and F90: equal at normal incidence. Coated
+    plastics and ceramics 0.1-1.1 (2.3-25.7 before, with the coat colour below), 1.9 (2.8) under
+    an anisotropic coat (glTF's is isotropic), the car paint sample 1.0 (3.7), coated glass 3.4
+    (4.7); a full thin film on the base under a coat 4.9 (4.4: glTF's ``1 - max(F)`` diffuse
+    weight shows a film's fringes more than OpenPBR does);
+  * the coat's colour (glTF's clearcoat is colourless) and OpenPBR's darkening of the base under
+    its coat are folded into the base colour (their view-independent factors), which misses the
+    tint of the dielectric reflection under the coat; coming back, ``coat_darkening`` is 0. A red
+    coat over white plastic 0.5 (29.5), blue-glazed ceramic 0.6 (25.7);
+  * a metal's F82 edge tint and specular weight: glTF's metal is F0-only Schlick; its base colour
+    is the least-squares fit of OpenPBR's metal's albedo (:func:`.fit.schlick_metal_f0`). Tinted
+    metals 0.1-1.2 (0.1-1.8), a strong tint (0.6, 0.5, 0.3) on gold 1.7 (1.8); specular weight
+    0.6-0.8 on metals 0.6 (5.1-9.5). Coming back, the fit is inverted exactly (glTF's
+    ``specular_color``, which glTF's metals ignore, becomes the F82 tint);
+  * fuzz as sheen: Zeltner's and Charlie's albedos differ in shape; the sheen roughness and colour
+    are fitted to the fuzz's albedo (:func:`.fit.sheen_fit`), the colour clamped to 1 where rough
+    fuzz reflects more than a sheen can. Velvets 1.2-2.3 (3.2-5.2), a 0.6-weight grey dust 1.6 (1.0);
+  * the coat's IOR (glTF fixes 1.5), subsurface (folded into the base colour).
 """
 
 from __future__ import annotations
@@ -36,9 +54,16 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import Material
+from . import fit
 from .common import Dropped, Mapping, Settings, Translation, coat_darkening_factor, differs, translate
 
 WHITE = np.ones(3)
+#: KHR_materials_clearcoat's fixed IOR (its F0 is 0.04).
+GLTF_CLEARCOAT_IOR = 1.5
+#: Measured residuals, mean CIEDE2000 on the evaluator's lit sphere (module docstring).
+COAT_RESIDUAL = "measured ΔE2000 0.1-1.1 on coated plastics, 1.0 on a coated car paint"
+METAL_RESIDUAL = "measured ΔE2000 up to 1.2 on tinted metals, 1.7 for a strong tint"
+SHEEN_RESIDUAL = "measured ΔE2000 1.2-2.3 on velvets"
 
 
 def _alphas_openpbr(r, a):
@@ -74,30 +99,118 @@ def openpbr_anisotropy(r_g, s):
         return np.where(alpha_t > 0, 1.0 - alpha_b / np.where(alpha_t > 0, alpha_t, 1.0), 0.0)
 
 
+def average_alpha_openpbr(r, a):
+    """sqrt(alpha_t alpha_b) of OpenPBR's anisotropic roughness, alpha_t capped at 1 as glTF's is:
+    the isotropic alpha the evaluator's albedo tables are read at."""
+    alpha_t, alpha_b = _alphas_openpbr(r, a)
+    return np.sqrt(np.minimum(alpha_t, 1.0) * alpha_b)
+
+
+def average_alpha_gltf(r_g, s):
+    alpha_b = r_g ** 2
+    return np.sqrt((alpha_b + (1.0 - alpha_b) * s ** 2) * alpha_b)
+
+
+def coat_attenuation(coat_color, coat_weight):
+    """OpenPBR's absorption of the base's light by the coat, mix(1, coat_color, coat_weight): a
+    view-independent factor on everything under the coat (spec, "Coat"; the evaluator's
+    ``base_factor``), which glTF's colourless clearcoat leaves to the base colour."""
+    return 1.0 + (coat_color - 1.0) * coat_weight
+
+
 def gltf_base_color(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color,
-                    metalness=0.0, specular_weight=1.0, coat_weight=0.0, coat_darkening=0.0, coat_ior=1.5):
-    color = color * coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color,
-                                          coat_weight, coat_darkening, coat_ior)
+                    metalness=0.0, specular_weight=1.0, coat_weight=0.0, coat_darkening=0.0, coat_ior=1.5,
+                    coat_color=WHITE, specular_color=WHITE, roughness=0.3, anisotropy=0.0):
+    darkening = coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color,
+                                      coat_weight, coat_darkening, fit.positive_ior(coat_ior))
+    color = color * darkening * coat_attenuation(coat_color, coat_weight)
     diffuse = weight * color
     diffuse = diffuse + subsurface * (weight * subsurface_color - diffuse)
+    diffuse = fit.schlick_metal_f0(diffuse, metalness, specular_color, specular_weight,
+                                   average_alpha_openpbr(roughness, anisotropy))
     tint = np.where(depth > 0, WHITE, transmission_color)
     return diffuse + transmission * (tint - diffuse)
 
 
-def _base_color_matters(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color, *coat):
+def gltf_specular(specular_weight, specular_ior, coat_ior, coat_weight, film_weight, color, metalness, subsurface,
+                  subsurface_color, coat_darkening):
+    """KHR_materials_specular's weight for OpenPBR's (:func:`fit.dielectric_specular_scale`)."""
+    darkening = coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color, coat_weight,
+                                      coat_darkening, fit.positive_ior(coat_ior))
+    scale = fit.dielectric_specular_scale(specular_ior, coat_ior, coat_weight, film_weight,
+                                          np.max(darkening, axis=-1, keepdims=True))
+    return fit.specular_weight_under_coat(specular_weight, scale, metalness)
+
+
+SPECULAR_SOURCES = ("specular_weight", "specular_ior", "coat_ior", "coat_weight", "thin_film_weight", "base_color",
+                    "base_metalness", "subsurface_weight", "subsurface_color", "coat_darkening")
+
+
+def openpbr_specular_weight(specular, metallic, ior, clearcoat, iridescence):
+    """Inverse of :func:`gltf_specular` (glTF's clearcoat has IOR 1.5 and does not darken)."""
+    scale = fit.dielectric_specular_scale(ior, GLTF_CLEARCOAT_IOR, clearcoat, iridescence)
+    return fit.specular_weight_from_coated(specular, scale, metallic)
+
+
+SPECULAR_WEIGHT_SOURCES = ("specular", "metallic", "ior", "clearcoat", "iridescence")
+
+
+def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources):
+    """Inverse of the metal fit in :func:`gltf_base_color`: OpenPBR's base colour (F0 under an F82
+    edge tint of ``specular_color``) whose fitted Schlick metal is glTF's base colour."""
+    specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:])
+    return fit.openpbr_metal_from_schlick(color, metallic, specular_color, specular_weight,
+                                          average_alpha_gltf(roughness, anisotropy_strength))
+
+
+def _base_color_matters(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color,
+                        metalness, specular_weight, coat_weight, coat_darkening, coat_ior, coat_color, specular_color,
+                        *roughness):
     mixed_transmission = 0 < transmission < 1 and (depth > 0 or differs(transmission_color, weight * color))
     full_volume = transmission >= 1 and depth > 0 and differs(color, WHITE)
-    return bool(subsurface > 0 or mixed_transmission or full_volume)
+    tinted_metal = metalness > 0 and (differs(specular_color, WHITE) or specular_weight != 1)
+    coloured_coat = coat_weight > 0 and differs(coat_color, WHITE)
+    return bool(subsurface > 0 or mixed_transmission or full_volume or tinted_metal or coloured_coat)
+
+
+def _peak(color):
+    """The largest channel of each texel (keeps the channel axis, so it divides colours)."""
+    return np.max(color, axis=-1, keepdims=True)
 
 
 def _emissive(color, luminance):
-    peak = np.max(color)
-    return color / peak if peak > 1.0 else color
+    peak = _peak(color)
+    return np.where(peak > 1.0, color / np.where(peak > 1.0, peak, 1.0), color)
 
 
 def _emissive_strength(color, luminance, nits_per_unit=1.0):
-    peak = np.max(color)
-    return luminance / nits_per_unit * (peak if peak > 1.0 else 1.0)
+    return luminance / nits_per_unit * np.maximum(_peak(color), 1.0)
+
+
+def _normalised(color):
+    """A colour divided by its largest channel, white where it is black."""
+    peak = _peak(color)
+    return np.where(peak > 0, color / np.where(peak > 0, peak, 1.0), WHITE)
+
+
+def gltf_sheen_color(color, weight, roughness):
+    """Fuzz as KHR_materials_sheen: weight * colour * k(r), k scaling the fitted Charlie albedo to
+    Zeltner's (:func:`fit.sheen_fit`); glTF caps the colour at 1."""
+    return np.clip(color * weight * fit.fuzz_albedo_scale(roughness), 0.0, 1.0)
+
+
+def gltf_sheen_roughness(roughness):
+    """glTF's sheen roughness (alpha = roughness^2 is Charlie's r) for the fitted Charlie r."""
+    return np.sqrt(fit.charlie_roughness_for_fuzz(roughness))
+
+
+def fuzz_roughness_from_gltf(sheen_roughness):
+    return fit.fuzz_roughness_for_charlie(sheen_roughness ** 2)
+
+
+def fuzz_weight_from_gltf(sheen_color, sheen_roughness):
+    scale = fit.fuzz_albedo_scale(fuzz_roughness_from_gltf(sheen_roughness))
+    return np.clip(_peak(sheen_color) / scale, 0.0, 1.0)
 
 
 def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
@@ -105,37 +218,47 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
     nits = settings.nits_per_unit
     base_sources = ("base_weight", "base_color", "transmission_weight", "transmission_color", "transmission_depth",
                     "subsurface_weight", "subsurface_color", "base_metalness", "specular_weight", "coat_weight",
-                    "coat_darkening", "coat_ior")
+                    "coat_darkening", "coat_ior", "coat_color", "specular_color", "specular_roughness",
+                    "specular_roughness_anisotropy")
     return (
         Mapping("base_color", base_sources, gltf_base_color, exact=False, matters=_base_color_matters,
-                note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed"),
+                note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed; "
+                     "the coat's colour (glTF's clearcoat is colourless) is folded into it, which misses the "
+                     f"tint of the dielectric reflection under the coat; a metal's F82 edge tint and specular "
+                     f"weight are fitted into its F0 ({METAL_RESIDUAL})"),
         Mapping("metallic", ("base_metalness",)),
         Mapping("roughness", ("specular_roughness", "specular_roughness_anisotropy"), gltf_roughness,
                 converted="roughness from OpenPBR's anisotropic alpha_b"),
         Mapping("anisotropy_strength", ("specular_roughness", "specular_roughness_anisotropy"), gltf_anisotropy_strength,
                 converted="KHR_materials_anisotropy strength solved from OpenPBR's alpha_t and alpha_b"),
-        Mapping("specular", ("specular_weight",), exact=False, matters=lambda w: w != 1.0,
-                note="KHR_materials_specular matches OpenPBR's specular_weight at normal incidence only"),
+        Mapping("specular", SPECULAR_SOURCES, gltf_specular,
+                exact=False, matters=lambda *v: v[6] < 1 and differs(gltf_specular(*v), 1.0),
+                note="KHR_materials_specular scales F0 and F90 where OpenPBR's specular_weight and a coat (the base's "
+                     f"IOR relative to the coat's) change F0 only: equal at normal incidence ({COAT_RESIDUAL})"),
         Mapping("specular_color", ("specular_color", "base_metalness"), lambda c, m: c, exact=False,
-                matters=lambda c, m: differs(c, WHITE),
-                note="glTF's specular colour tints dielectric F0 only; a metal's F82 edge tint is lost"),
+                matters=lambda c, m: differs(c, WHITE) and m > 0,
+                note="glTF's specular colour tints dielectric F0 only; a metal's F82 edge tint is fitted into its "
+                     f"base colour instead ({METAL_RESIDUAL})"),
         Mapping("ior", ("specular_ior",)),
         Mapping("transmission", ("transmission_weight",)),
         Mapping("attenuation_color", ("transmission_color", "transmission_depth"), lambda c, d: np.where(d > 0, c, WHITE)),
         Mapping("attenuation_distance", ("transmission_depth",), lambda d: np.where(d > 0, d * mpu, np.inf),
                 converted=f"scene units to metres at {mpu:g} m per unit"),
-        Mapping("thickness", ("transmission_depth", "geometry_thin_walled"),
-                lambda d, thin: np.where((thin > 0.5) | (d <= 0), 0.0, mpu),
-                exact=False, matters=lambda d, thin: d > 0 and thin < 0.5,
+        # A solid (not thin-walled) transmissive OpenPBR material is a volume in glTF whatever its
+        # depth: glTF's thickness 0 means thin-walled (no refraction, no dispersion).
+        Mapping("thickness", ("transmission_depth", "geometry_thin_walled", "transmission_weight"),
+                lambda d, thin, t: np.where((thin > 0.5) | (t <= 0), 0.0, mpu) + 0.0 * d,
+                exact=False, matters=lambda d, thin, t: d > 0 and thin < 0.5 and t > 0,
                 note="glTF's volume thickness is the mesh's; set to one scene unit, the path MaterialX's "
                      "reference renders OpenPBR's absorption over"),
         Mapping("dispersion", ("transmission_dispersion_scale", "transmission_dispersion_abbe_number"),
                 lambda s, v: np.where(v > 0, 20.0 * s / np.where(v > 0, v, 1.0), 0.0),
                 converted="KHR_materials_dispersion = 20 * scale / Abbe number"),
-        Mapping("sheen_color", ("fuzz_color", "fuzz_weight"), lambda c, w: c * w, exact=False, matters=lambda c, w: w > 0,
-                note="fuzz (Zeltner) rendered as glTF sheen (Charlie); colour times weight"),
-        Mapping("sheen_roughness", ("fuzz_roughness", "fuzz_weight"), lambda r, w: r, exact=False,
-                matters=lambda r, w: w > 0, note="sheen roughness conventions differ"),
+        Mapping("sheen_color", ("fuzz_color", "fuzz_weight", "fuzz_roughness"), gltf_sheen_color, exact=False,
+                matters=lambda c, w, r: w > 0,
+                note=f"fuzz (Zeltner) as glTF sheen (Charlie): colour and roughness fitted to its albedo ({SHEEN_RESIDUAL})"),
+        Mapping("sheen_roughness", ("fuzz_roughness", "fuzz_weight"), lambda r, w: gltf_sheen_roughness(r),
+                converted="Charlie roughness fitted to the fuzz's albedo"),
         Mapping("clearcoat", ("coat_weight",)),
         Mapping("clearcoat_roughness", ("coat_roughness",)),
         Mapping("iridescence", ("thin_film_weight",)),
@@ -154,8 +277,6 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
 
 
 DROPPED_TO_GLTF = (
-    Dropped("coat_color", "glTF's clearcoat is colourless", matters=lambda c, w: w > 0 and differs(c, WHITE),
-            needs=("coat_weight",)),
     Dropped("coat_ior", "glTF's clearcoat IOR is fixed at 1.5", matters=lambda n, w: w > 0 and abs(n - 1.5) > 1e-6,
             needs=("coat_weight",)),
     Dropped("coat_roughness_anisotropy", "glTF's clearcoat is isotropic", matters=lambda a, w: a > 0 and w > 0,
@@ -171,14 +292,18 @@ def from_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
     return (
-        Mapping("base_color", ("base_color",)),
+        Mapping("base_color", ("base_color", "metallic", "specular_color", "roughness", "anisotropy_strength")
+                + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:], openpbr_base_color,
+                converted="a metal's base colour solved for OpenPBR's F82 edge tint (specular_color)"),
         Mapping("base_metalness", ("metallic",)),
         Mapping("specular_roughness", ("roughness", "anisotropy_strength"), openpbr_roughness,
                 converted="roughness from glTF's anisotropic alphas"),
         Mapping("specular_roughness_anisotropy", ("roughness", "anisotropy_strength"), openpbr_anisotropy,
                 converted="anisotropy from glTF's alpha_t / alpha_b"),
-        Mapping("specular_weight", ("specular",), exact=False, matters=lambda w: w != 1.0,
-                note="KHR_materials_specular matches OpenPBR's specular_weight at normal incidence only"),
+        Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES, openpbr_specular_weight, exact=False,
+                matters=lambda s, m, n, w, f: m < 1 and (s != 1.0 or w > 0),
+                note="KHR_materials_specular scales F0 and F90, OpenPBR's specular_weight F0 only (under a coat, of "
+                     "the base relative to the coat): equal at normal incidence"),
         Mapping("specular_color", ("specular_color",)),
         Mapping("specular_ior", ("ior",)),
         Mapping("transmission_weight", ("transmission",)),
@@ -194,20 +319,23 @@ def from_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
         Mapping("transmission_dispersion_scale", ("dispersion",), lambda v: np.where(v > 0, 1.0, 0.0)),
         Mapping("transmission_dispersion_abbe_number", ("dispersion",),
                 lambda v: np.where(v > 0, 20.0 / np.where(v > 0, v, 1.0), 20.0)),
-        Mapping("fuzz_weight", ("sheen_color",), lambda c: np.max(c), exact=False, matters=lambda c: np.max(c) > 0,
-                note="glTF sheen (Charlie) rendered as fuzz (Zeltner)"),
-        Mapping("fuzz_color", ("sheen_color",), lambda c: c / np.max(c) if np.max(c) > 0 else WHITE),
-        Mapping("fuzz_roughness", ("sheen_roughness",)),
+        Mapping("fuzz_weight", ("sheen_color", "sheen_roughness"), fuzz_weight_from_gltf, exact=False,
+                matters=lambda c, r: np.max(c) > 0,
+                note=f"glTF sheen (Charlie) as fuzz (Zeltner): weight and roughness fitted to its albedo ({SHEEN_RESIDUAL})"),
+        Mapping("fuzz_color", ("sheen_color",), _normalised),
+        Mapping("fuzz_roughness", ("sheen_roughness",), fuzz_roughness_from_gltf,
+                converted="Zeltner roughness fitted to the sheen's albedo"),
         Mapping("coat_weight", ("clearcoat",)),
         Mapping("coat_roughness", ("clearcoat_roughness",)),
-        Mapping("coat_ior", ("clearcoat",), lambda w: 1.5, when=lambda w: w > 0, converted="glTF's clearcoat IOR is 1.5"),
+        Mapping("coat_ior", ("clearcoat",), lambda w: GLTF_CLEARCOAT_IOR, when=lambda w: w > 0,
+                converted="glTF's clearcoat IOR is 1.5"),
         Mapping("coat_darkening", ("clearcoat",), lambda w: 0.0, when=lambda w: w > 0,
                 converted="glTF does not darken under a clearcoat"),
         Mapping("thin_film_weight", ("iridescence",)),
         Mapping("thin_film_thickness", ("iridescence_thickness",), lambda t: t / 1000.0, converted="nanometres to micrometres"),
         Mapping("thin_film_ior", ("iridescence_ior",)),
-        Mapping("emission_color", ("emissive",), lambda c: c / np.max(c) if np.max(c) > 0 else WHITE),
-        Mapping("emission_luminance", ("emissive", "emissive_strength"), lambda c, s: np.max(c) * s * nits,
+        Mapping("emission_color", ("emissive",), _normalised),
+        Mapping("emission_luminance", ("emissive", "emissive_strength"), lambda c, s: _peak(c) * s * nits,
                 converted=f"nits at {nits:g} nit(s) per unit"),
         Mapping("geometry_opacity", ("alpha", "alpha_mode", "alpha_cutoff"),
                 lambda a, m, c: np.where(m == 0, 1.0, np.where(m == 1, np.where(a >= c, 1.0, 0.0), a)),
