@@ -258,7 +258,8 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
                 matters=lambda c, w, r: w > 0,
                 note=f"fuzz (Zeltner) as glTF sheen (Charlie): colour and roughness fitted to its albedo ({SHEEN_RESIDUAL})"),
         Mapping("sheen_roughness", ("fuzz_roughness", "fuzz_weight"), lambda r, w: gltf_sheen_roughness(r),
-                converted="Charlie roughness fitted to the fuzz's albedo"),
+                converted="Charlie roughness fitted to the fuzz's albedo",
+                when=lambda r, w: w > 0),  # without fuzz, no KHR_materials_sheen that does nothing
         Mapping("clearcoat", ("coat_weight",)),
         Mapping("clearcoat_roughness", ("coat_roughness",)),
         Mapping("iridescence", ("thin_film_weight",)),
