@@ -414,3 +414,25 @@ def fuzz_albedo_scale(fuzz_roughness):
     """k: Zeltner's fuzz albedo at this roughness over the fitted Charlie sheen's."""
     nodes, _, k = sheen_fit()
     return np.interp(np.clip(fuzz_roughness, 0.0, 1.0), nodes, k)
+
+
+# -- the coat's roughening of the base ------------------------------------------------------------
+def coat_roughened(roughness, coat_weight, coat_roughness):
+    """OpenPBR's base roughness under a coat (specification, "Coat"): the coat's microfacets spread
+    the base's lobe, r' = min(1, (r^4 + 2 r_c^4)^(1/4)), mixed by the coat's weight."""
+    target = np.minimum(1.0, (roughness ** 4 + 2.0 * coat_roughness ** 4) ** 0.25)
+    return roughness + coat_weight * (target - roughness)
+
+
+def coat_unroughened(roughened, coat_weight, coat_roughness, iterations: int = 48):
+    """Inverse of :func:`coat_roughened` in the base roughness (increasing in it; bisection, vectorised).
+    A roughness below what the coat alone gives maps to 0."""
+    roughened = np.asarray(roughened, dtype=np.float64)
+    low = np.zeros(np.broadcast(roughened, coat_weight, coat_roughness).shape)
+    high = np.ones_like(low)
+    for _ in range(iterations):
+        middle = 0.5 * (low + high)
+        above = coat_roughened(middle, coat_weight, coat_roughness) > roughened
+        high = np.where(above, middle, high)
+        low = np.where(above, low, middle)
+    return np.where(coat_weight > 0, 0.5 * (low + high), roughened + 0.0 * low)

@@ -17,6 +17,11 @@ Exact:
   * emission: colour normalised to glTF's [0, 1] factor with the rest moved to
     KHR_materials_emissive_strength; ``emission_luminance`` / ``nits_per_unit``.
 
+Exact, given glTF's model:
+  * the coat's roughening of the base (OpenPBR spec, "Coat": mix(r, min(1, (r^4 + 2 r_c^4)^(1/4)),
+    coat weight)) is put into glTF's base roughness, since glTF's clearcoat does not roughen the
+    base; back, it is taken out (bisection). A rough-coated gold went from 3.88 to 0.51 mean ΔE.
+
 Approximated (reported when visible; residuals are mean CIEDE2000 on the evaluator's lit sphere,
 before -> after the fits of :mod:`.fit`, from ``openpbr convert --verify``):
   * glTF tints transmission with the base colour; OpenPBR has ``transmission_color``. A partly
@@ -120,7 +125,8 @@ def coat_attenuation(coat_color, coat_weight):
 
 def gltf_base_color(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color,
                     metalness=0.0, specular_weight=1.0, coat_weight=0.0, coat_darkening=0.0, coat_ior=1.5,
-                    coat_color=WHITE, specular_color=WHITE, roughness=0.3, anisotropy=0.0):
+                    coat_color=WHITE, specular_color=WHITE, roughness=0.3, anisotropy=0.0, coat_roughness=0.0):
+    roughness = fit.coat_roughened(roughness, coat_weight, coat_roughness)  # glTF's base roughness
     darkening = coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color,
                                       coat_weight, coat_darkening, fit.positive_ior(coat_ior))
     color = color * darkening * coat_attenuation(coat_color, coat_weight)
@@ -141,6 +147,8 @@ def gltf_specular(specular_weight, specular_ior, coat_ior, coat_weight, film_wei
                                           np.max(darkening, axis=-1, keepdims=True))
     return fit.specular_weight_under_coat(specular_weight, scale, metalness)
 
+
+ROUGHNESS_SOURCES = ("specular_roughness", "specular_roughness_anisotropy", "coat_weight", "coat_roughness")
 
 SPECULAR_SOURCES = ("specular_weight", "specular_ior", "coat_ior", "coat_weight", "thin_film_weight", "base_color",
                     "base_metalness", "subsurface_weight", "subsurface_color", "coat_darkening")
@@ -219,7 +227,7 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
     base_sources = ("base_weight", "base_color", "transmission_weight", "transmission_color", "transmission_depth",
                     "subsurface_weight", "subsurface_color", "base_metalness", "specular_weight", "coat_weight",
                     "coat_darkening", "coat_ior", "coat_color", "specular_color", "specular_roughness",
-                    "specular_roughness_anisotropy")
+                    "specular_roughness_anisotropy", "coat_roughness")
     return (
         Mapping("base_color", base_sources, gltf_base_color, exact=False, matters=_base_color_matters,
                 note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed; "
@@ -227,9 +235,11 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
                      f"tint of the dielectric reflection under the coat; a metal's F82 edge tint and specular "
                      f"weight are fitted into its F0 ({METAL_RESIDUAL})"),
         Mapping("metallic", ("base_metalness",)),
-        Mapping("roughness", ("specular_roughness", "specular_roughness_anisotropy"), gltf_roughness,
-                converted="roughness from OpenPBR's anisotropic alpha_b"),
-        Mapping("anisotropy_strength", ("specular_roughness", "specular_roughness_anisotropy"), gltf_anisotropy_strength,
+        Mapping("roughness", ROUGHNESS_SOURCES, lambda r, a, c, rc: gltf_roughness(fit.coat_roughened(r, c, rc), a),
+                converted="roughness from OpenPBR's anisotropic alpha_b, roughened by the coat as OpenPBR does "
+                          "(glTF's clearcoat does not roughen the base)"),
+        Mapping("anisotropy_strength", ROUGHNESS_SOURCES,
+                lambda r, a, c, rc: gltf_anisotropy_strength(fit.coat_roughened(r, c, rc), a),
                 converted="KHR_materials_anisotropy strength solved from OpenPBR's alpha_t and alpha_b"),
         Mapping("specular", SPECULAR_SOURCES, gltf_specular,
                 exact=False, matters=lambda *v: v[6] < 1 and differs(gltf_specular(*v), 1.0),
@@ -297,8 +307,9 @@ def from_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
                 + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:], openpbr_base_color,
                 converted="a metal's base colour solved for OpenPBR's F82 edge tint (specular_color)"),
         Mapping("base_metalness", ("metallic",)),
-        Mapping("specular_roughness", ("roughness", "anisotropy_strength"), openpbr_roughness,
-                converted="roughness from glTF's anisotropic alphas"),
+        Mapping("specular_roughness", ("roughness", "anisotropy_strength", "clearcoat", "clearcoat_roughness"),
+                lambda r, s, c, rc: fit.coat_unroughened(openpbr_roughness(r, s), c, rc),
+                converted="roughness from glTF's anisotropic alphas, less the roughening OpenPBR's coat adds"),
         Mapping("specular_roughness_anisotropy", ("roughness", "anisotropy_strength"), openpbr_anisotropy,
                 converted="anisotropy from glTF's alpha_t / alpha_b"),
         Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES, openpbr_specular_weight, exact=False,
