@@ -117,8 +117,8 @@ def specular_weight_from_coated(weight, scale, metalness=0.0):
     """Inverse of :func:`specular_weight_under_coat`. Where the scale is 0 (OpenPBR's base cannot
     reflect under the coat: its IOR equals the coat's), the weight is kept (that reflection is
     lost)."""
-    denominator = scale + metalness * (1.0 - scale)
-    with np.errstate(divide="ignore", invalid="ignore"):
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # inf inputs from hostile files
+        denominator = scale + metalness * (1.0 - scale)
         return np.where(denominator > _TINY, weight / np.where(denominator > _TINY, denominator, 1.0), weight)
 
 
