@@ -5,19 +5,40 @@ is kept as parsed (``dict``/``list``), because whether a property was authored m
 reader (pygltflib's object model fills in every schema default, and its GLB loader raises
 ``struct.error`` on a truncated file, so it is used for its constants only). The GLB layout is the
 specification's section 4.4: a 12-byte header (magic ``glTF``, version 2, total length), then
-chunks of (length, type, data), the first of type JSON, an optional second of type BIN.
+chunks of (length, type, data), the first of type JSON, an optional second of type BIN. Declared
+lengths are checked against the bytes actually present before anything is sliced, so a header
+claiming gigabytes costs nothing.
 
-Resources (buffers, images) are fetched lazily and only ever from inside the asset: a data URI, the
-GLB binary chunk, or a relative file beside the asset no larger than the reader's size limit. A
-resource that cannot be fetched raises :class:`ResourceError`, which callers turn into a finding.
+Limits, each refusing hostile input before the work it would cause:
+
+* the file itself: ``OPENPBR_MAX_FILE_MB`` (64 MiB), checked on its size before it is read;
+* JSON nesting: :data:`MAX_JSON_DEPTH` levels (serde_json's default recursion limit); deeper
+  documents are refused as malformed, so no later step can run out of Python's recursion limit;
+* integers of more than 4300 digits (Python's conversion limit) are read as floats (infinite), not
+  refused: the property holding one is then simply out of range or of the wrong type;
+* strings holding an unpaired UTF-16 surrogate escape (``"\\ud800"``: valid JSON, not valid
+  Unicode, and unwritable as UTF-8) get U+FFFD instead, and the repair is reported
+  (:attr:`GltfDocument.repairs`);
+* a data URI's decoded bytes: ``OPENPBR_MAX_DATA_URI_MB`` (by default the file limit: an embedded
+  resource may be as large as a file beside the asset), computed from the payload's length before
+  anything is decoded.
+
+Resources (buffers, images) are fetched lazily, each at most once (failures included, so a thousand
+images in one broken buffer cost one attempt), and only ever from inside the asset: a data URI, the
+GLB binary chunk, or a relative file beside the asset (after following symbolic links) no larger
+than the file limit. A resource that cannot be fetched raises :class:`ResourceError`, which callers
+turn into a finding; it is a :class:`~openpbr_tools.io.ReadError`, so a caller that does not expect
+it still reports unreadable input rather than a traceback.
 """
 
 from __future__ import annotations
 
 import base64
 import binascii
+import io
 import json
 import os
+import re
 import struct
 from dataclasses import dataclass, field
 from urllib.parse import unquote, unquote_to_bytes
@@ -27,15 +48,29 @@ from . import ReadError, max_file_bytes, read_bytes
 
 GLB_JSON = 0x4E4F534A
 GLB_BIN = 0x004E4942
+MAX_JSON_DEPTH = 128  # serde_json's default recursion limit; glTF documents nest about 8 deep
+MAX_INTEGER_DIGITS = 4300  # sys.int_info.default_max_str_digits: int() refuses longer strings
+_SURROGATE_ESCAPE = re.compile(rb"\\u[dD][89a-fA-F]")
+_SURROGATE = re.compile("[\ud800-\udfff]")
+_WINDOWS_ABSOLUTE = re.compile(r"^(?:[a-zA-Z]:[\\/]|[\\/]{2})")
 
 
-class ResourceError(Exception):
+class ResourceError(ReadError):
     """A buffer or image that cannot be fetched; ``pointer`` is the JSON pointer of the culprit."""
 
-    def __init__(self, message: str, pointer: str):
-        super().__init__(message)
-        self.message = message
+    def __init__(self, message: str, pointer: str, file: str = "", outside: bool = False):
+        super().__init__("unreadable", message, Location(file, path=pointer))
         self.pointer = pointer
+        self.outside = outside  # refused because it lies outside the asset (not because it is broken)
+
+
+def max_data_uri_bytes() -> int:
+    """The largest decoded data URI accepted: ``OPENPBR_MAX_DATA_URI_MB``, else the file limit."""
+    value = os.environ.get("OPENPBR_MAX_DATA_URI_MB")
+    try:
+        return int(float(value) * 1024 * 1024) if value else max_file_bytes()
+    except ValueError:
+        return max_file_bytes()
 
 
 @dataclass(slots=True)
@@ -44,7 +79,9 @@ class GltfDocument:
     json: dict
     binary: bytes | None = None
     is_glb: bool = False
-    _buffers: dict[int, bytes] = field(default_factory=dict)
+    repairs: list[tuple[str, str]] = field(default_factory=list)  # (JSON pointer, what was repaired)
+    _buffers: dict[int, bytes | ResourceError] = field(default_factory=dict)
+    _files: dict[str, bytes | ResourceError] = field(default_factory=dict)
 
     @property
     def folder(self) -> str:
@@ -62,68 +99,150 @@ class GltfDocument:
         found = items[index]
         return found if isinstance(found, dict) else None
 
+    def error(self, message: str, pointer: str, outside: bool = False) -> ResourceError:
+        return ResourceError(message, pointer, self.path, outside)
+
+    def missing(self, uri: str, pointer: str) -> ResourceError:
+        return self.error(f"file {unquote(uri)!r} not found", pointer)
+
     # -- resources -------------------------------------------------------------------------
+    def resolve(self, uri: str, pointer: str) -> str:
+        """The real path of a relative URI inside the asset's folder; :class:`ResourceError` for a
+        URL, an absolute path, a path that climbs out of the folder (``..`` or a symbolic link) or
+        a name no file system accepts (NUL)."""
+        relative = unquote(uri)
+        if "://" in uri or relative.startswith(("/", "\\")) or os.path.isabs(relative) or _WINDOWS_ABSOLUTE.match(relative):
+            raise self.error(f"{uri!r} is not a relative path inside the asset; it is not opened", pointer, outside=True)
+        folder = os.path.realpath(self.folder)
+        try:
+            path = os.path.realpath(os.path.join(folder, relative))
+            inside = os.path.commonpath([path, folder]) == folder
+        except ValueError as error:  # a NUL character (unpaired surrogates are repaired at load)
+            raise self.error(f"{uri!r} is not a usable file name ({error})", pointer) from None
+        if not inside:
+            raise self.error(f"{uri!r} resolves outside the asset's folder; it is not opened", pointer, outside=True)
+        return path
+
     def buffer(self, index: int) -> bytes:
-        if index in self._buffers:
-            return self._buffers[index]
+        if index not in self._buffers:
+            try:
+                self._buffers[index] = self._load_buffer(index)
+            except ResourceError as error:
+                self._buffers[index] = error
+        found = self._buffers[index]
+        if isinstance(found, ResourceError):
+            raise found
+        return found
+
+    def _load_buffer(self, index: int) -> bytes:
         pointer = f"/buffers/{index}"
         buffer = self.item("buffers", index)
         if buffer is None:
-            raise ResourceError(f"buffer {index} does not exist", pointer)
+            raise self.error(f"buffer {index} does not exist", pointer)
         uri = buffer.get("uri")
         if uri is None:
             if not self.is_glb or index != 0 or self.binary is None:
-                raise ResourceError("buffer has no uri and there is no GLB binary chunk", pointer)
+                raise self.error("buffer has no uri and there is no GLB binary chunk", pointer)
             data = self.binary
+        elif not isinstance(uri, str):
+            raise self.error("buffer uri is not a string", pointer + "/uri")
         else:
             data = self.fetch(uri, pointer + "/uri")
         length = buffer.get("byteLength")
         if isinstance(length, int) and len(data) < length:
-            raise ResourceError(f"buffer holds {len(data)} bytes, fewer than its byteLength {length}", pointer)
-        self._buffers[index] = data
+            raise self.error(f"buffer holds {len(data)} bytes, fewer than its byteLength {length}", pointer)
         return data
 
-    def buffer_view(self, index) -> bytes:
+    def buffer_view(self, index) -> memoryview:
+        """The bytes of a bufferView, as a view into its buffer (never copied)."""
         pointer = f"/bufferViews/{index}"
         view = self.item("bufferViews", index)
         if view is None:
-            raise ResourceError(f"bufferView {index!r} does not exist", pointer)
-        data = self.buffer(view.get("buffer")) if isinstance(view.get("buffer"), int) else None
-        if data is None:
-            raise ResourceError(f"bufferView {index} names no valid buffer", pointer)
+            raise self.error(f"bufferView {index!r} does not exist", pointer)
+        buffer = view.get("buffer")
+        if isinstance(buffer, bool) or not isinstance(buffer, int):
+            raise self.error(f"bufferView {index} names no valid buffer", pointer)
+        data = self.buffer(buffer)
         offset, length = view.get("byteOffset", 0), view.get("byteLength")
-        if not isinstance(offset, int) or not isinstance(length, int) or offset < 0 or length < 0 \
+        if not all(isinstance(n, int) and not isinstance(n, bool) and n >= 0 for n in (offset, length)) \
                 or offset + length > len(data):
-            raise ResourceError(f"bufferView {index} lies outside its buffer", pointer)
-        return data[offset:offset + length]
+            raise self.error(f"bufferView {index} lies outside its buffer", pointer)
+        return memoryview(data)[offset:offset + length]
 
-    def image_bytes(self, index: int) -> tuple[bytes, str | None]:
-        """The encoded bytes of image ``index`` and its declared (or data URI) MIME type."""
+    def image_view(self, index: int) -> tuple[bytes | memoryview, str | None]:
+        """The encoded bytes of image ``index`` (a view when they sit in a buffer) and its declared
+        (or data URI) MIME type."""
         pointer = f"/images/{index}"
         image = self.item("images", index)
         if image is None:
-            raise ResourceError(f"image {index} does not exist", pointer)
+            raise self.error(f"image {index} does not exist", pointer)
         if "bufferView" in image:
             return self.buffer_view(image["bufferView"]), image.get("mimeType")
         uri = image.get("uri")
         if not isinstance(uri, str):
-            raise ResourceError("image has neither uri nor bufferView", pointer)
+            raise self.error("image has neither uri nor bufferView", pointer)
         mime = image.get("mimeType") or data_uri_mime(uri)
         return self.fetch(uri, pointer + "/uri"), mime
+
+    def image_bytes(self, index: int) -> tuple[bytes, str | None]:
+        """The encoded bytes of image ``index`` and its declared (or data URI) MIME type."""
+        data, mime = self.image_view(index)
+        return bytes(data), mime
 
     def fetch(self, uri: str, pointer: str) -> bytes:
         """The bytes a URI names: a data URI, or a relative file inside the asset's folder."""
         if uri.startswith("data:"):
-            return decode_data_uri(uri, pointer)
-        if "://" in uri or uri.startswith("/") or os.path.isabs(unquote(uri)):
-            raise ResourceError(f"{uri!r} is not a relative path inside the asset; it is not opened", pointer)
-        path = os.path.realpath(os.path.join(self.folder, unquote(uri)))
-        if os.path.commonpath([path, os.path.realpath(self.folder)]) != os.path.realpath(self.folder):
-            raise ResourceError(f"{uri!r} points outside the asset's folder; it is not opened", pointer)
-        try:
-            return read_bytes(path)
-        except ReadError as error:
-            raise ResourceError(f"{uri!r}: {error.message}", pointer) from None
+            try:
+                return decode_data_uri(uri, pointer)
+            except ResourceError as error:
+                raise self.error(error.message, pointer) from None
+        path = self.resolve(uri, pointer)
+        if not os.path.isfile(path):
+            raise self.missing(uri, pointer)
+        if path not in self._files:  # several buffers naming one file read it once
+            try:
+                self._files[path] = read_bytes(path)
+            except ReadError as error:
+                self._files[path] = self.error(f"{uri!r}: {error.message}", pointer)
+        found = self._files[path]
+        if isinstance(found, ResourceError):
+            raise self.error(found.message, pointer)
+        return found
+
+
+class ResourceFile(io.RawIOBase):
+    """A read-only, seekable file over a resource's bytes or view that copies only what is read:
+    Pillow reads an image's header, so measuring an image inside a large buffer costs the header."""
+
+    def __init__(self, data) -> None:
+        super().__init__()
+        self.data, self.position = memoryview(data), 0
+
+    def readable(self) -> bool:
+        return True
+
+    def seekable(self) -> bool:
+        return True
+
+    def tell(self) -> int:
+        return self.position
+
+    def seek(self, offset: int, whence: int = io.SEEK_SET) -> int:
+        base = {io.SEEK_SET: 0, io.SEEK_CUR: self.position, io.SEEK_END: len(self.data)}[whence]
+        self.position = max(0, base + offset)
+        return self.position
+
+    def readinto(self, buffer) -> int:
+        chunk = self.data[self.position:self.position + len(buffer)]
+        buffer[:len(chunk)] = chunk
+        self.position += len(chunk)
+        return len(chunk)
+
+    def read(self, size: int = -1) -> bytes:
+        end = len(self.data) if size is None or size < 0 else self.position + size
+        chunk = bytes(self.data[self.position:end])
+        self.position += len(chunk)
+        return chunk
 
 
 def data_uri_mime(uri: str) -> str | None:
@@ -135,15 +254,19 @@ def data_uri_mime(uri: str) -> str | None:
 
 
 def decode_data_uri(uri: str, pointer: str) -> bytes:
-    """Decode ``data:[<mime>][;base64],<payload>`` strictly, refusing payloads above the size limit."""
+    """Decode ``data:[<mime>][;base64],<payload>`` strictly, refusing payloads above
+    :func:`max_data_uri_bytes` before decoding them."""
     comma = uri.find(",")
     if comma < 0:
         raise ResourceError("data URI has no ',' before its payload", pointer)
     header, payload = uri[5:comma], uri[comma + 1:]
-    limit = max_file_bytes()
-    if len(payload) * 3 // 4 > limit:
-        raise ResourceError(f"data URI payload is above the {limit / 2**20:.0f} MiB limit (OPENPBR_MAX_FILE_MB)", pointer)
-    if header.endswith(";base64"):
+    limit = max_data_uri_bytes()
+    base64_encoded = header.endswith(";base64")
+    decoded_size = len(payload) * 3 // 4 if base64_encoded else len(payload)  # an upper bound either way
+    if decoded_size > limit:
+        raise ResourceError(f"data URI payload ({decoded_size / 2**20:.1f} MiB decoded) is above the "
+                            f"{limit / 2**20:g} MiB limit (OPENPBR_MAX_DATA_URI_MB); it is not decoded", pointer)
+    if base64_encoded:
         try:
             return base64.b64decode(payload, validate=True)
         except (binascii.Error, ValueError) as error:
@@ -159,26 +282,74 @@ def load_document(path: str) -> GltfDocument:
         is_glb = True
     else:
         text, binary, is_glb = data, None, False
+    if text[:2] in (b"\xff\xfe", b"\xfe\xff"):
+        raise ReadError("not_gltf", "glTF JSON is UTF-16 (it starts with a UTF-16 byte-order mark); glTF requires UTF-8",
+                        Location(path))
     try:
-        decoded = text.decode("utf-8-sig") if isinstance(text, bytes) else text
+        decoded = text.decode("utf-8-sig")
     except UnicodeDecodeError as error:
         raise ReadError("not_gltf", f"glTF JSON is not UTF-8: {error.reason} at byte {error.start}", Location(path)) from None
+    too_deep = ReadError("not_gltf", f"JSON nested more than {MAX_JSON_DEPTH} levels deep", Location(path))
     try:
-        document = json.loads(decoded)
+        document = json.loads(decoded, parse_int=_integer)
     except json.JSONDecodeError as error:
         raise ReadError("not_gltf", f"not JSON: {error.msg} (line {error.lineno}, column {error.colno})",
                         Location(path, line=error.lineno)) from None
     except RecursionError:
-        raise ReadError("not_gltf", "JSON nested too deeply", Location(path)) from None
+        raise too_deep from None
     if not isinstance(document, dict):
         raise ReadError("not_gltf", f"the JSON root is a {type(document).__name__}, not an object", Location(path, line=1))
+    repairs: list[tuple[str, str]] = []
+    if not _settle(document, repair=_SURROGATE_ESCAPE.search(text) is not None, repairs=repairs):
+        raise too_deep
     asset = document.get("asset")
     if not isinstance(asset, dict) or not isinstance(asset.get("version"), str):
         raise ReadError("not_gltf", "not a glTF document: no asset.version", Location(path, path="/asset"))
     major = asset["version"].split(".", 1)[0]
     if major != "2":
         raise ReadError("not_gltf", f"glTF version {asset['version']!r} is not 2.x", Location(path, path="/asset", input="version"))
-    return GltfDocument(path=path, json=document, binary=binary, is_glb=is_glb)
+    return GltfDocument(path=path, json=document, binary=binary, is_glb=is_glb, repairs=repairs)
+
+
+def _integer(digits: str):
+    """JSON integers as Python ints, except those too long for ``int()`` (read as float: ±inf)."""
+    return int(digits) if len(digits) <= MAX_INTEGER_DIGITS else float(digits)
+
+
+def _settle(document: dict, repair: bool, repairs: list[tuple[str, str]]) -> bool:
+    """Check the nesting depth (``False`` when above :data:`MAX_JSON_DEPTH`) and, when ``repair``,
+    replace unpaired surrogates in keys and strings by U+FFFD, noting each repair. Iterative: the
+    document may be nested as deeply as ``json`` allowed."""
+    stack: list[tuple[dict | list, int, str]] = [(document, 1, "")]
+    while stack:
+        container, depth, pointer = stack.pop()
+        if depth > MAX_JSON_DEPTH:
+            return False
+        if isinstance(container, dict):
+            if repair and any(_SURROGATE.search(key) for key in container):
+                fixed = {}
+                for key, value in container.items():
+                    clean = _SURROGATE.sub("\ufffd", key)
+                    if clean != key:
+                        repairs.append((f"{pointer}/{_escape(clean)}", "property name holds an unpaired surrogate escape"))
+                    fixed[clean] = value
+                container.clear()
+                container.update(fixed)
+            items = container.items()
+        else:
+            items = enumerate(container)
+        for key, value in list(items):
+            if isinstance(value, (dict, list)):
+                stack.append((value, depth + 1, f"{pointer}/{_escape(key)}"))
+            elif repair and isinstance(value, str) and _SURROGATE.search(value):
+                container[key] = _SURROGATE.sub("\ufffd", value)
+                repairs.append((f"{pointer}/{_escape(key)}",
+                                "string holds an unpaired surrogate escape (\\ud800-\\udfff), which is not Unicode; read as U+FFFD"))
+    return True
+
+
+def _escape(token) -> str:
+    return str(token).replace("~", "~0").replace("/", "~1")
 
 
 def _split_glb(data: bytes, path: str) -> tuple[bytes, bytes | None]:
@@ -203,7 +374,7 @@ def _split_glb(data: bytes, path: str) -> tuple[bytes, bytes | None]:
             refuse(f"truncated chunk header at byte {offset}")
         chunk_length, chunk_type = struct.unpack_from("<II", data, offset)
         start = offset + 8
-        if start + chunk_length > len(data):
+        if chunk_length > len(data) - start:
             refuse(f"chunk at byte {offset} declares {chunk_length} bytes, past the end of the file")
         chunks.append((chunk_type, data[start:start + chunk_length]))
         offset = start + chunk_length

@@ -29,20 +29,34 @@ and the glTF property name.
 
 Facts for the glTF rules (declared and used extensions, images, texture coordinates each primitive
 provides) are recorded in ``Asset.extra["gltf"]``; broken references and resources are
-:class:`Observation` s. Only a file that is not glTF at all raises :class:`ReadError`.
+:class:`Observation` s, each reported once. Only a file that is not glTF at all raises
+:class:`ReadError` (the container's limits are :mod:`.gltf_document`'s).
+
+Nothing outside the asset is opened: an image or buffer URI that is a URL, absolute, climbs out with
+``..`` or resolves outside the asset's folder through a symbolic link is never read (the image's
+``outside`` fact says why, for the rules), and an embedded image is measured (width, height,
+format) from its header through a view, never copied. Every step is linear in the size of the
+document, so thousands of materials, textures or primitives cost milliseconds each.
 """
 
 from __future__ import annotations
 
-import io
+import math
 import os
+import warnings
 from urllib.parse import unquote
 
 from .. import tables, versioning
 from ..model import Asset, Connection, Constant, Input, Location, Material, Texture
 from . import ReadError
 from . import gltf_slots as slots
-from .gltf_document import GltfDocument, ResourceError, data_uri_mime, load_document
+from .gltf_document import (
+    GltfDocument,
+    ResourceError,
+    ResourceFile,
+    data_uri_mime,
+    load_document,
+)
 from .gltf_uv import from_texture_transform
 
 MODEL, VERSION = "gltf_pbr", "2.0.1"
@@ -74,6 +88,8 @@ class _Reader:
         self.table = tables.table(MODEL, VERSION)
         self.wrap_modes = slots.wrap_to_address()
         self.bad_samplers: set = set()
+        self.observed: set = set()  # (kind, pointer, message): the same problem reached twice is reported once
+        self.texture_pointers: set[str] = set()
         self.package_files: set[str] = set()  # embedded images that decode: the textures rule looks them up here
         self.facts: dict = {"extensions_used": _names(document.json.get("extensionsUsed")),
                             "extensions_required": _names(document.json.get("extensionsRequired")),
@@ -85,10 +101,21 @@ class _Reader:
         return Location(self.path, None, pointer, name)
 
     def invalid(self, pointer: str, message: str, name: str | None = None) -> None:
-        self.asset.observe("gltf_invalid", self.location(pointer, name), message=message)
+        self.observe_once("gltf_invalid", pointer, message, name)
+
+    def broken(self, error: ResourceError) -> None:
+        self.observe_once("gltf_resource", error.pointer, error.message)
+
+    def observe_once(self, kind: str, pointer: str, message: str, name: str | None = None) -> None:
+        key = (kind, pointer, name, message)
+        if key not in self.observed:
+            self.observed.add(key)
+            self.asset.observe(kind, self.location(pointer, name), message=message)
 
     def run(self) -> None:
-        _extension_uses(self.document.json, "", self.facts["extension_uses"])
+        for pointer, message in self.document.repairs:
+            self.invalid(pointer, message)
+        _extension_uses(self.document.json, self.facts["extension_uses"])
         self.images = [self.read_image(i) for i in range(len(self.document.array("images")))]
         self.facts["images"] = self.images
         self.asset.extra["package_files"] = frozenset(self.package_files)
@@ -114,24 +141,29 @@ class _Reader:
                 "mime": declared if isinstance(declared, str) else None, "width": None, "height": None, "readable": False}
         if isinstance(uri, str) and not uri.startswith("data:"):
             info["file"], info["packaged"] = unquote(uri), False
+            if "\x00" in info["file"]:  # no file system takes it; path functions raise ValueError on it
+                info["file"] = info["file"].replace("\x00", "\ufffd")
+                self.invalid(pointer, "uri holds a NUL character (U+0000), which no file name can; read as U+FFFD", "uri")
             info["mime"] = info["mime"] or SUFFIX_MIME.get(os.path.splitext(info["file"])[1].lower())
-            local = os.path.realpath(os.path.join(self.document.folder, info["file"]))
-            folder = os.path.realpath(self.document.folder)
-            inside = "://" not in uri and not os.path.isabs(info["file"]) and os.path.commonpath([local, folder]) == folder
-            if inside and os.path.isfile(local):  # only the header is read, and never outside the asset
+            try:
+                local = self.document.resolve(uri, pointer + "/uri")
+            except ResourceError as error:
+                if error.outside:
+                    info["outside"] = error.message  # never opened; the rules report it
+                return info
+            if os.path.isfile(local):  # only the header is read
                 _measure(local, info)
             return info
         try:
-            data, mime = self.document.image_bytes(index)
+            data, mime = self.document.image_view(index)
         except ResourceError as error:
-            self.asset.observe("gltf_resource", self.location(error.pointer), message=error.message)
+            self.broken(error)
             return info
         info["mime"] = info["mime"] or (mime if isinstance(mime, str) else None) or data_uri_mime(uri or "")
         self.package_files.add(info["file"])
-        _measure(io.BytesIO(data), info, data[:16])
+        _measure(ResourceFile(data), info, bytes(data[:16]))
         if not info["readable"] and info["mime"] in slots.core_mime_types():
-            self.asset.observe("gltf_resource", self.location(pointer),
-                               message=f"embedded image ({len(data)} bytes) is not a decodable {info['mime']}")
+            self.observe_once("gltf_resource", pointer, f"embedded image ({len(data)} bytes) is not a decodable {info['mime']}")
         return info
 
     def check_buffers(self) -> None:
@@ -143,16 +175,20 @@ class _Reader:
                 try:
                     self.document.buffer(index)
                 except ResourceError as error:
-                    self.asset.observe("gltf_resource", self.location(error.pointer), message=error.message)
-            elif isinstance(uri, str) and "://" not in uri and not os.path.isabs(unquote(uri)):
-                if not os.path.isfile(os.path.join(self.document.folder, unquote(uri))):
-                    self.asset.observe("gltf_resource", self.location(pointer + "/uri"),
-                                       message=f"buffer file {unquote(uri)!r} not found")
-            elif uri is not None and not isinstance(uri, str):
+                    self.broken(error)
+            elif isinstance(uri, str):
+                try:
+                    local = self.document.resolve(uri, pointer + "/uri")
+                except ResourceError as error:
+                    if not error.outside:  # one outside the asset is reported only when an image needs it
+                        self.broken(error)
+                    continue
+                if not os.path.isfile(local):
+                    self.broken(self.document.missing(uri, pointer + "/uri"))
+            elif uri is not None:
                 self.invalid(pointer, f"uri must be a string, not {_raw(uri)}", "uri")
-            elif uri is None and not (self.document.is_glb and index == 0 and self.document.binary is not None):
-                self.asset.observe("gltf_resource", self.location(pointer),
-                                   message="buffer has no uri and there is no GLB binary chunk for it")
+            elif not (self.document.is_glb and index == 0 and self.document.binary is not None):
+                self.observe_once("gltf_resource", pointer, "buffer has no uri and there is no GLB binary chunk for it")
 
     def read_primitives(self) -> None:
         for mesh_index, mesh in enumerate(self.document.array("meshes")):
@@ -161,7 +197,8 @@ class _Reader:
                 if not isinstance(primitive, dict):
                     continue
                 attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
-                sets = sorted(int(name[9:]) for name in attributes if name.startswith("TEXCOORD_") and name[9:].isdigit())
+                sets = sorted(int(name[9:]) for name in attributes
+                              if name.startswith("TEXCOORD_") and name[9:].isascii() and name[9:].isdigit() and len(name) < 40)
                 self.facts["primitives"].append({"pointer": f"/meshes/{mesh_index}/primitives/{index}",
                                                  "material": primitive.get("material"), "texcoords": sets})
                 material = primitive.get("material")
@@ -261,16 +298,16 @@ class _Reader:
         if slot.factor_components is not None:  # baseColorFactor: RGB for base_color, A for alpha
             if not _numbers(raw, 4):
                 return None, f"baseColorFactor must be an array of 4 numbers, not {_raw(raw)}"
-            part = tuple(float(v) for v in raw[slot.factor_components])
+            part = tuple(_float(v) for v in raw[slot.factor_components])
             return (part if len(part) > 1 else part[0]), None
         width = len(slot.default) if isinstance(slot.default, tuple) else 1
         if width > 1:
             if not _numbers(raw, width):
                 return None, f"{slot.factor} must be an array of {width} numbers, not {_raw(raw)}"
-            return tuple(float(v) for v in raw), None
+            return tuple(_float(v) for v in raw), None
         if not _numbers([raw], 1):
             return None, f"{slot.factor} must be a number, not {_raw(raw)}"
-        return float(raw), None
+        return _float(raw), None
 
     # -- textures ----------------------------------------------------------------------------
     def texture(self, slot: slots.Slot, info, pointer: str, factor, container: dict):
@@ -292,8 +329,8 @@ class _Reader:
                                attribute="source", target=source if source is not None else "(none)")
             return Connection(f"/textures/{index}", None, f"texture {index} has no {what}", dangling=True)
         image = self.images[source]
-        if via_extension:
-            image.setdefault("via_extensions", []).append(via_extension)
+        if via_extension and via_extension not in image.setdefault("via_extensions", []):
+            image["via_extensions"].append(via_extension)
         texcoord = info.get("texCoord", 0)
         result = Texture(
             file=image["file"], image_type=slot.image_type, channels=slot.channels, colorspace=slot.colorspace,
@@ -312,7 +349,8 @@ class _Reader:
             self.invalid(pointer, f"texCoord must be a non-negative integer, not {_raw(texcoord)}", "texCoord")
             texcoord = 0
         result.texcoord = texcoord or None
-        if not any(use["pointer"] == pointer for use in self.facts["texture_uses"]):
+        if pointer not in self.texture_pointers:
+            self.texture_pointers.add(pointer)
             self.facts["texture_uses"].append({"pointer": pointer, "material": self.index, "texcoord": texcoord,
                                                "image": source})
         self.apply_factor(slot, result, info, factor, container, pointer)
@@ -324,11 +362,11 @@ class _Reader:
             if name in info and not _numbers([info[name]], 1):
                 self.invalid(pointer, f"{name} must be a number, not {_raw(info[name])}", name)
         if slot.texture_kind == "normalTextureInfo":
-            texture.normal_map = float(info["scale"]) if _numbers([info.get("scale")], 1) else 1.0
+            texture.normal_map = _float(info["scale"]) if _numbers([info.get("scale")], 1) else 1.0
             texture.channels = None
             return
         if slot.texture_kind == "occlusionTextureInfo":
-            strength = float(info["strength"]) if _numbers([info.get("strength")], 1) else 1.0
+            strength = _float(info["strength"]) if _numbers([info.get("strength")], 1) else 1.0
             if strength != 1.0:
                 texture.scale, texture.bias = strength, 1.0 - strength
             return
@@ -336,7 +374,7 @@ class _Reader:
             low_name, low_default = slots.IRIDESCENCE_THICKNESS_MINIMUM
             low = container.get(low_name, low_default)
             high = factor if isinstance(factor, float) else slot.default
-            low = float(low) if _numbers([low], 1) else low_default
+            low = _float(low) if _numbers([low], 1) else low_default
             texture.scale, texture.bias = high - low, low
             return
         if factor is None:
@@ -379,7 +417,7 @@ def _uv(transform: dict):
     scale = transform.get("scale", [1.0, 1.0])
     if not _numbers(offset, 2) or not _numbers(scale, 2) or not _numbers([rotation], 1):
         raise ValueError("offset and scale must be arrays of 2 numbers, rotation a number")
-    uv = from_texture_transform((float(offset[0]), float(offset[1])), float(rotation), (float(scale[0]), float(scale[1])))
+    uv = from_texture_transform((_float(offset[0]), _float(offset[1])), _float(rotation), (_float(scale[0]), _float(scale[1])))
     return None if (offset, rotation, scale) == ([0.0, 0.0], 0.0, [1.0, 1.0]) else uv
 
 
@@ -392,30 +430,30 @@ def _measure(source, info: dict, head: bytes | None = None) -> None:
     try:
         from PIL import Image
 
-        with Image.open(source) as image:
-            info["width"], info["height"] = image.size
-            info["readable"] = True
-            detected = Image.MIME.get(image.format or "")
-            info["detected_mime"] = detected
-            info["mime"] = info["mime"] or detected
-    except Exception:  # Pillow raises many exception types for images it cannot identify
+        with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
+            warnings.simplefilter("ignore")
+            with Image.open(source) as image:
+                info["width"], info["height"] = image.size
+                info["readable"] = True
+                detected = Image.MIME.get(image.format or "")
+                info["detected_mime"] = detected
+                info["mime"] = info["mime"] or detected
+    except Exception:  # noqa: BLE001 - Pillow raises many exception types for images it cannot identify
         info["readable"] = False
 
 
-def _extension_uses(value, pointer: str, found: list) -> None:
-    """Every (JSON pointer, extension name) under an ``extensions`` object anywhere in the document."""
-    if isinstance(value, dict):
-        for key, child in value.items():
-            where = f"{pointer}/{_escape(key)}"
-            if key == "extensions" and isinstance(child, dict):
-                for name in child:
-                    found.append((f"{where}/{_escape(name)}", name))
-            if isinstance(child, (dict, list)):
-                _extension_uses(child, where, found)
-    elif isinstance(value, list):
-        for index, child in enumerate(value):
-            if isinstance(child, (dict, list)):
-                _extension_uses(child, f"{pointer}/{index}", found)
+def _extension_uses(document, found: list) -> None:
+    """Every (JSON pointer, extension name) under an ``extensions`` object anywhere in the document,
+    in document order (a pre-order walk, iterative: the document may be deep)."""
+    stack = [(document, "", False)]
+    while stack:
+        value, pointer, is_extensions = stack.pop()
+        if is_extensions:
+            found.extend((f"{pointer}/{_escape(name)}", name) for name in value)
+        children = value.items() if isinstance(value, dict) else enumerate(value)
+        nested = [(child, f"{pointer}/{_escape(key)}", key == "extensions" and isinstance(child, dict) and isinstance(value, dict))
+                  for key, child in children if isinstance(child, (dict, list))]
+        stack.extend(reversed(nested))
 
 
 def _escape(token: str) -> str:
@@ -430,6 +468,15 @@ def _numbers(value, count: int) -> bool:
     """``value`` is a list of ``count`` JSON numbers (NaN and infinity included: the values rules judge them)."""
     return isinstance(value, list) and len(value) == count and all(
         isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+
+
+def _float(value) -> float:
+    """A JSON number as a float; integers beyond the float range become ±infinity, as a JSON
+    reader that parses numbers as doubles would read them."""
+    try:
+        return float(value)
+    except OverflowError:
+        return math.inf if value > 0 else -math.inf
 
 
 def _raw(value) -> str:

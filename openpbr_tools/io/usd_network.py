@@ -51,18 +51,23 @@ class NetworkReader:
         return None
 
     def inherited_colorspace(self, prim) -> str | None:
-        """The ``Usd.ColorSpaceAPI`` name in effect at ``prim`` (its own or the nearest ancestor's)."""
-        key = str(prim.GetPath())
-        if key in self.colorspace_of_prim:
-            return self.colorspace_of_prim[key]
+        """The ``Usd.ColorSpaceAPI`` name in effect at ``prim`` (its own or the nearest ancestor's).
+        Walks up without recursion: prims may nest deeper than Python's stack."""
+        walked = []
         name = None
-        if prim.HasAPI(self.Usd.ColorSpaceAPI):
-            name = self.authored_prim_colorspace(prim)
-        if name is None:
-            parent = prim.GetParent()
-            if parent and not parent.IsPseudoRoot():
-                name = self.inherited_colorspace(parent)
-        self.colorspace_of_prim[key] = name
+        while prim and not prim.IsPseudoRoot():
+            key = prim.GetPath()
+            if key in self.colorspace_of_prim:
+                name = self.colorspace_of_prim[key]
+                break
+            walked.append(key)
+            if prim.HasAPI(self.Usd.ColorSpaceAPI):
+                name = self.authored_prim_colorspace(prim)
+                if name is not None:
+                    break
+            prim = prim.GetParent()
+        for key in walked:
+            self.colorspace_of_prim[key] = name
         return name
 
     def attribute_colorspace(self, attribute, scheme: str) -> str | None:
@@ -286,7 +291,7 @@ class NetworkReader:
         if file_attribute:
             metadata = self.attribute_colorspace(file_attribute, "usd")
             colorspace = colorspace or metadata
-        model, flavour, parameter = consumer
+        model, _, parameter = consumer
         wants = entry.type if entry.type in ("color3", "vector3") else "color3"
         texture = Texture(
             file=file, image_type=wants if channels is None else "color4", channels=channels, colorspace=colorspace,
@@ -361,10 +366,11 @@ def _constant(attribute):
         return None
     value = attribute.Get()
     if value is None:
-        samples = attribute.GetTimeSamples()
-        if not samples:
+        if not attribute.GetNumTimeSamples():
             return None
-        value = attribute.Get(samples[0])
+        from pxr import Usd
+
+        value = attribute.Get(Usd.TimeCode.EarliestTime())  # the first sample, without listing them all
     scalar = str(attribute.GetTypeName().scalarType)
     single = scalar.startswith(("float", "half")) or scalar.endswith(("f", "h"))
     return Constant(_python(value, single))
@@ -378,9 +384,15 @@ def _constant_of(prim, input_name: str):
     return constant.value if constant is not None else None
 
 
+#: Array values longer than this are summarised, not converted (no OpenPBR input is an array).
+MAX_ARRAY_VALUES = 64
+
+
 def _python(value, single_precision: bool):
-    """A pxr value as plain Python: float, int, bool, str, or a tuple of floats. Single-precision
-    floats come back as the shortest decimal that is the same float32 (0.8, not 0.800000011920929)."""
+    """A pxr value as plain Python: float, int, bool, str, or a flat tuple of numbers (vectors,
+    matrices and arrays of them flattened, as MaterialX writes them). Single-precision floats come
+    back as the shortest decimal that is the same float32 (0.8, not 0.800000011920929); arrays of
+    text are joined with ", "; arrays longer than :data:`MAX_ARRAY_VALUES` are summarised."""
     if isinstance(value, bool):
         return value
     if isinstance(value, float):
@@ -393,10 +405,25 @@ def _python(value, single_precision: bool):
     if isinstance(path, str):
         return path
     try:
+        count = len(value)
+    except TypeError:
+        count = None
+    if count is not None and count > MAX_ARRAY_VALUES:
+        return f"({count} values)"
+    try:
         items = list(value)
     except TypeError:
         return str(value)
-    return tuple(_python(v, single_precision) for v in items)
+    flat = []
+    for item in items:
+        converted = _python(item, single_precision)
+        if isinstance(converted, tuple):
+            flat.extend(converted)
+        else:
+            flat.append(converted)
+    if any(isinstance(item, str) for item in flat):
+        return ", ".join(str(item) for item in flat)
+    return tuple(flat)
 
 
 _FLOAT32 = struct.Struct("f")
@@ -433,4 +460,4 @@ def _transform2d_as_place2d(prim) -> UVTransform:
 
 def input_name(attribute) -> str:
     name = str(attribute.GetName())
-    return name[len("inputs:"):] if name.startswith("inputs:") else name
+    return name.removeprefix("inputs:")

@@ -2,7 +2,9 @@
 :class:`~openpbr_tools.model.Asset`.
 
 usd-core has no MaterialX plug-in, so the prims are read here. The stage is opened with composition
-resolved (sublayers, references, payloads loaded, variants as selected); every ``Material`` prim is
+resolved (sublayers, references, payloads loaded, variants as selected) by
+:class:`~.usd_stage.StageGuard`, which refuses files that would crash usd-core and never opens a
+layer outside the asset's folder (such arcs are reported, ``usd_arc_outside``); every ``Material`` prim is
 visited and each of its surface outputs (``outputs:surface``, ``outputs:mtlx:surface``,
 ``outputs:<context>:surface``) is followed, through node graphs, to a shader. Shaders with the id of
 a model the toolkit knows become :class:`~openpbr_tools.model.Material` objects: OpenPBR
@@ -41,33 +43,54 @@ usd-core's own validators run too and their findings go to ``asset.extra["usd_co
 from __future__ import annotations
 
 import os
-import zipfile
 
 from .. import colorspaces, tables, versioning
 from ..model import Asset, Constant, Input, Location, Material
 from . import ReadError
 from .usd_network import MAX_DEPTH, NetworkReader
-from .usd_stage import materialx_nodedef, open_stage, quiet, usd_core_findings, usd_error_message
-from .usd_types import MATERIALX_CONTEXT, OPACITY_MODE_TOKENS, materialx_type_of, surface_shader_ids
+from .usd_stage import (
+    StageGuard,
+    materialx_nodedef,
+    quiet,
+    tf_error_text,
+    usd_core_findings,
+    usd_error_message,
+)
+from .usd_types import (
+    MATERIALX_CONTEXT,
+    OPACITY_MODE_TOKENS,
+    materialx_type_of,
+    surface_shader_ids,
+)
 
 CUSTOM_DATA_VERSION_KEY = "openpbr:version"
 
 
-def read_usd(path: str, *, usd_core: bool = True) -> Asset:
-    """Read the stage at ``path``. ``usd_core=False`` skips usd-core's own validators."""
-    stage = open_stage(os.path.abspath(path))
+def read_usd(path: str, *, usd_core: bool = True, allow_outside=()) -> Asset:
+    """Read the stage at ``path``. ``usd_core=False`` skips usd-core's own validators;
+    ``allow_outside`` lists folders besides the asset's own that sublayers, references and payloads
+    may be read from (:class:`~.usd_stage.StageGuard`)."""
+    asset = Asset(path=path, format="usd")
+    guard = StageGuard(path, asset.observe, allow_outside)
+    _read_stage(asset, guard.open_stage(), guard, usd_core)
+    return asset
+
+
+def _read_stage(asset: Asset, stage, guard: StageGuard, usd_core: bool) -> None:
     from pxr import Tf
 
-    asset = Asset(path=path, format="usd")
+    if guard.package_files:  # a USDZ: its entries, as usd-core reads them
+        asset.extra["package_files"] = guard.package_files
     try:
         with quiet():  # usd-core would print its warnings about odd scene description to stderr
             _Reader(asset, stage).run()
         if usd_core:
             asset.extra["usd_core_findings"] = usd_core_findings(stage)
     except Tf.ErrorException as error:
-        message, line = usd_error_message(str(error), os.path.abspath(path))
-        raise ReadError("not_usd", f"USD cannot read the stage: {message}", Location(path, line)) from None
-    return asset
+        message, line = usd_error_message(tf_error_text(error), os.path.abspath(asset.path))
+        raise ReadError("not_usd", f"USD cannot read the stage: {message}", Location(asset.path, line)) from None
+    except UnicodeDecodeError:  # names, tokens and strings of a crate file are bytes usd-core does not check
+        raise ReadError("not_usd", "the stage holds names or text that are not valid UTF-8", Location(asset.path)) from None
 
 
 class _Reader(NetworkReader):
@@ -80,7 +103,7 @@ class _Reader(NetworkReader):
         self.path = asset.path
         self.root_layer = stage.GetRootLayer()
         self.root_dir = os.path.dirname(os.path.abspath(asset.path))
-        self.colorspace_of_prim: dict[str, str | None] = {}
+        self.colorspace_of_prim: dict[object, str | None] = {}  # Sdf.Path -> name
         self.observed_colorspaces: set[tuple] = set()
         self.shaders: dict[str, Material] = {}
         self.mtlx_context_shaders: set[str] = set()
@@ -102,12 +125,6 @@ class _Reader(NetworkReader):
             asset.colorspace = self.inherited_colorspace(default_prim)
             if asset.colorspace:
                 asset.colorspace_location = self.location(default_prim.GetPath(), "colorSpace:name")
-        if asset.format_version == "usdz":
-            try:
-                with zipfile.ZipFile(self.path) as package:
-                    asset.extra["package_files"] = frozenset(package.namelist())
-            except (OSError, zipfile.BadZipFile):
-                asset.extra["package_files"] = frozenset()
         shader_prims = []
         for prim in stage.Traverse():
             if prim.HasAPI(self.Usd.ColorSpaceAPI):

@@ -20,7 +20,7 @@ The USD reader, the writer and the USD rules share these facts, and the rules mu
 from __future__ import annotations
 
 import re
-from functools import lru_cache
+from functools import cache
 
 from .. import tables
 
@@ -89,7 +89,7 @@ MATERIALX_CONTEXT = "mtlx"
 _VERSION_SUFFIX = re.compile(r"^(ND_[A-Za-z0-9_]+_surfaceshader)_(\d+)$")
 
 
-@lru_cache(maxsize=None)
+@cache
 def surface_shader_ids() -> dict[str, tuple[str, str | None, str]]:
     """Shader id -> (model, version or None, flavour) for every surface shader the toolkit reads.
 

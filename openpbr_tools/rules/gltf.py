@@ -6,7 +6,9 @@ families judge glTF materials too: a factor outside its range is OPBR301 (here a
 multiplies a texture: ``roughnessFactor`` 1.5 is as wrong with a texture as without), a property of
 the wrong JSON type OPBR202, a texture, image or sampler index that points nowhere OPBR802, an
 image file that does not exist OPBR701, an image URI that is absolute, climbs out of the asset's
-folder or is a URL OPBR704, an empty URI OPBR705. Colour spaces are implied by the texture slot in
+folder (with ``..`` or through a symbolic link) or is a URL OPBR704 (such an image is never opened),
+an empty URI OPBR705. A file the reader refuses (not JSON, not UTF-8, a bad GLB container, JSON
+nested more than 128 levels, above ``OPENPBR_MAX_FILE_MB``) is OPBR002 or OPBR001 and exit code 2. Colour spaces are implied by the texture slot in
 glTF (colour textures sRGB, data textures linear), so the colour-space family does not apply.
 """
 
@@ -17,6 +19,7 @@ from ..io import gltf_slots as slots
 from ..model import Location, Texture
 from . import Rule
 from .ranges import HARD_RANGE
+from .textures import UNSAFE_PATH
 
 _PNG_3X3 = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAMAAAADCAIAAADZSiLoAAAAF0lEQVR42mM8kWLEwMDAwMDAxAADCBYA"
             "J1YBZLcOOO0AAAAASUVORK5CYII=")
@@ -144,7 +147,10 @@ BROKEN_RESOURCE = Rule(
     "A buffer or embedded image cannot be loaded: invalid base64, above the size limit, missing, or outside its buffer.",
     "A data URI that is not valid base64, a buffer file that does not exist, a bufferView past the "
     "end of its buffer or a GLB without the binary chunk its buffer needs: loaders fail on the whole "
-    "file or show the mesh without the texture.",
+    "file or show the mesh without the texture. A data URI whose decoded size is above "
+    "OPENPBR_MAX_DATA_URI_MB (default: the file limit OPENPBR_MAX_FILE_MB, 64 MiB) is reported "
+    "without being decoded, and a buffer an image needs that lies outside the asset's folder is "
+    "never opened.",
     passing=_gltf(f'"images": [{{"uri": "{_PNG_4X4}"}}]', '"textures": [{"source": 0}]',
                   '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]'),
     failing=_gltf('"images": [{"uri": "data:image/png;base64,iVBORw0KGgo!!!not-base64!!!"}]', '"textures": [{"source": 0}]',
@@ -156,7 +162,9 @@ INVALID_PROPERTY = Rule(
     "A material property has the wrong JSON type (a textureInfo without an integer index, an "
     "extension that is not an object, a malformed KHR_texture_transform).",
     "The glTF schema rejects the file; lenient loaders skip the property, so the texture or extension "
-    "silently disappears. Factors of the wrong type are OPBR202.",
+    "silently disappears. Factors of the wrong type are OPBR202. A string holding an unpaired "
+    "surrogate escape (\\ud800 alone) is valid JSON but no valid text: it cannot be written as UTF-8, "
+    "and tools disagree on it; it is read with U+FFFD in its place.",
     passing=_gltf('"materials": [{"name": "M", "normalTexture": {"index": 0}}]', '"textures": [{"source": 0}]',
                   f'"images": [{{"uri": "{_PNG_4X4}"}}]'),
     failing=_gltf('"materials": [{"name": "M", "normalTexture": {"index": "0"}}]', '"textures": [{"source": 0}]',
@@ -283,11 +291,15 @@ def _fmt(bound) -> str:
 
 
 def _texcoords(asset, facts, context):
-    primitives = facts.get("primitives", ())
-    if not primitives:
+    by_material: dict[int, list[dict]] = {}  # indexed, so the check stays linear in uses + primitives
+    for primitive in facts.get("primitives", ()):
+        material = primitive["material"]
+        if isinstance(material, int) and not isinstance(material, bool):
+            by_material.setdefault(material, []).append(primitive)
+    if not by_material:
         return
     for use in facts.get("texture_uses", ()):
-        lacking = [p["pointer"] for p in primitives if p["material"] == use["material"] and use["texcoord"] not in p["texcoords"]]
+        lacking = [p["pointer"] for p in by_material.get(use["material"], ()) if use["texcoord"] not in p["texcoords"]]
         if lacking:
             more = f" (and {len(lacking) - 1} more)" if len(lacking) > 1 else ""
             yield context.diagnostic(
@@ -301,6 +313,12 @@ def _images(asset, facts, context):
     used = {use["image"] for use in facts.get("texture_uses", ())}
     for image in facts.get("images", ()):
         where = Location(asset.path, None, image["pointer"])
+        # The reader never opens an image outside the asset. The textures rule reports the ones
+        # materials use (URL, absolute, "..", a symbolic link out); this reports the unused ones.
+        if image.get("outside") and image["index"] not in used:
+            yield context.diagnostic(UNSAFE_PATH, f"image {image['index']}: {image['outside']}",
+                                     Location(asset.path, None, image["pointer"], "uri"),
+                                     hint="copy the image next to the asset and use a relative path")
         width, height = image.get("width"), image.get("height")
         if width and height and (width & (width - 1) or height & (height - 1)):
             yield context.diagnostic(NOT_POWER_OF_TWO, f"image {image['index']} is {width} x {height}, not a power of two",

@@ -8,7 +8,7 @@ colour-space name is OPBR502 here as well, a colour texture read raw OPBR503, a 
 colour-managed OPBR504, a length without unit information OPBR603 (in USD: ``metersPerUnit`` not
 authored, so the 0.01 default applies), an invalid enumerated token OPBR303, a Material without a
 connected surface output OPBR801, the project's colour-space policies OPBR505/OPBR506 (compared
-through MaterialX names). OPBR501 (no document colour space) does not apply: USD defines its
+through MaterialX names). Texture paths leaving the asset's folder are the generic OPBR704's. OPBR501 (no document colour space) does not apply: USD defines its
 default, lin_rec709_scene.
 
 Colour-space names come in three schemes and each place wants one: ``Usd.ColorSpaceAPI`` and
@@ -22,6 +22,12 @@ conversion (OPBR1004).
 UsdUVTexture's ``sourceColorSpace`` defaults to ``auto``, which decodes 8-bit RGB(A) images (PNG,
 JPEG, ...) as sRGB: a roughness or normal map left on ``auto`` is bent by the sRGB curve (OPBR504).
 The file's bit depth is judged from its suffix; the image is not opened.
+
+Reading a stage never opens a file outside the asset's folder: sublayers, references, payloads and
+value clips pointing outside are deleted before usd-core composes the stage and reported (OPBR1011),
+and a USDZ's entries are checked as usd-core sees them (OPBR1012). Files that would crash or hang
+usd-core (brackets nested deeper than 1,000 levels, a package whose entries lie about their size)
+are refused as unreadable (OPBR002) before usd-core parses them.
 """
 
 from __future__ import annotations
@@ -231,8 +237,51 @@ USD_CORE = Rule(
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
 
+def _package(*entries: tuple[str, str]) -> bytes:
+    """A USDZ's bytes: entries stored uncompressed, the root layer first."""
+    import io
+    import zipfile
+
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w", zipfile.ZIP_STORED) as package:
+        for name, text in entries:
+            package.writestr(zipfile.ZipInfo(name), text)
+    return buffer.getvalue()
+
+
+ARC_OUTSIDE = Rule(
+    "OPBR1011", "usd-arc-outside-asset", Severity.ERROR,
+    "A sublayer, reference, payload or value clip points outside the asset's folder (an absolute "
+    "path, '..', a URL, a variable expression, or a symbolic link leading out); it is not opened.",
+    "Validating a file never reads files outside its folder: such an arc is deleted (in memory) before "
+    "usd-core composes the stage, so whatever the layer it names would contribute is not checked, and "
+    "the asset does not survive being copied, checked out elsewhere or packaged. Arcs inside the folder "
+    "are followed. Value clips are never read (they hold animation, usd-core opens them lazily, and a "
+    "template can name millions of files); only those pointing outside are reported. Texture paths "
+    "are OPBR704's concern.",
+    passing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace(
+        'defaultPrim = "M"\n', 'defaultPrim = "M"\n    subLayers = [@../shared/looks.usda@]\n'),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+PACKAGE_ENTRY = Rule(
+    "OPBR1012", "usdz-unsafe-entry", Severity.ERROR,
+    "A USDZ package holds an entry whose name is absolute, climbs out with '..' or contains a "
+    "backslash, or an entry that is compressed.",
+    "A tool that extracts the package writes such an entry outside the folder it extracts to (over "
+    "/etc/..., or beside the package); the USDZ specification allows only relative names inside the "
+    "package and stored (uncompressed) entries, which usd-core reads in place: a compressed texture "
+    "does not load. The names are usd-core's view of the archive (its local file headers, not the "
+    "central directory).",
+    passing=_package(("root.usda", _openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("albedo.png", "")),
+    failing=_package(("root.usda", _openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("../albedo.png", "")),
+    passing_name="example.usdz", failing_name="example.usdz", formats=("usd",),
+)
+
+
 RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
-         NORMAL_MAP_ENCODING, OPACITY_THRESHOLD, WORKFLOW_INPUT_IGNORED, PREVIEW_DISAGREES, USD_CORE)
+         NORMAL_MAP_ENCODING, OPACITY_THRESHOLD, WORKFLOW_INPUT_IGNORED, PREVIEW_DISAGREES, USD_CORE, ARC_OUTSIDE,
+         PACKAGE_ENTRY)
 
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
@@ -289,6 +338,17 @@ def _observations(asset, context):
             )
         elif observation.kind == "usd_colorspace":
             yield from _colorspace_name(detail, where, context)
+        elif observation.kind == "usd_arc_outside":
+            yield context.diagnostic(
+                ARC_OUTSIDE, f"{detail['arc']} @{detail['asset']}@ {detail['reason']}: not opened, so not validated",
+                where, hint="keep the layers an asset composes inside its folder, with relative paths"
+                if detail["arc"] != "value clip" else "value clips are never read by the validator",
+            )
+        elif observation.kind == "usd_package_entry":
+            yield context.diagnostic(
+                PACKAGE_ENTRY, f"package entry {detail['entry']!r} {detail['reason']}", where,
+                hint="re-create the package with usdzip (relative names, stored entries)",
+            )
 
 
 def _unknown_id(asset, observation, context):
@@ -681,5 +741,5 @@ def _usd_core(asset, context):
         prim, _, attribute = site.partition(".")
         yield context.diagnostic(
             USD_CORE, f"usd-core {finding['identifier']}: {finding['message']}",
-            Location(asset.path, None, prim or None, (attribute[len("inputs:"):] if attribute.startswith("inputs:") else attribute) or None),
+            Location(asset.path, None, prim or None, (attribute.removeprefix("inputs:")) or None),
         )
