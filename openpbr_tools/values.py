@@ -89,6 +89,6 @@ def format_value(value, type_name: str) -> str:
 
 def _number(v: float) -> str:
     v = float(v)
-    if v == int(v) and abs(v) < 1e15:
+    if math.isfinite(v) and abs(v) < 1e15 and v == int(v):  # nan and inf (from hostile files) stay as written
         return f"{int(v)}" if v != 0 else "0"
     return repr(v)

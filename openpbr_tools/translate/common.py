@@ -165,7 +165,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 continue
             if mapping.when is not None and not mapping.when(*arrays):
                 continue
-            value = arrays[0] if mapping.formula is None else mapping.formula(*arrays)
+            with np.errstate(all="ignore"):  # nan/inf from hostile files propagate quietly, as values
+                value = arrays[0] if mapping.formula is None else mapping.formula(*arrays)
             if parameter.role in ("normal", "tangent"):
                 continue  # a constant normal is the geometry's own (each model's default means "unperturbed")
             typed = as_value(value, parameter.type)
