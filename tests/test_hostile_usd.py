@@ -148,6 +148,12 @@ def test_a_crate_string_value_that_is_not_utf8_is_read_without_noise(tmp_path):
     assert result.exit_code == 1 and result.stderr == ""
 
 
+def test_a_crate_arc_whose_path_is_not_utf8_makes_the_stage_unreadable(tmp_path):
+    text = HEADER.format(metadata="    subLayers = [@./Kq7Xw2Zp.usda@]\n") + MATERIAL
+    result = validate(crate_with_bytes(tmp_path, text, "Kq7Xw2Zp", b"K\xff7Xw\xfeZp"))
+    assert result.exit_code == 2 and "not valid UTF-8" in diagnostics(result)[0]["message"]
+
+
 def test_a_crate_token_that_is_not_utf8_makes_the_stage_unreadable(tmp_path):
     """Tokens (a colour-space name here) raise when Python decodes them."""
     text = GOOD.replace("(0.5, 0.4, 0.3)", '(0.5, 0.4, 0.3) (\n            colorSpace = "Zq7Xw2Kp"\n        )')
@@ -359,6 +365,16 @@ def test_arcs_leaving_the_asset_folder_are_reported_and_not_composed(outside, ar
     report = json.loads(result.stdout)
     assert report["files"][0]["materials"] == 1  # /M only: the outside layer's material is not there
     assert "coat_weight" not in result.stdout
+
+
+def test_an_arc_inside_a_variant_is_reported_at_the_variant(outside):
+    variant = ('\ndef "V" (\n    variants = {\n        string look = "a"\n    }\n    prepend variantSets = "look"\n)\n{\n'
+               '    variantSet "look" = {\n        "a" (\n            references = @../outside/secret.usda@</Secret>\n'
+               '        ) {\n        }\n    }\n}\n')
+    path = outside / "asset" / "variants.usda"
+    path.write_text(GOOD + variant)
+    found = diagnostics(validate(path), "OPBR1011")
+    assert len(found) == 1 and found[0]["location"]["path"] == "/V{look=a}"
 
 
 def test_an_arc_in_an_inside_layer_is_judged_from_that_layer(outside):

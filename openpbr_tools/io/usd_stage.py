@@ -656,9 +656,9 @@ class StageGuard:
         self.layers[root.identifier] = root
         while queue:
             layer = queue.pop()
-            if layer.identifier in self.crate_layers and _prim_paths(layer) is None:
-                raise ReadError("not_usd", "USD cannot open the file safely: a corrupt crate file names a prim or "
-                                "property without a name (usd-core would abort)", self.where(self.layer_file(layer)))
+            if layer.identifier in self.crate_layers and _prim_paths(layer, verify=True) is None:
+                raise ReadError("not_usd", "USD cannot open the file safely: a corrupt crate file lists a prim or "
+                                "property it does not hold (usd-core would abort)", self.where(self.layer_file(layer)))
             if layer.identifier not in self.without_clips:
                 self.drop_value_clips(layer)
             for asset_path in layer.GetCompositionAssetDependencies():
@@ -770,30 +770,34 @@ def _file_of(identifier: str) -> str:
     return Ar.SplitPackageRelativePathOuter(identifier)[0] if Ar.IsPackageRelativePath(identifier) else identifier
 
 
-def _prim_paths(layer) -> list | None:
-    """The paths of every prim spec of ``layer`` (variants included), or ``None`` when a spec has no
-    name: a corrupt crate file can list a child it does not hold, and asking usd-core about it (its
-    composition dependencies, its children) aborts the process. ``Sdf.Layer.Traverse`` only walks
-    the layer's data, so it is safe."""
-    paths, nameless = [], []
+def _prim_paths(layer, *, verify: bool = False) -> list | None:
+    """The paths of every prim spec of ``layer`` (variants included). With ``verify``, ``None`` when
+    the layer lists a child it does not hold (a corrupt crate file): asking usd-core about such a
+    layer (its composition dependencies, its children) dereferences the missing spec and aborts the
+    process. ``Sdf.Layer.Traverse`` and ``GetObjectAtPath`` only look the data up, so they are safe."""
+    paths, missing = [], []
 
     def visit(path) -> None:
-        if path.isEmpty:
-            nameless.append(path)
-        elif path.IsPrimPath() or path.IsPrimVariantSelectionPath():
+        prim = path.IsPrimPath() or path.IsPrimVariantSelectionPath()
+        if verify and (path.isEmpty or (prim or path.IsPrimPropertyPath()) and not layer.GetObjectAtPath(path)):
+            missing.append(path)  # (connection and relationship targets have no spec of their own)
+        elif prim:
             paths.append(path)
 
     from pxr import Sdf
 
     layer.Traverse(Sdf.Path.absoluteRootPath, visit)
-    return None if nameless else paths
+    return None if missing else paths
 
 
 def _prim_specs(layer):
-    """Every prim spec of ``layer``, variants included."""
+    """Every prim spec of ``layer``, variants' included."""
+    from pxr import Sdf
+
     for path in _prim_paths(layer) or ():
         spec = layer.GetObjectAtPath(path)
-        if spec:
+        spec = getattr(spec, "primSpec", spec)  # a variant: the prim spec it holds
+        if spec and isinstance(spec, Sdf.PrimSpec):  # not a variant set
             yield spec
 
 
