@@ -131,3 +131,19 @@ def test_verify_flags_a_lossy_conversion_above_the_threshold(tmp_path):
                  "--threshold", "1", "--format", "json")
     codes = [d["code"] for d in json.loads(result.stdout)["diagnostics"]]
     assert "OPBR1109" in codes
+
+
+def test_a_constant_of_the_wrong_shape_is_reported_not_a_crash(tmp_path):
+    """Found by fuzzing: a colour4 on a colour3 input made the NumPy formulas raise."""
+    source = tmp_path / "c4.mtlx"
+    source.write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n'
+                      '  <open_pbr_surface name="S" type="surfaceshader">\n'
+                      '    <input name="transmission_color" type="color4" value="1, 0.5, 0.5, 1"/>\n'
+                      '    <input name="transmission_depth" type="float" value="1"/>\n'
+                      '    <input name="base_weight" type="color3" value="1, 0.5, 0.5"/>\n'
+                      '  </open_pbr_surface>\n</materialx>\n')
+    for name, extra in (("o.gltf", []), ("o.mtlx", ["--to", "standard_surface"]), ("o.usda", [])):
+        result = run("convert", source, "-o", tmp_path / name, "--format", "json", *extra)
+        assert result.exit_code == 0, result.output
+        lost = {d["location"]["input"] for d in json.loads(result.stdout)["diagnostics"] if d["code"] == "OPBR1104"}
+        assert {"transmission_color", "base_weight"} <= lost

@@ -27,6 +27,7 @@ FIXTURES = sorted((Path(__file__).parent / "fixtures" / "fuzz_usd").iterdir())
 # diagnostic that refuses it (so a fix cannot pass by refusing everything, and a refusal that comes
 # from usd-core failing late, after the damage, does not count).
 EXPECTED = {
+    "arc_path_with_nul.usda": None,  # os.path.realpath raised ValueError on the arc's path
     "array_of_colours_on_an_input.usda": None,  # a color3f[] value reached the value rules as nested tuples
     "crate_child_spec_is_none.usdc": "does not hold",  # a child spec that is None (AttributeError)
     "crate_child_without_name_aborts.usdc": "does not hold",  # usd-core aborted the process (SIGABRT)
@@ -35,20 +36,23 @@ EXPECTED = {
     "crate_toc_declares_184m_sections.usdc": "refused before parsing",  # 6 GB touched for a 1 KiB file
     "crate_token_vector_declares_1g_tokens.usd": "refused before parsing",  # 8.5 GB touched, 20 s
     "crate_token_vector_declares_788m_tokens.usdc": "refused before parsing",  # 6.3 GB touched
-    "crate_child_spec_is_none_2.usdc": "Invalid spec type",  # usd-core refuses it itself now we do not crash first
+    "crate_child_spec_is_none_2.usdc": "spec type",  # a negative spec type: a child spec read as None
     "package_crate_list_op_declares_352m_items.usdz": "refused before parsing",  # 2.9 GB touched
     "crate_lists_a_child_it_does_not_hold_aborts.usdc": "does not hold",  # usd-core aborted (SIGABRT)
     "outside_arc_beside_a_variant_set.usda": "cannot be opened",  # locating the arc met a variant set
     "outside_payload_beside_a_variant_set.usda": None,
+    "package_crate_spec_type_negative_segfaults.usdz": "spec type",  # a segmentation fault (SIGSEGV)
     "package_layer_arc_not_utf8.usdz": "not valid UTF-8",  # an arc's asset path raised UnicodeDecodeError
     "parse_error_quotes_invalid_utf8.usda": "not valid UTF-8",  # str() of usd-core's error raised
-    "text_arrays_and_matrices_on_inputs.usda": None,  # token[] and matrix values broke the value rules
+    "text_arrays_and_matrices_on_inputs.usda": None,
+    "texture_path_with_nul.usda": None,  # the texture rule's realpath raised ValueError  # token[] and matrix values broke the value rules
     "validator_message_not_utf8.usdc": None,  # a usd-core validator's message was not UTF-8
 }
-# Inputs that made usd-core abort the process: replayed in a child process too, so a regression
+# Inputs that made usd-core abort or crash the process: replayed in a child process too, so a regression
 # fails this test instead of killing the test run.
 ABORTED = ("crate_child_spec_is_none.usdc", "crate_child_without_name_aborts.usdc",
-           "crate_child_without_name_aborts_2.usdc", "crate_lists_a_child_it_does_not_hold_aborts.usdc")
+           "crate_child_without_name_aborts_2.usdc", "crate_lists_a_child_it_does_not_hold_aborts.usdc",
+           "package_crate_spec_type_negative_segfaults.usdz")
 
 
 def exercise(path: Path):

@@ -178,6 +178,18 @@ def test_every_structural_section_is_checked_before_usd_core_sizes_its_buffers(t
     assert never_parsed == []
 
 
+def test_a_huge_array_on_an_input_is_summarised_not_converted(tmp_path):
+    """No OpenPBR input is an array; converting millions of floats to Python would take seconds."""
+    from openpbr_tools.io import read_asset
+
+    path = tmp_path / "array.usda"
+    path.write_text(GOOD.replace("color3f inputs:base_color = (0.5, 0.4, 0.3)",
+                                 "float[] inputs:base_color = [" + ", ".join(["0.5"] * 1000) + "]"))
+    entry = read_asset(path).materials[0].inputs["base_color"]
+    assert entry.constant == "(1000 values)" and entry.source_type == "float[]"
+    assert "OPBR201" in codes(validate(path))
+
+
 # -- nesting ------------------------------------------------------------------------------------
 
 def nested(depth: int, opening: str = 'def "p" {\n', closing: str = "}\n") -> str:

@@ -328,6 +328,8 @@ class NetworkReader:
         authored = getattr(value, "path", None) if value is not None else None
         if not authored:
             return "", False
+        # No file name holds a NUL, and path functions raise on one: shown as U+FFFD (still not found)
+        authored = authored.replace("\0", "\ufffd")
         layer = self.root_layer
         for spec in attribute.GetPropertyStack():
             if spec.HasDefaultValue():

@@ -183,9 +183,56 @@ def crate_problem(data: bytes) -> str | None:
         problem = _crate_section_problem(name, data[start:start + size], version >= (4,), budget)
         if problem:
             return f"section {name}: {problem}"
+    if "SPECS" in sections and version >= (4,):
+        problem = _spec_types_problem(data, *sections["SPECS"])
+        if problem:
+            return f"section SPECS: {problem}"
     if "FIELDS" in sections:
         return _CrateValues(data, version, budget).problem(*sections["FIELDS"])
     return None
+
+
+def _spec_types_problem(data: bytes, start: int, size: int) -> str | None:
+    """A spec type outside usd-core's enum (1-11): usd-core range-checks only the values above it,
+    so a negative one passes and later indexes its tables out of bounds (a segmentation fault)."""
+    try:
+        (count,) = struct.unpack_from("<Q", data, start)
+        offset = start + 8
+        for _ in range(2):  # path indexes, field set indexes: skipped
+            offset += 8 + struct.unpack_from("<Q", data, offset)[0]
+        types = _compressed_ints(data, offset, count)
+    except (struct.error, ValueError, IndexError):
+        return None  # usd-core reports it
+    if types is None:
+        return None
+    bad = next((t for t in types if not 1 <= t <= 11), None)
+    return None if bad is None else f"a spec type {bad - (1 << 32) if bad >= 1 << 31 else bad} is not one usd-core defines"
+
+
+def _compressed_ints(data: bytes, offset: int, count: int) -> list[int] | None:
+    """usd-core's compressed 32-bit integers (sdf/integerCoding.cpp): LZ4 over the encoding of
+    each integer's difference to the previous one, as the most common difference (code 0) or an
+    8-, 16- or 32-bit value (codes 1-3), the 2-bit codes first. Returns them unsigned."""
+    (stored,) = struct.unpack_from("<Q", data, offset)
+    block = data[offset + 8: offset + 8 + stored]
+    if block[:1] != b"\0":
+        return None
+    codes_size = (2 * count + 7) // 8
+    raw = _lz4_block(block[1:], 4 + codes_size + 4 * count)
+    (common,) = struct.unpack_from("<i", raw, 0)
+    codes, position, previous, found = raw[4:4 + codes_size], 4 + codes_size, 0, []
+    formats = {1: ("<b", 1), 2: ("<h", 2), 3: ("<i", 4)}
+    for index in range(count):
+        code = codes[index // 4] >> 2 * (index % 4) & 3
+        if code == 0:
+            delta = common
+        else:
+            form, width = formats[code]
+            (delta,) = struct.unpack_from(form, raw, position)
+            position += width
+        previous = (previous + delta + (1 << 31)) % (1 << 32) - (1 << 31)  # int32 arithmetic
+        found.append(previous % (1 << 32))
+    return found
 
 
 # Crate value types (usd-core sdf/crateDataTypes.h) whose unpacking sizes a buffer from a count in the
@@ -688,6 +735,8 @@ class StageGuard:
         """Why ``asset_path`` (an arc of ``layer``) must not be followed, or ``None``."""
         from pxr import Ar
 
+        if "\0" in asset_path:
+            return "is not a path (it holds a NUL byte)"
         if asset_path.startswith("`"):
             return "is a variable expression (where it leads is only known once evaluated)"
         if _URL.match(asset_path) and not _DRIVE.match(asset_path):
@@ -772,16 +821,16 @@ def _file_of(identifier: str) -> str:
 
 def _prim_paths(layer, *, verify: bool = False) -> list | None:
     """The paths of every prim spec of ``layer`` (variants included). With ``verify``, ``None`` when
-    the layer lists a child it does not hold (a corrupt crate file): asking usd-core about such a
-    layer (its composition dependencies, its children) dereferences the missing spec and aborts the
-    process. ``Sdf.Layer.Traverse`` and ``GetObjectAtPath`` only look the data up, so they are safe."""
+    the layer lists a prim it does not hold (a corrupt crate file): asking usd-core about such a
+    layer (its composition dependencies) dereferences the missing spec and aborts the process.
+    ``Sdf.Layer.Traverse`` and ``GetPrimAtPath`` (which checks the spec's type) only look the data up,
+    so they are safe; ``GetObjectAtPath`` is not (a property whose spec type is corrupt crashes it)."""
     paths, missing = [], []
 
     def visit(path) -> None:
-        prim = path.IsPrimPath() or path.IsPrimVariantSelectionPath()
-        if verify and (path.isEmpty or (prim or path.IsPrimPropertyPath()) and not layer.GetObjectAtPath(path)):
-            missing.append(path)  # (connection and relationship targets have no spec of their own)
-        elif prim:
+        if path.isEmpty or verify and path.IsPrimPath() and not layer.GetPrimAtPath(path):
+            missing.append(path)
+        elif path.IsPrimPath() or path.IsPrimVariantSelectionPath():
             paths.append(path)
 
     from pxr import Sdf
@@ -792,12 +841,9 @@ def _prim_paths(layer, *, verify: bool = False) -> list | None:
 
 def _prim_specs(layer):
     """Every prim spec of ``layer``, variants' included."""
-    from pxr import Sdf
-
     for path in _prim_paths(layer) or ():
-        spec = layer.GetObjectAtPath(path)
-        spec = getattr(spec, "primSpec", spec)  # a variant: the prim spec it holds
-        if spec and isinstance(spec, Sdf.PrimSpec):  # not a variant set
+        spec = layer.GetPrimAtPath(path)  # a variant's prim spec for a variant path; None for a variant set
+        if spec:
             yield spec
 
 

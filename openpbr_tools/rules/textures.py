@@ -134,6 +134,9 @@ def _check_path(asset, texture, where, context, checked_files):
             UNSAFE_PATH, f"texture path {file!r} points outside the asset's folder", where,
             hint="copy the texture next to the asset and use a relative path",
         )
+    elif "\x00" in file:
+        yield context.diagnostic(UNSAFE_PATH, f"texture path {file!r} contains a NUL character", where)
+        return
     elif not _URL.match(file):
         folder = os.path.dirname(os.path.abspath(asset.path))
         real, real_folder = context.real_path(resolve(asset.path, file)), context.real_path(folder)

@@ -104,10 +104,23 @@ class Values:
             return None if default is None else np.asarray(default, dtype=np.float64)
         if isinstance(entry.value, Constant):
             value = entry.value.value
-            if isinstance(value, str):
+            if isinstance(value, str) or not self.fits(name):
                 return None
             return np.asarray(value, dtype=np.float64)
         return None  # textured or connected
+
+    def fits(self, name: str) -> bool:
+        """Whether an authored constant has the parameter's number of components (a colour4 or a
+        vector on a float input, as hostile files carry, is not used: it is reported instead)."""
+        entry, parameter = self.material.inputs.get(name), self.table.get(name)
+        if entry is None or parameter is None or not isinstance(entry.value, Constant):
+            return True
+        value = entry.value.value
+        if isinstance(value, str):
+            return True
+        size = len(value) if isinstance(value, (tuple, list)) else 1
+        expected = {"color3": 3, "vector3": 3, "color4": 4, "vector4": 4, "vector2": 2}.get(parameter.type, 1)
+        return size == expected
 
     def is_constant(self, name: str) -> bool:
         entry = self.material.inputs.get(name)
@@ -155,6 +168,10 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         location = entry.location if entry is not None else material.location.with_input(name)
         report.append(context.diagnostic(rule, f"{material.name} ({label}): {message}", location))
 
+    for name in sorted(material.inputs):
+        if not values.fits(name):
+            say(NOT_CARRIED, f"{name} holds a value of another shape than its type "
+                             f"({source_table[name].type}) and is not carried", name)
     for mapping in mappings:
         parameter = target_table[mapping.target]
         authored = any(values.authored(s) for s in mapping.sources)

@@ -6,14 +6,15 @@ and package files.
 
 Every input is validated (``validate_file``), rendered in every report format and, when readable,
 each of its materials is converted in-process to glTF PBR. A failure is any exception, a layer left
-behind in usd-core's registry, an input slower than --hang seconds or taking the worker's resident
-memory above --max-rss-mb, and a worker that dies on an input (usd-core can abort or crash the
-process) or stays on one longer than --kill-after seconds. The input is saved under --failures with
-the reason (at most three inputs per distinct exception site), for a regression fixture in
-tests/fixtures/fuzz_usd/. Exceptions raised in the translators (openpbr_tools/translate/) are
-counted apart (``failed_in_translate``). Workers are separate processes with a 12 GiB address-space
-limit, each reusing one temporary file per suffix; a crashed or killed worker is restarted with a
-new seed and the rest of its share. Prints the counts as JSON.
+behind in usd-core's registry, an input taking more than --hang CPU seconds or taking the worker's
+resident memory above --max-rss-mb, and a worker that dies on an input (usd-core can abort or crash
+the process) or stays on one longer than --kill-after seconds (counted while this script runs: a
+suspended machine is no hang). The input is saved under --failures with the reason (at most three
+inputs per distinct exception site), for a regression fixture in tests/fixtures/fuzz_usd/.
+Exceptions raised in the translators (openpbr_tools/translate/) are counted apart
+(``failed_in_translate``). Workers are separate processes with a 12 GiB address-space limit, each
+reusing one temporary file per suffix; a crashed or killed worker is restarted with a new seed and
+the rest of its share. Prints the counts as JSON (``slowest_s`` in CPU seconds).
 """
 
 from __future__ import annotations
@@ -98,7 +99,7 @@ def worker(job: int, quota: dict, seed: int, shared: Shared, folder: str, failur
         shared.suffix[job * 8: job * 8 + 8] = suffix.encode().ljust(8, b"\0")
         with open(path, "wb") as handle:
             handle.write(data)
-        start = time.perf_counter()
+        start = time.process_time()  # CPU seconds: a machine or sandbox pausing the process does not count
         shared.started[job] = time.time()
         try:
             result = validate_file(path, context, keep_asset=True)
@@ -118,7 +119,7 @@ def worker(job: int, quota: dict, seed: int, shared: Shared, folder: str, failur
             if seen[signature] <= SAVED_PER_SIGNATURE:  # the same bug a thousand times is one finding
                 save(failures, data, suffix, traceback.format_exc(), signature)
         shared.started[job] = 0
-        elapsed = time.perf_counter() - start
+        elapsed = time.process_time() - start
         shared.add(job, kind, "tried")
         slot = job * len(KINDS) + kind
         shared.slowest[slot] = max(shared.slowest[slot], elapsed)
@@ -172,7 +173,7 @@ def main() -> None:
     parser.add_argument("--raw-usdz", type=int, default=15_000)
     parser.add_argument("--jobs", type=int, default=2)
     parser.add_argument("--seed", type=int, default=1)
-    parser.add_argument("--hang", type=float, default=5.0, help="an input slower than this is a failure")
+    parser.add_argument("--hang", type=float, default=5.0, help="an input taking more CPU seconds than this is a failure")
     parser.add_argument("--kill-after", type=float, default=60.0, help="a worker stuck this long is killed")
     parser.add_argument("--max-rss-mb", type=float, default=1024.0, help="an input that takes the worker's "
                         "resident memory above this is a failure")
@@ -201,13 +202,21 @@ def main() -> None:
 
     begin = time.perf_counter()
     processes = [start(job) for job in range(args.jobs)]
-    last_progress = time.perf_counter()
+    last_progress = last_tick = time.perf_counter()
+    # Seconds each worker has spent on its current input, counted only while this loop runs: a
+    # suspended machine or sandbox makes wall-clock gaps that are no hang.
+    on_input = [(0.0, 0.0)] * args.jobs  # (the input's start stamp, seconds spent on it)
     while any(p is not None for p in processes):
         time.sleep(0.5)
+        tick = time.perf_counter()
+        step, last_tick = min(tick - last_tick, 1.0), tick
         for job, process in enumerate(processes):
             if process is None:
                 continue
-            stuck = shared.started[job] and time.time() - shared.started[job] > args.kill_after
+            stamp = shared.started[job]
+            spent = on_input[job][1] + step if stamp and stamp == on_input[job][0] else 0.0
+            on_input[job] = (stamp, spent)
+            stuck = spent > args.kill_after
             if process.is_alive() and not stuck:
                 continue
             if stuck:
