@@ -92,25 +92,30 @@ def mtlx_documents(draw) -> bytes:
     text = ('<?xml version="1.0"?>\n<materialx ' + " ".join(f"{k}={quoteattr(v)}" for k, v in root.items()) + ">\n"
             + "\n".join(body) + "\n</materialx>\n")
     data = text.encode("utf-8", "surrogatepass")
-    return draw(mutations(data))
+    return draw(byte_edits(data, XML_INSERTS))
 
 
 @st.composite
-def mutations(draw, data: bytes) -> bytes:
-    """Leave the document alone, truncate it, or flip, insert and delete bytes."""
-    kind = draw(st.sampled_from(["none", "none", "truncate", "bytes"]))
+def byte_edits(draw, data: bytes, inserts: list[bytes], unchanged: int = 2, edits: int = 8) -> bytes:
+    """Leave ``data`` alone (``unchanged`` chances in ``unchanged + 2``), truncate it, or make 1 to
+    ``edits`` byte flips, insertions (of one of ``inserts``) and deletions. Shared by the MaterialX,
+    glTF and USD generators, each with the tokens its parser cares about."""
+    kind = draw(st.sampled_from(["none"] * unchanged + ["truncate", "bytes"]))
     if kind == "truncate" and data:
         return data[: draw(st.integers(0, len(data) - 1))]
     if kind == "bytes" and data:
         buffer = bytearray(data)
-        for _ in range(draw(st.integers(1, 8))):
+        for _ in range(draw(st.integers(1, edits))):
             position = draw(st.integers(0, len(buffer) - 1))
             operation = draw(st.sampled_from(["flip", "insert", "delete"]))
             if operation == "flip":
                 buffer[position] = draw(st.integers(0, 255))
             elif operation == "insert":
-                buffer[position:position] = draw(st.sampled_from([b"<", b">", b'"', b"&", b"\x00", b"\xff", b"<a>", b"&x;"]))
+                buffer[position:position] = draw(st.sampled_from(inserts))
             elif len(buffer) > 1:
                 del buffer[position]
         return bytes(buffer)
     return data
+
+
+XML_INSERTS = [b"<", b">", b'"', b"&", b"\x00", b"\xff", b"<a>", b"&x;"]

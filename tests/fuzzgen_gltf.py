@@ -31,6 +31,7 @@ import os
 import random
 import struct
 
+import fuzzgen
 from hypothesis import strategies as st
 
 from openpbr_tools.io import gltf_slots as slots
@@ -438,26 +439,12 @@ def encoded(draw, document) -> bytes:
     return text.encode(encoding, "surrogatepass" if encoding.startswith("utf") else "replace")
 
 
-@st.composite
-def byte_edits(draw, data: bytes) -> bytes:
-    """Leave the bytes alone, truncate them, or flip, insert and delete bytes."""
-    kind = draw(st.sampled_from(["none"] * 8 + ["truncate", "bytes"]))
-    if kind == "truncate" and data:
-        return data[: draw(st.integers(0, len(data) - 1))]
-    if kind == "bytes" and data:
-        buffer = bytearray(data)
-        for _ in range(draw(st.integers(1, 8))):
-            position = draw(st.integers(0, len(buffer) - 1))
-            operation = draw(st.sampled_from(["flip", "insert", "delete"]))
-            if operation == "flip":
-                buffer[position] = draw(st.integers(0, 255))
-            elif operation == "insert":
-                buffer[position:position] = draw(st.sampled_from([b"{", b"}", b"[", b"]", b'"', b",", b":", b"\\", b"\x00",
-                                                                 b"\xff", b"\\ud800", b"1e999", b"-"]))
-            elif len(buffer) > 1:
-                del buffer[position]
-        return bytes(buffer)
-    return data
+JSON_INSERTS = [b"{", b"}", b"[", b"]", b'"', b",", b":", b"\\", b"\x00", b"\xff", b"\\ud800", b"1e999", b"-"]
+
+
+def byte_edits(data: bytes):
+    """:func:`fuzzgen.byte_edits` with JSON's tokens, leaving most documents whole."""
+    return fuzzgen.byte_edits(data, JSON_INSERTS, unchanged=8)
 
 
 LENGTHS = [0, 1, 3, 4, 7, 8, 12, 2**31 - 1, 2**31, 2**32 - 1, 2**30]

@@ -21,6 +21,7 @@ import random
 import tempfile
 import zipfile
 
+import fuzzgen
 from hypothesis import strategies as st
 
 from openpbr_tools import tables
@@ -310,25 +311,9 @@ def encodings(draw, text: str) -> bytes:
     return data
 
 
-@st.composite
-def text_mutations(draw, data: bytes) -> bytes:
-    """Leave the document alone, truncate it, or flip, insert and delete bytes."""
-    kind = draw(st.sampled_from(["none", "none", "none", "truncate", "bytes"]))
-    if kind == "truncate" and data:
-        return data[: draw(st.integers(0, len(data) - 1))]
-    if kind == "bytes" and data:
-        buffer = bytearray(data)
-        for _ in range(draw(st.integers(1, 6))):
-            position = draw(st.integers(0, len(buffer) - 1))
-            operation = draw(st.sampled_from(["flip", "insert", "delete"]))
-            if operation == "flip":
-                buffer[position] = draw(st.integers(0, 255))
-            elif operation == "insert":
-                buffer[position:position] = draw(st.sampled_from(TEXT_INSERTS))
-            elif len(buffer) > 1:
-                del buffer[position]
-        return bytes(buffer)
-    return data
+def text_mutations(data: bytes):
+    """:func:`fuzzgen.byte_edits` with USDA's tokens."""
+    return fuzzgen.byte_edits(data, TEXT_INSERTS, unchanged=3, edits=6)
 
 
 TEXT_INSERTS = [b"{", b"}", b"(", b")", b"[", b"]", b'"', b"'", b"@", b"@@@", b"<", b">", b"#", b"//", b"/*", b"=",

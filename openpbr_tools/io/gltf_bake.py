@@ -104,8 +104,7 @@ def pack(channels: list[ChannelSource | float], notes: list[str] | None = None, 
         if plane.shape != (height, width):
             if notes is not None:
                 notes.append(f"{label}: a {plane.shape[1]} x {plane.shape[0]} source is resampled to {width} x {height}")
-            plane = np.asarray(Image.fromarray(plane.astype(np.float32), mode="F").resize((width, height), Image.BILINEAR),
-                               dtype=np.float64)
+            plane = resample(plane, height, width)
         planes.append(plane)
     stacked = np.clip(np.stack(planes, axis=-1), 0.0, 1.0)
     quantised = np.round(stacked * 255.0).astype(np.uint8)
@@ -114,6 +113,15 @@ def pack(channels: list[ChannelSource | float], notes: list[str] | None = None, 
     out = io.BytesIO()
     image.save(out, format="PNG", compress_level=6)
     return out.getvalue()
+
+
+def resample(plane, height: int, width: int):
+    """A ``(h, w)`` float plane resized to ``(height, width)``, bilinear (Pillow's 32-bit float mode)."""
+    import numpy as np
+    from PIL import Image
+
+    return np.asarray(Image.fromarray(plane.astype(np.float32), mode="F").resize((width, height), Image.BILINEAR),
+                      dtype=np.float64)
 
 
 def _channel(pixels, source: ChannelSource):

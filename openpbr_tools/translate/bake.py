@@ -269,11 +269,9 @@ def _materialx_space(name: str | None) -> str | None:
 
 
 def _resample(values, height: int, width: int):
-    from PIL import Image
+    from ..io.gltf_bake import resample
 
-    planes = [np.asarray(Image.fromarray(values[:, :, c].astype(np.float32), mode="F").resize((width, height), Image.BILINEAR),
-                         dtype=np.float64) for c in range(values.shape[2])]
-    return np.stack(planes, axis=-1)
+    return np.stack([resample(values[:, :, c], height, width) for c in range(values.shape[2])], axis=-1)
 
 
 def _png8(values) -> bytes:
