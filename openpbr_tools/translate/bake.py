@@ -124,6 +124,9 @@ class Baker:
         if width == 3 and type_name == "color3":
             space = _materialx_space(texture.colorspace)
             if space is not None and space != working_space and not colorspaces.is_data(space):
+                if space not in colorspaces.materialx_names():
+                    raise BakeError(f"{owner}: colour space {texture.colorspace!r} of {texture.file!r} is unknown, "
+                                    "so its texels cannot be decoded")
                 values = colorspaces.from_lin_rec709(colorspaces.to_lin_rec709(values, space), working_space)
         if texture.scale is not None:
             values = values * np.asarray(texture.scale, dtype=np.float64)
@@ -260,12 +263,17 @@ def _texcoord(texture: Texture):
     return texture.texcoord if texture.texcoord not in (None, 0, "st", "UV0") else None
 
 
+# UsdUVTexture ``sourceColorSpace`` tokens as Storm decodes them: ``auto`` decodes 8-bit RGB(A) images,
+# the only colour textures a bake reads through this path, as sRGB.
+_UV_TEXTURE_SPACES = {"sRGB": "srgb_texture", "auto": "srgb_texture", "raw": "none"}
+
+
 def _materialx_space(name: str | None) -> str | None:
     if name is None:
         return None
     if name in colorspaces.materialx_names():
         return name
-    return colorspaces.materialx_equivalent(name) or name
+    return colorspaces.materialx_equivalent(name) or _UV_TEXTURE_SPACES.get(name, name)
 
 
 def _resample(values, height: int, width: int):
@@ -309,6 +317,7 @@ def _oiio_bytes(values, suffix: str, pixel_type: str) -> bytes:
     height, width, channels = values.shape
     spec = oiio.ImageSpec(width, height, channels, getattr(oiio, pixel_type))
     spec.attribute("Software", "openpbr-tools")  # fixed, so the bytes do not depend on the library version
+    spec.attribute("DateTime", "1970:01:01 00:00:00")  # else OpenEXR's capDate is the time of writing
     folder = tempfile.mkdtemp(prefix="openpbr-bake-")
     path = os.path.join(folder, "image" + suffix)
     try:
