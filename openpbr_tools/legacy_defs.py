@@ -51,6 +51,6 @@ def generate() -> str:
                     port.setAttribute(attribute, format_value(bound, "float" if not isinstance(bound, tuple) else parameter.type))
             if parameter.group:
                 port.setAttribute("uifolder", parameter.group.title())
-    from .io.mtlx_writer import document_text
+    from .io.mtlx.writer import document_text
 
     return document_text(document)

@@ -7,7 +7,7 @@ Shared by the quick fuzz tests (tests/test_fuzz_gltf.py) and the long run
   ``openpbr convert``, with and without ``--mesh sphere``, embedded and external images, and a
   material with every gltf_pbr parameter written by the glTF writer) or a document assembled from
   scratch, mutated property by property: every material field and ``KHR_materials_*`` extension
-  (taken from :mod:`openpbr_tools.io.gltf_slots`, so a new slot is fuzzed without touching this
+  (taken from :mod:`openpbr_tools.io.gltf.slots`, so a new slot is fuzzed without touching this
   file), values of the wrong type (strings for numbers, arrays of the wrong length, ``null``,
   nested objects, NaN, huge integers), indices out of range, negative or huge, extension lists,
   texture / sampler / image / buffer references, image and buffer URIs (data URIs good and bad,
@@ -34,7 +34,7 @@ import struct
 import fuzzgen
 from hypothesis import strategies as st
 
-from openpbr_tools.io import gltf_slots as slots
+from openpbr_tools.io.gltf import slots
 
 SAMPLES = os.path.join(os.path.dirname(__file__), "..", "openpbr_tools", "samples")
 PNG_4X4 = base64.b64decode("iVBORw0KGgoAAAANSUhEUgAAAAQAAAAECAIAAAAmkwkpAAAAFElEQVR42mM8kWLEAANMDEgANwcARfYBZsiXQosAAAAASUVORK5CYII=")
@@ -64,7 +64,7 @@ def build_seeds(folder: str) -> Seeds:
     from gltf_support import gltf_pbr_material
 
     from openpbr_tools.io import read_asset
-    from openpbr_tools.io.gltf_writer import write_gltf
+    from openpbr_tools.io.gltf.writer import write_gltf
     from openpbr_tools.translate.convert import convert_file
 
     seeds = Seeds(folder)

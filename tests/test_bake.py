@@ -238,7 +238,7 @@ def test_baking_is_deterministic(tmp_path, roughness_asset):
 
 
 def test_a_failed_write_leaves_no_baked_images(tmp_path, roughness_asset, monkeypatch):
-    import openpbr_tools.io.mtlx_writer as writer
+    import openpbr_tools.io.mtlx.writer as writer
 
     def fail(*args, **kwargs):
         raise OSError("disk full")

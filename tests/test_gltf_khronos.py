@@ -13,7 +13,7 @@ import pytest
 from PIL import Image
 
 from openpbr_tools.io import read_asset
-from openpbr_tools.io.gltf_writer import write_gltf
+from openpbr_tools.io.gltf.writer import write_gltf
 from openpbr_tools.model import Texture, UVTransform
 
 from gltf_support import describe_issues, gltf_pbr_material, require_validator, validate_with_khronos

@@ -306,7 +306,7 @@ def test_a_data_uri_above_the_size_limit_is_refused_before_decoding(tmp_path, mo
 
 
 def test_a_data_uri_payload_above_the_limit_is_not_decoded(monkeypatch):
-    from openpbr_tools.io.gltf_document import ResourceError, decode_data_uri
+    from openpbr_tools.io.gltf.document import ResourceError, decode_data_uri
 
     monkeypatch.setenv("OPENPBR_MAX_FILE_MB", str(1000 / 2**20))
     with pytest.raises(ResourceError, match="limit"):
@@ -478,7 +478,7 @@ def test_corrupted_glb_bytes_never_raise_anything_but_read_errors(tmp_path):
     from hypothesis import HealthCheck, given, settings
     from hypothesis import strategies as st
 
-    from openpbr_tools.io.gltf_writer import write_gltf
+    from openpbr_tools.io.gltf.writer import write_gltf
     from openpbr_tools.model import Texture
 
     from gltf_support import gltf_pbr_material

@@ -190,7 +190,7 @@ def test_validate_a_folder_mixing_materialx_and_gltf(tmp_path, write_mtlx):
 
 
 def test_info_lists_materials_and_textures_of_a_glb(tmp_path):
-    from openpbr_tools.io.gltf_writer import write_gltf
+    from openpbr_tools.io.gltf.writer import write_gltf
     from openpbr_tools.model import Texture
 
     (tmp_path / "wood.png").write_bytes(png())

@@ -17,7 +17,7 @@ import pytest
 from PIL import Image
 
 from openpbr_tools.io import read_asset
-from openpbr_tools.io.gltf_writer import GltfWriteError, write_gltf
+from openpbr_tools.io.gltf.writer import GltfWriteError, write_gltf
 from openpbr_tools.model import Texture, UVTransform
 
 from gltf_support import gltf_pbr_material, place2d
@@ -46,7 +46,7 @@ def texels(path_or_bytes) -> np.ndarray:
 
 def image_of(asset, texture: Texture) -> np.ndarray:
     """Texels (RGBA) of the image a texture read from a written glTF names."""
-    from openpbr_tools.io.gltf_document import load_document
+    from openpbr_tools.io.gltf.document import load_document
 
     if texture.packaged:
         data, _ = load_document(asset.path).image_bytes(int(texture.file.rsplit("/", 1)[1]))
@@ -301,7 +301,7 @@ def test_sphere_mesh_has_unit_normals_and_tangents_and_one_primitive_per_materia
     asset = read_asset(tmp_path / "s.glb")
     primitives = asset.extra["gltf"]["primitives"]
     assert [p["material"] for p in primitives] == [0, 1]
-    from openpbr_tools.io.gltf_mesh import uv_sphere
+    from openpbr_tools.io.gltf.mesh import uv_sphere
 
     sphere = uv_sphere()
     assert np.allclose(np.linalg.norm(sphere["NORMAL"], axis=1), 1.0, atol=1e-6)

@@ -204,7 +204,7 @@ def test_a_data_uri_above_its_limit_is_reported_without_being_decoded(tmp_path):
 
 
 def test_the_data_uri_limit_defaults_to_the_file_limit(tmp_path, monkeypatch):
-    from openpbr_tools.io.gltf_document import max_data_uri_bytes
+    from openpbr_tools.io.gltf.document import max_data_uri_bytes
 
     monkeypatch.delenv("OPENPBR_MAX_DATA_URI_MB", raising=False)
     monkeypatch.setenv("OPENPBR_MAX_FILE_MB", "3")

@@ -5,7 +5,7 @@ from __future__ import annotations
 import pytest
 
 from openpbr_tools.io import ReadError, read_asset
-from openpbr_tools.io.mtlx_writer import to_mtlx_string, write_mtlx
+from openpbr_tools.io.mtlx.writer import to_mtlx_string, write_mtlx
 from openpbr_tools.model import Connection, Constant, Texture
 
 RICH = """<?xml version="1.0"?>
@@ -160,7 +160,7 @@ def test_round_trip_output_is_deterministic(rich):
 def test_written_document_is_valid_materialx(rich, tmp_path):
     import MaterialX as mx
 
-    from openpbr_tools.io.mtlx_reader import standard_library
+    from openpbr_tools.io.mtlx.reader import standard_library
 
     document = mx.createDocument()
     mx.readFromXmlString(document, to_mtlx_string(rich.materials, "acescg"))

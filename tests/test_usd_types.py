@@ -6,7 +6,7 @@ from __future__ import annotations
 import pytest
 
 from openpbr_tools import tables
-from openpbr_tools.io.usd_types import (
+from openpbr_tools.io.usd.types import (
     MATERIALX_TO_USD,
     PREVIEW_SURFACE_USD_TYPES,
     expected_usd_type,

@@ -9,7 +9,7 @@ import zipfile
 import pytest
 
 from openpbr_tools.io import read_asset
-from openpbr_tools.io.usd_writer import write_usd
+from openpbr_tools.io.usd.writer import write_usd
 from openpbr_tools.resources import data_dir
 
 SAMPLES = data_dir("samples")
@@ -38,7 +38,7 @@ def comparable(asset) -> dict:
 def usd_core(path) -> list[dict]:
     from pxr import Usd
 
-    from openpbr_tools.io.usd_stage import usd_core_findings
+    from openpbr_tools.io.usd.stage import usd_core_findings
 
     return usd_core_findings(Usd.Stage.Open(str(path)))
 

@@ -69,15 +69,15 @@ def read_asset(path: str | os.PathLike) -> Asset:
     path = os.fspath(path)
     suffix = os.path.splitext(path)[1].lower()
     if suffix in MTLX_SUFFIXES:
-        from .mtlx_reader import read_mtlx
+        from .mtlx.reader import read_mtlx
 
         return read_mtlx(path)
     if suffix in USD_SUFFIXES:
-        from .usd_reader import read_usd  # imports pxr only when called
+        from .usd.reader import read_usd  # imports pxr only when called
 
         return read_usd(path)
     if suffix in GLTF_SUFFIXES:
-        from .gltf_reader import read_gltf
+        from .gltf.reader import read_gltf
 
         return read_gltf(path)
     raise ReadError("unsupported", f"no reader for files ending in {suffix or '(no suffix)'!r}", Location(path))
@@ -88,8 +88,8 @@ def available_suffixes() -> tuple[str, ...]:
     from importlib.util import find_spec
 
     suffixes = MTLX_SUFFIXES
-    if find_spec(f"{__name__}.usd_reader") is not None:
+    if find_spec(f"{__name__}.usd.reader") is not None:
         suffixes += USD_SUFFIXES
-    if find_spec(f"{__name__}.gltf_reader") is not None:
+    if find_spec(f"{__name__}.gltf.reader") is not None:
         suffixes += GLTF_SUFFIXES
     return suffixes

@@ -15,7 +15,7 @@ glTF (colour textures sRGB, data textures linear), so the colour-space family do
 from __future__ import annotations
 
 from ..diagnostics import Severity
-from ..io import gltf_slots as slots
+from ..io.gltf import slots
 from ..model import Location, Texture
 from . import Rule
 from .ranges import HARD_RANGE

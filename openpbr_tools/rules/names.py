@@ -11,7 +11,7 @@ import difflib
 
 from .. import tables, versioning
 from ..diagnostics import Severity
-from ..io.mtlx_reader import SHADER_CATEGORIES
+from ..io.mtlx.reader import SHADER_CATEGORIES
 from . import Rule
 
 UNKNOWN_INPUT = Rule(
@@ -87,7 +87,7 @@ def check(asset, context):
             )
         elif observation.kind == "unknown_category":
             category = observation.detail["category"]
-            from ..io.mtlx_reader import known_categories
+            from ..io.mtlx.reader import known_categories
 
             guess = _closest(category, set(SHADER_CATEGORIES) | known_categories())
             yield context.diagnostic(

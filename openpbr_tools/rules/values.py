@@ -63,7 +63,7 @@ def check(asset, context):
         if entry.type and entry.type != parameter.type:
             shown = entry.source_type or entry.type
             if entry.source_type:
-                from ..io.usd_types import MATERIALX_TO_USD
+                from ..io.usd.types import MATERIALX_TO_USD
 
                 hint = f"author it as {MATERIALX_TO_USD.get(parameter.type, parameter.type)} inputs:{entry.name}"
             else:

@@ -260,7 +260,7 @@ def _texturable(model: str, name: str) -> bool:
     """Whether the target model can take a texture on ``name`` (glTF has factor-only parameters)."""
     if model != "gltf_pbr":
         return True
-    from ..io.gltf_slots import SLOT_BY_PARAMETER
+    from ..io.gltf.slots import SLOT_BY_PARAMETER
 
     slot = SLOT_BY_PARAMETER.get(name)
     return slot is None or slot.texture is not None

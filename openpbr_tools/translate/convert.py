@@ -215,7 +215,7 @@ def _unpack_gltf_images(materials: list[Material], asset: Asset, output_path: st
     """Images embedded in a glTF (``#/images/N``) written beside a .mtlx or USD output, which can only
     reference files: ``<output stem>_textures/image_N.<ext>``."""
     from ..atomic import write_bytes
-    from ..io.gltf_document import load_document
+    from ..io.gltf.document import load_document
     from ..model import Texture
 
     extensions = {"image/png": ".png", "image/jpeg": ".jpg", "image/webp": ".webp", "image/ktx2": ".ktx2"}
@@ -264,18 +264,18 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside)
     if kind != "gltf" and asset.format == "gltf":
         _unpack_gltf_images(result.materials, asset, output_path)
     if kind == "mtlx":
-        from ..io.mtlx_writer import write_mtlx
+        from ..io.mtlx.writer import write_mtlx
 
         _rebase_textures(result.materials, asset.path, output_path)
         _tag_length_units(result.materials, asset)
         write_mtlx(result.materials, output_path, colorspace=asset.colorspace or "lin_rec709")
         return []
     if kind == "usd":
-        from ..io.usd_writer import write_usd
+        from ..io.usd.writer import write_usd
 
         return write_usd(result.materials, output_path, source=asset, allow_outside=allow_outside)
     try:
-        from ..io.gltf_writer import write_gltf
+        from ..io.gltf.writer import write_gltf
     except ImportError:
         raise ValueError("glTF output needs the glTF writer, which this installation lacks") from None
     return write_gltf(result.materials, output_path, mesh=mesh, allow_outside=allow_outside, source=asset) or []

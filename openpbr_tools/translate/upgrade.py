@@ -2,7 +2,7 @@
 
 The upgrade is a chain of steps, one per release, each a function that emits *edits* (rename,
 set a constant, remove, connect a node graph) and diagnostics. The same edits are applied to the
-model-neutral :class:`Material` and, by :mod:`openpbr_tools.io.mtlx_patch`, to the MaterialX
+model-neutral :class:`Material` and, by :mod:`openpbr_tools.io.mtlx.patch`, to the MaterialX
 document itself, so everything else in the file (looks, graphs, other nodes) is kept as it was.
 
 Exact:
@@ -184,7 +184,7 @@ def graph_document(nodes: tuple[GraphNode, ...]) -> str:
                 port.setNodeName(value[1:])
             else:
                 port.setValueString(value)
-    from ..io.mtlx_writer import document_text
+    from ..io.mtlx.writer import document_text
 
     return document_text(document)
 
@@ -389,9 +389,9 @@ def upgrade_mtlx_file(path: str, target: str | None = None, context: Context | N
     """
     import MaterialX as mx
 
-    from ..io.mtlx_patch import apply_edits
-    from ..io.mtlx_writer import document_text
-    from ..io.mtlx_reader import read_mtlx
+    from ..io.mtlx.patch import apply_edits
+    from ..io.mtlx.writer import document_text
+    from ..io.mtlx.reader import read_mtlx
 
     target = target or tables.latest(MODEL)
     with open(path, "rb") as handle:

@@ -23,7 +23,7 @@ def generate(folder: str, count: int, fmt: str) -> str:
     import numpy as np
     from PIL import Image
 
-    from openpbr_tools.io.gltf_writer import write_gltf
+    from openpbr_tools.io.gltf.writer import write_gltf
     from openpbr_tools.model import Texture, UVTransform
 
     sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
@@ -65,7 +65,7 @@ def main() -> None:
     options = parser.parse_args()
 
     from openpbr_tools.io import read_asset
-    from openpbr_tools.io.gltf_writer import write_gltf
+    from openpbr_tools.io.gltf.writer import write_gltf
     from openpbr_tools.validate import validate_file
 
     with tempfile.TemporaryDirectory() as folder:

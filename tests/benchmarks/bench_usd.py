@@ -100,8 +100,8 @@ def main() -> None:
 
         from pxr import Usd, UsdValidation
 
-        from openpbr_tools.io.usd_reader import read_usd
-        from openpbr_tools.io.usd_stage import quiet, register_materialx_nodes, usd_core_findings
+        from openpbr_tools.io.usd.reader import read_usd
+        from openpbr_tools.io.usd.stage import quiet, register_materialx_nodes, usd_core_findings
         from openpbr_tools.rules import check_asset
         from openpbr_tools.validate import validate_file
 

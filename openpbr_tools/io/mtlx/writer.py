@@ -11,10 +11,10 @@ from __future__ import annotations
 
 import os
 
-from .. import tables
-from ..atomic import write_text
-from ..model import Connection, Constant, Material, Texture
-from ..values import format_value
+from ... import tables
+from ...atomic import write_text
+from ...model import Connection, Constant, Material, Texture
+from ...values import format_value
 
 COLOUR_TYPES = ("color3", "color4")
 

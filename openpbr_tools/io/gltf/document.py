@@ -43,8 +43,8 @@ import struct
 from dataclasses import dataclass, field
 from urllib.parse import unquote, unquote_to_bytes
 
-from ..model import Location
-from . import ReadError, max_file_bytes, read_bytes
+from ...model import Location
+from .. import ReadError, max_file_bytes, read_bytes
 
 GLB_JSON = 0x4E4F534A
 GLB_BIN = 0x004E4942

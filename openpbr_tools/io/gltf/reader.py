@@ -3,7 +3,7 @@
 
 Every glTF material becomes a ``gltf_pbr`` 2.0.1 :class:`~openpbr_tools.model.Material` (MaterialX's
 ``ND_gltf_pbr_surfaceshader``) whose inputs are the gltf_pbr parameters the material authors (see
-:mod:`.gltf_slots` for where each lives):
+:mod:`.slots` for where each lives):
 
 * a factor without a texture is a :class:`Constant`; a texture is a :class:`Texture` whose
   ``channels`` are the ones glTF reads for that slot, ``colorspace`` ``srgb_texture`` for colour
@@ -30,7 +30,7 @@ and the glTF property name.
 Facts for the glTF rules (declared and used extensions, images, texture coordinates each primitive
 provides) are recorded in ``Asset.extra["gltf"]``; broken references and resources are
 :class:`Observation` s, each reported once. Only a file that is not glTF at all raises
-:class:`ReadError` (the container's limits are :mod:`.gltf_document`'s).
+:class:`ReadError` (the container's limits are :mod:`.document`'s).
 
 Nothing outside the asset is opened: an image or buffer URI that is a URL, absolute, climbs out with
 ``..`` or resolves outside the asset's folder through a symbolic link is never read (the image's
@@ -46,18 +46,18 @@ import os
 import warnings
 from urllib.parse import unquote
 
-from .. import tables, versioning
-from ..model import Asset, Connection, Constant, Input, Location, Material, Texture
-from . import ReadError
-from . import gltf_slots as slots
-from .gltf_document import (
+from ... import tables, versioning
+from ...model import Asset, Connection, Constant, Input, Location, Material, Texture
+from .. import ReadError
+from . import slots
+from .document import (
     GltfDocument,
     ResourceError,
     ResourceFile,
     data_uri_mime,
     load_document,
 )
-from .gltf_uv import from_texture_transform
+from .uv import from_texture_transform
 
 MODEL, VERSION = "gltf_pbr", "2.0.1"
 SCENE_LENGTH_UNIT = "meter"  # glTF is metres (specification 3.4)
@@ -71,7 +71,7 @@ SUFFIX_MIME = {".png": "image/png", ".jpg": "image/jpeg", ".jpeg": "image/jpeg",
 def read_gltf(path: str) -> Asset:
     """Read the glTF or GLB file at ``path``; :class:`~openpbr_tools.io.ReadError` if it is not glTF."""
     try:
-        import pygltflib  # noqa: F401  (gltf_slots takes the glTF enums from it)
+        import pygltflib  # noqa: F401  (slots takes the glTF enums from it)
     except ImportError:
         raise ReadError("unsupported", "reading glTF needs pygltflib: pip install pygltflib",
                         Location(path)) from None

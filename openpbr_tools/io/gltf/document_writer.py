@@ -57,7 +57,7 @@ class DocumentBuilder:
         if self.glb and self.embed:
             image = {"bufferView": self.add_view(payload), "mimeType": mime}
         elif self.embed:
-            from .gltf_writer import data_uri
+            from .writer import data_uri
 
             image = {"uri": data_uri(payload, mime)}
         else:
@@ -115,7 +115,7 @@ class DocumentBuilder:
         """One sphere mesh per material (shared geometry), nodes 2.5 radii apart along +X, centred."""
         import pygltflib
 
-        from .gltf_mesh import uv_sphere
+        from .mesh import uv_sphere
 
         sphere = uv_sphere()
         array, elements = pygltflib.ARRAY_BUFFER, pygltflib.ELEMENT_ARRAY_BUFFER
@@ -144,7 +144,7 @@ class DocumentBuilder:
 
     # -- output ------------------------------------------------------------------------------
     def document(self) -> dict:
-        from .. import __version__
+        from ... import __version__
 
         document: dict = {"asset": {"generator": f"openpbr-tools {__version__}", "version": "2.0"}}
         used = set()
@@ -168,7 +168,7 @@ class DocumentBuilder:
             buffer: dict = {"byteLength": len(self.binary)}
             if not self.glb:
                 if self.embed:
-                    from .gltf_writer import data_uri
+                    from .writer import data_uri
 
                     buffer["uri"] = data_uri(bytes(self.binary), "application/octet-stream")
                 else:
@@ -178,7 +178,7 @@ class DocumentBuilder:
 
     def finish(self) -> list[tuple[str, bytes]]:
         """[(output path, bytes), (other file, bytes), ...]: the document first, then files beside it."""
-        from .gltf_writer import dumps
+        from .writer import dumps
 
         text = dumps(self.document())
         if not self.glb:

@@ -3,7 +3,7 @@
 
 usd-core has no MaterialX plug-in, so the prims are read here. The stage is opened with composition
 resolved (sublayers, references, payloads loaded, variants as selected) by
-:class:`~.usd_stage.StageGuard`, which refuses files that would crash usd-core and never opens a
+:class:`~.stage.StageGuard`, which refuses files that would crash usd-core and never opens a
 layer outside the asset's folder (such arcs are reported, ``usd_arc_outside``); every ``Material`` prim is
 visited and each of its surface outputs (``outputs:surface``, ``outputs:mtlx:surface``,
 ``outputs:<context>:surface``) is followed, through node graphs, to a shader. Shaders with the id of
@@ -16,7 +16,7 @@ Each shader input becomes an :class:`~openpbr_tools.model.Input`:
 * ``type`` is the MaterialX type its USD type reads as (``color3f`` -> ``color3``, ``float3`` ->
   ``vector3``; a ``float3`` where the parameter is a ``color3`` reads as ``color3`` so its values are
   still checked, and OPBR1002 reports the role), ``source_type`` the USD type;
-* the value (followed by :mod:`.usd_network`) is a :class:`Constant`, read through Material and
+* the value (followed by :mod:`.network`) is a :class:`Constant`, read through Material and
   NodeGraph interface inputs (``interface_name`` remembers which); a
   :class:`Texture` for MaterialX image chains (``ND_image_*``/``ND_tiledimage_*`` through
   ``extract``, ``separate``, ``convert``, ``normalmap``, and ``multiply``/``add`` by a constant as
@@ -44,11 +44,11 @@ from __future__ import annotations
 
 import os
 
-from .. import colorspaces, tables, versioning
-from ..model import Asset, Constant, Input, Location, Material
-from . import ReadError
-from .usd_network import MAX_DEPTH, NetworkReader
-from .usd_stage import (
+from ... import colorspaces, tables, versioning
+from ...model import Asset, Constant, Input, Location, Material
+from .. import ReadError
+from .network import MAX_DEPTH, NetworkReader
+from .stage import (
     StageGuard,
     materialx_nodedef,
     quiet,
@@ -56,7 +56,7 @@ from .usd_stage import (
     usd_core_findings,
     usd_error_message,
 )
-from .usd_types import (
+from .types import (
     MATERIALX_CONTEXT,
     OPACITY_MODE_TOKENS,
     materialx_type_of,
@@ -69,7 +69,7 @@ CUSTOM_DATA_VERSION_KEY = "openpbr:version"
 def read_usd(path: str, *, usd_core: bool = True, allow_outside=()) -> Asset:
     """Read the stage at ``path``. ``usd_core=False`` skips usd-core's own validators;
     ``allow_outside`` lists folders besides the asset's own that sublayers, references and payloads
-    may be read from (:class:`~.usd_stage.StageGuard`)."""
+    may be read from (:class:`~.stage.StageGuard`)."""
     asset = Asset(path=path, format="usd")
     guard = StageGuard(path, asset.observe, allow_outside)
     _read_stage(asset, guard.open_stage(), guard, usd_core)

@@ -29,12 +29,12 @@ import os
 import shutil
 import tempfile
 
-from .. import colorspaces, tables
-from ..model import Asset, Connection, Constant, Material, Texture, UVTransform
-from ..resources import load_json
-from .usd_reader import CUSTOM_DATA_VERSION_KEY
-from .usd_stage import quiet, require_pxr
-from .usd_types import (
+from ... import colorspaces, tables
+from ...model import Asset, Connection, Constant, Material, Texture, UVTransform
+from ...resources import load_json
+from .reader import CUSTOM_DATA_VERSION_KEY
+from .stage import quiet, require_pxr
+from .types import (
     ADDRESS_MODE_TO_WRAP,
     MATERIALX_TO_USD,
     OPACITY_MODE_TOKENS,
@@ -88,7 +88,7 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
     for material in materials:
         writer.write(material)
     # Atomically, as openpbr_tools.atomic does: a temporary file beside the target, renamed over it.
-    from ..atomic import default_mode
+    from ...atomic import default_mode
 
     handle, temporary = tempfile.mkstemp(prefix=".openpbr-", suffix=suffix, dir=folder)
     os.fchmod(handle, default_mode())
@@ -464,7 +464,7 @@ def _components(value) -> tuple:
 
 def _fit(value, materialx_type: str):
     """``value`` with the component count of ``materialx_type`` (a float4 fallback for a color3)."""
-    from ..values import COMPONENTS
+    from ...values import COMPONENTS
 
     count = COMPONENTS.get(materialx_type, 1)
     values = _components(value)

@@ -127,7 +127,7 @@ def resample(plane, height: int, width: int):
 def _channel(pixels, source: ChannelSource):
     import numpy as np
 
-    from .. import colorspaces
+    from ... import colorspaces
 
     channel = source.channel  # load_pixels expands greyscale, so R, G and B always exist
     if channel >= pixels.shape[2]:

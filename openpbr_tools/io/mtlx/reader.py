@@ -20,10 +20,10 @@ from __future__ import annotations
 
 from functools import lru_cache
 
-from .. import versioning
-from ..model import Asset, Connection, Constant, Input, Location, Material, Texture, UVTransform
-from ..values import ValueSyntaxError, parse_value
-from . import ReadError, read_bytes
+from ... import versioning
+from ...model import Asset, Connection, Constant, Input, Location, Material, Texture, UVTransform
+from ...values import ValueSyntaxError, parse_value
+from .. import ReadError, read_bytes
 from .xmlscan import XmlSyntaxError, parse_suppression, scan
 
 SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
@@ -450,6 +450,6 @@ def _capture_graph(node, limit: int = 256) -> str | None:
             upstream = port.getConnectedNode()
             if upstream is not None and upstream.getParent() == current.getParent():
                 pending.append(upstream)
-    from .mtlx_writer import document_text
+    from .writer import document_text
 
     return document_text(captured)

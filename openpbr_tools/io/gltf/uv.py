@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 
-from ..model import UVTransform
+from ...model import UVTransform
 
 GLTF_PIVOT = (0.0, 1.0)
 

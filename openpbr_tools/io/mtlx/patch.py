@@ -6,7 +6,7 @@ nodes, comments' neighbours and attribute order elsewhere stay as MaterialX read
 
 from __future__ import annotations
 
-from ..values import format_value
+from ...values import format_value
 
 CONNECTION_ATTRIBUTES = ("nodename", "nodegraph", "output", "interfacename")
 

@@ -2,7 +2,7 @@
 image (passed through or baked), sampler, UV set and KHR_texture_transform, and the factors that
 multiply it.
 
-glTF reads fixed channels of one image per property (:mod:`.gltf_slots`). An image passes through
+glTF reads fixed channels of one image per property (:mod:`.slots`). An image passes through
 unchanged when every parameter sharing the property reads its own channel from it in the encoding
 glTF expects (sRGB for colour, linear for data) and nothing unintended sits in the channels no
 parameter feeds (a metallicRoughness image whose G would scale a constant roughness, an alpha
@@ -15,11 +15,11 @@ from __future__ import annotations
 
 import re
 
-from .. import colorspaces
-from ..model import Texture
-from . import gltf_slots as slots
-from .gltf_bake import ChannelSource, pack
-from .gltf_uv import to_texture_transform
+from ... import colorspaces
+from ...model import Texture
+from . import slots
+from .bake import ChannelSource, pack
+from .uv import to_texture_transform
 
 
 class TextureWriting:
@@ -236,7 +236,7 @@ class TextureWriting:
 
 def _encoded(space: str) -> bool:
     """A colour space with a non-linear transfer (srgb_texture, g22_...): data read through it is bent."""
-    from ..resources import load_json
+    from ...resources import load_json
 
     spec = load_json("colorspaces.json")["materialx"].get(space)
     return spec is not None and spec["transfer"] not in ("linear", "data")

@@ -22,9 +22,9 @@ import math
 import os
 import struct
 
-from ..model import Connection, Constant, Input, Texture, UVTransform
-from .usd_stage import materialx_nodedef
-from .usd_types import (
+from ...model import Connection, Constant, Input, Texture, UVTransform
+from .stage import materialx_nodedef
+from .types import (
     MATERIALX_TO_USD,
     PRIMVAR_READER_PREFIX,
     TRANSFORM_2D_ID,
@@ -355,7 +355,7 @@ def _unconnected(attribute) -> bool:
 def _shape(usd_type: str | None) -> tuple:
     """What must match for a connection to carry values unchanged: component count and kind
     (number, integer, boolean, text); roles (color3f vs float3) and precision do not matter."""
-    from ..values import COMPONENTS
+    from ...values import COMPONENTS
 
     materialx = USD_TO_MATERIALX.get(usd_type or "", usd_type)
     kind = "text" if materialx in ("string", "filename") else materialx if materialx in ("boolean", "integer") else "number"

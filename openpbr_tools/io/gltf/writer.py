@@ -30,12 +30,12 @@ import json
 import math
 import os
 
-from .. import colorspaces
-from ..atomic import write_bytes
-from ..model import Asset, Connection, Constant, Material, Texture
-from . import gltf_slots as slots
-from .gltf_images import GltfWriteError, ImageResolver
-from .gltf_texture_writer import TextureWriting
+from ... import colorspaces
+from ...atomic import write_bytes
+from ...model import Asset, Connection, Constant, Material, Texture
+from . import slots
+from .images import GltfWriteError, ImageResolver
+from .texture_writer import TextureWriting
 
 
 def write_gltf(materials: list[Material], path, *, mesh: str | None = None, embed: bool | None = None,
@@ -46,7 +46,7 @@ def write_gltf(materials: list[Material], path, *, mesh: str | None = None, embe
     ``.gltf`` (image files beside the output); ``embed=True`` with ``.gltf`` writes data URIs.
     ``allow_outside`` lists folders outside the source asset's folder images may be read from.
     """
-    from .gltf_document_writer import DocumentBuilder
+    from .document_writer import DocumentBuilder
 
     try:
         import PIL  # noqa: F401  (baking and image inspection)
@@ -172,7 +172,7 @@ class _MaterialWriter(TextureWriting):
     def clamped(self, slot: slots.Slot, value):
         """``value`` inside the parameter's hard range, which glTF's schema enforces (the Khronos
         validator rejects, and viewers clamp, a roughnessFactor of 1.5); noted when it moves."""
-        from .. import tables
+        from ... import tables
 
         parameter = tables.table("gltf_pbr").get(slot.parameter)
         if parameter is None or slot.parameter == "emissive":  # emissive above 1 is folded, not clamped

@@ -39,9 +39,9 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from functools import lru_cache
 
-from ..model import Location
-from . import ReadError, max_file_bytes, read_bytes
-from .usd_types import MATERIALX_TO_USD
+from ...model import Location
+from .. import ReadError, max_file_bytes, read_bytes
+from .types import MATERIALX_TO_USD
 
 # Pcp errors that mean "a layer of this stage could not be opened".
 _MISSING_LAYER_ERRORS = ("ErrorInvalidSublayerPath", "ErrorInvalidAssetPath", "ErrorInvalidExternalTargetPath")
@@ -914,11 +914,11 @@ def _materialx_nodedefs():
     """Name -> nodedef for MaterialX's libraries plus the toolkit's legacy OpenPBR definitions."""
     import MaterialX as mx
 
-    from .mtlx_reader import standard_library
+    from ..mtlx.reader import standard_library
 
     found = {nd.getName(): nd for nd in standard_library().getNodeDefs()}
     try:
-        from ..resources import data_dir
+        from ...resources import data_dir
 
         legacy = data_dir("libraries")
         for name in sorted(os.listdir(legacy)):

@@ -11,8 +11,8 @@ from __future__ import annotations
 import os
 import re
 
-from ..model import Texture
-from .gltf_bake import channel_count
+from ...model import Texture
+from .bake import channel_count
 
 
 class GltfWriteError(ValueError):
@@ -64,7 +64,7 @@ class ImageResolver:
         return _Source(key=("file", real), image=real, name=name, mime=_mime_of_file(real))
 
     def _packaged(self, texture: Texture, owner: str):
-        from .gltf_document import ResourceError, load_document
+        from .document import ResourceError, load_document
 
         container = texture.location.file if texture.location else self.source_path
         match = re.fullmatch(r"#/images/(\d+)", texture.file)
