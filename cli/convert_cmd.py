@@ -39,13 +39,12 @@ def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, veri
     Exit codes: 0 written, 1 written but a report entry reached --fail-on, 2 unreadable input or
     refused output (existing without --force, or the input itself).
     """
-    from openpbr_tools.diagnostics import Diagnostic, Severity
+    from openpbr_tools.convert import convert_file, output_kind
+    from openpbr_tools.diagnostics import Diagnostic
     from openpbr_tools.io import ReadError
     from openpbr_tools.reports import render
-    from openpbr_tools.rules.document import READ_ERROR_RULES
     from openpbr_tools.translate.common import Settings
-    from openpbr_tools.translate.convert import convert_file, output_kind
-    from openpbr_tools.validate import FileResult, Report
+    from openpbr_tools.validate import FileResult, Report, unreadable
 
     if output_kind(output) is None:
         raise click.UsageError(f"cannot write {output}: use .mtlx, .usda, .usdc, .usdz, .gltf or .glb")
@@ -59,13 +58,12 @@ def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, veri
         result = convert_file(input_path, output, target, Settings(nits_per_unit=nits_per_unit), mesh=mesh,
                               allow_outside=tuple(allow_outside))
     except ReadError as error:
-        diagnostic = Diagnostic(READ_ERROR_RULES[error.kind].code, Severity.ERROR, error.message, error.location)
-        click.echo(render(Report(files=[FileResult(input_path, [diagnostic], unreadable=True)]), output_format), nl=False)
+        click.echo(render(Report(files=[unreadable(input_path, error)]), output_format), nl=False)
         sys.exit(2)
     except ValueError as error:
         raise click.UsageError(str(error)) from None
     if verify:
-        from openpbr_tools.translate.convert import verify as verify_conversion
+        from openpbr_tools.convert import verify as verify_conversion
 
         result.diagnostics = sorted(result.diagnostics + verify_conversion(result, threshold), key=Diagnostic.sort_key)
     report = Report(files=[FileResult(input_path, result.diagnostics, materials=len(result.pairs))])

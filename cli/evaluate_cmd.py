@@ -14,14 +14,12 @@ METRICS = ("mean", "p95", "max")
 
 def _read(path):
     from openpbr_tools.io import ReadError, read_asset
+    from openpbr_tools.validate import read_error
 
     try:
         return read_asset(path)
-    except ReadError as error:
-        click.echo(f"openpbr: {path}: {error.message}", err=True)
-        sys.exit(2)
-    except OSError as error:
-        click.echo(f"openpbr: {path}: {error}", err=True)
+    except (ReadError, OSError) as error:
+        click.echo(f"openpbr: {path}: {read_error(error, path).message}", err=True)
         sys.exit(2)
 
 

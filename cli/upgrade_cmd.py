@@ -31,10 +31,8 @@ def upgrade(input_path, output, target, force, output_format, fail_on):
     from openpbr_tools import tables
     from openpbr_tools.atomic import write_text
     from openpbr_tools.io import ReadError
-    from openpbr_tools.rules.document import READ_ERROR_RULES
     from openpbr_tools.translate.upgrade import upgrade_mtlx_file
-    from openpbr_tools.validate import FileResult, Report
-    from openpbr_tools.diagnostics import Diagnostic, Severity
+    from openpbr_tools.validate import FileResult, Report, unreadable
 
     if not input_path.lower().endswith(".mtlx") or not output.lower().endswith(".mtlx"):
         raise click.UsageError("upgrade reads and writes .mtlx files")
@@ -47,14 +45,7 @@ def upgrade(input_path, output, target, force, output_format, fail_on):
     try:
         result = upgrade_mtlx_file(input_path, target)
     except (ReadError, OSError) as error:
-        if isinstance(error, ReadError):
-            rule = READ_ERROR_RULES[error.kind]
-            diagnostic = Diagnostic(rule.code, Severity.ERROR, error.message, error.location)
-        else:
-            from openpbr_tools.model import Location
-
-            diagnostic = Diagnostic("OPBR001", Severity.ERROR, f"cannot read file: {error}", Location(input_path))
-        report = Report(files=[FileResult(input_path, [diagnostic], unreadable=True)])
+        report = Report(files=[unreadable(input_path, error)])
         click.echo(render(report, output_format), nl=False)
         sys.exit(2)
     write_text(output, result.text)

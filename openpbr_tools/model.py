@@ -26,15 +26,21 @@ Value = Union[ScalarValue, tuple]
 @dataclass(frozen=True, slots=True)
 class Location:
     """Where something is: ``file``, ``line`` (1-based) where the format has lines, ``path``
-    (MaterialX element name path, USD prim path or glTF JSON pointer) and ``input`` name."""
+    (MaterialX element name path, USD prim path or glTF JSON pointer), ``input`` name, and the
+    ``material`` it belongs to where that is not obvious from ``path`` (translation notes name the
+    source material they concern)."""
 
     file: str
     line: int | None = None
     path: str | None = None
     input: str | None = None
+    material: str | None = None
 
     def with_input(self, name: str | None) -> "Location":
-        return Location(self.file, self.line, self.path, name)
+        return Location(self.file, self.line, self.path, name, self.material)
+
+    def with_material(self, name: str | None) -> "Location":
+        return Location(self.file, self.line, self.path, self.input, name)
 
     def __str__(self) -> str:
         text = self.file

@@ -23,6 +23,12 @@ def _example(text: str | bytes) -> str:
     return textwrap.indent(text.rstrip(), "    ")
 
 
+def _command(rule: Rule) -> str:
+    if not rule.example_command:
+        return ""
+    return " (" + " ".join(["openpbr", *rule.example_command]).replace(" IN ", " example.mtlx ") + ")"
+
+
 def rule_page(rule: Rule) -> str:
     """The ruff-style page for one rule: what it does, why, examples, family background."""
     parts = [
@@ -34,10 +40,10 @@ def rule_page(rule: Rule) -> str:
         "Why it matters",
         textwrap.indent(textwrap.fill(rule.doc, 96), "  "),
         "",
-        "Passes",
+        "Passes" + _command(rule),
         _example(rule.passing),
         "",
-        "Fails",
+        "Fails" + _command(rule),
         _example(rule.failing),
         "",
         f"Family: {rule.family}",

@@ -107,13 +107,25 @@ def _walk(folder: str, suffixes: tuple[str, ...]) -> list[str]:
     return found
 
 
+def read_error(error: readers.ReadError | OSError, path: str) -> Diagnostic:
+    """The diagnostic for input that cannot be read at all (every command reports it this way):
+    the rule of the :class:`~openpbr_tools.io.ReadError`'s kind, or OPBR001 for an operating-system
+    error, always an error."""
+    if isinstance(error, readers.ReadError):
+        return Diagnostic(READ_ERROR_RULES[error.kind].code, Severity.ERROR, error.message, error.location)
+    return Diagnostic(UNREADABLE.code, Severity.ERROR, f"cannot read file: {error}", Location(path))
+
+
+def unreadable(path: str, error: readers.ReadError | OSError) -> FileResult:
+    """The result for a file that cannot be read (exit code 2)."""
+    return FileResult(path, [read_error(error, path)], unreadable=True)
+
+
 def validate_file(path: str, context: Context | None = None, keep_asset: bool = False) -> FileResult:
     try:
         asset = readers.read_asset(path)
     except readers.ReadError as error:
-        rule = READ_ERROR_RULES[error.kind]
-        diagnostic = Diagnostic(rule.code, Severity.ERROR, error.message, error.location)
-        return FileResult(path, [diagnostic], unreadable=True)
+        return unreadable(path, error)
     diagnostics = check_asset(asset, context)
     return FileResult(path, diagnostics, len(asset.materials), asset=asset if keep_asset else None)
 

@@ -65,7 +65,7 @@ def build_seeds(folder: str) -> Seeds:
 
     from openpbr_tools.io import read_asset
     from openpbr_tools.io.gltf.writer import write_gltf
-    from openpbr_tools.translate.convert import convert_file
+    from openpbr_tools.convert import convert_file
 
     seeds = Seeds(folder)
     os.makedirs(folder, exist_ok=True)

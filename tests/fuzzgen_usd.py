@@ -333,7 +333,7 @@ def seed_documents() -> dict[str, list[bytes]]:
     from pxr import Sdf
 
     from openpbr_tools.rules import all_rules
-    from openpbr_tools.translate.convert import convert_file
+    from openpbr_tools.convert import convert_file
 
     found: dict[str, list[bytes]] = {".usda": [], ".usdc": [], ".usdz": []}
     samples = os.path.join(os.path.dirname(__file__), "..", "openpbr_tools", "samples")

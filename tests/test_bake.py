@@ -244,7 +244,7 @@ def test_a_failed_write_leaves_no_baked_images(tmp_path, roughness_asset, monkey
         raise OSError("disk full")
 
     monkeypatch.setattr(writer, "write_mtlx", fail)
-    from openpbr_tools.translate.convert import convert_file
+    from openpbr_tools.convert import convert_file
 
     path, _ = roughness_asset
     with pytest.raises(OSError):
@@ -288,7 +288,7 @@ def test_a_baked_texture_falls_back_to_its_mean_so_verify_sees_it(tmp_path):
                              '    <input name="coat_weight" type="float" value="1"/>',
                              image_node("c", "albedo.png", "color3", "srgb_texture")))
     from openpbr_tools.io import read_asset
-    from openpbr_tools.translate.convert import convert_file
+    from openpbr_tools.convert import convert_file
 
     conversion = convert_file(str(path), str(tmp_path / "ss.mtlx"), "standard_surface")
     texture = read_asset(str(tmp_path / "ss.mtlx")).materials[0].inputs["base_color"].value

@@ -178,7 +178,7 @@ def test_separate_metallic_and_roughness_images_are_packed_texel_exactly(tmp_pat
     packed = image_of(asset, metallic)
     assert np.array_equal(packed[:, :, 2], metal)  # glTF: metallic is B
     assert np.array_equal(packed[:, :, 1], rough[:, :, 1])  # roughness is G
-    assert any("baked" in note for note in notes)
+    assert any("baked" in note.message for note in notes)
 
 
 def test_a_lone_roughness_texture_leaves_metallic_to_its_factor(tmp_path):
@@ -274,7 +274,7 @@ def test_emission_above_one_moves_into_emissive_strength(tmp_path):
 def test_factors_outside_glTF_ranges_are_clamped_with_a_note(tmp_path):
     notes = write_gltf([gltf_pbr_material("R", roughness=1.5)], tmp_path / "r.gltf")
     written = json.loads((tmp_path / "r.gltf").read_text())["materials"][0]
-    assert written["pbrMetallicRoughness"]["roughnessFactor"] == 1.0 and any("clamped" in n for n in notes)
+    assert written["pbrMetallicRoughness"]["roughnessFactor"] == 1.0 and any("clamped" in n.message for n in notes)
 
 
 def test_every_extension_written_is_declared(tmp_path):
@@ -293,7 +293,7 @@ def test_other_models_are_not_written(tmp_path):
     material = gltf_pbr_material("O", roughness=0.5)
     material.model = "open_pbr_surface"
     notes = write_gltf([material], tmp_path / "o.gltf")
-    assert "materials" not in json.loads((tmp_path / "o.gltf").read_text()) and "translate" in notes[0]
+    assert "materials" not in json.loads((tmp_path / "o.gltf").read_text()) and "translate" in notes[0].message
 
 
 def test_sphere_mesh_has_unit_normals_and_tangents_and_one_primitive_per_material(tmp_path):
@@ -366,4 +366,4 @@ def test_inert_volume_and_dispersion_are_omitted(tmp_path):
     assert "KHR_materials_volume" not in by_name["Opaque"] and "KHR_materials_dispersion" not in by_name["Opaque"]
     assert by_name["Glass"]["KHR_materials_volume"]["thicknessFactor"] == 0.02
     assert by_name["Glass"]["KHR_materials_dispersion"]["dispersion"] == 0.4
-    assert any("omitted" in note and "Opaque" in note for note in notes)
+    assert any("omitted" in note.message and "Opaque" in note.message for note in notes)

@@ -32,6 +32,31 @@ def test_every_rule_has_documentation_and_distinct_examples():
         assert failing != (rule.passing, rule.passing_name, None), rule.code
 
 
-def test_rules_without_examples_are_loss_report_codes_tested_elsewhere():
-    """Codes with no example file describe translation results (tests/test_upgrade.py)."""
-    assert REPORT_ONLY and all(r.family == "translation" for r in REPORT_ONLY)
+def test_rules_without_validation_examples_are_translation_notes_with_a_command():
+    """Codes no validation reports are the OPBR11xx notes of convert and upgrade: each names the
+    command its examples run with."""
+    assert REPORT_ONLY and all(r.family == "translation" and r.example_command for r in REPORT_ONLY)
+
+
+def _command_codes(rule, fragment: str, folder) -> set[str]:
+    import json
+
+    from click.testing import CliRunner
+
+    from cli.main import cli
+    from conftest import document
+
+    source = folder / "example.mtlx"
+    source.write_text(document(fragment), encoding="utf-8")
+    words = [str(source) if w == "IN" else str(folder / w) if w.startswith("out.") else w for w in rule.example_command]
+    result = CliRunner().invoke(cli, [*words, "--format", "json"], catch_exceptions=False)
+    assert result.exit_code in (0, 1), result.output
+    return {d["code"] for d in json.loads(result.stdout)["diagnostics"]}
+
+
+@pytest.mark.parametrize("rule", REPORT_ONLY, ids=[r.code for r in REPORT_ONLY])
+def test_translation_note_examples_behave_as_documented(rule, tmp_path):
+    (tmp_path / "pass").mkdir()
+    (tmp_path / "fail").mkdir()
+    assert rule.code in _command_codes(rule, rule.failing, tmp_path / "fail")
+    assert rule.code not in _command_codes(rule, rule.passing, tmp_path / "pass")

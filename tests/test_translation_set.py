@@ -33,7 +33,8 @@ from openpbr_tools.evaluate.preview import Rig
 from openpbr_tools.evaluate.verify import compare_materials
 from openpbr_tools.io import read_asset
 from openpbr_tools.model import Constant, Texture
-from openpbr_tools.translate.convert import MODELS, convert, convert_file
+from openpbr_tools.convert import convert_file
+from openpbr_tools.translate.convert import MODELS, convert
 from openpbr_tools.validate import validate_file
 
 SET = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data", "translation_set")

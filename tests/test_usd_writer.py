@@ -293,7 +293,7 @@ def test_an_opaque_procedural_connection_is_reported_not_dropped_silently(tmp_pa
     (tmp_path / "p.usda").write_text(text)
     original = read_asset(tmp_path / "p.usda")
     notes = write_usd(original.materials, tmp_path / "q.usda", source=original)
-    assert len(notes) == 1 and "ND_noise2d_color3" in notes[0]
+    assert len(notes) == 1 and "ND_noise2d_color3" in notes[0].message
 
 
 def test_packaged_textures_are_not_reported_missing(wood, tmp_path):

@@ -8,6 +8,7 @@ of :class:`~openpbr_tools.diagnostics.Diagnostic`. Adding a family is adding a m
 
 from __future__ import annotations
 
+import dataclasses
 import importlib
 import os
 from dataclasses import dataclass, field
@@ -42,7 +43,10 @@ class Rule:
     (a whole document is used as is); other formats are written verbatim. The test suite runs
     every example. ``example_files`` are files the examples expect to exist beside the document;
     ``example_config`` is a ``.openpbr.toml`` written beside both examples (``failing_config``, when
-    set, replaces it for the failing one)."""
+    set, replaces it for the failing one). A translation note (OPBR11xx) is not found by
+    validating a file but by running a command on it: ``example_command`` holds its words after
+    ``openpbr`` with ``IN`` standing for the example document (``("convert", "IN", "-o", "out.gltf")``);
+    the failing example makes the command report the note, the passing one does not."""
 
     code: str
     name: str
@@ -58,6 +62,12 @@ class Rule:
     example_config: str = ""
     failing_config: str | None = None
     formats: tuple[str, ...] = ("mtlx", "usd", "gltf")
+    example_command: tuple[str, ...] = ()
+
+    def note(self, message: str, location: Location, output: Location | None = None) -> Diagnostic:
+        """A finding of this rule at its default severity (writers and the baker, which have no
+        :class:`Context`, report this way; :meth:`Context.adjust` applies a configuration later)."""
+        return Diagnostic(self.code, self.severity, message, location, None, output)
 
 
 @dataclass(slots=True)
@@ -80,8 +90,14 @@ class Context:
     required_colorspace: str | None = None
     allowed_texture_colorspaces: frozenset[str] | None = None
 
-    def diagnostic(self, rule: Rule, message: str, location: Location, hint: str | None = None) -> Diagnostic:
-        return Diagnostic(rule.code, self.severity.get(rule.code, rule.severity), message, location, hint)
+    def diagnostic(self, rule: Rule, message: str, location: Location, hint: str | None = None,
+                   output: Location | None = None) -> Diagnostic:
+        return Diagnostic(rule.code, self.severity.get(rule.code, rule.severity), message, location, hint, output)
+
+    def adjust(self, diagnostic: Diagnostic) -> Diagnostic:
+        """``diagnostic`` with the configured severity of its code."""
+        severity = self.severity.get(diagnostic.code)
+        return diagnostic if severity is None else dataclasses.replace(diagnostic, severity=severity)
 
     def threshold(self, key: str, default: float) -> float:
         return self.thresholds.get(key, default)

@@ -114,6 +114,7 @@ class _Step:
     def report(self, rule, message: str, name: str | None = None) -> None:
         entry = self.material.inputs.get(name) if name else None
         location = entry.location if entry is not None else self.material.location.with_input(name)
+        location = location.with_material(self.material.material_name or self.material.name)
         self.upgrade.diagnostics.append(
             self.context.diagnostic(rule, f"{self.material.name} ({self.label}): {message}", location)
         )

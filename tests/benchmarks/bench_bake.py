@@ -22,7 +22,7 @@ from PIL import Image
 
 sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", ".."))
 
-from openpbr_tools.translate.convert import convert_file  # noqa: E402
+from openpbr_tools.convert import convert_file  # noqa: E402
 
 DOCUMENT = """<?xml version="1.0"?>
 <materialx version="1.39" colorspace="lin_rec709">

@@ -139,7 +139,7 @@ def openpbr_command() -> list[str]:
 def in_process(mode: str, paths: list[str], output_folder: str) -> None:
     """Child entry point: time ``convert_file`` (imports done first) and print JSON."""
     from openpbr_tools.io import read_asset  # noqa: F401 - imported before timing
-    from openpbr_tools.translate.convert import convert_file
+    from openpbr_tools.convert import convert_file
 
     os.makedirs(output_folder, exist_ok=True)
     start = time.perf_counter()

@@ -7,7 +7,7 @@
 For every material of ``tests/data/translation_set`` (one OpenPBR 1.1.1 material per ``.mtlx``) and
 every target (``standard_surface``, ``gltf_pbr``, ``UsdPreviewSurface``):
 
-* **ours**: ``openpbr_tools.translate.convert.convert_file`` writes the target (``.mtlx --to`` for
+* **ours**: ``openpbr_tools.convert.convert_file`` writes the target (``.mtlx --to`` for
   Standard Surface and UsdPreviewSurface, ``.gltf`` for glTF, as ``openpbr convert`` does), the
   result is read back with ``read_asset``, and the loss report is kept;
 * **MaterialX chain**: what MaterialX's own ``translateshader.py`` does, ``ShaderTranslator`` then
@@ -163,7 +163,7 @@ def is_constant(material) -> bool:
 def convert_ours(path: str, target: str, folder: str):
     """(result material, loss report lines, seconds) from ``convert_file`` and a read-back."""
     from openpbr_tools.io import read_asset
-    from openpbr_tools.translate.convert import convert_file
+    from openpbr_tools.convert import convert_file
 
     stem = os.path.splitext(os.path.basename(path))[0]
     output = os.path.join(folder, target, stem + OUTPUT_SUFFIX[target])

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import io
 from dataclasses import dataclass
+from typing import Callable
 
 
 @dataclass(frozen=True, slots=True)
@@ -77,7 +78,7 @@ def channel_count(image: str | bytes) -> int:
         return len(opened.getbands()) if opened.mode != "P" else (4 if "transparency" in opened.info else 3)
 
 
-def pack(channels: list[ChannelSource | float], notes: list[str] | None = None, label: str = "") -> bytes:
+def pack(channels: list[ChannelSource | float], note: Callable[[str], None] | None = None, label: str = "") -> bytes:
     """An 8-bit PNG whose channel ``i`` is ``channels[i]`` (a source channel or a constant in [0, 1]).
 
     One or two entries make a greyscale (+ alpha) PNG: glTF expands grey to R = G = B."""
@@ -102,8 +103,8 @@ def pack(channels: list[ChannelSource | float], notes: list[str] | None = None, 
         pixels = loaded[entry.image]
         plane = _channel(pixels, entry)
         if plane.shape != (height, width):
-            if notes is not None:
-                notes.append(f"{label}: a {plane.shape[1]} x {plane.shape[0]} source is resampled to {width} x {height}")
+            if note is not None:
+                note(f"{label}: a {plane.shape[1]} x {plane.shape[0]} source is resampled to {width} x {height}")
             plane = resample(plane, height, width)
         planes.append(plane)
     stacked = np.clip(np.stack(planes, axis=-1), 0.0, 1.0)

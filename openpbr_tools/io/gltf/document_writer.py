@@ -9,13 +9,19 @@ a GLB pads its JSON chunk with spaces and its BIN chunk with zeros (section 4.4.
 
 from __future__ import annotations
 
+import base64
 import os
 import struct
 
 
+def data_uri(data: bytes, mime: str) -> str:
+    """``data`` as an RFC 2397 base64 data URI."""
+    return f"data:{mime};base64,{base64.b64encode(data).decode('ascii')}"
+
+
 class DocumentBuilder:
-    def __init__(self, path: str, *, glb: bool, embed: bool, notes: list[str]):
-        self.path, self.glb, self.embed, self.notes = path, glb, embed, notes
+    def __init__(self, path: str, *, glb: bool, embed: bool):
+        self.path, self.glb, self.embed = path, glb, embed
         self.folder = os.path.dirname(os.path.abspath(path))
         self.stem = os.path.splitext(os.path.basename(path))[0]
         self.materials: list[dict] = []
@@ -57,8 +63,6 @@ class DocumentBuilder:
         if self.glb and self.embed:
             image = {"bufferView": self.add_view(payload), "mimeType": mime}
         elif self.embed:
-            from .writer import data_uri
-
             image = {"uri": data_uri(payload, mime)}
         else:
             image = {"uri": self.place_file(name, payload)}
@@ -168,8 +172,6 @@ class DocumentBuilder:
             buffer: dict = {"byteLength": len(self.binary)}
             if not self.glb:
                 if self.embed:
-                    from .writer import data_uri
-
                     buffer["uri"] = data_uri(bytes(self.binary), "application/octet-stream")
                 else:
                     buffer["uri"] = self.place_file(f"{self.stem}.bin", bytes(self.binary))

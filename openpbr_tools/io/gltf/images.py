@@ -11,7 +11,8 @@ from __future__ import annotations
 import os
 import re
 
-from ...model import Texture
+from ...model import Location, Texture
+from ...rules.translation import NOT_CARRIED
 from .bake import channel_count
 
 
@@ -28,23 +29,26 @@ class ImageResolver:
         self.output_dir = os.path.dirname(os.path.abspath(output_path))
         self.allowed = [os.path.realpath(f) for f in allow_outside]
         self.documents: dict = {}
+        self._at: tuple[Location, Location | None] = (Location(source_path or ""), None)
 
     def folder_of(self, texture: Texture) -> str:
         anchor = self.source_path or (texture.location.file if texture.location and texture.location.file else None)
         return os.path.dirname(os.path.abspath(anchor)) if anchor else self.output_dir
 
-    def locate(self, texture: Texture, owner: str):
-        """A :class:`_Source` for ``texture`` (``None`` with a note when it cannot be used)."""
+    def locate(self, texture: Texture, owner: str, at: tuple[Location, Location | None] | None = None):
+        """A :class:`_Source` for ``texture`` (``None`` with a note when it cannot be used). ``at`` is
+        the (source, output) location of the parameter the texture feeds, where notes go."""
+        self._at = at or (texture.location or Location(self.source_path or ""), None)
         file = texture.file
         if not file.strip():
-            self.notes.append(f"{owner}: empty texture path, not written")
+            self.lost(f"{owner}: empty texture path, not written")
             return None
         if texture.packaged:
             return self._packaged(texture, owner)
         if re.match(r"^[a-zA-Z][a-zA-Z0-9+.-]+://", file):
             raise GltfWriteError(f"{owner}: texture {file!r} is a URL; the writer never fetches URLs")
         if "<UDIM>" in file.upper() or "<UVTILE>" in file.upper():
-            self.notes.append(f"{owner}: UDIM texture {file!r} has no glTF equivalent, not written")
+            self.lost(f"{owner}: UDIM texture {file!r} has no glTF equivalent, not written")
             return None
         folder = self.folder_of(texture)
         absolute = os.path.normpath(file if os.path.isabs(file) else os.path.join(folder, file))
@@ -56,12 +60,17 @@ class ImageResolver:
                 f"{owner}: texture {file!r} resolves to {real}, outside the source asset's folder {os.path.realpath(folder)}; "
                 "it is neither read nor embedded unless its folder is allowed (allow_outside / --allow-outside)")
         if not os.path.isfile(real):
-            self.notes.append(f"{owner}: texture {file!r} does not exist, not written")
+            self.lost(f"{owner}: texture {file!r} does not exist, not written")
             return None
         inside_source = root == roots[0]
         relative = os.path.relpath(real, root).replace(os.sep, "/")
         name = relative if inside_source else f"textures/{os.path.basename(real)}"
         return _Source(key=("file", real), image=real, name=name, mime=_mime_of_file(real))
+
+    def lost(self, message: str) -> None:
+        """A texture that is not written (OPBR1104) at the parameter :meth:`locate` is working for."""
+        location, output = self._at
+        self.notes.append(NOT_CARRIED.note(message, location, output))
 
     def _packaged(self, texture: Texture, owner: str):
         from .document import ResourceError, load_document
@@ -69,14 +78,14 @@ class ImageResolver:
         container = texture.location.file if texture.location else self.source_path
         match = re.fullmatch(r"#/images/(\d+)", texture.file)
         if not container or not container.lower().endswith((".gltf", ".glb")) or match is None:
-            self.notes.append(f"{owner}: {texture.file!r} is inside a package the glTF writer cannot open, not written")
+            self.lost(f"{owner}: {texture.file!r} is inside a package the glTF writer cannot open, not written")
             return None
         if container not in self.documents:
             self.documents[container] = load_document(container)
         try:
             data, mime = self.documents[container].image_bytes(int(match.group(1)))
         except ResourceError as error:
-            self.notes.append(f"{owner}: {texture.file!r} cannot be loaded ({error.message}), not written")
+            self.lost(f"{owner}: {texture.file!r} cannot be loaded ({error.message}), not written")
             return None
         stem = os.path.splitext(os.path.basename(container))[0]
         extension = {"image/png": ".png", "image/jpeg": ".jpg"}.get(_sniff(data) or mime or "", ".png")

@@ -17,6 +17,7 @@ import re
 
 from ... import colorspaces
 from ...model import Texture
+from ...rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import slots
 from .bake import ChannelSource, pack
 from .uv import to_texture_transform
@@ -32,7 +33,8 @@ class TextureWriting:
         textures = {s.parameter: inputs[s.parameter].value for s in members}
         sources = {}
         for slot in members:
-            located = self.images.locate(textures[slot.parameter], f"{self.material.name}.{slot.parameter}")
+            located = self.images.locate(textures[slot.parameter], f"{self.material.name}.{slot.parameter}",
+                                         (self.where(slot.parameter), self.output))
             if located is not None:
                 sources[slot.parameter] = located
         members = [s for s in members if s.parameter in sources]
@@ -42,22 +44,24 @@ class TextureWriting:
         for slot in members[1:]:
             other = textures[slot.parameter]
             if (other.uv, other.texcoord, other.wrap) != (first.uv, first.texcoord, first.wrap):
-                self.note(f"{slot.parameter} shares {prop} with {members[0].parameter} but has another UV transform, "
-                          f"UV set or wrap; {members[0].parameter}'s is used")
+                self.note(APPROXIMATED, f"{slot.parameter} shares {prop} with {members[0].parameter} but has another UV "
+                                        f"transform, UV set or wrap; {members[0].parameter}'s is used", slot.parameter)
         image_index = self.image_for(prop, members, textures, sources)
-        info = {"index": self.builder.add_texture(image_index, self.sampler(first))}
-        self.uv(info, first)
+        info = {"index": self.builder.add_texture(image_index, self.sampler(first, members[0].parameter))}
+        self.uv(info, first, members[0].parameter)
         slot = members[0]
         if slot.texture_kind == "normalTextureInfo":
             if first.normal_map is None:
-                self.note(f"{slot.parameter}: texture without a normal-map decode written as a glTF normal map")
+                self.note(CONVERTED, f"{slot.parameter}: texture without a normal-map decode written as a glTF normal map",
+                          slot.parameter)
             elif first.normal_map != 1.0:
                 info["scale"] = first.normal_map
         elif slot.texture_kind == "occlusionTextureInfo":
             strength = 1.0 if first.scale is None else float(first.scale)
             expected_bias = 1.0 - strength
             if abs((first.bias or 0.0) - expected_bias) > 1e-9 and not (first.bias is None and strength == 1.0):
-                self.note(f"occlusion: scale {strength:g} / bias {first.bias} is not glTF's 1 + strength (r - 1); strength {strength:g} used")
+                self.note(APPROXIMATED, f"occlusion: scale {strength:g} / bias {first.bias} is not glTF's 1 + strength (r - 1); "
+                                        f"strength {strength:g} used", slot.parameter)
             if strength != 1.0:
                 info["strength"] = strength
         self.container(slot)[prop] = info
@@ -74,7 +78,7 @@ class TextureWriting:
         if slot.factor is None:
             return
         if texture.bias not in (None, 0.0, (0.0, 0.0, 0.0)) and slot.texture_kind == "textureInfo":
-            self.note(f"{slot.parameter}: texture bias {texture.bias} has no glTF equivalent; dropped")
+            self.note(NOT_CARRIED, f"{slot.parameter}: texture bias {texture.bias} has no glTF equivalent; dropped", slot.parameter)
         scale = texture.scale
         if slot.parameter in ("base_color", "alpha"):
             pbr = self.containers[slots.PBR]
@@ -94,35 +98,37 @@ class TextureWriting:
         if isinstance(slot.default, tuple):
             scale = list(scale) if isinstance(scale, tuple) else [float(scale)] * len(slot.default)
         elif isinstance(scale, tuple):
-            self.note(f"{slot.parameter}: a {len(scale)}-component texture scale on a float; its first component is used")
+            self.note(APPROXIMATED, f"{slot.parameter}: a {len(scale)}-component texture scale on a float; its first component "
+                                    "is used", slot.parameter)
             scale = float(scale[0])
         self.container(slot)[slot.factor] = self.clamped(slot, scale if isinstance(scale, list) else float(scale))
 
-    def sampler(self, texture: Texture) -> int | None:
+    def sampler(self, texture: Texture, parameter: str) -> int | None:
         if texture.wrap is None:
             return None
         table = slots.address_to_wrap()
         modes = []
         for mode in texture.wrap:
             if mode not in table:
-                self.note(f"address mode {mode!r} is unknown; REPEAT used")
+                self.note(APPROXIMATED, f"address mode {mode!r} is unknown; REPEAT used", parameter)
             elif mode == "constant":
-                self.note("address mode 'constant' (border colour) has no glTF equivalent; CLAMP_TO_EDGE used")
+                self.note(APPROXIMATED, "address mode 'constant' (border colour) has no glTF equivalent; CLAMP_TO_EDGE used",
+                          parameter)
             modes.append(table.get(mode, table["periodic"]))
         return self.builder.add_sampler(modes[0], modes[1])
 
-    def uv(self, info: dict, texture: Texture) -> None:
+    def uv(self, info: dict, texture: Texture, parameter: str) -> None:
         if texture.texcoord:
             try:
                 info["texCoord"] = int(texture.texcoord)
             except (TypeError, ValueError):
-                self.note(f"UV set {texture.texcoord!r} is not a glTF TEXCOORD index; set 0 used")
+                self.note(APPROXIMATED, f"UV set {texture.texcoord!r} is not a glTF TEXCOORD index; set 0 used", parameter)
         if texture.uv is None or texture.uv.is_identity and tuple(texture.uv.pivot) in ((0.0, 0.0), (0.0, 1.0)):
             return
         try:
             offset, rotation, scale = to_texture_transform(texture.uv)
         except ZeroDivisionError:
-            self.note("a UV transform with scale 0 has no KHR_texture_transform equivalent; dropped")
+            self.note(NOT_CARRIED, "a UV transform with scale 0 has no KHR_texture_transform equivalent; dropped", parameter)
             return
         transform = {}
         if offset != (0.0, 0.0):
@@ -144,9 +150,10 @@ class TextureWriting:
             return self.builder.add_image(source.key, source.data, source.mime, source.name)
         plan = self.bake_plan(prop, members, textures, sources)
         label = f"{self.material.name}.{prop}"
-        data = pack(plan, self.notes, label)
+        where = self.where(members[0].parameter)
+        data = pack(plan, lambda message: self.notes.append(APPROXIMATED.note(message, where, self.output)), label)
         why = "re-encoded as PNG" if same_image and fitting and covered else "baked: channels packed as glTF reads them"
-        self.note(f"{prop}: {why}")
+        self.note(CONVERTED, f"{prop}: {why}", members[0].parameter)
         name = f"{_safe(self.material.material_name or self.material.name)}_{prop}.png"
         return self.builder.add_image(("baked", data), data, "image/png", name)
 
@@ -156,7 +163,7 @@ class TextureWriting:
         if space is None or colorspaces.is_data(space) or (slot.colour and space == slots.SRGB):
             return None, False
         if space not in colorspaces.materialx_names():
-            self.note(f"{slot.parameter}: unknown colour space {space!r}; texels used as they are")
+            self.note(NOT_CARRIED, f"{slot.parameter}: unknown colour space {space!r}; texels used as they are", slot.parameter)
             return None, False
         if slot.colour:
             return space, True
@@ -221,7 +228,8 @@ class TextureWriting:
             direction = self.extra.get("anisotropy_direction")
             strength = channel(by_name["anisotropy_strength"], 0)
             if isinstance(direction, Texture):
-                located = self.images.locate(direction, f"{self.material.name}.anisotropy direction")
+                located = self.images.locate(direction, f"{self.material.name}.anisotropy direction",
+                                             (self.where("anisotropy_strength"), self.output))
                 if located is not None:
                     return [ChannelSource(located.image, (direction.channels or (0, 1))[0]),
                             ChannelSource(located.image, (direction.channels or (0, 1))[1]), strength]

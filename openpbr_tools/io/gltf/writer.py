@@ -25,29 +25,30 @@ shortest round-trip float text) and written atomically. Returns notes on anythin
 
 from __future__ import annotations
 
-import base64
 import json
 import math
 import os
 
 from ... import colorspaces
 from ...atomic import write_bytes
-from ...model import Asset, Connection, Constant, Material, Texture
+from ...diagnostics import Diagnostic
+from ...model import Asset, Connection, Constant, Location, Material, Texture
+from ...rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import slots
+from .document_writer import DocumentBuilder
 from .images import GltfWriteError, ImageResolver
 from .texture_writer import TextureWriting
 
 
 def write_gltf(materials: list[Material], path, *, mesh: str | None = None, embed: bool | None = None,
-               allow_outside=None, source: Asset | str | None = None) -> list[str]:
-    """Write ``materials`` (``gltf_pbr``) to ``path`` (``.gltf`` or ``.glb``); returns notes.
+               allow_outside=None, source: Asset | str | None = None) -> list[Diagnostic]:
+    """Write ``materials`` (``gltf_pbr``) to ``path`` (``.gltf`` or ``.glb``); returns the notes
+    (OPBR11xx diagnostics at each material's source location, with the glTF material as ``output``).
 
     ``embed`` defaults to ``True`` for ``.glb`` (images in the binary chunk) and ``False`` for
     ``.gltf`` (image files beside the output); ``embed=True`` with ``.gltf`` writes data URIs.
     ``allow_outside`` lists folders outside the source asset's folder images may be read from.
     """
-    from .document_writer import DocumentBuilder
-
     try:
         import PIL  # noqa: F401  (baking and image inspection)
         import pygltflib  # noqa: F401  (glTF enums)
@@ -62,15 +63,16 @@ def write_gltf(materials: list[Material], path, *, mesh: str | None = None, embe
     glb = suffix == ".glb"
     embed = glb if embed is None else bool(embed)
     source_path = source.path if isinstance(source, Asset) else (os.fspath(source) if source else None)
-    notes: list[str] = []
-    builder = DocumentBuilder(path, glb=glb, embed=embed, notes=notes)
+    notes: list[Diagnostic] = []
+    builder = DocumentBuilder(path, glb=glb, embed=embed)
     images = ImageResolver(builder, source_path, path, tuple(allow_outside or ()), notes)
     written = []
     for material in materials:
         if material.model != "gltf_pbr":
-            notes.append(f"{material.name}: a {material.model} material is not written (translate it to gltf_pbr first)")
+            notes.append(NOT_CARRIED.note(f"{material.name}: a {material.model} material is not written (translate it to "
+                                          "gltf_pbr first)", material.location.with_material(_display_name(material))))
             continue
-        written.append(builder.add_material(_MaterialWriter(material, images, builder, notes).write()))
+        written.append(builder.add_material(_MaterialWriter(material, images, builder, notes, len(builder.materials)).write()))
     if mesh == "sphere" and written:
         builder.add_spheres(written, [_texcoords_of(builder.materials[i]) for i in written])
     files = builder.finish()
@@ -101,14 +103,22 @@ def _texcoords_of(material: dict) -> set[int]:
 # -- one material ------------------------------------------------------------------------------
 
 class _MaterialWriter(TextureWriting):
-    def __init__(self, material: Material, images: ImageResolver, builder, notes: list[str]):
+    def __init__(self, material: Material, images: ImageResolver, builder, notes: list[Diagnostic], index: int):
         self.material, self.images, self.builder, self.notes = material, images, builder, notes
+        self.output = Location(builder.path, path=f"/materials/{index}")
         self.out: dict = {"name": material.material_name or material.name}
         self.containers: dict[str, dict] = {slots.CORE: self.out, slots.PBR: {}}
         self.extra = material.extra.get("gltf", {}) if isinstance(material.extra.get("gltf"), dict) else {}
 
-    def note(self, message: str) -> None:
-        self.notes.append(f"{self.material.name}: {message}")
+    def note(self, rule, message: str, input: str | None = None) -> None:
+        """A note of ``rule`` about the source of ``input`` (a parameter of this material)."""
+        self.notes.append(rule.note(f"{self.material.name}: {message}", self.where(input), self.output))
+
+    def where(self, input: str | None) -> Location:
+        """The source location of ``input`` (the material's own without one), naming the material."""
+        entry = self.material.inputs.get(input) if input else None
+        location = entry.location if entry is not None else self.material.location.with_input(input)
+        return location.with_material(_display_name(self.material))
 
     def container(self, slot: slots.Slot) -> dict:
         return self.containers.setdefault(slot.container, {})
@@ -122,11 +132,13 @@ class _MaterialWriter(TextureWriting):
             if isinstance(entry.value, Constant):
                 self.constant(slot, entry)
             elif isinstance(entry.value, Connection):
-                self.note(f"{slot.parameter} is driven by {entry.value.category or entry.value.target!r}, which glTF cannot hold; not written")
+                self.note(NOT_CARRIED, f"{slot.parameter} is driven by {entry.value.category or entry.value.target!r}, "
+                                       "which glTF cannot hold; not written", slot.parameter)
             else:
-                self.note(f"{slot.parameter} has no usable value ({entry.error or 'unset'}); not written")
+                self.note(NOT_CARRIED, f"{slot.parameter} has no usable value ({entry.error or 'unset'}); not written",
+                          slot.parameter)
         for name in sorted(set(inputs) - set(slots.SLOT_BY_PARAMETER)):
-            self.note(f"{name} is not a glTF parameter; not written")
+            self.note(NOT_CARRIED, f"{name} is not a glTF parameter; not written", name)
         for prop in dict.fromkeys(s.texture for s in slots.SLOTS if s.texture):
             members = [s for s in slots.SLOTS if s.texture == prop and isinstance(getattr(inputs.get(s.parameter), "value", None), Texture)]
             if members:
@@ -151,21 +163,23 @@ class _MaterialWriter(TextureWriting):
             if value in (0, 1, 2) and not isinstance(value, bool):
                 self.out["alphaMode"] = slots.ALPHA_MODES[int(value)]
             else:
-                self.note(f"alpha_mode {value!r} is not 0, 1 or 2; not written")
+                self.note(NOT_CARRIED, f"alpha_mode {value!r} is not 0, 1 or 2; not written", slot.parameter)
             return
         if not _finite(value):
-            self.note(f"{slot.parameter} = {value!r} is not a finite number; not written")
+            self.note(NOT_CARRIED, f"{slot.parameter} = {value!r} is not a finite number; not written", slot.parameter)
             return
         if slot.parameter in ("base_color", "alpha"):
             self.base_color_factor(slot, value)
             return
         if self.material.inputs[slot.parameter].type and isinstance(value, tuple) != isinstance(slot.default, tuple):
-            self.note(f"{slot.parameter} = {value!r} does not have the parameter's type; not written")
+            self.note(NOT_CARRIED, f"{slot.parameter} = {value!r} does not have the parameter's type; not written",
+                      slot.parameter)
             return
         if entry.type == "color3" or slot.parameter.endswith("color"):
             value = self.linear(value, entry)
         if slot.parameter == "attenuation_distance" and value <= 0:
-            self.note(f"attenuation_distance {value:g} is not above 0 (glTF requires > 0; absent means infinite); not written")
+            self.note(NOT_CARRIED, f"attenuation_distance {value:g} is not above 0 (glTF requires > 0; absent means infinite); "
+                      "not written", slot.parameter)
             return
         self.container(slot)[slot.factor] = self.clamped(slot, _json_value(value))
 
@@ -185,8 +199,8 @@ class _MaterialWriter(TextureWriting):
             v = v if low is None else max(v, low)
             fixed.append(v if high is None else min(v, high))
         if fixed != values:
-            self.note(f"{slot.factor} {values if len(values) > 1 else values[0]} is outside glTF's range; clamped to "
-                      f"{fixed if len(fixed) > 1 else fixed[0]}")
+            self.note(NOT_CARRIED, f"{slot.factor} {values if len(values) > 1 else values[0]} is outside glTF's range; "
+                                   f"clamped to {fixed if len(fixed) > 1 else fixed[0]}", slot.parameter)
         return fixed if isinstance(value, list) else fixed[0]
 
     def linear(self, value, entry):
@@ -197,7 +211,7 @@ class _MaterialWriter(TextureWriting):
         try:
             converted = colorspaces.to_lin_rec709(value, space)
         except KeyError:
-            self.note(f"{entry.name}: unknown colour space {space!r}, written unconverted")
+            self.note(NOT_CARRIED, f"{entry.name}: unknown colour space {space!r}, written unconverted", entry.name)
             return value
         return tuple(float(c) for c in converted)
 
@@ -220,7 +234,8 @@ class _MaterialWriter(TextureWriting):
         self.out["emissiveFactor"] = [c / peak for c in factor]
         strength = self.containers.setdefault(slots.EMISSIVE_STRENGTH, {})
         strength["emissiveStrength"] = strength.get("emissiveStrength", 1.0) * peak
-        self.note(f"emissive {factor} exceeds 1: written as emissiveFactor / {peak:g} with emissiveStrength x {peak:g}")
+        self.note(CONVERTED, f"emissive {factor} exceeds 1: written as emissiveFactor / {peak:g} with emissiveStrength x "
+                             f"{peak:g}", "emissive")
 
     def omit_inert(self) -> None:
         """KHR_materials_volume acts only through transmission (KHR_materials_transmission or
@@ -231,11 +246,11 @@ class _MaterialWriter(TextureWriting):
             or slots.DIFFUSE_TRANSMISSION in self.containers
         if slots.VOLUME in self.containers and not transmits:
             del self.containers[slots.VOLUME]
-            self.note(f"{slots.VOLUME} omitted: it has no effect on a material without transmission")
+            self.note(CONVERTED, f"{slots.VOLUME} omitted: it has no effect on a material without transmission")
         volume = self.containers.get(slots.VOLUME, {})
         if slots.DISPERSION in self.containers and not (volume.get("thicknessFactor", 0.0) > 0 or "thicknessTexture" in volume):
             del self.containers[slots.DISPERSION]
-            self.note(f"{slots.DISPERSION} omitted: it has no effect without a volume (thickness > 0)")
+            self.note(CONVERTED, f"{slots.DISPERSION} omitted: it has no effect without a volume (thickness > 0)")
 
     def passthrough(self) -> None:
         for key in ("doubleSided", "extras"):
@@ -245,9 +260,13 @@ class _MaterialWriter(TextureWriting):
             if name in slots.INTERPRETED_MATERIAL_EXTENSIONS:
                 continue
             if _references_textures(value):
-                self.note(f"{name} references textures of the source file; not written")
+                self.note(NOT_CARRIED, f"{name} references textures of the source file; not written")
                 continue
             self.containers[name] = value
+
+
+def _display_name(material: Material) -> str:
+    return material.material_name or material.name
 
 
 def _references_textures(value) -> bool:
@@ -274,10 +293,6 @@ def _json_value(value):
 def dumps(document: dict) -> str:
     """The glTF JSON text: insertion order, two-space indent, UTF-8, shortest round-trip floats."""
     return json.dumps(document, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
-
-
-def data_uri(data: bytes, mime: str) -> str:
-    return f"data:{mime};base64,{base64.b64encode(data).decode('ascii')}"
 
 
 __all__ = ["write_gltf", "GltfWriteError"]

@@ -18,7 +18,8 @@ Textures become MaterialX image chains under ``mtlx`` (``ND_image_*``/``ND_tiled
 through a material interface input are written through one again. Stage ``metersPerUnit`` and
 ``upAxis`` are always authored; lengths carrying a MaterialX distance unit are converted to stage units.
 
-:func:`write_usd` returns notes about anything it could not carry exactly (an opaque procedural
+:func:`write_usd` returns typed notes (OPBR11xx diagnostics at the source material and input, with the
+output prim and input) about anything it could not carry exactly (an opaque procedural
 connection, a texture missing from a package...).
 """
 
@@ -30,8 +31,10 @@ import shutil
 import tempfile
 
 from ... import colorspaces, tables
-from ...model import Asset, Connection, Constant, Material, Texture, UVTransform
+from ...diagnostics import Diagnostic
+from ...model import Asset, Connection, Constant, Location, Material, Texture, UVTransform
 from ...resources import load_json
+from ...rules.translation import CONVERTED, NOT_CARRIED
 from .reader import CUSTOM_DATA_VERSION_KEY
 from .stage import quiet, require_pxr
 from .types import (
@@ -51,7 +54,7 @@ class UsdWriteError(ValueError):
 
 def write_usd(materials: list[Material], path: str, *, source: Asset | str | None = None,
               meters_per_unit: float | None = None, up_axis: str | None = None,
-              allow_outside: tuple[str, ...] = ()) -> list[str]:
+              allow_outside: tuple[str, ...] = ()) -> list[Diagnostic]:
     """Write ``materials`` to ``path``; the suffix picks the format.
 
     ``source`` is the :class:`Asset` (or the path of the file) the materials were read from:
@@ -70,7 +73,7 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
 
     path = os.fspath(path)
     suffix = os.path.splitext(path)[1].lower()
-    notes: list[str] = []
+    notes: list[Diagnostic] = []
     source_path = source.path if isinstance(source, Asset) else source
     source_unit = _scene_unit(source) if isinstance(source, Asset) else None
     meters_per_unit = meters_per_unit or source_unit or load_json("units.json")["usd_default_meters_per_unit"]
@@ -84,6 +87,7 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
     UsdGeom.SetStageUpAxis(stage, UsdGeom.Tokens.z if up_axis.upper() == "Z" else UsdGeom.Tokens.y)
     stage.SetDefaultPrim(stage.DefinePrim(LOOKS, "Scope"))
     writer = _Writer(stage, notes, source_dir, folder, package, meters_per_unit, source_unit)
+    writer.output_path = path
     writer.allowed = [os.path.realpath(source_dir)] + [os.path.realpath(f) for f in allow_outside]
     for material in materials:
         writer.write(material)
@@ -152,6 +156,8 @@ class _Writer:
 
         self.Sdf, self.UsdShade = Sdf, UsdShade
         self.stage, self.notes = stage, notes
+        self.at: tuple[Location, Location | None] = (Location(""), None)  # where notes of the input being written go
+        self.output_path = ""
         self.source_dir, self.target_dir, self.package = source_dir, target_dir, package
         self.meters_per_unit, self.source_unit = meters_per_unit, source_unit
         self.material_prims: dict[str, object] = {}
@@ -213,10 +219,16 @@ class _Writer:
         materialx_type = parameter.type if parameter is not None else entry.type
         return MATERIALX_TO_USD.get(materialx_type or "", entry.source_type or "token")
 
+    def note(self, rule, message: str) -> None:
+        """A note of ``rule`` at the source of the input being written (and its attribute in the output)."""
+        self.notes.append(rule.note(message, *self.at))
+
     def write_input(self, material, usd_material, shader, entry, parameter, preview: bool) -> None:
         value = entry.value
         if value is None:
             return
+        self.at = (entry.location.with_material(material.material_name or material.name),
+                   Location(self.output_path, path=str(shader.GetPath()), input=entry.name))
         usd_type = self.usd_type(entry, parameter, preview)
         type_name = self.Sdf.ValueTypeNames.Find(usd_type)
         shader_input = shader.CreateInput(entry.name, type_name)
@@ -239,8 +251,8 @@ class _Writer:
         elif isinstance(value, Connection):
             if value.target.startswith("/") and self.Sdf.Path.IsValidPathString(value.target):
                 shader_input.GetAttr().AddConnection(self.Sdf.Path(value.target))
-            self.notes.append(f"{material.name}.{entry.name}: the {value.category or 'procedural'} network at "
-                              f"{value.target!r} is not written; the connection points at it")
+            self.note(NOT_CARRIED, f"{material.name}.{entry.name}: the {value.category or 'procedural'} network at "
+                                   f"{value.target!r} is not written; the connection points at it")
 
     def convert_length(self, entry, parameter, value, material):
         """A length in the stage's unit: from its own MaterialX unit, else from the source's scene
@@ -250,7 +262,7 @@ class _Writer:
         if entry.unit:
             scale = load_json("units.json")["distance"].get(entry.unit)
             if scale is None:
-                self.notes.append(f"{material.name}.{entry.name}: unknown unit {entry.unit!r}; written unconverted")
+                self.note(NOT_CARRIED, f"{material.name}.{entry.name}: unknown unit {entry.unit!r}; written unconverted")
                 return value
         elif self.source_unit:
             scale = self.source_unit
@@ -271,7 +283,7 @@ class _Writer:
         except Tf.ErrorException:
             written = False
         if not written:
-            self.notes.append(f"{attribute.GetPath()}: the value {value!r} does not fit {usd_type}; not written")
+            self.note(NOT_CARRIED, f"{attribute.GetPath()}: the value {value!r} does not fit {usd_type}; not written")
 
     @staticmethod
     def colorspace_name(name: str | None, scheme: str) -> str | None:
@@ -302,7 +314,7 @@ class _Writer:
         if not file or "://" in file:
             return file
         if texture.packaged:
-            self.notes.append(f"{owner}: {file!r} is inside the source package and is not copied")
+            self.note(NOT_CARRIED, f"{owner}: {file!r} is inside the source package and is not copied")
             return file
         absolute = file if os.path.isabs(file) else os.path.normpath(os.path.join(self.source_dir, file))
         if not self.package:
@@ -311,7 +323,7 @@ class _Writer:
                 return os.path.relpath(absolute, self.target_dir).replace(os.sep, "/") if inside_target else file
             return os.path.relpath(absolute, self.target_dir).replace(os.sep, "/")
         if "<UDIM>" in file.upper():
-            self.notes.append(f"{owner}: UDIM tiles of {file!r} are not packaged")
+            self.note(NOT_CARRIED, f"{owner}: UDIM tiles of {file!r} are not packaged")
             return file
         real = os.path.realpath(absolute)
         root = next((r for r in self.allowed if os.path.commonpath([real, r]) == r), None)
@@ -320,7 +332,7 @@ class _Writer:
                 f"{owner}: texture {file!r} resolves to {real}, outside the source asset's folder {self.allowed[0]}; "
                 "it is not packaged into the .usdz unless its folder is allowed (allow_outside / --allow-outside)")
         if not os.path.isfile(real):
-            self.notes.append(f"{owner}: {file!r} does not exist and is not packaged")
+            self.note(NOT_CARRIED, f"{owner}: {file!r} does not exist and is not packaged")
             return file
         inside = os.path.relpath(real, root).replace(os.sep, "/") if root == self.allowed[0] else \
             f"textures/{os.path.basename(real)}"
@@ -440,7 +452,7 @@ class _Writer:
         name = texture.texcoord if isinstance(texture.texcoord, str) and texture.texcoord else "st"
         if isinstance(texture.texcoord, int) and texture.texcoord != 0:
             name = f"st{texture.texcoord}"
-            self.notes.append(f"{owner}: UV set {texture.texcoord} written as primvar {name!r}")
+            self.note(CONVERTED, f"{owner}: UV set {texture.texcoord} written as primvar {name!r}")
         primvar.CreateInput("varname", Sdf.ValueTypeNames.String).Set(name)
         coordinates = primvar.CreateOutput("result", Sdf.ValueTypeNames.Float2)
         if texture.uv is not None:

@@ -1,0 +1,262 @@
+"""The convert pipeline behind ``openpbr convert``: read -> translate -> bake -> write -> verify.
+
+:func:`convert_file` reads any supported file, translates every material for the output's format
+with :func:`openpbr_tools.translate.convert.convert` (Material -> Material only), lets a
+:class:`~openpbr_tools.translate.bake.Baker` evaluate formulas per texel where a texture must be
+transformed, and writes the result with the format's writer. :func:`verify` renders source and result
+with the lobe evaluator. Like :mod:`openpbr_tools.validate`, it returns data and never prints.
+
+Every step reports typed notes: :class:`~openpbr_tools.diagnostics.Diagnostic` objects of the OPBR11xx
+rules (:mod:`openpbr_tools.rules.translation`) located at the *source* material and input (file,
+line, element path / prim path / JSON pointer, input, ``material``), with the place in the written
+file as ``output`` where a writer knows it. The rule is chosen where the note is made; nothing reads a
+message to decide anything.
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+import shutil
+import tempfile
+from dataclasses import dataclass, field
+
+from . import tables
+from .atomic import write_bytes
+from .diagnostics import Diagnostic
+from .io import read_asset
+from .model import Asset, Material, Texture
+from .resources import load_json
+from .rules import Context
+from .rules.translation import APPROXIMATED, VERIFIED, VERIFY_THRESHOLD
+from .translate.bake import Baker
+from .translate.common import Settings
+from .translate.convert import MODELS, convert
+
+OUTPUT_KINDS = {".mtlx": "mtlx", ".usda": "usd", ".usdc": "usd", ".usd": "usd", ".usdz": "usd",
+                ".gltf": "gltf", ".glb": "gltf"}
+
+
+@dataclass(slots=True)
+class Conversion:
+    """What ``convert_file`` did: the written materials, the loss report, and the source asset."""
+
+    asset: Asset
+    materials: list[Material] = field(default_factory=list)
+    diagnostics: list[Diagnostic] = field(default_factory=list)
+    pairs: list[tuple[Material, Material]] = field(default_factory=list)  # (source, result) per material
+
+
+def output_kind(path: str) -> str | None:
+    return OUTPUT_KINDS.get(os.path.splitext(path)[1].lower())
+
+
+def display_name(material: Material) -> str:
+    """The name a note gives a material: its material's, else its shader's."""
+    return material.material_name or material.name
+
+
+def _at_material(diagnostics: list[Diagnostic], material: Material) -> list[Diagnostic]:
+    """``diagnostics`` located at ``material`` where they do not name a material yet."""
+    name = display_name(material)
+    return [d if d.location.material is not None else
+            Diagnostic(d.code, d.severity, d.message, d.location.with_material(name), d.hint, d.output)
+            for d in diagnostics]
+
+
+def _meters_per_unit(material: Material, asset: Asset) -> tuple[float, list[str]]:
+    """The scene unit of the material's lengths: a MaterialX ``unit`` on a length input, else the
+    asset's (USD ``metersPerUnit``; glTF metres), else metres, with the lengths taken so."""
+    distance = load_json("units.json")["distance"]
+    for name in ("transmission_depth", "subsurface_radius", "attenuation_distance", "thickness"):
+        entry = material.inputs.get(name)
+        if entry is not None and entry.unit in distance:
+            return distance[entry.unit], []
+    if asset.meters_per_unit:
+        return asset.meters_per_unit, []
+    if asset.format == "gltf":
+        return 1.0, []
+    if asset.format == "usd":
+        return load_json("units.json")["usd_default_meters_per_unit"], []
+    return 1.0, [n for n in ("transmission_depth", "subsurface_radius") if n in material.inputs]
+
+
+def convert_file(input_path: str, output_path: str, target: str | None = None, settings: Settings | None = None,
+                 mesh: str | None = None, allow_outside: tuple[str, ...] = ()) -> Conversion:
+    """Read ``input_path``, translate every material for the output's format, and write ``output_path``.
+
+    ``.mtlx`` output takes ``target`` (default OpenPBR); USD output gets OpenPBR on
+    ``outputs:mtlx:surface`` plus a translated UsdPreviewSurface fallback on ``outputs:surface``;
+    glTF output gets glTF PBR. Raises :class:`openpbr_tools.io.ReadError` for unreadable input and
+    ``ValueError`` for an unsupported output.
+    """
+    kind = output_kind(output_path)
+    if kind is None:
+        raise ValueError(f"cannot write {os.path.splitext(output_path)[1] or 'files without a suffix'}")
+    settings = settings or Settings()
+    context = settings.context
+    asset = read_asset(input_path)
+    target = {"mtlx": target or "open_pbr_surface", "usd": "open_pbr_surface", "gltf": "gltf_pbr"}[kind]
+    result = Conversion(asset)
+    # Baked images go beside a .mtlx/.usda/.usdc output (<stem>_textures/); a glTF or USDZ output
+    # embeds or copies them, so they wait in a temporary folder that is removed afterwards.
+    packaged = kind == "gltf" or output_path.lower().endswith(".usdz")
+    staging = tempfile.mkdtemp(prefix="openpbr-bake-") if packaged else None
+    baker = Baker(asset.path, staging or os.path.abspath(os.path.splitext(output_path)[0] + "_textures"),
+                  tuple(allow_outside), png_only=kind == "gltf")
+    try:
+        for material in asset.materials:
+            if material.model not in MODELS:
+                continue
+            meters, unitless = _meters_per_unit(material, asset)
+            step_settings = Settings(settings.nits_per_unit, meters, context, baker)
+            notes: list[Diagnostic] = []
+            if unitless:
+                notes.append(context.diagnostic(APPROXIMATED, f"{material.name}: {', '.join(unitless)} carry no unit; "
+                                                "taken as metres", material.inputs[unitless[0]].location))
+            translation = convert(material, target, step_settings)
+            notes += translation.diagnostics
+            translated = translation.material
+            translated.material_name = material.material_name or material.name
+            result.materials.append(translated)
+            result.pairs.append((material, translated))
+            if kind == "usd":
+                preview = convert(translated, "UsdPreviewSurface", step_settings)
+                notes += preview.diagnostics
+                preview.material.name = f"{translated.name}_preview"
+                preview.material.material_name = translated.material_name
+                result.materials.append(preview.material)
+            result.diagnostics += _at_material(notes, material)
+        written = _write_baked(baker, result.materials)
+        try:
+            allowed = tuple(allow_outside) + ((staging,) if staging else ())
+            notes = _write(kind, result, output_path, mesh, allowed)
+        except BaseException:
+            for path in written:  # a failed conversion leaves no partial output behind
+                if os.path.exists(path):
+                    os.unlink(path)
+            raise
+    finally:
+        if staging:
+            shutil.rmtree(staging, ignore_errors=True)
+    result.diagnostics += [context.adjust(note) for note in notes]
+    result.diagnostics.sort(key=Diagnostic.sort_key)
+    return result
+
+
+def _write_baked(baker, materials: list[Material]) -> list[str]:
+    """Write the baked images the written materials still use (atomically); returns their paths."""
+    used = sorted({entry.value.file for material in materials for entry in material.inputs.values()
+                   if isinstance(entry.value, Texture) and entry.value.file in baker.images})
+    written = []
+    for path in used:
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        write_bytes(path, baker.images[path])
+        written.append(path)
+    return written
+
+
+def _rebase_textures(materials: list[Material], source_path: str, output_path: str) -> None:
+    """Re-express relative texture paths relative to the output's folder, so they still resolve."""
+    from .io.paths import Kind, classify
+
+    source_dir = os.path.dirname(os.path.abspath(source_path))
+    output_dir = os.path.dirname(os.path.abspath(output_path))
+    for material in materials:
+        for name, entry in list(material.inputs.items()):
+            texture = entry.value
+            if not isinstance(texture, Texture) or texture.packaged:
+                continue
+            kind = classify(texture.file)
+            if kind in (Kind.URL, Kind.NUL, Kind.EMPTY, Kind.DRIVE, Kind.UNC):
+                continue  # names no file here: written as authored
+            absolute = texture.file if kind is Kind.ABSOLUTE else os.path.join(source_dir, texture.file)
+            if kind is Kind.ABSOLUTE and not absolute.startswith(output_dir):
+                continue  # an absolute path the user authored stays as it is
+            moved = copy.copy(texture)
+            moved.file = os.path.relpath(absolute, output_dir).replace(os.sep, "/")
+            entry.value = moved
+
+
+def _unpack_gltf_images(materials: list[Material], asset: Asset, output_path: str) -> None:
+    """Images embedded in a glTF (``#/images/N``) written beside a .mtlx or USD output, which can only
+    reference files: ``<output stem>_textures/image_N.<ext>``."""
+    from .io.gltf.document import load_document
+
+    extensions = {"image/png": ".png", "image/jpeg": ".jpg", "image/webp": ".webp", "image/ktx2": ".ktx2"}
+    folder = os.path.splitext(output_path)[0] + "_textures"
+    document, written = None, {}
+    for material in materials:
+        for entry in material.inputs.values():
+            texture = entry.value
+            if not (isinstance(texture, Texture) and texture.packaged and texture.file.startswith("#/images/")):
+                continue
+            if texture.file not in written:
+                document = document or load_document(asset.path)
+                index = int(texture.file.rsplit("/", 1)[1])
+                data, mime = document.image_bytes(index)
+                os.makedirs(folder, exist_ok=True)
+                target = os.path.join(folder, f"image_{index}{extensions.get(mime or '', '.bin')}")
+                write_bytes(target, data)
+                written[texture.file] = os.path.abspath(target)
+            texture.file, texture.packaged = written[texture.file], False
+
+
+def _tag_length_units(materials: list[Material], asset: Asset) -> None:
+    """Lengths from glTF (metres) or USD (``metersPerUnit``) get a MaterialX distance unit, so the
+    written document says what its numbers mean."""
+    if asset.format not in ("gltf", "usd"):
+        return
+    scale = 1.0 if asset.format == "gltf" else (asset.meters_per_unit or load_json("units.json")["usd_default_meters_per_unit"])
+    names = [name for name, factor in load_json("units.json")["distance"].items() if abs(factor - scale) <= 1e-12 * max(1, scale)]
+    if not names:
+        return
+    for material in materials:
+        table = tables.table(material.model)
+        for name, entry in material.inputs.items():
+            parameter = table.get(name)
+            if parameter is not None and parameter.unit == "scene_length" and not entry.unit:
+                entry.unit, entry.unittype = names[0], "distance"
+
+
+def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside) -> list[Diagnostic]:
+    """Write with the format's writer; returns its notes. Writers are imported here, when a
+    conversion writes that format: USD's pulls in pxr (~0.3 s), glTF's Pillow."""
+    asset = result.asset
+    if kind != "gltf" and asset.format == "gltf":
+        _unpack_gltf_images(result.materials, asset, output_path)
+    if kind == "mtlx":
+        from .io.mtlx.writer import write_mtlx  # lazy: see the docstring
+
+        _rebase_textures(result.materials, asset.path, output_path)
+        _tag_length_units(result.materials, asset)
+        write_mtlx(result.materials, output_path, colorspace=asset.colorspace or "lin_rec709")
+        return []
+    if kind == "usd":
+        from .io.usd.writer import write_usd  # lazy: see the docstring
+
+        return write_usd(result.materials, output_path, source=asset, allow_outside=allow_outside)
+    try:
+        from .io.gltf.writer import write_gltf  # lazy: see the docstring
+    except ImportError:
+        raise ValueError("glTF output needs the glTF writer, which this installation lacks") from None
+    return write_gltf(result.materials, output_path, mesh=mesh, allow_outside=allow_outside, source=asset) or []
+
+
+def verify(conversion: Conversion, threshold: float = 2.0, context: Context | None = None) -> list[Diagnostic]:
+    """CIEDE2000 between each source material and its conversion, rendered by the lobe evaluator.
+
+    Colours are compared in each material's own colour space converted to linear Rec.709, so a
+    glTF result (linear Rec.709 factors) and an ACEScg source are compared fairly."""
+    from .evaluate.verify import compare_materials  # lazy: the evaluator loads its albedo tables
+
+    context = context or Context()
+    found = []
+    for source, result in conversion.pairs:
+        comparison = compare_materials(source, result)
+        delta = comparison.preview
+        message = (f"{source.name}: {source.model} -> {result.model}, CIEDE2000 mean {delta.mean:.2f}, "
+                   f"p95 {delta.p95:.2f}, max {delta.max:.2f} (lit sphere)")
+        rule = VERIFY_THRESHOLD if delta.mean > threshold else VERIFIED
+        found.append(context.diagnostic(rule, message, source.location.with_material(display_name(source))))
+    return found
