@@ -61,11 +61,12 @@ RULES = (WRONG_UNITTYPE, UNKNOWN_UNIT, LENGTH_WITHOUT_UNIT, UNIT_IGNORED, THICKN
 # Above this many micrometres a thin-film thickness is read as nanometres (interference colours
 # vanish above a few micrometres; no coating a look-dev artist models is 10 µm thick).
 NANOMETRE_SUSPICION_UM = 10.0
+NANOMETRE_SUSPICION_KEY = "thin_film_nanometre_suspicion_um"  # the configuration threshold overriding it
 
 
 def check(asset, context):
     distance_units = load_json("units.json")["distance"]
-    suspicion = context.threshold("thin_film_nanometre_suspicion_um", NANOMETRE_SUSPICION_UM)
+    suspicion = context.threshold(NANOMETRE_SUSPICION_KEY, NANOMETRE_SUSPICION_UM)
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)
         if parameter is None:

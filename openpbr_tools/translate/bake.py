@@ -93,7 +93,7 @@ class Baker:
         return located
 
     def _load(self, texture: Texture, owner: str):
-        from ..io.gltf.bake import load_pixels
+        from ..io.images import load_pixels
 
         key = ("baked", texture.file)
         if key in self._pixels:  # baked by an earlier step of this conversion: decoded on first use
@@ -254,7 +254,7 @@ def _as_read(data: bytes, values, suffix: str):
     """The pixels a later step reads back from a baked image (as :func:`load_pixels` gives them)."""
     if suffix == ".exr":
         return values if values.shape[2] >= 3 else np.repeat(values, 3, axis=2)
-    from ..io.gltf.bake import load_pixels
+    from ..io.images import load_pixels
 
     return load_pixels(data)
 
@@ -277,7 +277,7 @@ def _materialx_space(name: str | None) -> str | None:
 
 
 def _resample(values, height: int, width: int):
-    from ..io.gltf.bake import resample
+    from ..io.images import resample
 
     return np.stack([resample(values[:, :, c], height, width) for c in range(values.shape[2])], axis=-1)
 

@@ -13,7 +13,7 @@ import re
 
 from ...model import Location, Texture
 from ...rules.translation import NOT_CARRIED
-from .bake import channel_count
+from ..images import channel_count
 
 
 class GltfWriteError(ValueError):
