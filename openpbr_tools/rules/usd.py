@@ -371,7 +371,7 @@ def _judge_unknown_id(asset, observation) -> tuple[str, str | None] | None:
 
 
 def _closest_id(shader_id: str, sdr_ids) -> str | None:
-    from ..io.usd.stage import materialx_nodedef_names
+    from ..io.usd.sdr import materialx_nodedef_names
 
     candidates = set(surface_shader_ids()) | set(sdr_ids)
     match = difflib.get_close_matches(shader_id, sorted(candidates), n=1, cutoff=0.8)

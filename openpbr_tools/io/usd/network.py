@@ -23,7 +23,7 @@ import os
 import struct
 
 from ...model import Connection, Constant, Input, Texture, UVTransform
-from .stage import materialx_nodedef
+from .sdr import materialx_nodedef
 from .types import (
     MATERIALX_TO_USD,
     PRIMVAR_READER_PREFIX,

@@ -33,7 +33,7 @@ from ... import colorspaces, tables
 from ...model import Asset, Connection, Constant, Material, Texture, UVTransform
 from ...resources import load_json
 from .reader import CUSTOM_DATA_VERSION_KEY
-from .stage import quiet, require_pxr
+from .errors import quiet, require_pxr
 from .types import (
     ADDRESS_MODE_TO_WRAP,
     MATERIALX_TO_USD,
