@@ -25,7 +25,7 @@ def test_a_declared_threshold_is_accepted(write_mtlx):
 
 def test_the_schema_declares_exactly_the_thresholds_the_rules_read():
     from openpbr_tools.rules import units
-    from openpbr_tools.rules.usd import PREVIEW_LIMITS
+    from openpbr_tools.rules.usd_preview import PREVIEW_LIMITS
 
     declared = set(load_json("config.schema.json")["$defs"]["thresholds"]["properties"])
     read = set(load_json("plausibility.json")["thresholds"]) | {units.NANOMETRE_SUSPICION_KEY} | set(PREVIEW_LIMITS)

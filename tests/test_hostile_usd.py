@@ -16,7 +16,7 @@ import pytest
 from click.testing import CliRunner
 
 from cli.main import cli
-from openpbr_tools.io.usd.stage import MAX_TEXT_NESTING
+from openpbr_tools.io.usd.text_layer import MAX_TEXT_NESTING
 
 MATERIAL = """def Material "M"
 {
@@ -310,7 +310,7 @@ def test_nesting_inside_a_package_is_refused_too(tmp_path):
 
 
 def test_a_package_with_too_many_entries_is_refused(tmp_path, monkeypatch):
-    from openpbr_tools.io.usd import stage as usd_stage
+    from openpbr_tools.io.usd import package as usd_stage
 
     monkeypatch.setattr(usd_stage, "MAX_PACKAGE_ENTRIES", 3)
     path = tmp_path / "many.usdz"
@@ -447,7 +447,7 @@ def test_value_clips_are_never_read_and_outside_ones_are_reported(outside, suffi
 
 
 def test_the_number_of_layers_is_bounded(tmp_path, monkeypatch):
-    from openpbr_tools.io.usd import stage as usd_stage
+    from openpbr_tools.io.usd import guard as usd_stage
 
     monkeypatch.setattr(usd_stage, "MAX_LAYERS", 3)
     for index in range(5):

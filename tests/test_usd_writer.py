@@ -38,7 +38,7 @@ def comparable(asset) -> dict:
 def usd_core(path) -> list[dict]:
     from pxr import Usd
 
-    from openpbr_tools.io.usd.stage import usd_core_findings
+    from openpbr_tools.io.usd.validators import usd_core_findings
 
     return usd_core_findings(Usd.Stage.Open(str(path)))
 

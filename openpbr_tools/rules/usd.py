@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import difflib
 
-from .. import colorspaces, tables
+from .. import colorspaces
 from ..diagnostics import Severity
 from ..io.usd.types import (
     MATERIALX_ADDRESS_MODES,
@@ -47,41 +47,13 @@ from ..io.usd.types import (
 )
 from ..model import Location, Texture
 from ..resources import load_json
-from . import Rule, for_each_input
+from . import Rule, for_each_input, usd_preview
 from . import colorspace as colorspace_rules
 from .colorspace import COLOR_TEXTURE_RAW, DATA_TEXTURE_MANAGED, UNKNOWN_COLORSPACE
 from .ranges import ENUM_VALUE
 from .structure import NO_SHADER
 from .units import LENGTH_WITHOUT_UNIT
-
-
-def _stage(body: str, metadata: str = 'defaultPrim = "M"\n    metersPerUnit = 0.01\n    upAxis = "Y"') -> str:
-    return f"#usda 1.0\n(\n    {metadata}\n)\n\n{body.strip()}\n"
-
-
-def _openpbr(*inputs: str, shader_id: str = "ND_open_pbr_surface_surfaceshader", extra: str = "") -> str:
-    lines = "".join(f"        {line}\n" for line in inputs)
-    identifier = f'        uniform token info:id = "{shader_id}"\n' if shader_id else ""
-    return _stage(
-        'def Material "M"\n{\n    token outputs:mtlx:surface.connect = </M/S.outputs:surface>\n\n'
-        f'    def Shader "S"\n    {{\n{identifier}{lines}        token outputs:surface\n    }}\n{extra}}}'
-    )
-
-
-def _preview(*inputs: str, extra: str = "") -> str:
-    lines = "".join(f"        {line}\n" for line in inputs)
-    return _stage(
-        'def Material "M"\n{\n    token outputs:surface.connect = </M/P.outputs:surface>\n\n'
-        f'    def Shader "P"\n    {{\n        uniform token info:id = "UsdPreviewSurface"\n{lines}'
-        f"        token outputs:surface\n    }}\n{extra}}}"
-    )
-
-
-def _uv_texture(name: str, file: str, *inputs: str, output: str = "rgb", output_type: str = "float3") -> str:
-    lines = "".join(f"        {line}\n" for line in inputs)
-    return (f'\n    def Shader "{name}"\n    {{\n        uniform token info:id = "UsdUVTexture"\n'
-            f"        asset inputs:file = @{file}@\n{lines}        {output_type} outputs:{output}\n    }}\n")
-
+from .usd_examples import openpbr_example
 
 MISSING_SHADER_ID = Rule(
     "OPBR1001", "usd-missing-shader-id", Severity.ERROR,
@@ -89,8 +61,8 @@ MISSING_SHADER_ID = Rule(
     "Without info:id no renderer knows which node the prim is: a surface shader without one renders "
     "as the fallback material, a texture node without one as its input's default. usd-core's "
     "validators do not report it.",
-    passing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
-    failing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)", shader_id=""),
+    passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)", shader_id=""),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
 TYPE_ROLE_MISMATCH = Rule(
@@ -101,8 +73,8 @@ TYPE_ROLE_MISMATCH = Rule(
     "normal as normal3f and opacityMode as a token. Hydra builds the MaterialX network from the "
     "authored USD type, so a float3 base_color becomes a vector3 input the OpenPBR node does not "
     "declare. The values are still checked as the parameter's type.",
-    passing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
-    failing=_openpbr("float3 inputs:base_color = (0.5, 0.4, 0.3)"),
+    passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=openpbr_example("float3 inputs:base_color = (0.5, 0.4, 0.3)"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
 UNKNOWN_SHADER_ID = Rule(
@@ -113,8 +85,8 @@ UNKNOWN_SHADER_ID = Rule(
     "hint names the closest known id (MaterialX node definitions, usd-core's registry, the "
     "toolkit's legacy OpenPBR definitions). Ids of other renderers' nodes outside MaterialX networks "
     "(PxrSurface, ...) are left to usd-core's validators.",
-    passing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
-    failing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)", shader_id="ND_open_pbr_surface_surfaceshdr"),
+    passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)", shader_id="ND_open_pbr_surface_surfaceshdr"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
 COLORSPACE_SCHEME = Rule(
@@ -125,13 +97,13 @@ COLORSPACE_SCHEME = Rule(
     "MaterialX shaders' inputs take MaterialX names (srgb_texture, acescg, none); UsdUVTexture's "
     "sourceColorSpace takes raw, sRGB or auto. A name from the other scheme is stored and silently "
     "treated as no conversion. The hint gives the equivalent name in the right scheme.",
-    passing=_openpbr(
+    passing=openpbr_example(
         "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
         extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
               '        asset inputs:file = @albedo.png@ (\n            colorSpace = "srgb_texture"\n        )\n'
               "        color3f outputs:out\n    }\n",
     ),
-    failing=_openpbr(
+    failing=openpbr_example(
         "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
         extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
               '        asset inputs:file = @albedo.png@ (\n            colorSpace = "srgb_rec709_scene"\n        )\n'
@@ -146,81 +118,14 @@ CONNECTION_TYPE_MISMATCH = Rule(
     "USD does not convert connected values: renderers read the wrong number of components or fall "
     "back to the input's default. Roles may differ (float3 into color3f is fine); component counts "
     "may not. Texture lookups are judged by OPBR702 instead.",
-    passing=_openpbr(
+    passing=openpbr_example(
         "color3f inputs:base_color.connect = </M.inputs:albedo>",
         extra="\n    color3f inputs:albedo = (0.5, 0.4, 0.3)\n",
     ),
-    failing=_openpbr(
+    failing=openpbr_example(
         "color3f inputs:base_color.connect = </M.inputs:albedo>",
         extra="\n    float inputs:albedo = 0.5\n",
     ),
-    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
-)
-NORMAL_MAP_ENCODING = Rule(
-    "OPBR1006", "preview-normal-map-encoding", Severity.ERROR,
-    "A UsdPreviewSurface normal map in an 8-bit image is read without scale (2, 2, 2) and bias "
-    "(-1, -1, -1).",
-    "UsdPreviewSurface's normal input expects tangent-space vectors in [-1, 1]; an 8-bit image stores "
-    "(n + 1) / 2, so the UsdUVTexture must decode it with scale 2 and bias -1 (UsdPreviewSurface "
-    "specification, input normal). Without it every normal tilts towards +X+Y. The colour space "
-    "(must be raw) is OPBR504's concern.",
-    passing=_preview(
-        "normal3f inputs:normal.connect = </M/nrm.outputs:rgb>",
-        extra=_uv_texture("nrm", "normal.png", 'token inputs:sourceColorSpace = "raw"',
-                          "float4 inputs:scale = (2, 2, 2, 1)", "float4 inputs:bias = (-1, -1, -1, 0)"),
-    ),
-    failing=_preview(
-        "normal3f inputs:normal.connect = </M/nrm.outputs:rgb>",
-        extra=_uv_texture("nrm", "normal.png", 'token inputs:sourceColorSpace = "raw"'),
-    ),
-    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("normal.png",),
-)
-OPACITY_THRESHOLD = Rule(
-    "OPBR1007", "preview-opacity-threshold", Severity.WARNING,
-    "UsdPreviewSurface opacityThreshold contradicts opacityMode, or has nothing to cut.",
-    "A non-zero opacityThreshold turns opacity into a cut-out mask and makes the renderer ignore "
-    "opacityMode (UsdPreviewSurface specification), so an authored opacityMode is dead; and a "
-    "threshold with opacity 1 everywhere (unset or constant 1) cuts nothing out.",
-    passing=_preview("float inputs:opacity = 0.4", "float inputs:opacityThreshold = 0.5"),
-    failing=_preview('token inputs:opacityMode = "transparent"', "float inputs:opacity = 0.4",
-                     "float inputs:opacityThreshold = 0.5"),
-    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
-)
-WORKFLOW_INPUT_IGNORED = Rule(
-    "OPBR1008", "preview-workflow-input-ignored", Severity.WARNING,
-    "A UsdPreviewSurface input of the other workflow is authored: specularColor with "
-    "useSpecularWorkflow 0, or metallic with useSpecularWorkflow 1.",
-    "useSpecularWorkflow selects the metalness (0, the default) or the specular (1) workflow; the "
-    "other workflow's input is ignored, so the value an artist set has no effect.",
-    passing=_preview("int inputs:useSpecularWorkflow = 1", "color3f inputs:specularColor = (0.04, 0.04, 0.04)"),
-    failing=_preview("color3f inputs:specularColor = (0.04, 0.04, 0.04)"),
-    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
-)
-
-
-def _both(openpbr_inputs: tuple[str, ...], preview_inputs: tuple[str, ...]) -> str:
-    openpbr = "".join(f"        {line}\n" for line in openpbr_inputs)
-    preview = "".join(f"        {line}\n" for line in preview_inputs)
-    return _stage(
-        'def Material "M"\n{\n    token outputs:mtlx:surface.connect = </M/S.outputs:surface>\n'
-        "    token outputs:surface.connect = </M/P.outputs:surface>\n\n"
-        f'    def Shader "S"\n    {{\n        uniform token info:id = "ND_open_pbr_surface_surfaceshader"\n{openpbr}'
-        "        token outputs:surface\n    }\n\n"
-        f'    def Shader "P"\n    {{\n        uniform token info:id = "UsdPreviewSurface"\n{preview}'
-        "        token outputs:surface\n    }\n}"
-    )
-
-
-PREVIEW_DISAGREES = Rule(
-    "OPBR1009", "preview-disagrees-with-openpbr", Severity.WARNING,
-    "A Material's UsdPreviewSurface fallback and its OpenPBR shader disagree badly (base colour, "
-    "metalness, roughness or opacity far apart).",
-    "Viewports and real-time clients render the UsdPreviewSurface, final renders the OpenPBR shader; "
-    "when they disagree the look-dev artist approves one material and the renderer shows another. "
-    "Colours are compared sRGB-encoded (base_weight x base_color against diffuseColor, per channel, "
-    "default limit 0.2), metalness and opacity with a limit of 0.5, roughness 0.3; only constants.",
-    passing=_both(("color3f inputs:base_color = (0.5, 0.4, 0.3)",), ("color3f inputs:diffuseColor = (0.5, 0.4, 0.3)",)),
-    failing=_both(("color3f inputs:base_color = (0.5, 0.4, 0.3)",), ("color3f inputs:diffuseColor = (0.05, 0.3, 0.8)",)),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
 USD_CORE = Rule(
@@ -232,8 +137,8 @@ USD_CORE = Rule(
     "files that OPBR201/OPBR1002/OPBR1003/OPBR1006/OPBR701 already report more precisely are left out. "
     "The MaterialX node definitions are registered with usd-core first, so OpenPBR shaders raise no "
     "'not found in sdrRegistry' error.",
-    passing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
-    failing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace('    upAxis = "Y"\n', ""),
+    passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace('    upAxis = "Y"\n', ""),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
 
@@ -259,8 +164,8 @@ ARC_OUTSIDE = Rule(
     "are followed. Value clips are never read (they hold animation, usd-core opens them lazily, and a "
     "template can name millions of files); only those pointing outside are reported. Texture paths "
     "are OPBR704's concern.",
-    passing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
-    failing=_openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace(
+    passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace(
         'defaultPrim = "M"\n', 'defaultPrim = "M"\n    subLayers = [@../shared/looks.usda@]\n'),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
@@ -273,26 +178,21 @@ PACKAGE_ENTRY = Rule(
     "package and stored (uncompressed) entries, which usd-core reads in place: a compressed texture "
     "does not load. The names are usd-core's view of the archive (its local file headers, not the "
     "central directory).",
-    passing=_package(("root.usda", _openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("albedo.png", "")),
-    failing=_package(("root.usda", _openpbr("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("../albedo.png", "")),
+    passing=_package(("root.usda", openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("albedo.png", "")),
+    failing=_package(("root.usda", openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("../albedo.png", "")),
     passing_name="example.usdz", failing_name="example.usdz", formats=("usd",),
 )
 
 
+# The preview-* rules (UsdPreviewSurface, :mod:`.usd_preview`) are reported under this family for now:
+# registering usd_preview in FAMILIES would change every SARIF report (each rule's family tag and
+# help text), which the golden record forbids until it is regenerated on purpose.
 RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
-         NORMAL_MAP_ENCODING, OPACITY_THRESHOLD, WORKFLOW_INPUT_IGNORED, PREVIEW_DISAGREES, USD_CORE, ARC_OUTSIDE,
-         PACKAGE_ENTRY)
+         USD_CORE, ARC_OUTSIDE, PACKAGE_ENTRY) + usd_preview.RULES
 
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
     "NonCompliantBiasAndScale", "NonCompliantScaleValues", "NonCompliantBiasValues", "InvalidSourceColorSpace",
-}
-# OPBR1009 limits; a project can override them with thresholds of the same names.
-PREVIEW_LIMITS = {
-    "preview_base_color_max_difference": 0.2,
-    "preview_metalness_max_difference": 0.5,
-    "preview_roughness_max_difference": 0.3,
-    "preview_opacity_max_difference": 0.5,
 }
 
 
@@ -305,10 +205,7 @@ def check(asset, context):
     yield from _colour_policies(asset, context)
     yield from _lengths(asset, context)
     yield from _tokens(asset, context)
-    for material in asset.materials:
-        if material.model == "UsdPreviewSurface":
-            yield from _preview_conventions(material, context)
-    yield from _preview_agreement(asset, context)
+    yield from usd_preview.check(asset, context)
     yield from _usd_core(asset, context)
 
 
@@ -371,7 +268,7 @@ def _judge_unknown_id(asset, observation) -> tuple[str, str | None] | None:
 
 
 def _closest_id(shader_id: str, sdr_ids) -> str | None:
-    from ..io.usd.stage import materialx_nodedef_names
+    from ..io.usd.sdr import materialx_nodedef_names
 
     candidates = set(surface_shader_ids()) | set(sdr_ids)
     match = difflib.get_close_matches(shader_id, sorted(candidates), n=1, cutoff=0.8)
@@ -585,136 +482,6 @@ def _tokens(asset, context):
                     ENUM_VALUE, f"{name} = {value!r} is not one of {list(allowed)}",
                     Location(asset.path, None, texture.node, name),
                 )
-
-
-# -- UsdPreviewSurface conventions ------------------------------------------------------------------
-
-def _value(material, name):
-    """The constant of ``name`` (the table default when unauthored; ``None`` when textured)."""
-    entry = material.inputs.get(name)
-    if entry is None:
-        parameter = tables.table(material.model, material.version).get(name)
-        return parameter.default if parameter is not None else None
-    return entry.constant
-
-
-def _preview_conventions(material, context):
-    normal = material.inputs.get("normal")
-    texture = normal.texture if normal is not None else None
-    if texture is not None and texture.node_category == UV_TEXTURE_ID and is_eight_bit(texture.file):
-        scale, bias = _rgb(texture.scale, 1.0), _rgb(texture.bias, 0.0)
-        if scale != (2.0, 2.0, 2.0) or bias != (-1.0, -1.0, -1.0):
-            yield context.diagnostic(
-                NORMAL_MAP_ENCODING,
-                f"normal reads the 8-bit image {texture.file!r} with scale {_fmt(scale)} and bias {_fmt(bias)}, "
-                "so its [0, 1] values are not mapped to [-1, 1]",
-                Location(texture.location.file if texture.location else material.location.file, None, texture.node, "scale"),
-                hint="set inputs:scale = (2, 2, 2, 1) and inputs:bias = (-1, -1, -1, 0) on the UsdUVTexture",
-            )
-    threshold = _value(material, "opacityThreshold")
-    if isinstance(threshold, (int, float)) and threshold > 0:
-        where = material.inputs["opacityThreshold"].location
-        if "opacityMode" in material.inputs:
-            yield context.diagnostic(
-                OPACITY_THRESHOLD,
-                f"opacityThreshold {threshold:g} makes opacity a cut-out mask, so the authored opacityMode is ignored",
-                material.inputs["opacityMode"].location,
-                hint="remove opacityMode, or set opacityThreshold to 0 for translucency",
-            )
-        opacity = _value(material, "opacity")
-        if isinstance(opacity, (int, float)) and opacity >= 1.0:
-            yield context.diagnostic(
-                OPACITY_THRESHOLD, f"opacityThreshold {threshold:g} cuts nothing out: opacity is 1 everywhere", where,
-                hint="connect opacity to a mask texture, or remove opacityThreshold",
-            )
-    workflow = _value(material, "useSpecularWorkflow")
-    if workflow in (0, 1):
-        ignored = "specularColor" if workflow == 0 else "metallic"
-        entry = material.inputs.get(ignored)
-        default = tables.table(material.model, material.version)[ignored].default
-        if entry is not None and entry.value is not None and entry.constant != default:  # a default changes nothing
-            mode = "metalness workflow (useSpecularWorkflow 0)" if workflow == 0 else "specular workflow (useSpecularWorkflow 1)"
-            yield context.diagnostic(
-                WORKFLOW_INPUT_IGNORED, f"{ignored} is ignored in the {mode}", entry.location,
-                hint="set useSpecularWorkflow = 1" if workflow == 0 else "set useSpecularWorkflow = 0, or remove metallic",
-            )
-
-
-def _rgb(value, default: float) -> tuple:
-    """UsdUVTexture's scale or bias for the rgb channels (a float4, a scalar, or unauthored)."""
-    if value is None:
-        return (default,) * 3
-    if not isinstance(value, tuple):
-        return (float(value),) * 3
-    return tuple(float(v) for v in (value + (default,) * 3)[:3])
-
-
-def _srgb_encode(linear: float) -> float:
-    """The sRGB transfer function (IEC 61966-2-1), used to compare colours roughly perceptually."""
-    linear = min(max(linear, 0.0), 1.0)
-    return 12.92 * linear if linear <= 0.0031308 else 1.055 * linear ** (1 / 2.4) - 0.055
-
-
-def _preview_agreement(asset, context):
-    by_material: dict[str, dict[str, object]] = {}
-    for material in asset.materials:
-        if material.material_name and material.version:
-            by_material.setdefault(material.material_name, {})[material.model] = material
-    limits = {key: context.threshold(key, value) for key, value in PREVIEW_LIMITS.items()}
-    for pair in by_material.values():
-        openpbr, preview = pair.get("open_pbr_surface"), pair.get("UsdPreviewSurface")
-        if openpbr is None or preview is None:
-            continue
-        yield from _compare(openpbr, preview, limits, context)
-
-
-def _compare(openpbr, preview, limits, context):
-    def where(name):
-        entry = preview.inputs.get(name)
-        return entry.location if entry is not None else preview.location
-
-    color, weight, albedo = _value(openpbr, "base_color"), _value(openpbr, "base_weight"), _value(preview, "diffuseColor")
-    same_space = _colour_space(openpbr, "base_color") == _colour_space(preview, "diffuseColor")
-    if (isinstance(color, tuple) and isinstance(albedo, tuple) and isinstance(weight, (int, float)) and same_space
-            and ("base_color" in openpbr.inputs or "diffuseColor" in preview.inputs)):
-        effective = tuple(weight * c for c in color)
-        difference = max(abs(_srgb_encode(a) - _srgb_encode(b)) for a, b in zip(effective, albedo))
-        if difference > limits["preview_base_color_max_difference"]:
-            yield context.diagnostic(
-                PREVIEW_DISAGREES,
-                f"diffuseColor {_fmt(albedo)} is far from the OpenPBR base colour {_fmt(effective)} "
-                f"(sRGB difference {difference:.2f})", where("diffuseColor"),
-                hint="bake the preview values from the OpenPBR shader",
-            )
-    pairs = [("base_metalness", "metallic", "preview_metalness_max_difference"),
-             ("specular_roughness", "roughness", "preview_roughness_max_difference"),
-             ("geometry_opacity", "opacity", "preview_opacity_max_difference")]
-    specular_workflow = _value(preview, "useSpecularWorkflow") == 1
-    for openpbr_name, preview_name, limit in pairs:
-        if specular_workflow and preview_name == "metallic":
-            continue
-        a, b = _value(openpbr, openpbr_name), _value(preview, preview_name)
-        if not (isinstance(a, (int, float)) and isinstance(b, (int, float))):
-            continue
-        if openpbr_name not in openpbr.inputs and preview_name not in preview.inputs:
-            continue
-        if abs(a - b) > limits[limit]:
-            yield context.diagnostic(
-                PREVIEW_DISAGREES, f"{preview_name} {b:g} is far from the OpenPBR {openpbr_name} {a:g}",
-                where(preview_name), hint="bake the preview values from the OpenPBR shader",
-            )
-
-
-def _colour_space(material, name):
-    entry = material.inputs.get(name)
-    space = (entry.colorspace if entry is not None else None) or material.colorspace
-    if space is None or space in ("lin_rec709", "lin_rec709_scene"):
-        return "lin_rec709"
-    return colorspaces.materialx_equivalent(space) or space
-
-
-def _fmt(value) -> str:
-    return "(" + ", ".join(f"{v:.3g}" for v in value) + ")"
 
 
 # -- usd-core -------------------------------------------------------------------------------------

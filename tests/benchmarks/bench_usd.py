@@ -101,7 +101,9 @@ def main() -> None:
         from pxr import Usd, UsdValidation
 
         from openpbr_tools.io.usd.reader import read_usd
-        from openpbr_tools.io.usd.stage import quiet, register_materialx_nodes, usd_core_findings
+        from openpbr_tools.io.usd.errors import quiet
+        from openpbr_tools.io.usd.sdr import register_materialx_nodes
+        from openpbr_tools.io.usd.validators import usd_core_findings
         from openpbr_tools.rules import check_asset
         from openpbr_tools.validate import validate_file
 

@@ -1,3 +1,6 @@
 """USD stages (``.usda``, ``.usdc``, ``.usdz``): the reader (``reader``, ``network`` for shader
-networks), the writer (``writer``), type mapping (``types``) and the guards that decide whether a
-file may be opened by usd-core at all (``stage``)."""
+networks), the writer (``writer``), type mapping (``types``), the guard that decides whether a
+stage may be opened by usd-core at all and which layers it may compose (``guard``, with the byte
+checks of ``crate``, ``package`` and ``text_layer``), usd-core's diagnostics (``errors``), Sdr
+registration of the MaterialX node definitions (``sdr``) and usd-core's own validators
+(``validators``)."""

@@ -23,7 +23,8 @@ import os
 import struct
 
 from ...model import Connection, Constant, Input, Texture, UVTransform
-from .stage import materialx_nodedef
+from ..paths import Kind, classify
+from .sdr import materialx_nodedef
 from .types import (
     MATERIALX_TO_USD,
     PRIMVAR_READER_PREFIX,
@@ -336,11 +337,12 @@ class NetworkReader:
                 layer = spec.layer
                 break
         packaged = ".usdz" in layer.identifier.lower()
-        if packaged or layer.identifier == self.root_layer.identifier or os.path.isabs(authored) or "://" in authored:
-            return authored, packaged
+        if packaged or layer.identifier == self.root_layer.identifier or classify(authored) is not Kind.RELATIVE:
+            return authored, packaged  # as authored: a URL, an absolute, drive or UNC path is not re-anchored
         if not layer.realPath:
             return authored, False
-        # USD's resolver looks a relative path up beside the layer that authored it first
+        # USD's resolver looks a relative path up beside the layer that authored it first; spelled
+        # relative to the root layer's folder (whether that stays inside is the texture rules' call)
         anchored = os.path.normpath(os.path.join(os.path.dirname(layer.realPath), authored))
         return os.path.relpath(anchored, self.root_dir).replace(os.sep, "/"), False
 

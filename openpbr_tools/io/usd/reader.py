@@ -3,7 +3,7 @@
 
 usd-core has no MaterialX plug-in, so the prims are read here. The stage is opened with composition
 resolved (sublayers, references, payloads loaded, variants as selected) by
-:class:`~.stage.StageGuard`, which refuses files that would crash usd-core and never opens a
+:class:`~.guard.StageGuard`, which refuses files that would crash usd-core and never opens a
 layer outside the asset's folder (such arcs are reported, ``usd_arc_outside``); every ``Material`` prim is
 visited and each of its surface outputs (``outputs:surface``, ``outputs:mtlx:surface``,
 ``outputs:<context>:surface``) is followed, through node graphs, to a shader. Shaders with the id of
@@ -48,14 +48,10 @@ from ... import colorspaces, tables, versioning
 from ...model import Asset, Constant, Input, Location, Material
 from .. import ReadError
 from .network import MAX_DEPTH, NetworkReader
-from .stage import (
-    StageGuard,
-    materialx_nodedef,
-    quiet,
-    tf_error_text,
-    usd_core_findings,
-    usd_error_message,
-)
+from .errors import quiet, tf_error_text, usd_error_message
+from .guard import StageGuard
+from .sdr import materialx_nodedef
+from .validators import usd_core_findings
 from .types import (
     MATERIALX_CONTEXT,
     OPACITY_MODE_TOKENS,
@@ -69,7 +65,7 @@ CUSTOM_DATA_VERSION_KEY = "openpbr:version"
 def read_usd(path: str, *, usd_core: bool = True, allow_outside=()) -> Asset:
     """Read the stage at ``path``. ``usd_core=False`` skips usd-core's own validators;
     ``allow_outside`` lists folders besides the asset's own that sublayers, references and payloads
-    may be read from (:class:`~.stage.StageGuard`)."""
+    may be read from (:class:`~.guard.StageGuard`)."""
     asset = Asset(path=path, format="usd")
     guard = StageGuard(path, asset.observe, allow_outside)
     _read_stage(asset, guard.open_stage(), guard, usd_core)

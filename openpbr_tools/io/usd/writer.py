@@ -35,8 +35,9 @@ from ...diagnostics import Diagnostic
 from ...model import Asset, Connection, Constant, Location, Material, Texture, UVTransform
 from ...resources import load_json
 from ...rules.translation import CONVERTED, NOT_CARRIED
+from ..paths import Kind, PathGuard, classify
 from .reader import CUSTOM_DATA_VERSION_KEY
-from .stage import quiet, require_pxr
+from .errors import quiet, require_pxr
 from .types import (
     ADDRESS_MODE_TO_WRAP,
     MATERIALX_TO_USD,
@@ -88,7 +89,7 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
     stage.SetDefaultPrim(stage.DefinePrim(LOOKS, "Scope"))
     writer = _Writer(stage, notes, source_dir, folder, package, meters_per_unit, source_unit)
     writer.output_path = path
-    writer.allowed = [os.path.realpath(source_dir)] + [os.path.realpath(f) for f in allow_outside]
+    writer.guard = PathGuard(source_dir, allow_outside)
     for material in materials:
         writer.write(material)
     # Atomically, as openpbr_tools.atomic does: a temporary file beside the target, renamed over it.
@@ -162,7 +163,10 @@ class _Writer:
         self.meters_per_unit, self.source_unit = meters_per_unit, source_unit
         self.material_prims: dict[str, object] = {}
         self.packaged_files: dict[str, str] = {}
-        self.allowed: list[str] = [os.path.realpath(source_dir)]
+        # what a .usdz may read and package: the source's folder (and allowed ones), links resolved
+        self.guard = PathGuard(source_dir)
+        # how a reference is spelled from the output's folder: as written, no link resolved
+        self.target = PathGuard(target_dir, real_path=os.path.normpath)
 
     def unique_child(self, parent_path: str, name: str) -> str:
         base, candidate, n = _identifier(name), _identifier(name), 1
@@ -311,31 +315,32 @@ class _Writer:
     # -- texture files -----------------------------------------------------------------------
     def texture_path(self, texture: Texture, owner: str) -> str:
         file = texture.file
-        if not file or "://" in file:
+        kind = classify(file) if file else Kind.EMPTY
+        if kind in (Kind.EMPTY, Kind.URL):
             return file
         if texture.packaged:
             self.note(NOT_CARRIED, f"{owner}: {file!r} is inside the source package and is not copied")
             return file
-        absolute = file if os.path.isabs(file) else os.path.normpath(os.path.join(self.source_dir, file))
         if not self.package:
-            if os.path.isabs(file):
-                inside_target = os.path.commonpath([absolute, self.target_dir]) == self.target_dir
-                return os.path.relpath(absolute, self.target_dir).replace(os.sep, "/") if inside_target else file
-            return os.path.relpath(absolute, self.target_dir).replace(os.sep, "/")
+            if kind is Kind.RELATIVE:  # re-anchored at the output's folder (only referenced, never read)
+                absolute = os.path.normpath(os.path.join(self.source_dir, file))
+                return os.path.relpath(absolute, self.target_dir).replace(os.sep, "/")
+            return self.target.resolve(file).relative or file
         if "<UDIM>" in file.upper():
             self.note(NOT_CARRIED, f"{owner}: UDIM tiles of {file!r} are not packaged")
             return file
-        real = os.path.realpath(absolute)
-        root = next((r for r in self.allowed if os.path.commonpath([real, r]) == r), None)
-        if root is None:
+        resolved = self.guard.resolve(file)
+        if not resolved.inside:
+            where = f"resolves to {resolved.real}" if resolved.real else \
+                "is not a path (it holds a NUL byte)" if kind is Kind.NUL else f"is a {kind.value} path"
             raise UsdWriteError(
-                f"{owner}: texture {file!r} resolves to {real}, outside the source asset's folder {self.allowed[0]}; "
+                f"{owner}: texture {file!r} {where}, outside the source asset's folder {self.guard.own_root}; "
                 "it is not packaged into the .usdz unless its folder is allowed (allow_outside / --allow-outside)")
+        real = resolved.real
         if not os.path.isfile(real):
             self.note(NOT_CARRIED, f"{owner}: {file!r} does not exist and is not packaged")
             return file
-        inside = os.path.relpath(real, root).replace(os.sep, "/") if root == self.allowed[0] else \
-            f"textures/{os.path.basename(real)}"
+        inside = resolved.relative if resolved.root == self.guard.own_root else f"textures/{os.path.basename(real)}"
         stem, suffix = os.path.splitext(inside)
         count = 1
         while self.packaged_files.get(inside, real) != real:

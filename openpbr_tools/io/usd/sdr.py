@@ -1,0 +1,114 @@
+"""Teaching usd-core's shader registry (Sdr) the MaterialX node definitions.
+
+usd-core on PyPI has no MaterialX plug-in, so Sdr does not know ``ND_open_pbr_surface_surfaceshader``
+and its ``ShaderSdrCompliance`` validator reports every MaterialX shader as "not found in
+sdrRegistry". :func:`register_materialx_nodes` fills that gap: it describes each MaterialX node
+definition as a USD shader definition (inputs typed as UsdMtlx types them) in an in-memory layer and
+hands it to Sdr through UsdShade's own shader-definition parser, the same route usd-core uses for
+``UsdPreviewSurface``. :func:`materialx_nodedef` looks a definition up (MaterialX's standard
+libraries plus the toolkit's legacy OpenPBR definitions).
+"""
+
+from __future__ import annotations
+
+import os
+from functools import lru_cache
+
+from .errors import quiet
+from .types import MATERIALX_TO_USD
+
+_registered: set[str] = set()
+_definition_layers: list = []  # Sdr parses lazily: the in-memory layers must stay alive
+
+
+@lru_cache(maxsize=1)
+def _materialx_nodedefs():
+    """Name -> nodedef for MaterialX's libraries plus the toolkit's legacy OpenPBR definitions."""
+    import MaterialX as mx
+
+    from ..mtlx.reader import standard_library
+
+    found = {nd.getName(): nd for nd in standard_library().getNodeDefs()}
+    try:
+        from ...resources import data_dir
+
+        legacy = data_dir("libraries")
+        for name in sorted(os.listdir(legacy)):
+            if name.endswith(".mtlx"):
+                document = mx.createDocument()
+                mx.readFromXmlFile(document, str(legacy / name))
+                for nodedef in document.getNodeDefs():
+                    found.setdefault(nodedef.getName(), nodedef)
+    except (FileNotFoundError, OSError):
+        pass
+    return found
+
+
+def materialx_nodedef_names() -> list[str]:
+    return sorted(_materialx_nodedefs())
+
+
+def materialx_nodedef(name: str):
+    """The MaterialX node definition called ``name`` (standard libraries or the toolkit's legacy
+    OpenPBR definitions), or ``None``."""
+    return _materialx_nodedefs().get(name)
+
+
+def register_materialx_nodes(ids) -> list[str]:
+    """Make Sdr know the MaterialX node definitions among ``ids``; returns the ids registered now.
+
+    Ids that are not MaterialX node definitions, and ids Sdr already knows (from an earlier call,
+    or from a usd build that has the MaterialX plug-in), are left alone.
+    """
+    from pxr import Sdf, Sdr
+
+    registry = Sdr.Registry()
+    wanted = []
+    for shader_id in sorted(set(ids) - _registered):
+        nodedef = materialx_nodedef(shader_id)
+        _registered.add(shader_id)
+        if nodedef is None:
+            continue
+        with quiet():
+            known = registry.GetShaderNodeByIdentifier(shader_id)
+        if not known:
+            wanted.append(nodedef)
+    if not wanted:
+        return []
+    layer = Sdf.Layer.CreateAnonymous("openpbr_tools_materialx_defs.usda")
+    for nodedef in wanted:
+        _define_shader(layer, nodedef)
+    _definition_layers.append(layer)
+    for nodedef in wanted:
+        result = Sdr.NodeDiscoveryResult(
+            nodedef.getName(), Sdr.Version(1).GetAsDefault(), nodedef.getName(), nodedef.getNodeString(),
+            "usda", "mtlx", layer.identifier, layer.identifier,
+        )
+        registry.AddDiscoveryResult(result)
+    return [nd.getName() for nd in wanted]
+
+
+def _define_shader(layer, nodedef) -> None:
+    from pxr import Sdf
+
+    prim = Sdf.PrimSpec(layer, nodedef.getName(), Sdf.SpecifierDef, "Shader")
+    uniform = Sdf.VariabilityUniform
+
+    def attribute(name: str, type_name, value=None, variability=Sdf.VariabilityVarying):
+        spec = Sdf.AttributeSpec(prim, name, type_name, variability)
+        if value is not None:
+            spec.default = value
+        return spec
+
+    attribute("info:id", Sdf.ValueTypeNames.Token, nodedef.getName(), uniform)
+    attribute("info:implementationSource", Sdf.ValueTypeNames.Token, "sourceAsset", uniform)
+    attribute("info:mtlx:sourceAsset", Sdf.ValueTypeNames.Asset,
+              Sdf.AssetPath(nodedef.getSourceUri() or os.devnull), uniform)
+    for port in nodedef.getActiveInputs():
+        usd_type = MATERIALX_TO_USD.get(port.getType(), "token")
+        name = port.getName().replace(":", "__")
+        attribute(f"inputs:{name}", Sdf.ValueTypeNames.Find(usd_type),
+                  variability=uniform if port.getIsUniform() else Sdf.VariabilityVarying)
+    for port in nodedef.getActiveOutputs():
+        usd_type = MATERIALX_TO_USD.get(port.getType(), "token")
+        attribute(f"outputs:{port.getName()}", Sdf.ValueTypeNames.Find(usd_type))
