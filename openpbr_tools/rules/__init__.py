@@ -30,6 +30,7 @@ FAMILIES = (
     "structure",
     "plausibility",
     "usd",
+    "usd_preview",
     "gltf",
     "translation",
 )

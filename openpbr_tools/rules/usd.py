@@ -1,5 +1,6 @@
 """USD: checks that only make sense for USD stages (shader ids, USD types, colour-space naming
-schemes, metersPerUnit, UsdPreviewSurface conventions, usd-core's own validators).
+schemes, metersPerUnit, usd-core's own validators). UsdPreviewSurface's own conventions are the
+``usd_preview`` family's.
 
 The USD reader fills the same model as the MaterialX reader, so the generic families (names,
 values, ranges, version, textures, structure, plausibility) judge USD materials too. This family
@@ -47,7 +48,7 @@ from ..io.usd.types import (
 )
 from ..model import Location, Texture
 from ..resources import load_json
-from . import Rule, for_each_input, usd_preview
+from . import Rule, for_each_input
 from . import colorspace as colorspace_rules
 from .colorspace import COLOR_TEXTURE_RAW, DATA_TEXTURE_MANAGED, UNKNOWN_COLORSPACE
 from .ranges import ENUM_VALUE
@@ -184,11 +185,8 @@ PACKAGE_ENTRY = Rule(
 )
 
 
-# The preview-* rules (UsdPreviewSurface, :mod:`.usd_preview`) are reported under this family for now:
-# registering usd_preview in FAMILIES would change every SARIF report (each rule's family tag and
-# help text), which the golden record forbids until it is regenerated on purpose.
 RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
-         USD_CORE, ARC_OUTSIDE, PACKAGE_ENTRY) + usd_preview.RULES
+         USD_CORE, ARC_OUTSIDE, PACKAGE_ENTRY)
 
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
@@ -205,7 +203,6 @@ def check(asset, context):
     yield from _colour_policies(asset, context)
     yield from _lengths(asset, context)
     yield from _tokens(asset, context)
-    yield from usd_preview.check(asset, context)
     yield from _usd_core(asset, context)
 
 
