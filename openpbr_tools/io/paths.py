@@ -17,7 +17,7 @@ and nothing else decides containment. Two questions, answered once:
   toolkit never fetches a URL.
 
 Containment is decided on real paths (symbolic links resolved) by path components, so ``/a/bc`` is
-not inside ``/a/b``.
+not inside ``/a/b``; a symbolic-link loop is outside (it names no file).
 """
 
 from __future__ import annotations
@@ -139,7 +139,8 @@ class PathGuard:
         inside an allowed folder once symbolic links are resolved."""
         if classify(path) in (Kind.URL, Kind.NUL, Kind.EMPTY):
             return False
-        return self.root_of(self.real_path(os.path.abspath(path))) is not None
+        real = self.real_path(os.path.abspath(path))
+        return not os.path.islink(real) and self.root_of(real) is not None
 
     def resolve(self, reference: str, base: str | os.PathLike | None = None) -> Resolved:
         """Resolve ``reference`` relative to ``base`` (a folder; default the asset's folder)."""
@@ -156,4 +157,6 @@ class PathGuard:
         else:  # a drive, UNC or backslash-absolute path names nothing on this system: outside
             return Resolved(reference, kind)
         real = self.real_path(path)
+        if os.path.islink(real):  # resolution stopped on a link: a symbolic-link loop, which leads nowhere
+            return Resolved(reference, kind, path, real, None)
         return Resolved(reference, kind, path, real, self.root_of(real))

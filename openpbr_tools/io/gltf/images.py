@@ -14,6 +14,7 @@ import re
 from ...model import Location, Texture
 from ...rules.translation import NOT_CARRIED
 from ..images import channel_count
+from ..paths import Kind, PathGuard, classify
 
 
 class GltfWriteError(ValueError):
@@ -27,7 +28,7 @@ class ImageResolver:
         self.builder, self.notes = builder, notes
         self.source_path = source_path
         self.output_dir = os.path.dirname(os.path.abspath(output_path))
-        self.allowed = [os.path.realpath(f) for f in allow_outside]
+        self.allow_outside = tuple(allow_outside)
         self.documents: dict = {}
         self._at: tuple[Location, Location | None] = (Location(source_path or ""), None)
 
@@ -45,26 +46,26 @@ class ImageResolver:
             return None
         if texture.packaged:
             return self._packaged(texture, owner)
-        if re.match(r"^[a-zA-Z][a-zA-Z0-9+.-]+://", file):
+        kind = classify(file)
+        if kind is Kind.URL:
             raise GltfWriteError(f"{owner}: texture {file!r} is a URL; the writer never fetches URLs")
+        if kind is Kind.NUL:
+            raise GltfWriteError(f"{owner}: texture {file!r} is not a path (it holds a NUL character)")
         if "<UDIM>" in file.upper() or "<UVTILE>" in file.upper():
             self.lost(f"{owner}: UDIM texture {file!r} has no glTF equivalent, not written")
             return None
-        folder = self.folder_of(texture)
-        absolute = os.path.normpath(file if os.path.isabs(file) else os.path.join(folder, file))
-        real = os.path.realpath(absolute)
-        roots = [os.path.realpath(folder)] + self.allowed
-        root = next((r for r in roots if os.path.commonpath([real, r]) == r), None)
-        if root is None:
+        guard = PathGuard(self.folder_of(texture), self.allow_outside)
+        resolved = guard.resolve(file)
+        if not resolved.inside:
             raise GltfWriteError(
-                f"{owner}: texture {file!r} resolves to {real}, outside the source asset's folder {os.path.realpath(folder)}; "
-                "it is neither read nor embedded unless its folder is allowed (allow_outside / --allow-outside)")
+                f"{owner}: texture {file!r} resolves to {resolved.real or file}, outside the source asset's folder "
+                f"{guard.own_root}; it is neither read nor embedded unless its folder is allowed (allow_outside / "
+                "--allow-outside)")
+        real = resolved.real
         if not os.path.isfile(real):
             self.lost(f"{owner}: texture {file!r} does not exist, not written")
             return None
-        inside_source = root == roots[0]
-        relative = os.path.relpath(real, root).replace(os.sep, "/")
-        name = relative if inside_source else f"textures/{os.path.basename(real)}"
+        name = resolved.relative if resolved.root == guard.own_root else f"textures/{os.path.basename(real)}"
         return _Source(key=("file", real), image=real, name=name, mime=_mime_of_file(real))
 
     def lost(self, message: str) -> None:
