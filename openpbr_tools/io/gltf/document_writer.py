@@ -10,8 +10,14 @@ a GLB pads its JSON chunk with spaces and its BIN chunk with zeros (section 4.4.
 from __future__ import annotations
 
 import base64
+import json
 import os
 import struct
+
+
+def dumps(document: dict) -> str:
+    """The glTF JSON text: insertion order, two-space indent, UTF-8, shortest round-trip floats."""
+    return json.dumps(document, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
 
 
 def data_uri(data: bytes, mime: str) -> str:
@@ -180,8 +186,6 @@ class DocumentBuilder:
 
     def finish(self) -> list[tuple[str, bytes]]:
         """[(output path, bytes), (other file, bytes), ...]: the document first, then files beside it."""
-        from .writer import dumps
-
         text = dumps(self.document())
         if not self.glb:
             return [(self.path, text.encode("utf-8"))] + self.files

@@ -25,7 +25,6 @@ shortest round-trip float text) and written atomically. Returns notes on anythin
 
 from __future__ import annotations
 
-import json
 import math
 import os
 
@@ -288,11 +287,6 @@ def _json_value(value):
     if isinstance(value, bool):
         return value
     return float(value) if isinstance(value, (int, float)) else value
-
-
-def dumps(document: dict) -> str:
-    """The glTF JSON text: insertion order, two-space indent, UTF-8, shortest round-trip floats."""
-    return json.dumps(document, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
 
 
 __all__ = ["write_gltf", "GltfWriteError"]
