@@ -18,6 +18,8 @@ quadrature), :mod:`.preview` (lit sphere, contact sheet), :mod:`.difference` (CI
 
 from __future__ import annotations
 
+from importlib import import_module
+
 from .layering import Albedo, BSDFModel
 from .parameters import ResolvedParameters, resolve, with_values
 
@@ -31,8 +33,6 @@ MODEL_CLASSES = {
 
 def model_class(model: str) -> type[BSDFModel]:
     """The evaluator class of a shading model name (as in ``Material.model``)."""
-    from importlib import import_module
-
     try:
         module, name = MODEL_CLASSES[model]
     except KeyError:

@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from . import diffuse, fresnel, microfacet, sheen
+from .spectral import spectral_to_rgb_weights
 
 DATA_FILE = Path(__file__).resolve().parent / "data" / "albedo_tables.npz"
 MU_NODES = 32
@@ -179,8 +180,6 @@ def build_tables(samples: int = 64) -> dict[str, np.ndarray]:
         return (1.0 - np.clip(microfacet.dot(*np.broadcast_arrays(wo, h)), 0.0, 1.0)) ** 5 / np.pi
 
     out["lambert_schlick"] = _hemisphere_quadrature(mus, lambert_schlick)
-    from .thinfilm import spectral_to_rgb_weights
-
     out["spectral_weights"] = spectral_to_rgb_weights()
     out["version"] = np.array(TABLE_VERSION)
     return out

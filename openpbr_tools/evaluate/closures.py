@@ -15,6 +15,7 @@ import numpy as np
 from . import albedo as tab
 from . import diffuse, fresnel, microfacet, sheen
 from .layering import Scatter, as_colour, cosines, mix
+from .thinfilm import thin_film_rgb
 
 _EPS = 1e-7
 
@@ -30,8 +31,6 @@ def _rgb(x):
 
 def _thin_film_factor(cos_h, film, substrate_n, substrate_k=None):
     """Fresnel of a thin film on the substrate; ``film`` = (weight, thickness_nm, film_ior)."""
-    from .thinfilm import thin_film_rgb
-
     _, thickness, ior = film
     return thin_film_rgb(cos_h, thickness, ior, substrate_n, substrate_k)
 

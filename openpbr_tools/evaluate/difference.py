@@ -15,17 +15,16 @@ as they are, without clipping or tone mapping.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import asdict, dataclass
 
 import numpy as np
 
 
 def _colour():
-    import warnings
-
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        import colour
+        import colour  # lazy: colour-science costs ~0.5 s to import
     return colour
 
 

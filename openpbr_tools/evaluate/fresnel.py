@@ -72,6 +72,28 @@ def fresnel_conductor(cos_theta, n, k):
     return 0.5 * (np.abs(rs) ** 2 + np.abs(rp) ** 2)
 
 
+def fresnel_conductor_real(cos_theta, n, k):
+    """:func:`fresnel_conductor` in real arithmetic (smaller intermediates: the translators bake
+    it texel by texel): unpolarised reflectance of a conductor n + ik seen from a medium of
+    index 1.
+
+    Reference: Born & Wolf, *Principles of Optics*, section 14.2; the form of pbrt-v3's
+    ``FrConductor`` (Pharr, Jakob, Humphreys, *Physically Based Rendering*, 3rd ed., section 8.2.1).
+    """
+    c2 = np.asarray(cos_theta, dtype=np.float64) ** 2
+    s2 = 1.0 - c2
+    t0 = n * n - k * k - s2
+    a2b2 = np.sqrt(np.maximum(t0 * t0 + 4.0 * n * n * k * k, 0.0))
+    a = np.sqrt(np.maximum(0.5 * (a2b2 + t0), 0.0))
+    t1 = a2b2 + c2
+    t2 = 2.0 * np.sqrt(c2) * a
+    rs = (t1 - t2) / np.maximum(t1 + t2, 1e-9)
+    t3 = c2 * a2b2 + s2 * s2
+    t4 = t2 * s2
+    rp = rs * (t3 - t4) / np.maximum(t3 + t4, 1e-9)
+    return 0.5 * (rs + rp)
+
+
 def fresnel_schlick(cos_theta, f0, f90=1.0, exponent=5.0):
     """Schlick's approximation F = F0 + (F90 - F0)(1 - cos)^p, generalised to any F90 and
     exponent.
@@ -106,16 +128,24 @@ def f82_tint(cos_theta, f0, tint, f90=1.0, exponent=5.0):
 
 
 def ior_to_f0(eta):
-    """Normal-incidence reflectance ((eta - 1) / (eta + 1))^2 of a dielectric (Fresnel at
-    cos = 1)."""
+    """Normal-incidence reflectance ((eta - 1) / (eta + 1))^2 of a dielectric of relative IOR
+    ``eta`` (Fresnel at cos = 1).
+
+    Reference: Born & Wolf, *Principles of Optics*, 7th ed., section 1.5.2 (eq. 21 at normal
+    incidence); OpenPBR Surface 1.1, section "Specular" (F0 from specular_ior).
+    """
     eta = np.asarray(eta, dtype=float)
     return ((eta - 1.0) / (eta + 1.0)) ** 2
 
 
-def f0_to_ior(f0):
+def f0_to_ior(f0, max_f0=0.9999):
     """The IOR >= 1 whose normal-incidence reflectance is ``f0`` (inverse of
-    :func:`ior_to_f0`); ``f0`` is clamped below 1."""
-    s = np.sqrt(np.clip(np.asarray(f0, dtype=float), 0.0, 0.9999))
+    :func:`ior_to_f0`): (1 + sqrt(F0)) / (1 - sqrt(F0)), with ``f0`` clamped to [0, ``max_f0``]
+    (below 1, where the IOR is infinite).
+
+    Reference: Born & Wolf, section 1.5.2, eq. 21 at normal incidence, solved for the IOR.
+    """
+    s = np.sqrt(np.clip(np.asarray(f0, dtype=float), 0.0, max_f0))
     return (1.0 + s) / (1.0 - s)
 
 
@@ -129,8 +159,7 @@ def artistic_ior(reflectivity, edge_color):
     r = np.clip(np.asarray(reflectivity, dtype=float), 0.0, 0.99)
     g = np.asarray(edge_color, dtype=float)
     sqrt_r = np.sqrt(r)
-    n_min = (1.0 - r) / (1.0 + r)
-    n_max = (1.0 + sqrt_r) / (1.0 - sqrt_r)
-    n = g * n_min + (1.0 - g) * n_max
+    # n = g n_min + (1 - g) n_max, n_min = (1 - r) / (1 + r), n_max = (1 + sqrt r) / (1 - sqrt r)
+    n = g * (1.0 - r) / (1.0 + r) + (1.0 - g) * (1.0 + sqrt_r) / (1.0 - sqrt_r)
     k2 = ((n + 1.0) ** 2 * r - (n - 1.0) ** 2) / (1.0 - r)
     return n, np.sqrt(np.maximum(k2, 0.0))

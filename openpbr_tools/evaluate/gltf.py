@@ -51,14 +51,13 @@ from . import albedo as tab
 from . import closures, microfacet, sheen
 from .fresnel import f0_to_ior, ior_to_f0
 from .layering import BSDFModel, Scatter, add, any_nonzero, as_colour, layer, mix, rotate_about_normal
+from .thinfilm import thin_film_rgb
 
 ALPHA_FLOOR = 1e-4
 CLEARCOAT_F0 = 0.04
 
 
 def _film_factor(cos, film, f0):
-    from .thinfilm import thin_film_rgb
-
     _, thickness, ior = film
     return thin_film_rgb(cos, thickness, ior, f0_to_ior(np.clip(f0, 0.0, 0.9999)))
 
@@ -73,8 +72,8 @@ class GltfPbr(BSDFModel):
         f = {k: np.asarray(v, dtype=float) for k, v in params.items() if v is not None and not isinstance(v, (bool, np.bool_))}
         self.f = f
         alpha = np.clip(f["roughness"] ** 2, ALPHA_FLOOR, 1.0)
-        s2 = f["anisotropy_strength"] ** 2
-        self.alpha = (np.clip(alpha + (1.0 - alpha) * s2, ALPHA_FLOOR, 1.0), alpha)
+        alpha_t = microfacet.gltf_anisotropic_alpha(alpha, f["anisotropy_strength"])
+        self.alpha = (np.clip(alpha_t, ALPHA_FLOOR, 1.0), alpha)
         self.rotation = f["anisotropy_rotation"]
         self.alpha_c = np.clip(f["clearcoat_roughness"] ** 2, ALPHA_FLOOR, 1.0)
         self.f0 = np.minimum(as_colour(ior_to_f0(f["ior"])) * f["specular_color"], 1.0) * as_colour(f["specular"])

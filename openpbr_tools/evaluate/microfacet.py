@@ -24,6 +24,29 @@ def normalize(v):
     return v / np.maximum(np.linalg.norm(v, axis=-1, keepdims=True), _TINY)
 
 
+def openpbr_alphas(roughness, anisotropy):
+    """GGX alphas (along tangent, bitangent) of OpenPBR's roughness r and roughness anisotropy a,
+    unclamped: alpha_t = r^2 sqrt(2 / (1 + (1 - a)^2)), alpha_b = (1 - a) alpha_t, with a clamped
+    to [0, 1]. (``roughness ** 2`` as given: NumPy squares an array exactly as r * r.)
+
+    Reference: OpenPBR Surface 1.1, section "Specular anisotropy" (MaterialX
+    ``open_pbr_anisotropy``).
+    """
+    a = np.clip(anisotropy, 0.0, 1.0)
+    alpha_t = roughness ** 2 * np.sqrt(2.0 / (1.0 + (1.0 - a) ** 2))
+    return alpha_t, (1.0 - a) * alpha_t
+
+
+def gltf_anisotropic_alpha(alpha, strength):
+    """glTF's GGX alpha along the anisotropy direction, alpha_t = mix(alpha, 1, strength^2), from
+    the isotropic alpha = roughness^2 (which stays the bitangent's alpha).
+
+    Reference: KHR_materials_anisotropy (Khronos glTF extension registry), section "Individual
+    Lights" (``alphaT = mix(alphaRoughness, 1.0, anisotropy^2)``).
+    """
+    return alpha + (1.0 - alpha) * strength ** 2
+
+
 def ggx_ndf(h, alpha_x, alpha_y):
     """Anisotropic GGX normal distribution D(h) for a unit half vector ``h`` (local frame).
 

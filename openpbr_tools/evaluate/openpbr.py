@@ -42,6 +42,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import closures, microfacet
+from .coat import coat_absorption, coat_darkening_factor, coat_relative_ior, coat_roughened
 from .fresnel import artistic_ior, ior_to_f0
 from .layering import BSDFModel, Scatter, add, any_nonzero, as_colour, layer, mix
 
@@ -52,10 +53,7 @@ def openpbr_anisotropy(roughness, anisotropy):
     """GGX alphas (along tangent, bitangent) from OpenPBR roughness and roughness anisotropy:
     alpha_t = r^2 sqrt(2 / (1 + (1 - a)^2)), alpha_b = (1 - a) alpha_t (OpenPBR 1.1, section
     "Specular anisotropy"; MaterialX ``open_pbr_anisotropy``)."""
-    r = np.asarray(roughness, dtype=float)
-    a = np.clip(np.asarray(anisotropy, dtype=float), 0.0, 1.0)
-    alpha_t = r * r * np.sqrt(2.0 / (1.0 + (1.0 - a) ** 2))
-    alpha_b = (1.0 - a) * alpha_t
+    alpha_t, alpha_b = microfacet.openpbr_alphas(np.asarray(roughness, dtype=float), np.asarray(anisotropy, dtype=float))
     return np.clip(alpha_t, ALPHA_FLOOR, 1.0), np.clip(alpha_b, ALPHA_FLOOR, 1.0)
 
 
@@ -69,30 +67,25 @@ class OpenPBRSurface(BSDFModel):
         self.thin_walled = bool(params.get("geometry_thin_walled", False))
         coat_w = f["coat_weight"]
         r_s, r_c = f["specular_roughness"], f["coat_roughness"]
-        coat_affected = np.minimum(1.0, 2.0 * r_c**4 + r_s**4) ** 0.25
-        r_eff = r_s + (coat_affected - r_s) * coat_w
+        r_eff = coat_roughened(r_s, coat_w, r_c)
         self.alpha_s = openpbr_anisotropy(r_eff, f["specular_roughness_anisotropy"])
         self.alpha_c = openpbr_anisotropy(r_c, f["coat_roughness_anisotropy"])
         ior_s, ior_c = f["specular_ior"], f["coat_ior"]
-        ratio = ior_s / ior_c
-        ratio = np.where(ratio > 1.0, ratio, ior_c / ior_s)
-        eta_s = ior_s + (ratio - ior_s) * coat_w
+        eta_s = coat_relative_ior(ior_s, ior_c, coat_w)
         scaled_f0 = np.clip(f["specular_weight"] * ior_to_f0(eta_s), 0.0, 0.99999)
         eps = np.sign(eta_s - 1.0) * np.sqrt(scaled_f0)
         self.eta = (1.0 + eps) / (1.0 - eps)
         # Coat darkening and absorption (view-independent, MaterialX graph).
-        f0_c = ior_to_f0(ior_c)
-        k_coat = 1.0 - (1.0 - f0_c) / (ior_c * ior_c)
-        w_sss = as_colour(f["subsurface_weight"])
-        e_diel = f["base_color"] + (f["subsurface_color"] - f["base_color"]) * w_sss
-        e_metal = f["base_color"] * as_colour(f["specular_weight"])
-        e_base = e_diel + (e_metal - e_diel) * as_colour(f["base_metalness"])
-        darkening = (1.0 - as_colour(k_coat)) / (1.0 - e_base * as_colour(k_coat))
-        amount = as_colour(coat_w * f["coat_darkening"])
-        darkening = 1.0 + (darkening - 1.0) * amount
-        attenuation = 1.0 + (f["coat_color"] - 1.0) * as_colour(coat_w)
+        # coat_weight x coat_darkening passed as one amount (darkening 1), and a single coat IOR
+        # left a scalar: the evaluator's rounding, as before the formula was shared.
+        darkening = coat_darkening_factor(
+            f["base_color"], as_colour(f["base_metalness"]), as_colour(f["specular_weight"]),
+            as_colour(f["subsurface_weight"]), f["subsurface_color"], as_colour(coat_w * f["coat_darkening"]), 1.0,
+            ior_c if ior_c.ndim == 0 else as_colour(ior_c),
+        )
+        attenuation = coat_absorption(f["coat_color"], as_colour(coat_w))
         self.base_factor = np.clip(darkening, 0.0, 1.0) * np.clip(attenuation, 0.0, 1.0)
-        self.coat_f0 = f0_c
+        self.coat_f0 = ior_to_f0(ior_c)
         # Transmission tint and volume.
         depth = f["transmission_depth"]
         has_depth = as_colour(depth > 0.0)

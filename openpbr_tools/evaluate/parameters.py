@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import tables
+from ..colorspaces import to_lin_rec709
 from ..model import Connection, Constant, Material, Texture
 
 #: Parameter roles the evaluator does not consume.
@@ -71,8 +72,6 @@ def colour_to_lin_rec709(rgb: np.ndarray, colorspace: str | None) -> np.ndarray:
     unknown names are left unconverted (the validator reports them)."""
     if colorspace in (None, "lin_rec709", "none"):
         return np.asarray(rgb, dtype=float)
-    from ..colorspaces import to_lin_rec709
-
     try:
         return np.asarray(to_lin_rec709(rgb, colorspace), dtype=float)
     except KeyError:

@@ -27,6 +27,7 @@ adds it to its lighting.
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -114,11 +115,9 @@ def shade_sphere(model: BSDFModel, rig: Rig = Rig(), background: bool = True) ->
 def encode_srgb(linear: np.ndarray) -> np.ndarray:
     """sRGB-encode linear Rec.709 values (IEC 61966-2-1 via colour-science), clipped to [0, 1],
     as 8-bit integers."""
-    import warnings
-
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        import colour
+        import colour  # lazy: colour-science costs ~0.5 s to import
     encoded = colour.models.eotf_inverse_sRGB(np.clip(linear, 0.0, 1.0))
     return np.round(np.clip(encoded, 0.0, 1.0) * 255.0).astype(np.uint8)
 
@@ -126,7 +125,7 @@ def encode_srgb(linear: np.ndarray) -> np.ndarray:
 def contact_sheet(swatches: list[tuple[str, np.ndarray]], columns: int | None = None, label_height: int = 18):
     """Lay out (name, linear image) swatches in a grid with each name under its swatch; returns a
     ``PIL.Image`` (sRGB-encoded). Needs Pillow (the ``images`` extra)."""
-    from PIL import Image, ImageDraw, ImageFont
+    from PIL import Image, ImageDraw, ImageFont  # lazy: Pillow is optional (the ``images`` extra)
 
     if not swatches:
         raise ValueError("no swatches")

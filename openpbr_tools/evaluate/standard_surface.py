@@ -24,6 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from . import closures, microfacet
+from .coat import coat_absorption
 from .fresnel import artistic_ior, ior_to_f0
 from .layering import BSDFModel, Scatter, add, any_nonzero, as_colour, layer, mix, rotate_about_normal
 
@@ -64,7 +65,7 @@ class StandardSurface(BSDFModel):
         gamma = as_colour(1.0 + np.clip(coat, 0.0, 1.0) * f["coat_affect_color"])
         self.diffuse_colour = np.maximum(f["base_color"], 0.0) ** gamma
         self.subsurface_colour = np.maximum(f["subsurface_color"], 0.0) ** gamma
-        self.coat_attenuation = np.clip(1.0 + (f["coat_color"] - 1.0) * as_colour(coat), 0.0, 1.0)
+        self.coat_attenuation = np.clip(coat_absorption(f["coat_color"], as_colour(coat)), 0.0, 1.0)
         self.metal_n, self.metal_k = artistic_ior(
             f["base_color"] * as_colour(f["base"]), f["specular_color"] * as_colour(f["specular"])
         )

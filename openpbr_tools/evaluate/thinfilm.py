@@ -17,8 +17,9 @@ from functools import lru_cache
 
 import numpy as np
 
-#: Wavelengths (nm) at which the film is evaluated.
-WAVELENGTHS_NM = np.arange(380.0, 781.0, 5.0)
+from .albedo import tables
+from .spectral import WAVELENGTHS_NM, spectral_to_rgb_weights  # noqa: F401  (spectral_to_rgb_weights: re-exported)
+
 #: Wavelengths (nm) assigned to the R, G, B channels when an RGB substrate IOR is spread over the
 #: spectrum (linear interpolation between them, constant beyond).
 CHANNEL_WAVELENGTHS_NM = np.array([465.0, 550.0, 610.0])  # B, G, R (increasing)
@@ -66,28 +67,6 @@ def spectral_ior(rgb_ior):
     return np.where(lam < CHANNEL_WAVELENGTHS_NM[1], low, high)
 
 
-def spectral_to_rgb_weights():
-    """Weights W (3 x len(WAVELENGTHS_NM)) with RGB = W @ R(lambda): CIE 1931 2-degree CMFs times
-    the D65 spectrum, normalised so that sum(ybar D65) = 1, then XYZ -> linear Rec.709 (sRGB
-    primaries, D65 white). Each row is finally rescaled to sum to 1 (a correction of about 1e-4:
-    the 5 nm sampled white differs that much from the nominal D65 chromaticity), so a spectrally
-    flat reflectance maps to equal RGB. Computed with colour-science, stored with the tables."""
-    import warnings
-
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore")
-        import colour
-
-    shape = colour.SpectralShape(float(WAVELENGTHS_NM[0]), float(WAVELENGTHS_NM[-1]), 5.0)
-    cmfs = colour.MSDS_CMFS["CIE 1931 2 Degree Standard Observer"].copy().align(shape)
-    d65 = colour.SDS_ILLUMINANTS["D65"].copy().align(shape)
-    xyz_weights = cmfs.values * d65.values[:, None]
-    xyz_weights = xyz_weights / np.sum(xyz_weights[:, 1])
-    m = colour.RGB_COLOURSPACES["sRGB"].matrix_XYZ_to_RGB
-    weights = m @ xyz_weights.T
-    return weights / np.sum(weights, axis=1, keepdims=True)
-
-
 def thin_film_rgb(cos_theta, thickness_nm, film_ior, substrate_n, substrate_k=None):
     """Linear Rec.709 reflectance of a thin film on a substrate, for cosines ``cos_theta``.
 
@@ -96,8 +75,6 @@ def thin_film_rgb(cos_theta, thickness_nm, film_ior, substrate_n, substrate_k=No
     ``cos_theta``. Returns an array of shape ``broadcast(cos_theta, ...) + (3,)``. A single film
     seen from many directions is evaluated on 1024 cosines and interpolated linearly.
     """
-    from .albedo import tables
-
     weights = tables().spectral_weights
     n = np.asarray(substrate_n, dtype=float)
     ior = n if substrate_k is None else n + 1j * np.asarray(substrate_k, dtype=float)
@@ -119,8 +96,6 @@ COSINE_GRID = 1024
 @lru_cache(maxsize=64)
 def _cosine_grid_rgb(thickness_nm: float, film_ior: float, ior: tuple) -> tuple[np.ndarray, np.ndarray]:
     """Film colour at COSINE_GRID cosines and the slope to the next node (last row repeated)."""
-    from .albedo import tables
-
     cos = np.linspace(0.0, 1.0, COSINE_GRID)
     grid = _thin_film_rgb_direct(cos, thickness_nm, film_ior, np.asarray(ior), tables().spectral_weights)
     slope = np.diff(grid, axis=0, append=grid[-1:])

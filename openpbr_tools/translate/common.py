@@ -29,9 +29,11 @@ import numpy as np
 
 from .. import tables
 from ..diagnostics import Diagnostic
+from ..io.gltf.slots import SLOT_BY_PARAMETER
 from ..model import Constant, Input, Material, Texture
 from ..rules import Context
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
+from .bake import BakeError
 
 
 @dataclass(frozen=True, slots=True)
@@ -205,8 +207,6 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             result.inputs[mapping.target] = carried
             continue
         if settings.baker is not None and mapping.formula is not None:
-            from .bake import BakeError
-
             try:
                 baked = settings.baker.bake(material, mapping, values, parameter.type, f"{label} {mapping.target}",
                                             texturable=_texturable(target_model, mapping.target))
@@ -260,8 +260,6 @@ def _texturable(model: str, name: str) -> bool:
     """Whether the target model can take a texture on ``name`` (glTF has factor-only parameters)."""
     if model != "gltf_pbr":
         return True
-    from ..io.gltf.slots import SLOT_BY_PARAMETER
-
     slot = SLOT_BY_PARAMETER.get(name)
     return slot is None or slot.texture is not None
 
@@ -297,20 +295,7 @@ def _constant_input(material: Material, mapping: Mapping, value, type_name: str)
     )
 
 
-def coat_darkening_factor(base_color, metalness, specular_weight, subsurface_weight, subsurface_color,
-                          coat_weight, coat_darkening, coat_ior):
-    """The view-independent darkening OpenPBR applies to the base under a coat (internal reflection at
-    the coat's top; OpenPBR spec, "Coat", and MaterialX's open_pbr_surface graph):
-    K = 1 - (1 - F0(n_c)) / n_c^2, factor = (1 - K) / (1 - E_base K), blended by coat weight x darkening."""
-    f0 = ((coat_ior - 1.0) / (coat_ior + 1.0)) ** 2
-    k = 1.0 - (1.0 - f0) / (coat_ior * coat_ior)
-    dielectric = base_color + subsurface_weight * (subsurface_color - base_color)
-    metal = base_color * specular_weight
-    e_base = dielectric + metalness * (metal - dielectric)
-    factor = (1.0 - k) / (1.0 - e_base * k)
-    return 1.0 + (factor - 1.0) * coat_weight * coat_darkening
-
-
+#: The OpenPBR inputs besides base_color that evaluate.coat.coat_darkening_factor reads, in its order.
 DARKENING_SOURCES = ("base_metalness", "specular_weight", "subsurface_weight", "subsurface_color", "coat_weight",
                      "coat_darkening", "coat_ior")
 

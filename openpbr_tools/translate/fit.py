@@ -43,7 +43,8 @@ import numpy as np
 
 from ..evaluate import albedo as _albedo
 from ..evaluate import sheen as _sheen
-from ..evaluate.fresnel import F82_COSINE
+from ..evaluate.coat import coat_relative_ior, coat_roughened
+from ..evaluate.fresnel import F82_COSINE, artistic_ior, f0_to_ior, fresnel_conductor_real, ior_to_f0
 
 #: Where a ratio's denominator is below this, the source value is kept instead.
 _TINY = 1e-9
@@ -56,15 +57,10 @@ def positive_ior(ior):
     return np.maximum(np.asarray(ior, dtype=np.float64), IOR_FLOOR)
 
 
-def _f0(eta):
-    eta = np.asarray(eta, dtype=np.float64)
-    return ((eta - 1.0) / (eta + 1.0)) ** 2
-
-
 def ior_from_f0(f0):
-    """The IOR >= 1 with normal-incidence reflectance ``f0`` (clamped below 1)."""
-    root = np.sqrt(np.clip(f0, 0.0, 0.999999))
-    return (1.0 + root) / (1.0 - root)
+    """The IOR >= 1 with normal-incidence reflectance ``f0`` (clamped below 1;
+    :func:`~openpbr_tools.evaluate.fresnel.f0_to_ior`)."""
+    return f0_to_ior(f0, max_f0=0.999999)
 
 
 # ------------------------------------------------------------------------------------ coat
@@ -73,18 +69,16 @@ def ior_from_f0(f0):
 def base_ior_under_coat(specular_ior, coat_ior, coat_weight):
     """The IOR OpenPBR gives the base's specular interface under a coat: the ratio n_b / n_c,
     inverted when below 1 (the specification's fix against total internal reflection), mixed
-    with n_b by the coat weight (OpenPBR 1.1, "Coat"; MaterialX ``open_pbr_surface``)."""
-    n_b, n_c = positive_ior(specular_ior), positive_ior(coat_ior)
-    ratio = n_b / n_c
-    ratio = np.where(ratio > 1.0, ratio, n_c / n_b)
-    return n_b + (ratio - n_b) * coat_weight
+    with n_b by the coat weight (:func:`~openpbr_tools.evaluate.coat.coat_relative_ior`, IORs
+    floored at :data:`IOR_FLOOR`)."""
+    return coat_relative_ior(positive_ior(specular_ior), positive_ior(coat_ior), coat_weight)
 
 
 def coat_f0_ratio(specular_ior, coat_ior, coat_weight):
     """F0 of the base under the coat over F0 of the bare base, F0(eta) / F0(n_b) (1 where the
     bare base reflects nothing)."""
-    bare = _f0(specular_ior)
-    under = _f0(base_ior_under_coat(specular_ior, coat_ior, coat_weight))
+    bare = ior_to_f0(specular_ior)
+    under = ior_to_f0(base_ior_under_coat(specular_ior, coat_ior, coat_weight))
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(bare > _TINY, under / np.where(bare > _TINY, bare, 1.0), 1.0)
 
@@ -125,8 +119,8 @@ def specular_weight_from_coated(weight, scale, metalness=0.0):
 def coated_reflectance(specular_weight, specular_ior, coat_ior, coat_weight):
     """Normal-incidence reflectance of OpenPBR's coat over its dielectric base, with the coat
     layered by albedo scaling: w F0(n_c) + (1 - w F0(n_c)) min(1, s_w F0(eta))."""
-    f0_coat = _f0(coat_ior)
-    f0_base = np.clip(specular_weight * _f0(base_ior_under_coat(specular_ior, coat_ior, coat_weight)), 0.0, 1.0)
+    f0_coat = ior_to_f0(coat_ior)
+    f0_base = np.clip(specular_weight * ior_to_f0(base_ior_under_coat(specular_ior, coat_ior, coat_weight)), 0.0, 1.0)
     coat = coat_weight * f0_coat
     return coat + (1.0 - coat) * f0_base
 
@@ -256,38 +250,14 @@ def openpbr_metal_from_constant(fitted, metalness, tint, weight, alpha):
     return np.clip(_unblend_metal(fitted, metalness, tint, weight, alpha, "constant"), 0.0, 1.0)
 
 
-def conductor_reflectance(cos_theta, n, k):
-    """Unpolarised Fresnel reflectance of a conductor n + ik from a medium of index 1, in real
-    arithmetic (Born & Wolf, "Principles of Optics", section 14.2; the form of pbrt-v3's
-    ``FrConductor``), which keeps baking memory low."""
-    c2 = np.asarray(cos_theta, dtype=np.float64) ** 2
-    s2 = 1.0 - c2
-    t0 = n * n - k * k - s2
-    a2b2 = np.sqrt(np.maximum(t0 * t0 + 4.0 * n * n * k * k, 0.0))
-    a = np.sqrt(np.maximum(0.5 * (a2b2 + t0), 0.0))
-    t1 = a2b2 + c2
-    t2 = 2.0 * np.sqrt(c2) * a
-    rs = (t1 - t2) / np.maximum(t1 + t2, _TINY)
-    t3 = c2 * a2b2 + s2 * s2
-    t4 = t2 * s2
-    rp = rs * (t3 - t4) / np.maximum(t3 + t4, _TINY)
-    return 0.5 * (rs + rp)
-
-
-def _artistic_ior(reflectivity, edge_color):
-    """Gulbrandsen's n, k (JCGT 3(4), 2014, eq. 11-13) as the evaluator and MaterialX's
-    ``artistic_ior`` compute them (reflectivity clamped to [0, 0.99])."""
-    r = np.clip(reflectivity, 0.0, 0.99)
-    sqrt_r = np.sqrt(r)
-    n = edge_color * (1.0 - r) / (1.0 + r) + (1.0 - edge_color) * (1.0 + sqrt_r) / (1.0 - sqrt_r)
-    k2 = ((n + 1.0) ** 2 * r - (n - 1.0) ** 2) / (1.0 - r)
-    return n, np.sqrt(np.maximum(k2, 0.0))
+#: The conductor's exact Fresnel in real arithmetic (keeps baking memory low).
+conductor_reflectance = fresnel_conductor_real
 
 
 def f82_tint_of_edge_color(reflectivity, edge_color):
     """The F82 tint of Standard Surface's artistic-IOR conductor: its reflectance at
     cos = 1/7 over Schlick's with the same F0 (the evaluator's albedo of that conductor)."""
-    n, k = _artistic_ior(reflectivity, edge_color)
+    n, k = artistic_ior(reflectivity, edge_color)
     f0 = np.clip(reflectivity, 0.0, 0.99)
     return conductor_reflectance(F82_COSINE, n, k) / np.maximum(f0 + (1.0 - f0) * _F82_SCHLICK, _TINY)
 
@@ -416,16 +386,9 @@ def fuzz_albedo_scale(fuzz_roughness):
     return np.interp(np.clip(fuzz_roughness, 0.0, 1.0), nodes, k)
 
 
-# -- the coat's roughening of the base ------------------------------------------------------------
-def coat_roughened(roughness, coat_weight, coat_roughness):
-    """OpenPBR's base roughness under a coat (specification, "Coat"): the coat's microfacets spread
-    the base's lobe, r' = min(1, (r^4 + 2 r_c^4)^(1/4)), mixed by the coat's weight."""
-    target = np.minimum(1.0, (roughness ** 4 + 2.0 * coat_roughness ** 4) ** 0.25)
-    return roughness + coat_weight * (target - roughness)
-
-
+# -- the coat's roughening of the base (evaluate.coat.coat_roughened) -----------------------------
 def coat_unroughened(roughened, coat_weight, coat_roughness, iterations: int = 48):
-    """Inverse of :func:`coat_roughened` in the base roughness (increasing in it; bisection, vectorised).
+    """Inverse of :func:`~openpbr_tools.evaluate.coat.coat_roughened` in the base roughness (increasing in it; bisection, vectorised).
     A roughness below what the coat alone gives maps to 0."""
     roughened = np.asarray(roughened, dtype=np.float64)
     low = np.zeros(np.broadcast(roughened, coat_weight, coat_roughness).shape)

@@ -58,9 +58,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_roughened
+from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
 from ..model import Material
 from . import fit
-from .common import Dropped, Mapping, Settings, Translation, coat_darkening_factor, differs, translate
+from .common import Dropped, Mapping, Settings, Translation, differs, translate
 
 WHITE = np.ones(3)
 #: KHR_materials_clearcoat's fixed IOR (its F0 is 0.04).
@@ -71,19 +73,13 @@ METAL_RESIDUAL = "measured ΔE2000 up to 1.2 on tinted metals, 1.7 for a strong 
 SHEEN_RESIDUAL = "measured ΔE2000 1.2-2.3 on velvets"
 
 
-def _alphas_openpbr(r, a):
-    a = np.clip(a, 0.0, 1.0)
-    alpha_t = r ** 2 * np.sqrt(2.0 / (1.0 + (1.0 - a) ** 2))
-    return alpha_t, (1.0 - a) * alpha_t
-
-
 def gltf_roughness(r, a):
-    _, alpha_b = _alphas_openpbr(r, a)
+    _, alpha_b = openpbr_alphas(r, a)
     return np.sqrt(alpha_b)
 
 
 def gltf_anisotropy_strength(r, a):
-    alpha_t, alpha_b = _alphas_openpbr(r, a)
+    alpha_t, alpha_b = openpbr_alphas(r, a)
     with np.errstate(divide="ignore", invalid="ignore"):
         s2 = np.where(alpha_b < 1.0, (np.minimum(alpha_t, 1.0) - alpha_b) / np.where(alpha_b < 1.0, 1.0 - alpha_b, 1.0), 0.0)
     return np.sqrt(np.clip(s2, 0.0, 1.0))
@@ -91,7 +87,7 @@ def gltf_anisotropy_strength(r, a):
 
 def openpbr_roughness(r_g, s):
     alpha_b = r_g ** 2
-    alpha_t = alpha_b + (1.0 - alpha_b) * s ** 2
+    alpha_t = gltf_anisotropic_alpha(alpha_b, s)
     with np.errstate(divide="ignore", invalid="ignore"):
         a = np.where(alpha_t > 0, 1.0 - alpha_b / np.where(alpha_t > 0, alpha_t, 1.0), 0.0)
     return np.sqrt(alpha_t * np.sqrt((1.0 + (1.0 - a) ** 2) / 2.0))
@@ -99,7 +95,7 @@ def openpbr_roughness(r_g, s):
 
 def openpbr_anisotropy(r_g, s):
     alpha_b = r_g ** 2
-    alpha_t = alpha_b + (1.0 - alpha_b) * s ** 2
+    alpha_t = gltf_anisotropic_alpha(alpha_b, s)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(alpha_t > 0, 1.0 - alpha_b / np.where(alpha_t > 0, alpha_t, 1.0), 0.0)
 
@@ -107,29 +103,22 @@ def openpbr_anisotropy(r_g, s):
 def average_alpha_openpbr(r, a):
     """sqrt(alpha_t alpha_b) of OpenPBR's anisotropic roughness, alpha_t capped at 1 as glTF's is:
     the isotropic alpha the evaluator's albedo tables are read at."""
-    alpha_t, alpha_b = _alphas_openpbr(r, a)
+    alpha_t, alpha_b = openpbr_alphas(r, a)
     return np.sqrt(np.minimum(alpha_t, 1.0) * alpha_b)
 
 
 def average_alpha_gltf(r_g, s):
     alpha_b = r_g ** 2
-    return np.sqrt((alpha_b + (1.0 - alpha_b) * s ** 2) * alpha_b)
-
-
-def coat_attenuation(coat_color, coat_weight):
-    """OpenPBR's absorption of the base's light by the coat, mix(1, coat_color, coat_weight): a
-    view-independent factor on everything under the coat (spec, "Coat"; the evaluator's
-    ``base_factor``), which glTF's colourless clearcoat leaves to the base colour."""
-    return 1.0 + (coat_color - 1.0) * coat_weight
+    return np.sqrt(gltf_anisotropic_alpha(alpha_b, s) * alpha_b)
 
 
 def gltf_base_color(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color,
                     metalness=0.0, specular_weight=1.0, coat_weight=0.0, coat_darkening=0.0, coat_ior=1.5,
                     coat_color=WHITE, specular_color=WHITE, roughness=0.3, anisotropy=0.0, coat_roughness=0.0):
-    roughness = fit.coat_roughened(roughness, coat_weight, coat_roughness)  # glTF's base roughness
+    roughness = coat_roughened(roughness, coat_weight, coat_roughness)  # glTF's base roughness
     darkening = coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color,
                                       coat_weight, coat_darkening, fit.positive_ior(coat_ior))
-    color = color * darkening * coat_attenuation(coat_color, coat_weight)
+    color = color * darkening * coat_absorption(coat_color, coat_weight)  # glTF's clearcoat is colourless
     diffuse = weight * color
     diffuse = diffuse + subsurface * (weight * subsurface_color - diffuse)
     diffuse = fit.schlick_metal_f0(diffuse, metalness, specular_color, specular_weight,
@@ -235,11 +224,11 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
                      f"tint of the dielectric reflection under the coat; a metal's F82 edge tint and specular "
                      f"weight are fitted into its F0 ({METAL_RESIDUAL})"),
         Mapping("metallic", ("base_metalness",)),
-        Mapping("roughness", ROUGHNESS_SOURCES, lambda r, a, c, rc: gltf_roughness(fit.coat_roughened(r, c, rc), a),
+        Mapping("roughness", ROUGHNESS_SOURCES, lambda r, a, c, rc: gltf_roughness(coat_roughened(r, c, rc), a),
                 converted="roughness from OpenPBR's anisotropic alpha_b, roughened by the coat as OpenPBR does "
                           "(glTF's clearcoat does not roughen the base)"),
         Mapping("anisotropy_strength", ROUGHNESS_SOURCES,
-                lambda r, a, c, rc: gltf_anisotropy_strength(fit.coat_roughened(r, c, rc), a),
+                lambda r, a, c, rc: gltf_anisotropy_strength(coat_roughened(r, c, rc), a),
                 converted="KHR_materials_anisotropy strength solved from OpenPBR's alpha_t and alpha_b"),
         Mapping("specular", SPECULAR_SOURCES, gltf_specular,
                 exact=False, matters=lambda *v: v[6] < 1 and differs(gltf_specular(*v), 1.0),

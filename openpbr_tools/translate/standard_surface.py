@@ -58,10 +58,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..evaluate.coat import coat_darkening_factor, coat_roughened
 from ..model import Material
 from . import fit
-from .common import (DARKENING_SOURCES, Dropped, Mapping, Settings, Translation, coat_darkening_factor, differs,
-                     translate)
+from .common import DARKENING_SOURCES, Dropped, Mapping, Settings, Translation, differs, translate
 
 WHITE = np.ones(3)
 #: Measured residuals, mean CIEDE2000 on the evaluator's lit sphere (module docstring).
@@ -90,8 +90,7 @@ def coat_affect_roughness(r, coat, coat_roughness):
     """The Standard Surface ``coat_affect_roughness`` that roughens the base as OpenPBR's coat does:
     OpenPBR r_b = mix(r, min(1, (r^4 + 2 r_c^4)^(1/4)), coat); Standard Surface
     r_b = mix(r, 1, k coat r_c) (MaterialX's standard_surface graph), solved for k."""
-    target = np.minimum(1.0, (r ** 4 + 2.0 * coat_roughness ** 4) ** 0.25)
-    roughened = r + coat * (target - r)
+    roughened = coat_roughened(r, coat, coat_roughness)
     denominator = coat * coat_roughness * (1.0 - r)
     with np.errstate(divide="ignore", invalid="ignore"):
         k = np.where(denominator > 1e-9, (roughened - r) / np.where(denominator > 1e-9, denominator, 1.0), 0.0)

@@ -39,10 +39,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..evaluate.coat import coat_absorption, coat_darkening_factor
+from ..evaluate.microfacet import openpbr_alphas
 from ..model import Material
 from . import fit
-from .common import Dropped, Mapping, Settings, Translation, coat_darkening_factor, differs, translate
-from .gltf import _alphas_openpbr, coat_attenuation
+from .common import Dropped, Mapping, Settings, Translation, differs, translate
 
 WHITE = np.ones(3)
 REC709_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
@@ -52,7 +53,7 @@ METAL_RESIDUAL = "measured ΔE2000 up to 1.4 on tinted metals"
 
 
 def preview_roughness(r, a):
-    alpha_t, alpha_b = _alphas_openpbr(r, a)
+    alpha_t, alpha_b = openpbr_alphas(r, a)
     return (alpha_t * alpha_b) ** 0.25
 
 
@@ -77,7 +78,7 @@ def preview_diffuse_color(weight, color, subsurface, subsurface_color, metalness
     darkening = _darkening(color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
                            coat_darkening, coat_ior)
     base = weight * color + subsurface * (weight * subsurface_color - weight * color)
-    base = base * darkening * coat_attenuation(coat_color, coat_weight)
+    base = base * darkening * coat_absorption(coat_color, coat_weight)
     return fit.constant_metal_reflectance(base, metalness, specular_color, specular_weight,
                                           preview_roughness(roughness, anisotropy) ** 2)
 

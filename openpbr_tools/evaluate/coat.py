@@ -1,0 +1,70 @@
+"""What OpenPBR's coat does to the base under it: roughening, the base's IOR relative to the
+coat's, darkening by internal reflection and absorption by the coat's colour.
+
+The evaluator (:mod:`.openpbr`) and the translators (:mod:`openpbr_tools.translate`) both call
+these functions, so the physics is written once. Every function is vectorised: arguments are
+NumPy arrays (or numbers) that broadcast against each other; colours carry a trailing RGB axis,
+and scalar parameters mixed with colours must already carry a trailing axis of length 1 (the
+evaluator's ``as_colour``).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .fresnel import ior_to_f0
+
+
+def coat_roughened(roughness, coat_weight, coat_roughness):
+    """The base's roughness under a coat: the coat's microfacets spread the base's lobe,
+    r' = min(1, (r^4 + 2 r_c^4)^(1/4)), mixed with r by the coat's weight.
+
+    Reference: OpenPBR Surface 1.1, section "Coat" (roughening of the base by the coat); MaterialX
+    ``open_pbr_surface`` graph (``coat_affected_specular_roughness``).
+    """
+    target = np.minimum(1.0, (roughness ** 4 + 2.0 * coat_roughness ** 4) ** 0.25)
+    return roughness + coat_weight * (target - roughness)
+
+
+def coat_relative_ior(specular_ior, coat_ior, coat_weight):
+    """The IOR of the base's specular interface under a coat: the ratio n_b / n_c, inverted when
+    below 1 (the specification's fix against total internal reflection), mixed with n_b by the
+    coat's weight.
+
+    Reference: OpenPBR Surface 1.1, section "Coat" (the base's Fresnel under the coat uses the
+    relative IOR); MaterialX ``open_pbr_surface`` graph. IORs are used as given: callers floor
+    them where 0 is possible.
+    """
+    ratio = specular_ior / coat_ior
+    ratio = np.where(ratio > 1.0, ratio, coat_ior / specular_ior)
+    return specular_ior + (ratio - specular_ior) * coat_weight
+
+
+def coat_darkening_factor(base_color, base_metalness, specular_weight, subsurface_weight, subsurface_color,
+                          coat_weight, coat_darkening, coat_ior):
+    """The view-independent darkening of the base under a coat, by internal reflection at the
+    coat's top: K = 1 - (1 - F0(n_c)) / n_c^2 (the coat's internal diffuse reflectance),
+    factor = (1 - K) / (1 - E_base K) with the base's albedo estimated as
+    E_base = mix(mix(base_color, subsurface_color, subsurface_weight), base_color * specular_weight,
+    base_metalness), blended with 1 by coat_weight x coat_darkening.
+
+    Reference: OpenPBR Surface 1.1, section "Coat" ("Coat darkening"); MaterialX
+    ``open_pbr_surface`` graph, which evaluates it view-independently as here.
+    """
+    f0 = ior_to_f0(coat_ior)
+    k = 1.0 - (1.0 - f0) / (coat_ior * coat_ior)
+    dielectric = base_color + subsurface_weight * (subsurface_color - base_color)
+    metal = base_color * specular_weight
+    e_base = dielectric + base_metalness * (metal - dielectric)
+    factor = (1.0 - k) / (1.0 - e_base * k)
+    return 1.0 + (factor - 1.0) * coat_weight * coat_darkening
+
+
+def coat_absorption(coat_color, coat_weight):
+    """The coat's absorption of the light reaching the base, mix(1, coat_color, coat_weight): a
+    view-independent factor on everything under the coat.
+
+    Reference: OpenPBR Surface 1.1, section "Coat" (coat_color as the coat's transmittance);
+    Autodesk Standard Surface 1.0.1, section "Coat" (the same mix by ``coat``).
+    """
+    return 1.0 + (coat_color - 1.0) * coat_weight
