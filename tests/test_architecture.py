@@ -1,0 +1,103 @@
+"""The architecture the README describes holds: one path guard, no import cycles, the README's
+architecture table names every package folder."""
+
+from __future__ import annotations
+
+import ast
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "openpbr_tools"
+
+# Uses of realpath/relpath/commonpath/"://" outside io/paths.py, each with why it decides no
+# containment: everything that asks "may this file be read?" goes through io/paths.py.
+NOT_CONTAINMENT = {
+    ("config.py", "relpath"): "matches a file against an override's glob patterns",
+    ("selection.py", "realpath"): "compares files with what git reports changed",
+    ("baseline.py", "relpath"): "spells a file relative to the baseline's folder",
+    ("rules/__init__.py", "realpath"): "the injectable real-path function handed to the path guard",
+    ("reports/sarif.py", "://"): "the SARIF schema URI",
+    ("io/usd/writer.py", "relpath"): "spells a texture path relative to the output folder",
+    ("io/usd/network.py", "relpath"): "spells an anchored asset path relative to the root layer",
+    ("convert.py", "relpath"): "spells a texture path relative to the output folder",
+}
+
+
+def test_only_the_path_guard_decides_containment():
+    found = set()
+    for path in PACKAGE.rglob("*.py"):
+        relative = path.relative_to(PACKAGE).as_posix()
+        if relative == "io/paths.py":
+            continue
+        for line in path.read_text(encoding="utf-8").splitlines():
+            for word in ("realpath", "relpath", "commonpath", "://"):
+                if word in line and not line.strip().startswith("#"):
+                    found.add((relative, word))
+    docstring_only = {(f, w) for f, w in found if w == "://" and f != "reports/sarif.py"}
+    assert found - docstring_only == set(NOT_CONTAINMENT), found - docstring_only ^ set(NOT_CONTAINMENT)
+
+
+def _imports():
+    modules = {}
+    for path in PACKAGE.rglob("*.py"):
+        parts = list(path.relative_to(ROOT).with_suffix("").parts)
+        is_package = parts[-1] == "__init__"
+        modules[".".join(parts[:-1] if is_package else parts)] = (path, is_package)
+    graph = {}
+    for name, (path, is_package) in modules.items():
+        edges = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom):
+                if node.level:
+                    base = name.split(".") if is_package else name.split(".")[:-1]
+                    base = ".".join(base[:len(base) - node.level + 1] + ([node.module] if node.module else []))
+                else:
+                    base = node.module or ""
+                edges |= {f"{base}.{a.name}" if f"{base}.{a.name}" in modules else base for a in node.names}
+            elif isinstance(node, ast.Import):
+                edges |= {a.name for a in node.names}
+        graph[name] = {e for e in edges if e in modules and e != name and not name.startswith(e + ".")}
+    return graph
+
+
+def test_no_import_cycles_even_through_imports_inside_functions():
+    graph = _imports()
+    cycles, index, low, stack, on = [], {}, {}, [], set()
+
+    def visit(v):
+        index[v] = low[v] = len(index)
+        stack.append(v)
+        on.add(v)
+        for w in graph[v]:
+            if w not in index:
+                visit(w)
+                low[v] = min(low[v], low[w])
+            elif w in on:
+                low[v] = min(low[v], index[w])
+        if low[v] == index[v]:
+            component = []
+            while True:
+                w = stack.pop()
+                on.discard(w)
+                component.append(w)
+                if w == v:
+                    break
+            if len(component) > 1:
+                cycles.append(sorted(component))
+
+    for module in graph:
+        if module not in index:
+            visit(module)
+    assert cycles == []
+
+
+def test_the_readme_architecture_names_every_package_folder():
+    readme = (ROOT / "README.md").read_text(encoding="utf-8")
+    section = readme.split("## Architecture", 1)[1].split("\n## ", 1)[0]
+    named = set(re.findall(r"^\| `([^`]+)` \|", section, re.M))
+    folders = {f"openpbr_tools/{p.parent.relative_to(PACKAGE).as_posix()}/" for p in PACKAGE.rglob("__init__.py")
+               if p.parent != PACKAGE}
+    assert folders <= named, folders - named
+    for entry in named:
+        assert (ROOT / entry).exists(), entry
