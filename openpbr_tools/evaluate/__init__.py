@@ -9,7 +9,9 @@ Typical use::
     e = model.albedo(wo).total          # tabulated directional albedo
 
 Modules: :mod:`.fresnel`, :mod:`.microfacet`, :mod:`.diffuse`, :mod:`.sheen`, :mod:`.thinfilm`
-(the lobes, each citing its source; :mod:`.lobes` gathers them), :mod:`.albedo` (tables),
+(the lobes, each citing its source; :mod:`.lobes` gathers them), :mod:`.coat` (what a coat does
+to the base; shared with the translators), :mod:`.spectral` (the film's spectrum to RGB),
+:mod:`.albedo` (tables),
 :mod:`.layering` and :mod:`.closures` (mixture-of-lobes algebra), one module per model,
 :mod:`.parameters` (Material -> numbers), :mod:`.measure` (albedo, tabulated or by
 quadrature), :mod:`.preview` (lit sphere, contact sheet), :mod:`.difference` (CIEDE2000) and
