@@ -45,6 +45,7 @@ from urllib.parse import unquote, unquote_to_bytes
 
 from ...model import Location
 from .. import ReadError, max_file_bytes, read_bytes
+from ..paths import Kind, PathGuard, classify
 
 GLB_JSON = 0x4E4F534A
 GLB_BIN = 0x004E4942
@@ -52,7 +53,6 @@ MAX_JSON_DEPTH = 128  # serde_json's default recursion limit; glTF documents nes
 MAX_INTEGER_DIGITS = 4300  # sys.int_info.default_max_str_digits: int() refuses longer strings
 _SURROGATE_ESCAPE = re.compile(rb"\\u[dD][89a-fA-F]")
 _SURROGATE = re.compile("[\ud800-\udfff]")
-_WINDOWS_ABSOLUTE = re.compile(r"^(?:[a-zA-Z]:[\\/]|[\\/]{2})")
 
 
 class ResourceError(ReadError):
@@ -111,17 +111,20 @@ class GltfDocument:
         URL, an absolute path, a path that climbs out of the folder (``..`` or a symbolic link) or
         a name no file system accepts (NUL)."""
         relative = unquote(uri)
-        if "://" in uri or relative.startswith(("/", "\\")) or os.path.isabs(relative) or _WINDOWS_ABSOLUTE.match(relative):
+        # Both the URI and the file name it decodes to must be relative: "%2Fetc%2Fpasswd" is absolute.
+        kind = classify(uri)
+        if kind is Kind.RELATIVE:
+            kind = classify(relative)
+        if kind is Kind.NUL:  # unpaired surrogates are repaired at load
+            raise self.error(f"{uri!r} is not a usable file name (embedded null byte)", pointer)
+        if kind is Kind.EMPTY:  # names the folder itself, no file
+            raise self.missing(uri, pointer)
+        if kind is not Kind.RELATIVE:
             raise self.error(f"{uri!r} is not a relative path inside the asset; it is not opened", pointer, outside=True)
-        folder = os.path.realpath(self.folder)
-        try:
-            path = os.path.realpath(os.path.join(folder, relative))
-            inside = os.path.commonpath([path, folder]) == folder
-        except ValueError as error:  # a NUL character (unpaired surrogates are repaired at load)
-            raise self.error(f"{uri!r} is not a usable file name ({error})", pointer) from None
-        if not inside:
+        resolved = PathGuard(self.folder).resolve(relative)
+        if not resolved.inside:
             raise self.error(f"{uri!r} resolves outside the asset's folder; it is not opened", pointer, outside=True)
-        return path
+        return resolved.real
 
     def buffer(self, index: int) -> bytes:
         if index not in self._buffers:

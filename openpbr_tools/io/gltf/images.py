@@ -12,6 +12,7 @@ import os
 import re
 
 from ...model import Texture
+from ..paths import Kind, PathGuard, classify
 from .bake import channel_count
 
 
@@ -26,7 +27,8 @@ class ImageResolver:
         self.builder, self.notes = builder, notes
         self.source_path = source_path
         self.output_dir = os.path.dirname(os.path.abspath(output_path))
-        self.allowed = [os.path.realpath(f) for f in allow_outside]
+        self.allow_outside = tuple(allow_outside)
+        self.guards: dict[str, PathGuard] = {}
         self.documents: dict = {}
 
     def folder_of(self, texture: Texture) -> str:
@@ -41,27 +43,35 @@ class ImageResolver:
             return None
         if texture.packaged:
             return self._packaged(texture, owner)
-        if re.match(r"^[a-zA-Z][a-zA-Z0-9+.-]+://", file):
+        kind = classify(file)
+        if kind is Kind.URL:
             raise GltfWriteError(f"{owner}: texture {file!r} is a URL; the writer never fetches URLs")
+        if kind is Kind.NUL:
+            raise GltfWriteError(f"{owner}: texture {file!r} contains a NUL character, which no file name can; "
+                                 "it is neither read nor embedded")
         if "<UDIM>" in file.upper() or "<UVTILE>" in file.upper():
             self.notes.append(f"{owner}: UDIM texture {file!r} has no glTF equivalent, not written")
             return None
         folder = self.folder_of(texture)
-        absolute = os.path.normpath(file if os.path.isabs(file) else os.path.join(folder, file))
-        real = os.path.realpath(absolute)
-        roots = [os.path.realpath(folder)] + self.allowed
-        root = next((r for r in roots if os.path.commonpath([real, r]) == r), None)
-        if root is None:
+        guard = self.guard(folder)
+        resolved = guard.resolve(file)
+        if not resolved.inside:
             raise GltfWriteError(
-                f"{owner}: texture {file!r} resolves to {real}, outside the source asset's folder {os.path.realpath(folder)}; "
+                f"{owner}: texture {file!r} resolves to {resolved.real or file}, outside the source asset's folder {guard.own_root}; "
                 "it is neither read nor embedded unless its folder is allowed (allow_outside / --allow-outside)")
+        real = resolved.real
         if not os.path.isfile(real):
             self.notes.append(f"{owner}: texture {file!r} does not exist, not written")
             return None
-        inside_source = root == roots[0]
-        relative = os.path.relpath(real, root).replace(os.sep, "/")
-        name = relative if inside_source else f"textures/{os.path.basename(real)}"
+        name = resolved.relative if resolved.root == guard.own_root else f"textures/{os.path.basename(real)}"
         return _Source(key=("file", real), image=real, name=name, mime=_mime_of_file(real))
+
+    def guard(self, folder: str) -> PathGuard:
+        """The guard of ``folder`` and the allowed folders (one per folder: their real paths are
+        resolved once)."""
+        if folder not in self.guards:
+            self.guards[folder] = PathGuard(folder, self.allow_outside)
+        return self.guards[folder]
 
     def _packaged(self, texture: Texture, owner: str):
         from .document import ResourceError, load_document
