@@ -14,16 +14,20 @@ and nothing else decides containment. Two questions, answered once:
   ``--allow-outside``) holds the result, if any. A path that climbs out with ``..``, or leads out
   through a symbolic link, is outside; so is every ``absolute``, ``drive`` or ``unc`` reference that
   does not land inside an allowed folder. URLs, NUL paths and empty paths are never resolved: the
-  toolkit never fetches a URL.
+  toolkit never fetches a URL. Symbolic links are resolved before ``..`` (as the operating system
+  opens the path); a symbolic-link loop names no file and is outside; a backslash counts as a
+  separator too (``..\\a.png`` climbs out on Windows, so it is outside everywhere).
 
 Containment is decided on real paths (symbolic links resolved) by path components, so ``/a/bc`` is
-not inside ``/a/b``; a symbolic-link loop is outside (it names no file).
+not inside ``/a/b``.
 """
 
 from __future__ import annotations
 
+import errno
 import os
 import re
+import stat
 from dataclasses import dataclass
 from enum import Enum
 from typing import Callable, Iterable
@@ -84,7 +88,8 @@ class Resolved:
 
     ``path`` is the absolute, normalised path it names (``None`` for a URL, a NUL or an empty
     reference, which name no file); ``real`` the same with symbolic links resolved; ``root`` the
-    allowed folder (real path) holding ``real``, ``None`` when it is outside every allowed folder.
+    allowed folder (real path) holding ``real``, ``None`` when it is outside every allowed folder
+    (or when it is a symbolic-link loop).
     """
 
     reference: str
@@ -139,24 +144,44 @@ class PathGuard:
         inside an allowed folder once symbolic links are resolved."""
         if classify(path) in (Kind.URL, Kind.NUL, Kind.EMPTY):
             return False
-        real = self.real_path(os.path.abspath(path))
-        return not os.path.islink(real) and self.root_of(real) is not None
+        real = self.real_path(path if os.path.isabs(path) else os.path.join(os.getcwd(), path))
+        return not _unresolved(real) and self.root_of(real) is not None
 
     def resolve(self, reference: str, base: str | os.PathLike | None = None) -> Resolved:
         """Resolve ``reference`` relative to ``base`` (a folder; default the asset's folder)."""
         kind = classify(reference)
         if kind in (Kind.URL, Kind.NUL, Kind.EMPTY):
             return Resolved(reference, kind)
+        anchor = os.path.abspath(os.fspath(base)) if base is not None else self.folder
         if kind is Kind.RELATIVE:
-            anchor = os.path.abspath(os.fspath(base)) if base is not None else self.folder
-            path = os.path.normpath(os.path.join(anchor, reference))
+            joined = os.path.join(anchor, reference)
         elif kind is Kind.ABSOLUTE and os.sep == "/" and reference.startswith("/"):
-            path = os.path.normpath(reference)
+            joined = reference
         elif os.name == "nt":
-            path = os.path.normpath(reference)
+            joined = reference
         else:  # a drive, UNC or backslash-absolute path names nothing on this system: outside
             return Resolved(reference, kind)
-        real = self.real_path(path)
-        if os.path.islink(real):  # resolution stopped on a link: a symbolic-link loop, which leads nowhere
-            return Resolved(reference, kind, path, real, None)
-        return Resolved(reference, kind, path, real, self.root_of(real))
+        # Symbolic links are resolved before "..": "link/../x" names x beside the link's target, as
+        # the operating system opens it, not x beside the link.
+        path, real = os.path.normpath(joined), self.real_path(joined)
+        root = None if _unresolved(real) else self.root_of(real)
+        if root is not None and os.sep == "/" and "\\" in reference:
+            # On Windows a backslash separates: "..\\a.png" climbs out there, so it is outside here
+            # too (an asset is checked for every system it may be opened on).
+            forward = reference.replace("\\", "/")
+            other = self.real_path(os.path.join(anchor, forward) if kind is Kind.RELATIVE else forward)
+            if _unresolved(other) or self.root_of(other) is None:
+                root = None
+        return Resolved(reference, kind, path, real, root)
+
+
+def _unresolved(real: str) -> bool:
+    """Whether resolving symbolic links stopped in a loop: a fully resolved path is never a link,
+    and no prefix of it is one (``loop/x.png`` fails with ELOOP). A loop names no file, and where it
+    "is" depends on where the walk stopped: it counts as outside."""
+    try:
+        return stat.S_ISLNK(os.lstat(real).st_mode)
+    except OSError as error:
+        return error.errno == errno.ELOOP
+    except ValueError:  # not a path the system takes
+        return True

@@ -64,6 +64,16 @@ EMPTY_PATH = Rule(
 RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, EMPTY_PATH)
 
 _TILE_TOKENS = re.compile(r"<UDIM>|<UVTILE>", re.IGNORECASE)
+# Not portable whatever they resolve to: a URL, or a path not relative to the asset (io.paths).
+_NOT_RELATIVE = (Kind.URL, Kind.ABSOLUTE, Kind.DRIVE, Kind.UNC)
+
+
+def resolve(asset_path: str, file: str) -> str:
+    """The path MaterialX would open for ``file`` referenced from ``asset_path`` (anything but a
+    relative reference, as :func:`openpbr_tools.io.paths.classify` defines it, is returned as is)."""
+    if classify(file) is not Kind.RELATIVE:
+        return file
+    return os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(asset_path)), file))
 
 
 def exists(path: str, context) -> bool:
@@ -127,18 +137,19 @@ def _check_path(asset, texture, where, context, checked_files):
         yield context.diagnostic(UNSAFE_PATH, f"texture path {file!r} contains a NUL character", where)
         return
     resolved = PathGuard.for_asset(asset.path, real_path=context.real_path).resolve(file)
-    if kind is not Kind.RELATIVE or climbs(file):
+    if kind in _NOT_RELATIVE or climbs(file):
         yield context.diagnostic(
             UNSAFE_PATH, f"texture path {file!r} points outside the asset's folder", where,
             hint="copy the texture next to the asset and use a relative path",
         )
     elif not resolved.inside:
         yield context.diagnostic(
-            UNSAFE_PATH, f"texture path {file!r} leads through a symbolic link to {resolved.real}, outside the asset's "
-                         "folder", where, hint="copy the texture into the asset's folder instead of linking it",
+            UNSAFE_PATH, f"texture path {file!r} leads through a symbolic link to {resolved.real}, outside the asset's folder",
+            where, hint="copy the texture into the asset's folder instead of linking it",
         )
     if kind is Kind.URL:
         return
-    if not exists(resolved.path or file, context):
-        kind = "no UDIM tile matches" if _TILE_TOKENS.search(file) else "texture not found"
-        yield context.diagnostic(MISSING_TEXTURE, f"{kind}: {file!r}", where)
+    # A drive or UNC path names no file on this system (resolved.path is None): not found.
+    if resolved.path is None or not exists(resolve(asset.path, file), context):
+        what = "no UDIM tile matches" if _TILE_TOKENS.search(file) else "texture not found"
+        yield context.diagnostic(MISSING_TEXTURE, f"{what}: {file!r}", where)

@@ -45,7 +45,7 @@ from urllib.parse import unquote, unquote_to_bytes
 
 from ...model import Location
 from .. import ReadError, max_file_bytes, read_bytes
-from ..paths import Kind, PathGuard, classify, is_url
+from ..paths import Kind, PathGuard, classify
 
 GLB_JSON = 0x4E4F534A
 GLB_BIN = 0x004E4942
@@ -111,12 +111,16 @@ class GltfDocument:
         URL, an absolute path, a path that climbs out of the folder (``..`` or a symbolic link) or
         a name no file system accepts (NUL)."""
         relative = unquote(uri)
-        kind = classify(relative)
-        if is_url(uri) or kind in (Kind.URL, Kind.ABSOLUTE, Kind.DRIVE, Kind.UNC):
+        # Both the URI and the file name it decodes to must be relative: "%2Fetc%2Fpasswd" is absolute.
+        kind = classify(uri)
+        if kind is Kind.RELATIVE:
+            kind = classify(relative)
+        if kind is Kind.NUL:  # unpaired surrogates are repaired at load
+            raise self.error(f"{uri!r} is not a usable file name (embedded null byte)", pointer)
+        if kind is Kind.EMPTY:  # names the folder itself, no file
+            raise self.missing(uri, pointer)
+        if kind is not Kind.RELATIVE:
             raise self.error(f"{uri!r} is not a relative path inside the asset; it is not opened", pointer, outside=True)
-        if kind in (Kind.NUL, Kind.EMPTY):  # unpaired surrogates are repaired at load
-            raise self.error(f"{uri!r} is not a usable file name ({'embedded null byte' if kind is Kind.NUL else 'empty'})",
-                             pointer) from None
         resolved = PathGuard(self.folder).resolve(relative)
         if not resolved.inside:
             raise self.error(f"{uri!r} resolves outside the asset's folder; it is not opened", pointer, outside=True)

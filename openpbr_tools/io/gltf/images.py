@@ -29,6 +29,7 @@ class ImageResolver:
         self.source_path = source_path
         self.output_dir = os.path.dirname(os.path.abspath(output_path))
         self.allow_outside = tuple(allow_outside)
+        self.guards: dict[str, PathGuard] = {}
         self.documents: dict = {}
         self._at: tuple[Location, Location | None] = (Location(source_path or ""), None)
 
@@ -50,17 +51,18 @@ class ImageResolver:
         if kind is Kind.URL:
             raise GltfWriteError(f"{owner}: texture {file!r} is a URL; the writer never fetches URLs")
         if kind is Kind.NUL:
-            raise GltfWriteError(f"{owner}: texture {file!r} is not a path (it holds a NUL character)")
+            raise GltfWriteError(f"{owner}: texture {file!r} contains a NUL character, which no file name can; "
+                                 "it is neither read nor embedded")
         if "<UDIM>" in file.upper() or "<UVTILE>" in file.upper():
             self.lost(f"{owner}: UDIM texture {file!r} has no glTF equivalent, not written")
             return None
-        guard = PathGuard(self.folder_of(texture), self.allow_outside)
+        folder = self.folder_of(texture)
+        guard = self.guard(folder)
         resolved = guard.resolve(file)
         if not resolved.inside:
             raise GltfWriteError(
-                f"{owner}: texture {file!r} resolves to {resolved.real or file}, outside the source asset's folder "
-                f"{guard.own_root}; it is neither read nor embedded unless its folder is allowed (allow_outside / "
-                "--allow-outside)")
+                f"{owner}: texture {file!r} resolves to {resolved.real or file}, outside the source asset's folder {guard.own_root}; "
+                "it is neither read nor embedded unless its folder is allowed (allow_outside / --allow-outside)")
         real = resolved.real
         if not os.path.isfile(real):
             self.lost(f"{owner}: texture {file!r} does not exist, not written")
@@ -72,6 +74,13 @@ class ImageResolver:
         """A texture that is not written (OPBR1104) at the parameter :meth:`locate` is working for."""
         location, output = self._at
         self.notes.append(NOT_CARRIED.note(message, location, output))
+
+    def guard(self, folder: str) -> PathGuard:
+        """The guard of ``folder`` and the allowed folders (one per folder: their real paths are
+        resolved once)."""
+        if folder not in self.guards:
+            self.guards[folder] = PathGuard(folder, self.allow_outside)
+        return self.guards[folder]
 
     def _packaged(self, texture: Texture, owner: str):
         from .document import ResourceError, load_document
