@@ -2,7 +2,7 @@
 
 :func:`convert_file` reads any supported file, translates every material for the output's format
 with :func:`openpbr_tools.translate.convert.convert` (Material -> Material only), lets a
-:class:`~openpbr_tools.translate.bake.Baker` evaluate formulas per texel where a texture must be
+:class:`~openpbr_tools.bake.Baker` evaluate formulas per texel where a texture must be
 transformed, and writes the result with the format's writer. :func:`verify` renders source and result
 with the lobe evaluator. Like :mod:`openpbr_tools.validate`, it returns data and never prints.
 
@@ -29,7 +29,7 @@ from .model import Asset, Material, Texture
 from .resources import load_json
 from .rules import Context
 from .rules.translation import APPROXIMATED, VERIFIED, VERIFY_THRESHOLD
-from .translate.bake import Baker
+from .bake import Baker
 from .translate.common import Settings
 from .translate.convert import MODELS, convert
 

@@ -259,7 +259,7 @@ def test_values_beyond_one_are_baked_to_half_float_exr(tmp_path):
 
     from openpbr_tools import tables
     from openpbr_tools.model import Constant, Input, Location, Material, Texture
-    from openpbr_tools.translate.bake import Baker
+    from openpbr_tools.bake import Baker
     from openpbr_tools.translate.common import Mapping, Values
 
     write_png(tmp_path / "w.png", np.array([[0, 64], [128, 255]]))

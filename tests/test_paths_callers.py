@@ -254,7 +254,7 @@ def test_a_texture_through_write_gltf(layout, tmp_path, name, reference, verdict
 
 @pytest.mark.parametrize("name, reference, verdict", CALLERS, ids=IDS)
 def test_a_texture_through_the_baker(layout, tmp_path, name, reference, verdict):
-    from openpbr_tools.translate.bake import BakeError, Baker
+    from openpbr_tools.bake import BakeError, Baker
 
     folder, secret = layout
     baker = Baker(source_path=str(folder / "m.mtlx"), folder=str(tmp_path / "out"))

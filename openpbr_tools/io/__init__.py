@@ -83,6 +83,26 @@ def read_asset(path: str | os.PathLike) -> Asset:
     raise ReadError("unsupported", f"no reader for files ending in {suffix or '(no suffix)'!r}", Location(path))
 
 
+PACKAGED_IMAGE_SUFFIXES = GLTF_SUFFIXES  # containers whose embedded images can be read back out
+
+
+def packaged_image(container: str, member: str, cache: dict | None = None) -> tuple[bytes, str | None]:
+    """The bytes and MIME type of image ``member`` (``#/images/N``) stored inside ``container`` (a
+    ``.gltf``/``.glb``); :class:`ReadError` when the container or the image cannot be read, or
+    ``member`` names no image. ``cache`` keeps loaded containers between calls."""
+    import re
+
+    match = re.fullmatch(r"#/images/(\d+)", member)
+    if match is None or not container.lower().endswith(PACKAGED_IMAGE_SUFFIXES):
+        raise ReadError("unsupported", f"{member!r} is not an image of a glTF container", Location(container))
+    from .gltf.document import load_document  # lazy, like the readers: only a packaged texture needs it
+
+    cache = {} if cache is None else cache
+    if container not in cache:
+        cache[container] = load_document(container)
+    return cache[container].image_bytes(int(match.group(1)))
+
+
 def available_suffixes() -> tuple[str, ...]:
     """Suffixes whose reader is part of this installation (USD and glTF readers arrive as modules)."""
     from importlib.util import find_spec

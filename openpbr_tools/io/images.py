@@ -1,4 +1,14 @@
-"""Images, format-neutral: decoding to float pixels, channel counts, and resampling.
+"""Images, format-neutral: finding the file a texture names, decoding it to float pixels, channel
+counts, and resampling.
+
+:class:`ImageLocator` finds the image of a :class:`~openpbr_tools.model.Texture` for every consumer
+that reads texels or copies image files (the glTF writer, the baker): a file resolved through the
+one path guard (:mod:`openpbr_tools.io.paths`), so only files inside the source asset's folder or an
+allowed folder are ever read and URLs are never fetched, or an image packaged inside the source
+(a glTF's ``#/images/N``, read through :func:`openpbr_tools.io.packaged_image`). It raises
+:class:`ImageRefused` for a texture that must not be read at all (the caller refuses the whole
+output) and :class:`ImageUnavailable` for one that cannot be (empty path, missing file, unreadable
+package entry: the caller reports it and goes on).
 
 Every reader of texels (the glTF writer's channel packing, the baker) decodes here: Pillow for PNG,
 JPEG, TIFF, TGA, WebP and BMP, OpenImageIO for what Pillow cannot open (EXR, HDR). Both are imported on first use (Pillow ~0.1 s, OpenImageIO ~0.3 s), so a
@@ -9,6 +19,128 @@ command that never reads a texel never pays for them. Colour decoding is
 from __future__ import annotations
 
 import io
+import os
+
+from . import ReadError, packaged_image
+from ..model import Texture
+from .paths import Kind, PathGuard, classify
+
+
+class ImageRefused(ValueError):
+    """A texture that must never be read: outside the allowed folders, a URL, or not a path (NUL)."""
+
+
+class ImageUnavailable(ValueError):
+    """A texture that cannot be read: an empty path, a missing file, an unreadable package entry."""
+
+
+class ImageSource:
+    """One located image: ``key`` identifies it (a real path, or container and member), ``image`` is
+    its path or bytes, ``name`` the file name to give a copy, ``mime`` its type when known."""
+
+    __slots__ = ("key", "image", "name", "mime", "_channels")
+
+    def __init__(self, key, image, name, mime):
+        self.key, self.image, self.name, self.mime, self._channels = key, image, name, mime, None
+
+    @property
+    def channels(self) -> int:
+        if self._channels is None:
+            try:
+                self._channels = channel_count(self.image)
+            except Exception:  # noqa: BLE001 - not an image Pillow opens (EXR...): decided when baking
+                self._channels = 4
+        return self._channels
+
+    @property
+    def passes_through(self) -> bool:
+        return self.mime in ("image/png", "image/jpeg")
+
+    def data(self) -> bytes:
+        if isinstance(self.image, bytes):
+            return self.image
+        with open(self.image, "rb") as handle:
+            return handle.read()
+
+
+class ImageLocator:
+    """Finds texture images for one conversion. Relative files resolve against the source asset's
+    folder (``source_path``), else the folder of the file the texture was read from, else
+    ``fallback_folder``; ``allow_outside`` lists further folders images may be read from."""
+
+    def __init__(self, source_path: str | None, fallback_folder: str, allow_outside=()):
+        self.source_path = source_path
+        self.fallback_folder = fallback_folder
+        self.allow_outside = tuple(allow_outside)
+        self.guards: dict[str, PathGuard] = {}
+        self.containers: dict = {}
+
+    def folder_of(self, texture: Texture) -> str:
+        anchor = self.source_path or (texture.location.file if texture.location and texture.location.file else None)
+        return os.path.dirname(os.path.abspath(anchor)) if anchor else self.fallback_folder
+
+    def guard(self, folder: str) -> PathGuard:
+        """The guard of ``folder`` and the allowed folders (one per folder: their real paths are
+        resolved once)."""
+        if folder not in self.guards:
+            self.guards[folder] = PathGuard(folder, self.allow_outside)
+        return self.guards[folder]
+
+    def locate(self, texture: Texture, owner: str) -> ImageSource:
+        """The image of ``texture``; ``owner`` (``material.parameter``) starts every message."""
+        file = texture.file
+        if not file.strip():
+            raise ImageUnavailable(f"{owner}: empty texture path, not written")
+        if texture.packaged:
+            return self._packaged(texture, owner)
+        kind = classify(file)
+        if kind is Kind.URL:
+            raise ImageRefused(f"{owner}: texture {file!r} is a URL; the writer never fetches URLs")
+        if kind is Kind.NUL:
+            raise ImageRefused(f"{owner}: texture {file!r} contains a NUL character, which no file name can; "
+                               "it is neither read nor embedded")
+        guard = self.guard(self.folder_of(texture))
+        resolved = guard.resolve(file)
+        if not resolved.inside:
+            raise ImageRefused(
+                f"{owner}: texture {file!r} resolves to {resolved.real or file}, outside the source asset's folder "
+                f"{guard.own_root}; it is neither read nor embedded unless its folder is allowed (allow_outside / "
+                "--allow-outside)")
+        real = resolved.real
+        if not os.path.isfile(real):
+            raise ImageUnavailable(f"{owner}: texture {file!r} does not exist, not written")
+        name = resolved.relative if resolved.root == guard.own_root else f"textures/{os.path.basename(real)}"
+        return ImageSource(key=("file", real), image=real, name=name, mime=_mime_of_file(real))
+
+    def _packaged(self, texture: Texture, owner: str) -> ImageSource:
+        container = texture.location.file if texture.location else self.source_path
+        try:
+            data, mime = packaged_image(container or "", texture.file, self.containers)
+        except ReadError as error:
+            if error.kind == "unsupported":
+                raise ImageUnavailable(f"{owner}: {texture.file!r} is inside a package the glTF writer cannot open, "
+                                       "not written") from None
+            raise ImageUnavailable(f"{owner}: {texture.file!r} cannot be loaded ({error.message}), not written") from None
+        stem = os.path.splitext(os.path.basename(container))[0]
+        index = texture.file.rsplit("/", 1)[1]
+        extension = {"image/png": ".png", "image/jpeg": ".jpg"}.get(sniff(data) or mime or "", ".png")
+        return ImageSource(key=("packaged", os.path.abspath(container), texture.file), image=data,
+                           name=f"{stem}_image{index}{extension}", mime=sniff(data) or mime)
+
+
+def sniff(data: bytes) -> str | None:
+    """The MIME type of PNG or JPEG bytes, from their signature."""
+    if data.startswith(b"\x89PNG\r\n\x1a\n"):
+        return "image/png"
+    if data.startswith(b"\xff\xd8\xff"):
+        return "image/jpeg"
+    return None
+
+
+def _mime_of_file(path: str) -> str | None:
+    with open(path, "rb") as handle:
+        return sniff(handle.read(8))
+
 
 
 def load_pixels(image: str | bytes):

@@ -33,7 +33,11 @@ from ..io.gltf.slots import SLOT_BY_PARAMETER
 from ..model import Constant, Input, Material, Texture
 from ..rules import Context
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
-from .bake import BakeError
+
+
+class BakeError(ValueError):
+    """Raised by a baker (``Settings.baker``, :class:`openpbr_tools.bake.Baker` in the convert
+    pipeline) for a texture it cannot bake, with the reason; the translation reports it (OPBR1104)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -81,7 +85,7 @@ class Settings:
     nits_per_unit: float = 1.0
     meters_per_unit: float | None = None
     context: Context = field(default_factory=Context)
-    baker: Any = None  # a translate.bake.Baker: textures a formula transforms are baked per texel
+    baker: Any = None  # an openpbr_tools.bake.Baker: textures a formula transforms are baked per texel
 
 
 class Values:

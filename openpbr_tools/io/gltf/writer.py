@@ -64,7 +64,7 @@ def write_gltf(materials: list[Material], path, *, mesh: str | None = None, embe
     source_path = source.path if isinstance(source, Asset) else (os.fspath(source) if source else None)
     notes: list[Diagnostic] = []
     builder = DocumentBuilder(path, glb=glb, embed=embed)
-    images = ImageResolver(builder, source_path, path, tuple(allow_outside or ()), notes)
+    images = ImageResolver(source_path, path, tuple(allow_outside or ()), notes)
     written = []
     for material in materials:
         if material.model != "gltf_pbr":

@@ -36,14 +36,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .. import colorspaces
-from ..model import Constant, Input, Texture
+from . import colorspaces
+from .io.images import ImageLocator, ImageRefused, ImageUnavailable, load_pixels, resample
+from .model import Constant, Input, Texture
+from .translate.common import BakeError
 
 LINEAR_REC709 = "lin_rec709"
-
-
-class BakeError(ValueError):
-    """A texture that cannot be baked, with the reason."""
 
 
 @dataclass(slots=True)
@@ -73,28 +71,18 @@ class Baker:
     png_only: bool = False
     images: dict[str, bytes] = field(default_factory=dict)  # absolute path -> encoded image
     _pixels: dict = field(default_factory=dict)
-    _resolver: object = None
+    _locator: ImageLocator | None = None
 
     # -- reading ----------------------------------------------------------------------------
     def _resolve(self, texture: Texture, owner: str):
-        from ..io.gltf.images import GltfWriteError, ImageResolver
-
-        if self._resolver is None:
-            self._resolver = ImageResolver(None, self.source_path, os.path.join(self.folder, "_"),
-                                           self.allow_outside, [])
-        resolver = self._resolver
-        resolver.notes.clear()
+        if self._locator is None:
+            self._locator = ImageLocator(self.source_path, self.folder, self.allow_outside)
         try:
-            located = resolver.locate(texture, owner)
-        except GltfWriteError as error:
+            return self._locator.locate(texture, owner)
+        except (ImageRefused, ImageUnavailable) as error:
             raise BakeError(str(error)) from None
-        if located is None:
-            raise BakeError(resolver.notes[-1] if resolver.notes else f"{owner}: {texture.file!r} cannot be read")
-        return located
 
     def _load(self, texture: Texture, owner: str):
-        from ..io.images import load_pixels
-
         key = ("baked", texture.file)
         if key in self._pixels:  # baked by an earlier step of this conversion: decoded on first use
             if isinstance(self._pixels[key], tuple):
@@ -254,8 +242,6 @@ def _as_read(data: bytes, values, suffix: str):
     """The pixels a later step reads back from a baked image (as :func:`load_pixels` gives them)."""
     if suffix == ".exr":
         return values if values.shape[2] >= 3 else np.repeat(values, 3, axis=2)
-    from ..io.images import load_pixels
-
     return load_pixels(data)
 
 
@@ -277,8 +263,6 @@ def _materialx_space(name: str | None) -> str | None:
 
 
 def _resample(values, height: int, width: int):
-    from ..io.images import resample
-
     return np.stack([resample(values[:, :, c], height, width) for c in range(values.shape[2])], axis=-1)
 
 
