@@ -39,6 +39,7 @@ def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, veri
     Exit codes: 0 written, 1 written but a report entry reached --fail-on, 2 unreadable input or
     refused output (existing without --force, or the input itself).
     """
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.convert import convert_file, output_kind
     from openpbr_tools.diagnostics import Diagnostic
     from openpbr_tools.io import ReadError
@@ -63,6 +64,7 @@ def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, veri
     except ValueError as error:
         raise click.UsageError(str(error)) from None
     if verify:
+        # lazy: `openpbr --help` loads every command module; the library loads when this command runs
         from openpbr_tools.convert import verify as verify_conversion
 
         result.diagnostics = sorted(result.diagnostics + verify_conversion(result, threshold), key=Diagnostic.sort_key)

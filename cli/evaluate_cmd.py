@@ -13,6 +13,7 @@ METRICS = ("mean", "p95", "max")
 
 
 def _read(path):
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.io import ReadError, read_asset
     from openpbr_tools.validate import read_error
 
@@ -38,6 +39,7 @@ def preview(file, output, size, columns):
 
     Exit codes: 0 written, 2 unreadable input, no materials, or output not writable.
     """
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.atomic import write_bytes
     from openpbr_tools.evaluate.preview import Rig, contact_sheet
     from openpbr_tools.evaluate.verify import render_material
@@ -87,6 +89,7 @@ def compare(file_a, file_b, output_format, threshold, metric, size):
     Exit codes: 0 all pairs within --threshold (or no threshold), 1 a pair above it, 2 unreadable
     input or nothing to compare.
     """
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.evaluate.preview import Rig
     from openpbr_tools.evaluate.verify import compare_materials, pair_materials
 

@@ -27,6 +27,7 @@ def upgrade(input_path, output, target, force, output_format, fail_on):
     Exit codes: 0 written, 1 written but a report entry reached --fail-on, 2 unreadable input or
     refused output (existing without --force, or the input itself).
     """
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.reports import render
     from openpbr_tools import tables
     from openpbr_tools.atomic import write_text

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 import os
 import sys
 
@@ -55,6 +56,7 @@ def validate(paths, output_format, output, fail_on, min_severity, select, ignore
     Exit codes: 0 clean, 1 a finding at or above --fail-on, 2 usage error, bad configuration or
     unreadable input.
     """
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.reports import render
     from openpbr_tools.rules import all_rules
     from openpbr_tools.selection import SelectionError, parse_shard
@@ -82,6 +84,7 @@ def validate(paths, output_format, output, fail_on, min_severity, select, ignore
         click.echo("", err=True)
     fail_on_severity = _severity(None, None, fail_on or _configured_fail_on(paths, no_config) or "error")
     if write_baseline:
+        # lazy: `openpbr --help` loads every command module; the library loads when this command runs
         from openpbr_tools.atomic import write_text
         from openpbr_tools.baseline import baseline_text
 
@@ -89,6 +92,7 @@ def validate(paths, output_format, output, fail_on, min_severity, select, ignore
         click.echo(f"wrote {write_baseline} ({len(report.diagnostics)} finding(s))", err=True)
         sys.exit(2 if report.unreadable else 0)
     if baseline:
+        # lazy: `openpbr --help` loads every command module; the library loads when this command runs
         from openpbr_tools.baseline import BaselineError, apply_baseline
 
         try:
@@ -99,6 +103,7 @@ def validate(paths, output_format, output, fail_on, min_severity, select, ignore
     color = output is None and output_format == "text" and sys.stdout.isatty()
     text = render(report, output_format, fail_on_severity, click.style if color else None, Severity.parse(min_severity))
     if output:
+        # lazy: `openpbr --help` loads every command module; the library loads when this command runs
         from openpbr_tools.atomic import write_text
 
         write_text(output, text)
@@ -110,6 +115,7 @@ def validate(paths, output_format, output, fail_on, min_severity, select, ignore
 def _configured_fail_on(paths, no_config: bool) -> str | None:
     if no_config:
         return None
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.config import ConfigError, configured_fail_on, find_config
 
     first = os.path.abspath(paths[0]) if paths else os.getcwd()
@@ -135,6 +141,7 @@ def _progress_bar():
 @click.option("--format", "output_format", type=click.Choice(["text", "markdown"]), default="text", show_default=True)
 def rules(code, output_format):
     """List the rules, or document one rule CODE (what it checks, why, passing and failing examples)."""
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.rules import all_rules
     from openpbr_tools.rules_doc import rule_page, rule_table
 
@@ -153,8 +160,7 @@ def rules(code, output_format):
 @click.option("--format", "output_format", type=click.Choice(["text", "json"]), default="text", show_default=True)
 def info(files, output_format):
     """List the materials in FILES: shading model, version and how it was inferred, textures."""
-    import json
-
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.inventory import describe, describe_text
     from openpbr_tools.io import ReadError, read_asset
     from openpbr_tools.validate import discover
@@ -179,6 +185,7 @@ def info(files, output_format):
 @click.command()
 def samples():
     """Print the folder of sample materials shipped with the package."""
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.resources import data_dir
 
     click.echo(str(data_dir("samples")))

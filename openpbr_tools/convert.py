@@ -25,6 +25,7 @@ from . import tables
 from .atomic import write_bytes
 from .diagnostics import Diagnostic
 from .io import read_asset
+from .io.paths import Kind, PathGuard, classify
 from .model import Asset, Material, Texture
 from .resources import load_json
 from .rules import Context
@@ -158,10 +159,9 @@ def _write_baked(baker, materials: list[Material]) -> list[str]:
 
 def _rebase_textures(materials: list[Material], source_path: str, output_path: str) -> None:
     """Re-express relative texture paths relative to the output's folder, so they still resolve."""
-    from .io.paths import Kind, classify
-
     source_dir = os.path.dirname(os.path.abspath(source_path))
     output_dir = os.path.dirname(os.path.abspath(output_path))
+    output_folder = PathGuard(output_dir, real_path=os.path.normpath)  # where the output's own files are, as spelt
     for material in materials:
         for name, entry in list(material.inputs.items()):
             texture = entry.value
@@ -171,7 +171,7 @@ def _rebase_textures(materials: list[Material], source_path: str, output_path: s
             if kind in (Kind.URL, Kind.NUL, Kind.EMPTY, Kind.DRIVE, Kind.UNC):
                 continue  # names no file here: written as authored
             absolute = texture.file if kind is Kind.ABSOLUTE else os.path.join(source_dir, texture.file)
-            if kind is Kind.ABSOLUTE and not absolute.startswith(output_dir):
+            if kind is Kind.ABSOLUTE and not output_folder.contains(absolute):
                 continue  # an absolute path the user authored stays as it is
             moved = copy.copy(texture)
             moved.file = os.path.relpath(absolute, output_dir).replace(os.sep, "/")
