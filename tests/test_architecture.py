@@ -101,3 +101,47 @@ def test_the_readme_architecture_names_every_package_folder():
     assert folders <= named, folders - named
     for entry in named:
         assert (ROOT / entry).exists(), entry
+
+
+def _function_imports_without_reason(root: Path):
+    """Imports inside functions with no reason written beside them: a comment on the import's line,
+    or on the line right above it or above the run of imports it belongs to."""
+    missing = []
+    for path in sorted(root.rglob("*.py")):
+        text = path.read_text(encoding="utf-8")
+        lines = text.splitlines()
+        tree = ast.parse(text)
+        for function in ast.walk(tree):
+            if not isinstance(function, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            for node in ast.walk(function):
+                if not isinstance(node, (ast.Import, ast.ImportFrom)):
+                    continue
+                index = node.lineno - 1
+                if "#" in lines[node.end_lineno - 1] or "#" in lines[index]:
+                    continue
+                above = index - 1
+                while above >= 0 and lines[above].strip().startswith(("import ", "from ")):
+                    above -= 1
+                if above >= 0 and lines[above].strip().startswith("#"):
+                    continue
+                missing.append(f"{path.relative_to(ROOT)}:{node.lineno}: {lines[index].strip()}")
+    return missing
+
+
+def test_imports_inside_functions_say_why():
+    """A lazy import (pxr, MaterialX, Pillow, OpenImageIO, colour-science cost 0.1-0.5 s each) or one
+    that breaks a cycle is fine, with its reason beside it; any other belongs at the top."""
+    assert _function_imports_without_reason(PACKAGE) == []
+
+
+def test_long_modules_say_why():
+    """A module fits in one head: past 400 lines its docstring says why it is one module."""
+    long = []
+    for path in sorted(PACKAGE.rglob("*.py")):
+        text = path.read_text(encoding="utf-8")
+        if len(text.splitlines()) > 400:
+            docstring = ast.get_docstring(ast.parse(text)) or ""
+            if "One module because" not in docstring:
+                long.append(f"{path.relative_to(ROOT)} ({len(text.splitlines())} lines)")
+    assert long == []

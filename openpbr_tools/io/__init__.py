@@ -7,6 +7,9 @@ are imported by the reader that needs them, never here.
 from __future__ import annotations
 
 import os
+import re
+import stat
+from importlib.util import find_spec
 
 from ..model import Asset, Location
 
@@ -45,8 +48,6 @@ def read_bytes(path: str) -> bytes:
     """The bytes of a regular file no larger than :func:`max_file_bytes`; :class:`ReadError` otherwise.
 
     Only regular files are opened: a FIFO or a device would block or never end."""
-    import stat
-
     try:
         info = os.stat(path)
     except OSError as error:
@@ -68,8 +69,10 @@ def read_asset(path: str | os.PathLike) -> Asset:
     """Read one file into an :class:`Asset`; raises :class:`ReadError` when it cannot."""
     path = os.fspath(path)
     suffix = os.path.splitext(path)[1].lower()
+    # Each reader is imported when its suffix is met: chosen at run time, and every reader imports
+    # ReadError from this package (a cycle at load time).
     if suffix in MTLX_SUFFIXES:
-        from .mtlx.reader import read_mtlx
+        from .mtlx.reader import read_mtlx  # lazy: chosen by suffix (see above)
 
         return read_mtlx(path)
     if suffix in USD_SUFFIXES:
@@ -77,7 +80,7 @@ def read_asset(path: str | os.PathLike) -> Asset:
 
         return read_usd(path)
     if suffix in GLTF_SUFFIXES:
-        from .gltf.reader import read_gltf
+        from .gltf.reader import read_gltf  # lazy: chosen by suffix (see above)
 
         return read_gltf(path)
     raise ReadError("unsupported", f"no reader for files ending in {suffix or '(no suffix)'!r}", Location(path))
@@ -90,8 +93,6 @@ def packaged_image(container: str, member: str, cache: dict | None = None) -> tu
     """The bytes and MIME type of image ``member`` (``#/images/N``) stored inside ``container`` (a
     ``.gltf``/``.glb``); :class:`ReadError` when the container or the image cannot be read, or
     ``member`` names no image. ``cache`` keeps loaded containers between calls."""
-    import re
-
     match = re.fullmatch(r"#/images/(\d+)", member)
     if match is None or not container.lower().endswith(PACKAGED_IMAGE_SUFFIXES):
         raise ReadError("unsupported", f"{member!r} is not an image of a glTF container", Location(container))
@@ -105,8 +106,6 @@ def packaged_image(container: str, member: str, cache: dict | None = None) -> tu
 
 def available_suffixes() -> tuple[str, ...]:
     """Suffixes whose reader is part of this installation (USD and glTF readers arrive as modules)."""
-    from importlib.util import find_spec
-
     suffixes = MTLX_SUFFIXES
     if find_spec(f"{__name__}.usd.reader") is not None:
         suffixes += USD_SUFFIXES

@@ -13,6 +13,9 @@ import base64
 import json
 import os
 import struct
+from urllib.parse import quote
+
+from ... import __version__
 
 
 def dumps(document: dict) -> str:
@@ -78,8 +81,6 @@ class DocumentBuilder:
 
     def place_file(self, name: str, payload: bytes) -> str:
         """The URI of a file holding ``payload`` beside the output (unique name, written at the end)."""
-        from urllib.parse import quote
-
         base, suffix = os.path.splitext(name)
         candidate, counter = name, 1
         # Never overwrite a different file already beside the output: take the next free name.
@@ -110,7 +111,7 @@ class DocumentBuilder:
         return len(self.buffer_views) - 1
 
     def add_accessor(self, array, kind: str, target: int, bounds: bool = False) -> int:
-        import pygltflib
+        import pygltflib  # lazy: pygltflib costs ~70 ms; only the preview mesh has accessors
 
         component = pygltflib.UNSIGNED_SHORT if array.dtype.kind == "u" else pygltflib.FLOAT
         accessor = {"bufferView": self.add_view(array.tobytes(), target), "componentType": component,
@@ -123,8 +124,8 @@ class DocumentBuilder:
 
     def add_spheres(self, materials: list[int], texcoords: list[set[int]]) -> None:
         """One sphere mesh per material (shared geometry), nodes 2.5 radii apart along +X, centred."""
+        # lazy: only --mesh needs them (pygltflib ~70 ms; .mesh imports numpy, ~60 ms)
         import pygltflib
-
         from .mesh import uv_sphere
 
         sphere = uv_sphere()
@@ -154,8 +155,6 @@ class DocumentBuilder:
 
     # -- output ------------------------------------------------------------------------------
     def document(self) -> dict:
-        from ... import __version__
-
         document: dict = {"asset": {"generator": f"openpbr-tools {__version__}", "version": "2.0"}}
         used = set()
         for material in self.materials:

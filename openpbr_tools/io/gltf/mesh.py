@@ -11,12 +11,12 @@ quad touching a pole is left out.
 
 from __future__ import annotations
 
+import numpy as np
+
 
 def uv_sphere(rings: int = 16, segments: int = 32, radius: float = 1.0) -> dict:
     """``{"POSITION", "NORMAL", "TANGENT", "TEXCOORD_0", "indices"}`` as little-endian NumPy arrays
     (float32 attributes, uint16 indices)."""
-    import numpy as np
-
     v = np.linspace(0.0, 1.0, rings + 1)
     u = np.linspace(0.0, 1.0, segments + 1)
     vv, uu = np.meshgrid(v, u, indexing="ij")

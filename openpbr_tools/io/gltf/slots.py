@@ -138,7 +138,7 @@ EXTENSION_MIME_TYPES = {"image/webp": "EXT_texture_webp", "image/ktx2": "KHR_tex
 
 def wrap_to_address() -> dict[int, str]:
     """Sampler wrap enums (specification 5.26) -> MaterialX address modes."""
-    import pygltflib
+    import pygltflib  # lazy: pygltflib costs ~70 ms, and the rules import this module at every start-up
 
     return {pygltflib.REPEAT: "periodic", pygltflib.CLAMP_TO_EDGE: "clamp", pygltflib.MIRRORED_REPEAT: "mirror"}
 
@@ -146,13 +146,13 @@ def wrap_to_address() -> dict[int, str]:
 def address_to_wrap() -> dict[str, int]:
     """MaterialX address modes -> sampler wrap enums; ``constant`` (a border colour) has no glTF
     equivalent and becomes CLAMP_TO_EDGE (the writer notes it)."""
-    import pygltflib
+    import pygltflib  # lazy: as in wrap_to_address
 
     return {"periodic": pygltflib.REPEAT, "clamp": pygltflib.CLAMP_TO_EDGE, "mirror": pygltflib.MIRRORED_REPEAT,
             "constant": pygltflib.CLAMP_TO_EDGE}
 
 
 def core_mime_types() -> tuple[str, ...]:
-    import pygltflib
+    import pygltflib  # lazy: as in wrap_to_address
 
     return tuple(pygltflib.IMAGE_MIMETYPES)

@@ -17,6 +17,7 @@ import re
 
 from ... import colorspaces
 from ...model import Texture
+from ...resources import load_json
 from ...rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import slots
 from .bake import ChannelSource, pack
@@ -244,8 +245,6 @@ class TextureWriting:
 
 def _encoded(space: str) -> bool:
     """A colour space with a non-linear transfer (srgb_texture, g22_...): data read through it is bent."""
-    from ...resources import load_json
-
     spec = load_json("colorspaces.json")["materialx"].get(space)
     return spec is not None and spec["transfer"] not in ("linear", "data")
 

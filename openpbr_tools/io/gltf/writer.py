@@ -28,7 +28,7 @@ from __future__ import annotations
 import math
 import os
 
-from ... import colorspaces
+from ... import colorspaces, tables
 from ...atomic import write_bytes
 from ...diagnostics import Diagnostic
 from ...model import Asset, Connection, Constant, Location, Material, Texture
@@ -185,8 +185,6 @@ class _MaterialWriter(TextureWriting):
     def clamped(self, slot: slots.Slot, value):
         """``value`` inside the parameter's hard range, which glTF's schema enforces (the Khronos
         validator rejects, and viewers clamp, a roughnessFactor of 1.5); noted when it moves."""
-        from ... import tables
-
         parameter = tables.table("gltf_pbr").get(slot.parameter)
         if parameter is None or slot.parameter == "emissive":  # emissive above 1 is folded, not clamped
             return value

@@ -6,6 +6,8 @@ nodes, comments' neighbours and attribute order elsewhere stay as MaterialX read
 
 from __future__ import annotations
 
+import MaterialX as mx
+
 from ...values import format_value
 
 CONNECTION_ATTRIBUTES = ("nodename", "nodegraph", "output", "interfacename")
@@ -56,8 +58,6 @@ def apply_edits(node, edits, version: str) -> None:
 
 
 def _unique(scope, name: str) -> str:
-    import MaterialX as mx
-
     candidate = base = mx.createValidName(name)
     index = 1
     while scope.getChild(candidate) is not None:

@@ -18,17 +18,17 @@ Each shader input becomes an :class:`~openpbr_tools.model.Input` whose value is
 
 from __future__ import annotations
 
+import os
 from functools import lru_cache
 
 from ... import versioning
-from ...model import Asset, Connection, Constant, Input, Location, Material, Texture, UVTransform
+from ...model import Asset, Constant, Input, Location, Material
 from ...values import ValueSyntaxError, parse_value
 from .. import ReadError, read_bytes
-from .xmlscan import XmlSyntaxError, parse_suppression, scan
+from .graph import GraphFollower
+from .xmlscan import XmlScan, XmlSyntaxError, parse_suppression, scan
 
 SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
-IMAGE_CATEGORIES = ("image", "tiledimage", "gltf_image", "gltf_colorimage", "UsdUVTexture")
-PASS_THROUGH = ("convert", "dot")
 MATERIAL_CATEGORIES = ("surfacematerial",)
 
 
@@ -41,9 +41,7 @@ def standard_library(complete: bool = False):
     definitions, and this halves the start-up cost. ``complete=True`` loads everything, as
     ``mxvalidate`` does.
     """
-    import os
-
-    import MaterialX as mx
+    import MaterialX as mx  # lazy: the rules import this module at every start-up; MaterialX (~10 ms) waits for a .mtlx
 
     library = mx.createDocument()
     if complete:
@@ -71,7 +69,7 @@ def is_known_category(category: str) -> bool:
 
 def read_mtlx(path: str, data: bytes | None = None) -> Asset:
     """Read the MaterialX document at ``path`` (or ``data`` when given, with ``path`` as its name)."""
-    import MaterialX as mx
+    import MaterialX as mx  # lazy: as in standard_library
 
     if data is None:
         data = read_bytes(path)
@@ -124,9 +122,7 @@ def read_mtlx(path: str, data: bytes | None = None) -> Asset:
 
 def _scan_with_materialx(text: str):
     """A scan without line numbers from a document only MaterialX can parse, or ``None``."""
-    import MaterialX as mx
-
-    from .xmlscan import XmlScan
+    import MaterialX as mx  # lazy: as in standard_library
 
     document = mx.createDocument()
     options = mx.XmlReadOptions()
@@ -139,7 +135,7 @@ def _scan_with_materialx(text: str):
     return XmlScan(root_tag="materialx", root_attributes=attributes)
 
 
-class _Reader:
+class _Reader(GraphFollower):
     def __init__(self, asset: Asset, document, structure) -> None:
         self.asset = asset
         self.document = document
@@ -151,7 +147,7 @@ class _Reader:
         return Location(self.path, self.asset.line_of.get(name_path), name_path, input_name)
 
     def run(self) -> None:
-        import MaterialX as mx
+        import MaterialX as mx  # lazy: as in standard_library
 
         self.document.setDataLibrary(standard_library())
         valid, message = self.document.validate()
@@ -290,166 +286,3 @@ class _Reader:
         except ValueSyntaxError as error:
             entry.error = str(error)
         return entry
-
-    # -- connections -----------------------------------------------------------------------
-    def upstream_node(self, port):
-        """The node feeding ``port`` (through a node graph output or an interface input), or None."""
-        if port.hasAttribute("interfacename"):
-            graph_input = port.getInterfaceInput()
-            if graph_input is None:
-                return None
-            if graph_input.hasAttribute("nodename") or graph_input.hasAttribute("nodegraph"):
-                return self.upstream_node(graph_input)
-            return None
-        output = port.getConnectedOutput()
-        if output is not None:
-            return output.getConnectedNode()
-        return port.getConnectedNode()
-
-    def follow(self, port):
-        """Interpret what feeds ``port``: a :class:`Texture` for an image chain, else a
-        :class:`Connection` (dangling when the reference does not resolve)."""
-        if port.hasAttribute("interfacename"):
-            graph_input = port.getInterfaceInput()
-            if graph_input is None:
-                return Connection(port.getInterfaceName(), None, "interface input not found", dangling=True)
-            if not (graph_input.hasAttribute("nodename") or graph_input.hasAttribute("nodegraph")):
-                if graph_input.hasAttribute("value"):
-                    try:
-                        return Constant(parse_value(graph_input.getValueString(), graph_input.getType()))
-                    except ValueSyntaxError as error:
-                        return Connection(graph_input.getNamePath(), None, str(error))
-                return Connection(graph_input.getNamePath(), None, "interface input has no value")
-            return self.follow(graph_input)
-        target = port.getNodeName() or port.getNodeGraphString()
-        node = self.upstream_node(port)
-        if node is None:
-            return Connection(target or port.getOutputString(), None, "connection target not found", dangling=True)
-        texture = self.texture_chain(node, port.getOutputString() if not port.getNodeGraphString() else "")
-        if texture is not None:
-            return texture
-        return Connection(
-            node.getNamePath(), node.getCategory(), f"{node.getCategory()} node is not a texture lookup",
-            graph_xml=_capture_graph(node), output=node.getName(),
-        )
-
-    def texture_chain(self, node, output_name: str = "") -> Texture | None:
-        """Walk ``extract``/``convert``/``normalmap``/``separate`` to an image node."""
-        channels = None
-        normal_scale = None
-        if output_name in ("outr", "outg", "outb", "outa", "outx", "outy", "outz", "outw") and node.getCategory().startswith("separate"):
-            channels = ("rgba".find(output_name[-1]) if output_name[-1] in "rgba" else "xyzw".find(output_name[-1]),)
-            node = self.upstream_node(node.getInput("in")) if node.getInput("in") else None
-        for _ in range(8):
-            if node is None:
-                return None
-            category = node.getCategory()
-            if category in IMAGE_CATEGORIES:
-                break
-            if category == "extract":
-                index_input = node.getInput("index")
-                index = int(index_input.getValue()) if index_input is not None and index_input.hasAttribute("value") else 0
-                channels = (index,)
-            elif category == "normalmap":
-                scale_input = node.getInput("scale")
-                normal_scale = float(scale_input.getValue()) if scale_input is not None and scale_input.hasAttribute("value") else 1.0
-            elif category not in PASS_THROUGH:
-                return None
-            upstream = node.getInput("in")
-            node = self.upstream_node(upstream) if upstream is not None else None
-        else:
-            return None
-        return self.image(node, channels, normal_scale)
-
-    def image(self, node, channels, normal_scale) -> Texture:
-        file_input = node.getInput("file")
-        file_value = file_input.getValueString() if file_input is not None else ""
-        prefix = file_input.getActiveFilePrefix() if file_input is not None else ""
-        texture = Texture(
-            file=prefix + file_value,
-            image_type=node.getType(),
-            channels=channels,
-            colorspace=(file_input.getActiveColorSpace() if file_input is not None else node.getActiveColorSpace()) or None,
-            normal_map=normal_scale,
-            node=node.getNamePath(),
-            node_category=node.getCategory(),
-            location=Location(self.path, self.asset.line_of.get(node.getNamePath()), node.getNamePath(), "file"),
-        )
-        default = node.getInput("default")
-        if default is not None and default.hasAttribute("value"):
-            try:
-                texture.fallback = parse_value(default.getValueString(), default.getType())
-            except ValueSyntaxError:
-                pass
-        wrap_u, wrap_v = node.getInput("uaddressmode"), node.getInput("vaddressmode")
-        if wrap_u is not None or wrap_v is not None:
-            texture.wrap = (
-                wrap_u.getValueString() if wrap_u is not None else "periodic",
-                wrap_v.getValueString() if wrap_v is not None else "periodic",
-            )
-        texture.uv, texture.texcoord = self.uv_transform(node)
-        return texture
-
-    def uv_transform(self, node) -> tuple[UVTransform | None, int | None]:
-        """The UV transform (``tiledimage`` tiling/offset, an upstream ``place2d``) and the UV
-        set index (an upstream ``texcoord`` node; ``None`` for the default set 0)."""
-        transform = UVTransform()
-        uv_set = None
-        if node.getCategory() == "tiledimage":
-            tiling = _vector2(node.getInput("uvtiling"))
-            offset = _vector2(node.getInput("uvoffset"))
-            if tiling:
-                transform.scale = tiling
-            if offset:
-                transform.offset = offset
-        texcoord = node.getInput("texcoord")
-        place = self.upstream_node(texcoord) if texcoord is not None else None
-        if place is not None and place.getCategory() == "place2d":
-            transform.scale = _vector2(place.getInput("scale")) or transform.scale
-            transform.offset = _vector2(place.getInput("offset")) or transform.offset
-            transform.pivot = _vector2(place.getInput("pivot")) or transform.pivot
-            rotate = place.getInput("rotate")
-            if rotate is not None and rotate.hasAttribute("value"):
-                transform.rotate = float(rotate.getValue())
-            texcoord = place.getInput("texcoord")
-            place = self.upstream_node(texcoord) if texcoord is not None else None
-        if place is not None and place.getCategory() == "texcoord":
-            index = place.getInput("index")
-            if index is not None and index.hasAttribute("value") and int(index.getValue()) != 0:
-                uv_set = int(index.getValue())
-        return (None if transform.is_identity else transform), uv_set
-
-
-def _vector2(port) -> tuple[float, float] | None:
-    if port is None or not port.hasAttribute("value"):
-        return None
-    try:
-        value = parse_value(port.getValueString(), "vector2")
-    except ValueSyntaxError:
-        return None
-    return (float(value[0]), float(value[1]))
-
-
-def _capture_graph(node, limit: int = 256) -> str | None:
-    """The nodes upstream of ``node`` in its own scope (itself included) as a MaterialX document,
-    so a procedural input survives a read-write round trip. ``None`` past ``limit`` nodes."""
-    import MaterialX as mx
-
-    captured = mx.createDocument()
-    pending, seen = [node], set()
-    while pending:
-        current = pending.pop()
-        if current.getName() in seen:
-            continue
-        seen.add(current.getName())
-        if len(seen) > limit:
-            return None
-        copy = captured.addNode(current.getCategory(), current.getName(), current.getType())
-        copy.copyContentFrom(current)
-        for port in current.getInputs():
-            upstream = port.getConnectedNode()
-            if upstream is not None and upstream.getParent() == current.getParent():
-                pending.append(upstream)
-    from .writer import document_text
-
-    return document_text(captured)

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import os
 
+import MaterialX as mx
+
 from ... import tables
 from ...atomic import write_text
 from ...model import Connection, Constant, Material, Texture
@@ -20,8 +22,6 @@ COLOUR_TYPES = ("color3", "color4")
 
 
 def to_mtlx_string(materials: list[Material], colorspace: str | None = "lin_rec709") -> str:
-    import MaterialX as mx
-
     document = mx.createDocument()
     if colorspace:
         document.setColorSpace(colorspace)
@@ -34,8 +34,6 @@ def to_mtlx_string(materials: list[Material], colorspace: str | None = "lin_rec7
 def document_text(document) -> str:
     """A MaterialX document as text: XIncludes inlined rather than referenced, and the UDIM/UVTILE
     tokens escaped (MaterialX leaves them raw in attributes, which strict XML tools reject)."""
-    import MaterialX as mx
-
     options = mx.XmlWriteOptions()
     options.writeXIncludeEnable = False
     text = mx.writeToXmlString(document, options)
@@ -47,8 +45,6 @@ def write_mtlx(materials: list[Material], path: str | os.PathLike, colorspace: s
 
 
 def _unique(name: str, used: set[str]) -> str:
-    import MaterialX as mx
-
     candidate = mx.createValidName(name)
     base, index = candidate, 1
     while candidate in used:
@@ -154,8 +150,6 @@ def _write_placement(document, image, prefix: str, texture: Texture, used) -> No
 
 def _write_connection(document, shader_name: str, input_name: str, connection: Connection, used) -> str | None:
     """Re-create the procedural graph the reader captured; ``None`` when there is nothing to write."""
-    import MaterialX as mx
-
     if not connection.graph_xml:
         return None
     source = mx.createDocument()

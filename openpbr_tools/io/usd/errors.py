@@ -13,7 +13,10 @@ of an error report and the line of the file it names; :func:`tf_error_text` and
 
 from __future__ import annotations
 
+import contextlib
+import io
 import re
+import threading
 from contextlib import contextmanager
 
 from ...model import Location
@@ -39,11 +42,7 @@ def quiet():
     yields the list they are collected into. Python errors usd-core swallows (text in a crate file
     that is not UTF-8 becomes ``None``) are printed to ``sys.stderr`` by Python itself: captured too,
     in the main thread (``sys.stderr`` is global: threads swapping it would leave it swapped)."""
-    import contextlib
-    import io
-    import threading
-
-    from pxr import Tf
+    from pxr import Tf  # lazy: see the module docstring
 
     collected: list[str] = []
     printed = io.StringIO()

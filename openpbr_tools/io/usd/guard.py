@@ -29,6 +29,7 @@ What a reference is (URL, drive, UNC, absolute, NUL) and whether a path is insid
 from __future__ import annotations
 
 import os
+import stat
 
 from ...model import Location
 from .. import ReadError, read_bytes
@@ -76,7 +77,7 @@ class StageGuard:
     def open_stage(self):
         """The composed stage (payloads loaded, variants as authored); raises :class:`ReadError`."""
         require_pxr(self.path)
-        from pxr import Tf, Usd
+        from pxr import Tf, Usd  # lazy: pxr (0.1-0.2 s) loads once require_pxr has found it
 
         _regular_file(self.path)
         with quiet():
@@ -113,7 +114,7 @@ class StageGuard:
 
     # -- layers --------------------------------------------------------------------------------
     def open_layer(self, identifier: str):
-        from pxr import Sdf
+        from pxr import Sdf  # lazy: pxr only once open_stage has required it
 
         if Sdf.Layer.Find(identifier):
             self.preexisting.add(identifier)
@@ -163,7 +164,7 @@ class StageGuard:
     def follow(self, root) -> None:
         """Walk the layers ``root`` depends on, deleting the arcs and value clips that must not be
         followed and opening (after checking) the others, so usd-core finds them already open."""
-        from pxr import Tf
+        from pxr import Tf  # lazy: pxr only once open_stage has required it
 
         queue = [root]
         self.layers[root.identifier] = root
@@ -199,7 +200,7 @@ class StageGuard:
 
     def outside(self, layer, asset_path: str) -> str | None:
         """Why ``asset_path`` (an arc of ``layer``) must not be followed, or ``None``."""
-        from pxr import Ar
+        from pxr import Ar  # lazy: pxr only once open_stage has required it
 
         kind = classify(asset_path)
         if kind is Kind.NUL:
@@ -260,14 +261,12 @@ class StageGuard:
 
 
 def _resolve(identifier: str) -> str:
-    from pxr import Ar
+    from pxr import Ar  # lazy: pxr only once open_stage has required it
 
     return str(Ar.GetResolver().Resolve(identifier) or "")
 
 
 def _regular_file(path: str):
-    import stat
-
     try:
         info = os.stat(path)
     except OSError as error:
@@ -280,7 +279,7 @@ def _regular_file(path: str):
 
 
 def _file_of(identifier: str) -> str:
-    from pxr import Ar
+    from pxr import Ar  # lazy: pxr only once open_stage has required it
 
     return Ar.SplitPackageRelativePathOuter(identifier)[0] if Ar.IsPackageRelativePath(identifier) else identifier
 
@@ -299,7 +298,7 @@ def _prim_paths(layer, *, verify: bool = False) -> list | None:
         elif path.IsPrimPath() or path.IsPrimVariantSelectionPath():
             paths.append(path)
 
-    from pxr import Sdf
+    from pxr import Sdf  # lazy: pxr only once open_stage has required it
 
     layer.Traverse(Sdf.Path.absoluteRootPath, visit)
     return None if missing else paths

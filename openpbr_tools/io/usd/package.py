@@ -75,7 +75,7 @@ def unsafe_entry_name(name: str) -> str | None:
 
 def read_layer_bytes(path: str) -> bytes:
     """The bytes of the file a layer identifier names (inside a package when package-relative)."""
-    from pxr import Ar
+    from pxr import Ar  # lazy: pxr (0.1-0.2 s) only once the stage guard has required it
 
     if Ar.IsPackageRelativePath(path):
         outer, inner = Ar.SplitPackageRelativePathOuter(path)

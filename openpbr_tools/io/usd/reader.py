@@ -73,7 +73,7 @@ def read_usd(path: str, *, usd_core: bool = True, allow_outside=()) -> Asset:
 
 
 def _read_stage(asset: Asset, stage, guard: StageGuard, usd_core: bool) -> None:
-    from pxr import Tf
+    from pxr import Tf  # lazy: pxr (0.1-0.2 s) only once the guard has required it and opened the stage
 
     if guard.package_files:  # a USDZ: its entries, as usd-core reads them
         asset.extra["package_files"] = guard.package_files
@@ -91,7 +91,7 @@ def _read_stage(asset: Asset, stage, guard: StageGuard, usd_core: bool) -> None:
 
 class _Reader(NetworkReader):
     def __init__(self, asset: Asset, stage) -> None:
-        from pxr import Sdr, Usd, UsdGeom, UsdShade
+        from pxr import Sdr, Usd, UsdGeom, UsdShade  # lazy: as in _read_stage
 
         self.Usd, self.UsdShade = Usd, UsdShade
         self.asset = asset

@@ -14,6 +14,10 @@ from __future__ import annotations
 import os
 from functools import lru_cache
 
+import MaterialX as mx
+
+from ...resources import data_dir
+from ..mtlx.reader import standard_library
 from .errors import quiet
 from .types import MATERIALX_TO_USD
 
@@ -24,14 +28,8 @@ _definition_layers: list = []  # Sdr parses lazily: the in-memory layers must st
 @lru_cache(maxsize=1)
 def _materialx_nodedefs():
     """Name -> nodedef for MaterialX's libraries plus the toolkit's legacy OpenPBR definitions."""
-    import MaterialX as mx
-
-    from ..mtlx.reader import standard_library
-
     found = {nd.getName(): nd for nd in standard_library().getNodeDefs()}
     try:
-        from ...resources import data_dir
-
         legacy = data_dir("libraries")
         for name in sorted(os.listdir(legacy)):
             if name.endswith(".mtlx"):
@@ -60,7 +58,7 @@ def register_materialx_nodes(ids) -> list[str]:
     Ids that are not MaterialX node definitions, and ids Sdr already knows (from an earlier call,
     or from a usd build that has the MaterialX plug-in), are left alone.
     """
-    from pxr import Sdf, Sdr
+    from pxr import Sdf, Sdr  # lazy: pxr (0.1-0.2 s) only after require_pxr; the USD reader imports this first
 
     registry = Sdr.Registry()
     wanted = []
@@ -89,7 +87,7 @@ def register_materialx_nodes(ids) -> list[str]:
 
 
 def _define_shader(layer, nodedef) -> None:
-    from pxr import Sdf
+    from pxr import Sdf  # lazy: as in register_materialx_nodes
 
     prim = Sdf.PrimSpec(layer, nodedef.getName(), Sdf.SpecifierDef, "Shader")
     uniform = Sdf.VariabilityUniform

@@ -22,7 +22,7 @@ from __future__ import annotations
 import re
 from functools import cache
 
-from ... import tables
+from ... import tables, versioning
 
 #: MaterialX type -> the USD type UsdMtlx gives it.
 MATERIALX_TO_USD = {
@@ -98,8 +98,6 @@ def surface_shader_ids() -> dict[str, tuple[str, str | None, str]]:
     was written). ``flavour`` is ``"mtlx"`` for MaterialX node definitions, ``"usd"`` for USD's
     own UsdPreviewSurface.
     """
-    from ... import versioning
-
     nodedef_versions = getattr(versioning, "nodedef_versions", None) or versioning._nodedef_versions
     found: dict[str, tuple[str, str | None, str]] = {}
     for model in tables.MODELS:

@@ -11,7 +11,7 @@ spaces go to ``colorSpace`` metadata in the scheme each shader wants (MaterialX 
 shaders, USD names on USD ones) and the material's colour space to ``Usd.ColorSpaceAPI``. The OpenPBR
 version is recorded on the shader as ``customData = {dictionary openpbr = {string version}}``.
 
-Textures become MaterialX image chains under ``mtlx`` (``ND_image_*``/``ND_tiledimage_*``, then
+Textures (:mod:`.texture_networks`) become MaterialX image chains under ``mtlx`` (``ND_image_*``/``ND_tiledimage_*``, then
 ``ND_convert``/``ND_extract``, ``ND_multiply``/``ND_add`` for scale and bias, ``ND_normalmap``;
 ``ND_place2d``, ``ND_texcoord`` or ``ND_geompropvalue`` on the coordinates) and ``UsdUVTexture``
 (+ ``UsdTransform2d``, ``UsdPrimvarReader_float2``) under UsdPreviewSurface. Constants that came
@@ -25,26 +25,22 @@ connection, a texture missing from a package...).
 
 from __future__ import annotations
 
-import math
 import os
 import shutil
 import tempfile
+import time
 
 from ... import colorspaces, tables
+from ...atomic import default_mode
 from ...diagnostics import Diagnostic
-from ...model import Asset, Connection, Constant, Location, Material, Texture, UVTransform
+from ...model import Asset, Connection, Constant, Location, Material, Texture
 from ...resources import load_json
-from ...rules.translation import CONVERTED, NOT_CARRIED
+from ...rules.translation import NOT_CARRIED
 from ..paths import Kind, PathGuard, classify
 from .reader import CUSTOM_DATA_VERSION_KEY
 from .errors import quiet, require_pxr
-from .types import (
-    ADDRESS_MODE_TO_WRAP,
-    MATERIALX_TO_USD,
-    OPACITY_MODE_TOKENS,
-    PREVIEW_SURFACE_USD_TYPES,
-    WRAP_TO_ADDRESS_MODE,
-)
+from .texture_networks import TextureNetworkWriter, identifier
+from .types import MATERIALX_TO_USD, OPACITY_MODE_TOKENS, PREVIEW_SURFACE_USD_TYPES
 
 LOOKS = "/Looks"
 
@@ -70,7 +66,7 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
     before anything is written. Other outputs only reference textures (never read them).
     """
     require_pxr(os.fspath(path))
-    from pxr import Sdf, Usd, UsdGeom
+    from pxr import Sdf, Usd, UsdGeom  # lazy: pxr (0.1-0.2 s) once require_pxr has found it
 
     path = os.fspath(path)
     suffix = os.path.splitext(path)[1].lower()
@@ -93,8 +89,6 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
     for material in materials:
         writer.write(material)
     # Atomically, as openpbr_tools.atomic does: a temporary file beside the target, renamed over it.
-    from ...atomic import default_mode
-
     handle, temporary = tempfile.mkstemp(prefix=".openpbr-", suffix=suffix, dir=folder)
     os.fchmod(handle, default_mode())
     os.close(handle)
@@ -126,9 +120,7 @@ def _package(path: str, layer_path: str, files: dict[str, str]) -> None:
     Sdf's zip writer stamps each entry with its file's modification time in local time; every
     file is staged beside the root layer with one fixed local time (2000-01-01 00:00), so the same
     input gives the same bytes on any machine, in any time zone, at any time."""
-    import time
-
-    from pxr import Sdf
+    from pxr import Sdf  # lazy: pxr only once write_usd has required it
 
     stamp = time.mktime((2000, 1, 1, 0, 0, 0, 0, 0, -1))
     staged = []
@@ -145,15 +137,9 @@ def _package(path: str, layer_path: str, files: dict[str, str]) -> None:
     writer.Save()
 
 
-def _identifier(name: str) -> str:
-    from pxr import Tf
-
-    return Tf.MakeValidIdentifier(name.rstrip("/").rsplit("/", 1)[-1] or "material")
-
-
-class _Writer:
+class _Writer(TextureNetworkWriter):
     def __init__(self, stage, notes, source_dir, target_dir, package, meters_per_unit, source_unit):
-        from pxr import Sdf, UsdShade
+        from pxr import Sdf, UsdShade  # lazy: pxr only once write_usd has required it
 
         self.Sdf, self.UsdShade = Sdf, UsdShade
         self.stage, self.notes = stage, notes
@@ -169,7 +155,7 @@ class _Writer:
         self.target = PathGuard(target_dir, real_path=os.path.normpath)
 
     def unique_child(self, parent_path: str, name: str) -> str:
-        base, candidate, n = _identifier(name), _identifier(name), 1
+        base, candidate, n = identifier(name), identifier(name), 1
         while self.stage.GetPrimAtPath(f"{parent_path}/{candidate}"):
             candidate, n = f"{base}_{n}", n + 1
         return f"{parent_path}/{candidate}"
@@ -206,7 +192,7 @@ class _Writer:
         return f"ND_{material.model}_surfaceshader_{material.version.replace('.', '')}"
 
     def set_material_colorspace(self, prim, name: str) -> None:
-        from pxr import Usd
+        from pxr import Usd  # lazy: pxr only once write_usd has required it
 
         usd_name = name if name in colorspaces.usd_names() else colorspaces.usd_equivalent(name)
         if usd_name:
@@ -275,7 +261,7 @@ class _Writer:
         return value * scale / self.meters_per_unit
 
     def set_value(self, attribute, usd_type: str, value) -> None:
-        from pxr import Tf
+        from pxr import Tf  # lazy: pxr only once write_usd has required it
 
         if usd_type == "asset":
             value = self.Sdf.AssetPath(str(value))
@@ -348,178 +334,6 @@ class _Writer:
             inside = f"{stem}_{count}{suffix}"
         self.packaged_files[inside] = real
         return inside
-
-    # -- MaterialX image chains --------------------------------------------------------------
-    def node(self, material, name: str, node_id: str, output_type: str):
-        shader = self.UsdShade.Shader.Define(self.stage, self.unique_child(str(material.GetPath()), name))
-        shader.CreateIdAttr(node_id)
-        return shader, shader.CreateOutput("out", self.Sdf.ValueTypeNames.Find(MATERIALX_TO_USD[output_type]))
-
-    def constant_input(self, shader, name: str, materialx_type: str, value) -> None:
-        usd_type = MATERIALX_TO_USD[materialx_type]
-        self.set_value(shader.CreateInput(name, self.Sdf.ValueTypeNames.Find(usd_type)).GetAttr(), usd_type, value)
-
-    def materialx_image(self, material, entry, texture: Texture, usd_type: str):
-        owner = f"{entry.location.path}.{entry.name}"
-        image_type = texture.image_type if texture.image_type in MATERIALX_TO_USD else "color3"
-        category = "tiledimage" if texture.node_category == "tiledimage" else "image"
-        base = _identifier(texture.node or f"{entry.name}_image")
-        image, output = self.node(material, base, f"ND_{category}_{image_type}", image_type)
-        file_input = image.CreateInput("file", self.Sdf.ValueTypeNames.Asset)
-        file_input.Set(self.Sdf.AssetPath(self.texture_path(texture, owner)))
-        space = self.colorspace_name(texture.colorspace, "materialx")
-        if space:
-            file_input.GetAttr().SetColorSpace(space)
-        if texture.fallback is not None:
-            self.constant_input(image, "default", image_type, _fit(texture.fallback, image_type))
-        if texture.wrap:
-            for name, mode in zip(("uaddressmode", "vaddressmode"), texture.wrap):
-                mode = WRAP_TO_ADDRESS_MODE.get(mode, mode)
-                if mode != "useMetadata":
-                    self.constant_input(image, name, "string", mode)
-        self.coordinates(material, image, texture, category, base)
-        current = image_type
-        if texture.normal_map is not None and current != "vector3":
-            node, converted = self.node(material, f"{base}_vector", f"ND_convert_{current}_vector3", "vector3")
-            node.CreateInput("in", output.GetTypeName()).ConnectToSource(output)
-            output, current = converted, "vector3"
-        if texture.channels is not None and len(texture.channels) == 1 and current != "float":
-            node, extracted = self.node(material, f"{base}_channel", f"ND_extract_{current}", "float")
-            node.CreateInput("in", output.GetTypeName()).ConnectToSource(output)
-            self.constant_input(node, "index", "integer", int(texture.channels[0]))
-            output, current = extracted, "float"
-        for operation, value, identity in (("multiply", texture.scale, 1.0), ("add", texture.bias, 0.0)):
-            factor = _per_output(value, texture.channels, current)
-            if factor is None or all(v == identity for v in _components(factor)):
-                continue
-            node, result = self.node(material, f"{base}_{operation}", f"ND_{operation}_{current}", current)
-            node.CreateInput("in1", output.GetTypeName()).ConnectToSource(output)
-            self.constant_input(node, "in2", current, factor)
-            output = result
-        if texture.normal_map is not None:
-            node, decoded = self.node(material, f"{base}_normalmap", "ND_normalmap_float", "vector3")
-            node.CreateInput("in", output.GetTypeName()).ConnectToSource(output)
-            self.constant_input(node, "scale", "float", float(texture.normal_map))
-            output = decoded
-        return output
-
-    def coordinates(self, material, image, texture: Texture, category: str, base: str) -> None:
-        transform = texture.uv
-        upstream = None
-        if isinstance(texture.texcoord, int) and texture.texcoord != 0:
-            node, upstream = self.node(material, f"{base}_texcoord", "ND_texcoord_vector2", "vector2")
-            self.constant_input(node, "index", "integer", texture.texcoord)
-        elif isinstance(texture.texcoord, str) and texture.texcoord not in ("", "st"):
-            node, upstream = self.node(material, f"{base}_texcoord", "ND_geompropvalue_vector2", "vector2")
-            self.constant_input(node, "geomprop", "string", texture.texcoord)
-        if transform is not None and category == "tiledimage" and transform.rotate == 0 and transform.pivot == (0.0, 0.0):
-            self.constant_input(image, "uvtiling", "vector2", transform.scale)
-            self.constant_input(image, "uvoffset", "vector2", transform.offset)
-            transform = None
-        if transform is not None:
-            node, placed = self.node(material, f"{base}_place2d", "ND_place2d_vector2", "vector2")
-            for name, value in (("scale", transform.scale), ("offset", transform.offset), ("pivot", transform.pivot)):
-                self.constant_input(node, name, "vector2", value)
-            self.constant_input(node, "rotate", "float", float(transform.rotate))
-            if upstream is not None:
-                node.CreateInput("texcoord", upstream.GetTypeName()).ConnectToSource(upstream)
-            upstream = placed
-        if upstream is not None:
-            image.CreateInput("texcoord", upstream.GetTypeName()).ConnectToSource(upstream)
-
-    # -- UsdUVTexture ------------------------------------------------------------------------
-    def uv_texture(self, material, entry, texture: Texture, usd_type: str):
-        Sdf = self.Sdf
-        owner = f"{entry.location.path}.{entry.name}"
-        base = _identifier(texture.node or f"{entry.name}_texture")
-        reader = self.UsdShade.Shader.Define(self.stage, self.unique_child(str(material.GetPath()), base))
-        reader.CreateIdAttr("UsdUVTexture")
-        reader.CreateInput("file", Sdf.ValueTypeNames.Asset).Set(Sdf.AssetPath(self.texture_path(texture, owner)))
-        source = self.colorspace_name(texture.colorspace, "usd_uvtexture")
-        if source:
-            reader.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set(source)
-        scale, bias = texture.scale, texture.bias
-        if texture.normal_map is not None and scale is None and bias is None:
-            # A tangent-space normal map decoded by a MaterialX normalmap node: UsdUVTexture decodes it
-            # with scale 2 and bias -1 (UsdPreviewSurface spec, "normal"); the node's strength scales x, y.
-            strength = float(texture.normal_map)
-            scale, bias = (2.0 * strength, 2.0 * strength, 2.0, 1.0), (-strength, -strength, -1.0, 0.0)
-            if not source:
-                reader.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("raw")
-        for name, value in (("scale", scale), ("bias", bias), ("fallback", texture.fallback)):
-            if value is not None:
-                reader.CreateInput(name, Sdf.ValueTypeNames.Float4).Set(_float4(value, name))
-        if texture.wrap:
-            for name, mode in zip(("wrapS", "wrapT"), texture.wrap):
-                reader.CreateInput(name, Sdf.ValueTypeNames.Token).Set(ADDRESS_MODE_TO_WRAP.get(mode, mode))
-        primvar = self.UsdShade.Shader.Define(self.stage, self.unique_child(str(material.GetPath()), f"{base}_st"))
-        primvar.CreateIdAttr("UsdPrimvarReader_float2")
-        name = texture.texcoord if isinstance(texture.texcoord, str) and texture.texcoord else "st"
-        if isinstance(texture.texcoord, int) and texture.texcoord != 0:
-            name = f"st{texture.texcoord}"
-            self.note(CONVERTED, f"{owner}: UV set {texture.texcoord} written as primvar {name!r}")
-        primvar.CreateInput("varname", Sdf.ValueTypeNames.String).Set(name)
-        coordinates = primvar.CreateOutput("result", Sdf.ValueTypeNames.Float2)
-        if texture.uv is not None:
-            transform = self.UsdShade.Shader.Define(self.stage, self.unique_child(str(material.GetPath()), f"{base}_transform"))
-            transform.CreateIdAttr("UsdTransform2d")
-            scale, rotation, translation = _place2d_as_transform2d(texture.uv)
-            transform.CreateInput("scale", Sdf.ValueTypeNames.Float2).Set(scale)
-            transform.CreateInput("rotation", Sdf.ValueTypeNames.Float).Set(rotation)
-            transform.CreateInput("translation", Sdf.ValueTypeNames.Float2).Set(translation)
-            transform.CreateInput("in", Sdf.ValueTypeNames.Float2).ConnectToSource(coordinates)
-            coordinates = transform.CreateOutput("result", Sdf.ValueTypeNames.Float2)
-        reader.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(coordinates)
-        if texture.channels is not None and len(texture.channels) == 1:
-            return reader.CreateOutput("rgba"[texture.channels[0]], Sdf.ValueTypeNames.Float)
-        return reader.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
-
-
-def _components(value) -> tuple:
-    return tuple(value) if isinstance(value, (tuple, list)) else (value,)
-
-
-def _fit(value, materialx_type: str):
-    """``value`` with the component count of ``materialx_type`` (a float4 fallback for a color3)."""
-    from ...values import COMPONENTS
-
-    count = COMPONENTS.get(materialx_type, 1)
-    values = _components(value)
-    if count == 1:
-        return float(values[0])
-    values = (values * count)[:count] if len(values) == 1 else values[:count]
-    return tuple(float(v) for v in values) + (1.0,) * (count - len(values))
-
-
-def _per_output(value, channels, output_type: str):
-    """A UsdUVTexture-style per-channel scale/bias as the factor for the output actually used."""
-    if value is None:
-        return None
-    values = _components(value)
-    if output_type == "float":
-        return float(values[channels[0]] if channels and len(values) > channels[0] else values[0])
-    return _fit(values, output_type)
-
-
-def _float4(value, name: str) -> tuple:
-    values = _components(value)
-    if len(values) == 1:
-        return (float(values[0]),) * 4
-    padding = {"scale": 1.0, "bias": 0.0, "fallback": 1.0}[name]
-    return tuple(float(v) for v in values[:4]) + (padding,) * (4 - min(len(values), 4))
-
-
-def _place2d_as_transform2d(uv: UVTransform) -> tuple[tuple, float, tuple]:
-    """Inverse of the reader's ``_transform2d_as_place2d``, including a pivot:
-    place2d(st) = R_cw(a)((st - p) / S) - o + p, UsdTransform2d(st) = R_ccw(r)(st * s) + t, so
-    s = 1 / S, r = -a and t = p - o - R_cw(a)(p / S)."""
-    angle = math.radians(uv.rotate)
-    px, py = (p / s if s else 0.0 for p, s in zip(uv.pivot, uv.scale))
-    rotated = (math.cos(angle) * px + math.sin(angle) * py, -math.sin(angle) * px + math.cos(angle) * py)
-    translation = (uv.pivot[0] - uv.offset[0] - rotated[0], uv.pivot[1] - uv.offset[1] - rotated[1])
-    scale = tuple(1.0 / s if s else 0.0 for s in uv.scale)
-    return scale, -uv.rotate + 0.0, tuple(t + 0.0 for t in translation)
-
 
 def _scene_unit(asset: Asset) -> float | None:
     """Metres per scene unit of the asset the materials came from, when its format defines one."""

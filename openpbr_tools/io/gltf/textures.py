@@ -1,0 +1,220 @@
+"""The texture half of the glTF reader: images, textures, samplers, texture transforms.
+
+:class:`TextureReading` (a base of the reader's ``_Reader``) records each image (its file or
+``#/images/N`` inside the asset, MIME type, and width and height measured from the header, never
+decoding the pixels), and turns a ``textureInfo`` into a :class:`~openpbr_tools.model.Texture`: the
+image it reads (through ``EXT_texture_webp``/``KHR_texture_basisu`` sources too), the sampler's wrap
+modes as MaterialX address modes, ``KHR_texture_transform`` as ``place2d`` parameters, the UV set,
+and the factor, normal scale, occlusion strength or iridescence thickness range folded into
+``scale`` and ``bias``. Materials and their factors are :mod:`.reader`'s; the JSON value checks at
+the bottom serve both.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import warnings
+from urllib.parse import unquote
+
+from ...model import Connection, Texture
+from . import slots
+from .document import ResourceError, ResourceFile, data_uri_mime
+from .uv import from_texture_transform
+
+SNIFF = ((b"\x89PNG\r\n\x1a\n", "image/png"), (b"\xff\xd8\xff", "image/jpeg"),
+         (b"\xabKTX 20\xbb\r\n\x1a\n", "image/ktx2"), (b"v/1\x01", "image/x-exr"), (b"#?RADIANCE", "image/vnd.radiance"))
+SUFFIX_MIME = {".png": "image/png", ".jpg": "image/jpeg", ".jpeg": "image/jpeg", ".webp": "image/webp",
+               ".ktx2": "image/ktx2", ".exr": "image/x-exr", ".hdr": "image/vnd.radiance", ".tif": "image/tiff",
+               ".tiff": "image/tiff", ".tga": "image/x-tga", ".bmp": "image/bmp"}
+
+
+class TextureReading:
+    """Images and textures for a reader with ``document``, ``asset``, ``facts``, ``images``,
+    ``package_files``, ``texture_pointers``, ``wrap_modes``, ``bad_samplers``, ``index`` and the
+    ``invalid``/``broken``/``observe_once``/``location`` reporters."""
+
+    def read_image(self, index: int) -> dict:
+        pointer = f"/images/{index}"
+        image = self.document.item("images", index) or {}
+        uri = image.get("uri")
+        declared = image.get("mimeType")
+        info = {"index": index, "pointer": pointer, "file": f"#/images/{index}", "packaged": True,
+                "mime": declared if isinstance(declared, str) else None, "width": None, "height": None, "readable": False}
+        if isinstance(uri, str) and not uri.startswith("data:"):
+            info["file"], info["packaged"] = unquote(uri), False
+            if "\x00" in info["file"]:  # no file system takes it; path functions raise ValueError on it
+                info["file"] = info["file"].replace("\x00", "\ufffd")
+                self.invalid(pointer, "uri holds a NUL character (U+0000), which no file name can; read as U+FFFD", "uri")
+            info["mime"] = info["mime"] or SUFFIX_MIME.get(os.path.splitext(info["file"])[1].lower())
+            try:
+                local = self.document.resolve(uri, pointer + "/uri")
+            except ResourceError as error:
+                if error.outside:
+                    info["outside"] = error.message  # never opened; the rules report it
+                return info
+            if os.path.isfile(local):  # only the header is read
+                _measure(local, info)
+            return info
+        try:
+            data, mime = self.document.image_view(index)
+        except ResourceError as error:
+            self.broken(error)
+            return info
+        info["mime"] = info["mime"] or (mime if isinstance(mime, str) else None) or data_uri_mime(uri or "")
+        self.package_files.add(info["file"])
+        _measure(ResourceFile(data), info, bytes(data[:16]))
+        if not info["readable"] and info["mime"] in slots.core_mime_types():
+            self.observe_once("gltf_resource", pointer, f"embedded image ({len(data)} bytes) is not a decodable {info['mime']}")
+        return info
+
+    def texture(self, slot: slots.Slot, info, pointer: str, factor, container: dict):
+        if not isinstance(info, dict) or isinstance(info.get("index"), bool) or not isinstance(info.get("index"), int):
+            self.invalid(pointer, "textureInfo needs an integer index", "index")
+            return Connection(pointer, None, "textureInfo has no valid index", dangling=True)
+        index = info["index"]
+        texture = self.document.item("textures", index)
+        if texture is None:
+            return Connection(f"/textures/{index}", None, f"texture {index} does not exist", dangling=True)
+        source, via_extension = texture.get("source"), None
+        for extension in slots.EXTENSION_MIME_TYPES.values():
+            alternative = (texture.get("extensions") or {}).get(extension) if isinstance(texture.get("extensions"), dict) else None
+            if isinstance(alternative, dict) and isinstance(alternative.get("source"), int):
+                source, via_extension = alternative["source"], extension
+        if source is None or self.document.item("images", source) is None:
+            what = f"image {source}" if source is not None else "an image source"
+            self.asset.observe("dangling_reference", self.location(f"/textures/{index}", "source"),
+                               attribute="source", target=source if source is not None else "(none)")
+            return Connection(f"/textures/{index}", None, f"texture {index} has no {what}", dangling=True)
+        image = self.images[source]
+        if via_extension and via_extension not in image.setdefault("via_extensions", []):
+            image["via_extensions"].append(via_extension)
+        texcoord = info.get("texCoord", 0)
+        result = Texture(
+            file=image["file"], image_type=slot.image_type, channels=slot.channels, colorspace=slot.colorspace,
+            node=pointer, node_category="gltf_texture", location=self.location(pointer, "index"),
+            packaged=image["packaged"],
+        )
+        result.wrap = self.sampler(texture.get("sampler"), index)
+        transform = _transform(info)
+        if transform is not None:
+            texcoord = transform.get("texCoord", texcoord)
+            try:
+                result.uv = _uv(transform)
+            except (TypeError, ValueError, ZeroDivisionError) as error:
+                self.invalid(f"{pointer}/extensions/{slots.TEXTURE_TRANSFORM}", f"KHR_texture_transform ignored: {error}")
+        if not isinstance(texcoord, int) or isinstance(texcoord, bool) or texcoord < 0:
+            self.invalid(pointer, f"texCoord must be a non-negative integer, not {json_text(texcoord)}", "texCoord")
+            texcoord = 0
+        result.texcoord = texcoord or None
+        if pointer not in self.texture_pointers:
+            self.texture_pointers.add(pointer)
+            self.facts["texture_uses"].append({"pointer": pointer, "material": self.index, "texcoord": texcoord,
+                                               "image": source})
+        self.apply_factor(slot, result, info, factor, container, pointer)
+        return result
+
+    def apply_factor(self, slot: slots.Slot, texture: Texture, info: dict, factor, container: dict, pointer: str) -> None:
+        if slot.texture_kind in ("normalTextureInfo", "occlusionTextureInfo"):
+            name = "scale" if slot.texture_kind == "normalTextureInfo" else "strength"
+            if name in info and not json_numbers([info[name]], 1):
+                self.invalid(pointer, f"{name} must be a number, not {json_text(info[name])}", name)
+        if slot.texture_kind == "normalTextureInfo":
+            texture.normal_map = json_float(info["scale"]) if json_numbers([info.get("scale")], 1) else 1.0
+            texture.channels = None
+            return
+        if slot.texture_kind == "occlusionTextureInfo":
+            strength = json_float(info["strength"]) if json_numbers([info.get("strength")], 1) else 1.0
+            if strength != 1.0:
+                texture.scale, texture.bias = strength, 1.0 - strength
+            return
+        if slot.parameter == "iridescence_thickness":
+            low_name, low_default = slots.IRIDESCENCE_THICKNESS_MINIMUM
+            low = container.get(low_name, low_default)
+            high = factor if isinstance(factor, float) else slot.default
+            low = json_float(low) if json_numbers([low], 1) else low_default
+            texture.scale, texture.bias = high - low, low
+            return
+        if factor is None:
+            return
+        identity = tuple(1.0 for _ in factor) if isinstance(factor, tuple) else 1.0
+        if factor != identity:
+            texture.scale = factor
+
+    def sampler(self, index, texture_index: int) -> tuple[str, str] | None:
+        if index is None:
+            return None
+        sampler = self.document.item("samplers", index)
+        if sampler is None:
+            self.asset.observe("dangling_reference", self.location(f"/textures/{texture_index}", "sampler"),
+                               attribute="sampler", target=index)
+            return None
+        modes = []
+        for name in ("wrapS", "wrapT"):
+            value = sampler.get(name, 10497)  # REPEAT, the schema's default
+            if not isinstance(value, int) or isinstance(value, bool) or value not in self.wrap_modes:
+                if (index, name) not in self.bad_samplers:
+                    self.bad_samplers.add((index, name))
+                    self.invalid(f"/samplers/{index}", f"{name} must be 33071, 33648 or 10497, not {json_text(value)}", name)
+                value = 10497
+            modes.append(self.wrap_modes[value])
+        return modes[0], modes[1]
+
+
+def _transform(info: dict) -> dict | None:
+    extensions = info.get("extensions")
+    if not isinstance(extensions, dict):
+        return None
+    found = extensions.get(slots.TEXTURE_TRANSFORM)
+    return found if isinstance(found, dict) else None
+
+
+def _uv(transform: dict):
+    offset = transform.get("offset", [0.0, 0.0])
+    rotation = transform.get("rotation", 0.0)
+    scale = transform.get("scale", [1.0, 1.0])
+    if not json_numbers(offset, 2) or not json_numbers(scale, 2) or not json_numbers([rotation], 1):
+        raise ValueError("offset and scale must be arrays of 2 numbers, rotation a number")
+    uv = from_texture_transform((json_float(offset[0]), json_float(offset[1])), json_float(rotation), (json_float(scale[0]), json_float(scale[1])))
+    return None if (offset, rotation, scale) == ([0.0, 0.0], 0.0, [1.0, 1.0]) else uv
+
+
+def _measure(source, info: dict, head: bytes | None = None) -> None:
+    """Fill ``width``, ``height``, ``readable`` and (when undeclared) ``mime`` from the image header."""
+    if head is not None and not info["mime"]:
+        info["mime"] = next((mime for magic, mime in SNIFF if head.startswith(magic)), None)
+        if head[:4] == b"RIFF" and head[8:12] == b"WEBP":
+            info["mime"] = "image/webp"
+    try:
+        from PIL import Image  # lazy: Pillow (~15 ms) only for a file that has images
+
+        with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
+            warnings.simplefilter("ignore")
+            with Image.open(source) as image:
+                info["width"], info["height"] = image.size
+                info["readable"] = True
+                detected = Image.MIME.get(image.format or "")
+                info["detected_mime"] = detected
+                info["mime"] = info["mime"] or detected
+    except Exception:  # noqa: BLE001 - Pillow raises many exception types for images it cannot identify
+        info["readable"] = False
+
+
+def json_numbers(value, count: int) -> bool:
+    """``value`` is a list of ``count`` JSON numbers (NaN and infinity included: the values rules judge them)."""
+    return isinstance(value, list) and len(value) == count and all(
+        isinstance(v, (int, float)) and not isinstance(v, bool) for v in value)
+
+
+def json_float(value) -> float:
+    """A JSON number as a float; integers beyond the float range become ±infinity, as a JSON
+    reader that parses numbers as doubles would read them."""
+    try:
+        return float(value)
+    except OverflowError:
+        return math.inf if value > 0 else -math.inf
+
+
+def json_text(value) -> str:
+    return json.dumps(value)

@@ -1,0 +1,184 @@
+"""The texture half of the USD shading-network reader: which shader nodes make a texture lookup.
+
+:class:`TextureNodeReader` (a base of :class:`~.network.NetworkReader`) walks from the shader an
+input connects to towards an image: MaterialX image chains (``ND_image_*``/``ND_tiledimage_*`` reached
+through ``extract``, ``separate*``, ``convert``/``dot``, ``normalmap``, and ``multiply``/``add`` by a
+constant, taken as the texture's scale and bias; ``place2d`` (and ``tiledimage`` tiling), ``texcoord``
+or ``geompropvalue`` on the coordinates) and ``UsdUVTexture`` (the output used gives the channel;
+``sourceColorSpace``, ``scale``, ``bias``, ``fallback``, ``wrapS``/``wrapT``; ``UsdTransform2d`` and
+``UsdPrimvarReader_float2`` on ``st``). Following connections and interfaces, and where a texture
+file is, are :mod:`.network`'s.
+"""
+
+from __future__ import annotations
+
+import math
+
+from ...model import Connection, Input, Texture, UVTransform
+from .attributes import constant_of, shortest_float32, unconnected
+from .sdr import materialx_nodedef
+from .types import PRIMVAR_READER_PREFIX, TRANSFORM_2D_ID, UV_TEXTURE_ID, UV_TEXTURE_OUTPUTS
+
+DEFAULT_UV_PRIMVAR = "st"  # the conventional UV primvar: read as the default UV set (texcoord None)
+_CHANNEL_OUTPUTS = {"outr": 0, "outg": 1, "outb": 2, "outa": 3, "outx": 0, "outy": 1, "outz": 2, "outw": 3}
+
+
+class TextureNodeReader:
+    """Texture lookups for a reader with ``UsdShade``, ``upstream``, ``file_of``, ``location``,
+    ``attribute_colorspace``, ``inherited_colorspace`` and ``observe_colorspace``."""
+
+    def texture_chain(self, prim, output_name: str, entry: Input, consumer):
+        """Walk ``extract``/``separate``/``convert``/``normalmap``/``multiply``/``add`` to an image
+        node (MaterialX) or a UsdUVTexture; anything else is a :class:`Connection`."""
+        channels = normal_scale = scale = bias = None
+        first = (prim, output_name)
+        for _ in range(8):
+            shader_id = str(self.UsdShade.Shader(prim).GetShaderId() or "")
+            if shader_id == UV_TEXTURE_ID:
+                return self.uv_texture(prim, output_name, entry, consumer)
+            nodedef = materialx_nodedef(shader_id)
+            category = nodedef.getNodeString() if nodedef is not None else None
+            if category in ("image", "tiledimage"):
+                return self.materialx_image(prim, nodedef, channels, normal_scale, scale, bias)
+            if category is not None and category.startswith("separate") and output_name in _CHANNEL_OUTPUTS:
+                channels = (_CHANNEL_OUTPUTS[output_name],)
+                step = "in"
+            elif category == "extract":
+                index = constant_of(prim, "index")
+                channels = (int(index) if isinstance(index, (int, float)) else 0,)
+                step = "in"
+            elif category == "normalmap":
+                strength = constant_of(prim, "scale")
+                normal_scale = float(strength) if isinstance(strength, (int, float)) else 1.0
+                step = "in"
+            elif category in ("convert", "dot"):
+                step = "in"
+            elif category in ("multiply", "add") and unconnected(prim.GetAttribute("inputs:in2")):
+                factor = constant_of(prim, "in2")
+                if factor is None:
+                    break
+                if category == "multiply":
+                    scale = factor
+                else:
+                    bias = factor
+                step = "in1"
+            else:
+                break
+            kind, *found = self.upstream(prim, step)
+            if kind != "shader":
+                break
+            prim, output_name, _ = found
+        node, out = first
+        shader_id = str(self.UsdShade.Shader(node).GetShaderId() or "") or None
+        return Connection(f"{node.GetPath()}.outputs:{out}", shader_id,
+                          f"{shader_id or 'a shader without info:id'} is not a texture lookup")
+
+    def materialx_image(self, prim, nodedef, channels, normal_scale, scale, bias) -> Texture:
+        path = str(prim.GetPath())
+        file_attribute = prim.GetAttribute("inputs:file")
+        file, packaged = self.file_of(file_attribute)
+        colorspace = None
+        if file_attribute:
+            colorspace = self.attribute_colorspace(file_attribute, "materialx") or self.inherited_colorspace(prim)
+        texture = Texture(
+            file=file, image_type=nodedef.getType(), channels=channels, colorspace=colorspace,
+            normal_map=normal_scale, scale=scale, bias=bias, node=path,
+            node_category=nodedef.getNodeString(), location=self.location(path, "file"), packaged=packaged,
+        )
+        texture.fallback = constant_of(prim, "default")
+        wrap_u, wrap_v = constant_of(prim, "uaddressmode"), constant_of(prim, "vaddressmode")
+        if wrap_u is not None or wrap_v is not None:
+            texture.wrap = (wrap_u or "periodic", wrap_v or "periodic")
+        transform = UVTransform()
+        if texture.node_category == "tiledimage":
+            tiling, offset = constant_of(prim, "uvtiling"), constant_of(prim, "uvoffset")
+            if tiling is not None:
+                transform.scale = (float(tiling[0]), float(tiling[1]))
+            if offset is not None:
+                transform.offset = (float(offset[0]), float(offset[1]))
+        kind, *found = self.upstream(prim, "texcoord")
+        for _ in range(4):
+            if kind != "shader":
+                break
+            node = found[0]
+            nodedef_upstream = materialx_nodedef(str(self.UsdShade.Shader(node).GetShaderId() or ""))
+            category = nodedef_upstream.getNodeString() if nodedef_upstream is not None else None
+            if category == "place2d":
+                for field, key in (("scale", "scale"), ("offset", "offset"), ("pivot", "pivot")):
+                    value = constant_of(node, key)
+                    if value is not None:
+                        setattr(transform, field, (float(value[0]), float(value[1])))
+                rotate = constant_of(node, "rotate")
+                if rotate is not None:
+                    transform.rotate = float(rotate)
+                kind, *found = self.upstream(node, "texcoord")
+                continue
+            if category == "texcoord":
+                index = constant_of(node, "index")
+                if isinstance(index, int) and index != 0:
+                    texture.texcoord = index
+            elif category == "geompropvalue":
+                texture.texcoord = constant_of(node, "geomprop")
+            break
+        texture.uv = None if transform.is_identity and transform.pivot == (0.0, 0.0) else transform
+        return texture
+
+    def uv_texture(self, prim, output_name: str, entry: Input, consumer) -> Texture | Connection:
+        path = str(prim.GetPath())
+        if output_name not in UV_TEXTURE_OUTPUTS:
+            return Connection(f"{path}.outputs:{output_name}", UV_TEXTURE_ID,
+                              f"UsdUVTexture has no output {output_name!r} (r, g, b, a, rgb)", dangling=True)
+        channels = UV_TEXTURE_OUTPUTS[output_name]
+        file_attribute = prim.GetAttribute("inputs:file")
+        file, packaged = self.file_of(file_attribute)
+        source = prim.GetAttribute("inputs:sourceColorSpace")
+        colorspace = None
+        if source and source.HasAuthoredValue():
+            colorspace = str(source.Get())
+            self.observe_colorspace(self.location(path, "sourceColorSpace"), colorspace, "usd_uvtexture",
+                                    "sourceColorSpace")
+        if file_attribute:
+            metadata = self.attribute_colorspace(file_attribute, "usd")
+            colorspace = colorspace or metadata
+        model, _, parameter = consumer
+        wants = entry.type if entry.type in ("color3", "vector3") else "color3"
+        texture = Texture(
+            file=file, image_type=wants if channels is None else "color4", channels=channels, colorspace=colorspace,
+            scale=constant_of(prim, "scale"), bias=constant_of(prim, "bias"), fallback=constant_of(prim, "fallback"),
+            node=path, node_category=UV_TEXTURE_ID, location=self.location(path, "file"), packaged=packaged,
+        )
+        if parameter is not None and parameter.role == "normal" and model == "UsdPreviewSurface":
+            texture.normal_map = 1.0  # the preview surface consumes tangent-space normals directly
+        wrap_s, wrap_t = constant_of(prim, "wrapS"), constant_of(prim, "wrapT")
+        if wrap_s is not None or wrap_t is not None:
+            texture.wrap = (wrap_s or "useMetadata", wrap_t or "useMetadata")
+        kind, *found = self.upstream(prim, "st")
+        for _ in range(4):
+            if kind != "shader":
+                break
+            node = found[0]
+            node_id = str(self.UsdShade.Shader(node).GetShaderId() or "")
+            if node_id == TRANSFORM_2D_ID:
+                texture.uv = _transform2d_as_place2d(node)
+                kind, *found = self.upstream(node, "in")
+                continue
+            if node_id.startswith(PRIMVAR_READER_PREFIX):
+                varname = constant_of(node, "varname")
+                texture.texcoord = None if varname == DEFAULT_UV_PRIMVAR else varname
+            break
+        return texture
+
+
+def _transform2d_as_place2d(prim) -> UVTransform:
+    """UsdTransform2d computes ``R(rotation) (st * scale) + translation`` with R counter-clockwise
+    (UsdPreviewSurface spec); MaterialX ``place2d`` (SRT, pivot 0) computes
+    ``rotate2d(st / scale, rotate) - offset`` where ``rotate2d`` turns clockwise (stdlib
+    ``mx_rotate_vector2``). Equal when scale = 1/scale, rotate = -rotation, offset = -translation."""
+    scale = constant_of(prim, "scale") or (1.0, 1.0)
+    rotation = constant_of(prim, "rotation") or 0.0
+    translation = constant_of(prim, "translation") or (0.0, 0.0)
+    inverse = tuple(shortest_float32(1.0 / s) if s else math.inf for s in scale)
+    return UVTransform(
+        scale=(inverse[0], inverse[1]), rotate=-float(rotation) + 0.0,
+        offset=(-float(translation[0]) + 0.0, -float(translation[1]) + 0.0),
+    )
