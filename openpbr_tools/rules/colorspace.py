@@ -50,7 +50,11 @@ DATA_TEXTURE_MANAGED = Rule(
     "A data input (roughness, metalness, weights, IOR, normals) reads a colour-managed texture.",
     "A colour-space conversion bends the numbers: an sRGB decode turns a roughness of 0.5 into 0.21. "
     "This often happens by inheritance, when a colour-typed image under a document colour space feeds "
-    "a float input through an extract node. Mark the image colorspace=\"none\".",
+    "a float input through an extract node. Mark the image colorspace=\"none\". A colour-typed data input "
+    "(Standard Surface's subsurface_radius, OpenPBR's subsurface_radius_scale) is not reported: MaterialX "
+    "colour-manages every color3 input, so an sRGB texture there is decoded as its author intended "
+    "(MaterialX's own chess-set example drives subsurface_radius from the base-colour texture). The "
+    "alpha of a color4 image is never transformed.",
     passing='<image name="rough" type="color3">\n  <input name="file" type="filename" value="orm.png" colorspace="none" />\n</image>\n<extract name="g" type="float">\n  <input name="in" type="color3" nodename="rough" />\n  <input name="index" type="integer" value="1" />\n</extract>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_roughness" type="float" nodename="g" />\n</open_pbr_surface>',
     failing='<image name="rough" type="color3">\n  <input name="file" type="filename" value="orm.png" colorspace="srgb_texture" />\n</image>\n<extract name="g" type="float">\n  <input name="in" type="color3" nodename="rough" />\n  <input name="index" type="integer" value="1" />\n</extract>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_roughness" type="float" nodename="g" />\n</open_pbr_surface>',
     example_files=("orm.png",),
@@ -104,7 +108,7 @@ def check(asset, context):
                     COLOR_TEXTURE_RAW, f"{entry.name} reads {texture.file!r} as raw data (colorspace none)",
                     entry.location, hint="mark the image srgb_texture (or the space it was painted in)",
                 )
-        elif parameter.role in ("data", "normal", "tangent") and texture is not None:
+        elif parameter.role in ("data", "normal", "tangent") and texture is not None and parameter.type != "color3":
             if _bends_data(texture, asset):
                 inherited = "" if _authored_on_texture(texture, asset) else " (inherited)"
                 yield context.diagnostic(
@@ -121,8 +125,8 @@ def check(asset, context):
 
 
 def _bends_data(texture: Texture, asset) -> bool:
-    if texture.image_type not in COLOUR_MANAGED_IMAGE_TYPES:
-        return False
+    if texture.image_type not in COLOUR_MANAGED_IMAGE_TYPES or texture.channels == (3,):
+        return False  # MaterialX transforms only color3/color4 images, and a color4's alpha never
     space = texture.colorspace
     if space is None or colorspaces.is_data(space):
         return False

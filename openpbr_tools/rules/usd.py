@@ -183,10 +183,26 @@ PACKAGE_ENTRY = Rule(
     failing=_package(("root.usda", openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("../albedo.png", "")),
     passing_name="example.usdz", failing_name="example.usdz", formats=("usd",),
 )
+MTLX_REFERENCE = Rule(
+    "OPBR1013", "usd-references-materialx", Severity.INFO,
+    "A sublayer, reference or payload names a MaterialX document (UsdMtlx), which the installed "
+    "usd-core cannot open.",
+    "UsdMtlx lets a stage reference a .mtlx file directly (`references = @./look.mtlx@`); it is a "
+    "plug-in that OpenUSD builds with MaterialX, and the usd-core wheel on PyPI is built without it. "
+    "Renderers built with it (usdview, Houdini, Omniverse) compose these materials; this validator cannot, "
+    "so it deletes the arc in memory, validates the rest of the stage, and says so here. The MaterialX "
+    "document is validated as MaterialX when it is given to `openpbr validate` itself (a folder "
+    "includes it). Not a defect of the file: an info, so a published UsdMtlx asset is not reported as "
+    "malformed (OPBR002), as it was before.",
+    passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace(
+        'defaultPrim = "M"\n', 'defaultPrim = "M"\n    subLayers = [@./look.mtlx@]\n'),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("look.mtlx",),
+)
 
 
 RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
-         USD_CORE, ARC_OUTSIDE, PACKAGE_ENTRY)
+         USD_CORE, ARC_OUTSIDE, PACKAGE_ENTRY, MTLX_REFERENCE)
 
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
@@ -237,6 +253,13 @@ def _observations(asset, context):
                 ARC_OUTSIDE, f"{detail['arc']} @{detail['asset']}@ {detail['reason']}: not opened, so not validated",
                 where, hint="keep the layers an asset composes inside its folder, with relative paths"
                 if detail["arc"] != "value clip" else "value clips are never read by the validator",
+            )
+        elif observation.kind == "usd_mtlx_reference":
+            missing = "" if detail["exists"] else " (and the file does not exist)"
+            yield context.diagnostic(
+                MTLX_REFERENCE, f"{detail['arc']} @{detail['asset']}@ is a MaterialX document{missing}: usd-core is "
+                "built without the usdMtlx plugin, so its materials are not composed here", where,
+                hint="validate the .mtlx file itself: openpbr validate reads MaterialX",
             )
         elif observation.kind == "usd_package_entry":
             yield context.diagnostic(
@@ -382,6 +405,8 @@ def _colour_managed_textures(asset, context):
 
 
 def _bends(texture: Texture) -> str | None:
+    if texture.channels == (3,):
+        return None  # alpha is never decoded as sRGB (Storm, UsdPreviewSurface spec: sRGB applies to RGB)
     space = texture.colorspace
     if texture.node_category == UV_TEXTURE_ID:
         if space == "sRGB" or (space not in ("raw", "sRGB", "auto", None) and _is_encoded(space)):

@@ -88,15 +88,20 @@ class GraphFollower:
             node = self.upstream_node(upstream) if upstream is not None else None
         else:
             return None
-        return self.image(node, channels, normal_scale)
+        image_type = None
+        if node.getType() == "multioutput":  # e.g. gltf_colorimage: outcolor (color3) and outa (float)
+            image_type, channel = _multioutput_type(node, output_name)
+            if channel is not None and channels is None:
+                channels = (channel,)
+        return self.image(node, channels, normal_scale, image_type)
 
-    def image(self, node, channels, normal_scale) -> Texture:
+    def image(self, node, channels, normal_scale, image_type: str | None = None) -> Texture:
         file_input = node.getInput("file")
         file_value = file_input.getValueString() if file_input is not None else ""
         prefix = file_input.getActiveFilePrefix() if file_input is not None else ""
         texture = Texture(
             file=prefix + file_value,
-            image_type=node.getType(),
+            image_type=image_type or node.getType(),
             channels=channels,
             colorspace=(file_input.getActiveColorSpace() if file_input is not None else node.getActiveColorSpace()) or None,
             normal_map=normal_scale,
@@ -183,3 +188,16 @@ def _capture_graph(node, limit: int = 256) -> str | None:
     from .writer import document_text  # lazy: the writer imports MaterialX at load (see above)
 
     return document_text(captured)
+
+
+def _multioutput_type(node, output_name: str) -> tuple[str, int | None]:
+    """The type of output ``output_name`` of a multi-output image node, from its node definition,
+    and the image channel it reads when it is one channel (``outa``: alpha). A connection without
+    ``output`` reads the first output, as MaterialX does."""
+    nodedef = node.getNodeDef()
+    outputs = nodedef.getActiveOutputs() if nodedef is not None else []
+    chosen = next((o for o in outputs if o.getName() == output_name), outputs[0] if outputs else None)
+    if chosen is None:
+        return "multioutput", None
+    channel = 3 if chosen.getType() == "float" and chosen.getName() == "outa" else None
+    return chosen.getType(), channel

@@ -52,7 +52,8 @@ class StageGuard:
 
     ``observe(kind, location, **detail)`` receives ``usd_arc_outside`` (a sublayer, reference,
     payload or value clip pointing outside the asset's folder: deleted before composition, so never
-    opened) and ``usd_package_entry`` (a USDZ entry with an unsafe name, or compressed).
+    opened), ``usd_mtlx_reference`` (an arc to a ``.mtlx`` document this usd-core cannot open) and
+    ``usd_package_entry`` (a USDZ entry with an unsafe name, or compressed).
     ``allow_outside`` lists folders arcs may point into besides the asset's own. Layers are edited
     in memory only; a layer already open elsewhere in the process is never edited (the stage is
     refused instead), and the edited ones die with the stage.
@@ -180,6 +181,9 @@ class StageGuard:
                 if reason:
                     self.refuse(layer, asset_path, reason)
                     continue
+                if asset_path.lower().endswith(".mtlx") and not _reads_materialx():
+                    self.mtlx_reference(layer, asset_path)
+                    continue
                 identifier = layer.ComputeAbsolutePath(asset_path)
                 resolved = _resolve(identifier)
                 if identifier in self.layers or not resolved:
@@ -245,6 +249,18 @@ class StageGuard:
             self.observe("usd_arc_outside", self.where(file, None, prim_path), arc=arc, asset=asset_path, reason=reason)
         self.editable(layer).UpdateCompositionAssetDependency(asset_path, "")
 
+    def mtlx_reference(self, layer, asset_path: str) -> None:
+        """An arc to a MaterialX document (UsdMtlx) that this usd-core cannot open (PyPI's usd-core has
+        no usdMtlx plugin): noted (``usd_mtlx_reference``) and deleted in memory, so the rest of the
+        stage composes; the document is MaterialX and is validated as such on its own."""
+        file = self.layer_file(layer)
+        target = os.path.normpath(os.path.join(os.path.dirname(file), asset_path))
+        arcs = [(None, "sublayer")] if asset_path in layer.subLayerPaths else []
+        for prim_path, arc in arcs + list(_arcs_to(layer, asset_path)):
+            self.observe("usd_mtlx_reference", self.where(file, None, prim_path), arc=arc, asset=asset_path,
+                         exists=os.path.isfile(target))
+        self.editable(layer).UpdateCompositionAssetDependency(asset_path, "")
+
     def drop_value_clips(self, layer) -> None:
         """Delete every value clip: clips hold animation, not materials, usd-core opens their
         layers lazily from anywhere, and a template can name millions of files (all enumerated)."""
@@ -258,6 +274,13 @@ class StageGuard:
                                      arc="value clip", asset=asset_path, reason=reason)
             self.editable(layer)
             spec.ClearInfo("clips")
+
+
+def _reads_materialx() -> bool:
+    """Whether this usd-core can open ``.mtlx`` layers (built with the usdMtlx plugin)."""
+    from pxr import Sdf  # lazy: pxr only once open_stage has required it
+
+    return Sdf.FileFormat.FindByExtension("mtlx") is not None
 
 
 def _resolve(identifier: str) -> str:

@@ -1,0 +1,82 @@
+"""Findings that published, working assets used to get and must not: each test is the smallest
+document with the construct a published file uses (the file it comes from is named)."""
+
+from __future__ import annotations
+
+from openpbr_tools.io import read_asset
+
+
+def test_a_multi_output_image_connection_takes_the_type_of_the_named_output(write_mtlx, codes_of):
+    # MaterialX's resources/Materials/Examples/GltfPbr/gltf_pbr_boombox.mtlx
+    path = write_mtlx('''<gltf_colorimage name="img" type="multioutput">
+  <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />
+</gltf_colorimage>
+<gltf_pbr name="S" type="surfaceshader">
+  <input name="base_color" type="color3" nodename="img" output="outcolor" />
+  <input name="alpha" type="float" nodename="img" output="outa" />
+</gltf_pbr>''', files=("albedo.png",))
+    assert "OPBR702" not in codes_of(path)
+    inputs = read_asset(str(path)).materials[0].inputs
+    assert inputs["base_color"].texture.image_type == "color3" and inputs["base_color"].texture.channels is None
+    assert inputs["alpha"].texture.image_type == "float" and inputs["alpha"].texture.channels == (3,)
+
+
+def test_the_alpha_of_an_srgb_texture_is_not_colour_managed_in_usd(tmp_path):
+    # OpenUSD testPreviewSurfaceOpacityThreshold.usda, usd-wg AlphaBlendSortTest.usda
+    from openpbr_tools.validate import validate_paths
+
+    (tmp_path / "cutout.png").write_bytes(b"")
+    (tmp_path / "m.usda").write_text('''#usda 1.0
+(
+    metersPerUnit = 1
+)
+def Material "M"
+{
+    token outputs:surface.connect = </M/S.outputs:surface>
+    def Shader "S"
+    {
+        uniform token info:id = "UsdPreviewSurface"
+        float inputs:opacity.connect = </M/T.outputs:a>
+        color3f inputs:diffuseColor.connect = </M/T.outputs:rgb>
+        token outputs:surface
+    }
+    def Shader "T"
+    {
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @cutout.png@
+        token inputs:sourceColorSpace = "sRGB"
+        float outputs:a
+        float3 outputs:rgb
+    }
+}
+''', encoding="utf-8")
+    codes = {d.code for d in validate_paths([str(tmp_path / "m.usda")]).diagnostics}
+    assert "OPBR504" not in codes
+
+
+def test_the_alpha_of_a_color4_image_is_not_colour_managed_in_materialx(write_mtlx, codes_of):
+    path = write_mtlx('''<image name="img" type="color4">
+  <input name="file" type="filename" value="cutout.png" colorspace="srgb_texture" />
+</image>
+<extract name="a" type="float">
+  <input name="in" type="color4" nodename="img" />
+  <input name="index" type="integer" value="3" />
+</extract>
+<open_pbr_surface name="S" type="surfaceshader">
+  <input name="geometry_opacity" type="float" nodename="a" />
+</open_pbr_surface>''', files=("cutout.png",))
+    assert "OPBR504" not in codes_of(path)
+
+
+def test_the_red_of_an_srgb_color4_image_on_a_data_input_is_still_reported(write_mtlx, codes_of):
+    path = write_mtlx('''<image name="img" type="color4">
+  <input name="file" type="filename" value="rough.png" colorspace="srgb_texture" />
+</image>
+<extract name="r" type="float">
+  <input name="in" type="color4" nodename="img" />
+  <input name="index" type="integer" value="0" />
+</extract>
+<open_pbr_surface name="S" type="surfaceshader">
+  <input name="specular_roughness" type="float" nodename="r" />
+</open_pbr_surface>''', files=("rough.png",))
+    assert "OPBR504" in codes_of(path)
