@@ -3,6 +3,8 @@ document with the construct a published file uses (the file it comes from is nam
 
 from __future__ import annotations
 
+import pytest
+
 from openpbr_tools.io import read_asset
 
 
@@ -80,3 +82,65 @@ def test_the_red_of_an_srgb_color4_image_on_a_data_input_is_still_reported(write
   <input name="specular_roughness" type="float" nodename="r" />
 </open_pbr_surface>''', files=("rough.png",))
     assert "OPBR504" in codes_of(path)
+
+
+LOOK = '''<?xml version="1.0"?>
+<materialx version="1.39">
+  <xi:include href="{href}" />
+  <look name="L">
+    <materialassign name="assign" material="Mb" geom="/a" />
+  </look>
+</materialx>
+'''
+LIBRARY = '''<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <open_pbr_surface name="Sb" type="surfaceshader" />
+  <surfacematerial name="Mb" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="Sb" />
+  </surfacematerial>
+</materialx>
+'''
+
+
+def test_a_look_file_whose_materials_come_from_an_include_is_clean(tmp_path):
+    # MaterialX's standard_surface_look_brass_tiled.mtlx: looks, with the materials included
+    from openpbr_tools.validate import validate_paths
+
+    (tmp_path / "lib").mkdir()
+    (tmp_path / "lib" / "materials.mtlx").write_text(LIBRARY, encoding="utf-8")
+    (tmp_path / "look.mtlx").write_text(LOOK.format(href="lib/materials.mtlx"), encoding="utf-8")
+    assert validate_paths([str(tmp_path / "look.mtlx")]).diagnostics == []
+
+
+@pytest.mark.parametrize("href, reason", [
+    ("../materials.mtlx", "leads outside the asset's folder"),
+    ("missing.mtlx", "does not exist"),
+    ("look.mtlx", "a cycle"),
+])
+def test_an_include_that_cannot_be_followed_is_reported_and_its_consequences_too(tmp_path, href, reason):
+    from openpbr_tools.validate import validate_paths
+
+    (tmp_path / "materials.mtlx").write_text(LIBRARY, encoding="utf-8")
+    folder = tmp_path / "asset"
+    folder.mkdir()
+    (folder / "look.mtlx").write_text(LOOK.format(href=href), encoding="utf-8")
+    found = validate_paths([str(folder / "look.mtlx")]).diagnostics
+    assert [d.code for d in found if d.code == "OPBR009"] == ["OPBR009"]
+    assert reason in next(d.message for d in found if d.code == "OPBR009")
+    assert "OPBR802" in {d.code for d in found}  # the material it would have provided is missing
+
+
+def test_an_include_outside_the_folder_is_never_opened(tmp_path, monkeypatch):
+    import builtins
+
+    from openpbr_tools.io import read_asset
+
+    (tmp_path / "materials.mtlx").write_text(LIBRARY, encoding="utf-8")
+    folder = tmp_path / "asset"
+    folder.mkdir()
+    (folder / "look.mtlx").write_text(LOOK.format(href="../materials.mtlx"), encoding="utf-8")
+    opened = []
+    real_open = builtins.open
+    monkeypatch.setattr(builtins, "open", lambda file, *a, **k: opened.append(str(file)) or real_open(file, *a, **k))
+    read_asset(str(folder / "look.mtlx"))
+    assert not [f for f in opened if f.endswith("materials.mtlx")]

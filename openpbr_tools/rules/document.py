@@ -84,11 +84,15 @@ INVALID_CONFIG = Rule(
 
 XINCLUDE = Rule(
     "OPBR009", "xinclude-not-followed", Severity.WARNING,
-    "The document includes another file (XInclude), which the validator does not open.",
-    "Validating a file never opens another document (an include may point anywhere). Definitions or "
-    "materials from the included file are therefore not checked here: validate it on its own.",
+    "The document includes another file (XInclude) that cannot be followed: outside the asset's "
+    "folder, missing, unreadable, a cycle, or nested deeper than 8 levels.",
+    "Includes inside the asset's folder are followed as MaterialX follows them (their definitions and "
+    "materials resolve this document's references; they are validated as their own files). An include "
+    "that leads out of the folder is never opened (the one path guard), so whatever it defines is "
+    "missing here: renderers that follow it may see a different document, and the asset does not "
+    "survive being copied.",
     passing='<open_pbr_surface name="S" type="surfaceshader" />',
-    failing='<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <xi:include href="shared_defs.mtlx" />\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
+    failing='<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <xi:include href="../shared_defs.mtlx" />\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
 )
 
 RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED, MALFORMED_XML,
@@ -106,7 +110,7 @@ READ_ERROR_RULES = {
 def check(asset, context):
     from ..model import Location
 
-    if not asset.materials:
+    if not asset.materials and not asset.extra.get("included_materials"):  # a look file's come from includes
         yield context.diagnostic(NO_MATERIAL, "no supported surface shader found", Location(asset.path))
     message = asset.extra.get("materialx_validate")
     if message:
@@ -114,8 +118,9 @@ def check(asset, context):
             yield context.diagnostic(MATERIALX_INVALID, f"MaterialX: {line}", Location(asset.path))
     for observation in asset.observations:
         if observation.kind == "xinclude":
-            yield context.diagnostic(XINCLUDE, f"includes {observation.detail['href']!r}, which is not validated here",
-                                     observation.location, hint="validate the included file separately")
+            yield context.diagnostic(XINCLUDE, f"includes {observation.detail['href']!r}, which "
+                                     f"{observation.detail['reason']}", observation.location,
+                                     hint="keep included files inside the asset's folder, with relative paths")
         if observation.kind == "malformed_xml":
             yield context.diagnostic(MALFORMED_XML, f"not well-formed XML: {observation.detail['message']}",
                                      observation.location, hint="escape '<' as &lt; and '&' as &amp; in attribute values")

@@ -25,6 +25,7 @@ from ... import versioning
 from ...model import Asset, Constant, Input, Location, Material
 from ...values import ValueSyntaxError, parse_value
 from .. import ReadError, read_bytes
+from ..paths import PathGuard
 from .graph import GraphFollower
 from .xmlscan import XmlScan, XmlSyntaxError, parse_suppression, scan
 
@@ -108,6 +109,8 @@ def read_mtlx(path: str, data: bytes | None = None) -> Asset:
         mx.readFromXmlString(document, text, mx.FileSearchPath(), options)
     except Exception as error:  # MaterialX raises its own exception types for parse failures
         raise ReadError("not_materialx", f"MaterialX cannot read the document: {error}", Location(path)) from None
+    guard = PathGuard.for_asset(path)
+    not_followed = _include(document, path, structure.xincludes, guard, {guard.resolve(os.path.abspath(path)).real})
 
     asset = Asset(path=path, format="mtlx", line_of=structure.lines, suppressions=dict(structure.suppressions))
     asset.format_version = structure.root_attributes.get("version")
@@ -117,7 +120,53 @@ def read_mtlx(path: str, data: bytes | None = None) -> Asset:
         asset.observe("malformed_xml", Location(path, lenient_error.line),
                       message=f"{lenient_error} (line {lenient_error.line}, column {lenient_error.column})")
     _Reader(asset, document, structure).run()
+    for line, href, reason in not_followed:
+        asset.observe("xinclude", Location(path, line), href=href, reason=reason)
     return asset
+
+
+MAX_XINCLUDE_DEPTH = 8
+
+
+def _include(document, path: str, xincludes, guard: PathGuard, seen: set[str], depth: int = 0) -> list[tuple]:
+    """Follow the XIncludes of ``document`` (read from ``path``) as MaterialX does: each included
+    document's elements are imported into it (``importLibrary``), marked with the included file as
+    their source URI so the reader uses them to resolve references but does not validate them
+    again (they are validated as their own file). Only files inside the asset's folder are read (the
+    one path guard), at most 8 levels deep, each once (a cycle is not followed). Returns
+    ``(line, href, reason)`` for every include not followed."""
+    import MaterialX as mx  # lazy: as in standard_library
+
+    not_followed = []
+    for line, href in xincludes:
+        resolved = guard.resolve(href, base=os.path.dirname(os.path.abspath(path)))
+        reason = None
+        if not resolved.inside:
+            reason = "leads outside the asset's folder, so it is not opened"
+        elif resolved.real in seen:
+            reason = "is already being included (a cycle), so it is not followed again"
+        elif depth >= MAX_XINCLUDE_DEPTH:
+            reason = f"is nested deeper than {MAX_XINCLUDE_DEPTH} includes, so it is not opened"
+        elif not os.path.isfile(resolved.real):
+            reason = "does not exist"
+        if reason is None:
+            included = mx.createDocument()
+            options = mx.XmlReadOptions()
+            options.readXIncludeFunction = None
+            try:
+                data = read_bytes(resolved.real)
+                mx.readFromXmlString(included, data.decode("utf-8-sig"), mx.FileSearchPath(), options)
+                nested = scan(data).xincludes
+            except (ReadError, UnicodeDecodeError, XmlSyntaxError, Exception) as error:  # noqa: BLE001 - MaterialX's own types
+                reason = f"cannot be read ({getattr(error, 'message', error)})"
+            else:
+                for _, inner, why in _include(included, resolved.real, nested, guard, seen | {resolved.real}, depth + 1):
+                    not_followed.append((line, href, f"includes {inner!r}, which {why}"))
+                included.setSourceUri(resolved.real)
+                document.importLibrary(included)
+        if reason is not None:
+            not_followed.append((line, href, reason))
+    return not_followed
 
 
 def _scan_with_materialx(text: str):
@@ -158,6 +207,8 @@ class _Reader(GraphFollower):
         if root_doc:
             self._doc_suppression("", root_doc)
         for element in self.document.traverseTree():
+            if element.getActiveSourceUri():
+                continue  # included (XInclude): resolves references here, validated as its own file
             if element.hasAttribute("doc"):
                 self._doc_suppression(element.getNamePath(), element.getDocString())
             if not element.isA(mx.Node):
@@ -180,6 +231,9 @@ class _Reader(GraphFollower):
                     first_line=self.asset.line_of.get(duplicate_path), attributes=attributes, name=child,
                 )
         for material_node in self.document.getMaterialNodes():
+            if material_node.getActiveSourceUri():
+                self.asset.extra["included_materials"] = self.asset.extra.get("included_materials", 0) + 1
+                continue
             self.read_material(material_node, shaders)
         for look in self.document.getLooks():
             for assign in look.getMaterialAssigns():
@@ -188,8 +242,6 @@ class _Reader(GraphFollower):
                     self.asset.observe(
                         "dangling_reference", self.location(assign), attribute="material", target=target
                     )
-        for href_line, href in self.structure.xincludes:
-            self.asset.observe("xinclude", Location(self.path, href_line), href=href)
 
     def _doc_suppression(self, path: str, text: str) -> None:
         found = parse_suppression(text)
@@ -203,7 +255,8 @@ class _Reader(GraphFollower):
         surface = node.getInput("surfaceshader")
         location = self.location(node)
         if surface is None:
-            self.asset.observe("material_without_shader", location, material=node.getName())
+            if not any(i.getType().endswith("shader") for i in node.getInputs()):  # a light or volume material is whole
+                self.asset.observe("material_without_shader", location, material=node.getName())
             return
         shader = self.upstream_node(surface)
         if shader is None:

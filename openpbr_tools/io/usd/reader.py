@@ -158,8 +158,10 @@ class _Reader(NetworkReader):
         outputs = [o for o in self.UsdShade.Material(prim).GetOutputs()
                    if o.GetBaseName() == "surface" or o.GetBaseName().endswith(":surface")]
         if not outputs:
-            self.asset.observe("usd_material_without_surface", location, material=material_path,
-                               reason="it has no surface output")
+            others = [o for o in self.UsdShade.Material(prim).GetOutputs() if o.GetAttr().GetConnections()]
+            if not others:  # a light, volume or displacement-only material is whole without a surface
+                self.asset.observe("usd_material_without_surface", location, material=material_path,
+                                   reason="it has no surface output")
             return
         connected = False
         for output in outputs:

@@ -1,0 +1,54 @@
+"""Real published assets (tests/data/published, sources and licences in its SOURCES.md): MaterialX's
+example library, OpenUSD's and the USD working group's test assets, factor-only derivatives of
+Khronos' glTF sample models, and 110 materials of the CC0 physically-based database.
+
+A finding on a published, working asset is a false alarm until the asset is shown broken. Every
+error the validator reports on this corpus is listed below with its verdict: a defect of the asset
+(shown), a test fixture that is not meant to render, a policy, or a false alarm still to remove.
+The test fails when an error appears that is not listed (a new false alarm) and when a listed one
+disappears (shrink the list)."""
+
+from __future__ import annotations
+
+import collections
+import os
+from pathlib import Path
+
+from openpbr_tools.validate import Options, validate_paths
+
+CORPUS = Path(__file__).resolve().parent / "data" / "published"
+USDMTLX = "usd/openusd/pxr/usd/usdMtlx/testenv/testUsdMtlxFileFormat.testenv"
+
+# (file, code): (count, verdict)
+EXPECTED_ERRORS = {
+    (f"{USDMTLX}/ExpandFilePrefix.mtlx", "OPBR701"):
+        (2, "fixture: tests fileprefix expansion; the .tif files do not exist in OpenUSD either"),
+    (f"{USDMTLX}/baseline/Looks.usda", "OPBR1003"):
+        (16, "fixture: UsdMtlx's generated baseline; its custom nodedefs exist only in Looks.mtlx"),
+    ("usd/openusd/pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLPreviewSurface/testPreviewSurfaceConnectedScalar.usda",
+     "OPBR1005"): (1, "defect: a float input (roughness) connected to a float2 output"),
+    ("usd/usd-wg/test_assets/MaterialXTest/standard_surface_brass_tiled.mtlx", "OPBR701"):
+        (2, "defect: fileprefix './textures/' plus file './textures/brass_color.jpg' names ./textures/./textures/..."),
+    ("usd/usd-wg/test_assets/MaterialXTest/basicTextured.usda", "OPBR1011"):
+        (1, "policy: references ../_common/teapot.usda, outside its folder; never opened by the validator"),
+    **{(f"measured/{name}.mtlx", "OPBR301"): (count, "false alarm, pending: measured colours above 1 (outside "
+                                                      "the Rec.709 gamut) are published values")
+       for name, count in (("Brass", 1), ("Cesium", 1), ("Gold", 2), ("Lithium", 1), ("Potassium", 1),
+                           ("Rubidium", 1), ("Sodium", 1))},
+}
+
+
+def test_every_error_on_published_assets_is_accounted_for():
+    report = validate_paths([str(CORPUS)], options=Options(use_config=False, jobs=1))
+    assert not report.unreadable, [d for d in report.diagnostics if d.code in ("OPBR001", "OPBR002")]
+    found = collections.Counter(
+        (os.path.relpath(d.location.file, CORPUS).replace(os.sep, "/"), d.code)
+        for d in report.diagnostics if str(d.severity) == "error")
+    assert dict(found) == {key: count for key, (count, _) in EXPECTED_ERRORS.items()}
+
+
+def test_the_corpus_covers_every_source():
+    files = [p.relative_to(CORPUS).as_posix() for p in CORPUS.rglob("*") if p.is_file()]
+    suffixes = collections.Counter(Path(f).suffix for f in files)
+    assert suffixes[".mtlx"] >= 150 and suffixes[".gltf"] >= 15 and suffixes[".usda"] >= 10
+    assert (CORPUS / "SOURCES.md").is_file()
