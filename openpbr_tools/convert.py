@@ -25,6 +25,8 @@ from . import tables
 from .atomic import write_bytes
 from .diagnostics import Diagnostic
 from .io import read_asset
+from .io.gltf.document import load_document
+from .io.paths import Kind, classify
 from .model import Asset, Material, Texture
 from .resources import load_json
 from .rules import Context
@@ -158,8 +160,6 @@ def _write_baked(baker, materials: list[Material]) -> list[str]:
 
 def _rebase_textures(materials: list[Material], source_path: str, output_path: str) -> None:
     """Re-express relative texture paths relative to the output's folder, so they still resolve."""
-    from .io.paths import Kind, classify
-
     source_dir = os.path.dirname(os.path.abspath(source_path))
     output_dir = os.path.dirname(os.path.abspath(output_path))
     for material in materials:
@@ -181,8 +181,6 @@ def _rebase_textures(materials: list[Material], source_path: str, output_path: s
 def _unpack_gltf_images(materials: list[Material], asset: Asset, output_path: str) -> None:
     """Images embedded in a glTF (``#/images/N``) written beside a .mtlx or USD output, which can only
     reference files: ``<output stem>_textures/image_N.<ext>``."""
-    from .io.gltf.document import load_document
-
     extensions = {"image/png": ".png", "image/jpeg": ".jpg", "image/webp": ".webp", "image/ktx2": ".ktx2"}
     folder = os.path.splitext(output_path)[0] + "_textures"
     document, written = None, {}
