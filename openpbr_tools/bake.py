@@ -32,6 +32,7 @@ from __future__ import annotations
 import io
 import os
 import re
+import tempfile
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -267,7 +268,7 @@ def _resample(values, height: int, width: int):
 
 
 def _png8(values) -> bytes:
-    from PIL import Image
+    from PIL import Image  # lazy: Pillow costs ~15 ms to import, needed only when an image is encoded
 
     quantised = np.round(np.clip(values, 0, 1) * 255.0).astype(np.uint8)
     out = io.BytesIO()
@@ -276,7 +277,7 @@ def _png8(values) -> bytes:
 
 
 def _png16_grey(values) -> bytes:
-    from PIL import Image
+    from PIL import Image  # lazy: Pillow costs ~15 ms to import, needed only when an image is encoded
 
     quantised = np.round(np.clip(values, 0, 1) * 65535.0).astype(np.uint16)
     out = io.BytesIO()
@@ -286,7 +287,7 @@ def _png16_grey(values) -> bytes:
 
 def _has_openimageio() -> bool:
     try:
-        import OpenImageIO  # noqa: F401
+        import OpenImageIO  # noqa: F401  (lazy: a probe for the optional OpenImageIO, ~30 ms to import)
     except ImportError:
         return False
     return True
@@ -294,9 +295,7 @@ def _has_openimageio() -> bool:
 
 def _oiio_bytes(values, suffix: str, pixel_type: str) -> bytes:
     """Encode with OpenImageIO through a temporary file (its Python API writes files)."""
-    import tempfile
-
-    import OpenImageIO as oiio
+    import OpenImageIO as oiio  # lazy: OpenImageIO costs ~30 ms to import and is optional (EXR, 16-bit PNG)
 
     height, width, channels = values.shape
     spec = oiio.ImageSpec(width, height, channels, getattr(oiio, pixel_type))

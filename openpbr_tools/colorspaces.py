@@ -7,6 +7,7 @@ imported only when a conversion is asked for (it costs ~0.5 s to import).
 from __future__ import annotations
 
 import difflib
+import warnings
 from functools import lru_cache
 
 from .resources import load_json
@@ -78,11 +79,9 @@ def materialx_equivalent(usd_name: str) -> str | None:
 
 def _colour():
     """colour-science, imported on first use with its optional-dependency warnings silenced."""
-    import warnings
-
     with warnings.catch_warnings():
         warnings.simplefilter("ignore")
-        import colour
+        import colour  # lazy: colour-science costs 0.5-1 s to import
     return colour
 
 
@@ -106,7 +105,7 @@ def to_lin_rec709(rgb, colorspace: str | None):
     with colour-science's ``RGB_to_RGB`` (CAT02 where white points differ). ``None`` and
     ``lin_rec709`` return the values unchanged; ``none`` (data) is returned unchanged too.
     """
-    import numpy as np
+    import numpy as np  # lazy: numpy (~70 ms) stays off validate's start-up until a conversion is asked for
 
     values = np.asarray(rgb, dtype=np.float64)
     spec = _conversion(colorspace)
@@ -127,7 +126,7 @@ def to_lin_rec709(rgb, colorspace: str | None):
 def _per_level(transfer, values):
     """``transfer(values)``; for a large array of 8-bit levels (``k / 255``, what an 8-bit texture
     decodes to), the transfer of the 256 levels looked up instead: the same numbers, much faster."""
-    import numpy as np
+    import numpy as np  # lazy: numpy (~70 ms) stays off validate's start-up until a conversion is asked for
 
     if values.size >= 1 << 16:
         levels = np.rint(values * 255.0)
@@ -139,7 +138,7 @@ def _per_level(transfer, values):
 
 def from_lin_rec709(rgb, colorspace: str | None):
     """Inverse of :func:`to_lin_rec709`."""
-    import numpy as np
+    import numpy as np  # lazy: numpy (~70 ms) stays off validate's start-up until a conversion is asked for
 
     values = np.asarray(rgb, dtype=np.float64)
     spec = _conversion(colorspace)

@@ -19,10 +19,15 @@ import re
 from dataclasses import dataclass, field
 from functools import lru_cache
 
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib
+
 from .diagnostics import Severity
 from .model import Location
 from .resources import load_json
-from .rules import Context
+from .rules import Context, all_rules
 
 CONFIG_NAMES = (".openpbr.toml", "pyproject.toml")
 
@@ -44,23 +49,14 @@ class Config:
         return os.path.dirname(self.path) if self.path else os.getcwd()
 
 
-def _toml():
-    try:
-        import tomllib
-    except ModuleNotFoundError:  # Python 3.10
-        import tomli as tomllib
-    return tomllib
-
-
 def load_config_file(path: str) -> Config | None:
     """Parse and validate one configuration file; ``None`` for a pyproject.toml without the table."""
-    toml = _toml()
     try:
         with open(path, "rb") as handle:
-            data = toml.load(handle)
+            data = tomllib.load(handle)
     except OSError as error:
         raise ConfigError(f"cannot read configuration: {error.strerror or error}", Location(path)) from None
-    except toml.TOMLDecodeError as error:
+    except tomllib.TOMLDecodeError as error:
         line = re.search(r"line (\d+)", str(error))
         number = int(line.group(1)) if line else None
         if number is None and "end of document" in str(error):
@@ -79,9 +75,7 @@ def load_config_file(path: str) -> Config | None:
 
 
 def _check(settings: dict, path: str, prefix: str) -> None:
-    import jsonschema
-
-    from .rules import all_rules
+    import jsonschema  # lazy: jsonschema costs ~60-90 ms to import; only a configuration file is checked with it
 
     validator = jsonschema.Draft202012Validator(load_json("config.schema.json"))
     errors = sorted(validator.iter_errors(settings), key=lambda e: list(map(str, e.absolute_path)))
@@ -151,8 +145,6 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
                 overrides: tuple[int, ...] | None = None) -> Context:
     """The :class:`Context` for one file: configuration, matching overrides, then CLI options.
     Files with the same configuration and matching overrides get equal contexts (callers cache)."""
-    from .rules import all_rules
-
     known = frozenset(all_rules())
     context = Context() if base is None else Context(file_exists=base.file_exists, list_dir=base.list_dir)
     scopes = []

@@ -25,6 +25,7 @@ from . import tables
 from .atomic import write_bytes
 from .diagnostics import Diagnostic
 from .io import read_asset
+from .io.gltf.document import load_document
 from .io.paths import Kind, PathGuard, classify
 from .model import Asset, Material, Texture
 from .resources import load_json
@@ -181,8 +182,6 @@ def _rebase_textures(materials: list[Material], source_path: str, output_path: s
 def _unpack_gltf_images(materials: list[Material], asset: Asset, output_path: str) -> None:
     """Images embedded in a glTF (``#/images/N``) written beside a .mtlx or USD output, which can only
     reference files: ``<output stem>_textures/image_N.<ext>``."""
-    from .io.gltf.document import load_document
-
     extensions = {"image/png": ".png", "image/jpeg": ".jpg", "image/webp": ".webp", "image/ktx2": ".ktx2"}
     folder = os.path.splitext(output_path)[0] + "_textures"
     document, written = None, {}

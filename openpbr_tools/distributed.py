@@ -14,7 +14,7 @@ class ClusterError(RuntimeError):
 
 def run_on_cluster(tasks, address: str, validate_chunk, make_chunks, workers_hint: int = 64, timeout: float = 30.0):
     try:
-        from distributed import Client
+        from distributed import Client  # lazy: Dask is an optional extra and costs ~0.6 s to import
     except ImportError:
         raise ClusterError("--scheduler needs Dask: pip install 'openpbr-tools[dask]'") from None
     chunks = make_chunks(tasks, workers_hint)

@@ -11,6 +11,7 @@ by the test suite, so the tables stay the single source.
 from __future__ import annotations
 
 from . import tables
+from .io.mtlx.writer import document_text
 from .values import format_value
 
 MODEL = "open_pbr_surface"
@@ -26,7 +27,7 @@ def legacy_versions() -> tuple[str, ...]:
 
 
 def generate() -> str:
-    import MaterialX as mx
+    import MaterialX as mx  # lazy: MaterialX's bindings (~8 ms) load only when the definitions are generated
 
     document = mx.createDocument()
     for version in legacy_versions():
@@ -51,6 +52,4 @@ def generate() -> str:
                     port.setAttribute(attribute, format_value(bound, "float" if not isinstance(bound, tuple) else parameter.type))
             if parameter.group:
                 port.setAttribute("uifolder", parameter.group.title())
-    from .io.mtlx.writer import document_text
-
     return document_text(document)

@@ -13,10 +13,13 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 from . import io as readers
+from .config import ConfigError, context_for, find_config, matching_overrides
 from .diagnostics import Diagnostic, Severity
+from .distributed import run_on_cluster
 from .model import Asset, Location
 from .rules import Context, check_asset
-from .rules.document import READ_ERROR_RULES, UNREADABLE
+from .rules.document import INVALID_CONFIG, READ_ERROR_RULES, UNREADABLE
+from .selection import SelectionError, changed_since, shard
 
 
 @dataclass(slots=True)
@@ -148,8 +151,6 @@ class Options:
 def contexts_for(files: list[str], options: Options, problems: list[Diagnostic]) -> dict[str, Context] | None:
     """The context of every file from its nearest configuration; ``None`` if a configuration is bad
     (the problem is appended to ``problems``)."""
-    from .config import ConfigError, context_for, find_config, matching_overrides
-
     contexts = {}
     shared: dict[tuple, Context] = {}  # one context per (configuration, matching overrides)
     for path in files:
@@ -158,8 +159,6 @@ def contexts_for(files: list[str], options: Options, problems: list[Diagnostic])
             try:
                 config = find_config(os.path.dirname(os.path.abspath(path)))
             except ConfigError as error:
-                from .rules.document import INVALID_CONFIG
-
                 problems.append(Diagnostic(INVALID_CONFIG.code, Severity.ERROR, error.message, error.location))
                 return None
         overrides = matching_overrides(path, config)
@@ -188,8 +187,6 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
                    progress: Callable[[int, int], None] | None = None) -> Report:
     """Validate files, folders and globs. With ``context`` every file uses it; otherwise each file
     gets the context of its nearest configuration plus ``options``."""
-    from .selection import SelectionError, changed_since, shard
-
     options = options or Options()
     files, problems = discover(paths)
     report = Report(problems=problems)
@@ -199,8 +196,6 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
         if options.shard:
             files = shard(files, *options.shard)
     except SelectionError as error:
-        from .rules.document import UNREADABLE
-
         report.problems.append(Diagnostic(UNREADABLE.code, Severity.ERROR, str(error), Location(".")))
         return report
     if context is not None:
@@ -217,8 +212,6 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
 def _run(tasks, options: Options, progress) -> list[FileResult]:
     total = len(tasks)
     if options.scheduler:
-        from .distributed import run_on_cluster
-
         return run_on_cluster(tasks, options.scheduler, _validate_chunk, _chunks, timeout=options.scheduler_timeout)
     if options.jobs <= 1 or total < POOL_THRESHOLD:
         results = []
@@ -227,6 +220,7 @@ def _run(tasks, options: Options, progress) -> list[FileResult]:
             if progress:
                 progress(done, total)
         return results
+    # lazy: concurrent.futures (~4 ms) is needed only for a process pool; kept off validate's start-up
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     chunks = _chunks(tasks, options.jobs * 8)

@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Callable, Iterator
 
+from .. import tables
 from ..diagnostics import Diagnostic, Severity
 from ..model import Asset, Location
 
@@ -156,8 +157,6 @@ def _suppressed(diagnostic: Diagnostic, suppressions: dict[str, frozenset[str]])
 
 def for_each_input(asset: Asset) -> Iterator[tuple]:
     """(material, table, input) for every authored input of every material with a table."""
-    from .. import tables
-
     for material in asset.materials:
         if material.version is None:
             continue

@@ -7,6 +7,7 @@ exit with code 2 (unreadable input), whatever ``--fail-on`` says.
 from __future__ import annotations
 
 from ..diagnostics import Severity
+from ..model import Connection, Location
 from . import Rule
 
 UNREADABLE = Rule(
@@ -108,8 +109,6 @@ READ_ERROR_RULES = {
 
 
 def check(asset, context):
-    from ..model import Location
-
     if not asset.materials and not asset.extra.get("included_materials"):  # a look file's come from includes
         yield context.diagnostic(NO_MATERIAL, "no supported surface shader found", Location(asset.path))
     message = asset.extra.get("materialx_validate")
@@ -140,8 +139,6 @@ def check(asset, context):
 def _not_covered(asset, message: str):
     """MaterialX's messages, less those about shader nodes and connections the other rules judge
     more precisely (unknown inputs, dangling connections)."""
-    from ..model import Connection
-
     shader_tags = [f'<{m.model} name="{m.name}"' for m in asset.materials]
     dangling = [
         f'<input name="{name}"' for m in asset.materials for name, entry in m.inputs.items()

@@ -14,6 +14,7 @@ glTF (colour textures sRGB, data textures linear), so the colour-space family do
 
 from __future__ import annotations
 
+from .. import tables
 from ..diagnostics import Severity
 from ..io.gltf import slots
 from ..model import Location, Texture
@@ -258,8 +259,6 @@ def _emissive_strength(material, context):
 
 def _texture_factors(material, context):
     """OPBR301 for factors that multiply a texture (the ranges family sees only constants)."""
-    from .. import tables
-
     if material.version is None:
         return
     table = tables.table(material.model, material.version)

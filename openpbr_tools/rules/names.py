@@ -11,7 +11,7 @@ import difflib
 
 from .. import tables, versioning
 from ..diagnostics import Severity
-from ..io.mtlx.reader import SHADER_CATEGORIES
+from ..io.mtlx.reader import SHADER_CATEGORIES, known_categories
 from . import Rule
 
 UNKNOWN_INPUT = Rule(
@@ -87,8 +87,6 @@ def check(asset, context):
             )
         elif observation.kind == "unknown_category":
             category = observation.detail["category"]
-            from ..io.mtlx.reader import known_categories
-
             guess = _closest(category, set(SHADER_CATEGORIES) | known_categories())
             yield context.diagnostic(
                 UNKNOWN_CATEGORY, f"no node definition declares the category {category!r}",

@@ -34,8 +34,9 @@ are refused as unreadable (OPBR002) before usd-core parses them.
 from __future__ import annotations
 
 import difflib
+import io
+import zipfile
 
-from .. import colorspaces
 from ..diagnostics import Severity
 from ..io.usd.types import (
     MATERIALX_ADDRESS_MODES,
@@ -43,17 +44,15 @@ from ..io.usd.types import (
     UV_TEXTURE_ID,
     UV_TEXTURE_WRAP_TOKENS,
     expected_usd_type,
-    is_eight_bit,
     surface_shader_ids,
 )
-from ..model import Location, Texture
+from ..model import Location
 from ..resources import load_json
 from . import Rule, for_each_input
-from . import colorspace as colorspace_rules
-from .colorspace import COLOR_TEXTURE_RAW, DATA_TEXTURE_MANAGED, UNKNOWN_COLORSPACE
 from .ranges import ENUM_VALUE
 from .structure import NO_SHADER
 from .units import LENGTH_WITHOUT_UNIT
+from .usd_colorspaces import COLORSPACE_SCHEME, colorspace_name, colour_managed_textures, colour_policies
 from .usd_examples import openpbr_example
 
 MISSING_SHADER_ID = Rule(
@@ -90,28 +89,6 @@ UNKNOWN_SHADER_ID = Rule(
     failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)", shader_id="ND_open_pbr_surface_surfaceshdr"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
-COLORSPACE_SCHEME = Rule(
-    "OPBR1004", "usd-colorspace-scheme", Severity.ERROR,
-    "A colour-space name from the wrong naming scheme: a MaterialX name where USD wants a USD name, "
-    "or the reverse.",
-    "Usd.ColorSpaceAPI and USD-native shaders take USD names (srgb_rec709_scene, lin_ap1_scene, raw); "
-    "MaterialX shaders' inputs take MaterialX names (srgb_texture, acescg, none); UsdUVTexture's "
-    "sourceColorSpace takes raw, sRGB or auto. A name from the other scheme is stored and silently "
-    "treated as no conversion. The hint gives the equivalent name in the right scheme.",
-    passing=openpbr_example(
-        "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
-        extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
-              '        asset inputs:file = @albedo.png@ (\n            colorSpace = "srgb_texture"\n        )\n'
-              "        color3f outputs:out\n    }\n",
-    ),
-    failing=openpbr_example(
-        "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
-        extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
-              '        asset inputs:file = @albedo.png@ (\n            colorSpace = "srgb_rec709_scene"\n        )\n'
-              "        color3f outputs:out\n    }\n",
-    ),
-    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
-)
 CONNECTION_TYPE_MISMATCH = Rule(
     "OPBR1005", "usd-connection-type-mismatch", Severity.ERROR,
     "A connection joins attributes whose values cannot line up (a float output into a color3f "
@@ -145,9 +122,6 @@ USD_CORE = Rule(
 
 def _package(*entries: tuple[str, str]) -> bytes:
     """A USDZ's bytes: entries stored uncompressed, the root layer first."""
-    import io
-    import zipfile
-
     buffer = io.BytesIO()
     with zipfile.ZipFile(buffer, "w", zipfile.ZIP_STORED) as package:
         for name, text in entries:
@@ -215,14 +189,14 @@ def check(asset, context):
         return
     yield from _observations(asset, context)
     yield from _types(asset, context)
-    yield from _colour_managed_textures(asset, context)
-    yield from _colour_policies(asset, context)
+    yield from colour_managed_textures(asset, context)
+    yield from colour_policies(asset, context)
     yield from _lengths(asset, context)
     yield from _tokens(asset, context)
     yield from _usd_core(asset, context)
 
 
-# -- structure, ids, connections, colour-space names ----------------------------------------------
+# -- structure, ids, connections (colour-space names: usd_colorspaces.py) --------------------------
 
 def _observations(asset, context):
     for observation in asset.observations:
@@ -247,7 +221,7 @@ def _observations(asset, context):
                 where, hint=f"connect a source of type {detail['input_type']}, or change the input's type",
             )
         elif observation.kind == "usd_colorspace":
-            yield from _colorspace_name(detail, where, context)
+            yield from colorspace_name(detail, where, context)
         elif observation.kind == "usd_arc_outside":
             yield context.diagnostic(
                 ARC_OUTSIDE, f"{detail['arc']} @{detail['asset']}@ {detail['reason']}: not opened, so not validated",
@@ -288,77 +262,13 @@ def _judge_unknown_id(asset, observation) -> tuple[str, str | None] | None:
 
 
 def _closest_id(shader_id: str, sdr_ids) -> str | None:
-    from ..io.usd.sdr import materialx_nodedef_names
+    from ..io.usd.sdr import materialx_nodedef_names  # lazy: ~3 ms kept off validate's start-up; only an unknown id needs it
 
     candidates = set(surface_shader_ids()) | set(sdr_ids)
     match = difflib.get_close_matches(shader_id, sorted(candidates), n=1, cutoff=0.8)
     if not match and shader_id.startswith("ND_"):
         match = difflib.get_close_matches(shader_id, materialx_nodedef_names(), n=1, cutoff=0.8)
     return match[0] if match else None
-
-
-def _colorspace_name(detail, where, context):
-    name, scheme = detail["name"], detail["scheme"]
-    materialx, usd = colorspaces.materialx_names(), colorspaces.usd_names()
-    if scheme == "usd":
-        if name in usd:
-            return
-        if name in materialx:
-            meant = colorspaces.usd_equivalent(name)
-            yield context.diagnostic(
-                COLORSPACE_SCHEME, f"{name!r} is a MaterialX colour-space name; {detail['owner']} takes USD names",
-                where, hint=f"use {meant!r}" if meant else "use a USD colour-space name (Gf.ColorSpaceNames)",
-            )
-            return
-        guess = colorspaces.suggest(name, "usd")
-        yield context.diagnostic(
-            UNKNOWN_COLORSPACE, f"unknown colour space {name!r}: USD treats it as no conversion", where,
-            hint=f"did you mean {guess!r}?" if guess else "use a USD colour-space name (Gf.ColorSpaceNames)",
-        )
-    elif scheme == "materialx":
-        if name in materialx:
-            return
-        if name in usd:
-            meant = colorspaces.materialx_equivalent(name) or ("none" if colorspaces.is_data(name, "usd") else None)
-            yield context.diagnostic(
-                COLORSPACE_SCHEME,
-                f"{name!r} is a USD colour-space name; inputs of MaterialX shaders take MaterialX names", where,
-                hint=f"use {meant!r}" if meant else "use a MaterialX colour-space name",
-            )
-            return
-        guess = colorspaces.suggest(name)
-        yield context.diagnostic(
-            UNKNOWN_COLORSPACE, f"unknown colour space {name!r}: MaterialX will not convert it", where,
-            hint=f"did you mean {guess!r}?" if guess else f"known: {', '.join(sorted(materialx))}",
-        )
-    else:  # UsdUVTexture sourceColorSpace
-        tokens = colorspaces.usd_uvtexture_names()
-        if name in tokens:
-            return
-        if name in materialx or name in usd:
-            meant = "raw" if (colorspaces.is_data(name) or colorspaces.is_data(name, "usd")) else (
-                "sRGB" if _is_encoded(name) else "raw")
-            yield context.diagnostic(
-                COLORSPACE_SCHEME, f"sourceColorSpace takes raw, sRGB or auto, not the colour-space name {name!r}",
-                where, hint=f"use {meant!r}",
-            )
-            return
-        guess = difflib.get_close_matches(name, tokens, n=1, cutoff=0.5)
-        yield context.diagnostic(
-            UNKNOWN_COLORSPACE, f"sourceColorSpace {name!r} is not raw, sRGB or auto", where,
-            hint=f"did you mean {guess[0]!r}?" if guess else "use raw, sRGB or auto",
-        )
-
-
-def _is_encoded(name: str | None) -> bool:
-    """True for colour spaces with a non-linear transfer curve (sRGB, gamma 2.2 ...), in any scheme."""
-    if not name:
-        return False
-    known = load_json("colorspaces.json")["materialx"]
-    spec = known.get(name) or known.get(colorspaces.materialx_equivalent(name) or "")
-    if spec is not None:
-        return spec["transfer"] not in ("linear", "data")
-    return name == "sRGB" or name.startswith(("srgb_", "g18_", "g22_", "g24_"))
 
 
 # -- types ----------------------------------------------------------------------------------------
@@ -377,91 +287,6 @@ def _types(asset, context):
             TYPE_ROLE_MISMATCH, f"{entry.name} is {entry.source_type}; {node} declares it {expected}",
             entry.location, hint=f"author it as {expected} inputs:{entry.name}",
         )
-
-
-# -- colour-managed textures ------------------------------------------------------------------------
-
-def _colour_managed_textures(asset, context):
-    for material, table, entry in for_each_input(asset):
-        parameter = table.get(entry.name)
-        texture = entry.texture
-        if parameter is None or texture is None:
-            continue
-        space = texture.colorspace
-        if parameter.role == "color":
-            if space is not None and (colorspaces.is_data(space) or colorspaces.is_data(space, "usd")):
-                yield context.diagnostic(
-                    COLOR_TEXTURE_RAW, f"{entry.name} reads {texture.file!r} as raw data ({space})", entry.location,
-                    hint="read it as sRGB (sourceColorSpace = \"sRGB\", or colorSpace \"srgb_texture\" on a MaterialX image)",
-                )
-        elif parameter.role in ("data", "normal", "tangent"):
-            why = _bends(texture)
-            if why:
-                yield context.diagnostic(
-                    DATA_TEXTURE_MANAGED, f"{entry.name} is data but reads {texture.file!r} {why}", entry.location,
-                    hint='set sourceColorSpace = "raw"' if texture.node_category == UV_TEXTURE_ID
-                    else 'set colorSpace = "none" on the image\'s inputs:file',
-                )
-
-
-def _bends(texture: Texture) -> str | None:
-    if texture.channels == (3,):
-        return None  # alpha is never decoded as sRGB (Storm, UsdPreviewSurface spec: sRGB applies to RGB)
-    space = texture.colorspace
-    if texture.node_category == UV_TEXTURE_ID:
-        if space == "sRGB" or (space not in ("raw", "sRGB", "auto", None) and _is_encoded(space)):
-            return f"through colour space {space!r}"
-        if space in (None, "auto") and is_eight_bit(texture.file):
-            return "with sourceColorSpace auto, which decodes 8-bit RGB(A) images as sRGB"
-        return None
-    if texture.image_type in ("color3", "color4") and _is_encoded(space):
-        return f"through colour space {space!r}"
-    return None
-
-
-def _colour_policies(asset, context):
-    """The project's colour-space policies (OPBR505, OPBR506), stated in MaterialX names: USD names
-    and UsdUVTexture tokens are compared through their MaterialX equivalents. A stage without a
-    colour space is in USD's default, lin_rec709_scene."""
-    required_rule = getattr(colorspace_rules, "REQUIRED_COLORSPACE", None)
-    allowed_rule = getattr(colorspace_rules, "TEXTURE_COLORSPACE_NOT_ALLOWED", None)
-    required = getattr(context, "required_colorspace", None)
-    if required and required_rule is not None:
-        stated = _as_materialx(asset.colorspace or "lin_rec709_scene")
-        if stated != required:
-            meant = colorspaces.usd_equivalent(required)
-            yield context.diagnostic(
-                required_rule, f"stage colour space is {asset.colorspace or 'lin_rec709_scene (USD default)'!r}; "
-                               f"the project requires {required!r}",
-                asset.colorspace_location or Location(asset.path), hint=(
-                    f'apply Usd.ColorSpaceAPI to the default prim with colorSpace:name = "{meant}"' if meant else None),
-            )
-    allowed = getattr(context, "allowed_texture_colorspaces", None)
-    if allowed is None or allowed_rule is None:
-        return
-    seen = set()
-    for material in asset.materials:
-        for name, texture in material.textures():
-            space = _as_materialx(texture.colorspace)
-            if space and space not in allowed and texture.node not in seen:
-                seen.add(texture.node)
-                yield context.diagnostic(
-                    allowed_rule, f"{name} reads {texture.file!r} as {texture.colorspace!r}, not one of {sorted(allowed)}",
-                    texture.location or material.inputs[name].location,
-                )
-
-
-def _as_materialx(name: str | None) -> str | None:
-    """A colour-space name of any scheme as MaterialX names it (``None`` for UsdUVTexture's auto)."""
-    if name in (None, "auto"):
-        return None
-    if name in colorspaces.materialx_names():
-        return name
-    if name == "sRGB":
-        return "srgb_texture"
-    if colorspaces.is_data(name, "usd"):
-        return "none"
-    return colorspaces.materialx_equivalent(name) or name
 
 
 # -- units ----------------------------------------------------------------------------------------

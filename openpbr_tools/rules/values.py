@@ -7,6 +7,7 @@ parse every value strictly (see :mod:`openpbr_tools.values`).
 from __future__ import annotations
 
 from ..diagnostics import Severity
+from ..io.usd.types import MATERIALX_TO_USD
 from ..model import Connection, Texture
 from ..values import is_finite
 from . import Rule, for_each_input
@@ -63,8 +64,6 @@ def check(asset, context):
         if entry.type and entry.type != parameter.type:
             shown = entry.source_type or entry.type
             if entry.source_type:
-                from ..io.usd.types import MATERIALX_TO_USD
-
                 hint = f"author it as {MATERIALX_TO_USD.get(parameter.type, parameter.type)} inputs:{entry.name}"
             else:
                 hint = f"declare type=\"{parameter.type}\""

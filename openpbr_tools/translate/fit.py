@@ -18,14 +18,8 @@ clamp it), and it reduces to the identity where the target can represent the sou
   UsdPreviewSurface has one ``ior`` for the base and its clear coat: it is solved so that the
   normal-incidence reflectance of coat plus base matches OpenPBR's.
 * **Metal edge tint and weight** (:func:`schlick_metal_f0`, :func:`constant_metal_reflectance`,
-  :func:`edge_color_for_f82_tint`). OpenPBR's metal has the F82-tint Fresnel (Hoffman 2023):
-  Schlick's curve minus a(F0, tint) mu (1 - mu)^6, scaled by ``specular_weight``. Its albedo is
-  s (F0 A0 + A90 - a T82) with the evaluator's tables A0, A90, T82 (per mu and roughness), so a
-  least-squares fit of glTF's Schlick metal (E = F0' A0 + A90) or UsdPreviewSurface's metal
-  (F0 = F90 = colour, E = F0' (A0 + A90)) over mu is affine in the base colour, per channel, and
-  is inverted exactly. Standard Surface's conductor (Gulbrandsen's artistic IOR) has a closed-form
-  reflectance at 82 degrees: its edge colour is solved so that it equals OpenPBR's (regula falsi
-  on a monotone function), which the evaluator's conductor albedo then matches exactly.
+  :func:`edge_color_for_f82_tint`): fitted in :mod:`.fit_metal` and re-exported here, so that the
+  translation modules find every fit in this module.
 * **Fuzz as sheen** (:func:`sheen_fit`). OpenPBR's fuzz (Zeltner's LTC sheen) and the
   Conty-Kulla "Charlie" sheen of glTF and Standard Surface have differently shaped albedos; for
   every fuzz roughness the Charlie roughness and the scale of its albedo that best match
@@ -44,7 +38,18 @@ import numpy as np
 from ..evaluate import albedo as _albedo
 from ..evaluate import sheen as _sheen
 from ..evaluate.coat import coat_relative_ior, coat_roughened
-from ..evaluate.fresnel import F82_COSINE, artistic_ior, f0_to_ior, fresnel_conductor_real, ior_to_f0
+from ..evaluate.fresnel import f0_to_ior, ior_to_f0
+from .fit_metal import (  # re-exported: the translation modules call every fit as fit.NAME
+    METAL_FIT_COSINE_POWER,
+    conductor_reflectance,
+    constant_metal_reflectance,
+    edge_color_for_f82_tint,
+    f82_tint_of_edge_color,
+    openpbr_metal_from_constant,
+    openpbr_metal_from_schlick,
+    schlick_metal_f0,
+    ss_metal_tint,
+)
 
 #: Where a ratio's denominator is below this, the source value is kept instead.
 _TINY = 1e-9
@@ -151,171 +156,6 @@ def specular_ior_for_relative_ior(eta, coat_ior, coat_weight):
     lowest = np.sqrt(w * n_c / a)  # where (1 - w) n + w n_c / n is smallest
     below = np.clip(np.where(discriminant >= 0.0, root, lowest), 1.0, n_c)
     return np.where(w > 0.0, np.where(eta >= n_c + (1.0 - n_c) * w, above, below), eta)
-
-
-# ----------------------------------------------------------------------------------- metals
-
-_F82_SCHLICK = (1.0 - F82_COSINE) ** 5  # (1 - mu_bar)^5: Schlick's weight of F90 at 82 degrees
-_F82_SHAPE = F82_COSINE * (1.0 - F82_COSINE) ** 6  # mu_bar (1 - mu_bar)^6
-
-
-#: The metal fits weight the view cosine mu by mu^4. The share of a lit sphere's pixels at mu is
-#: proportional to mu, but a key light sees every pixel near normal incidence on the microfacets
-#: (its half vector makes a constant, small angle with the view), where F is F0: weighting by mu
-#: alone trades too much F0 for the grazing dip. Mean lit-sphere CIEDE2000 over 17 metals (those of
-#: tests/data/translation_set and tinted or weighted ones): glTF 0.84 (mu^1), 0.76 (mu^2), 0.73
-#: (mu^4); UsdPreviewSurface 1.15, 1.01, 0.98; mu^8 is no better.
-METAL_FIT_COSINE_POWER = 4
-
-
-@lru_cache(maxsize=1)
-def _metal_fit_tables():
-    """Per roughness node r = sqrt(alpha): the weighted least-squares moments of the evaluator's
-    GGX albedo tables that the affine metal fits need."""
-    t = _albedo.tables()
-    weight = _albedo.mu_nodes()[:, None] ** METAL_FIT_COSINE_POWER
-    a0, a90, t82 = t.schlick_f0, t.schlick_f90, t.f82_term
-    a1 = a0 + a90
-
-    def moment(x, y):
-        return np.sum(weight * x * y, axis=0)
-
-    return {
-        "r": _albedo.roughness_nodes(),
-        # glTF: E = F0' A0 + A90 against E = s (F0 A0 + A90 - a T82)
-        "schlick_tint": moment(a0, t82) / moment(a0, a0) / _F82_SHAPE,
-        "schlick_edge": moment(a0, a90) / moment(a0, a0),
-        # UsdPreviewSurface: E = F0' A1 against the same
-        "constant_f0": moment(a1, a0) / moment(a1, a1),
-        "constant_edge": moment(a1, a90) / moment(a1, a1),
-        "constant_tint": moment(a1, t82) / moment(a1, a1) / _F82_SHAPE,
-    }
-
-
-def _metal_moment(name, alpha):
-    table = _metal_fit_tables()
-    r = np.sqrt(np.clip(np.asarray(alpha, dtype=np.float64), 0.0, 1.0))
-    return np.interp(r, table["r"], table[name])
-
-
-def _affine_metal(tint, weight, alpha, target: str):
-    """(gain, offset) of the fitted reflectance gain * F0 + offset, per channel."""
-    untinted = 1.0 - np.asarray(tint, dtype=np.float64)
-    s = np.asarray(weight, dtype=np.float64)
-    if target == "schlick":
-        k = _metal_moment("schlick_tint", alpha)
-        gain = s * (1.0 - k * untinted * (1.0 - _F82_SCHLICK))
-        offset = -s * k * untinted * _F82_SCHLICK + (s - 1.0) * _metal_moment("schlick_edge", alpha)
-    else:
-        k = _metal_moment("constant_tint", alpha)
-        gain = s * (_metal_moment("constant_f0", alpha) - k * untinted * (1.0 - _F82_SCHLICK))
-        offset = s * (_metal_moment("constant_edge", alpha) - k * untinted * _F82_SCHLICK)
-    return gain, offset
-
-
-def _blend_metal(color, metalness, tint, weight, alpha, target):
-    gain, offset = _affine_metal(tint, weight, alpha, target)
-    return color + metalness * (gain * color + offset - color)
-
-
-def _unblend_metal(fitted, metalness, tint, weight, alpha, target):
-    gain, offset = _affine_metal(tint, weight, alpha, target)
-    denominator = 1.0 + metalness * (gain - 1.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(np.abs(denominator) > _TINY,
-                        (fitted - metalness * offset) / np.where(np.abs(denominator) > _TINY, denominator, 1.0), fitted)
-
-
-def schlick_metal_f0(color, metalness, tint, weight, alpha):
-    """glTF's metal base colour (Schlick, F90 = 1) whose albedo best matches OpenPBR's metal of
-    F0 ``color``, F82 ``tint`` and ``specular_weight`` ``weight`` at GGX ``alpha`` (cosine-weighted
-    least squares over the view angle); mixed by ``metalness`` with the dielectric's ``color``.
-    The identity for a white tint and weight 1."""
-    return np.clip(_blend_metal(color, metalness, tint, weight, alpha, "schlick"), 0.0, 1.0)
-
-
-def openpbr_metal_from_schlick(fitted, metalness, tint, weight, alpha):
-    """Inverse of :func:`schlick_metal_f0` (the OpenPBR base colour, clamped to [0, 1])."""
-    return np.clip(_unblend_metal(fitted, metalness, tint, weight, alpha, "schlick"), 0.0, 1.0)
-
-
-def constant_metal_reflectance(color, metalness, tint, weight, alpha):
-    """UsdPreviewSurface's metallic ``diffuseColor`` (F0 = F90 = the colour) whose albedo best
-    matches OpenPBR's F82-tint metal (as :func:`schlick_metal_f0`)."""
-    return np.clip(_blend_metal(color, metalness, tint, weight, alpha, "constant"), 0.0, 1.0)
-
-
-def openpbr_metal_from_constant(fitted, metalness, tint, weight, alpha):
-    """Inverse of :func:`constant_metal_reflectance` (clamped to [0, 1])."""
-    return np.clip(_unblend_metal(fitted, metalness, tint, weight, alpha, "constant"), 0.0, 1.0)
-
-
-#: The conductor's exact Fresnel in real arithmetic (keeps baking memory low).
-conductor_reflectance = fresnel_conductor_real
-
-
-def f82_tint_of_edge_color(reflectivity, edge_color):
-    """The F82 tint of Standard Surface's artistic-IOR conductor: its reflectance at
-    cos = 1/7 over Schlick's with the same F0 (the evaluator's albedo of that conductor)."""
-    n, k = artistic_ior(reflectivity, edge_color)
-    f0 = np.clip(reflectivity, 0.0, 0.99)
-    return conductor_reflectance(F82_COSINE, n, k) / np.maximum(f0 + (1.0 - f0) * _F82_SCHLICK, _TINY)
-
-
-def _schlick_82(f0):
-    return f0 + (1.0 - f0) * _F82_SCHLICK
-
-
-def ss_metal_tint(specular_color, metalness, reflectivity, specular, specular_weight=1.0):
-    """OpenPBR's ``specular_color`` from Standard Surface's, mixed by metalness with the dielectric
-    tint (a copy). On a metal it is the F82 tint that gives OpenPBR's metal, whose reflectance is
-    ``specular_weight`` times the F82-tint curve of F0 = reflectivity / specular_weight, the
-    conductor's reflectance at 82 degrees (Standard Surface: artistic IOR of ``reflectivity`` =
-    base * base_color and edge colour ``specular * specular_color``)."""
-    weight = np.maximum(specular_weight, _TINY)
-    conductor = f82_tint_of_edge_color(reflectivity, specular * specular_color)
-    conductor = conductor * _schlick_82(np.clip(reflectivity, 0.0, 0.99))
-    tint = conductor / (weight * _schlick_82(np.clip(reflectivity / weight, 0.0, 1.0)))
-    return specular_color + metalness * (tint - specular_color)
-
-
-def edge_color_for_f82_tint(tint, metalness, reflectivity, specular, specular_weight=1.0, iterations: int = 40):
-    """Inverse of :func:`ss_metal_tint`: Standard Surface's ``specular_color`` in [0, 1] whose
-    conductor reaches OpenPBR's F82 ``tint``. The function increases with the edge colour: the
-    root is bracketed in [0, 1] and found by the Illinois variant of regula falsi (Dahlquist &
-    Bjoerck, "Numerical Methods", 1974, section 6.2.3), superlinear and never leaving the bracket.
-    A tint outside what the conductor reaches gets the nearest end of the range. Only metallic
-    texels are solved (elsewhere the tint is copied)."""
-    tint, metalness, reflectivity, specular, specular_weight = np.broadcast_arrays(
-        *(np.asarray(x, dtype=np.float64) for x in (tint, metalness, reflectivity, specular, specular_weight)))
-    result = np.array(tint, dtype=np.float64, copy=True)
-    solve = metalness > 0.0
-    if not np.any(solve):
-        return result
-    c, m, r, s, w = tint[solve], metalness[solve], reflectivity[solve], specular[solve], specular_weight[solve]
-
-    def residual(x):
-        return ss_metal_tint(x, m, r, s, w) - c
-
-    low, high = np.zeros(c.shape), np.ones(c.shape)
-    f_low, f_high = residual(low), residual(high)
-    x = np.where(f_low >= 0.0, 0.0, 1.0)
-    active = (f_low < 0.0) & (f_high > 0.0)
-    for _ in range(iterations):
-        if not np.any(active):
-            break
-        step = f_high - f_low
-        x_new = np.where(step != 0.0, high - f_high * (high - low) / np.where(step != 0.0, step, 1.0), 0.5 * (low + high))
-        f_new = residual(x_new)
-        x = np.where(active, x_new, x)
-        crossed = f_new * f_high < 0.0
-        # Illinois: the previous iterate becomes the other end when the sign changes, else the
-        # stale end's value is halved so that it too moves.
-        low, f_low = np.where(crossed, high, low), np.where(crossed, f_high, 0.5 * f_low)
-        high, f_high = x_new, f_new
-        active = active & (np.abs(f_new) > 1e-14) & (np.abs(high - low) > 1e-15)
-    result[solve] = x
-    return result
 
 
 # ------------------------------------------------------------------------------------- fuzz
