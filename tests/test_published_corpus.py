@@ -23,6 +23,10 @@ USDMTLX = "usd/openusd/pxr/usd/usdMtlx/testenv/testUsdMtlxFileFormat.testenv"
 EXPECTED_ERRORS = {
     (f"{USDMTLX}/ExpandFilePrefix.mtlx", "OPBR701"):
         (2, "fixture: tests fileprefix expansion; the .tif files do not exist in OpenUSD either"),
+    (f"{USDMTLX}/Looks.mtlx", "OPBR004"):
+        (14, "fixture: MaterialX's Document.validate() rejects it too (custom nodes without definitions)"),
+    (f"{USDMTLX}/NodeGraphs.mtlx", "OPBR004"):
+        (4, "fixture: MaterialX's Document.validate() rejects it too (invalid port connections)"),
     (f"{USDMTLX}/baseline/Looks.usda", "OPBR1003"):
         (16, "fixture: UsdMtlx's generated baseline; its custom nodedefs exist only in Looks.mtlx"),
     ("usd/openusd/pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLPreviewSurface/testPreviewSurfaceConnectedScalar.usda",

@@ -39,10 +39,13 @@ NO_MATERIAL = Rule(
     failing='<?xml version="1.0"?>\n<materialx version="1.39">\n  <nodegraph name="NG" />\n</materialx>\n',
 )
 MATERIALX_INVALID = Rule(
-    "OPBR004", "materialx-validate", Severity.WARNING,
-    "MaterialX's own Document.validate() reports a problem.",
+    "OPBR004", "materialx-validate", Severity.ERROR,
+    "MaterialX's own Document.validate() rejects the document.",
     "The message is MaterialX's, passed through (it covers structure MaterialX knows about, such as "
-    "invalid port connections). MaterialX's check is lenient: a clean result here says little about values.",
+    "invalid port connections or a node no definition declares): an error, so `openpbr validate` is "
+    "never more lenient than `mxvalidate`. Messages about shader inputs that another rule judges more "
+    "precisely (unknown or legacy inputs, dangling connections, unparsable values) are left to that rule. "
+    "MaterialX's check is lenient otherwise: a clean result here says little about values.",
     passing='<open_pbr_surface name="S" type="surfaceshader" />',
     failing='<image name="albedo" type="color3">\n  <input name="texcoord" type="vector2" nodename="nowhere" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader" />',
 )

@@ -56,7 +56,22 @@ REQUIRED_VERSION = Rule(
     example_config='required-version = "1.1.1"\n',
 )
 
-RULES = (INFERRED, LEGACY_VERSION, MIXED_MATERIAL, MIXED_DOCUMENT, REQUIRED_VERSION)
+NOT_BINDING = Rule(
+    "OPBR406", "legacy-does-not-bind", Severity.ERROR,
+    "A legacy OpenPBR material uses inputs, or a node version, that the installed MaterialX's "
+    "open_pbr_surface node definition does not declare.",
+    "MaterialX ships only the current definition (OpenPBR 1.1.1 in MaterialX 1.39.5): its "
+    "Document.validate() rejects such a document (\"Input 'base_roughness' doesn't match declaration\"), "
+    "shader generation fails or ignores the input, and UsdMtlx drops it, so the material does not render "
+    "as authored anywhere a stock MaterialX is used. `openpbr upgrade` rewrites it. A pipeline that "
+    "registers the toolkit's legacy node definitions (libraries/) with its renderers can lower this to a "
+    "warning in the configuration: severity = { OPBR406 = \"warning\" }. A legacy material whose inputs "
+    "all still exist binds, and is only OPBR402.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_diffuse_roughness" type="float" value="0.3" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_roughness" type="float" value="0.3" />\n</open_pbr_surface>',
+)
+
+RULES = (INFERRED, LEGACY_VERSION, MIXED_MATERIAL, MIXED_DOCUMENT, REQUIRED_VERSION, NOT_BINDING)
 
 
 def check(asset, context):
@@ -90,10 +105,29 @@ def check(asset, context):
                 LEGACY_VERSION, f"{material.name} is OpenPBR {material.version}; the current version is {current}",
                 material.location, hint="`openpbr upgrade` converts it",
             )
+            yield from _not_binding(material, current, context)
         if not basis.startswith("default"):
             settled[material.name] = material.version
     if len(set(settled.values())) > 1:
         listing = ", ".join(f"{name} {version}" for name, version in sorted(settled.items()))
         yield context.diagnostic(
             MIXED_DOCUMENT, f"materials of different OpenPBR versions in one file: {listing}", Location(asset.path),
+        )
+
+
+def _not_binding(material, current: str, context):
+    """OPBR406 for the inputs of a legacy material the current definition lacks, and for a node
+    version attribute naming a definition MaterialX does not ship."""
+    declared = tables.table(material.model, current)
+    for name in sorted(set(material.inputs) - set(declared.parameters)):
+        yield context.diagnostic(
+            NOT_BINDING, f"{material.name}.{name} is an OpenPBR {material.version} input that OpenPBR {current} (the "
+                         "definition MaterialX ships) does not declare: MaterialX rejects it and renderers ignore it",
+            material.inputs[name].location, hint="`openpbr upgrade` converts it",
+        )
+    if material.declared_version and material.declared_version != current:
+        yield context.diagnostic(
+            NOT_BINDING, f"{material.name} asks for open_pbr_surface version {material.declared_version!r}, which "
+                         f"MaterialX does not define (it ships {current})", material.location,
+            hint="`openpbr upgrade` converts it and removes the version attribute's old value",
         )
