@@ -169,7 +169,7 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
         elif units == "off":
             ignored |= {"OPBR603"}
         elif units == "warn":
-            severity.pop("OPBR603", None)
+            severity["OPBR603"] = Severity.WARNING
             ignored -= {"OPBR603"}
     if select:
         selected = _expand(select, known)

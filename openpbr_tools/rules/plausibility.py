@@ -14,19 +14,22 @@ from ..resources import load_json
 from . import Rule
 
 METAL_TOO_DARK = Rule(
-    "OPBR901", "metal-base-color-too-dark", Severity.WARNING,
+    "OPBR901", "metal-base-color-too-dark", Severity.INFO,
     "A metal whose base colour is darker than any real metal's reflectance.",
     "Real metals reflect 50-100% of light at normal incidence; Filament's guide asks for a luminance "
     "of at least 170 sRGB (0.40 linear). A dark metal is usually a dielectric colour left on a metal, "
-    "or dirt that belongs in a mix.",
+    "or dirt that belongs in a mix. Info, not a warning: the bound is a heuristic (Filament's guidance), "
+    "and real measured materials fall outside it (dark anodised or dyed metals).",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="base_color" type="color3" value="0.95, 0.64, 0.54" />\n</open_pbr_surface>',
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="base_color" type="color3" value="0.1, 0.1, 0.1" />\n</open_pbr_surface>',
 )
 DIELECTRIC_OUT_OF_RANGE = Rule(
-    "OPBR902", "dielectric-base-color-range", Severity.WARNING,
+    "OPBR902", "dielectric-base-color-range", Severity.INFO,
     "A non-metal whose base colour is brighter or darker than real diffuse materials.",
     "Filament's guide gives sRGB 30-240 (tolerant) for non-metallic albedo: fresh snow is about 240, "
-    "charcoal about 30. Pure white or black albedo breaks energy balance and exposure.",
+    "charcoal about 30. Pure white or black albedo breaks energy balance and exposure. Info, not a "
+    "warning: the range is a heuristic, and real measured materials fall outside it (Musou Black, "
+    "Vantablack below, Spectralon above).",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="0.5, 0.4, 0.3" />\n</open_pbr_surface>',
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="1, 1, 1" />\n</open_pbr_surface>',
 )

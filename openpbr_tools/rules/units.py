@@ -32,10 +32,13 @@ UNKNOWN_UNIT = Rule(
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="subsurface_radius" type="float" value="0.5" unittype="distance" unit="cm" />\n</open_pbr_surface>',
 )
 LENGTH_WITHOUT_UNIT = Rule(
-    "OPBR603", "length-without-unit", Severity.WARNING,
+    "OPBR603", "length-without-unit", Severity.INFO,
     "A length input is set without unit information.",
     "transmission_depth = 2 means 2 cm in a centimetre scene and 2 m in a metre scene. Add "
-    "unittype=\"distance\" unit=\"...\" so converters and renderers can scale it.",
+    "unittype=\"distance\" unit=\"...\" so converters and renderers can scale it. A style choice "
+    "rather than a defect (MaterialX's own example materials set lengths without units, and renderers "
+    "read them in scene units), so it is info by default: a project that wants units opts in with "
+    "units = \"require\" (error) or \"warn\" in its configuration.",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="transmission_depth" type="float" value="2" unittype="distance" unit="centimeter" />\n</open_pbr_surface>',
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="transmission_depth" type="float" value="2" />\n</open_pbr_surface>',
 )
