@@ -30,6 +30,7 @@ class Parameter:
     role: str
     hard_min: Any = None
     hard_max: Any = None
+    hard_min_exclusive: bool = False  # the bound itself is invalid: (0, inf) for an IOR
     soft_min: Any = None
     soft_max: Any = None
     unit: str | None = None
@@ -92,6 +93,7 @@ def table(model: str, version: str | None = None) -> ParameterTable:
             role=entry["role"],
             hard_min=_freeze(entry.get("hard_min")),
             hard_max=_freeze(entry.get("hard_max")),
+            hard_min_exclusive=entry.get("hard_min_exclusive", False),
             soft_min=_freeze(entry.get("soft_min")),
             soft_max=_freeze(entry.get("soft_max")),
             unit=entry.get("unit"),

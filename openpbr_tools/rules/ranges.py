@@ -49,13 +49,16 @@ def _components(value) -> tuple:
     return (value,)
 
 
-def _outside(values: tuple, bound, below: bool) -> list[int]:
-    """Indices of components below (or above) ``bound`` (a scalar or per-component tuple)."""
+def _outside(values: tuple, bound, below: bool, exclusive: bool = False) -> list[int]:
+    """Indices of components below (or above) ``bound`` (a scalar or per-component tuple); with
+    ``exclusive``, on it too."""
     if bound is None:
         return []
     bounds = _components(bound)
     if len(bounds) == 1:
         bounds = bounds * len(values)
+    if exclusive:
+        return [i for i, (v, b) in enumerate(zip(values, bounds)) if (v <= b if below else v >= b)]
     return [i for i, (v, b) in enumerate(zip(values, bounds)) if (v < b if below else v > b)]
 
 
@@ -82,12 +85,13 @@ def check(asset, context):
             continue
         values = _components(value)
         note = f" ({parameter.range_note})" if parameter.range_note else ""
-        low = _outside(values, parameter.hard_min, below=True)
+        low = _outside(values, parameter.hard_min, below=True, exclusive=parameter.hard_min_exclusive)
         high = _outside(values, parameter.hard_max, below=False)
         if low or high:
+            valid = _range(parameter.hard_min, parameter.hard_max, parameter.hard_min_exclusive)
             yield context.diagnostic(
                 HARD_RANGE,
-                f"{entry.name} = {_fmt(value)} is outside its valid range {_range(parameter.hard_min, parameter.hard_max)}{note}",
+                f"{entry.name} = {_fmt(value)} is outside its valid range {valid}{note}",
                 entry.location, hint=f"default is {_fmt(parameter.default) if parameter.default is not None else 'geometric'}",
             )
             continue
@@ -105,7 +109,7 @@ def check(asset, context):
             )
 
 
-def _range(low, high) -> str:
-    left = "(-inf" if low is None else f"[{_fmt(low)}"
+def _range(low, high, open_low: bool = False) -> str:
+    left = "(-inf" if low is None else f"{'(' if open_low else '['}{_fmt(low)}"
     right = "inf)" if high is None else f"{_fmt(high)}]"
     return f"{left}, {right}"
