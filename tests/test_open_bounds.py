@@ -41,3 +41,18 @@ def test_gltf_attenuation_distance_has_an_exclusive_minimum(tmp_path, distance, 
             "KHR_materials_transmission": {"transmissionFactor": 1.0},
             "KHR_materials_volume": {"thicknessFactor": 1.0, "attenuationDistance": distance}}}]}), encoding="utf-8")
     assert ("OPBR301" in _codes(path)) is out
+
+
+@pytest.mark.parametrize("root, reported", [
+    ('<materialx colorspace="lin_rec709">', True),
+    ('<materialx version="1.38" colorspace="lin_rec709">', True),
+    ('<materialx version="1.39" colorspace="lin_rec709">', False),
+])
+def test_a_document_without_a_version_or_older_than_open_pbr_is_warned(tmp_path, root, reported):
+    path = tmp_path / "m.mtlx"
+    path.write_text(f'<?xml version="1.0"?>\n{root}\n  <open_pbr_surface name="S" type="surfaceshader" />\n'
+                    '  <surfacematerial name="M" type="material">\n'
+                    '    <input name="surfaceshader" type="surfaceshader" nodename="S" />\n  </surfacematerial>\n'
+                    '</materialx>\n', encoding="utf-8")
+    found = [d for d in validate_paths([str(path)]).diagnostics if d.code == "OPBR005"]
+    assert bool(found) is reported and all(str(d.severity) == "warning" for d in found)

@@ -50,10 +50,11 @@ MATERIALX_INVALID = Rule(
     failing='<image name="albedo" type="color3">\n  <input name="texcoord" type="vector2" nodename="nowhere" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader" />',
 )
 OLD_DOCUMENT = Rule(
-    "OPBR005", "old-document-version", Severity.INFO,
-    "The MaterialX document version is older than 1.39.",
-    "MaterialX upgrades older documents when it reads them, which can rename nodes and inputs; "
-    "other readers may not. Re-save the document as 1.39.",
+    "OPBR005", "old-document-version", Severity.WARNING,
+    "The MaterialX document has no version, or one older than 1.39 (the first with open_pbr_surface).",
+    "MaterialX upgrades older documents when it reads them (MaterialX's Document::upgradeVersion), "
+    "which renames nodes and inputs; other readers do not, and a document without a version is "
+    "upgraded from 1.0. A document that holds open_pbr_surface cannot be older than 1.39. Re-save it as 1.39.",
     passing='<open_pbr_surface name="S" type="surfaceshader" />',
     failing='<?xml version="1.0"?>\n<materialx version="1.38">\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
 )
@@ -127,7 +128,12 @@ def check(asset, context):
             yield context.diagnostic(MALFORMED_XML, f"not well-formed XML: {observation.detail['message']}",
                                      observation.location, hint="escape '<' as &lt; and '&' as &amp; in attribute values")
     version = asset.format_version
-    if asset.format == "mtlx" and version:
+    if asset.format == "mtlx" and not version:
+        yield context.diagnostic(
+            OLD_DOCUMENT, "the <materialx> element has no version: MaterialX reads it as 1.0 and upgrades it",
+            Location(asset.path, 1), hint="add version=\"1.39\" to <materialx>",
+        )
+    elif asset.format == "mtlx":
         try:
             old = tuple(int(p) for p in version.split(".")[:2]) < (1, 39)
         except ValueError:
