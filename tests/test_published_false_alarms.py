@@ -144,3 +144,50 @@ def test_an_include_outside_the_folder_is_never_opened(tmp_path, monkeypatch):
     monkeypatch.setattr(builtins, "open", lambda file, *a, **k: opened.append(str(file)) or real_open(file, *a, **k))
     read_asset(str(folder / "look.mtlx"))
     assert not [f for f in opened if f.endswith("materials.mtlx")]
+
+
+def test_a_colour_space_on_a_float_image_in_a_node_graph_is_warned(write_mtlx):
+    path = write_mtlx('''<nodegraph name="NG">
+  <image name="rough" type="float">
+    <input name="file" type="filename" value="rough.png" colorspace="srgb_texture" />
+  </image>
+  <output name="out" type="float" nodename="rough" />
+</nodegraph>
+<open_pbr_surface name="S" type="surfaceshader">
+  <input name="specular_roughness" type="float" nodegraph="NG" output="out" />
+</open_pbr_surface>''', files=("rough.png",))
+    from openpbr_tools.validate import validate_paths
+
+    found = [d for d in validate_paths([str(path)]).diagnostics if d.code == "OPBR507"]
+    assert len(found) == 1 and str(found[0].severity) == "warning"
+
+
+def test_a_colour_space_on_a_materialx_float_image_in_usd_is_warned(tmp_path):
+    from openpbr_tools.validate import validate_paths
+
+    (tmp_path / "rough.png").write_bytes(b"")
+    (tmp_path / "m.usda").write_text('''#usda 1.0
+(
+    metersPerUnit = 1
+)
+def Material "M"
+{
+    token outputs:mtlx:surface.connect = </M/S.outputs:out>
+    def Shader "S"
+    {
+        uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+        float inputs:specular_roughness.connect = </M/R.outputs:out>
+        token outputs:out
+    }
+    def Shader "R"
+    {
+        uniform token info:id = "ND_image_float"
+        asset inputs:file = @rough.png@ (
+            colorSpace = "srgb_texture"
+        )
+        float outputs:out
+    }
+}
+''', encoding="utf-8")
+    found = [d for d in validate_paths([str(tmp_path / "m.usda")]).diagnostics if d.code == "OPBR507"]
+    assert len(found) == 1

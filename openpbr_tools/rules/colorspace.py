@@ -80,8 +80,21 @@ TEXTURE_COLORSPACE_NOT_ALLOWED = Rule(
     example_config='allowed-texture-colorspaces = ["srgb_texture", "none"]\n',
 )
 
+COLORSPACE_IGNORED = Rule(
+    "OPBR507", "colorspace-on-non-colour-image", Severity.WARNING,
+    "A float or vector image (roughness, metalness, a normal map) carries a colour space other than none.",
+    "MaterialX applies colour transforms only to color3/color4 images (ShaderGraph::populateColorTransformMap), "
+    "so colorspace=\"srgb_texture\" on a float or vector3 image is ignored there; UsdMtlx drops it when "
+    "writing USD; other renderers honour it and bend the numbers. The same file then renders differently "
+    "per renderer: mark the image colorspace=\"none\" (or leave it unset). Reported wherever the image sits, "
+    "in a node graph as well as beside the shader, and for MaterialX image shaders in USD.",
+    passing='<image name="rough" type="float">\n  <input name="file" type="filename" value="rough.png" colorspace="none" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_roughness" type="float" nodename="rough" />\n</open_pbr_surface>',
+    failing='<image name="rough" type="float">\n  <input name="file" type="filename" value="rough.png" colorspace="srgb_texture" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_roughness" type="float" nodename="rough" />\n</open_pbr_surface>',
+    example_files=("rough.png",),
+)
+
 RULES = (NO_DOCUMENT_COLORSPACE, UNKNOWN_COLORSPACE, COLOR_TEXTURE_RAW, DATA_TEXTURE_MANAGED,
-         REQUIRED_COLORSPACE, TEXTURE_COLORSPACE_NOT_ALLOWED)
+         REQUIRED_COLORSPACE, TEXTURE_COLORSPACE_NOT_ALLOWED, COLORSPACE_IGNORED)
 
 COLOUR_MANAGED_IMAGE_TYPES = ("color3", "color4")
 
@@ -97,6 +110,12 @@ def check(asset, context):
         if parameter is None:
             continue
         texture = entry.texture
+        if texture is not None and ignored_colorspace(texture) and _authored_on_texture(texture, asset):
+            yield context.diagnostic(
+                COLORSPACE_IGNORED, f"{entry.name} reads the {texture.image_type} image {texture.file!r} with colour "
+                                    f"space {texture.colorspace!r}, which MaterialX ignores and other renderers apply",
+                texture.location or entry.location, hint="set colorspace=\"none\" on the image's file input",
+            )
         if parameter.role == "color":
             if ambiguous is None and asset.colorspace is None and (
                 (texture is None and entry.colorspace is None and entry.constant is not None)
@@ -132,6 +151,15 @@ def _bends_data(texture: Texture, asset) -> bool:
         return False
     working = asset.colorspace or colorspaces.DEFAULT_MATERIALX
     return space != working or space not in ("lin_rec709", "acescg", "lin_adobergb", "lin_displayp3")
+
+
+def ignored_colorspace(texture: Texture) -> bool:
+    """Whether ``texture`` is a float or vector image whose colour space names a transform MaterialX
+    would not apply (anything but none/raw)."""
+    space = texture.colorspace
+    if texture.image_type in COLOUR_MANAGED_IMAGE_TYPES or space is None or texture.channels == (3,):
+        return False  # a colour image (or the alpha of one, e.g. gltf_colorimage's outa): the space is its RGB's
+    return not (colorspaces.is_data(space) or colorspaces.is_data(space, "usd") or space in ("raw", "auto"))
 
 
 def _authored_on_texture(texture: Texture, asset) -> bool:

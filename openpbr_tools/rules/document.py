@@ -30,11 +30,11 @@ NOT_MATERIALX = Rule(
     failing='<?xml version="1.0"?>\n<materialx version="1.39">\n  <open_pbr_surface name="S" type="surfaceshader">\n',
 )
 NO_MATERIAL = Rule(
-    "OPBR003", "no-material", Severity.WARNING,
+    "OPBR003", "no-material", Severity.INFO,
     "The file contains no surface shader of a supported model.",
     "No open_pbr_surface, standard_surface, gltf_pbr or UsdPreviewSurface node (or USD/glTF "
-    "material) was found, so nothing was validated. Often a file given by mistake, or a library of "
-    "node definitions.",
+    "material) was found, so nothing was validated. Often a library of node definitions, a geometry "
+    "layer or a look file found in a folder: info, since holding no material is not a defect.",
     passing='<open_pbr_surface name="S" type="surfaceshader" />',
     failing='<?xml version="1.0"?>\n<materialx version="1.39">\n  <nodegraph name="NG" />\n</materialx>\n',
 )
@@ -51,7 +51,8 @@ MATERIALX_INVALID = Rule(
 )
 OLD_DOCUMENT = Rule(
     "OPBR005", "old-document-version", Severity.WARNING,
-    "The MaterialX document has no version, or one older than 1.39 (the first with open_pbr_surface).",
+    "The MaterialX document has no version, or holds open_pbr_surface with a version older than 1.39 "
+    "(the first with open_pbr_surface).",
     "MaterialX upgrades older documents when it reads them (MaterialX's Document::upgradeVersion), "
     "which renames nodes and inputs; other readers do not, and a document without a version is "
     "upgraded from 1.0. A document that holds open_pbr_surface cannot be older than 1.39. Re-save it as 1.39.",
@@ -133,7 +134,7 @@ def check(asset, context):
             OLD_DOCUMENT, "the <materialx> element has no version: MaterialX reads it as 1.0 and upgrades it",
             Location(asset.path, 1), hint="add version=\"1.39\" to <materialx>",
         )
-    elif asset.format == "mtlx":
+    elif asset.format == "mtlx" and any(m.model == "open_pbr_surface" for m in asset.materials):
         try:
             old = tuple(int(p) for p in version.split(".")[:2]) < (1, 39)
         except ValueError:

@@ -21,7 +21,7 @@ from ..model import Location, Texture
 from ..resources import load_json
 from . import Rule, for_each_input
 from . import colorspace as colorspace_rules
-from .colorspace import COLOR_TEXTURE_RAW, DATA_TEXTURE_MANAGED, UNKNOWN_COLORSPACE
+from .colorspace import COLOR_TEXTURE_RAW, COLORSPACE_IGNORED, DATA_TEXTURE_MANAGED, UNKNOWN_COLORSPACE, ignored_colorspace
 from .usd_examples import openpbr_example
 
 COLORSPACE_SCHEME = Rule(
@@ -123,6 +123,12 @@ def colour_managed_textures(asset, context):
         if parameter is None or texture is None:
             continue
         space = texture.colorspace
+        if texture.node_category != UV_TEXTURE_ID and ignored_colorspace(texture):
+            yield context.diagnostic(
+                COLORSPACE_IGNORED, f"{entry.name} reads the {texture.image_type} image {texture.file!r} with colour "
+                                    f"space {space!r}, which MaterialX ignores and other renderers apply",
+                texture.location or entry.location, hint='set colorSpace = "none" on the image\'s inputs:file',
+            )
         if parameter.role == "color":
             if space is not None and (colorspaces.is_data(space) or colorspaces.is_data(space, "usd")):
                 yield context.diagnostic(
