@@ -157,8 +157,8 @@ case("OPBR006_substance_preset.xml", "OPBR006", "A material preset saved as .xml
      '<?xml version="1.0"?>\n<preset><param name="roughness" value="0.5"/></preset>\n')
 case("OPBR007_unescaped_lt_in_doc.mtlx", "OPBR007", "A doc string with an unescaped '<' that strict XML rejects but MaterialX's parser tolerates.",
      opbr('<input name="base_weight" type="float" value="1" doc="weight <1 looks dull" />'))
-case("OPBR009_missing_xinclude.mtlx", "OPBR009", "The document XIncludes a shared definitions file that was not shipped with it.",
-     '<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <xi:include href="shared_defs_missing.mtlx" />\n'
+case("OPBR009_xinclude_outside_folder.mtlx", "OPBR009", "The document XIncludes the studio-wide legacy OpenPBR definitions through a path that climbs out of its folder ('..'), which the toolkit does not follow.",
+     '<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <xi:include href="../../../libraries/open_pbr_surface_legacy_defs.mtlx" />\n'
      '  <open_pbr_surface name="S" type="surfaceshader" />\n  <surfacematerial name="M" type="material">\n'
      '    <input name="surfaceshader" type="surfaceshader" nodename="S" />\n  </surfacematerial>\n</materialx>\n')
 
