@@ -1,0 +1,566 @@
+"""Writes the broken-file corpus (every file beside this script) and EXPECTED.json.
+
+Each case is (file name, expected code, defect sentence, content[, extra entry fields]). The
+expected severity is the rule's default severity, read from the rule table, so EXPECTED.json
+always states "the right severity". Run from anywhere: ``python tests/data/broken/make_corpus.py``.
+"""
+
+from __future__ import annotations
+
+import base64
+import io
+import json
+import os
+import struct
+import sys
+import zipfile
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.abspath(os.path.join(HERE, "..", "..", "..")))
+
+from openpbr_tools.rules import all_rules  # noqa: E402  (needs the repository on the path)
+
+CASES: list[tuple] = []
+
+
+def case(name, code, defect, content, **extra):
+    CASES.append((name, code, defect, content, extra))
+
+
+# ---------------------------------------------------------------- builders
+
+def mtlx(body: str, colorspace: str | None = "lin_rec709", version: str = "1.39", material: bool = True,
+         shader: str = "S") -> str:
+    cs = f' colorspace="{colorspace}"' if colorspace else ""
+    mat = (f'  <surfacematerial name="M" type="material">\n'
+           f'    <input name="surfaceshader" type="surfaceshader" nodename="{shader}" />\n'
+           f'  </surfacematerial>\n') if material else ""
+    inner = "".join("  " + line + "\n" for line in body.strip("\n").splitlines())
+    return f'<?xml version="1.0"?>\n<materialx version="{version}"{cs}>\n{inner}{mat}</materialx>\n'
+
+
+def opbr(inputs: str, category: str = "open_pbr_surface", attrs: str = "", before: str = "", **kw) -> str:
+    lines = "".join("  " + line.strip() + "\n" for line in inputs.strip("\n").splitlines() if line.strip())
+    body = f'{before}\n<{category} name="S" type="surfaceshader"{attrs}>\n{lines}</{category}>'
+    return mtlx(body, **kw)
+
+
+def image(name: str, file: str, type_: str = "color3", colorspace: str | None = "srgb_texture") -> str:
+    cs = f' colorspace="{colorspace}"' if colorspace is not None else ""
+    return (f'<image name="{name}" type="{type_}">\n'
+            f'  <input name="file" type="filename" value="{file}"{cs} />\n'
+            f'</image>')
+
+
+USD_HEAD = '#usda 1.0\n(\n    defaultPrim = "M"\n    metersPerUnit = 0.01\n    upAxis = "Y"\n)\n\n'
+
+
+def usda(shader_body: str, extra_prims: str = "", material_body: str = "", head: str = USD_HEAD,
+         shader_id: str | None = "ND_open_pbr_surface_surfaceshader", output: str = "mtlx:surface") -> str:
+    ident = f'        uniform token info:id = "{shader_id}"\n' if shader_id else ""
+    body = "".join("        " + l.strip() + "\n" for l in shader_body.strip("\n").splitlines() if l.strip())
+    extra = "".join(("    " + l if l.strip() else l) + "\n" for l in extra_prims.strip("\n").splitlines())
+    mbody = "".join("    " + l.strip() + "\n" for l in material_body.strip("\n").splitlines() if l.strip())
+    return (f'{head}def Material "M"\n{{\n    token outputs:{output}.connect = </M/S.outputs:surface>\n{mbody}\n'
+            f'    def Shader "S"\n    {{\n{ident}{body}        token outputs:surface\n    }}\n'
+            + (f"\n{extra}" if extra else "") + "}\n")
+
+
+def preview(shader_body: str, extra_prims: str = "", **kw) -> str:
+    return usda(shader_body, extra_prims, shader_id="UsdPreviewSurface", output="surface", **kw)
+
+
+def uvtex(name: str, file: str, out: str = "rgb", out_type: str = "float3", cs: str | None = "sRGB",
+          extra: str = "") -> str:
+    csl = f'    token inputs:sourceColorSpace = "{cs}"\n' if cs else ""
+    return (f'def Shader "{name}"\n{{\n    uniform token info:id = "UsdUVTexture"\n'
+            f'    asset inputs:file = @{file}@\n{csl}{extra}    {out_type} outputs:{out}\n}}\n')
+
+
+def mximage(name: str, file: str, type_: str = "color3", cs: str | None = None, node: str | None = None) -> str:
+    node = node or f"ND_image_{type_}"
+    usd_type = {"color3": "color3f", "float": "float", "vector3": "float3"}[type_]
+    meta = f' (\n        colorSpace = "{cs}"\n    )' if cs else ""
+    return (f'def Shader "{name}"\n{{\n    uniform token info:id = "{node}"\n'
+            f'    asset inputs:file = @{file}@{meta}\n    {usd_type} outputs:out\n}}\n')
+
+
+PNG_URI = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAQAAAAECAIAAAAmkwkpAAAAFElEQVR42mM8kWLEAANMDEgA"
+           "NwcARfYBZsiXQosAAAAASUVORK5CYII=")
+
+
+def gltf(materials, extensions_used=(), **top) -> dict:
+    doc = {"asset": {"version": "2.0", "generator": "broken-corpus"}}
+    if extensions_used:
+        doc["extensionsUsed"] = list(extensions_used)
+    doc.update(top)
+    doc["materials"] = materials
+    return doc
+
+
+def textured(material: dict, uri: str = "textures/albedo.png", **top) -> dict:
+    return gltf([material], images=[{"uri": uri}], textures=[{"source": 0}], **top)
+
+
+def glb(document: dict, binary: bytes | None = None) -> bytes:
+    data = json.dumps(document, separators=(",", ":")).encode("utf-8")
+    data += b" " * (-len(data) % 4)
+    chunks = struct.pack("<II", len(data), 0x4E4F534A) + data
+    if binary is not None:
+        binary += b"\0" * (-len(binary) % 4)
+        chunks += struct.pack("<II", len(binary), 0x004E4942) + binary
+    return struct.pack("<III", 0x46546C67, 2, 12 + len(chunks)) + chunks
+
+
+def png(mode: str, size=(4, 4), value=128) -> bytes:
+    from PIL import Image  # Pillow only when writing the corpus
+    buffer = io.BytesIO()
+    Image.new(mode, size, value if mode == "L" else (value,) * len(mode)).save(buffer, "PNG")
+    return buffer.getvalue()
+
+
+TEXTURES = {
+    "textures/albedo.png": png("RGB"),
+    "textures/rough.png": png("L"),
+    "textures/orm.png": png("RGB"),
+    "textures/normal.png": png("RGB", value=200),
+    "textures/mask.png": png("L", value=255),
+    "textures/odd.png": png("RGB", size=(3, 5)),
+}
+
+
+# ================================================================ document
+case("OPBR001_utf16_garbage.mtlx", "OPBR001", "An exporter wrote the document as UTF-16 with a byte-order mark and then truncated it, so it cannot be decoded.",
+     b"\xff\xfe<\x00m\x00a\x00t\x00")
+case("OPBR002_gltf_not_utf8.gltf", "OPBR002", "A glTF JSON file saved in Latin-1 with a non-UTF-8 byte in the material name.",
+     b'{"asset": {"version": "2.0"}, "materials": [{"name": "Mat\xe9riau"}]}')
+case("OPBR002_truncated_export.mtlx", "OPBR002", "The exporter crashed mid-write: the shader element and the document are never closed.",
+     '<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <open_pbr_surface name="S" type="surfaceshader">\n    <input name="base_weight" type="float" value="1" />\n')
+case("OPBR002_usda_syntax_error.usda", "OPBR002", "A hand-edited USD layer lost the closing brace of its Material prim.",
+     USD_HEAD + 'def Material "M"\n{\n    def Shader "S"\n    {\n        uniform token info:id = "ND_open_pbr_surface_surfaceshader"\n        token outputs:surface\n    }\n')
+case("OPBR002_gltf_trailing_comma.gltf", "OPBR002", "A glTF written by a template engine has a trailing comma, which JSON does not allow.",
+     '{"asset": {"version": "2.0"}, "materials": [{"name": "M", "pbrMetallicRoughness": {"roughnessFactor": 0.5},}]}\n')
+case("OPBR002_glb_bad_magic.glb", "OPBR002", "A GLB whose header magic is 'glTf' in the wrong case (a hand-rolled writer), so the container is invalid.",
+     b"glTf" + glb(gltf([{"name": "M"}]))[4:])
+case("OPBR002_glb_length_mismatch.glb", "OPBR002", "A GLB whose header length field claims more bytes than the file holds (a truncated download).",
+     (lambda b: b[:8] + struct.pack("<I", len(b) + 400) + b[12:])(glb(gltf([{"name": "M"}]))))
+case("OPBR003_only_nodegraph.mtlx", "OPBR003", "A 'material library' export that holds only a node graph and no surface shader.",
+     mtlx('<nodegraph name="NG">\n  <constant name="c" type="color3">\n    <input name="value" type="color3" value="0.5, 0.5, 0.5" />\n  </constant>\n  <output name="out" type="color3" nodename="c" />\n</nodegraph>', material=False))
+case("OPBR003_gltf_no_materials.gltf", "OPBR003", "A glTF exported with materials disabled: geometry only, no material at all.",
+     json.dumps({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}]}, indent=2))
+case("OPBR004_texcoord_to_nowhere.mtlx", "OPBR004", "An image's texcoord input is connected to a node the exporter did not write, which MaterialX's Document.validate() rejects.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />',
+          before='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n  <input name="texcoord" type="vector2" nodename="uvset1" />\n</image>'))
+case("OPBR005_materialx_138.mtlx", "OPBR005", "A document written by an older DCC plug-in with MaterialX version 1.38.",
+     opbr('<input name="base_weight" type="float" value="1" />', version="1.38"))
+case("OPBR006_substance_preset.xml", "OPBR006", "A material preset saved as .xml, a kind of file no reader handles.",
+     '<?xml version="1.0"?>\n<preset><param name="roughness" value="0.5"/></preset>\n')
+case("OPBR007_unescaped_lt_in_doc.mtlx", "OPBR007", "A doc string with an unescaped '<' that strict XML rejects but MaterialX's parser tolerates.",
+     opbr('<input name="base_weight" type="float" value="1" doc="weight <1 looks dull" />'))
+case("OPBR009_xinclude_outside_folder.mtlx", "OPBR009", "The document XIncludes the studio-wide legacy OpenPBR definitions through a path that climbs out of its folder ('..'), which the toolkit does not follow.",
+     '<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <xi:include href="../../../libraries/open_pbr_surface_legacy_defs.mtlx" />\n'
+     '  <open_pbr_surface name="S" type="surfaceshader" />\n  <surfacematerial name="M" type="material">\n'
+     '    <input name="surfaceshader" type="surfaceshader" nodename="S" />\n  </surfacematerial>\n</materialx>\n')
+
+# ================================================================ names
+case("OPBR101_base_colour_british.mtlx", "OPBR101", "British spelling base_colour instead of base_color.",
+     opbr('<input name="base_colour" type="color3" value="0.5, 0.5, 0.5" />'))
+case("OPBR101_specular_roughnes_typo.mtlx", "OPBR101", "A typo: specular_roughnes (one s missing).",
+     opbr('<input name="specular_roughnes" type="float" value="0.4" />'))
+case("OPBR101_standard_surface_name_on_openpbr.mtlx", "OPBR101", "The Standard Surface spelling specular_IOR written on an OpenPBR shader.",
+     opbr('<input name="specular_IOR" type="float" value="1.5" />'))
+case("OPBR101_gltf_pbr_metalic.mtlx", "OPBR101", "A gltf_pbr shader with the input misspelt 'metalic'.",
+     opbr('<input name="metalic" type="float" value="1" />', category="gltf_pbr"))
+case("OPBR101_standard_surface_coat_ior_case.mtlx", "OPBR101", "A standard_surface shader with coat_ior written in lower case (Standard Surface spells it coat_IOR).",
+     opbr('<input name="coat_ior" type="float" value="1.5" />', category="standard_surface"))
+case("OPBR101_usd_base_colour.usda", "OPBR101", "A USD OpenPBR shader with inputs:base_colour (British spelling).",
+     usda('color3f inputs:base_colour = (0.5, 0.4, 0.3)'))
+case("OPBR102_legacy_name_in_current_material.mtlx", "OPBR102", "A 1.1 material (coat_darkening) that also carries the 0.2-0.3 name specular_ior_level.",
+     opbr('<input name="coat_darkening" type="float" value="1" />\n<input name="thin_film_weight" type="float" value="0" />\n<input name="specular_ior_level" type="float" value="0.5" />'),
+     also={"OPBR403": "a legacy name beside a current one is by definition a material of mixed versions: OPBR102 names the input, OPBR403 the material"})
+case("OPBR103_duplicate_input.mtlx", "OPBR103", "base_weight written twice on one shader (an exporter that appends instead of replacing).",
+     opbr('<input name="base_weight" type="float" value="0.8" />\n<input name="base_weight" type="float" value="0.5" />'))
+case("OPBR103_duplicate_node.mtlx", "OPBR103", "Two image nodes with the same name in one document.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />',
+          before=image("albedo", "textures/albedo.png") + "\n" + image("albedo", "textures/albedo.png")))
+case("OPBR104_open_pbr_surfce.mtlx", "OPBR104", "The shader category is misspelt open_pbr_surfce.",
+     opbr('<input name="base_weight" type="float" value="1" />', category="open_pbr_surfce"))
+case("OPBR104_standard_surface_v2.mtlx", "OPBR104", "A vendor's category name standard_surface2 that no node definition declares.",
+     opbr('<input name="base" type="float" value="1" />', category="standard_surface2"))
+case("OPBR105_nodedef_v2.mtlx", "OPBR105", "The shader names a nodedef ND_open_pbr_surface_v2 that does not exist.",
+     opbr('<input name="base_weight" type="float" value="1" />', attrs=' nodedef="ND_open_pbr_surface_v2"'))
+case("OPBR106_version_1_2.mtlx", "OPBR106", "The shader claims version 1.2, an OpenPBR version that does not exist.",
+     opbr('<input name="base_weight" type="float" value="1" />', attrs=' version="1.2"'))
+
+# ================================================================ values
+case("OPBR201_roughness_as_color3.mtlx", "OPBR201", "specular_roughness written as a color3 (an exporter that writes every input as a colour).",
+     opbr('<input name="specular_roughness" type="color3" value="0.3, 0.3, 0.3" />'))
+case("OPBR201_base_color_as_float.mtlx", "OPBR201", "base_color written as a float.",
+     opbr('<input name="base_color" type="float" value="0.8" />'))
+case("OPBR201_thin_walled_as_integer.mtlx", "OPBR201", "geometry_thin_walled written as integer 1 instead of boolean.",
+     opbr('<input name="geometry_thin_walled" type="integer" value="1" />'))
+case("OPBR202_decimal_comma_ior.mtlx", "OPBR202", "specular_ior written with a decimal comma, '1,5', by a German-locale exporter.",
+     opbr('<input name="specular_ior" type="float" value="1,5" />'))
+case("OPBR202_decimal_comma_color.mtlx", "OPBR202", "A colour written with decimal commas '0,8, 0,2, 0,1' (six components).",
+     opbr('<input name="base_color" type="color3" value="0,8, 0,2, 0,1" />'))
+case("OPBR202_two_component_color.mtlx", "OPBR202", "A color3 value with only two components.",
+     opbr('<input name="base_color" type="color3" value="0.5, 0.5" />'))
+case("OPBR202_trailing_f_suffix.mtlx", "OPBR202", "A float written as a C literal '0.5f'.",
+     opbr('<input name="specular_roughness" type="float" value="0.5f" />'))
+case("OPBR202_boolean_yes.mtlx", "OPBR202", "A boolean written as 'yes' instead of true/false.",
+     opbr('<input name="geometry_thin_walled" type="boolean" value="yes" />'))
+case("OPBR202_gltf_roughness_string.gltf", "OPBR202", "roughnessFactor written as the JSON string \"0.5\".",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"roughnessFactor": "0.5"}}]), indent=2))
+case("OPBR202_gltf_basecolor_three.gltf", "OPBR202", "baseColorFactor with three components (RGB) where glTF requires RGBA.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.2, 0.1]}}]), indent=2))
+case("OPBR203_base_weight_nan.mtlx", "OPBR203", "base_weight is NaN (an uninitialised value written out).",
+     opbr('<input name="base_weight" type="float" value="nan" />'))
+case("OPBR203_emission_inf.mtlx", "OPBR203", "emission_luminance is infinite.",
+     opbr('<input name="emission_luminance" type="float" value="inf" />'))
+case("OPBR203_gltf_nan_roughness.gltf", "OPBR203", "roughnessFactor written as NaN by Python's json module (not strict JSON, but readers accept it).",
+     '{"asset": {"version": "2.0"}, "materials": [{"name": "M", "pbrMetallicRoughness": {"roughnessFactor": NaN}}]}\n')
+case("OPBR204_thin_walled_from_texture.mtlx", "OPBR204", "The uniform geometry_thin_walled is driven by a mask texture.",
+     opbr('<input name="geometry_thin_walled" type="boolean" nodename="mask" />',
+          before='<image name="mask" type="boolean">\n  <input name="file" type="filename" value="textures/mask.png" />\n</image>'),
+     also={"OPBR004": "MaterialX has no boolean image node, so Document.validate() rejects the same connection"})
+
+# ================================================================ ranges
+case("OPBR301_base_weight_negative.mtlx", "OPBR301", "base_weight is -0.2.",
+     opbr('<input name="base_weight" type="float" value="-0.2" />'))
+case("OPBR301_roughness_above_one.mtlx", "OPBR301", "specular_roughness 1.2 (a glossiness-to-roughness conversion that overshot).",
+     opbr('<input name="specular_roughness" type="float" value="1.2" />'))
+case("OPBR301_coat_ior_zero.mtlx", "OPBR301", "coat_ior = 0, the open lower bound, written where the exporter meant 'unset'.",
+     opbr('<input name="coat_weight" type="float" value="1" />\n<input name="coat_ior" type="float" value="0" />'),
+     known_miss="the spec's range is (0, inf) excluding 0, but the toolkit keeps the nodedef's uimin 0 as the hard minimum, so coat_ior = 0 only gets OPBR302 and OPBR905 warnings")
+case("OPBR301_specular_ior_zero.mtlx", "OPBR301", "specular_ior = 0 (an IOR of zero).",
+     opbr('<input name="specular_ior" type="float" value="0" />'),
+     known_miss="the spec's range is (0, inf) excluding 0, but the toolkit keeps the nodedef's uimin 0 as the hard minimum, so specular_ior = 0 only gets OPBR302 and OPBR905 warnings")
+case("OPBR301_transmission_weight_percent.mtlx", "OPBR301", "transmission_weight 100, a percentage written where a 0-1 weight is expected.",
+     opbr('<input name="transmission_weight" type="float" value="100" />'))
+case("OPBR301_metalness_255.mtlx", "OPBR301", "base_metalness 255, an 8-bit value not normalised.",
+     opbr('<input name="base_metalness" type="float" value="255" />'))
+case("OPBR301_negative_base_color.mtlx", "OPBR301", "A negative base_color component from a colour-space conversion that went out of gamut.",
+     opbr('<input name="base_color" type="color3" value="0.9, -0.05, 0.1" />'))
+case("OPBR301_standard_surface_base_negative.mtlx", "OPBR301", "A standard_surface with base = -1.",
+     opbr('<input name="base" type="float" value="-1" />', category="standard_surface"))
+case("OPBR301_gltf_roughness_1_5.gltf", "OPBR301", "roughnessFactor 1.5, outside glTF's [0, 1].",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"roughnessFactor": 1.5}}]), indent=2))
+case("OPBR301_gltf_metallic_negative.gltf", "OPBR301", "metallicFactor -0.1.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"metallicFactor": -0.1}}]), indent=2))
+case("OPBR301_gltf_ior_half.gltf", "OPBR301", "KHR_materials_ior ior 0.5, which the extension schema forbids (ior is 0 or >= 1).",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_ior": {"ior": 0.5}}}], ["KHR_materials_ior"]), indent=2))
+case("OPBR301_gltf_transmission_two.gltf", "OPBR301", "KHR_materials_transmission transmissionFactor 2.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_transmission": {"transmissionFactor": 2.0}}}], ["KHR_materials_transmission"]), indent=2))
+case("OPBR301_gltf_clearcoat_negative.glb", "OPBR301", "A GLB with KHR_materials_clearcoat clearcoatRoughnessFactor -0.5.",
+     glb(gltf([{"name": "M", "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatRoughnessFactor": -0.5}}}], ["KHR_materials_clearcoat"])))
+case("OPBR301_gltf_emissive_above_one.gltf", "OPBR301", "emissiveFactor [4, 4, 4] (HDR emission belongs in KHR_materials_emissive_strength).",
+     json.dumps(gltf([{"name": "M", "emissiveFactor": [4.0, 4.0, 4.0]}]), indent=2))
+case("OPBR301_usd_preview_roughness.usda", "OPBR301", "UsdPreviewSurface roughness 1.5.",
+     preview('float inputs:roughness = 1.5'))
+case("OPBR301_usd_openpbr_weight.usda", "OPBR301", "A USD OpenPBR shader with coat_weight -1.",
+     usda('float inputs:coat_weight = -1'))
+case("OPBR302_specular_ior_4_5.mtlx", "OPBR302", "specular_ior 4.5, valid but above the recommended range.",
+     opbr('<input name="specular_ior" type="float" value="4.5" />'))
+case("OPBR302_specular_weight_above_one.mtlx", "OPBR302", "specular_weight 1.8, allowed (unbounded above) but outside the soft range.",
+     opbr('<input name="specular_weight" type="float" value="1.8" />'))
+case("OPBR303_use_specular_workflow_two.mtlx", "OPBR303", "UsdPreviewSurface useSpecularWorkflow 2 (only 0 and 1 exist).",
+     opbr('<input name="useSpecularWorkflow" type="integer" value="2" />', category="UsdPreviewSurface"))
+case("OPBR303_gltf_alpha_mode.gltf", "OPBR303", "alphaMode 'TRANSPARENT', not one of OPAQUE, MASK, BLEND.",
+     json.dumps(gltf([{"name": "M", "alphaMode": "TRANSPARENT"}]), indent=2),
+     known_miss="caught at the right severity but under OPBR202 (unparsable value), whereas the same enum defect in MaterialX (useSpecularWorkflow 2) and USD (opacityMode) is OPBR303",
+     also={"OPBR202": "this is the planted enum defect itself, reported under OPBR202 instead of OPBR303 (see known_miss)"})
+case("OPBR303_usd_preview_opacity_mode.usda", "OPBR303", "UsdPreviewSurface opacityMode 'blend', not a token of the list.",
+     preview('token inputs:opacityMode = "blend"'))
+
+# ================================================================ version
+case("OPBR401_coat_darkening_only.mtlx", "OPBR401", "(info) The version is inferred from coat_darkening alone; no version attribute.",
+     opbr('<input name="coat_darkening" type="float" value="1" />'))
+case("OPBR402_legacy_02_material.mtlx", "OPBR402", "A whole material written with OpenPBR 0.2 names (base_roughness, specular_ior_level).",
+     opbr('<input name="base_roughness" type="float" value="0.2" />\n<input name="specular_ior_level" type="float" value="0.5" />'),
+     also={"OPBR406": "MaterialX 1.39.5 ships only the OpenPBR 1.1.1 nodedef, so every legacy input is also one it does not declare"})
+case("OPBR403_mixed_versions.mtlx", "OPBR403", "One material mixes 0.2's base_roughness with 1.1's coat_darkening.",
+     opbr('<input name="base_roughness" type="float" value="0.2" />\n<input name="coat_darkening" type="float" value="1" />'))
+case("OPBR404_two_versions_in_file.mtlx", "OPBR404", "Two materials in one file written for different OpenPBR versions.",
+     mtlx('<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_roughness" type="float" value="0.2" />\n</open_pbr_surface>\n'
+          '<open_pbr_surface name="T" type="surfaceshader">\n  <input name="coat_darkening" type="float" value="0.5" />\n</open_pbr_surface>\n'
+          '<surfacematerial name="M2" type="material">\n  <input name="surfaceshader" type="surfaceshader" nodename="T" />\n</surfacematerial>'),
+     also={"OPBR406": "the older material's legacy input is one the shipped 1.1.1 nodedef does not declare"})
+case("OPBR406_legacy_emission_luminance.mtlx", "OPBR406", "A 0.3-era material using base_roughness, which the installed 1.1.1 nodedef does not declare.",
+     opbr('<input name="base_roughness" type="float" value="0.3" />'))
+case("OPBR406_version_0_2_attribute.mtlx", "OPBR406", "A shader that declares version=\"0.2\", which the installed MaterialX has no definition for.",
+     opbr('<input name="base_weight" type="float" value="1" />', attrs=' version="0.2"'))
+
+# ================================================================ colorspace
+case("OPBR501_no_document_colorspace.mtlx", "OPBR501", "Colour values authored but the document states no colorspace.",
+     opbr('<input name="base_color" type="color3" value="0.8, 0.2, 0.1" />', colorspace=None))
+case("OPBR502_srgb_tx.mtlx", "OPBR502", "The OCIO role-style name srgb_tx instead of srgb_texture.",
+     opbr('<input name="base_color" type="color3" value="0.5, 0.5, 0.5" colorspace="srgb_tx" />'))
+case("OPBR502_sRGB_wrong_case_texture.mtlx", "OPBR502", "A texture colour space 'sRGB' (wrong case; MaterialX names it srgb_texture).",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "textures/albedo.png", colorspace="sRGB")))
+case("OPBR502_ocio_utility_raw.mtlx", "OPBR502", "An ACES OCIO config name 'Utility - Raw' on a roughness map.",
+     opbr('<input name="specular_roughness" type="float" nodename="rough" />', before=image("rough", "textures/rough.png", "float", "Utility - Raw")))
+case("OPBR502_document_acescg_case.mtlx", "OPBR502", "The document colour space 'ACEScg' in OCIO's spelling instead of acescg.",
+     opbr('<input name="base_color" type="color3" value="0.5, 0.5, 0.5" />', colorspace="ACEScg"))
+case("OPBR502_usd_unknown_colorspace.usda", "OPBR502", "A USD image whose colorSpace metadata is the vendor name 'sRGB - Texture'.",
+     usda('color3f inputs:base_color.connect = </M/albedo.outputs:out>', mximage("albedo", "textures/albedo.png", cs="sRGB - Texture")))
+case("OPBR503_albedo_raw.mtlx", "OPBR503", "The base colour map is marked raw (colorspace none), so its sRGB values are used as linear.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "textures/albedo.png", colorspace="none")))
+case("OPBR504_roughness_srgb.mtlx", "OPBR504", "A roughness channel of an ORM map decoded as sRGB.",
+     opbr('<input name="specular_roughness" type="float" nodename="g" />',
+          before=image("orm", "textures/orm.png", colorspace="srgb_texture") + '\n<extract name="g" type="float">\n  <input name="in" type="color3" nodename="orm" />\n  <input name="index" type="integer" value="1" />\n</extract>'))
+case("OPBR504_coat_roughness_srgb_channel.mtlx", "OPBR504", "coat_roughness taken from the red channel of a packed colour image decoded as sRGB.",
+     opbr('<input name="coat_weight" type="float" value="1" />\n<input name="coat_roughness" type="float" nodename="r" />',
+          before=image("packed", "textures/orm.png", colorspace="srgb_texture") + '\n<extract name="r" type="float">\n  <input name="in" type="color3" nodename="packed" />\n  <input name="index" type="integer" value="0" />\n</extract>'))
+case("OPBR504_usd_preview_normal_srgb.usda", "OPBR504", "A UsdUVTexture normal map with sourceColorSpace sRGB (scale and bias are set correctly).",
+     preview('normal3f inputs:normal.connect = </M/nrm.outputs:rgb>',
+             uvtex("nrm", "textures/normal.png", cs="sRGB", extra='    float4 inputs:scale = (2, 2, 2, 1)\n    float4 inputs:bias = (-1, -1, -1, 0)\n')))
+case("OPBR504_usd_preview_roughness_srgb.usda", "OPBR504", "A UsdUVTexture roughness map read with sourceColorSpace sRGB.",
+     preview('float inputs:roughness.connect = </M/rough.outputs:r>', uvtex("rough", "textures/rough.png", out="r", out_type="float", cs="sRGB")))
+
+# ================================================================ units
+case("OPBR601_depth_in_degrees.mtlx", "OPBR601", "transmission_depth carries unittype angle (unit degree).",
+     opbr('<input name="transmission_depth" type="float" value="2" unittype="angle" unit="degree" />'))
+case("OPBR601_radius_unittype_length.mtlx", "OPBR601", "subsurface_radius with unittype 'length' (MaterialX calls it distance).",
+     opbr('<input name="subsurface_weight" type="float" value="1" />\n<input name="subsurface_radius" type="float" value="0.5" unittype="length" unit="centimeter" />'),
+     also={"OPBR004": "MaterialX has no unittype 'length', so Document.validate() rejects the same input"})
+case("OPBR602_unit_cm.mtlx", "OPBR602", "subsurface_radius with unit 'cm' (MaterialX spells it centimeter).",
+     opbr('<input name="subsurface_radius" type="float" value="0.5" unittype="distance" unit="cm" />'),
+     also={"OPBR004": "MaterialX has no such unit definition, so Document.validate() rejects the same input"})
+case("OPBR602_unit_metre_british.mtlx", "OPBR602", "transmission_depth in 'metre' (MaterialX spells it meter).",
+     opbr('<input name="transmission_depth" type="float" value="0.02" unittype="distance" unit="metre" />'),
+     also={"OPBR004": "MaterialX has no such unit definition, so Document.validate() rejects the same input"})
+case("OPBR602_unit_inches.mtlx", "OPBR602", "transmission_depth in 'inches' (MaterialX has inch).",
+     opbr('<input name="transmission_depth" type="float" value="1" unittype="distance" unit="inches" />'),
+     also={"OPBR004": "MaterialX has no such unit definition, so Document.validate() rejects the same input"})
+case("OPBR603_depth_without_unit.mtlx", "OPBR603", "(info) transmission_depth set without unit information.",
+     opbr('<input name="transmission_depth" type="float" value="2" />'))
+case("OPBR604_thin_film_nanometer_unit.mtlx", "OPBR604", "thin_film_thickness tagged unit nanometer, but its unit is fixed (micrometres).",
+     opbr('<input name="thin_film_weight" type="float" value="1" />\n<input name="thin_film_thickness" type="float" value="0.5" unittype="distance" unit="nanometer" />'))
+case("OPBR604_unit_on_weight.mtlx", "OPBR604", "A unit on base_weight, an input that has no unit.",
+     opbr('<input name="base_weight" type="float" value="1" unittype="distance" unit="meter" />'))
+case("OPBR605_thin_film_400.mtlx", "OPBR605", "thin_film_thickness 400, nanometres written into the micrometre input.",
+     opbr('<input name="thin_film_weight" type="float" value="1" />\n<input name="thin_film_thickness" type="float" value="400" />'))
+case("OPBR605_usd_thin_film_550.usda", "OPBR605", "A USD OpenPBR shader with thin_film_thickness 550 (nanometres).",
+     usda('float inputs:thin_film_weight = 1\nfloat inputs:thin_film_thickness = 550'))
+
+# ================================================================ textures
+case("OPBR701_missing_albedo.mtlx", "OPBR701", "The base colour texture was not copied with the document.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "textures/albedo_missing.png")))
+case("OPBR701_missing_udim.mtlx", "OPBR701", "A UDIM path whose tiles were never exported.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "textures/paint.<UDIM>.png")))
+case("OPBR701_usd_missing_texture.usda", "OPBR701", "A USD image node whose file does not exist.",
+     usda('color3f inputs:base_color.connect = </M/albedo.outputs:out>', mximage("albedo", "textures/gone.png")))
+case("OPBR701_gltf_missing_image.gltf", "OPBR701", "A glTF image URI pointing to a file that was not shipped.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri="textures/missing_basecolor.png"), indent=2))
+case("OPBR702_color_image_into_metalness.mtlx", "OPBR702", "A color3 image fed straight into the float base_metalness.",
+     opbr('<input name="base_metalness" type="float" nodename="metal" />', before=image("metal", "textures/rough.png", "color3", "none")),
+     also={"OPBR004": "Document.validate() rejects the same mismatched connection"})
+case("OPBR702_float_image_into_color.mtlx", "OPBR702", "A float image fed into base_color.",
+     opbr('<input name="base_color" type="color3" nodename="a" />', before=image("a", "textures/albedo.png", "float", None)),
+     also={"OPBR004": "Document.validate() rejects the same mismatched connection"})
+case("OPBR703_normal_without_normalmap.mtlx", "OPBR703", "The normal map image is connected directly to geometry_normal without a normalmap node.",
+     opbr('<input name="geometry_normal" type="vector3" nodename="nrm" />', before=image("nrm", "textures/normal.png", "vector3", "none")))
+case("OPBR704_absolute_texture_path.mtlx", "OPBR704", "An absolute path from the artist's machine.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", os.path.join(HERE, "textures", "albedo.png").replace(os.sep, "/").replace(HERE.replace(os.sep, "/"), "/home/artist/project/tex"))),
+     also={"OPBR701": "an absolute path from another machine does not exist here either"})
+case("OPBR704_parent_folder_texture.mtlx", "OPBR704", "A texture path that climbs out of the asset's folder with '..'.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "../broken/textures/albedo.png")))
+case("OPBR704_url_texture.mtlx", "OPBR704", "A texture referenced by an http URL.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "https://cdn.example.com/albedo.png")))
+case("OPBR704_gltf_absolute_uri.gltf", "OPBR704", "A glTF image URI that is an absolute Windows path.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri="file:///C:/Users/artist/albedo.png"), indent=2))
+case("OPBR705_empty_file.mtlx", "OPBR705", "An image node whose file input is empty.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "")))
+case("OPBR705_gltf_empty_uri.gltf", "OPBR705", "A glTF image with an empty URI.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri=""), indent=2))
+
+# ================================================================ structure
+case("OPBR801_material_without_shader.mtlx", "OPBR801", "A surfacematerial with no surfaceshader input.",
+     mtlx('<open_pbr_surface name="S" type="surfaceshader" />\n<surfacematerial name="M" type="material" />', material=False))
+case("OPBR801_usd_material_no_output.usda", "OPBR801", "A USD Material whose surface output is not connected to any shader.",
+     USD_HEAD + 'def Material "M"\n{\n    token outputs:mtlx:surface\n\n    def Shader "S"\n    {\n        uniform token info:id = "ND_open_pbr_surface_surfaceshader"\n        token outputs:surface\n    }\n}\n')
+case("OPBR802_nodename_nowhere.mtlx", "OPBR802", "base_weight connected to a node 'weight_map' that was not exported.",
+     opbr('<input name="base_weight" type="float" nodename="weight_map" />'))
+case("OPBR802_material_to_missing_shader.mtlx", "OPBR802", "The material's surfaceshader names a shader 'S_old' that was renamed.",
+     opbr('<input name="base_weight" type="float" value="1" />', shader="S_old"),
+     also={"OPBR004": "Document.validate() rejects the same dangling connection"})
+case("OPBR802_missing_graph_output.mtlx", "OPBR802", "An input connected to a node graph output that the graph does not have.",
+     opbr('<input name="base_color" type="color3" nodegraph="NG" output="albedo_out" />',
+          before='<nodegraph name="NG">\n  <image name="albedo" type="color3">\n    <input name="file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n  </image>\n  <output name="out" type="color3" nodename="albedo" />\n</nodegraph>'))
+case("OPBR802_usd_connect_missing_prim.usda", "OPBR802", "A USD connection to a texture prim that does not exist.",
+     usda('color3f inputs:base_color.connect = </M/albedo_tex.outputs:out>'))
+case("OPBR802_gltf_texture_index.gltf", "OPBR802", "baseColorTexture index 3 while the file has one texture.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 3}}}), indent=2))
+case("OPBR802_gltf_texture_source.glb", "OPBR802", "A GLB whose texture's source names image 2, which does not exist.",
+     glb(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], images=[{"uri": PNG_URI}], textures=[{"source": 2}])))
+case("OPBR803_procedural_noise.mtlx", "OPBR803", "(info) base_color driven by a noise3d graph the toolkit does not interpret.",
+     opbr('<input name="base_color" type="color3" nodename="n" />', before='<noise3d name="n" type="color3" />'))
+case("OPBR804_orphan_shader.mtlx", "OPBR804", "(info) A shader that no material refers to (left over from an edit).",
+     mtlx('<open_pbr_surface name="S" type="surfaceshader" />\n<open_pbr_surface name="Unused" type="surfaceshader" />'))
+
+# ================================================================ plausibility
+case("OPBR901_dark_metal.mtlx", "OPBR901", "(info) A metal with base colour 0.1 grey, darker than any real metal.",
+     opbr('<input name="base_metalness" type="float" value="1" />\n<input name="base_color" type="color3" value="0.1, 0.1, 0.1" />'))
+case("OPBR902_white_dielectric.mtlx", "OPBR902", "(info) A dielectric with base colour pure white.",
+     opbr('<input name="base_color" type="color3" value="1, 1, 1" />'))
+case("OPBR903_metal_with_transmission.mtlx", "OPBR903", "A fully metallic surface with transmission_weight 1.",
+     opbr('<input name="base_metalness" type="float" value="1" />\n<input name="base_color" type="color3" value="0.9, 0.9, 0.9" />\n<input name="transmission_weight" type="float" value="1" />'))
+case("OPBR903_gltf_metal_transmission.gltf", "OPBR903", "A glTF metal (metallicFactor 1) with KHR_materials_transmission 1.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 1.0, "baseColorFactor": [0.9, 0.9, 0.9, 1.0]},
+                       "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}], ["KHR_materials_transmission"]), indent=2),
+     known_miss="the plausibility family checks open_pbr_surface materials only; glTF (gltf_pbr) materials get no OPBR9xx check")
+case("OPBR903_usd_metal_transmission.usda", "OPBR903", "A USD OpenPBR metal with transmission_weight 0.8.",
+     usda('float inputs:base_metalness = 1\ncolor3f inputs:base_color = (0.9, 0.9, 0.9)\nfloat inputs:transmission_weight = 0.8'))
+case("OPBR904_thin_film_zero.mtlx", "OPBR904", "thin_film_weight 1 with thin_film_thickness 0.",
+     opbr('<input name="thin_film_weight" type="float" value="1" />\n<input name="thin_film_thickness" type="float" value="0" />'))
+case("OPBR904_gltf_iridescence_zero.gltf", "OPBR904", "KHR_materials_iridescence on with iridescenceThicknessMaximum 0.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceThicknessMinimum": 0, "iridescenceThicknessMaximum": 0}}}], ["KHR_materials_iridescence"]), indent=2),
+     known_miss="the plausibility family checks open_pbr_surface materials only; an iridescent glTF material with zero thickness is not reported")
+case("OPBR905_coat_ior_half.mtlx", "OPBR905", "coat_ior 0.5 (an IOR below 1, e.g. a relative IOR written as absolute).",
+     opbr('<input name="coat_weight" type="float" value="1" />\n<input name="coat_ior" type="float" value="0.5" />'))
+case("OPBR905_specular_ior_0_9.mtlx", "OPBR905", "specular_ior 0.9.",
+     opbr('<input name="specular_ior" type="float" value="0.9" />'))
+case("OPBR905_thin_film_ior_below_one.mtlx", "OPBR905", "thin_film_ior 0.8 on an active film.",
+     opbr('<input name="thin_film_weight" type="float" value="1" />\n<input name="thin_film_thickness" type="float" value="0.5" />\n<input name="thin_film_ior" type="float" value="0.8" />'))
+case("OPBR906_half_metal.mtlx", "OPBR906", "(info) A constant base_metalness of 0.5.",
+     opbr('<input name="base_metalness" type="float" value="0.5" />'))
+case("OPBR907_emission_no_luminance.mtlx", "OPBR907", "(info) emission_color set with emission_luminance 0.",
+     opbr('<input name="emission_color" type="color3" value="1, 0.5, 0.2" />'))
+case("OPBR908_invisible.mtlx", "OPBR908", "(info) geometry_opacity 0: the surface is invisible.",
+     opbr('<input name="geometry_opacity" type="float" value="0" />'))
+
+# ================================================================ usd
+case("OPBR1001_shader_without_id.usda", "OPBR1001", "A USD Shader prim with no info:id.",
+     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', shader_id=None))
+case("OPBR1002_base_color_float3.usda", "OPBR1002", "base_color authored as float3 where the node declares color3f.",
+     usda('float3 inputs:base_color = (0.5, 0.4, 0.3)'))
+case("OPBR1002_roughness_double.usda", "OPBR1002", "specular_roughness authored as double instead of float.",
+     usda('double inputs:specular_roughness = 0.4'))
+case("OPBR1002_preview_diffuse_float3.usda", "OPBR1002", "UsdPreviewSurface diffuseColor authored as float3 instead of color3f.",
+     preview('float3 inputs:diffuseColor = (0.5, 0.4, 0.3)'))
+case("OPBR1003_surfaceshdr_typo.usda", "OPBR1003", "info:id ND_open_pbr_surface_surfaceshdr (misspelt).",
+     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', shader_id="ND_open_pbr_surface_surfaceshdr"))
+case("OPBR1003_usd_preview_surface_typo.usda", "OPBR1003", "info:id 'UsdPreviewSurfce' under outputs:surface.",
+     usda('color3f inputs:diffuseColor = (0.5, 0.4, 0.3)', shader_id="UsdPreviewSurfce", output="surface"))
+case("OPBR1004_usd_name_in_materialx_image.usda", "OPBR1004", "An ND_image node with the USD colour-space name srgb_rec709_scene.",
+     usda('color3f inputs:base_color.connect = </M/albedo.outputs:out>', mximage("albedo", "textures/albedo.png", cs="srgb_rec709_scene")))
+case("OPBR1005_float_into_color.usda", "OPBR1005", "A float material interface input connected into color3f base_color.",
+     usda('color3f inputs:base_color.connect = </M.inputs:albedo>', material_body='float inputs:albedo = 0.5'))
+case("OPBR1010_no_up_axis.usda", "OPBR1010", "A USD layer without upAxis metadata (usd-core's stage validators complain).",
+     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', head='#usda 1.0\n(\n    defaultPrim = "M"\n    metersPerUnit = 0.01\n)\n\n'))
+case("OPBR1011_sublayer_parent.usda", "OPBR1011", "A sublayer that climbs out of the asset's folder.",
+     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', head='#usda 1.0\n(\n    defaultPrim = "M"\n    subLayers = [@../shared/looks.usda@]\n    metersPerUnit = 0.01\n    upAxis = "Y"\n)\n\n'))
+case("OPBR1011_reference_absolute.usda", "OPBR1011", "A reference to an absolute path on a render farm.",
+     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', head='#usda 1.0\n(\n    defaultPrim = "M"\n    subLayers = [@/mnt/farm/lib/looks.usda@]\n    metersPerUnit = 0.01\n    upAxis = "Y"\n)\n\n'))
+
+
+def usdz_with_compressed_entry() -> bytes:
+    buffer = io.BytesIO()
+    with zipfile.ZipFile(buffer, "w") as archive:
+        archive.writestr(zipfile.ZipInfo("root.usda"), usda('color3f inputs:base_color = (0.5, 0.4, 0.3)'))
+        archive.writestr("textures/albedo.png", TEXTURES["textures/albedo.png"], compress_type=zipfile.ZIP_DEFLATED)
+    return buffer.getvalue()
+
+
+case("OPBR1012_usdz_compressed_entry.usdz", "OPBR1012", "A USDZ package zipped with deflate, which USDZ forbids (entries must be stored).",
+     usdz_with_compressed_entry())
+case("OPBR1013_sublayer_mtlx.usda", "OPBR1013", "(info) A sublayer naming a MaterialX document.",
+     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', head='#usda 1.0\n(\n    defaultPrim = "M"\n    subLayers = [@./OPBR1013_look.mtlx@]\n    metersPerUnit = 0.01\n    upAxis = "Y"\n)\n\n'))
+
+# ================================================================ usd_preview
+case("OPBR1006_normal_without_scale_bias.usda", "OPBR1006", "An 8-bit normal map read raw but without scale (2,2,2) and bias (-1,-1,-1).",
+     preview('normal3f inputs:normal.connect = </M/nrm.outputs:rgb>', uvtex("nrm", "textures/normal.png", cs="raw")))
+case("OPBR1006_normal_scale_only.usda", "OPBR1006", "A normal map with scale 2 but the bias forgotten.",
+     preview('normal3f inputs:normal.connect = </M/nrm.outputs:rgb>', uvtex("nrm", "textures/normal.png", cs="raw", extra='    float4 inputs:scale = (2, 2, 2, 1)\n')))
+case("OPBR1007_threshold_with_transparent.usda", "OPBR1007", "opacityThreshold set while opacityMode is transparent.",
+     preview('token inputs:opacityMode = "transparent"\nfloat inputs:opacity = 0.4\nfloat inputs:opacityThreshold = 0.5'))
+case("OPBR1008_specular_color_metal_workflow.usda", "OPBR1008", "specularColor authored in the metallic workflow (useSpecularWorkflow 0).",
+     preview('color3f inputs:specularColor = (0.04, 0.04, 0.04)'))
+case("OPBR1008_metallic_in_specular_workflow.usda", "OPBR1008", "metallic authored with useSpecularWorkflow 1.",
+     preview('int inputs:useSpecularWorkflow = 1\nfloat inputs:metallic = 1'))
+case("OPBR1009_preview_disagrees.usda", "OPBR1009", "The UsdPreviewSurface fallback is blue while the OpenPBR shader is brown.",
+     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)',
+          'def Shader "P"\n{\n    uniform token info:id = "UsdPreviewSurface"\n    color3f inputs:diffuseColor = (0.05, 0.3, 0.8)\n    token outputs:surface\n}\n',
+          material_body='token outputs:surface.connect = </M/P.outputs:surface>'))
+
+# ================================================================ gltf
+case("OPBR1201_clearcoat_undeclared.gltf", "OPBR1201", "KHR_materials_clearcoat used but not listed in extensionsUsed.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0}}}]), indent=2))
+case("OPBR1201_texture_transform_undeclared.gltf", "OPBR1201", "KHR_texture_transform on a textureInfo but not declared in extensionsUsed.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"scale": [2.0, 2.0]}}}}}), indent=2))
+case("OPBR1201_required_not_used.glb", "OPBR1201", "A GLB listing KHR_materials_ior in extensionsRequired only, not in extensionsUsed.",
+     glb(gltf([{"name": "M", "extensions": {"KHR_materials_ior": {"ior": 1.4}}}], extensionsRequired=["KHR_materials_ior"])))
+case("OPBR1202_vendor_required.gltf", "OPBR1202", "A vendor extension listed as required, which the toolkit cannot interpret.",
+     json.dumps(gltf([{"name": "M", "extensions": {"VENDOR_materials_magic": {"sparkle": 1}}}], ["VENDOR_materials_magic"], extensionsRequired=["VENDOR_materials_magic"]), indent=2))
+case("OPBR1203_unlit_with_clearcoat.gltf", "OPBR1203", "KHR_materials_unlit combined with KHR_materials_clearcoat, which the specification forbids.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_unlit": {}, "KHR_materials_clearcoat": {"clearcoatFactor": 1.0}}}], ["KHR_materials_unlit", "KHR_materials_clearcoat"]), indent=2))
+case("OPBR1204_spec_gloss.gltf", "OPBR1204", "A legacy KHR_materials_pbrSpecularGlossiness material.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_pbrSpecularGlossiness": {"diffuseFactor": [0.8, 0.8, 0.8, 1.0], "glossinessFactor": 0.5}}}], ["KHR_materials_pbrSpecularGlossiness"]), indent=2))
+case("OPBR1204_unlit.glb", "OPBR1204", "A GLB with a KHR_materials_unlit material.",
+     glb(gltf([{"name": "M", "extensions": {"KHR_materials_unlit": {}}}], ["KHR_materials_unlit"])))
+case("OPBR1205_texcoord_1_missing.gltf", "OPBR1205", "The base colour texture reads TEXCOORD_1 but the mesh only has TEXCOORD_0.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1}}}],
+                     images=[{"uri": "textures/albedo.png"}], textures=[{"source": 0}],
+                     accessors=[{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}, {"componentType": 5126, "count": 3, "type": "VEC2"}],
+                     meshes=[{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}]), indent=2))
+case("OPBR1206_non_power_of_two.gltf", "OPBR1206", "(info) A 3x5 image.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri="textures/odd.png"), indent=2))
+case("OPBR1207_exr_image.gltf", "OPBR1207", "A glTF image that is an OpenEXR file without a texture extension.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri="textures/albedo.exr"), indent=2))
+case("OPBR1208_strength_without_emissive.gltf", "OPBR1208", "KHR_materials_emissive_strength 5 with no emissiveFactor.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 5.0}}}], ["KHR_materials_emissive_strength"]), indent=2))
+case("OPBR1209_bad_base64.gltf", "OPBR1209", "An embedded image data URI that is not valid base64.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri="data:image/png;base64,iVBORw0KGgo!!!not-base64!!!"), indent=2),
+     also={"OPBR701": "the image that cannot be loaded is reported again as a texture not found in the package (the same defect twice)"})
+case("OPBR1209_missing_buffer.gltf", "OPBR1209", "An image in a bufferView whose buffer file 'scene.bin' was not shipped.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+                     buffers=[{"uri": "scene.bin", "byteLength": 64}], bufferViews=[{"buffer": 0, "byteLength": 64}],
+                     images=[{"bufferView": 0, "mimeType": "image/png"}], textures=[{"source": 0}]), indent=2),
+     also={"OPBR701": "the image that cannot be loaded is reported again as a texture not found in the package (the same defect twice)"})
+case("OPBR1209_glb_view_outside_buffer.glb", "OPBR1209", "A GLB whose image bufferView runs past the end of the BIN chunk.",
+     glb(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+              buffers=[{"byteLength": 16}], bufferViews=[{"buffer": 0, "byteOffset": 0, "byteLength": 4096}],
+              images=[{"bufferView": 0, "mimeType": "image/png"}], textures=[{"source": 0}]), b"\x89PNG\r\n\x1a\n" + b"\0" * 8),
+     also={"OPBR701": "the image that cannot be loaded is reported again as a texture not found in the package (the same defect twice)"})
+case("OPBR1210_index_as_string.gltf", "OPBR1210", "normalTexture index written as the string \"0\".",
+     json.dumps(textured({"name": "M", "normalTexture": {"index": "0"}}), indent=2),
+     also={"OPBR802": "the textureInfo without an integer index is reported again as a connection to a texture that does not exist"})
+case("OPBR1210_texture_transform_scale_scalar.gltf", "OPBR1210", "KHR_texture_transform scale written as a number, not a two-element array.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"scale": 2.0}}}}}, extensionsUsed=["KHR_texture_transform"]), indent=2))
+case("OPBR1210_extension_not_object.gltf", "OPBR1210", "KHR_materials_clearcoat given as an array instead of an object.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_clearcoat": [1.0]}}], ["KHR_materials_clearcoat"]), indent=2))
+
+EXTRA_FILES = {
+    "OPBR1013_look.mtlx": opbr('<input name="base_weight" type="float" value="1" />'),
+    "textures/albedo.exr": b"v/1\x01" + b"\0" * 60,  # an OpenEXR magic number, enough to be an EXR by signature
+}
+
+
+def main() -> None:
+    rules = all_rules()
+    entries = []
+    for path, data in {**TEXTURES, **EXTRA_FILES}.items():
+        write(path, data)
+    names = set()
+    for name, code, defect, content, extra in CASES:
+        assert name not in names, name
+        names.add(name)
+        assert name.startswith(code + "_"), name
+        write(name, content)
+        entries.append({"file": name, "code": code, "severity": str(rules[code].severity), "defect": defect, **extra})
+    with open(os.path.join(HERE, "EXPECTED.json"), "w", encoding="utf-8") as handle:
+        json.dump(entries, handle, indent=2)
+        handle.write("\n")
+    print(f"{len(entries)} files")
+
+
+def write(name: str, content) -> None:
+    path = os.path.join(HERE, name)
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    data = content.encode("utf-8") if isinstance(content, str) else content
+    with open(path, "wb") as handle:
+        handle.write(data)
+
+
+if __name__ == "__main__":
+    main()
