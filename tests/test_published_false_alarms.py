@@ -125,8 +125,9 @@ def test_an_include_that_cannot_be_followed_is_reported_and_its_consequences_too
     folder.mkdir()
     (folder / "look.mtlx").write_text(LOOK.format(href=href), encoding="utf-8")
     found = validate_paths([str(folder / "look.mtlx")]).diagnostics
-    assert [d.code for d in found if d.code == "OPBR009"] == ["OPBR009"]
-    assert reason in next(d.message for d in found if d.code == "OPBR009")
+    code = "OPBR009" if "outside" in reason else "OPBR010"  # refused here vs broken for MaterialX too
+    assert [d.code for d in found if d.code in ("OPBR009", "OPBR010")] == [code]
+    assert reason in next(d.message for d in found if d.code == code)
     assert "OPBR802" in {d.code for d in found}  # the material it would have provided is missing
 
 

@@ -90,8 +90,8 @@ INVALID_CONFIG = Rule(
 
 XINCLUDE = Rule(
     "OPBR009", "xinclude-not-followed", Severity.WARNING,
-    "The document includes another file (XInclude) that cannot be followed: outside the asset's "
-    "folder, missing, unreadable, a cycle, or nested deeper than 8 levels.",
+    "The document includes another file (XInclude) that is not followed: outside the asset's "
+    "folder, or nested deeper than 8 levels (a missing, unreadable or circular include is OPBR010).",
     "Includes inside the asset's folder are followed as MaterialX follows them (their definitions and "
     "materials resolve this document's references; they are validated as their own files). An include "
     "that leads out of the folder is never opened (the one path guard), so whatever it defines is "
@@ -101,8 +101,18 @@ XINCLUDE = Rule(
     failing='<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <xi:include href="../shared_defs.mtlx" />\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
 )
 
+XINCLUDE_BROKEN = Rule(
+    "OPBR010", "xinclude-broken", Severity.ERROR,
+    "The document includes a file (XInclude) that does not exist, cannot be read, or includes the "
+    "document back (a cycle).",
+    "MaterialX cannot read such a document at all (readFromXmlFile fails), so no renderer loads it: "
+    "an error, where an include that is only refused here (outside the asset's folder) is OPBR009.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <xi:include href="missing_defs.mtlx" />\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
+)
+
 RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED, MALFORMED_XML,
-         INVALID_CONFIG, XINCLUDE)
+         INVALID_CONFIG, XINCLUDE, XINCLUDE_BROKEN)
 
 READ_ERROR_RULES = {
     "unreadable": UNREADABLE,
@@ -125,6 +135,10 @@ def check(asset, context):
             yield context.diagnostic(XINCLUDE, f"includes {observation.detail['href']!r}, which "
                                      f"{observation.detail['reason']}", observation.location,
                                      hint="keep included files inside the asset's folder, with relative paths")
+        if observation.kind == "xinclude_broken":
+            yield context.diagnostic(XINCLUDE_BROKEN, f"includes {observation.detail['href']!r}, which "
+                                     f"{observation.detail['reason']}: MaterialX cannot read this document",
+                                     observation.location, hint="fix or remove the xi:include")
         if observation.kind == "malformed_xml":
             yield context.diagnostic(MALFORMED_XML, f"not well-formed XML: {observation.detail['message']}",
                                      observation.location, hint="escape '<' as &lt; and '&' as &amp; in attribute values")

@@ -120,8 +120,8 @@ def read_mtlx(path: str, data: bytes | None = None) -> Asset:
         asset.observe("malformed_xml", Location(path, lenient_error.line),
                       message=f"{lenient_error} (line {lenient_error.line}, column {lenient_error.column})")
     _Reader(asset, document, structure).run()
-    for line, href, reason in not_followed:
-        asset.observe("xinclude", Location(path, line), href=href, reason=reason)
+    for line, href, reason, broken in not_followed:
+        asset.observe("xinclude_broken" if broken else "xinclude", Location(path, line), href=href, reason=reason)
     return asset
 
 
@@ -134,19 +134,20 @@ def _include(document, path: str, xincludes, guard: PathGuard, seen: set[str], d
     their source URI so the reader uses them to resolve references but does not validate them
     again (they are validated as their own file). Only files inside the asset's folder are read (the
     one path guard), at most 8 levels deep, each once (a cycle is not followed). Returns
-    ``(line, href, reason)`` for every include not followed."""
+    ``(line, href, reason, broken)`` for every include not followed; ``broken`` when MaterialX
+    could not follow it either (missing, unreadable, a cycle), not merely refused here."""
     import MaterialX as mx  # lazy: as in standard_library
 
     not_followed = []
     for line, href in xincludes:
         resolved = guard.resolve(href, base=os.path.dirname(os.path.abspath(path)))
-        reason = None
+        reason, broken = None, True
         if not resolved.inside:
-            reason = "leads outside the asset's folder, so it is not opened"
+            reason, broken = "leads outside the asset's folder, so it is not opened", False
         elif resolved.real in seen:
             reason = "is already being included (a cycle), so it is not followed again"
         elif depth >= MAX_XINCLUDE_DEPTH:
-            reason = f"is nested deeper than {MAX_XINCLUDE_DEPTH} includes, so it is not opened"
+            reason, broken = f"is nested deeper than {MAX_XINCLUDE_DEPTH} includes, so it is not opened", False
         elif not os.path.isfile(resolved.real):
             reason = "does not exist"
         if reason is None:
@@ -160,12 +161,13 @@ def _include(document, path: str, xincludes, guard: PathGuard, seen: set[str], d
             except (ReadError, UnicodeDecodeError, XmlSyntaxError, Exception) as error:  # noqa: BLE001 - MaterialX's own types
                 reason = f"cannot be read ({getattr(error, 'message', error)})"
             else:
-                for _, inner, why in _include(included, resolved.real, nested, guard, seen | {resolved.real}, depth + 1):
-                    not_followed.append((line, href, f"includes {inner!r}, which {why}"))
+                for _, inner, why, inner_broken in _include(included, resolved.real, nested, guard, seen | {resolved.real},
+                                                            depth + 1):
+                    not_followed.append((line, href, f"includes {inner!r}, which {why}", inner_broken))
                 included.setSourceUri(resolved.real)
                 document.importLibrary(included)
         if reason is not None:
-            not_followed.append((line, href, reason))
+            not_followed.append((line, href, reason, broken))
     return not_followed
 
 

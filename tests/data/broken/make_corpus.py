@@ -230,11 +230,9 @@ case("OPBR301_base_weight_negative.mtlx", "OPBR301", "base_weight is -0.2.",
 case("OPBR301_roughness_above_one.mtlx", "OPBR301", "specular_roughness 1.2 (a glossiness-to-roughness conversion that overshot).",
      opbr('<input name="specular_roughness" type="float" value="1.2" />'))
 case("OPBR301_coat_ior_zero.mtlx", "OPBR301", "coat_ior = 0, the open lower bound, written where the exporter meant 'unset'.",
-     opbr('<input name="coat_weight" type="float" value="1" />\n<input name="coat_ior" type="float" value="0" />'),
-     known_miss="the spec's range is (0, inf) excluding 0, but the toolkit keeps the nodedef's uimin 0 as the hard minimum, so coat_ior = 0 only gets OPBR302 and OPBR905 warnings")
+     opbr('<input name="coat_weight" type="float" value="1" />\n<input name="coat_ior" type="float" value="0" />'))
 case("OPBR301_specular_ior_zero.mtlx", "OPBR301", "specular_ior = 0 (an IOR of zero).",
-     opbr('<input name="specular_ior" type="float" value="0" />'),
-     known_miss="the spec's range is (0, inf) excluding 0, but the toolkit keeps the nodedef's uimin 0 as the hard minimum, so specular_ior = 0 only gets OPBR302 and OPBR905 warnings")
+     opbr('<input name="specular_ior" type="float" value="0" />'))
 case("OPBR301_transmission_weight_percent.mtlx", "OPBR301", "transmission_weight 100, a percentage written where a 0-1 weight is expected.",
      opbr('<input name="transmission_weight" type="float" value="100" />'))
 case("OPBR301_metalness_255.mtlx", "OPBR301", "base_metalness 255, an 8-bit value not normalised.",
