@@ -181,6 +181,7 @@ def _capture_graph(node, limit: int = 256) -> str | None:
             return None
         copy = captured.addNode(current.getCategory(), current.getName(), current.getType())
         copy.copyContentFrom(current)
+        _bind_interface(copy, current.getParent())
         for port in current.getInputs():
             upstream = port.getConnectedNode()
             if upstream is not None and upstream.getParent() == current.getParent():
@@ -188,6 +189,21 @@ def _capture_graph(node, limit: int = 256) -> str | None:
     from .writer import document_text  # lazy: the writer imports MaterialX at load (see above)
 
     return document_text(captured)
+
+
+def _bind_interface(copy, scope) -> None:
+    """Inputs of a captured node that read the enclosing node graph's interface (``interfacename``)
+    take the interface input's value: the captured graph stands outside that interface, and MaterialX
+    rejects an interfacename its new parent does not declare. The value renders the same."""
+    for port in copy.getInputs():
+        name = port.getInterfaceName()
+        interface = scope.getInput(name) if name and hasattr(scope, "getInput") else None
+        if interface is not None and interface.hasAttribute("value"):
+            port.removeAttribute("interfacename")
+            port.setValueString(interface.getValueString())
+            for attribute in ("colorspace", "unit", "unittype"):
+                if interface.hasAttribute(attribute) and not port.hasAttribute(attribute):
+                    port.setAttribute(attribute, interface.getAttribute(attribute))
 
 
 def _multioutput_type(node, output_name: str) -> tuple[str, int | None]:

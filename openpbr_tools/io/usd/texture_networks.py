@@ -153,6 +153,8 @@ class TextureNetworkWriter:
         reader.CreateInput("st", Sdf.ValueTypeNames.Float2).ConnectToSource(coordinates)
         if texture.channels is not None and len(texture.channels) == 1:
             return reader.CreateOutput("rgba"[texture.channels[0]], Sdf.ValueTypeNames.Float)
+        if usd_type == "float":  # a single-channel image feeding a float input: its value is R (and G, B)
+            return reader.CreateOutput("r", Sdf.ValueTypeNames.Float)
         return reader.CreateOutput("rgb", Sdf.ValueTypeNames.Float3)
 
 
