@@ -173,8 +173,26 @@ INVALID_PROPERTY = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
+NO_EFFECT = Rule(
+    "OPBR1211", "gltf-extension-no-effect", Severity.WARNING,
+    "A material extension is set where the glTF extension texts say it has no effect: transmission "
+    "on a fully metallic material, a volume without transmission, dispersion without a volume, "
+    "iridescence with zero thickness.",
+    "KHR_materials_transmission applies to the dielectric part only (metallicFactor defaults to 1, so "
+    "an exporter that omits it makes glass opaque metal); KHR_materials_volume acts only through "
+    "transmission or diffuse transmission, and KHR_materials_dispersion only through a volume "
+    "(the Khronos validator's VOLUME_NO_TRANSMISSION / DISPERSION_NO_VOLUME); iridescence needs a film "
+    "thicker than 0 nm. Usually half of a set-up lost in export.",
+    passing=_gltf('"extensionsUsed": ["KHR_materials_transmission"]',
+                  '"materials": [{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 0.0}, '
+                  '"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}]'),
+    failing=_gltf('"extensionsUsed": ["KHR_materials_transmission"]',
+                  '"materials": [{"name": "M", "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
 RULES = (UNDECLARED_EXTENSION, REQUIRED_UNSUPPORTED, EXCLUSIVE_EXTENSIONS, NOT_CONVERTED, MISSING_TEXCOORD,
-         NOT_POWER_OF_TWO, UNSUPPORTED_IMAGE, STRENGTH_WITHOUT_EMISSIVE, BROKEN_RESOURCE, INVALID_PROPERTY)
+         NOT_POWER_OF_TWO, UNSUPPORTED_IMAGE, STRENGTH_WITHOUT_EMISSIVE, BROKEN_RESOURCE, INVALID_PROPERTY, NO_EFFECT)
 
 
 def check(asset, context):
@@ -186,6 +204,7 @@ def check(asset, context):
     for material in asset.materials:
         yield from _exclusions(material, context)
         yield from _emissive_strength(material, context)
+        yield from _no_effect(material, context)
         yield from _texture_factors(material, context)
     yield from _texcoords(asset, facts, context)
     yield from _images(asset, facts, context)
@@ -236,6 +255,39 @@ def _exclusions(material, context):
                 Location(material.location.file, None, f"{material.location.path}/extensions/{exclusive}"),
                 hint=f"remove {exclusive} or the other extensions",
             )
+
+
+def _constant(material, name: str, table):
+    """The constant value of ``name`` (its glTF default when absent); ``None`` when textured."""
+    entry = material.inputs.get(name)
+    if entry is None:
+        parameter = table.get(name)
+        return parameter.default if parameter is not None else None
+    return None if isinstance(entry.value, Texture) else entry.constant
+
+
+def _no_effect(material, context):
+    table = tables.table("gltf_pbr")
+    present = set((material.extra.get("gltf") or {}).get("material_extensions") or ())
+    value = {name: _constant(material, name, table) for name in
+             ("metallic", "transmission", "thickness", "dispersion", "iridescence", "iridescence_thickness")}
+    found = []
+    if slots.TRANSMISSION in present and value["metallic"] == 1.0 and value["transmission"] != 0.0:
+        found.append((slots.TRANSMISSION, "transmission on a fully metallic material (metallicFactor 1, the default) "
+                                          "has no effect"))
+    if slots.VOLUME in present and slots.DIFFUSE_TRANSMISSION not in present and (
+            slots.TRANSMISSION not in present or value["transmission"] == 0.0):
+        found.append((slots.VOLUME, "a volume without transmission or diffuse transmission has no effect"))
+    if slots.DISPERSION in present and value["dispersion"] != 0.0 and (
+            slots.VOLUME not in present or value["thickness"] == 0.0):
+        found.append((slots.DISPERSION, "dispersion without a volume (thicknessFactor > 0) has no effect"))
+    if slots.IRIDESCENCE in present and value["iridescence"] != 0.0 and value["iridescence_thickness"] == 0.0:
+        found.append((slots.IRIDESCENCE, "iridescence with a film of 0 nm has no effect"))
+    for extension, why in found:
+        yield context.diagnostic(
+            NO_EFFECT, f"{material.name}: {why}",
+            Location(material.location.file, None, f"{material.location.path}/extensions/{extension}"),
+        )
 
 
 def _emissive_strength(material, context):

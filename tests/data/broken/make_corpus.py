@@ -403,17 +403,15 @@ case("OPBR902_white_dielectric.mtlx", "OPBR902", "(info) A dielectric with base 
      opbr('<input name="base_color" type="color3" value="1, 1, 1" />'))
 case("OPBR903_metal_with_transmission.mtlx", "OPBR903", "A fully metallic surface with transmission_weight 1.",
      opbr('<input name="base_metalness" type="float" value="1" />\n<input name="base_color" type="color3" value="0.9, 0.9, 0.9" />\n<input name="transmission_weight" type="float" value="1" />'))
-case("OPBR903_gltf_metal_transmission.gltf", "OPBR903", "A glTF metal (metallicFactor 1) with KHR_materials_transmission 1.",
+case("OPBR1211_gltf_metal_transmission.gltf", "OPBR1211", "A glTF metal (metallicFactor 1) with KHR_materials_transmission 1.",
      json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 1.0, "baseColorFactor": [0.9, 0.9, 0.9, 1.0]},
-                       "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}], ["KHR_materials_transmission"]), indent=2),
-     known_miss="the plausibility family checks open_pbr_surface materials only; glTF (gltf_pbr) materials get no OPBR9xx check")
+                       "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}], ["KHR_materials_transmission"]), indent=2))
 case("OPBR903_usd_metal_transmission.usda", "OPBR903", "A USD OpenPBR metal with transmission_weight 0.8.",
      usda('float inputs:base_metalness = 1\ncolor3f inputs:base_color = (0.9, 0.9, 0.9)\nfloat inputs:transmission_weight = 0.8'))
 case("OPBR904_thin_film_zero.mtlx", "OPBR904", "thin_film_weight 1 with thin_film_thickness 0.",
      opbr('<input name="thin_film_weight" type="float" value="1" />\n<input name="thin_film_thickness" type="float" value="0" />'))
-case("OPBR904_gltf_iridescence_zero.gltf", "OPBR904", "KHR_materials_iridescence on with iridescenceThicknessMaximum 0.",
-     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceThicknessMinimum": 0, "iridescenceThicknessMaximum": 0}}}], ["KHR_materials_iridescence"]), indent=2),
-     known_miss="the plausibility family checks open_pbr_surface materials only; an iridescent glTF material with zero thickness is not reported")
+case("OPBR1211_gltf_iridescence_zero.gltf", "OPBR1211", "KHR_materials_iridescence on with iridescenceThicknessMaximum 0.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceThicknessMinimum": 0, "iridescenceThicknessMaximum": 0}}}], ["KHR_materials_iridescence"]), indent=2))
 case("OPBR905_coat_ior_half.mtlx", "OPBR905", "coat_ior 0.5 (an IOR below 1, e.g. a relative IOR written as absolute).",
      opbr('<input name="coat_weight" type="float" value="1" />\n<input name="coat_ior" type="float" value="0.5" />'))
 case("OPBR905_specular_ior_0_9.mtlx", "OPBR905", "specular_ior 0.9.",
