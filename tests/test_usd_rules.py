@@ -206,9 +206,14 @@ def test_role_mismatch_is_reported_once_not_again_by_usd_core(findings, tmp_path
     assert not findings(text, "OPBR1010")
 
 
-def test_preview_normal_declared_float3_is_a_role_mismatch(findings):
-    (finding,) = findings(preview("float3 inputs:normal = (0, 0, 1)"), "OPBR1002")
-    assert "normal3f" in finding.message
+def test_preview_normal_declared_float3_is_not_reported(findings):
+    # UsdMtlx writes float3 inputs:normal on UsdPreviewSurface; Storm reads any float3 role there
+    assert findings(preview("float3 inputs:normal = (0, 0, 1)"), "OPBR1002") == []
+    assert findings(preview("float3 inputs:diffuseColor = (0.5, 0.5, 0.5)"), "OPBR1002") == []
+
+
+def test_preview_input_of_another_shape_is_still_reported(findings):
+    assert findings(preview("float inputs:opacity = 0.5\n        double inputs:roughness = 0.5"), "OPBR1002")
 
 
 def test_texture_node_without_id(findings):

@@ -72,7 +72,10 @@ TYPE_ROLE_MISMATCH = Rule(
     "UsdMtlx types a MaterialX color3 as color3f and a vector3 as float3; UsdPreviewSurface declares "
     "normal as normal3f and opacityMode as a token. Hydra builds the MaterialX network from the "
     "authored USD type, so a float3 base_color becomes a vector3 input the OpenPBR node does not "
-    "declare. The values are still checked as the parameter's type.",
+    "declare. The values are still checked as the parameter's type. UsdPreviewSurface is not affected "
+    "by a role alone: its readers (Storm, UsdImaging) take any float3 role for a color3f or normal3f "
+    "input, and UsdMtlx itself writes float3 inputs:normal, so a role-only difference there is not "
+    "reported.",
     passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
     failing=openpbr_example("float3 inputs:base_color = (0.5, 0.4, 0.3)"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
@@ -273,6 +276,9 @@ def _closest_id(shader_id: str, sdr_ids) -> str | None:
 
 # -- types ----------------------------------------------------------------------------------------
 
+_FLOAT3_ROLES = {"float3", "color3f", "normal3f", "vector3f", "point3f"}
+
+
 def _types(asset, context):
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)
@@ -282,6 +288,8 @@ def _types(asset, context):
         expected = expected_usd_type(flavour, material.model, entry.name, parameter.type)
         if expected is None or entry.source_type == expected:
             continue
+        if material.model == "UsdPreviewSurface" and {entry.source_type, expected} <= _FLOAT3_ROLES:
+            continue  # a role of the same float3 value: UsdPreviewSurface readers take it as declared
         node = material.extra.get("info_id", material.model)
         yield context.diagnostic(
             TYPE_ROLE_MISMATCH, f"{entry.name} is {entry.source_type}; {node} declares it {expected}",

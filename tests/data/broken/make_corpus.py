@@ -432,8 +432,8 @@ case("OPBR1002_base_color_float3.usda", "OPBR1002", "base_color authored as floa
      usda('float3 inputs:base_color = (0.5, 0.4, 0.3)'))
 case("OPBR1002_roughness_double.usda", "OPBR1002", "specular_roughness authored as double instead of float.",
      usda('double inputs:specular_roughness = 0.4'))
-case("OPBR1002_preview_diffuse_float3.usda", "OPBR1002", "UsdPreviewSurface diffuseColor authored as float3 instead of color3f.",
-     preview('float3 inputs:diffuseColor = (0.5, 0.4, 0.3)'))
+case("OPBR1002_preview_roughness_double.usda", "OPBR1002", "UsdPreviewSurface roughness authored as double instead of float.",
+     preview('double inputs:roughness = 0.4'))
 case("OPBR1003_surfaceshdr_typo.usda", "OPBR1003", "info:id ND_open_pbr_surface_surfaceshdr (misspelt).",
      usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', shader_id="ND_open_pbr_surface_surfaceshdr"))
 case("OPBR1003_usd_preview_surface_typo.usda", "OPBR1003", "info:id 'UsdPreviewSurfce' under outputs:surface.",
