@@ -52,7 +52,7 @@ from . import Rule, for_each_input
 from .ranges import ENUM_VALUE
 from .structure import NO_SHADER
 from .units import LENGTH_WITHOUT_UNIT
-from .usd_colorspaces import COLORSPACE_SCHEME, colorspace_name, colour_managed_textures, colour_policies
+from .usd_colorspaces import COLORSPACE_SCHEME, REMAPPED_NAME, colorspace_name, colour_managed_textures, colour_policies
 from .usd_examples import openpbr_example
 
 MISSING_SHADER_ID = Rule(
@@ -179,7 +179,7 @@ MTLX_REFERENCE = Rule(
 
 
 RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
-         USD_CORE, ARC_OUTSIDE, PACKAGE_ENTRY, MTLX_REFERENCE)
+         USD_CORE, ARC_OUTSIDE, PACKAGE_ENTRY, MTLX_REFERENCE, REMAPPED_NAME)
 
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {

@@ -31,7 +31,29 @@ COLORSPACE_SCHEME = Rule(
     "Usd.ColorSpaceAPI and USD-native shaders take USD names (srgb_rec709_scene, lin_ap1_scene, raw); "
     "MaterialX shaders' inputs take MaterialX names (srgb_texture, acescg, none); UsdUVTexture's "
     "sourceColorSpace takes raw, sRGB or auto. A name from the other scheme is stored and silently "
-    "treated as no conversion. The hint gives the equivalent name in the right scheme.",
+    "treated as no conversion. The hint gives the equivalent name in the right scheme. A USD name that "
+    "MaterialX 1.39.4+ maps to its own on a MaterialX shader's input is OPBR1014 (info), not this.",
+    passing=openpbr_example(
+        "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
+        extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
+              '        asset inputs:file = @albedo.png@ (\n            colorSpace = "srgb_texture"\n        )\n'
+              "        color3f outputs:out\n    }\n",
+    ),
+    failing=openpbr_example(
+        "color3f inputs:base_color.connect = </M/albedo.outputs:rgb>",
+        extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "UsdUVTexture"\n'
+              '        asset inputs:file = @albedo.png@\n        token inputs:sourceColorSpace = "srgb_texture"\n'
+              "        float3 outputs:rgb\n    }\n",
+    ),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
+)
+REMAPPED_NAME = Rule(
+    "OPBR1014", "usd-colorspace-name-remapped", Severity.INFO,
+    "A MaterialX shader's input in USD carries a USD (Gf) colour-space name that MaterialX maps to its own.",
+    "OpenUSD passes colorSpace metadata to MaterialX unchanged (hdMtlx), and MaterialX 1.39.4 and newer "
+    "map Gf names to theirs in the default colour management system (srgb_rec709_scene to srgb_texture, "
+    "lin_rec709_scene to lin_rec709, ...), so the texture renders correctly there; MaterialX before 1.39.4 "
+    "does not know the name and skips the conversion. UsdMtlx writes MaterialX names: prefer them.",
     passing=openpbr_example(
         "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
         extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
@@ -73,6 +95,12 @@ def colorspace_name(detail, where, context):
             return
         if name in usd:
             meant = colorspaces.materialx_equivalent(name) or ("none" if colorspaces.is_data(name, "usd") else None)
+            if colorspaces.materialx_equivalent(name) and not colorspaces.is_data(name, "usd"):
+                yield context.diagnostic(
+                    REMAPPED_NAME, f"{name!r} is a USD colour-space name: MaterialX 1.39.4 and newer read it as "
+                                   f"{meant!r}, older MaterialX skips the conversion", where, hint=f"use {meant!r}",
+                )
+                return
             yield context.diagnostic(
                 COLORSPACE_SCHEME,
                 f"{name!r} is a USD colour-space name; inputs of MaterialX shaders take MaterialX names", where,

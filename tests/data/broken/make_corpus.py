@@ -438,8 +438,8 @@ case("OPBR1003_surfaceshdr_typo.usda", "OPBR1003", "info:id ND_open_pbr_surface_
      usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', shader_id="ND_open_pbr_surface_surfaceshdr"))
 case("OPBR1003_usd_preview_surface_typo.usda", "OPBR1003", "info:id 'UsdPreviewSurfce' under outputs:surface.",
      usda('color3f inputs:diffuseColor = (0.5, 0.4, 0.3)', shader_id="UsdPreviewSurfce", output="surface"))
-case("OPBR1004_usd_name_in_materialx_image.usda", "OPBR1004", "An ND_image node with the USD colour-space name srgb_rec709_scene.",
-     usda('color3f inputs:base_color.connect = </M/albedo.outputs:out>', mximage("albedo", "textures/albedo.png", cs="srgb_rec709_scene")))
+case("OPBR1004_usd_raw_in_materialx_image.usda", "OPBR1004", "An ND_image_float node tagged with the USD data name 'raw' (MaterialX says 'none').",
+     usda('float inputs:specular_roughness.connect = </M/rough.outputs:out>', mximage("rough", "textures/rough.png", type_="float", cs="raw")))
 case("OPBR1005_float_into_color.usda", "OPBR1005", "A float material interface input connected into color3f base_color.",
      usda('color3f inputs:base_color.connect = </M.inputs:albedo>', material_body='float inputs:albedo = 0.5'))
 case("OPBR1010_no_up_axis.usda", "OPBR1010", "A USD layer without upAxis metadata (usd-core's stage validators complain).",
