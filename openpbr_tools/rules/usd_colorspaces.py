@@ -24,6 +24,16 @@ from . import colorspace as colorspace_rules
 from .colorspace import COLOR_TEXTURE_RAW, COLORSPACE_IGNORED, DATA_TEXTURE_MANAGED, UNKNOWN_COLORSPACE, ignored_colorspace
 from .usd_examples import openpbr_example
 
+def _materialx_image_example(colorspace: str) -> str:
+    """An OpenPBR stage whose base colour reads a MaterialX image tagged ``colorspace``."""
+    return openpbr_example(
+        "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
+        extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
+              f'        asset inputs:file = @albedo.png@ (\n            colorSpace = "{colorspace}"\n        )\n'
+              "        color3f outputs:out\n    }\n",
+    )
+
+
 COLORSPACE_SCHEME = Rule(
     "OPBR1004", "usd-colorspace-scheme", Severity.ERROR,
     "A colour-space name from the wrong naming scheme: a MaterialX name where USD wants a USD name, "
@@ -33,12 +43,7 @@ COLORSPACE_SCHEME = Rule(
     "sourceColorSpace takes raw, sRGB or auto. A name from the other scheme is stored and silently "
     "treated as no conversion. The hint gives the equivalent name in the right scheme. A USD name that "
     "MaterialX 1.39.4+ maps to its own on a MaterialX shader's input is OPBR1014 (info), not this.",
-    passing=openpbr_example(
-        "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
-        extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
-              '        asset inputs:file = @albedo.png@ (\n            colorSpace = "srgb_texture"\n        )\n'
-              "        color3f outputs:out\n    }\n",
-    ),
+    passing=_materialx_image_example("srgb_texture"),
     failing=openpbr_example(
         "color3f inputs:base_color.connect = </M/albedo.outputs:rgb>",
         extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "UsdUVTexture"\n'
@@ -54,18 +59,8 @@ REMAPPED_NAME = Rule(
     "map Gf names to theirs in the default colour management system (srgb_rec709_scene to srgb_texture, "
     "lin_rec709_scene to lin_rec709, ...), so the texture renders correctly there; MaterialX before 1.39.4 "
     "does not know the name and skips the conversion. UsdMtlx writes MaterialX names: prefer them.",
-    passing=openpbr_example(
-        "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
-        extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
-              '        asset inputs:file = @albedo.png@ (\n            colorSpace = "srgb_texture"\n        )\n'
-              "        color3f outputs:out\n    }\n",
-    ),
-    failing=openpbr_example(
-        "color3f inputs:base_color.connect = </M/albedo.outputs:out>",
-        extra='\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
-              '        asset inputs:file = @albedo.png@ (\n            colorSpace = "srgb_rec709_scene"\n        )\n'
-              "        color3f outputs:out\n    }\n",
-    ),
+    passing=_materialx_image_example("srgb_texture"),
+    failing=_materialx_image_example("srgb_rec709_scene"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
 )
 
