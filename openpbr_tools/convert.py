@@ -16,6 +16,7 @@ message to decide anything.
 from __future__ import annotations
 
 import copy
+import dataclasses
 import os
 import shutil
 import tempfile
@@ -61,8 +62,7 @@ def display_name(material: Material) -> str:
 def _at_material(diagnostics: list[Diagnostic], material: Material) -> list[Diagnostic]:
     """``diagnostics`` located at ``material`` where they do not name a material yet."""
     name = display_name(material)
-    return [d if d.location.material is not None else
-            Diagnostic(d.code, d.severity, d.message, d.location.with_material(name), d.hint, d.output)
+    return [d if d.location.material is not None else dataclasses.replace(d, location=d.location.with_material(name))
             for d in diagnostics]
 
 

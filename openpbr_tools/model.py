@@ -105,6 +105,12 @@ class Texture:
     packaged: bool = False  # ``file`` is a path inside the asset's own package (USDZ), not on disk
 
     @property
+    def reads_alpha(self) -> bool:
+        """Whether the parameter reads the image's alpha channel alone, which no colour management
+        transforms (MaterialX's color4 transforms, sRGB decoding in Storm: RGB only)."""
+        return self.channels == (3,)
+
+    @property
     def is_udim(self) -> bool:
         return "<UDIM>" in self.file or "<udim>" in self.file.lower()
 

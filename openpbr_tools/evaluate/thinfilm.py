@@ -18,7 +18,7 @@ from functools import lru_cache
 import numpy as np
 
 from .albedo import tables
-from .spectral import WAVELENGTHS_NM, spectral_to_rgb_weights  # noqa: F401  (spectral_to_rgb_weights: re-exported)
+from .spectral import WAVELENGTHS_NM
 
 #: Wavelengths (nm) assigned to the R, G, B channels when an RGB substrate IOR is spread over the
 #: spectrum (linear interpolation between them, constant beyond).

@@ -155,6 +155,16 @@ def _suppressed(diagnostic: Diagnostic, suppressions: dict[str, frozenset[str]])
     return False
 
 
+def constant_or_default(material, name: str):
+    """The constant of ``name``: as authored, the table's default when unauthored, ``None`` when
+    textured or connected."""
+    entry = material.inputs.get(name)
+    if entry is None:
+        parameter = tables.table(material.model, material.version).get(name)
+        return parameter.default if parameter is not None else None
+    return entry.constant
+
+
 def for_each_input(asset: Asset) -> Iterator[tuple]:
     """(material, table, input) for every authored input of every material with a table."""
     for material in asset.materials:

@@ -144,8 +144,8 @@ def check(asset, context):
 
 
 def _bends_data(texture: Texture, asset) -> bool:
-    if texture.image_type not in COLOUR_MANAGED_IMAGE_TYPES or texture.channels == (3,):
-        return False  # MaterialX transforms only color3/color4 images, and a color4's alpha never
+    if texture.image_type not in COLOUR_MANAGED_IMAGE_TYPES or texture.reads_alpha:
+        return False  # MaterialX transforms only color3/color4 images, never their alpha
     space = texture.colorspace
     if space is None or colorspaces.is_data(space):
         return False
@@ -157,8 +157,8 @@ def ignored_colorspace(texture: Texture) -> bool:
     """Whether ``texture`` is a float or vector image whose colour space names a transform MaterialX
     would not apply (anything but none/raw)."""
     space = texture.colorspace
-    if texture.image_type in COLOUR_MANAGED_IMAGE_TYPES or space is None or texture.channels == (3,):
-        return False  # a colour image (or the alpha of one, e.g. gltf_colorimage's outa): the space is its RGB's
+    if texture.image_type in COLOUR_MANAGED_IMAGE_TYPES or space is None or texture.reads_alpha:
+        return False  # a colour image, or the alpha of one (gltf_colorimage's outa): the space is its RGB's
     return not (colorspaces.is_data(space) or colorspaces.is_data(space, "usd") or space in ("raw", "auto"))
 
 

@@ -18,7 +18,7 @@ from .. import tables
 from ..diagnostics import Severity
 from ..io.gltf import slots
 from ..model import Location, Texture
-from . import Rule
+from . import Rule, constant_or_default
 from .ranges import HARD_RANGE
 from .textures import UNSAFE_PATH
 
@@ -257,19 +257,9 @@ def _exclusions(material, context):
             )
 
 
-def _constant(material, name: str, table):
-    """The constant value of ``name`` (its glTF default when absent); ``None`` when textured."""
-    entry = material.inputs.get(name)
-    if entry is None:
-        parameter = table.get(name)
-        return parameter.default if parameter is not None else None
-    return None if isinstance(entry.value, Texture) else entry.constant
-
-
 def _no_effect(material, context):
-    table = tables.table("gltf_pbr")
     present = set((material.extra.get("gltf") or {}).get("material_extensions") or ())
-    value = {name: _constant(material, name, table) for name in
+    value = {name: constant_or_default(material, name) for name in
              ("metallic", "transmission", "thickness", "dispersion", "iridescence", "iridescence_thickness")}
     found = []
     if slots.TRANSMISSION in present and value["metallic"] == 1.0 and value["transmission"] != 0.0:

@@ -169,8 +169,8 @@ def colour_managed_textures(asset, context):
 
 
 def _bends(texture: Texture) -> str | None:
-    if texture.channels == (3,):
-        return None  # alpha is never decoded as sRGB (Storm, UsdPreviewSurface spec: sRGB applies to RGB)
+    if texture.reads_alpha:
+        return None
     space = texture.colorspace
     if texture.node_category == UV_TEXTURE_ID:
         if space == "sRGB" or (space not in ("raw", "sRGB", "auto", None) and _is_encoded(space)):

@@ -19,7 +19,7 @@ from .. import colorspaces, tables
 from ..diagnostics import Severity
 from ..io.usd.types import UV_TEXTURE_ID, is_eight_bit
 from ..model import Location
-from . import Rule
+from . import Rule, constant_or_default
 from .usd_examples import stage_example
 
 
@@ -127,15 +127,6 @@ def check(asset, context):
     yield from _preview_agreement(asset, context)
 
 
-def _value(material, name):
-    """The constant of ``name`` (the table default when unauthored; ``None`` when textured)."""
-    entry = material.inputs.get(name)
-    if entry is None:
-        parameter = tables.table(material.model, material.version).get(name)
-        return parameter.default if parameter is not None else None
-    return entry.constant
-
-
 def _preview_conventions(material, context):
     normal = material.inputs.get("normal")
     texture = normal.texture if normal is not None else None
@@ -149,7 +140,7 @@ def _preview_conventions(material, context):
                 Location(texture.location.file if texture.location else material.location.file, None, texture.node, "scale"),
                 hint="set inputs:scale = (2, 2, 2, 1) and inputs:bias = (-1, -1, -1, 0) on the UsdUVTexture",
             )
-    threshold = _value(material, "opacityThreshold")
+    threshold = constant_or_default(material, "opacityThreshold")
     if isinstance(threshold, (int, float)) and threshold > 0:
         where = material.inputs["opacityThreshold"].location
         if "opacityMode" in material.inputs:
@@ -159,13 +150,13 @@ def _preview_conventions(material, context):
                 material.inputs["opacityMode"].location,
                 hint="remove opacityMode, or set opacityThreshold to 0 for translucency",
             )
-        opacity = _value(material, "opacity")
+        opacity = constant_or_default(material, "opacity")
         if isinstance(opacity, (int, float)) and opacity >= 1.0:
             yield context.diagnostic(
                 OPACITY_THRESHOLD, f"opacityThreshold {threshold:g} cuts nothing out: opacity is 1 everywhere", where,
                 hint="connect opacity to a mask texture, or remove opacityThreshold",
             )
-    workflow = _value(material, "useSpecularWorkflow")
+    workflow = constant_or_default(material, "useSpecularWorkflow")
     if workflow in (0, 1):
         ignored = "specularColor" if workflow == 0 else "metallic"
         entry = material.inputs.get(ignored)
@@ -211,7 +202,7 @@ def _compare(openpbr, preview, limits, context):
         entry = preview.inputs.get(name)
         return entry.location if entry is not None else preview.location
 
-    color, weight, albedo = _value(openpbr, "base_color"), _value(openpbr, "base_weight"), _value(preview, "diffuseColor")
+    color, weight, albedo = constant_or_default(openpbr, "base_color"), constant_or_default(openpbr, "base_weight"), constant_or_default(preview, "diffuseColor")
     same_space = _colour_space(openpbr, "base_color") == _colour_space(preview, "diffuseColor")
     if (isinstance(color, tuple) and isinstance(albedo, tuple) and isinstance(weight, (int, float)) and same_space
             and ("base_color" in openpbr.inputs or "diffuseColor" in preview.inputs)):
@@ -227,11 +218,11 @@ def _compare(openpbr, preview, limits, context):
     pairs = [("base_metalness", "metallic", "preview_metalness_max_difference"),
              ("specular_roughness", "roughness", "preview_roughness_max_difference"),
              ("geometry_opacity", "opacity", "preview_opacity_max_difference")]
-    specular_workflow = _value(preview, "useSpecularWorkflow") == 1
+    specular_workflow = constant_or_default(preview, "useSpecularWorkflow") == 1
     for openpbr_name, preview_name, limit in pairs:
         if specular_workflow and preview_name == "metallic":
             continue
-        a, b = _value(openpbr, openpbr_name), _value(preview, preview_name)
+        a, b = constant_or_default(openpbr, openpbr_name), constant_or_default(preview, preview_name)
         if not (isinstance(a, (int, float)) and isinstance(b, (int, float))):
             continue
         if openpbr_name not in openpbr.inputs and preview_name not in preview.inputs:

@@ -32,7 +32,7 @@ from ... import colorspaces, tables
 from ...atomic import write_bytes
 from ...diagnostics import Diagnostic
 from ...model import Asset, Connection, Constant, Location, Material, Texture
-from ...rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
+from ...rules.translation import CONVERTED, NOT_CARRIED
 from . import slots
 from .document_writer import DocumentBuilder
 from .images import GltfWriteError, ImageResolver

@@ -158,7 +158,7 @@ def _include(document, path: str, xincludes, guard: PathGuard, seen: set[str], d
                 data = read_bytes(resolved.real)
                 mx.readFromXmlString(included, data.decode("utf-8-sig"), mx.FileSearchPath(), options)
                 nested = scan(data).xincludes
-            except (ReadError, UnicodeDecodeError, XmlSyntaxError, Exception) as error:  # noqa: BLE001 - MaterialX's own types
+            except Exception as error:  # noqa: BLE001 - ReadError, UnicodeDecodeError, XmlSyntaxError and MaterialX's own types
                 reason = f"cannot be read ({getattr(error, 'message', error)})"
             else:
                 for _, inner, why, inner_broken in _include(included, resolved.real, nested, guard, seen | {resolved.real},
