@@ -11,8 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-#: Cosine at which the F82 tint is specified: theta = 82 degrees, cos = 1/7 (Hoffman 2023).
-F82_COSINE = 1.0 / 7.0
+from ..optics import F82_COSINE
 
 
 def fresnel_dielectric(cos_theta, eta):

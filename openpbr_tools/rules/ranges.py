@@ -6,6 +6,14 @@ soft ranges are the recommended UI ranges (specular_weight above 1, an IOR above
 OpenPBR specification and MaterialX's node definition disagree, the table's ``range_note`` says
 which bound the toolkit follows and why; the message repeats it.
 
+Reflectance colours (``role: color`` with hard range [0, 1]) get two allowances, because real,
+published materials need them: a metal's ``specular_color`` above 1 is accepted while the F82 edge
+reflectivity it asks for stays at most 1 at every angle (OpenPBR's own example metals, cesium at
+1.39 in blue, are authored so), and a colour outside [0, 1] in the document's colour space that lies
+inside [0, 1] in ACEScg is a real colour that space cannot hold (measured gold in ``lin_rec709``):
+a warning (OPBR304), not an error. Negative components stay errors even when the colour is real:
+a negative reflectance makes path tracers' sampling weights negative.
+
 Lengths in scene units (``transmission_depth``, ``subsurface_radius``) get no soft-range warning:
 their node definitions' UI ranges assume one scene scale, and 2 (cm) is as normal as 0.02 (m).
 """
@@ -13,6 +21,7 @@ their node definitions' UI ranges assume one scene scale, and 2 (cm) is as norma
 from __future__ import annotations
 
 from ..diagnostics import Severity
+from ..optics import F82_COSINE
 from ..values import is_finite
 from . import Rule, for_each_input
 
@@ -40,7 +49,22 @@ ENUM_VALUE = Rule(
     failing='<UsdPreviewSurface name="S" type="surfaceshader">\n  <input name="useSpecularWorkflow" type="integer" value="2" />\n</UsdPreviewSurface>',
 )
 
-RULES = (HARD_RANGE, SOFT_RANGE, ENUM_VALUE)
+OUT_OF_GAMUT = Rule(
+    "OPBR304", "colour-outside-document-gamut", Severity.WARNING,
+    "A reflectance colour outside [0, 1] in the document's colour space but inside it in ACEScg.",
+    "Measured and spectrally derived colours are often outside the Rec.709 gamut: gold's normal-"
+    "incidence reflectance is about (1.06, 0.77, 0.31) in linear Rec.709 and (0.93, 0.79, 0.37) in "
+    "ACEScg. The colour is real, but a renderer working in the document's space reflects more light "
+    "than it receives in the channel above 1 (and clamps or goes negative below 0), which OpenPBR's "
+    "specification calls not sensible for albedos. Author the document in ACEScg (the message gives "
+    "the converted value) or accept the small gain. A value above 1 even in ACEScg is no real "
+    "reflectance, and a negative component makes a path tracer's sampling weights negative: both "
+    "stay OPBR301.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="0.93, 0.79, 0.37" colorspace="acescg" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="1.059, 0.773, 0.307" />\n</open_pbr_surface>',
+)
+
+RULES = (HARD_RANGE, SOFT_RANGE, ENUM_VALUE, OUT_OF_GAMUT)
 
 
 def _components(value) -> tuple:
@@ -87,6 +111,19 @@ def check(asset, context):
         note = f" ({parameter.range_note})" if parameter.range_note else ""
         low = _outside(values, parameter.hard_min, below=True, exclusive=parameter.hard_min_exclusive)
         high = _outside(values, parameter.hard_max, below=False)
+        if (low or high) and _reflectance(parameter):
+            if entry.name == "specular_color" and not low and _physical_metal_edge(material, table, values):
+                continue
+            wide = None if low else _in_acescg(values, entry.colorspace or material.colorspace or asset.colorspace)
+            if wide is not None:
+                yield context.diagnostic(
+                    OUT_OF_GAMUT,
+                    f"{entry.name} = {_fmt(value)} is outside [0, 1] in "
+                    f"{entry.colorspace or material.colorspace or asset.colorspace or 'the default colour space'}"
+                    f" but {_fmt(wide)} in ACEScg",
+                    entry.location, hint="author the document in acescg to keep it in gamut",
+                )
+                continue
         if low or high:
             valid = _range(parameter.hard_min, parameter.hard_max, parameter.hard_min_exclusive)
             yield context.diagnostic(
@@ -107,6 +144,57 @@ def check(asset, context):
                 f"{entry.name} = {_fmt(value)} is outside the recommended range {_range(soft_low, soft_high)}{note}",
                 entry.location,
             )
+
+
+def _reflectance(parameter) -> bool:
+    return (parameter.role == "color" and parameter.type == "color3"
+            and _components(parameter.hard_min) in ((0.0,), (0.0, 0.0, 0.0))
+            and _components(parameter.hard_max) in ((1.0,), (1.0, 1.0, 1.0)))
+
+
+def _physical_metal_edge(material, table, tint: tuple) -> bool:
+    """True for an OpenPBR metal (constant base_metalness 1) whose F82 edge tint asks for an edge
+    reflectivity of at most 1: OpenPBR 1.1, "Metal": F(1/7) = specular_color * F_Schlick(1/7) with
+    F0 = base_weight * base_color. (The F82 polynomial itself may pass 1 by about 1% nearer grazing,
+    as on OpenPBR's own cesium example; that is the model's fit, not the asset's value.)"""
+    if material.model != "open_pbr_surface":
+        return False
+
+    def constant(name):
+        entry = material.inputs.get(name)
+        if entry is None:
+            parameter = table.get(name)
+            return parameter.default if parameter is not None else None
+        return entry.constant
+
+    metalness, weight, colour = constant("base_metalness"), constant("base_weight"), constant("base_color")
+    if metalness != 1 or not isinstance(weight, (int, float)) or not isinstance(colour, tuple) or len(colour) != 3:
+        return False
+    grazing = (1.0 - F82_COSINE) ** 5
+    for c, t in zip(colour, tint):
+        f0 = min(max(c * weight, 0.0), 1.0)
+        if t * (f0 + (1.0 - f0) * grazing) > 1.0 + 1e-9:
+            return False
+    return True
+
+
+def _in_acescg(values: tuple, colorspace: str | None) -> tuple | None:
+    """The colour in ACEScg when it lies inside [0, 1] there (a real colour outside the document's
+    gamut), else ``None`` (also for a space the toolkit cannot convert: OPBR4xx reports it)."""
+    # lazy: colour-science loads only for an out-of-range colour
+    from .. import colorspaces
+
+    if len(values) != 3:
+        return None
+    try:
+        linear = colorspaces.to_lin_rec709(values, colorspace)
+        wide = tuple(float(c) for c in colorspaces.from_lin_rec709(linear, "acescg"))
+    except (KeyError, ValueError):
+        return None
+    tolerance = 1e-4
+    if all(-tolerance <= c <= 1.0 + tolerance for c in wide):
+        return tuple(round(c, 4) for c in wide)
+    return None
 
 
 def _range(low, high, open_low: bool = False) -> str:
