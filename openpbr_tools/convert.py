@@ -31,7 +31,7 @@ from .io.paths import Kind, PathGuard, classify
 from .model import Asset, Material, Texture
 from .resources import load_json
 from .rules import Context
-from .rules.translation import APPROXIMATED, VERIFIED, VERIFY_THRESHOLD
+from .rules.translation import APPROXIMATED, NOT_CARRIED, VERIFIED, VERIFY_THRESHOLD
 from .bake import Baker
 from .translate.common import Settings
 from .translate.convert import MODELS, convert
@@ -117,7 +117,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 notes.append(context.diagnostic(APPROXIMATED, f"{material.name}: {', '.join(unitless)} carry no unit; "
                                                 "taken as metres", material.inputs[unitless[0]].location))
             translation = convert(material, target, step_settings)
-            notes += translation.diagnostics
+            notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context)
             translated = translation.material
             translated.material_name = material.material_name or material.name
             result.materials.append(translated)
@@ -144,6 +144,24 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     result.diagnostics += [context.adjust(note) for note in notes]
     result.diagnostics.sort(key=Diagnostic.sort_key)
     return result
+
+
+def _unreadable_inputs(source: Material, result: Material, kind: str, context: Context) -> list[Diagnostic]:
+    """An input whose authored value could not be read (validate: OPBR202, OPBR303) reaches the result
+    only in a .mtlx output that keeps its text verbatim (same model, same name; USD and glTF writers
+    need a value); otherwise the result takes the default, and the report says so."""
+    notes = []
+    for entry in source.inputs.values():
+        if entry.value is not None or entry.raw is None:
+            continue
+        kept = result.inputs.get(entry.name)
+        if kind == "mtlx" and kept is not None and kept.value is None and kept.raw == entry.raw:
+            continue
+        reason = entry.error or (f"not one of {', '.join(entry.allowed)}" if entry.allowed else "unreadable")
+        notes.append(context.diagnostic(
+            NOT_CARRIED, f"{source.name}: {entry.name} = {entry.raw} could not be read ({reason}); the result "
+            "uses the default", entry.location))
+    return notes
 
 
 def _write_baked(baker, materials: list[Material]) -> list[str]:

@@ -154,6 +154,7 @@ class Input:
     source_type: str | None = None
     authored_colorspace: str | None = None
     interface_name: str | None = None  # the material/node-graph interface input the value comes through
+    allowed: tuple[str, ...] | None = None  # the format's names the raw text had to be one of (an enum)
 
     @property
     def constant(self) -> Value | None:

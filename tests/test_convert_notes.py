@@ -57,3 +57,27 @@ def test_a_writer_note_carries_the_place_in_the_written_file(tmp_path, write_mtl
     assert [d["code"] for d in clamped] == ["OPBR1104"]
     assert clamped[0]["location"]["input"] == "specular_roughness" and clamped[0]["location"]["material"] == "M"
     assert clamped[0]["output"] == {"file": str(out), "line": None, "path": "/materials/0", "input": None}
+
+
+@pytest.mark.parametrize("output", ["out.gltf", "out.usda"])
+def test_a_value_the_reader_could_not_read_is_reported_when_the_result_drops_it(tmp_path, write_mtlx, output):
+    source = write_mtlx('<open_pbr_surface name="S" type="surfaceshader">\n'
+                        '  <input name="base_weight" type="float" value="abc" />\n</open_pbr_surface>')
+    result = CliRunner().invoke(cli, ["convert", str(source), "-o", str(tmp_path / output), "--format", "json"])
+    notes = [d for d in json.loads(result.stdout)["diagnostics"] if d["code"] == "OPBR1104"]
+    assert [(n["severity"], n["location"].get("input")) for n in notes] == [("error", "base_weight")]
+
+
+def test_a_gltf_alpha_mode_outside_its_enum_is_reported_not_dropped(tmp_path):
+    source = tmp_path / "m.gltf"
+    source.write_text(json.dumps({"asset": {"version": "2.0"}, "materials": [{"name": "M", "alphaMode": "TRANSPARENT"}]}))
+    result = CliRunner().invoke(cli, ["convert", str(source), "-o", str(tmp_path / "out.mtlx"), "--format", "json"])
+    assert [d["code"] for d in json.loads(result.stdout)["diagnostics"]] == ["OPBR1104"]
+
+
+def test_an_unreadable_value_kept_verbatim_in_the_same_model_is_not_reported_as_lost(tmp_path, write_mtlx):
+    source = write_mtlx('<open_pbr_surface name="S" type="surfaceshader">\n'
+                        '  <input name="base_weight" type="float" value="abc" />\n</open_pbr_surface>')
+    result = CliRunner().invoke(cli, ["convert", str(source), "-o", str(tmp_path / "out.mtlx"), "--format", "json"])
+    assert "OPBR1104" not in {d["code"] for d in json.loads(result.stdout)["diagnostics"]}
+    assert 'value="abc"' in (tmp_path / "out.mtlx").read_text()

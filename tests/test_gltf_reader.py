@@ -371,10 +371,15 @@ def test_out_of_range_factor_on_a_texture_is_a_hard_range_error_too(tmp_path):
 
 
 @pytest.mark.parametrize("material", [
-    {"alphaMode": "CUTOUT"}, {"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1]}}, {"emissiveFactor": "red"},
+    {"alphaMode": 1}, {"pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1]}}, {"emissiveFactor": "red"},
 ])
 def test_values_of_the_wrong_json_type_are_unparsable(tmp_path, material):
     assert "OPBR202" in codes(write(tmp_path, gltf([material])))
+
+
+def test_an_alpha_mode_string_outside_the_enum_is_an_enum_error_not_unparsable(tmp_path):
+    # glTF 2.0 schema material.alphaMode: anyOf "OPAQUE", "MASK", "BLEND".
+    assert codes(write(tmp_path, gltf([{"alphaMode": "CUTOUT"}]))) == ["OPBR303"]
 
 
 def test_a_clean_gltf_has_no_findings(tmp_path):

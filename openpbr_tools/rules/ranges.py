@@ -96,6 +96,10 @@ def check(asset, context):
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)
         value = entry.constant
+        if parameter is not None and parameter.enum is not None and entry.allowed and entry.value is None:
+            yield context.diagnostic(
+                ENUM_VALUE, f"{entry.name}: {entry.raw} is not one of {', '.join(entry.allowed)}", entry.location)
+            continue
         if parameter is None or value is None or isinstance(value, (bool, str)) or not is_finite(value):
             continue
         if entry.type and entry.type != parameter.type:

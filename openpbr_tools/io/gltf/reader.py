@@ -223,7 +223,9 @@ class _Reader(TextureReading):
             entry = Input(slot.parameter, parameter.type, value, self.location(pointer, slot.texture))
         elif slot.factor is not None and slot.factor in container:
             entry = Input(slot.parameter, parameter.type, None, self.location(pointer, slot.factor))
-            if factor_error:
+            if slot.parameter == "alpha_mode" and isinstance(container[slot.factor], str) and factor_error:
+                entry.raw, entry.allowed = json_text(container[slot.factor]), slots.ALPHA_MODES  # OPBR303
+            elif factor_error:
                 entry.raw, entry.error = json_text(container[slot.factor]), factor_error
             else:
                 entry.value = Constant(factor)

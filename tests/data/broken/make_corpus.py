@@ -264,9 +264,7 @@ case("OPBR302_specular_weight_above_one.mtlx", "OPBR302", "specular_weight 1.8, 
 case("OPBR303_use_specular_workflow_two.mtlx", "OPBR303", "UsdPreviewSurface useSpecularWorkflow 2 (only 0 and 1 exist).",
      opbr('<input name="useSpecularWorkflow" type="integer" value="2" />', category="UsdPreviewSurface"))
 case("OPBR303_gltf_alpha_mode.gltf", "OPBR303", "alphaMode 'TRANSPARENT', not one of OPAQUE, MASK, BLEND.",
-     json.dumps(gltf([{"name": "M", "alphaMode": "TRANSPARENT"}]), indent=2),
-     known_miss="caught at the right severity but under OPBR202 (unparsable value), whereas the same enum defect in MaterialX (useSpecularWorkflow 2) and USD (opacityMode) is OPBR303",
-     also={"OPBR202": "this is the planted enum defect itself, reported under OPBR202 instead of OPBR303 (see known_miss)"})
+     json.dumps(gltf([{"name": "M", "alphaMode": "TRANSPARENT"}]), indent=2))
 case("OPBR303_usd_preview_opacity_mode.usda", "OPBR303", "UsdPreviewSurface opacityMode 'blend', not a token of the list.",
      preview('token inputs:opacityMode = "blend"'))
 
