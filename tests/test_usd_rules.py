@@ -303,3 +303,59 @@ def test_a_texture_read_by_two_inputs_reports_its_colour_space_once(findings):
     text = preview("color3f inputs:diffuseColor.connect = </M/tex.outputs:rgb>", "float inputs:opacity.connect = </M/tex.outputs:a>",
                    extra=extra)
     assert len(findings(text, "OPBR1004", files=("a.png",))) == 1
+
+
+@pytest.mark.parametrize("scale, bias, caught", [
+    ("(2, 2, 2, 1)", "(-1, -1, -1, 0)", False),    # the UsdPreviewSurface specification's decode
+    ("(2, -2, 2, 1)", "(-1, 1, -1, 0)", False),     # green reversed: a DirectX-convention map, deliberately
+    ("(-2, -2, 2, 1)", "(1, 1, -1, 0)", False),     # both tangent axes reversed
+    ("(2, 2, 1, 1)", "(-1, -1, 0, 0)", False),      # z stored in [0, 1]
+    ("(1, 1, 1, 1)", "(0, 0, 0, 0)", True),         # no decode: every normal tilts to +x+y
+    ("(2, 2, 2, 1)", "(-0.5, -0.5, -1, 0)", True),  # x and y onto [-0.5, 1.5]: not unit components
+    ("(2, 2, -1, 1)", "(-1, -1, 0, 0)", True),      # z onto [-1, 0]: points into the surface
+])
+def test_normal_map_encoding_accepts_every_decode_onto_normal_components(findings, scale, bias, caught):
+    extra = shader("n", "UsdUVTexture", "asset inputs:file = @n.png@", 'token inputs:sourceColorSpace = "raw"',
+                   f"float4 inputs:scale = {scale}", f"float4 inputs:bias = {bias}", "float3 outputs:rgb")
+    found = findings(preview("normal3f inputs:normal.connect = </M/n.outputs:rgb>", extra=extra), "OPBR1006", files=("n.png",))
+    assert bool(found) is caught
+
+
+def _png(channels: int, bits: int = 8, gamma: float | None = None) -> bytes:
+    """A 2x2 PNG written by hand from ISO/IEC 15948 (IHDR colour types 0, 4, 2, 6; optional gAMA)."""
+    import struct
+    import zlib
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    colour_type = {1: 0, 2: 4, 3: 2, 4: 6}[channels]
+    row = b"\x00" + b"\x80" * (2 * channels * bits // 8)
+    header = chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 2, bits, colour_type, 0, 0, 0))
+    gama = chunk(b"gAMA", struct.pack(">I", round(gamma * 100000))) if gamma is not None else b""
+    return b"\x89PNG\r\n\x1a\n" + header + gama + chunk(b"IDAT", zlib.compress(row * 2)) + chunk(b"IEND", b"")
+
+
+@pytest.mark.parametrize("channels, bits, gamma, fires", [
+    (1, 8, None, False),     # greyscale: both of OpenUSD's readers read it raw under auto
+    (2, 8, None, False),     # greyscale + alpha
+    (3, 8, None, True),      # RGB: sRGB under auto
+    (4, 8, None, True),      # RGBA
+    (3, 16, None, True),     # stb reads PNGs at 8 bits, then guesses sRGB for 3 channels
+    (3, 8, 1.0, False),      # gAMA 1.0: stb takes it as linear
+    (1, 8, 1 / 2.2, True),   # gAMA 1/2.2: stb takes it as sRGB whatever the channels
+])
+def test_auto_judges_the_image_itself_as_openusd_readers_do(findings, tmp_path, channels, bits, gamma, fires):
+    (tmp_path / "rough.png").write_bytes(_png(channels, bits, gamma))
+    extra = shader("tex", "UsdUVTexture", "asset inputs:file = @rough.png@", "float outputs:r")
+    found = findings(preview("float inputs:roughness.connect = </M/tex.outputs:r>", extra=extra), "OPBR504")
+    assert bool(found) is fires
+
+
+def test_hand_written_png_headers_are_what_pillow_reads(tmp_path):
+    from PIL import Image
+
+    for channels, mode in ((1, "L"), (2, "LA"), (3, "RGB"), (4, "RGBA")):
+        (tmp_path / "x.png").write_bytes(_png(channels))
+        with Image.open(tmp_path / "x.png") as opened:
+            assert opened.mode == mode

@@ -191,6 +191,42 @@ def channel_count(image: str | bytes) -> int:
         return len(opened.getbands()) if opened.mode != "P" else (4 if "transparency" in opened.info else 3)
 
 
+PNG_CHANNELS = {0: 1, 2: 3, 3: 3, 4: 2, 6: 4}  # PNG colour type -> channels (ISO/IEC 15948, 11.2.2 IHDR)
+
+
+def image_layout(path: str) -> tuple[int, int, float | None] | None:
+    """(channels, bits per channel, file gamma or ``None``) of a PNG or JPEG file, from its header
+    alone; ``None`` for another format or a file that cannot be read. The gamma is PNG's ``gAMA``
+    chunk (1/2.2 = 0.45455 for sRGB-encoded), which OpenUSD's stb reader consults before guessing."""
+    try:
+        with open(path, "rb") as handle:
+            head = handle.read(1 << 16)
+    except OSError:
+        return None
+    if head.startswith(b"\x89PNG\r\n\x1a\n") and head[12:16] == b"IHDR" and len(head) >= 26:
+        bits, colour_type = head[24], head[25]
+        if colour_type not in PNG_CHANNELS:
+            return None
+        gamma, offset = None, 8
+        while offset + 8 <= len(head):  # chunks: length, type, data, CRC; gAMA precedes the first IDAT
+            length, kind = int.from_bytes(head[offset:offset + 4], "big"), head[offset + 4:offset + 8]
+            if kind == b"gAMA" and offset + 12 <= len(head):
+                gamma = int.from_bytes(head[offset + 8:offset + 12], "big") / 100000.0
+            if kind in (b"IDAT", b"IEND"):
+                break
+            offset += 12 + length
+        return PNG_CHANNELS[colour_type], bits, gamma
+    if sniff(head) == "image/jpeg":
+        from PIL import Image  # lazy: as in load_pixels
+
+        try:
+            with Image.open(path) as opened:
+                return len(opened.getbands()), 8, None
+        except (OSError, ValueError):
+            return None
+    return None
+
+
 def resample(plane, height: int, width: int):
     """A ``(h, w)`` float plane resized to ``(height, width)``, bilinear (Pillow's 32-bit float mode)."""
     # lazy: as in load_pixels

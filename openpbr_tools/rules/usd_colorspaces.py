@@ -16,6 +16,8 @@ import difflib
 
 from .. import colorspaces
 from ..diagnostics import Severity
+from ..io.images import image_layout
+from ..io.paths import PathGuard
 from ..io.usd.types import UV_TEXTURE_ID, is_eight_bit
 from ..model import Location, Texture
 from ..resources import load_json
@@ -159,7 +161,7 @@ def colour_managed_textures(asset, context):
                     hint="read it as sRGB (sourceColorSpace = \"sRGB\", or colorSpace \"srgb_texture\" on a MaterialX image)",
                 )
         elif parameter.role in ("data", "normal", "tangent"):
-            why = _bends(texture)
+            why = _bends(texture, asset, context)
             if why:
                 yield context.diagnostic(
                     DATA_TEXTURE_MANAGED, f"{entry.name} is data but reads {texture.file!r} {why}", entry.location,
@@ -168,19 +170,39 @@ def colour_managed_textures(asset, context):
                 )
 
 
-def _bends(texture: Texture) -> str | None:
+def _bends(texture: Texture, asset, context) -> str | None:
     if texture.reads_alpha:
         return None
     space = texture.colorspace
     if texture.node_category == UV_TEXTURE_ID:
         if space == "sRGB" or (space not in ("raw", "sRGB", "auto", None) and _is_encoded(space)):
             return f"through colour space {space!r}"
-        if space in (None, "auto") and is_eight_bit(texture.file):
+        if space in (None, "auto") and _auto_decodes_srgb(texture, asset, context):
             return "with sourceColorSpace auto, which decodes 8-bit RGB(A) images as sRGB"
         return None
     if texture.image_type in ("color3", "color4") and _is_encoded(space):
         return f"through colour space {space!r}"
     return None
+
+
+def _auto_decodes_srgb(texture: Texture, asset, context) -> bool:
+    """Whether Storm reads the image as sRGB under ``sourceColorSpace = "auto"``. OpenUSD's image
+    readers (pxr/imaging/hio/stbImage.cpp and plugin/hioOiio/oiioImage.cpp, IsColorSpaceSRGB) decide
+    from the file: a PNG ``gAMA`` of 1/2.2 means sRGB and 1.0 linear (stb); otherwise only images
+    with 3 or 4 channels are sRGB, read as 8 bits (stb reads every PNG and JPEG at 8 bits, so a
+    16-bit RGB PNG is decoded as sRGB too). A greyscale roughness map is therefore read raw. When
+    the file cannot be opened here (packaged, outside the folder, missing), its suffix decides."""
+    if not texture.packaged and texture.file:
+        resolved = PathGuard.for_asset(asset.path, real_path=context.real_path).resolve(texture.file)
+        layout = image_layout(resolved.path) if resolved.inside and resolved.path else None
+        if layout is not None:
+            channels, _, gamma = layout
+            if gamma is not None and abs(gamma - 0.45455) < 0.1:
+                return True
+            if gamma is not None and abs(gamma - 1.0) < 0.1:
+                return False
+            return channels in (3, 4)
+    return is_eight_bit(texture.file)
 
 
 def colour_policies(asset, context):

@@ -40,12 +40,14 @@ def _uv_texture(name: str, file: str, *inputs: str, output: str = "rgb", output_
 
 NORMAL_MAP_ENCODING = Rule(
     "OPBR1006", "preview-normal-map-encoding", Severity.ERROR,
-    "A UsdPreviewSurface normal map in an 8-bit image is read without scale (2, 2, 2) and bias "
-    "(-1, -1, -1).",
+    "A UsdPreviewSurface normal map in an 8-bit image is read with a scale and bias that do not map "
+    "its [0, 1] values to tangent-space normal components.",
     "UsdPreviewSurface's normal input expects tangent-space vectors in [-1, 1]; an 8-bit image stores "
-    "(n + 1) / 2, so the UsdUVTexture must decode it with scale 2 and bias -1 (UsdPreviewSurface "
-    "specification, input normal). Without it every normal tilts towards +X+Y. The colour space "
-    "(must be raw) is OPBR504's concern.",
+    "(n + 1) / 2, so the UsdUVTexture must decode it, usually with scale 2 and bias -1 (UsdPreviewSurface "
+    "specification, input normal). Without a decode every normal tilts towards +X+Y. Any encoding that "
+    "maps [0, 1] onto the components passes: x and y onto [-1, 1] in either direction (scale -2, bias 1 "
+    "flips an axis, e.g. a DirectX-convention green channel), z onto [-1, 1] or [0, 1]. The colour "
+    "space (must be raw) is OPBR504's concern.",
     passing=_preview(
         "normal3f inputs:normal.connect = </M/nrm.outputs:rgb>",
         extra=_uv_texture("nrm", "normal.png", 'token inputs:sourceColorSpace = "raw"',
@@ -132,7 +134,7 @@ def _preview_conventions(material, context):
     texture = normal.texture if normal is not None else None
     if texture is not None and texture.node_category == UV_TEXTURE_ID and is_eight_bit(texture.file):
         scale, bias = _rgb(texture.scale, 1.0), _rgb(texture.bias, 0.0)
-        if scale != (2.0, 2.0, 2.0) or bias != (-1.0, -1.0, -1.0):
+        if not _decodes_unit_normals(scale, bias):
             yield context.diagnostic(
                 NORMAL_MAP_ENCODING,
                 f"normal reads the 8-bit image {texture.file!r} with scale {_fmt(scale)} and bias {_fmt(bias)}, "
@@ -167,6 +169,17 @@ def _preview_conventions(material, context):
                 WORKFLOW_INPUT_IGNORED, f"{ignored} is ignored in the {mode}", entry.location,
                 hint="set useSpecularWorkflow = 1" if workflow == 0 else "set useSpecularWorkflow = 0, or remove metallic",
             )
+
+
+def _decodes_unit_normals(scale: tuple, bias: tuple) -> bool:
+    """Whether scale and bias map an image's [0, 1] to tangent-space normal components: x and y onto
+    [-1, 1] in either direction (scale -2, bias 1 reverses an axis, as for a normal map authored with
+    the other green convention), z onto [-1, 1] or [0, 1] (a tangent-space normal never points
+    inwards, and some encoders store z that way). One convention is not required, a valid one is."""
+    def ends(i):
+        return sorted((round(bias[i], 6), round(bias[i] + scale[i], 6)))
+
+    return ends(0) == [-1.0, 1.0] and ends(1) == [-1.0, 1.0] and ends(2) in ([-1.0, 1.0], [0.0, 1.0])
 
 
 def _rgb(value, default: float) -> tuple:
