@@ -46,8 +46,11 @@ def _codes(value: str | None) -> frozenset[str]:
 @click.option("--scheduler-timeout", type=float, default=30.0, show_default=True, metavar="SECONDS",
               help="How long to wait for the Dask scheduler.")
 @click.option("--progress/--no-progress", default=None, help="Progress bar on stderr [default: when stderr is a terminal].")
+@click.option("--allow-outside", multiple=True, type=click.Path(file_okay=False),
+              help="A folder outside an asset's own from which its textures, XIncludes, USD arcs and glTF buffers "
+                   "may be read (repeatable; adds to the configuration's allow-outside).")
 def validate(paths, output_format, output, fail_on, min_severity, select, ignore, no_config, baseline,
-             write_baseline, jobs, changed_since, shard, scheduler, scheduler_timeout, progress):
+             write_baseline, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, allow_outside):
     """Validate OpenPBR materials in files, folders (searched recursively) and glob patterns.
 
     Settings come from the nearest [tool.openpbr] in pyproject.toml or .openpbr.toml; options
@@ -73,7 +76,8 @@ def validate(paths, output_format, output, fail_on, min_severity, select, ignore
         raise click.UsageError(str(error)) from None
     options = Options(select=tuple(sorted(selected)), ignore=tuple(sorted(ignored)), use_config=not no_config,
                       jobs=jobs or os.cpu_count() or 1, changed_since=changed_since, shard=shard_range,
-                      scheduler=scheduler, scheduler_timeout=scheduler_timeout)
+                      scheduler=scheduler, scheduler_timeout=scheduler_timeout,
+                      allow_outside=tuple(os.path.abspath(f) for f in allow_outside))
     show_progress = sys.stderr.isatty() if progress is None else progress
     try:
         report = validate_paths(paths, options=options, progress=_progress_bar() if show_progress else None)

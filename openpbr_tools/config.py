@@ -142,7 +142,7 @@ def matching_overrides(file: str, config: Config | None) -> tuple[int, ...]:
 
 
 def context_for(file: str, config: Config | None, select=None, ignore=None, base: Context | None = None,
-                overrides: tuple[int, ...] | None = None) -> Context:
+                overrides: tuple[int, ...] | None = None, allow_outside: tuple[str, ...] = ()) -> Context:
     """The :class:`Context` for one file: configuration, matching overrides, then CLI options.
     Files with the same configuration and matching overrides get equal contexts (callers cache)."""
     known = frozenset(all_rules())
@@ -184,6 +184,8 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
     context.required_colorspace = settings.get("required-colorspace")
     allowed = settings.get("allowed-texture-colorspaces")
     context.allowed_texture_colorspaces = frozenset(allowed) if allowed is not None else None
+    folders = [os.path.normpath(os.path.join(config.folder, f)) for f in settings.get("allow-outside", ())]
+    context.allow_outside = tuple(dict.fromkeys([*folders, *(os.path.abspath(f) for f in allow_outside)]))
     return context
 
 

@@ -97,7 +97,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
         raise ValueError(f"cannot write {os.path.splitext(output_path)[1] or 'files without a suffix'}")
     settings = settings or Settings()
     context = settings.context
-    asset = read_asset(input_path)
+    asset = read_asset(input_path, tuple(allow_outside))
     target = {"mtlx": target or "open_pbr_surface", "usd": "open_pbr_surface", "gltf": "gltf_pbr"}[kind]
     result = Conversion(asset)
     # Baked images go beside a .mtlx/.usda/.usdc output (<stem>_textures/); a glTF or USDZ output

@@ -126,7 +126,7 @@ def unreadable(path: str, error: readers.ReadError | OSError) -> FileResult:
 
 def validate_file(path: str, context: Context | None = None, keep_asset: bool = False) -> FileResult:
     try:
-        asset = readers.read_asset(path)
+        asset = readers.read_asset(path, context.allow_outside if context is not None else ())
     except readers.ReadError as error:
         return unreadable(path, error)
     diagnostics = check_asset(asset, context)
@@ -146,6 +146,7 @@ class Options:
     shard: tuple[int, int] | None = None
     scheduler: str | None = None
     scheduler_timeout: float = 30.0
+    allow_outside: tuple[str, ...] = ()  # folders besides each asset's own it may read from
 
 
 def contexts_for(files: list[str], options: Options, problems: list[Diagnostic]) -> dict[str, Context] | None:
@@ -164,7 +165,8 @@ def contexts_for(files: list[str], options: Options, problems: list[Diagnostic])
         overrides = matching_overrides(path, config)
         key = (config.path if config else None, overrides)
         if key not in shared:
-            shared[key] = context_for(path, config, options.select, options.ignore, overrides=overrides)
+            shared[key] = context_for(path, config, options.select, options.ignore, overrides=overrides,
+                                      allow_outside=options.allow_outside)
         contexts[path] = shared[key]
     return contexts
 

@@ -65,8 +65,10 @@ def read_bytes(path: str) -> bytes:
         raise ReadError("unreadable", f"cannot read file: {error.strerror or error}", Location(path)) from None
 
 
-def read_asset(path: str | os.PathLike) -> Asset:
-    """Read one file into an :class:`Asset`; raises :class:`ReadError` when it cannot."""
+def read_asset(path: str | os.PathLike, allow_outside: tuple[str, ...] = ()) -> Asset:
+    """Read one file into an :class:`Asset`; raises :class:`ReadError` when it cannot. What the file
+    pulls in (XIncludes, USD sublayers/references/payloads, glTF buffers and images) is read from the
+    file's folder or a folder in ``allow_outside`` only (:mod:`openpbr_tools.io.paths`)."""
     path = os.fspath(path)
     suffix = os.path.splitext(path)[1].lower()
     # Each reader is imported when its suffix is met: chosen at run time, and every reader imports
@@ -74,15 +76,15 @@ def read_asset(path: str | os.PathLike) -> Asset:
     if suffix in MTLX_SUFFIXES:
         from .mtlx.reader import read_mtlx  # lazy: chosen by suffix (see above)
 
-        return read_mtlx(path)
+        return read_mtlx(path, allow_outside=tuple(allow_outside))
     if suffix in USD_SUFFIXES:
         from .usd.reader import read_usd  # imports pxr only when called
 
-        return read_usd(path)
+        return read_usd(path, allow_outside=tuple(allow_outside))
     if suffix in GLTF_SUFFIXES:
         from .gltf.reader import read_gltf  # lazy: chosen by suffix (see above)
 
-        return read_gltf(path)
+        return read_gltf(path, tuple(allow_outside))
     raise ReadError("unsupported", f"no reader for files ending in {suffix or '(no suffix)'!r}", Location(path))
 
 

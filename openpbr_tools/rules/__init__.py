@@ -17,6 +17,7 @@ from typing import Callable, Iterator
 
 from .. import tables
 from ..diagnostics import Diagnostic, Severity
+from ..io.paths import PathGuard
 from ..model import Asset, Location
 
 FAMILIES = (
@@ -91,6 +92,7 @@ class Context:
     required_version: str | None = None
     required_colorspace: str | None = None
     allowed_texture_colorspaces: frozenset[str] | None = None
+    allow_outside: tuple[str, ...] = ()  # folders besides the asset's own that it may read from
 
     def diagnostic(self, rule: Rule, message: str, location: Location, hint: str | None = None,
                    output: Location | None = None) -> Diagnostic:
@@ -100,6 +102,11 @@ class Context:
         """``diagnostic`` with the configured severity of its code."""
         severity = self.severity.get(diagnostic.code)
         return diagnostic if severity is None else dataclasses.replace(diagnostic, severity=severity)
+
+    def guard(self, asset_path: str) -> PathGuard:
+        """The path guard of ``asset_path``'s folder and the allowed folders (every rule that asks
+        whether a file is inside asks this one)."""
+        return PathGuard.for_asset(asset_path, self.allow_outside, real_path=self.real_path)
 
     def threshold(self, key: str, default: float) -> float:
         return self.thresholds.get(key, default)

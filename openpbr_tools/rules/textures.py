@@ -12,7 +12,7 @@ import os
 import re
 
 from ..diagnostics import Severity
-from ..io.paths import Kind, PathGuard, classify, climbs
+from ..io.paths import Kind, classify, climbs
 from . import Rule, for_each_input
 
 MISSING_TEXTURE = Rule(
@@ -136,8 +136,10 @@ def _check_path(asset, texture, where, context, checked_files):
     if kind is Kind.NUL:
         yield context.diagnostic(UNSAFE_PATH, f"texture path {file!r} contains a NUL character", where)
         return
-    resolved = PathGuard.for_asset(asset.path, real_path=context.real_path).resolve(file)
-    if kind in _NOT_RELATIVE or climbs(file):
+    guard = context.guard(asset.path)
+    resolved = guard.resolve(file)
+    allowed_elsewhere = resolved.inside and resolved.root != guard.own_root  # --allow-outside
+    if (kind in _NOT_RELATIVE or climbs(file)) and not allowed_elsewhere:
         yield context.diagnostic(
             UNSAFE_PATH, f"texture path {file!r} points outside the asset's folder", where,
             hint="copy the texture next to the asset and use a relative path",

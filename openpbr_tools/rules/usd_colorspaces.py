@@ -17,7 +17,6 @@ import difflib
 from .. import colorspaces
 from ..diagnostics import Severity
 from ..io.images import image_layout
-from ..io.paths import PathGuard
 from ..io.usd.types import UV_TEXTURE_ID, is_eight_bit
 from ..model import Location, Texture
 from ..resources import load_json
@@ -193,7 +192,7 @@ def _auto_decodes_srgb(texture: Texture, asset, context) -> bool:
     16-bit RGB PNG is decoded as sRGB too). A greyscale roughness map is therefore read raw. When
     the file cannot be opened here (packaged, outside the folder, missing), its suffix decides."""
     if not texture.packaged and texture.file:
-        resolved = PathGuard.for_asset(asset.path, real_path=context.real_path).resolve(texture.file)
+        resolved = context.guard(asset.path).resolve(texture.file)
         layout = image_layout(resolved.path) if resolved.inside and resolved.path else None
         if layout is not None:
             channels, _, gamma = layout

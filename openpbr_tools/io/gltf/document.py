@@ -82,6 +82,7 @@ class GltfDocument:
     repairs: list[tuple[str, str]] = field(default_factory=list)  # (JSON pointer, what was repaired)
     _buffers: dict[int, bytes | ResourceError] = field(default_factory=dict)
     _files: dict[str, bytes | ResourceError] = field(default_factory=dict)
+    allow_outside: tuple[str, ...] = ()  # folders besides the asset's own that URIs may name
 
     @property
     def folder(self) -> str:
@@ -121,7 +122,7 @@ class GltfDocument:
             raise self.missing(uri, pointer)
         if kind is not Kind.RELATIVE:
             raise self.error(f"{uri!r} is not a relative path inside the asset; it is not opened", pointer, outside=True)
-        resolved = PathGuard(self.folder).resolve(relative)
+        resolved = PathGuard(self.folder, self.allow_outside).resolve(relative)
         if not resolved.inside:
             raise self.error(f"{uri!r} resolves outside the asset's folder; it is not opened", pointer, outside=True)
         return resolved.real

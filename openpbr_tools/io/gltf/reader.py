@@ -57,14 +57,16 @@ MODEL, VERSION = "gltf_pbr", "2.0.1"
 SCENE_LENGTH_UNIT = "meter"  # glTF is metres (specification 3.4)
 
 
-def read_gltf(path: str) -> Asset:
-    """Read the glTF or GLB file at ``path``; :class:`~openpbr_tools.io.ReadError` if it is not glTF."""
+def read_gltf(path: str, allow_outside: tuple[str, ...] = ()) -> Asset:
+    """Read the glTF or GLB file at ``path``; :class:`~openpbr_tools.io.ReadError` if it is not glTF.
+    Buffers and images may come from the asset's folder or one in ``allow_outside``."""
     try:
         import pygltflib  # noqa: F401  (slots takes the glTF enums from it)
     except ImportError:
         raise ReadError("unsupported", "reading glTF needs pygltflib: pip install pygltflib",
                         Location(path)) from None
     document = load_document(path)
+    document.allow_outside = tuple(allow_outside)
     asset = Asset(path=path, format="gltf", format_version=document.json["asset"]["version"],
                   colorspace="lin_rec709", colorspace_location=Location(path, path="/asset"), meters_per_unit=1.0)
     _Reader(asset, document).run()

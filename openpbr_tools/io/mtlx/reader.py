@@ -68,8 +68,9 @@ def is_known_category(category: str) -> bool:
     return category in known_categories() or category in known_categories(complete=True)
 
 
-def read_mtlx(path: str, data: bytes | None = None) -> Asset:
-    """Read the MaterialX document at ``path`` (or ``data`` when given, with ``path`` as its name)."""
+def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ...] = ()) -> Asset:
+    """Read the MaterialX document at ``path`` (or ``data`` when given, with ``path`` as its name).
+    XIncludes are followed inside the document's folder or a folder in ``allow_outside``."""
     import MaterialX as mx  # lazy: as in standard_library
 
     if data is None:
@@ -109,7 +110,7 @@ def read_mtlx(path: str, data: bytes | None = None) -> Asset:
         mx.readFromXmlString(document, text, mx.FileSearchPath(), options)
     except Exception as error:  # MaterialX raises its own exception types for parse failures
         raise ReadError("not_materialx", f"MaterialX cannot read the document: {error}", Location(path)) from None
-    guard = PathGuard.for_asset(path)
+    guard = PathGuard.for_asset(path, allow_outside)
     not_followed = _include(document, path, structure.xincludes, guard, {guard.resolve(os.path.abspath(path)).real})
 
     asset = Asset(path=path, format="mtlx", line_of=structure.lines, suppressions=dict(structure.suppressions))
