@@ -111,7 +111,7 @@ class Baker:
         planes = [pixels[:, :, c] if c < pixels.shape[2] else np.ones(pixels.shape[:2]) for c in channels]
         values = np.stack(planes, axis=-1)
         if width == 3 and type_name == "color3":
-            space = _materialx_space(texture.colorspace)
+            space = colorspaces.materialx_name(texture.colorspace)
             if space is not None and space != working_space and not colorspaces.is_data(space):
                 if space not in colorspaces.materialx_names():
                     raise BakeError(f"{owner}: colour space {texture.colorspace!r} of {texture.file!r} is unknown, "
@@ -126,7 +126,7 @@ class Baker:
     # -- baking -----------------------------------------------------------------------------
     def bake(self, material, mapping, values, target_type: str, label: str, texturable: bool = True) -> Baked:
         """``mapping.formula`` over the textured sources of ``mapping`` (see the module docstring)."""
-        working = _materialx_space(material.colorspace) or LINEAR_REC709
+        working = colorspaces.materialx_name(material.colorspace) or LINEAR_REC709
         textured = [s for s in mapping.sources if not values.is_constant(s)]
         entries = [values.entry(s) for s in textured]
         for name, entry in zip(textured, entries):
@@ -248,19 +248,6 @@ def _as_read(data: bytes, values, suffix: str):
 
 def _texcoord(texture: Texture):
     return texture.texcoord if texture.texcoord not in (None, 0, "st", "UV0") else None
-
-
-# UsdUVTexture ``sourceColorSpace`` tokens as Storm decodes them: ``auto`` decodes 8-bit RGB(A) images,
-# the only colour textures a bake reads through this path, as sRGB.
-_UV_TEXTURE_SPACES = {"sRGB": "srgb_texture", "auto": "srgb_texture", "raw": "none"}
-
-
-def _materialx_space(name: str | None) -> str | None:
-    if name is None:
-        return None
-    if name in colorspaces.materialx_names():
-        return name
-    return colorspaces.materialx_equivalent(name) or _UV_TEXTURE_SPACES.get(name, name)
 
 
 def _resample(values, height: int, width: int):

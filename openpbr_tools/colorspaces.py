@@ -33,6 +33,17 @@ def usd_uvtexture_names() -> tuple[str, ...]:
     return tuple(_data()["usd_uvtexture_source"])
 
 
+def materialx_name(name: str | None) -> str | None:
+    """The MaterialX name of a colour-space name from any scheme: a MaterialX name as it is, a USD
+    name (``lin_rec709_scene``) by equivalence, a UsdUVTexture ``sourceColorSpace`` token as Storm
+    decodes it (``raw`` -> ``none``, ``sRGB``/``auto`` -> ``srgb_texture``); anything else unchanged
+    (the validator reports it)."""
+    if name is None or name in materialx_names():
+        return name
+    tokens = {k: v for k, v in _data()["usd_uvtexture_source_as_materialx"].items() if not k.startswith("_")}
+    return materialx_equivalent(name) or tokens.get(name, name)
+
+
 def is_data(name: str | None, scheme: str = "materialx") -> bool:
     """True for the names that mean 'no colour management' (raw numbers)."""
     if name is None:

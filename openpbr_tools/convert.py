@@ -28,7 +28,7 @@ from .diagnostics import Diagnostic
 from .io import read_asset
 from .io.gltf.document import load_document
 from .io.paths import Kind, PathGuard, classify
-from .model import Asset, Material, Texture
+from .model import Asset, Connection, Material, Texture
 from .resources import load_json
 from .rules import Context
 from .rules.translation import APPROXIMATED, NOT_CARRIED, VERIFIED, VERIFY_THRESHOLD
@@ -149,9 +149,20 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
 def _unreadable_inputs(source: Material, result: Material, kind: str, context: Context) -> list[Diagnostic]:
     """An input whose authored value could not be read (validate: OPBR202, OPBR303) reaches the result
     only in a .mtlx output that keeps its text verbatim (same model, same name; USD and glTF writers
-    need a value); otherwise the result takes the default, and the report says so."""
+    need a value); a connection carried by the translation but holding no graph to rebuild (a USD
+    primvar reader, a dangling or mistyped connection) reaches no output. Either way the result takes
+    the default, and the report says so."""
     notes = []
     for entry in source.inputs.values():
+        carried = result.inputs.get(entry.name)
+        if isinstance(entry.value, Connection) and isinstance(getattr(carried, "value", None), Connection) \
+                and not carried.value.graph_xml:
+            # carried as is by the translation (same model), but no writer can rebuild it
+            why = "cannot be followed" if entry.value.dangling else "is not a graph the writers can rebuild"
+            notes.append(context.diagnostic(
+                NOT_CARRIED, f"{source.name}: {entry.name} is connected to {entry.value.target}, which {why} "
+                f"({entry.value.reason}); the result uses the default", entry.location))
+            continue
         if entry.value is not None or entry.raw is None:
             continue
         kept = result.inputs.get(entry.name)

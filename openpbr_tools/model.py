@@ -84,7 +84,8 @@ class Texture:
     ``(0, 1, 2)`` for RGB); ``None`` means the image's output is used as is. ``colorspace`` is the
     effective colour-space name as authored (after inheritance), in the naming scheme of the source
     format. ``scale``/``bias`` apply after the lookup (``value * scale + bias``), as UsdUVTexture
-    and glTF factors do. ``normal_map`` is set when the texture reaches the parameter through a
+    and glTF factors do, in the width of what the texture delivers (three components for RGB, one
+    for a single channel; readers select UsdUVTexture's per-RGBA float4 by channel). ``normal_map`` is set when the texture reaches the parameter through a
     normal-map decode (MaterialX ``normalmap``, glTF ``normalTexture``), with its strength.
     """
 

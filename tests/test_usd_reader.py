@@ -145,8 +145,9 @@ def test_usd_uv_texture_with_transform_and_primvar(read):
                                "float inputs:specular_roughness.connect = </M/tex.outputs:g>", extra=extra)))
     color, rough = found.inputs["base_color"].texture, found.inputs["specular_roughness"].texture
     assert color.channels is None and rough.channels == (1,)
-    assert (color.colorspace, color.scale, color.fallback, color.wrap) == ("sRGB", (0.5, 0.5, 0.5, 1.0), (1.0, 0.0, 1.0, 1.0),
+    assert (color.colorspace, color.scale, color.fallback, color.wrap) == ("sRGB", (0.5, 0.5, 0.5), (1.0, 0.0, 1.0, 1.0),
                                                                             ("repeat", "mirror"))
+    assert rough.scale == 0.5  # the float4's green component: what outputs:g delivers
     assert color.texcoord == "uv1" and color.node_category == "UsdUVTexture"
     for st in ((0.0, 0.0), (1.0, 0.0), (0.3, 0.7)):
         assert _place2d(color.uv, st) == pytest.approx(_transform2d((4, 2), 90, (0.5, 0.25), st))

@@ -310,6 +310,8 @@ def test_a_texture_read_by_two_inputs_reports_its_colour_space_once(findings):
     ("(2, -2, 2, 1)", "(-1, 1, -1, 0)", False),     # green reversed: a DirectX-convention map, deliberately
     ("(-2, -2, 2, 1)", "(1, 1, -1, 0)", False),     # both tangent axes reversed
     ("(2, 2, 1, 1)", "(-1, -1, 0, 0)", False),      # z stored in [0, 1]
+    ("(1, 1, 2, 1)", "(-0.5, -0.5, -1, 0)", False),  # a glTF normalTexture.scale of 0.5 carried on x and y
+    ("(0, 0, 2, 1)", "(0, 0, -1, 0)", True),        # x and y flattened to 0: no normal map at all
     ("(1, 1, 1, 1)", "(0, 0, 0, 0)", True),         # no decode: every normal tilts to +x+y
     ("(2, 2, 2, 1)", "(-0.5, -0.5, -1, 0)", True),  # x and y onto [-0.5, 1.5]: not unit components
     ("(2, 2, -1, 1)", "(-1, -1, 0, 0)", True),      # z onto [-1, 0]: points into the surface

@@ -190,6 +190,8 @@ def _in_acescg(values: tuple, colorspace: str | None) -> tuple | None:
 
     if len(values) != 3:
         return None
+    if colorspace is not None and colorspace not in colorspaces.materialx_names():
+        colorspace = colorspaces.materialx_equivalent(colorspace) or colorspace  # a USD name (lin_rec709_scene)
     try:
         linear = colorspaces.to_lin_rec709(values, colorspace)
         wide = tuple(float(c) for c in colorspaces.from_lin_rec709(linear, "acescg"))

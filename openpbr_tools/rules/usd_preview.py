@@ -45,8 +45,9 @@ NORMAL_MAP_ENCODING = Rule(
     "UsdPreviewSurface's normal input expects tangent-space vectors in [-1, 1]; an 8-bit image stores "
     "(n + 1) / 2, so the UsdUVTexture must decode it, usually with scale 2 and bias -1 (UsdPreviewSurface "
     "specification, input normal). Without a decode every normal tilts towards +X+Y. Any encoding that "
-    "maps [0, 1] onto the components passes: x and y onto [-1, 1] in either direction (scale -2, bias 1 "
-    "flips an axis, e.g. a DirectX-convention green channel), z onto [-1, 1] or [0, 1]. The colour "
+    "maps [0, 1] onto the components passes: x and y symmetrically about 0 in either direction (scale -2, "
+    "bias 1 flips an axis, e.g. a DirectX-convention green channel; 2s and -s carry a strength s, as "
+    "glTF's normalTexture.scale), z onto [-1, 1] or [0, 1]. The colour "
     "space (must be raw) is OPBR504's concern.",
     passing=_preview(
         "normal3f inputs:normal.connect = </M/nrm.outputs:rgb>",
@@ -172,14 +173,17 @@ def _preview_conventions(material, context):
 
 
 def _decodes_unit_normals(scale: tuple, bias: tuple) -> bool:
-    """Whether scale and bias map an image's [0, 1] to tangent-space normal components: x and y onto
-    [-1, 1] in either direction (scale -2, bias 1 reverses an axis, as for a normal map authored with
-    the other green convention), z onto [-1, 1] or [0, 1] (a tangent-space normal never points
-    inwards, and some encoders store z that way). One convention is not required, a valid one is."""
-    def ends(i):
-        return sorted((round(bias[i], 6), round(bias[i] + scale[i], 6)))
+    """Whether scale and bias map an image's [0, 1] to tangent-space normal components: x and y
+    symmetrically about 0 (0.5 -> 0) in either direction, so -2 and 1 reverse an axis (a normal map
+    authored with the other green convention) and 2s and -s carry a strength s (glTF's
+    normalTexture.scale, MaterialX's normalmap scale: Storm normalises the result); z onto [-1, 1]
+    or [0, 1] (a tangent-space normal never points inwards; some encoders store z so). A valid
+    encoding passes, not only the specification's (2, -1)."""
+    def symmetric(i):
+        return scale[i] != 0.0 and abs(bias[i] + scale[i] / 2.0) < 1e-6
 
-    return ends(0) == [-1.0, 1.0] and ends(1) == [-1.0, 1.0] and ends(2) in ([-1.0, 1.0], [0.0, 1.0])
+    z = sorted((round(bias[2], 6), round(bias[2] + scale[2], 6)))
+    return symmetric(0) and symmetric(1) and z in ([-1.0, 1.0], [0.0, 1.0])
 
 
 def _rgb(value, default: float) -> tuple:

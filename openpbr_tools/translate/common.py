@@ -196,7 +196,12 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             plain_copy = mapping.formula is None and values.authored(mapping.sources[0])
             if _equal(typed, parameter.default) and not plain_copy:
                 continue  # the target's default already says it (source defaults can differ: then written)
+            clamped = ""
+            if all(_inside(a, source_table[s])[1] == "" for a, s in zip(arrays, mapping.sources) if s in source_table):
+                typed, clamped = _inside(typed, parameter)  # a source already out of range is the validator's to report
             result.inputs[mapping.target] = _constant_input(material, mapping, typed, parameter.type)
+            if clamped:
+                say(APPROXIMATED, f"{mapping.target}: {clamped}", mapping.sources[0])
             if not mapping.exact and (mapping.matters is None or mapping.matters(*arrays)):
                 say(APPROXIMATED, f"{mapping.target}: {mapping.note}", mapping.sources[0])
             elif mapping.converted and authored and _changed(arrays[0], value):
@@ -217,6 +222,10 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             except BakeError as error:
                 say(NOT_CARRIED, f"{mapping.target} cannot be baked: {error}; the target keeps its default", source_name)
                 continue
+            if isinstance(baked.input.value, Constant):  # every texel gave the same value
+                baked.input.value.value, clamped = _inside(baked.input.value.value, parameter)
+                if clamped:
+                    say(APPROXIMATED, f"{mapping.target}: {clamped}", source_name)
             result.inputs[mapping.target] = baked.input
             say(APPROXIMATED if baked.clipped else CONVERTED, baked.message, source_name)
             if not mapping.exact and _matters_on_average(mapping, values, baked.averages):
@@ -236,6 +245,42 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             say(NOT_CARRIED, f"{drop.source} has no equivalent: {drop.why}", drop.source)
     report.sort(key=Diagnostic.sort_key)
     return Translation(result, report, material)
+
+
+def _inside(value, parameter):
+    # value: a Python constant or a NumPy array (a mapping's source); arrays are judged as tuples
+    """``value`` moved inside the target parameter's hard range, and what was done ("" when nothing):
+    a value the target cannot hold (Standard Surface's specular_color above 1, from glTF's
+    specularColorFactor 10) is clamped and reported rather than written out of range."""
+    if isinstance(value, np.ndarray):
+        value = tuple(float(v) for v in value.ravel()) if value.ndim else float(value)
+    if isinstance(value, (bool, str)) or not isinstance(value, (int, float, tuple)):
+        return value, ""
+    values = value if isinstance(value, tuple) else (value,)
+    if not all(isinstance(v, (int, float)) and np.isfinite(v) for v in values):
+        return value, ""
+
+    def bound(limit, i):
+        return None if limit is None else (limit[i] if isinstance(limit, tuple) else limit)
+
+    fixed = []
+    for i, v in enumerate(values):
+        low, high = bound(parameter.hard_min, i), bound(parameter.hard_max, i)
+        if low is not None and (v < low or (v == low and parameter.hard_min_exclusive)):
+            # an open bound takes the nearest value inside: an IOR of 0 (Standard Surface allows it,
+            # F0 = 1) becomes 1e-6, whose F0 is 0.999996
+            v = low + 1e-6 * max(1.0, abs(low)) if parameter.hard_min_exclusive else low
+        if high is not None and v > high:
+            v = high
+        fixed.append(type(values[i])(v) if isinstance(values[i], float) else v)
+    if fixed == list(values):
+        return value, ""
+    moved = tuple(fixed) if isinstance(value, tuple) else fixed[0]
+    return moved, f"{_shown(value)} is outside the target's range; clamped to {_shown(moved)}"
+
+
+def _shown(value) -> str:
+    return "(" + ", ".join(f"{v:g}" for v in value) + ")" if isinstance(value, tuple) else f"{value:g}"
 
 
 def _matters_on_average(mapping: Mapping, values: Values, averages: dict) -> bool:

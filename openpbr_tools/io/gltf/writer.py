@@ -225,6 +225,11 @@ class _MaterialWriter(TextureWriting):
         """glTF's emissiveFactor is at most 1 (schema); the rest of a brighter colour becomes
         KHR_materials_emissive_strength (the product is what renders)."""
         factor = self.out.get("emissiveFactor")
+        if factor and min(factor) < 0.0:  # an emission colour outside Rec.709's gamut (from acescg, P3)
+            clipped = [max(c, 0.0) for c in factor]
+            self.note(NOT_CARRIED, f"emissiveFactor {factor} is outside glTF's range (negative in linear Rec.709); "
+                                   f"clamped to {clipped}", "emissive")
+            self.out["emissiveFactor"] = factor = clipped
         if not factor or max(factor) <= 1.0:
             return
         peak = max(factor)

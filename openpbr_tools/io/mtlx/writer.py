@@ -13,7 +13,7 @@ import os
 
 import MaterialX as mx
 
-from ... import tables
+from ... import colorspaces, tables
 from ...atomic import write_text
 from ...model import Connection, Constant, Material, Texture
 from ...values import format_value
@@ -70,18 +70,24 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
         type_name = entry.type or (parameter.type if parameter else "float")
         port = shader.addInput(name, type_name)
         value = entry.value
+        if value is None and entry.raw is None:
+            shader.removeInput(name)  # declared without a value (a USD interface input left unset): the default
+            continue
         if isinstance(value, Constant):
             port.setValueString(format_value(value.value, type_name))
             if entry.authored_colorspace:
-                port.setColorSpace(entry.authored_colorspace)
+                port.setColorSpace(colorspaces.materialx_name(entry.authored_colorspace))
             elif type_name in COLOUR_TYPES and entry.colorspace and entry.colorspace != (material.colorspace or colorspace):
-                port.setColorSpace(entry.colorspace)
+                port.setColorSpace(colorspaces.materialx_name(entry.colorspace))
         elif isinstance(value, Texture):
             port.setNodeName(_write_texture(document, shader_name, name, type_name, value, used))
         elif isinstance(value, Connection):
             node_name = _write_connection(document, shader_name, name, value, used)
             if node_name:
                 port.setNodeName(node_name)
+            else:
+                shader.removeInput(name)  # nothing to connect (convert reported the dangling connection)
+                continue
         elif entry.raw is not None:
             port.setValueString(entry.raw)
         if entry.unit:
@@ -96,12 +102,15 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
 def _write_texture(document, shader_name: str, input_name: str, input_type: str, texture: Texture, used) -> str:
     prefix = f"{shader_name}_{input_name}"
     image_type = texture.image_type or input_type
+    if texture.channels is not None and len(texture.channels) == 1 and image_type in ("float", "integer", "boolean"):
+        # one channel extracted from the image (a glTF colour image's outa): the image must have it
+        image_type = "color4" if texture.channels[0] == 3 else "color3"
     image = document.addNode("tiledimage" if texture.node_category == "tiledimage" and texture.uv else "image",
                              _unique(f"{prefix}_image", used), image_type)
     file_input = image.addInput("file", "filename")
     file_input.setValueString(texture.file)
-    if texture.colorspace:
-        file_input.setColorSpace(texture.colorspace)
+    if texture.colorspace:  # a USD name or UsdUVTexture token from a USD source, in MaterialX's words
+        file_input.setColorSpace(colorspaces.materialx_name(texture.colorspace))
     if texture.fallback is not None:
         image.addInput("default", image_type).setValueString(format_value(texture.fallback, image_type))
     if texture.wrap:

@@ -144,7 +144,8 @@ class TextureNodeReader:
         wants = entry.type if entry.type in ("color3", "vector3") else "color3"
         texture = Texture(
             file=file, image_type=wants if channels is None else "color4", channels=channels, colorspace=colorspace,
-            scale=constant_of(prim, "scale"), bias=constant_of(prim, "bias"), fallback=constant_of(prim, "fallback"),
+            scale=_for_output(constant_of(prim, "scale"), channels), bias=_for_output(constant_of(prim, "bias"), channels),
+            fallback=constant_of(prim, "fallback"),
             node=path, node_category=UV_TEXTURE_ID, location=self.location(path, "file"), packaged=packaged,
         )
         if parameter is not None and parameter.role == "normal" and model == "UsdPreviewSurface":
@@ -182,3 +183,15 @@ def _transform2d_as_place2d(prim) -> UVTransform:
         scale=(inverse[0], inverse[1]), rotate=-float(rotation) + 0.0,
         offset=(-float(translation[0]) + 0.0, -float(translation[1]) + 0.0),
     )
+
+
+def _for_output(value, channels: tuple[int, ...] | None):
+    """UsdUVTexture's float4 scale or bias (one per image channel, RGBA) as the model keeps it: in
+    the width of what the output delivers (``rgb``: three components; ``r``/``g``/``b``/``a``: the
+    one of that channel)."""
+    if not isinstance(value, tuple) or len(value) != 4:
+        return value
+    if channels is None:
+        return value[:3]
+    picked = tuple(value[c] for c in channels)
+    return picked[0] if len(picked) == 1 else picked
