@@ -184,8 +184,11 @@ NOT_REPRESENTABLE = {
 
 #: As CARRIED_BY, the other way: the OpenPBR parameters that carry a fitted parameter of the model.
 CARRIED_BY_OPENPBR = {
+    # A metal whose colour would pass 1 after dividing by the dielectric's weight keeps its colour
+    # instead (Standard Surface's specular does not dim metals): OpenPBR's base_color then sits at 1
+    # and the weight carries the metal, so the dielectric share's specular is not recovered.
     "standard_surface": {"specular_color": ("specular_color", "base_color"), "sheen": ("fuzz_weight",),
-                         "base_color": ("base_color",)},
+                         "base_color": ("base_color",), "specular": ("base_color",)},
     "gltf_pbr": {"base_color": ("base_color",)},
     "UsdPreviewSurface": {"diffuseColor": ("base_color",)},
 }
@@ -349,3 +352,27 @@ def test_gltf_base_roughness_includes_the_coats_roughening(r, coat, rc):
     assert value(gltf, "roughness") == pytest.approx(expected, abs=1e-9)
     back = convert(gltf, "open_pbr_surface").material
     assert value(back, "specular_roughness") == pytest.approx(r, abs=1e-9)
+
+
+@pytest.mark.parametrize("specular", [0.0, 0.3, 1.0])
+def test_a_standard_surface_metal_keeps_its_reflectivity_whatever_its_specular(specular):
+    # Standard Surface's `specular` weights only the dielectric lobe (Standard Surface spec, "Specular");
+    # OpenPBR's specular_weight scales the metal too (OpenPBR 1.1, "Metal": F_metal = specular_weight F82),
+    # so the metal's normal-incidence reflectivity, base_weight * base_color * specular_weight, must
+    # equal Standard Surface's base * base_color (MaterialX's graph keeps weight 1 for metals for this reason).
+    source = material("standard_surface", base=1.0, base_color=(0.95, 0.64, 0.54), metalness=1.0, specular=specular)
+    there = convert(source, "open_pbr_surface").material
+    f0 = np.asarray(value(there, "base_color")) * value(there, "specular_weight") * value(there, "base_weight")
+    np.testing.assert_allclose(f0, (0.95, 0.64, 0.54), atol=1e-6)
+
+
+@pytest.mark.parametrize("mode, threshold, transmission, presence", [
+    (0, 0.0, 1.0, 1.0),   # transparent (the default): clear glass keeps its specular response (spec 2.6)
+    (1, 0.0, 0.0, 0.0),   # presence: the surface is not there
+    (0, 0.5, 0.0, 0.0),   # a threshold cuts out in either mode (opacity 0 < 0.5)
+])
+def test_preview_opacity_is_read_by_its_mode(mode, threshold, transmission, presence):
+    source = material("UsdPreviewSurface", opacity=0.0, opacityMode=mode, opacityThreshold=threshold, ior=1.5)
+    there = convert(source, "open_pbr_surface").material
+    assert float(value(there, "transmission_weight")) == transmission
+    assert float(value(there, "geometry_opacity")) == presence

@@ -139,13 +139,26 @@ def _ss_film(thickness):
     return np.where(thickness > 0, 1.0, 0.0)
 
 
-def openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thickness):
-    """Inverse of :func:`ss_specular` (Standard Surface does not darken: no darkening to undo)."""
+def openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thickness, color):
+    """Inverse of :func:`ss_specular` (Standard Surface does not darken: no darkening to undo).
+
+    Standard Surface's ``specular`` does not dim its metal; OpenPBR's ``specular_weight`` does, and
+    the base colour is divided by ``1 + m (w - 1)`` to compensate (:func:`openpbr_base_color`). Where
+    that would ask for a metal colour above 1 (a metal with ``specular`` 0 would come out black), the
+    weight is raised to the smallest value that keeps the metal's reflectivity, ``1 + m (w - 1) =
+    max(base_color)``: exact for a pure metal, and the dielectric share (1 - m) then reflects more
+    than Standard Surface's (MaterialX's standard_surface_to_open_pbr graph sets the weight to 1
+    for any metalness above 0, losing the dielectric dimming entirely)."""
     scale = fit.dielectric_specular_scale(ior, coat_ior, coat, _ss_film(film_thickness))
-    return fit.specular_weight_from_coated(specular, scale, metalness)
+    weight = fit.specular_weight_from_coated(specular, scale, metalness)
+    peak = np.max(color, axis=-1, keepdims=np.ndim(color) >= 3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        floor = np.where(metalness > 0, 1.0 - (1.0 - np.minimum(peak, 1.0)) / np.where(metalness > 0, metalness, 1.0), 0.0)
+    return np.where(metalness > 0, np.maximum(weight, floor), weight)
 
 
-SPECULAR_WEIGHT_SOURCES = ("specular", "metalness", "specular_IOR", "coat_IOR", "coat", "thin_film_thickness")
+SPECULAR_WEIGHT_SOURCES = ("specular", "metalness", "specular_IOR", "coat_IOR", "coat", "thin_film_thickness",
+                           "base_color")
 
 
 def openpbr_base_color(color, metalness, *weight_sources):
@@ -254,7 +267,7 @@ FROM_SS = (
                  "EON, brighter at the same roughness"),
     Mapping("base_metalness", ("metalness",)),
     Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES, openpbr_specular_weight, exact=False,
-            matters=lambda s, m, n, nc, c, t: c > 0 and m < 1,
+            matters=lambda s, m, n, nc, c, t, color: c > 0 and m < 1,
             note="OpenPBR's base reflects with its IOR relative to the coat's: its specular weight scaled to "
                  "Standard Surface's F0 under the coat"),
     Mapping("specular_color", ("specular_color", "base", "base_color", "metalness") + SPECULAR_WEIGHT_SOURCES[:1]

@@ -31,6 +31,9 @@ before -> after the fits of :mod:`.fit`, from ``openpbr convert --verify``):
   * emission: ``emissiveColor`` = ``emission_color * emission_luminance / nits_per_unit``.
 
 Not carried (reported): fuzz, thin film, dispersion, diffuse roughness, volume colour.
+Reading the preview's opacity: in its default "transparent" mode a glass keeps its reflections, so
+``1 - opacity`` becomes ``transmission_weight`` (geometry_opacity 1); "presence" mode and a cut-out
+threshold become ``geometry_opacity``.
 Reading a specular-workflow preview: ``specularColor`` is the F0 colour; it becomes an IOR with the
 same F0 luminance and a ``specular_color`` tint (approximate for coloured F0).
 """
@@ -161,6 +164,12 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
         peak = np.max(color, axis=-1, keepdims=True)
         return np.where(peak > 0, color / np.where(peak > 0, peak, 1.0), WHITE)
 
+    def presence(opacity, threshold, mode):
+        return np.where(threshold > 0, np.where(opacity >= threshold, 1.0, 0.0), np.where(mode >= 1, opacity, 1.0))
+
+    def transparency(opacity, threshold, mode):
+        return np.where((threshold <= 0) & (mode < 1), 1.0 - opacity, 0.0)
+
     return (
         Mapping("base_color", ("diffuseColor", "metallic", "useSpecularWorkflow", "roughness"), base_color,
                 converted="a metal's constant reflectance (F0 = F90) fitted by OpenPBR's F82 metal"),
@@ -180,11 +189,22 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
         Mapping("emission_color", ("emissiveColor",), emission_color),
         Mapping("emission_luminance", ("emissiveColor",), lambda c: np.max(c, axis=-1, keepdims=True) * nits,
                 converted=f"nits at {nits:g} nit(s) per unit"),
-        Mapping("geometry_opacity", ("opacity", "opacityThreshold"), lambda o, t: np.where(t > 0, np.where(o >= t, 1.0, 0.0), o),
-                exact=False, matters=lambda o, t: t > 0, note="an opacity threshold becomes a binary opacity"),
+        Mapping("geometry_opacity", OPACITY_SOURCES, presence, exact=False, matters=lambda o, t, m: t > 0,
+                note="an opacity threshold becomes a binary opacity"),
+        Mapping("transmission_weight", OPACITY_SOURCES, transparency, exact=False,
+                matters=lambda o, t, m: t <= 0 and m < 1 and o < 1,
+                note="the preview's transparent opacity keeps its specular reflection; OpenPBR's transmission "
+                     "refracts what the preview shows see-through"),
         Mapping("geometry_normal", ("normal",)),
     )
 
+
+#: UsdPreviewSurface's opacity, read by its mode (spec 2.6, "opacityMode"; MaterialX 1.39.5's
+#: ND_UsdPreviewSurface graph): "transparent" (0, the default) keeps the lighting ("even a fully
+#: transparent object still receives lighting as, for example, perfectly clear glass still has a
+#: specular response"), so 1 - opacity is OpenPBR transmission; "presence" (1) is OpenPBR's
+#: geometry_opacity; a non-zero opacityThreshold cuts out in either mode.
+OPACITY_SOURCES = ("opacity", "opacityThreshold", "opacityMode")
 
 DROPPED_FROM_USD = (
     Dropped("occlusion", "OpenPBR has no ambient occlusion input", matters=lambda v: v != 1.0),
