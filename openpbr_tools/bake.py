@@ -10,12 +10,12 @@ image. What happens, in order:
    or a folder the caller allowed; never a URL; images inside a glTF are extracted from it) and
    decoded (Pillow; OpenImageIO for EXR/HDR);
 2. its channels are selected (``Texture.channels``, else R for a float and RGB for a colour), a
-   colour is converted from the texture's colour space to the material's working space (linear;
-   colour-science), then ``scale``/``bias`` apply;
+   colour is converted from the texture's colour space to linear Rec.709, where the target shades
+   and every formula runs (colour-science), then ``scale``/``bias`` apply;
 3. all textured sources must share their UV transform and texture coordinates (a texel of one is
    then a texel of the other); sources of different sizes are resampled (bilinear) to the largest;
-4. constant sources broadcast: floats arrive as ``(H, W, 1)`` or ``()``, colours as ``(H, W, 3)``
-   or ``(3,)``;
+4. constant sources broadcast (colours converted to linear Rec.709 too): floats arrive as
+   ``(H, W, 1)`` or ``()``, colours as ``(H, W, 3)`` or ``(3,)``;
 5. the result is encoded: a colour in linear Rec.709 as an 8-bit sRGB PNG (``srgb_texture``), in
    another working space as a 16-bit linear PNG in that space (OpenImageIO), a float as a 16-bit
    greyscale PNG (raw). Values outside [0, 1] go to a half-float OpenEXR (OpenImageIO) unless the
@@ -41,6 +41,7 @@ from . import colorspaces
 from .io.images import ImageLocator, ImageRefused, ImageUnavailable, load_pixels, resample
 from .model import Constant, Input, Texture
 from .translate.common import BakeError
+from .translate.target import WorkingSpace
 
 LINEAR_REC709 = "lin_rec709"
 
@@ -126,7 +127,8 @@ class Baker:
     # -- baking -----------------------------------------------------------------------------
     def bake(self, material, mapping, values, target_type: str, label: str, texturable: bool = True) -> Baked:
         """``mapping.formula`` over the textured sources of ``mapping`` (see the module docstring)."""
-        working = colorspaces.materialx_name(material.colorspace) or LINEAR_REC709
+        working = LINEAR_REC709  # where the target shades (translate.target.WorkingSpace): every formula runs there
+        space = WorkingSpace(material, values.table)
         textured = [s for s in mapping.sources if not values.is_constant(s)]
         entries = [values.entry(s) for s in textured]
         for name, entry in zip(textured, entries):
@@ -156,7 +158,7 @@ class Baker:
                 constant = values.constant(name)
                 if constant is None:
                     raise BakeError(f"{name} has no value to bake with")
-                arguments.append(constant)
+                arguments.append(space.into(name, constant))
         with np.errstate(all="ignore"):
             result = np.asarray(mapping.formula(*arguments), dtype=np.float64)
         channels = 3 if target_type in ("color3", "vector3") else 1

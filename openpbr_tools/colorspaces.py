@@ -96,6 +96,23 @@ def _colour():
     return colour
 
 
+@lru_cache(maxsize=None)
+def _space(name: str):
+    """colour-science's colour space ``name`` with matrices derived from its primaries and white
+    point (the published sRGB matrices are rounded to 4 decimals, so they neither invert each other
+    nor map white to white), as MaterialX's cmlib does."""
+    space = _colour().RGB_COLOURSPACES[name].copy()
+    space.use_derived_transformation_matrices(True)
+    return space
+
+
+@lru_cache(maxsize=None)
+def _matrix(source: str, target: str):
+    """The 3x3 linear-RGB conversion between two colour spaces, Bradford-adapted where the white
+    points differ: MaterialX 1.39's cmlib matrices (e.g. ND_acescg_to_lin_rec709) to ~1e-12."""
+    return _colour().matrix_RGB_to_RGB(_space(source), _space(target), chromatic_adaptation_transform="Bradford")
+
+
 def _conversion(colorspace: str | None):
     """The colour-space entry to convert with, or ``None`` when no conversion applies (the default
     working space, ``none`` data). Raises ``KeyError`` for a name that is not a MaterialX one."""
@@ -113,8 +130,9 @@ def to_lin_rec709(rgb, colorspace: str | None):
 
     Encoded spaces are decoded with their transfer function first (sRGB piecewise curve for
     ``srgb_texture``, a pure power for the ``g22_``/``g18_`` names), then the primaries are adapted
-    with colour-science's ``RGB_to_RGB`` (CAT02 where white points differ). ``None`` and
-    ``lin_rec709`` return the values unchanged; ``none`` (data) is returned unchanged too.
+    with colour-science's derived matrices, Bradford-adapted where white points differ (MaterialX's
+    cmlib matrices). ``None`` and ``lin_rec709`` return the values unchanged; ``none`` (data) is
+    returned unchanged too.
     """
     import numpy as np  # lazy: numpy (~70 ms) stays off validate's start-up until a conversion is asked for
 
@@ -122,8 +140,7 @@ def to_lin_rec709(rgb, colorspace: str | None):
     spec = _conversion(colorspace)
     if spec is None:
         return values
-    colour = _colour()
-    source = colour.RGB_COLOURSPACES[spec["space"]]
+    source = _space(spec["space"])
     transfer = spec["transfer"]
     if transfer == "space":
         values = _per_level(source.cctf_decoding, values)
@@ -131,7 +148,7 @@ def to_lin_rec709(rgb, colorspace: str | None):
         values = _per_level(lambda v: np.sign(v) * np.abs(v) ** transfer["gamma"], values)
     if spec["space"] == "sRGB":
         return np.asarray(values, dtype=np.float64)
-    return colour.RGB_to_RGB(values, source, colour.RGB_COLOURSPACES["sRGB"], chromatic_adaptation_transform="CAT02")
+    return values @ _matrix(spec["space"], "sRGB").T
 
 
 def _per_level(transfer, values):
@@ -155,12 +172,9 @@ def from_lin_rec709(rgb, colorspace: str | None):
     spec = _conversion(colorspace)
     if spec is None:
         return values
-    colour = _colour()
-    target = colour.RGB_COLOURSPACES[spec["space"]]
+    target = _space(spec["space"])
     if spec["space"] != "sRGB":
-        values = colour.RGB_to_RGB(
-            values, colour.RGB_COLOURSPACES["sRGB"], target, chromatic_adaptation_transform="CAT02"
-        )
+        values = values @ _matrix("sRGB", spec["space"]).T
     transfer = spec["transfer"]
     if transfer == "space":
         values = target.cctf_encoding(values)

@@ -33,6 +33,7 @@ from ..io.gltf.slots import SLOT_BY_PARAMETER
 from ..model import Constant, Input, Material, Texture
 from ..rules import Context
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
+from .target import WorkingSpace, inside
 
 
 class BakeError(ValueError):
@@ -93,6 +94,7 @@ class Values:
 
     def __init__(self, material: Material, table):
         self.material, self.table = material, table
+        self.reported: set[str] = set()
 
     def entry(self, name: str) -> Input | None:
         return self.material.inputs.get(name)
@@ -168,6 +170,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         material_location=material.material_location, colorspace=material.colorspace,
     )
     report: list[Diagnostic] = []
+    working = WorkingSpace(material, source_table)
 
     def say(rule, message: str, name: str | None) -> None:
         entry = material.inputs.get(name) if name else None
@@ -186,10 +189,19 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             arrays = [values.constant(s) for s in mapping.sources]
             if any(a is None for a in arrays):
                 continue
+            sources_valid = all(inside(a, source_table[s])[1] == "" for a, s in zip(arrays, mapping.sources)
+                                if s in source_table)
+            if mapping.formula is not None:
+                arrays = [working.into(s, a) for s, a in zip(mapping.sources, arrays)]
+                for name in working.out_of_gamut(mapping.sources, arrays):
+                    say(APPROXIMATED, f"{name} lies outside linear Rec.709's gamut, where the target is shaded: "
+                                      "its formulas see it clipped", name)
             if mapping.when is not None and not mapping.when(*arrays):
                 continue
             with np.errstate(all="ignore"):  # nan/inf from hostile files propagate quietly, as values
                 value = arrays[0] if mapping.formula is None else mapping.formula(*arrays)
+            if mapping.formula is not None:
+                value = working.out_of(value, parameter, material.inputs.get(mapping.sources[0]))
             if parameter.role in ("normal", "tangent"):
                 continue  # a constant normal is the geometry's own (each model's default means "unperturbed")
             typed = as_value(value, parameter.type)
@@ -197,8 +209,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             if _equal(typed, parameter.default) and not plain_copy:
                 continue  # the target's default already says it (source defaults can differ: then written)
             clamped = ""
-            if all(_inside(a, source_table[s])[1] == "" for a, s in zip(arrays, mapping.sources) if s in source_table):
-                typed, clamped = _inside(typed, parameter)  # a source already out of range is the validator's to report
+            if sources_valid:  # a source already out of range is the validator's to report
+                typed, clamped = inside(typed, parameter)
             result.inputs[mapping.target] = _constant_input(material, mapping, typed, parameter.type)
             if clamped:
                 say(APPROXIMATED, f"{mapping.target}: {clamped}", mapping.sources[0])
@@ -223,7 +235,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 say(NOT_CARRIED, f"{mapping.target} cannot be baked: {error}; the target keeps its default", source_name)
                 continue
             if isinstance(baked.input.value, Constant):  # every texel gave the same value
-                baked.input.value.value, clamped = _inside(baked.input.value.value, parameter)
+                baked.input.value.value, clamped = inside(baked.input.value.value, parameter)
                 if clamped:
                     say(APPROXIMATED, f"{mapping.target}: {clamped}", source_name)
             result.inputs[mapping.target] = baked.input
@@ -245,42 +257,6 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             say(NOT_CARRIED, f"{drop.source} has no equivalent: {drop.why}", drop.source)
     report.sort(key=Diagnostic.sort_key)
     return Translation(result, report, material)
-
-
-def _inside(value, parameter):
-    # value: a Python constant or a NumPy array (a mapping's source); arrays are judged as tuples
-    """``value`` moved inside the target parameter's hard range, and what was done ("" when nothing):
-    a value the target cannot hold (Standard Surface's specular_color above 1, from glTF's
-    specularColorFactor 10) is clamped and reported rather than written out of range."""
-    if isinstance(value, np.ndarray):
-        value = tuple(float(v) for v in value.ravel()) if value.ndim else float(value)
-    if isinstance(value, (bool, str)) or not isinstance(value, (int, float, tuple)):
-        return value, ""
-    values = value if isinstance(value, tuple) else (value,)
-    if not all(isinstance(v, (int, float)) and np.isfinite(v) for v in values):
-        return value, ""
-
-    def bound(limit, i):
-        return None if limit is None else (limit[i] if isinstance(limit, tuple) else limit)
-
-    fixed = []
-    for i, v in enumerate(values):
-        low, high = bound(parameter.hard_min, i), bound(parameter.hard_max, i)
-        if low is not None and (v < low or (v == low and parameter.hard_min_exclusive)):
-            # an open bound takes the nearest value inside: an IOR of 0 (Standard Surface allows it,
-            # F0 = 1) becomes 1e-6, whose F0 is 0.999996
-            v = low + 1e-6 * max(1.0, abs(low)) if parameter.hard_min_exclusive else low
-        if high is not None and v > high:
-            v = high
-        fixed.append(type(values[i])(v) if isinstance(values[i], float) else v)
-    if fixed == list(values):
-        return value, ""
-    moved = tuple(fixed) if isinstance(value, tuple) else fixed[0]
-    return moved, f"{_shown(value)} is outside the target's range; clamped to {_shown(moved)}"
-
-
-def _shown(value) -> str:
-    return "(" + ", ".join(f"{v:g}" for v in value) + ")" if isinstance(value, tuple) else f"{value:g}"
 
 
 def _matters_on_average(mapping: Mapping, values: Values, averages: dict) -> bool:
