@@ -155,8 +155,8 @@ def _unreadable_inputs(source: Material, result: Material, kind: str, context: C
     notes = []
     for entry in source.inputs.values():
         carried = result.inputs.get(entry.name)
-        if isinstance(entry.value, Connection) and isinstance(getattr(carried, "value", None), Connection) \
-                and not carried.value.graph_xml:
+        if kind == "mtlx" and isinstance(entry.value, Connection) and isinstance(getattr(carried, "value", None), Connection) \
+                and not carried.value.graph_xml:  # (the USD and glTF writers report the connections they drop)
             # carried as is by the translation (same model), but no writer can rebuild it
             why = "cannot be followed" if entry.value.dangling else "is not a graph the writers can rebuild"
             notes.append(context.diagnostic(

@@ -314,8 +314,16 @@ def test_textures_pass_through_when_the_mapping_is_a_copy(write_mtlx):
     texture = ss.material.inputs["base_color"].value
     assert isinstance(texture, Texture) and texture.file == "albedo.png" and texture.uv.scale == (4.0, 4.0)
     assert texture.colorspace == "srgb_texture"
-    # glTF roughness is a formula of roughness and anisotropy: a textured roughness needs baking, reported
+    # glTF roughness is a formula of roughness and anisotropy: without anisotropy it is a copy (and the
+    # anisotropy strength a constant 0 whatever the roughness texture says), so the texture passes through
     gltf = convert(source, "gltf_pbr")
+    assert gltf.material.inputs["roughness"].value.file == "rough.png"
+    assert not any(d.code == "OPBR1104" and "roughness" in d.message for d in gltf.diagnostics)
+    # with anisotropy the roughness texture must be baked: with nothing to bake into, that is reported
+    (anisotropic,) = read_asset(write_mtlx(fragment.replace(
+        '</open_pbr_surface>', '  <input name="specular_roughness_anisotropy" type="float" value="0.5" />\n</open_pbr_surface>'),
+        name="anisotropic.mtlx")).materials
+    gltf = convert(anisotropic, "gltf_pbr")
     assert any(d.code == "OPBR1104" and "roughness" in d.message for d in gltf.diagnostics)
 
 

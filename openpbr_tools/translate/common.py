@@ -30,7 +30,7 @@ import numpy as np
 from .. import tables
 from ..diagnostics import Diagnostic
 from ..io.gltf.slots import SLOT_BY_PARAMETER
-from ..model import Constant, Input, Material, Texture
+from ..model import Connection, Constant, Input, Material, Texture
 from ..rules import Context
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .target import WorkingSpace, inside
@@ -184,9 +184,12 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     for mapping in mappings:
         parameter = target_table[mapping.target]
         authored = any(values.authored(s) for s in mapping.sources)
-        textured = [s for s in mapping.sources if not values.is_constant(s)]
+        textured = list(dict.fromkeys(s for s in mapping.sources if not values.is_constant(s)))
+        # a textured source the formula ignores here (a metal-only term of a dielectric) leaves it constant
+        ignored = {name: probe for name in textured if (probe := _ignored_probe(mapping, name, values)) is not None}
+        textured = [name for name in textured if name not in ignored]
         if not textured:
-            arrays = [values.constant(s) for s in mapping.sources]
+            arrays = [ignored[s] if s in ignored else values.constant(s) for s in mapping.sources]
             if any(a is None for a in arrays):
                 continue
             sources_valid = all(inside(a, source_table[s])[1] == "" for a, s in zip(arrays, mapping.sources)
@@ -221,7 +224,9 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             continue
         source_name = textured[0]
         entry = material.inputs[source_name]
-        if isinstance(entry.value, Texture) and len(textured) == 1 and _is_identity(mapping, source_name, values):
+        carriable = isinstance(entry.value, Texture) or (isinstance(entry.value, Connection) and entry.value.graph_xml)
+        if carriable and len(textured) == 1 and _is_identity(mapping, source_name, values):
+            # a texture, or a procedural graph the reader captured (a .mtlx writer rebuilds it), rewired as is
             carried = copy.deepcopy(entry)
             carried.name, carried.type = mapping.target, parameter.type
             carried.location = entry.location
@@ -287,6 +292,27 @@ def _texturable(model: str, name: str) -> bool:
         return True
     slot = SLOT_BY_PARAMETER.get(name)
     return slot is None or slot.texture is not None
+
+
+def _ignored_probe(mapping: Mapping, textured: str, values: Values):
+    """A probe value of ``textured`` when ``mapping``'s formula, with every other source constant,
+    gives the same result whatever ``textured`` is (then nothing needs baking); else ``None``."""
+    if mapping.formula is None or len(set(mapping.sources)) == 1:
+        return None
+    others = {name: values.constant(name) for name in mapping.sources if name != textured}
+    if any(v is None for v in others.values()):
+        return None
+    parameter = values.table.get(textured)
+    width = 3 if parameter is not None and parameter.type in ("color3", "vector3") else 1
+    results = []
+    for probe in (0.0, 0.3, 0.55, 1.0):
+        sample = np.full(width, probe) if width > 1 else np.asarray(probe)
+        arguments = [sample if name == textured else others[name] for name in mapping.sources]
+        with np.errstate(all="ignore"):
+            results.append(np.asarray(mapping.formula(*arguments), dtype=np.float64))
+    if all(r.shape == results[0].shape and np.allclose(r, results[0], atol=1e-12) for r in results[1:]):
+        return np.full(width, 0.55) if width > 1 else np.asarray(0.55)
+    return None
 
 
 def _is_identity(mapping: Mapping, textured: str, values: Values) -> bool:
