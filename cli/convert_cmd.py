@@ -26,13 +26,15 @@ MODELS = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface
 @click.option("--verify", is_flag=True, help="Render original and result with the lobe evaluator and report CIEDE2000.")
 @click.option("--threshold", type=click.FloatRange(min=0), default=2.0, show_default=True,
               help="With --verify: warn when a material's mean CIEDE2000 exceeds this.")
+@click.option("--max-delta-e", type=click.FloatRange(min=0), default=None, metavar="X",
+              help="Implies --verify: exit 1 when a material's mean CIEDE2000 exceeds X (the report names it).")
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT if it exists.")
 @click.option("--format", "output_format", type=click.Choice(FORMATS), default="text", show_default=True,
               help="Format of the loss report.")
 @click.option("--fail-on", type=click.Choice(SEVERITIES + ("never",)), default="never", show_default=True,
               callback=_severity, help="Exit 1 when a report entry reaches this severity (error: something was dropped).")
-def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, verify, threshold, force, output_format,
-            fail_on):
+def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, verify, threshold, max_delta_e, force,
+            output_format, fail_on):
     """Convert every material of INPUT (.mtlx, USD, glTF) and write OUTPUT; the report lists every
     conversion, approximation and loss.
 
@@ -63,12 +65,22 @@ def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, veri
         sys.exit(2)
     except ValueError as error:
         raise click.UsageError(str(error)) from None
-    if verify:
+    too_far = []
+    if verify or max_delta_e is not None:
         # lazy: `openpbr --help` loads every command module; the library loads when this command runs
+        from openpbr_tools.convert import display_name, measure
         from openpbr_tools.convert import verify as verify_conversion
 
-        result.diagnostics = sorted(result.diagnostics + verify_conversion(result, threshold), key=Diagnostic.sort_key)
+        measured = measure(result)
+        limit = threshold if max_delta_e is None else min(threshold, max_delta_e)
+        result.diagnostics = sorted(result.diagnostics + verify_conversion(result, limit, measured=measured),
+                                    key=Diagnostic.sort_key)
+        if max_delta_e is not None:
+            too_far = [display_name(source) for source, delta in measured if delta.mean > max_delta_e]
     report = Report(files=[FileResult(input_path, result.diagnostics, materials=len(result.pairs))])
     click.echo(render(report, output_format, fail_on), nl=False)
     click.echo(f"wrote {output} ({len(result.pairs)} material(s))", err=True)
+    if too_far:
+        click.echo(f"mean CIEDE2000 above --max-delta-e {max_delta_e:g}: {', '.join(sorted(too_far))}", err=True)
+        sys.exit(max(1, report.exit_code(fail_on)))
     sys.exit(report.exit_code(fail_on))

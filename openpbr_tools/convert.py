@@ -271,18 +271,25 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside)
     return write_gltf(result.materials, output_path, mesh=mesh, allow_outside=allow_outside, source=asset) or []
 
 
-def verify(conversion: Conversion, threshold: float = 2.0, context: Context | None = None) -> list[Diagnostic]:
-    """CIEDE2000 between each source material and its conversion, rendered by the lobe evaluator.
-
-    Colours are compared in each material's own colour space converted to linear Rec.709, so a
-    glTF result (linear Rec.709 factors) and an ACEScg source are compared fairly."""
+def measure(conversion: Conversion) -> list[tuple[Material, object]]:
+    """(source material, CIEDE2000 statistics of its lit-sphere preview against the result's) for
+    every converted material, rendered by the lobe evaluator. Colours are compared in each
+    material's own colour space converted to linear Rec.709, so a glTF result (linear Rec.709
+    factors) and an ACEScg source are compared fairly."""
     from .evaluate.verify import compare_materials  # lazy: the evaluator loads its albedo tables
 
+    return [(source, compare_materials(source, result).preview) for source, result in conversion.pairs]
+
+
+def verify(conversion: Conversion, threshold: float = 2.0, context: Context | None = None,
+           measured: list | None = None) -> list[Diagnostic]:
+    """The report of :func:`measure` (or of ``measured``, its result): OPBR1108 per material, OPBR1109
+    where the mean CIEDE2000 exceeds ``threshold``."""
     context = context or Context()
     found = []
-    for source, result in conversion.pairs:
-        comparison = compare_materials(source, result)
-        delta = comparison.preview
+    results = dict((id(source), result) for source, result in conversion.pairs)
+    for source, delta in (measured if measured is not None else measure(conversion)):
+        result = results[id(source)]
         message = (f"{source.name}: {source.model} -> {result.model}, CIEDE2000 mean {delta.mean:.2f}, "
                    f"p95 {delta.p95:.2f}, max {delta.max:.2f} (lit sphere)")
         rule = VERIFY_THRESHOLD if delta.mean > threshold else VERIFIED

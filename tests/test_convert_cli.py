@@ -147,3 +147,15 @@ def test_a_constant_of_the_wrong_shape_is_reported_not_a_crash(tmp_path):
         assert result.exit_code == 0, result.output
         lost = {d["location"]["input"] for d in json.loads(result.stdout)["diagnostics"] if d["code"] == "OPBR1104"}
         assert {"transmission_color", "base_weight"} <= lost
+
+
+def test_max_delta_e_fails_the_command_and_names_the_material(tmp_path, write_mtlx):
+    # a fuzz layer has no glTF equivalent but sheen: the evaluator sees a difference well above 0
+    source = write_mtlx('<open_pbr_surface name="S" type="surfaceshader">\n'
+                        '  <input name="fuzz_weight" type="float" value="1" />\n'
+                        '  <input name="thin_film_weight" type="float" value="1" />\n</open_pbr_surface>')
+    strict = CliRunner().invoke(cli, ["convert", str(source), "-o", str(tmp_path / "a.gltf"), "--max-delta-e", "0"])
+    assert strict.exit_code == 1 and "above --max-delta-e 0: M" in strict.stderr
+    assert "OPBR1109" in strict.stdout  # the report carries the number at the material
+    lenient = CliRunner().invoke(cli, ["convert", str(source), "-o", str(tmp_path / "b.gltf"), "--max-delta-e", "100"])
+    assert lenient.exit_code == 0 and "OPBR1108" in lenient.stdout
