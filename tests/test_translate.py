@@ -384,3 +384,14 @@ def test_preview_opacity_is_read_by_its_mode(mode, threshold, transmission, pres
     there = convert(source, "open_pbr_surface").material
     assert float(value(there, "transmission_weight")) == transmission
     assert float(value(there, "geometry_opacity")) == presence
+
+
+def test_an_hdr_emission_colour_moves_its_excess_into_standard_surfaces_weight():
+    # OpenPBR 1.1.1 allows emission_color above 1 (an HDR multiplier); Standard Surface's colour is
+    # in [0, 1] and its `emission` weight unbounded: the rendered product emission * emission_color
+    # must equal emission_luminance / nits_per_unit * emission_color.
+    source = material("open_pbr_surface", emission_luminance=2.0, emission_color=(0.4, 4.0, 0.6))
+    ss = convert(source, "standard_surface").material
+    product = float(value(ss, "emission")) * np.asarray(value(ss, "emission_color"))
+    np.testing.assert_allclose(product, 2.0 * np.array([0.4, 4.0, 0.6]), rtol=1e-9)
+    assert max(value(ss, "emission_color")) <= 1.0

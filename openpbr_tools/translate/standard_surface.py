@@ -329,15 +329,29 @@ DROPPED_FROM_SS = (
 )
 
 
+def _hdr_peak(color):
+    """How far an emission colour's brightest channel exceeds 1 (1 when it does not): OpenPBR 1.1.1's
+    emission_color may exceed 1 (an HDR multiplier), Standard Surface's is a colour in [0, 1] times
+    its unbounded ``emission`` weight, so the excess moves into the weight (the product renders)."""
+    return np.maximum(_peak(color), 1.0) if np.ndim(color) >= 3 else np.maximum(np.max(color, axis=-1), 1.0)
+
+
 def _emission(mappings, settings: Settings, to_ss: bool):
     factor = 1.0 / settings.nits_per_unit if to_ss else settings.nits_per_unit
     note = (f"{'nits to a unitless weight' if to_ss else 'a unitless weight to nits'} at "
             f"{settings.nits_per_unit:g} nit(s) per unit")
-    return tuple(
-        Mapping(m.target, m.sources, lambda v, f=factor: v * f, converted=note)
-        if m.target in ("emission", "emission_luminance") else m
-        for m in mappings
-    )
+    if not to_ss:
+        return tuple(Mapping(m.target, m.sources, lambda v, f=factor: v * f, converted=note)
+                     if m.target == "emission_luminance" else m for m in mappings)
+    hdr = "; an emission colour above 1 is normalised and its peak moves into the weight"
+    replaced = {
+        "emission": Mapping("emission", ("emission_luminance", "emission_color"),
+                            lambda v, c, f=factor: v * f * _hdr_peak(c), converted=note + hdr),
+        "emission_color": Mapping("emission_color", ("emission_color",),
+                                  lambda c: c / (_hdr_peak(c)[..., None] if np.ndim(c) < 3 else _hdr_peak(c)),
+                                  converted="an emission colour above 1 normalised (its peak moves into emission)"),
+    }
+    return tuple(replaced.get(m.target, m) for m in mappings)
 
 
 def openpbr_to_standard_surface(material: Material, settings: Settings | None = None) -> Translation:
