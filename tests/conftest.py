@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import os
 import sys
+import tempfile
 from pathlib import Path
 
 import pytest
@@ -18,6 +19,10 @@ DOCUMENT = """<?xml version="1.0"?>
   </surfacematerial>
 </materialx>
 """
+
+
+# The MaterialX library index (openpbr_tools.io.mtlx.library) is cached per run, not in the home folder.
+os.environ.setdefault("OPENPBR_CACHE_DIR", tempfile.mkdtemp(prefix="openpbr-test-cache-"))
 
 
 def document(fragment: str) -> str:

@@ -26,6 +26,7 @@ from ...model import Asset, Constant, Input, Location, Material
 from ...values import ValueSyntaxError, parse_value
 from .. import ReadError, read_bytes
 from ..paths import PathGuard
+from . import library
 from .graph import GraphFollower
 from .xmlscan import XmlScan, XmlSyntaxError, parse_suppression, scan
 
@@ -59,9 +60,10 @@ def standard_library(complete: bool = False):
     return library
 
 
-@lru_cache(maxsize=2)
 def known_categories(complete: bool = False) -> frozenset[str]:
-    return frozenset(nd.getNodeString() for nd in standard_library(complete).getNodeDefs())
+    """The node categories MaterialX's standard libraries define (``complete``: with those only
+    their implementation files declare), from the cached library index (:mod:`.library`)."""
+    return library.known_categories(complete)
 
 
 def is_known_category(category: str) -> bool:
@@ -201,7 +203,8 @@ class _Reader(GraphFollower):
     def run(self) -> None:
         import MaterialX as mx  # lazy: as in standard_library
 
-        self.document.setDataLibrary(standard_library())
+        used = {element.getCategory() for element in self.document.traverseTree() if element.isA(mx.Node)}
+        self.document.setDataLibrary(library.library_for(used))
         valid, message = self.document.validate()
         if not valid:
             self.asset.extra["materialx_validate"] = message.strip()

@@ -1,0 +1,128 @@
+"""MaterialX's standard libraries, loaded as little as a document needs.
+
+Validating a document needs the node definitions of the categories it uses, not all ~800 of them:
+loading every definition file costs ~35 ms of each ``openpbr validate`` start-up, loading
+``stdlib_defs.mtlx`` and ``pbrlib_defs.mtlx`` (the type definitions and the common nodes) plus the
+files that define the document's other categories ~10 ms. Which file defines which category is
+derived from the libraries once and kept in a cache file keyed by the MaterialX version and the
+library folder's location and modification time, so an upgraded MaterialX rebuilds it:
+``$OPENPBR_CACHE_DIR`` or ``$XDG_CACHE_HOME/openpbr-tools`` (default ``~/.cache/openpbr-tools``),
+written atomically; where no cache can be written the index is kept in memory only.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from functools import lru_cache
+
+CACHE_FORMAT = 1
+ALWAYS = ("stdlib/stdlib_defs.mtlx", "pbrlib/pbrlib_defs.mtlx")  # type definitions and common nodes
+
+
+def _mx():
+    import MaterialX as mx  # lazy: the rules import the reader at every start-up; MaterialX waits for a .mtlx
+
+    return mx
+
+
+def _roots() -> list[str]:
+    mx = _mx()
+    found = []
+    for folder in mx.getDefaultDataSearchPath().asString().split(mx.PATH_LIST_SEPARATOR):
+        for name in mx.getDefaultDataLibraryFolders():
+            root = os.path.join(folder, name)
+            if os.path.isdir(root):
+                found.append(root)
+    return found
+
+
+def _definition_files(root: str) -> list[str]:
+    """The files of ``root`` that declare node definitions (not the ``*_ng.mtlx`` implementations nor
+    the code-generation folders), relative to ``root``, sorted."""
+    files = []
+    for directory, subdirectories, names in os.walk(root):
+        subdirectories[:] = sorted(d for d in subdirectories if not d.startswith("gen"))
+        files += [os.path.relpath(os.path.join(directory, n), root).replace(os.sep, "/")
+                  for n in sorted(names) if n.endswith(".mtlx") and not n.endswith("_ng.mtlx")]
+    return sorted(files)
+
+
+def _cache_path(key: str) -> str:
+    base = os.environ.get("OPENPBR_CACHE_DIR") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "openpbr-tools")
+    return os.path.join(base, f"materialx-library-{key}.json")
+
+
+def _key(roots: list[str]) -> str:
+    import zlib  # lazy: only when the index is looked up (hashlib costs ~4 ms to import)
+
+    stamp = [_mx().getVersionString(), str(CACHE_FORMAT)]
+    for root in roots:
+        stamp += [os.path.realpath(root), str(os.stat(root).st_mtime_ns)]
+    return f"{_mx().getVersionString()}-{zlib.crc32(chr(10).join(stamp).encode()):08x}"
+
+
+def _build(roots: list[str]) -> dict:
+    mx = _mx()
+    files: dict[str, list[str]] = {}
+    complete: set[str] = set()
+    for root in roots:
+        for relative in _definition_files(root):
+            document = mx.createDocument()
+            mx.loadLibrary(os.path.join(root, relative), document)
+            categories = sorted({nd.getNodeString() for nd in document.getNodeDefs()})
+            if categories:
+                files[os.path.join(root, relative)] = categories
+        everything = mx.createDocument()
+        mx.loadLibraries([os.path.basename(root)], mx.FileSearchPath(os.path.dirname(root)), everything)
+        complete |= {nd.getNodeString() for nd in everything.getNodeDefs()}
+    return {"format": CACHE_FORMAT, "files": files, "complete": sorted(complete)}
+
+
+@lru_cache(maxsize=1)
+def index() -> dict:
+    """``{"files": {definition file: [categories it defines]}, "complete": [every category, the
+    implementation files' included]}``, from the cache when it is current."""
+    roots = _roots()
+    path = _cache_path(_key(roots))
+    try:
+        with open(path, encoding="utf-8") as handle:
+            cached = json.load(handle)
+        if cached.get("format") == CACHE_FORMAT and all(os.path.isfile(f) for f in cached["files"]):
+            return cached
+    except (OSError, ValueError, KeyError, TypeError):
+        pass
+    built = _build(roots)
+    try:
+        from ...atomic import write_text  # lazy: only when the cache is (re)built
+
+        os.makedirs(os.path.dirname(path), exist_ok=True)
+        write_text(path, json.dumps(built, sort_keys=True))
+    except OSError:
+        pass  # a read-only home: the index lives for this process only
+    return built
+
+
+def known_categories(complete: bool = False) -> frozenset[str]:
+    if complete:
+        return frozenset(index()["complete"])
+    return frozenset(c for categories in index()["files"].values() for c in categories)
+
+
+def library_for(categories) -> object:
+    """A MaterialX document holding the standard definitions ``categories`` need: the type
+    definitions and common nodes always, plus every file defining one of ``categories``."""
+    files = index()["files"]
+    wanted = set(categories)
+    chosen = [f for f in files if f.replace(os.sep, "/").endswith(ALWAYS) or wanted & set(files[f])]
+    return _load(tuple(sorted(chosen)))
+
+
+@lru_cache(maxsize=8)
+def _load(files: tuple[str, ...]):
+    mx = _mx()
+    library = mx.createDocument()
+    for path in files:
+        mx.loadLibrary(path, library)
+    return library
