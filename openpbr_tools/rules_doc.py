@@ -5,6 +5,7 @@ from __future__ import annotations
 import textwrap
 
 from .rules import Rule, family_doc
+from .rules.provenance import PROVENANCE
 
 
 def rule_table(rules, markdown: bool = False) -> str:
@@ -40,6 +41,12 @@ def rule_page(rule: Rule) -> str:
         "Why it matters",
         textwrap.indent(textwrap.fill(rule.doc, 96), "  "),
         "",
+        "Protects against",
+        textwrap.indent(textwrap.fill(protects(rule), 96), "  "),
+        "",
+        "Source",
+        "\n".join(f"  {citation}" for citation in sources(rule)),
+        "",
         "Passes" + _command(rule),
         _example(rule.passing),
         "",
@@ -51,3 +58,13 @@ def rule_page(rule: Rule) -> str:
         "",
     ]
     return "\n".join(parts)
+
+
+def protects(rule: Rule) -> str:
+    """What goes wrong, in which renderer or tool, when the rule's finding is ignored."""
+    return PROVENANCE[rule.code][0]
+
+
+def sources(rule: Rule) -> list[str]:
+    """Where that behaviour is specified or implemented: URLs and ``owner/repository:path`` citations."""
+    return PROVENANCE[rule.code][1].split("; ")

@@ -1,0 +1,264 @@
+"""Why each rule exists: the renderer or tool behaviour it protects against, and where that
+behaviour is specified or implemented.
+
+``PROVENANCE[code] = (protects, sources)``. ``protects`` says what goes wrong, and where, when the
+finding is ignored (for a style or policy rule: what it protects instead). ``sources`` are
+citations separated by ``"; "``, each an ``https://`` URL or ``owner/repository:path`` in a public
+GitHub repository (the specification or the code that behaves so). ``openpbr rules CODE`` and the
+SARIF rule help show both; a test checks that every rule has them.
+"""
+
+from __future__ import annotations
+
+_MX = "AcademySoftwareFoundation/MaterialX:"
+MX_SPEC = _MX + "documents/Specification/MaterialX.Specification.md"
+MX_PBR = _MX + "documents/Specification/MaterialX.PBRSpec.md"
+MX_NODES = _MX + "documents/Specification/MaterialX.StandardNodes.md"
+MX_VALIDATE = _MX + "source/MaterialXCore/Document.cpp"
+MX_NODE = _MX + "source/MaterialXCore/Node.cpp"
+MX_XML = _MX + "source/MaterialXFormat/XmlIo.cpp"
+MX_VERSION = _MX + "source/MaterialXCore/Version.cpp"
+MX_UNITS = _MX + "source/MaterialXCore/Unit.cpp"
+MX_CMS = _MX + "source/MaterialXGenShader/DefaultColorManagementSystem.cpp"
+MX_CMLIB = _MX + "libraries/cmlib/cmlib_defs.mtlx"
+MX_STDLIB = _MX + "libraries/stdlib/stdlib_defs.mtlx"
+MX_OPENPBR = _MX + "libraries/bxdf/open_pbr_surface.mtlx"
+MX_PREVIEW = _MX + "libraries/bxdf/usd_preview_surface.mtlx"
+OPENPBR = "https://academysoftwarefoundation.github.io/OpenPBR/"
+OPENPBR_SRC = "AcademySoftwareFoundation/OpenPBR:index.html"
+_USD = "PixarAnimationStudios/OpenUSD:"
+USD_PREVIEW = "https://openusd.org/release/spec_usdpreviewsurface.html"
+USDZ = "https://openusd.org/release/spec_usdz.html"
+USD_SHADER = _USD + "pxr/usd/usdShade/shader.h"
+USD_CONNECT = _USD + "pxr/usd/usdShade/connectableAPI.h"
+USD_MTLX = _USD + "pxr/usd/usdMtlx/reader.cpp"
+HD_MTLX = _USD + "pxr/imaging/hdMtlx/hdMtlx.cpp"
+HD_ST = _USD + "pxr/imaging/hdSt/materialNetwork.cpp"
+HIO_STB = _USD + "pxr/imaging/hio/stbImage.cpp"
+GF_COLOR = _USD + "pxr/base/gf/colorSpace.h"
+USD_METRICS = _USD + "pxr/usd/usdGeom/metrics.h"
+USD_COMPLIANCE = _USD + "pxr/usd/usdUtils/complianceChecker.py"
+USDZ_FORMAT = _USD + "pxr/usd/usd/usdzFileFormat.cpp"
+_GLTF = "KhronosGroup/glTF:"
+GLTF = _GLTF + "specification/2.0/Specification.adoc"
+GLTF_MATERIAL_SCHEMA = _GLTF + "specification/2.0/schema/material.schema.json"
+
+
+def khr(name: str) -> str:
+    return f"{_GLTF}extensions/2.0/Khronos/{name}/README.md"
+
+
+FILAMENT = "https://google.github.io/filament/Filament.html"
+
+PROVENANCE: dict[str, tuple[str, str]] = {
+    # -- document ------------------------------------------------------------------------------
+    "OPBR001": ("Nothing can be rendered or checked: every renderer's loader fails on the file, usually at "
+                "render time on a farm rather than at check-in.", MX_XML),
+    "OPBR002": ("MaterialX (pugixml), usd-core (Sdf/Usd layer readers) and glTF loaders refuse malformed files: the "
+                "asset loads nowhere, or loads truncated in lenient readers.", f"{MX_XML}; {GLTF}"),
+    "OPBR003": ("Nothing renders wrong; it tells a reviewer the file was checked and held no material (a library, a "
+                "geometry layer), so a clean report is not mistaken for a verified material.", MX_SPEC),
+    "OPBR004": ("MaterialX's own Document.validate() rejects the document: its shader generators (GLSL, OSL, MDL) "
+                "skip or fail on invalid elements, so what renders is not what was authored.", MX_VALIDATE),
+    "OPBR005": ("MaterialX upgrades documents older than its version on load (Document::upgradeVersion), renaming "
+                "and re-wiring nodes; open_pbr_surface exists from 1.39 only, so older documents hold something "
+                "else than the author believes.", MX_VERSION),
+    "OPBR006": ("No renderer in the pipeline reads the file as a material; it protects a CI gate from passing a "
+                "file it never looked at.", MX_SPEC),
+    "OPBR007": ("MaterialX's pugixml parser accepts malformed XML that standard XML tools, DCC importers and "
+                "linters reject: the file works in one tool and fails in the next.", f"{MX_XML}; "
+                "https://www.w3.org/TR/xml/#sec-well-formed"),
+    "OPBR008": ("A misspelt configuration key would silently disable a project's policy; the gate refuses to run "
+                "rather than pass everything.", "https://toml.io/en/v1.0.0"),
+    "OPBR009": ("An include that is not followed leaves its definitions out: MaterialX reports missing nodedefs "
+                "and renderers see an incomplete look; an include outside the asset breaks when the asset is "
+                "moved.", MX_XML),
+    "OPBR010": ("MaterialX cannot follow a missing, unreadable or circular XInclude: readXIncludes fails, and the "
+                "document loads without the definitions it relies on.", MX_XML),
+    # -- names ---------------------------------------------------------------------------------
+    "OPBR101": ("MaterialX shader generation ignores an input that matches no nodedef input (Document.validate "
+                "flags it): the value silently renders as the default.", f"{MX_NODE}; {MX_OPENPBR}"),
+    "OPBR102": ("An input of another OpenPBR version matches no input of the installed nodedef: renderers drop it "
+                "and render the default.", f"{MX_OPENPBR}; {OPENPBR}"),
+    "OPBR103": ("MaterialX keeps only one of two same-named children (which one depends on the reader), so the "
+                "value that renders differs between tools.", f"{MX_XML}; {MX_SPEC}"),
+    "OPBR104": ("A node of a category no nodedef declares cannot be generated: MaterialX's code generators fail "
+                "or drop the node and everything downstream.", f"{MX_VALIDATE}; {MX_NODE}"),
+    "OPBR105": ("A shader naming a nodedef that does not exist cannot bind: MaterialX falls back to no "
+                "implementation and the material does not render.", f"{MX_NODE}; {MX_SPEC}"),
+    "OPBR106": ("MaterialX binds a node to the nodedef of its version attribute; a disagreeing version binds "
+                "another definition (other inputs and defaults) or none.", f"{MX_NODE}; {MX_SPEC}"),
+    # -- values --------------------------------------------------------------------------------
+    "OPBR201": ("MaterialX reports a type mismatch and code generators either reject the input or reinterpret "
+                "its components (a float read as a colour), so the value renders differently or not at all.",
+                f"{MX_VALIDATE}; {MX_OPENPBR}"),
+    "OPBR202": ("MaterialX parses an unparsable value as empty and renders the default (a decimal comma becomes "
+                "two components); the authored value never reaches the renderer.", f"{MX_SPEC}; {GLTF}"),
+    "OPBR203": ("NaN and infinity propagate through shading: black or white pixels, fireflies, and NaN pixels "
+                "that poison denoisers and compositing.", f"{MX_SPEC}; {GLTF}"),
+    "OPBR204": ("Uniform inputs must be constant; shading languages reject a varying connection (OSL) or ignore "
+                "it (GLSL), so geometry_thin_walled from a texture renders inconsistently.", f"{MX_OPENPBR}; {OPENPBR}"),
+    # -- ranges --------------------------------------------------------------------------------
+    "OPBR301": ("Outside the physically meaningful range renderers clamp differently (or not at all): energy "
+                "gain, negative lobes, black or glowing surfaces that differ between renderers.",
+                f"{OPENPBR}; {GLTF_MATERIAL_SCHEMA}; {USD_PREVIEW}"),
+    "OPBR302": ("Legal but unusual values that some exporters and renderers clamp to the UI range (uimin/uimax of "
+                "the nodedef), so the look can change on export.", f"{MX_OPENPBR}; {OPENPBR}"),
+    "OPBR303": ("An enum outside its list has no defined behaviour: glTF loaders reject the file, MaterialX's "
+                "switch nodes fall through to a default branch.", f"{GLTF_MATERIAL_SCHEMA}; {MX_PREVIEW}; {USD_PREVIEW}"),
+    "OPBR304": ("A renderer working in the document's colour space reflects more than 100% in the channel above "
+                "1 (energy gain); OpenPBR assumes in-gamut albedos.", f"{OPENPBR_SRC}; {MX_CMLIB}"),
+    # -- version -------------------------------------------------------------------------------
+    "OPBR401": ("Nothing renders wrong; it records which OpenPBR version the material was read as, the basis of "
+                "every other check and of the translation.", f"{OPENPBR}; {MX_OPENPBR}"),
+    "OPBR402": ("Renderers bind the current open_pbr_surface nodedef: inputs renamed or reinterpreted since the "
+                "material's version render differently or not at all.", f"{MX_OPENPBR}; {OPENPBR}"),
+    "OPBR403": ("No single nodedef declares all the inputs: whichever version a renderer binds, part of the "
+                "material is dropped.", f"{MX_OPENPBR}; {OPENPBR}"),
+    "OPBR404": ("One file binding several OpenPBR versions renders as two looks in one pipeline; libraries drift "
+                "apart.", MX_OPENPBR),
+    "OPBR405": ("A project pins the OpenPBR version its renderers implement; another version renders differently "
+                "there.", f"{OPENPBR}; {MX_OPENPBR}"),
+    "OPBR406": ("The installed MaterialX has no nodedef for the legacy inputs or node version: validate rejects "
+                "the file and generators render defaults (openpbr upgrade rewrites it).", f"{MX_OPENPBR}; {MX_VALIDATE}"),
+    # -- colour spaces -------------------------------------------------------------------------
+    "OPBR501": ("OpenPBR's specification assumes ACEScg, MaterialX's default colour management lin_rec709: the "
+                "same numbers render as two different colours.", f"{OPENPBR}; {MX_CMS}; {MX_SPEC}"),
+    "OPBR502": ("MaterialX's colour management finds no transform for an unknown name and applies none: the "
+                "texture or colour renders in the wrong space (sRGB albedo rendered as linear).",
+                f"{MX_CMS}; {MX_CMLIB}"),
+    "OPBR503": ("A colour texture read as raw skips the sRGB decode: albedo renders washed out (too bright in the "
+                "mid-tones).", f"{MX_CMS}; {MX_SPEC}"),
+    "OPBR504": ("A colour transform bends data: an sRGB-decoded roughness of 0.5 renders as 0.21, metalness and "
+                "normals likewise; Storm decodes UsdUVTexture 'auto' 8-bit RGB(A) as sRGB.",
+                f"{MX_CMS}; {HIO_STB}; {USD_PREVIEW}"),
+    "OPBR505": ("A project renders in one working space; a document in another converts differently per tool.",
+                f"{MX_CMS}; {OPENPBR}"),
+    "OPBR506": ("A texture in a colour space the pipeline's renderers or OCIO config lack renders unconverted.",
+                MX_CMS),
+    "OPBR507": ("MaterialX colour-manages color3/color4 images only, UsdMtlx drops the attribute, other renderers "
+                "apply it: one file, different roughness or normals per renderer.", f"{MX_CMS}; {USD_MTLX}"),
+    # -- units ---------------------------------------------------------------------------------
+    "OPBR601": ("MaterialX converts lengths through the unittype's converter; a wrong unittype converts with the "
+                "wrong table or not at all.", f"{MX_UNITS}; {MX_STDLIB}"),
+    "OPBR602": ("MaterialX's distance converter has no factor for an unknown unit and leaves the value as is: a "
+                "depth in inches renders as metres.", f"{MX_UNITS}; {MX_STDLIB}"),
+    "OPBR603": ("Nothing renders wrong in one scene; without a unit a length means the scene unit, so the same "
+                "file renders differently in scenes of other scales (style choice: info).", f"{MX_UNITS}; {USD_METRICS}"),
+    "OPBR604": ("A unit on an input with no or a fixed unit is ignored by MaterialX: the author believes a "
+                "conversion happens that does not.", f"{MX_UNITS}; {MX_OPENPBR}"),
+    "OPBR605": ("OpenPBR's thin_film_thickness is in micrometres: a value in nanometres (500) is a 0.5 mm film, "
+                "whose interference washes out to no iridescence.", f"{OPENPBR}; {MX_OPENPBR}"),
+    # -- textures ------------------------------------------------------------------------------
+    "OPBR701": ("A missing image renders as the image node's default (usually black or magenta) or fails the "
+                "render on a farm.", f"{MX_NODES}; {USD_PREVIEW}"),
+    "OPBR702": ("MaterialX rejects a connection whose types differ, or the generator converts with a default "
+                "channel rule: the wrong channel drives the input.", f"{MX_VALIDATE}; {MX_NODES}"),
+    "OPBR703": ("A tangent-space normal map read without normalmap is used as a raw vector in [0, 1]: every "
+                "normal tilts towards +X+Y+Z.", f"{MX_NODES}; {MX_OPENPBR}"),
+    "OPBR704": ("Absolute paths, '..' and URLs break when the asset is moved, packaged (USDZ, glTF) or rendered "
+                "on a farm; a symlink out of the folder breaks on copy.", f"{USD_COMPLIANCE}; {GLTF}"),
+    "OPBR705": ("An image node without a file renders its default: the texture silently vanishes.",
+                f"{MX_NODES}; {USD_PREVIEW}"),
+    # -- structure -----------------------------------------------------------------------------
+    "OPBR801": ("A material without a surface shader renders black or with the renderer's fallback shader.",
+                f"{MX_SPEC}; {USD_SHADER}"),
+    "OPBR802": ("A dangling reference is dropped by MaterialX and USD: the input falls back to its default or "
+                "the material to nothing.", f"{MX_VALIDATE}; {USD_CONNECT}"),
+    "OPBR803": ("Nothing renders wrong; the toolkit cannot check (or translate without baking) a procedural "
+                "graph, and says so.", MX_NODES),
+    "OPBR804": ("Nothing renders wrong; an unbound shader is usually left over and never reaches a renderer.",
+                MX_SPEC),
+    # -- plausibility --------------------------------------------------------------------------
+    "OPBR901": ("Real metals reflect at least ~50% at normal incidence; a darker metal reads as plastic under "
+                "image-based light (info: heuristic, some measured alloys come close).",
+                f"{FILAMENT}; https://physicallybased.info/"),
+    "OPBR902": ("Diffuse albedos of real materials lie roughly in [0.02, 0.9]; outside, lighting and exposure "
+                "look wrong (info: heuristic, Spectralon and the darkest paints exist).",
+                f"{FILAMENT}; https://physicallybased.info/"),
+    "OPBR903": ("OpenPBR's metal is opaque: transmission under base_metalness 1 has no effect in any renderer, "
+                "so the author's intent is lost.", f"{OPENPBR}; {khr('KHR_materials_transmission')}"),
+    "OPBR904": ("A thin film of zero thickness has no interference: the iridescence the author set does not "
+                "render.", f"{OPENPBR}; {khr('KHR_materials_iridescence')}"),
+    "OPBR905": ("An IOR below 1 inverts the Fresnel behaviour (total internal reflection from outside); rare "
+                "outside metamaterials and usually a typo.", f"{OPENPBR}; {khr('KHR_materials_ior')}"),
+    "OPBR906": ("Partial metalness is a blend of metal and dielectric that rarely exists in nature; usually an "
+                "anti-aliasing value painted as a constant (info).", f"{OPENPBR}; {FILAMENT}"),
+    "OPBR907": ("The emission set does not render (luminance 0, or a black colour): intent lost, or a leftover "
+                "that a later edit will make glow.", f"{OPENPBR}; {khr('KHR_materials_emissive_strength')}"),
+    "OPBR908": ("A fully transparent surface renders nothing, not even reflections (info: intentional for "
+                "cut-outs).", OPENPBR),
+    # -- usd -----------------------------------------------------------------------------------
+    "OPBR1001": ("Without info:id (or a source asset/code) Sdr cannot find the shader's definition: Hydra "
+                 "renders the material with its fallback.", f"{USD_SHADER}; {_USD}pxr/usd/sdr/shaderNode.h"),
+    "OPBR1002": ("Hydra and UsdMtlx type MaterialX inputs from the USD type (role and precision): a wrong role "
+                 "or a double can make hdMtlx drop or mis-convert the input.", f"{HD_MTLX}; {USD_MTLX}"),
+    "OPBR1003": ("An info:id that names no Sdr node is not found in the registry: Storm and other delegates "
+                 "render the fallback material.", f"{USD_SHADER}; {HD_MTLX}"),
+    "OPBR1004": ("USD colour-space names and MaterialX names are different schemes: a name from the wrong one is "
+                 "unknown where it is read, and no conversion happens.", f"{GF_COLOR}; {HD_MTLX}; {MX_CMS}"),
+    "OPBR1005": ("UsdShade connects attributes whose types differ, but Hydra drops or reinterprets the value "
+                 "(a float into a colour): the input renders its default.", f"{USD_CONNECT}; {HD_ST}"),
+    "OPBR1006": ("UsdPreviewSurface expects tangent-space normals in [-1, 1]; an 8-bit image stores (n + 1) / 2 "
+                 "and must be decoded by scale and bias, or every normal tilts.", f"{USD_PREVIEW}; {HD_ST}"),
+    "OPBR1007": ("A non-zero opacityThreshold makes opacity a cut-out in Storm and MaterialX's "
+                 "ND_UsdPreviewSurface, overriding opacityMode; with opacity 1 it cuts nothing.",
+                 f"{USD_PREVIEW}; {MX_PREVIEW}"),
+    "OPBR1008": ("UsdPreviewSurface ignores the other workflow's inputs: the authored specularColor or metallic "
+                 "does not render.", f"{USD_PREVIEW}; {MX_PREVIEW}"),
+    "OPBR1009": ("Viewports and clients without MaterialX render the UsdPreviewSurface fallback: a fallback far "
+                 "from the OpenPBR look shows another material there.", f"{USD_PREVIEW}; {HD_MTLX}"),
+    "OPBR1010": ("usd-core's own validators (the anchor) flag stages that load or render wrongly in USD tools "
+                 "(composition errors, missing stage metrics).", f"{USD_COMPLIANCE}; {USD_METRICS}"),
+    "OPBR1011": ("An arc outside the asset breaks when the asset moves or is packaged, and reads files the "
+                 "asset's owner did not ship; the toolkit never opens it.", f"{USDZ}; {USD_COMPLIANCE}"),
+    "OPBR1012": ("The USDZ specification requires stored (uncompressed), relative, aligned entries; ARKit and "
+                 "usd-core refuse or mis-read others, and '..' names can write outside on extraction.",
+                 f"{USDZ}; {USDZ_FORMAT}"),
+    "OPBR1013": ("usd-core without the usdMtlx plugin cannot open a referenced .mtlx: those materials are "
+                 "absent in builds without it (the toolkit validates the .mtlx itself).", USD_MTLX),
+    "OPBR1014": ("hdMtlx passes a Gf colour-space name to MaterialX unchanged; MaterialX 1.39.4+ maps it to its "
+                 "own, older versions do not (no conversion there).", f"{HD_MTLX}; {MX_CMS}; {GF_COLOR}"),
+    # -- translation ---------------------------------------------------------------------------
+    "OPBR1101": ("Nothing is lost; a rename recorded so a reviewer can follow a value across models and "
+                 "versions.", f"{OPENPBR}; {MX_OPENPBR}"),
+    "OPBR1102": ("Nothing is lost; the value changed form exactly (units, folded parameters) and the report says "
+                 "how.", f"{OPENPBR}; {GLTF}"),
+    "OPBR1103": ("The target renders a close but different look; without the note the difference would be "
+                 "discovered in review or never.", f"{OPENPBR}; {GLTF}; {USD_PREVIEW}"),
+    "OPBR1104": ("The target cannot hold the value: without the note a converted asset silently loses "
+                 "a feature (a coat, a texture, a tint).", f"{OPENPBR}; {GLTF}; {USD_PREVIEW}"),
+    "OPBR1105": ("A default changed between versions: writing it explicitly keeps the look when the file is "
+                 "read with the new defaults.", f"{OPENPBR}; {MX_OPENPBR}"),
+    "OPBR1106": ("Nothing is lost; a node graph now carries the value, which some viewers evaluate differently "
+                 "than a constant.", MX_NODES),
+    "OPBR1107": ("The target version reads the input differently with no known compensation: the look shifts.",
+                 f"{OPENPBR}; {MX_OPENPBR}"),
+    "OPBR1108": ("Nothing is wrong; the measured difference between original and conversion, the evidence "
+                 "behind 'converted'.", "https://www.ece.rochester.edu/~gsharma/ciede2000/"),
+    "OPBR1109": ("The converted material differs visibly (mean CIEDE2000 above the threshold) in the lobe "
+                 "evaluator's render.", "https://www.ece.rochester.edu/~gsharma/ciede2000/"),
+    # -- gltf ----------------------------------------------------------------------------------
+    "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
+                 "errors): the extension's look is lost.", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),
+    "OPBR1202": ("A loader that does not support a required extension must refuse the whole asset; the toolkit "
+                 "cannot check what that extension does.", GLTF),
+    "OPBR1203": ("The glTF specification forbids combining these extensions (pbrSpecularGlossiness with the PBR "
+                 "extensions, unlit with others): loaders pick one.", f"{GLTF}; {khr('KHR_materials_pbrSpecularGlossiness')}"),
+    "OPBR1204": ("The material's look is defined by an extension gltf_pbr (and OpenPBR) cannot carry: it is "
+                 "lost in MaterialX and in conversion.", f"{khr('KHR_materials_unlit')}; {_MX}libraries/bxdf/gltf_pbr.mtlx"),
+    "OPBR1205": ("A texture reading a UV set the mesh does not have samples nothing (or set 0) in loaders: the "
+                 "texture renders wrong or as its factor.", GLTF),
+    "OPBR1206": ("WebGL 1 cannot mipmap or wrap non-power-of-two images; older loaders resample (info).", GLTF),
+    "OPBR1207": ("Core glTF allows PNG and JPEG only; other images need their texture extension or loaders "
+                 "skip them.", f"{GLTF}; {khr('KHR_texture_basisu')}"),
+    "OPBR1208": ("emissive_strength multiplies emissiveFactor; with nothing emitted it has no effect (a likely "
+                 "authoring slip).", khr("KHR_materials_emissive_strength")),
+    "OPBR1209": ("A buffer or image that cannot be loaded fails the asset in glTF loaders and the Khronos "
+                 "validator.", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),
+    "OPBR1210": ("A property of the wrong JSON type violates the schema: loaders ignore it or refuse the file.",
+                 f"{GLTF_MATERIAL_SCHEMA}; {GLTF}"),
+    "OPBR1211": ("The extension texts say these settings do nothing (transmission on a metal, a volume without "
+                 "transmission, dispersion without a volume): intent lost, and viewers differ.",
+                 f"{khr('KHR_materials_volume')}; {khr('KHR_materials_dispersion')}; {khr('KHR_materials_iridescence')}"),
+}
