@@ -124,6 +124,15 @@ class Baker:
             values = values + np.asarray(texture.bias, dtype=np.float64)
         return np.asarray(values, dtype=np.float64)
 
+    def mean(self, texture: Texture, type_name: str, owner: str):
+        """The texture's mean value for a parameter of ``type_name`` in linear Rec.709 (a float, or a
+        3-tuple for a colour or vector), averaged over its texels after channels, colour space, scale
+        and bias: what ``convert --verify`` evaluates a textured input at. ``BakeError`` when the
+        image cannot be read or is not a plain lookup (UDIM set, normal map)."""
+        values = self.texels(texture, type_name, LINEAR_REC709, owner)
+        flat = values.reshape(-1, values.shape[-1]).mean(axis=0)
+        return float(flat[0]) if flat.size == 1 else tuple(float(v) for v in flat)
+
     # -- baking -----------------------------------------------------------------------------
     def bake(self, material, mapping, values, target_type: str, label: str, texturable: bool = True) -> Baked:
         """``mapping.formula`` over the textured sources of ``mapping`` (see the module docstring)."""

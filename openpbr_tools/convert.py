@@ -28,12 +28,12 @@ from .diagnostics import Diagnostic
 from .io import read_asset
 from .io.gltf.document import load_document
 from .io.paths import Kind, PathGuard, classify
-from .model import Asset, Connection, Material, Texture
+from .model import Asset, Connection, Constant, Material, Texture
 from .resources import load_json
 from .rules import Context
 from .rules.translation import APPROXIMATED, NOT_CARRIED, VERIFIED, VERIFY_THRESHOLD
 from .bake import Baker
-from .translate.common import Settings
+from .translate.common import BakeError, Settings
 from .translate.convert import MODELS, convert
 
 OUTPUT_KINDS = {".mtlx": "mtlx", ".usda": "usd", ".usdc": "usd", ".usd": "usd", ".usdz": "usd",
@@ -48,6 +48,9 @@ class Conversion:
     materials: list[Material] = field(default_factory=list)
     diagnostics: list[Diagnostic] = field(default_factory=list)
     pairs: list[tuple[Material, Material]] = field(default_factory=list)  # (source, result) per material
+    output: str | None = None  # the written file
+    baker: Baker | None = None  # holds the images baked for the output (read back by measure)
+    allow_outside: tuple[str, ...] = ()
 
 
 def output_kind(path: str) -> str | None:
@@ -99,13 +102,14 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     context = settings.context
     asset = read_asset(input_path, tuple(allow_outside))
     target = {"mtlx": target or "open_pbr_surface", "usd": "open_pbr_surface", "gltf": "gltf_pbr"}[kind]
-    result = Conversion(asset)
+    result = Conversion(asset, output=os.path.abspath(output_path), allow_outside=tuple(allow_outside))
     # Baked images go beside a .mtlx/.usda/.usdc output (<stem>_textures/); a glTF or USDZ output
     # embeds or copies them, so they wait in a temporary folder that is removed afterwards.
     packaged = kind == "gltf" or output_path.lower().endswith(".usdz")
     staging = tempfile.mkdtemp(prefix="openpbr-bake-") if packaged else None
     baker = Baker(asset.path, staging or os.path.abspath(os.path.splitext(output_path)[0] + "_textures"),
                   tuple(allow_outside), png_only=kind == "gltf")
+    result.baker = baker
     try:
         for material in asset.materials:
             if material.model not in MODELS:
@@ -278,7 +282,45 @@ def measure(conversion: Conversion) -> list[tuple[Material, object]]:
     factors) and an ACEScg source are compared fairly."""
     from .evaluate.verify import compare_materials  # lazy: the evaluator loads its albedo tables
 
-    return [(source, compare_materials(source, result).preview) for source, result in conversion.pairs]
+    readers = _texture_readers(conversion)
+    return [(source, compare_materials(_at_mean_texels(source, readers), _at_mean_texels(result, readers)).preview)
+            for source, result in conversion.pairs]
+
+
+def _texture_readers(conversion: Conversion) -> list[Baker]:
+    """Bakers that can read a texture of the source or of the result: the conversion's own (the
+    source's folder, and the images it baked), then one anchored at the output (rebased or packaged
+    textures), allowed to read the source's folder too."""
+    readers = [conversion.baker] if conversion.baker is not None else []
+    if conversion.output:
+        source_folder = os.path.dirname(os.path.abspath(conversion.asset.path))
+        readers.append(Baker(conversion.output, tempfile.gettempdir(), conversion.allow_outside + (source_folder,)))
+    return readers
+
+
+def _at_mean_texels(material: Material, readers: list[Baker]) -> Material:
+    """``material`` with each texture replaced by its mean texel (linear Rec.709), so the lobe
+    evaluator, which shades constants, compares textured materials at a representative value
+    rather than at their fallbacks. Textures no reader can read keep their fallback."""
+    table = tables.table(material.model, material.version) if material.version else tables.table(material.model)
+    inputs = dict(material.inputs)
+    for name, entry in material.inputs.items():
+        texture, parameter = entry.texture, table.get(name)
+        if texture is None or parameter is None or parameter.role in ("normal", "tangent") or texture.normal_map:
+            continue
+        for reader in readers:
+            try:
+                mean = reader.mean(texture, parameter.type, f"{material.name}.{name}")
+            except BakeError:
+                continue
+            if parameter.type in ("color3", "vector3") and not isinstance(mean, tuple):
+                mean = (mean,) * 3
+            if parameter.type not in ("color3", "vector3") and isinstance(mean, tuple):
+                mean = mean[0]
+            inputs[name] = dataclasses.replace(entry, value=Constant(mean),
+                                               colorspace="lin_rec709" if parameter.role == "color" else None)
+            break
+    return dataclasses.replace(material, inputs=inputs)
 
 
 def verify(conversion: Conversion, threshold: float = 2.0, context: Context | None = None,

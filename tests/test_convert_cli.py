@@ -159,3 +159,23 @@ def test_max_delta_e_fails_the_command_and_names_the_material(tmp_path, write_mt
     assert "OPBR1109" in strict.stdout  # the report carries the number at the material
     lenient = CliRunner().invoke(cli, ["convert", str(source), "-o", str(tmp_path / "b.gltf"), "--max-delta-e", "100"])
     assert lenient.exit_code == 0 and "OPBR1108" in lenient.stdout
+
+
+def test_verify_evaluates_textures_at_their_mean_texel(tmp_path):
+    # A uniform sRGB texture (level 128 decodes to 0.2158 linear, IEC 61966-2-1) against the constant
+    # it stands for: the evaluator shades constants, so --verify must read the texture, not its fallback
+    # (absent here: OpenPBR's default base colour 0.8 would be 20+ CIEDE2000 away).
+    from PIL import Image
+
+    Image.new("RGB", (8, 8), (128, 128, 128)).save(tmp_path / "grey.png")
+    source = tmp_path / "textured.mtlx"
+    source.write_text(
+        '<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n'
+        '  <image name="img" type="color3"><input name="file" type="filename" value="grey.png" colorspace="srgb_texture" /></image>\n'
+        '  <open_pbr_surface name="S" type="surfaceshader"><input name="base_color" type="color3" nodename="img" /></open_pbr_surface>\n'
+        '  <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>\n'
+        '</materialx>\n')
+    result = CliRunner().invoke(cli, ["convert", str(source), "-o", str(tmp_path / "out.gltf"), "--verify",
+                                      "--format", "json"])
+    (verified,) = [d for d in json.loads(result.stdout)["diagnostics"] if d["code"] in ("OPBR1108", "OPBR1109")]
+    assert verified["code"] == "OPBR1108" and float(verified["message"].split("mean ")[1].split(",")[0]) < 0.5
