@@ -2,21 +2,26 @@
 
 from __future__ import annotations
 
+import glob
 import os
 import sys
 
 import click
 
-from cli.validate_cmd import SEVERITIES, _severity
+from cli.validate_cmd import SEVERITIES, _progress_bar, _severity
 from openpbr_tools.reports import FORMATS
 
 MODELS = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
+OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tools.batch.OUTPUT_SUFFIXES
 
 
 @click.command()
-@click.argument("input_path", metavar="INPUT", type=click.Path(dir_okay=False))
-@click.option("--output", "-o", required=True, type=click.Path(dir_okay=False),
-              help="Output file: .mtlx, .usda/.usdc/.usdz (OpenPBR plus a UsdPreviewSurface fallback), .gltf/.glb.")
+@click.argument("inputs", metavar="INPUT...", nargs=-1, required=True)
+@click.option("--output", "-o", required=True, type=click.Path(),
+              help="Output file: .mtlx, .usda/.usdc/.usdz (OpenPBR plus a UsdPreviewSurface fallback), .gltf/.glb; "
+                   "with several inputs, a folder or a glob, or --output-format: the output folder.")
+@click.option("--output-format", "batch_format", type=click.Choice(sorted(OUTPUT_FORMATS)),
+              help="Batch form: the format of every output, written under --output mirroring the input tree.")
 @click.option("--to", "target", type=click.Choice(MODELS), help="Shading model of a .mtlx output [default: open_pbr_surface].")
 @click.option("--mesh", type=click.Choice(["sphere"]), help="glTF: add a UV sphere per material so any viewer shows it.")
 @click.option("--nits-per-unit", type=click.FloatRange(min=1e-9), default=1.0, show_default=True,
@@ -28,19 +33,40 @@ MODELS = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface
               help="With --verify: warn when a material's mean CIEDE2000 exceeds this.")
 @click.option("--max-delta-e", type=click.FloatRange(min=0), default=None, metavar="X",
               help="Implies --verify: exit 1 when a material's mean CIEDE2000 exceeds X (the report names it).")
-@click.option("--force", is_flag=True, help="Overwrite OUTPUT if it exists.")
+@click.option("--force", is_flag=True, help="Overwrite OUTPUT (batch: any output) if it exists.")
+@click.option("--skip-existing", is_flag=True,
+              help="Batch: keep an output newer than its input and the toolkit (an interrupted run resumes).")
+@click.option("--jobs", "-j", type=click.IntRange(min=1), default=None, help="Batch: worker processes [default: cores].")
+@click.option("--changed-since", metavar="REF", help="Batch: only inputs git reports changed since REF.")
+@click.option("--shard", metavar="I/N", help="Batch: only shard I of N of the inputs.")
+@click.option("--scheduler", metavar="ADDRESS", help="Batch: run on a Dask distributed cluster (needs the dask extra).")
+@click.option("--scheduler-timeout", type=float, default=30.0, show_default=True, metavar="SECONDS",
+              help="How long to wait for the Dask scheduler.")
+@click.option("--progress/--no-progress", default=None, help="Batch: progress on stderr [default: when stderr is a terminal].")
 @click.option("--format", "output_format", type=click.Choice(FORMATS), default="text", show_default=True,
               help="Format of the loss report.")
 @click.option("--fail-on", type=click.Choice(SEVERITIES + ("never",)), default="never", show_default=True,
               callback=_severity, help="Exit 1 when a report entry reaches this severity (error: something was dropped).")
-def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, verify, threshold, max_delta_e, force,
-            output_format, fail_on):
+def convert(inputs, output, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, max_delta_e,
+            force, skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format,
+            fail_on):
     """Convert every material of INPUT (.mtlx, USD, glTF) and write OUTPUT; the report lists every
     conversion, approximation and loss.
+
+    Batch form: several INPUTs, folders (searched recursively) or globs, or --output-format, write one
+    output per input under the folder OUTPUT, mirroring the input tree, with one combined report.
 
     Exit codes: 0 written, 1 written but a report entry reached --fail-on, 2 unreadable input or
     refused output (existing without --force, or the input itself).
     """
+    if batch_format or len(inputs) > 1 or os.path.isdir(inputs[0]) or (glob.has_magic(inputs[0]) and not os.path.exists(inputs[0])):
+        if max_delta_e is not None:
+            raise click.UsageError("--max-delta-e applies to one input; use --verify --threshold X with several")
+        _batch(inputs, output, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, force,
+               skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on)
+        return
+    input_path = inputs[0]
+
     # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.convert import convert_file, output_kind
     from openpbr_tools.diagnostics import Diagnostic
@@ -83,4 +109,41 @@ def convert(input_path, output, target, mesh, nits_per_unit, allow_outside, veri
     if too_far:
         click.echo(f"mean CIEDE2000 above --max-delta-e {max_delta_e:g}: {', '.join(sorted(too_far))}", err=True)
         sys.exit(max(1, report.exit_code(fail_on)))
+    sys.exit(report.exit_code(fail_on))
+
+
+def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, force,
+           skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on):
+    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
+    from openpbr_tools import batch
+    from openpbr_tools.reports import render
+    from openpbr_tools.selection import SelectionError, parse_shard
+    from openpbr_tools.validate import Options
+
+    if not batch_format:
+        raise click.UsageError("several inputs, a folder or a glob need --output-format (gltf, glb, usda, usdc, usdz, mtlx)")
+    if target and batch_format != "mtlx":
+        raise click.UsageError("--to applies to .mtlx output; USD gets OpenPBR plus UsdPreviewSurface, glTF gets glTF PBR")
+    if os.path.exists(outdir) and not os.path.isdir(outdir):
+        raise click.UsageError(f"{outdir} is a file; the batch form writes into a folder")
+    try:
+        shard_range = parse_shard(shard) if shard else None
+    except SelectionError as error:
+        raise click.UsageError(str(error)) from None
+    options = Options(jobs=jobs or os.cpu_count() or 1, changed_since=changed_since, shard=shard_range,
+                      scheduler=scheduler, scheduler_timeout=scheduler_timeout)
+    planned = batch.plan(inputs, outdir, batch_format, force=force, skip_existing=skip_existing, options=options,
+                         target=target, nits_per_unit=nits_per_unit, mesh=mesh,
+                         allow_outside=tuple(os.path.abspath(f) for f in allow_outside), verify=verify,
+                         threshold=threshold)
+    show_progress = sys.stderr.isatty() if progress is None else progress
+    try:
+        report = batch.run(planned, options, progress=_progress_bar() if show_progress else None)
+    except RuntimeError as error:  # a cluster that cannot be reached
+        raise click.UsageError(str(error)) from None
+    if show_progress:
+        click.echo("", err=True)
+    click.echo(render(report, output_format, fail_on), nl=False)
+    written = sum(1 for result in report.files if not result.unreadable)
+    click.echo(f"wrote {written} file(s) under {outdir}; {len(planned.skipped)} up to date, skipped", err=True)
     sys.exit(report.exit_code(fail_on))

@@ -212,13 +212,22 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
 
 
 def _run(tasks, options: Options, progress) -> list[FileResult]:
+    return run_chunks(tasks, _validate_chunk, options, progress)
+
+
+def run_chunks(tasks: list, work_chunk, options: Options, progress, threshold: int = POOL_THRESHOLD) -> list:
+    """``work_chunk`` (a module-level function of a list of tasks, returning one result per task)
+    over ``tasks``: in this process, in a process pool of ``options.jobs`` (from ``threshold`` tasks
+    on), or on the Dask cluster at ``options.scheduler``. Results keep the tasks' order whichever
+    way they ran; ``progress(done, total)`` is called as they arrive. Shared by validate and the
+    batch form of convert."""
     total = len(tasks)
     if options.scheduler:
-        return run_on_cluster(tasks, options.scheduler, _validate_chunk, _chunks, timeout=options.scheduler_timeout)
-    if options.jobs <= 1 or total < POOL_THRESHOLD:
+        return run_on_cluster(tasks, options.scheduler, work_chunk, _chunks, timeout=options.scheduler_timeout)
+    if options.jobs <= 1 or total < threshold:
         results = []
-        for done, (path, context) in enumerate(tasks, 1):
-            results.append(validate_file(path, context))
+        for done, task in enumerate(tasks, 1):
+            results += work_chunk([task])
             if progress:
                 progress(done, total)
         return results
@@ -229,7 +238,7 @@ def _run(tasks, options: Options, progress) -> list[FileResult]:
     ordered: list[list[FileResult] | None] = [None] * len(chunks)
     done = 0
     with ProcessPoolExecutor(max_workers=options.jobs) as pool:
-        futures = {pool.submit(_validate_chunk, chunk): i for i, chunk in enumerate(chunks)}
+        futures = {pool.submit(work_chunk, chunk): i for i, chunk in enumerate(chunks)}
         for future in as_completed(futures):
             ordered[futures[future]] = future.result()
             done += len(chunks[futures[future]])

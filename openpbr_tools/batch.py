@@ -1,0 +1,169 @@
+"""Converting many files in one call: ``openpbr convert PATH... -o OUTDIR --output-format F``.
+
+:func:`plan` expands files, folders (recursively) and globs as ``validate`` does, maps each input to
+one output under ``OUTDIR`` that mirrors the input's place below the argument that named it (a
+folder argument is the root of its tree; a file argument's folder; a glob's fixed leading folders),
+and refuses the whole run, before anything is written, when two inputs map to one output, an output
+is an input, or an output exists without ``force`` or ``skip_existing``. ``skip_existing`` skips an
+output newer than its input and than the installed toolkit (its newest module), so a run that was
+interrupted resumes where it stopped; outputs are written atomically, so an interrupted run leaves
+complete files or none (at most a ``.openpbr-*.tmp`` beside them).
+
+:func:`run` converts the planned jobs with the machinery ``validate`` uses (``--jobs`` process pool,
+``--shard``, ``--changed-since``, a Dask scheduler; :func:`openpbr_tools.validate.run_chunks`) and
+returns one :class:`~openpbr_tools.validate.Report` in input order, so every report format and exit
+code works as for one file. Each conversion is :func:`openpbr_tools.convert.convert_file`, so
+outputs are byte-identical to single calls whatever the parallelism. Textures are baked per
+conversion (a texture shared by many files is baked once per output that needs it).
+"""
+
+from __future__ import annotations
+
+import glob
+import os
+from dataclasses import dataclass, field
+
+from .diagnostics import Diagnostic, Severity
+from .model import Location
+from .rules.document import UNREADABLE
+from .selection import SelectionError, changed_since, shard
+from .validate import FileResult, Options, Report, discover, run_chunks, unreadable
+
+OUTPUT_SUFFIXES = {"gltf": ".gltf", "glb": ".glb", "usda": ".usda", "usdc": ".usdc", "usdz": ".usdz", "mtlx": ".mtlx"}
+INPUT_SUFFIXES = (".mtlx", ".usda", ".usdc", ".usd", ".usdz", ".gltf", ".glb")
+BATCH_POOL_THRESHOLD = 4  # a conversion costs far more than a pool's start-up
+
+
+@dataclass(frozen=True, slots=True)
+class Job:
+    """One conversion: plain data, so it travels to pool workers and Dask workers."""
+
+    source: str
+    output: str
+    target: str | None = None
+    nits_per_unit: float = 1.0
+    mesh: str | None = None
+    allow_outside: tuple[str, ...] = ()
+    verify: bool = False
+    threshold: float = 2.0
+
+
+@dataclass(slots=True)
+class Plan:
+    jobs: list[Job] = field(default_factory=list)
+    skipped: list[str] = field(default_factory=list)  # inputs whose output is up to date
+    problems: list[Diagnostic] = field(default_factory=list)  # arguments naming nothing: reported, the rest runs
+    refusals: list[Diagnostic] = field(default_factory=list)  # collisions, existing outputs: nothing is written
+
+
+def _root(argument: str) -> str:
+    """The folder an argument's files are mirrored from."""
+    if os.path.isdir(argument):
+        return argument
+    if glob.has_magic(argument):
+        fixed = []
+        for part in argument.replace(os.sep, "/").split("/"):
+            if glob.has_magic(part):
+                break
+            fixed.append(part)
+        return "/".join(fixed) or "."
+    return os.path.dirname(argument) or "."
+
+
+def _toolkit_stamp() -> float:
+    """The newest modification time among the toolkit's modules and data: an output older than it
+    was written by another version and is converted again."""
+    package = os.path.dirname(os.path.abspath(__file__))
+    newest = 0.0
+    for folder, _, names in os.walk(package):
+        for name in names:
+            if name.endswith((".py", ".json", ".mtlx")):
+                newest = max(newest, os.stat(os.path.join(folder, name)).st_mtime)
+    return newest
+
+
+def _problem(message: str, where: str) -> Diagnostic:
+    return Diagnostic(UNREADABLE.code, Severity.ERROR, message, Location(where))
+
+
+def plan(paths, outdir: str, output_format: str, *, force: bool = False, skip_existing: bool = False,
+         options: Options | None = None, **job) -> Plan:
+    """The jobs converting every input under ``paths`` into ``outdir`` (see the module docstring);
+    ``job`` holds :class:`Job`'s remaining fields."""
+    options = options or Options()
+    suffix = OUTPUT_SUFFIXES[output_format]
+    found = Plan()
+    outputs: dict[str, str] = {}
+    for argument in paths:
+        files, problems = discover([argument], INPUT_SUFFIXES)
+        found.problems += problems
+        root = os.path.abspath(_root(os.fspath(argument)))
+        for file in files:
+            relative = os.path.relpath(os.path.abspath(file), root)
+            outputs.setdefault(os.path.abspath(file), os.path.join(os.path.abspath(outdir),
+                                                                   os.path.splitext(relative)[0] + suffix))
+    sources = sorted(outputs)
+    try:
+        if options.changed_since:
+            sources = changed_since(sources, options.changed_since)
+        if options.shard:
+            sources = shard(sources, *options.shard)
+    except SelectionError as error:
+        found.refusals.append(_problem(str(error), "."))
+        return found
+    by_output: dict[str, list[str]] = {}
+    for source in sources:
+        by_output.setdefault(os.path.normcase(outputs[source]), []).append(source)
+    for target, claimants in sorted(by_output.items()):
+        if len(claimants) > 1:
+            found.refusals.append(_problem(f"{' and '.join(claimants)} would both be written to {outputs[claimants[0]]}; "
+                                           "rename one or convert them separately", claimants[0]))
+    stamp = _toolkit_stamp() if skip_existing else 0.0
+    for source in sources:
+        output = outputs[source]
+        if os.path.exists(output) and os.path.samefile(source, output):
+            found.refusals.append(_problem(f"the output {output} is the input itself", source))
+        elif os.path.exists(output) and skip_existing and \
+                os.stat(output).st_mtime >= max(os.stat(source).st_mtime, stamp):
+            found.skipped.append(source)
+        elif os.path.exists(output) and not force:
+            found.refusals.append(_problem(f"{output} exists; pass --force to overwrite or --skip-existing to keep it",
+                                           source))
+        else:
+            found.jobs.append(Job(source, output, **job))
+    return found
+
+
+def convert_jobs(jobs: list[Job]) -> list[FileResult]:
+    """Run ``jobs`` in this process (the unit a pool or Dask worker executes)."""
+    return [_convert(job) for job in jobs]
+
+
+def _convert(job: Job) -> FileResult:
+    # lazy: the conversion pipeline loads NumPy and the translators; planning and reporting do not need them
+    from .convert import convert_file, verify
+    from .io import ReadError
+    from .translate.common import Settings
+
+    try:
+        os.makedirs(os.path.dirname(job.output), exist_ok=True)
+        result = convert_file(job.source, job.output, job.target, Settings(nits_per_unit=job.nits_per_unit),
+                              mesh=job.mesh, allow_outside=job.allow_outside)
+    except ReadError as error:
+        return unreadable(job.source, error)
+    except (ValueError, OSError) as error:  # a refused texture, an unwritable folder
+        return FileResult(job.source, [_problem(f"not converted: {error}", job.source)], unreadable=True)
+    diagnostics = result.diagnostics
+    if job.verify:
+        diagnostics = sorted(diagnostics + verify(result, job.threshold), key=Diagnostic.sort_key)
+    return FileResult(job.source, diagnostics, materials=len(result.pairs))
+
+
+def run(found: Plan, options: Options | None = None, progress=None) -> Report:
+    """Convert the planned jobs; one report in input order (problems and refusals exit 2)."""
+    options = options or Options()
+    report = Report(problems=found.problems + found.refusals)
+    if found.refusals:
+        return report  # refused before anything is written
+    report.files = run_chunks(found.jobs, convert_jobs, options, progress, threshold=BATCH_POOL_THRESHOLD)
+    return report
