@@ -31,7 +31,7 @@ from .io.paths import Kind, PathGuard, classify
 from .model import Asset, Connection, Constant, Material, Texture
 from .resources import load_json
 from .rules import Context
-from .rules.translation import APPROXIMATED, NOT_CARRIED, VERIFIED, VERIFY_THRESHOLD
+from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED, VERIFIED, VERIFY_THRESHOLD
 from .bake import Baker
 from .translate.common import BakeError, Settings
 from .translate.convert import MODELS, convert
@@ -110,20 +110,35 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     baker = Baker(asset.path, staging or os.path.abspath(os.path.splitext(output_path)[0] + "_textures"),
                   tuple(allow_outside), png_only=kind == "gltf")
     result.baker = baker
+    used_names: set[str] = set()
     try:
         for material in asset.materials:
             if material.model not in MODELS:
                 continue
+            notes: list[Diagnostic] = []
+            if material.extra.get("fallback_of"):
+                # a USD preview fallback of a MaterialX shader: the material is that shader (its own
+                # fallback is re-derived for a USD output; validate's OPBR1009 compares the two)
+                result.diagnostics += _at_material([context.diagnostic(
+                    CONVERTED, f"{material.name}: the UsdPreviewSurface fallback of {material.extra['fallback_of']} is "
+                    "not converted on its own; the material is its MaterialX shader", material.location)], material)
+                continue
             meters, unitless = _meters_per_unit(material, asset)
             step_settings = Settings(settings.nits_per_unit, meters, context, baker)
-            notes: list[Diagnostic] = []
+            name = unique = material.material_name or material.name
+            while unique in used_names:
+                unique = f"{name}_{len(used_names) + 1}"
+            used_names.add(unique)
+            if unique != name:
+                notes.append(context.diagnostic(CONVERTED, f"{name}: an earlier material has the same name; written as "
+                                                f"{unique!r} so that no writer merges the two", material.location))
             if unitless:
                 notes.append(context.diagnostic(APPROXIMATED, f"{material.name}: {', '.join(unitless)} carry no unit; "
                                                 "taken as metres", material.inputs[unitless[0]].location))
             translation = convert(material, target, step_settings)
             notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context)
             translated = translation.material
-            translated.material_name = material.material_name or material.name
+            translated.material_name = unique
             result.materials.append(translated)
             result.pairs.append((material, translated))
             if kind == "usd":

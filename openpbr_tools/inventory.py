@@ -15,7 +15,8 @@ def describe(asset: Asset) -> dict:
         "materials": [
             {
                 "name": m.name,
-                "material": m.material_name,
+                "material": m.material_location.path if asset.format == "usd" and m.material_location else m.material_name,
+                "fallback_of": m.extra.get("fallback_of"),
                 "model": m.model,
                 "version": m.version,
                 "version_basis": m.version_basis,

@@ -130,7 +130,8 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
     except readers.ReadError as error:
         return unreadable(path, error)
     diagnostics = check_asset(asset, context)
-    return FileResult(path, diagnostics, len(asset.materials), asset=asset if keep_asset else None)
+    count = sum(1 for m in asset.materials if not m.extra.get("fallback_of"))  # a USD preview fallback is not another material
+    return FileResult(path, diagnostics, count, asset=asset if keep_asset else None)
 
 
 @dataclass(slots=True)

@@ -56,7 +56,8 @@ def test_values_keep_usd_types_and_read_as_materialx_values(read):
     assert (ior.type, ior.constant) == ("float", 1.45)  # float32 1.45 read back as the decimal authored
     assert (thin.type, thin.source_type, thin.constant) == ("boolean", "bool", True)
     assert color.location.path == "/M/S" and color.location.input == "base_color" and color.location.line is None
-    assert asset.format == "usd" and found.model == "open_pbr_surface" and found.material_name == "/M"
+    assert asset.format == "usd" and found.model == "open_pbr_surface" and found.material_name == "M" \
+        and found.material_location.path == "/M"
 
 
 def test_a_float3_colour_reads_as_color3_and_keeps_its_usd_type(read):
@@ -194,7 +195,7 @@ def test_composition_references_payloads_and_variants_are_resolved(read, tmp_pat
             '        "red" {\n            over "S"\n            {\n'
             "                color3f inputs:base_color = (0.9, 0.1, 0.1)\n            }\n        }\n    }\n}\n")
     asset = read(text)
-    by_material = {m.material_name: m for m in asset.materials}
+    by_material = {m.material_location.path: m for m in asset.materials}
     assert by_material["/Ref"].inputs["base_color"].texture.file == "lib/tex/a.png"  # re-anchored at the root layer
     assert by_material["/Pay"].inputs["base_weight"].constant == 0.5
     assert by_material["/V"].inputs["base_color"].constant == (0.9, 0.1, 0.1)

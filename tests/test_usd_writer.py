@@ -194,7 +194,9 @@ def test_usd_read_write_read_keeps_values_textures_and_connections(wood, tmp_pat
     openpbr = next(m for m in again.materials if m.model == "open_pbr_surface")
     assert openpbr.inputs["coat_weight"].interface_name == "coat"
     assert openpbr.inputs["specular_color"].authored_colorspace == "srgb_texture"
-    assert {m.material_name for m in again.materials} == {"/Looks/Wood"}  # both shaders on one Material
+    assert {m.material_location.path for m in again.materials} == {"/Looks/Wood"}  # both shaders on one Material
+    assert {m.material_name for m in again.materials} == {"Wood"}
+    assert [m.model for m in again.materials if not m.extra.get("fallback_of")] == ["open_pbr_surface"]
 
 
 def test_written_stage_passes_usd_cores_validators(wood, tmp_path):

@@ -204,8 +204,8 @@ def _srgb_encode(linear: float) -> float:
 def _preview_agreement(asset, context):
     by_material: dict[str, dict[str, object]] = {}
     for material in asset.materials:
-        if material.material_name and material.version:
-            by_material.setdefault(material.material_name, {})[material.model] = material
+        if material.material_location is not None and material.version:  # grouped by the Material prim's path
+            by_material.setdefault(material.material_location.path, {})[material.model] = material
     limits = {key: context.threshold(key, value) for key, value in PREVIEW_LIMITS.items()}
     for pair in by_material.values():
         openpbr, preview = pair.get("open_pbr_surface"), pair.get("UsdPreviewSurface")

@@ -25,9 +25,14 @@ def to_mtlx_string(materials: list[Material], colorspace: str | None = "lin_rec7
     document = mx.createDocument()
     if colorspace:
         document.setColorSpace(colorspace)
-    used: set[str] = set()
+    # material names first, as given (convert made them unique): shader and texture nodes take the rest
+    names: list[str] = []
+    taken: set[str] = set()
     for material in materials:
-        _write_material(document, material, colorspace, used)
+        names.append(_unique(material.material_name or f"{material.name}_material", taken))
+    used = set(taken)
+    for material, name in zip(materials, names):
+        _write_material(document, material, colorspace, used, name)
     return document_text(document)
 
 
@@ -54,9 +59,14 @@ def _unique(name: str, used: set[str]) -> str:
     return candidate
 
 
-def _write_material(document, material: Material, colorspace: str | None, used: set[str]) -> None:
+def _write_material(document, material: Material, colorspace: str | None, used: set[str], material_name: str) -> None:
     table = tables.table(material.model, material.version) if material.version and tables.versions(material.model) else None
-    shader_name = _unique(material.name, used)
+    short = material.name.rsplit("/", 1)[-1] or material.name  # a USD shader's prim path: its name
+    if short == material.material_name:  # a USD shader named as its Material: the Material keeps the name
+        short = f"{short}_shader"
+    if short.startswith(("ND_", "NG_", "IM_")):  # UsdMtlx names shaders after their nodedef: MaterialX then confuses the two
+        short = f"SR_{short}"
+    shader_name = _unique(short, used)
     shader = document.addNode(material.model, shader_name, "surfaceshader")
     if material.declared_version:
         shader.setVersionString(material.declared_version)
@@ -94,7 +104,6 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
             port.setUnit(entry.unit)
         if entry.unittype:
             port.setUnitType(entry.unittype)
-    material_name = _unique(material.material_name or f"{material.name}_material", used)
     node = document.addMaterialNode(material_name, shader)
     node.setType("material")
 

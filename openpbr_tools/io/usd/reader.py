@@ -153,6 +153,21 @@ class _Reader(NetworkReader):
 
     # -- materials --------------------------------------------------------------------------
     def read_material(self, prim) -> None:
+        before = len(self.asset.materials)
+        self._read_material(prim)
+        self._mark_fallbacks(self.asset.materials[before:])
+
+    def _mark_fallbacks(self, read) -> None:
+        """A Material with a MaterialX shader (any model, on outputs:mtlx:surface) and a
+        UsdPreviewSurface on outputs:surface is one material and its preview fallback (what
+        ``openpbr convert`` writes): the preview is marked ``extra["fallback_of"]``, so conversion
+        and counts see one material while the rules still check both (and OPBR1009 compares them)."""
+        primary = [m for m in read if m.extra.get("usd_render_context") == MATERIALX_CONTEXT]
+        for material in read:
+            if primary and material.model == "UsdPreviewSurface" and not material.extra.get("usd_render_context"):
+                material.extra["fallback_of"] = primary[0].name
+
+    def _read_material(self, prim) -> None:
         material_path = str(prim.GetPath())
         location = self.location(material_path)
         outputs = [o for o in self.UsdShade.Material(prim).GetOutputs()
@@ -222,7 +237,7 @@ class _Reader(NetworkReader):
             self.shaders[path] = material
             self.asset.materials.append(material)
         if material.material_name is None:
-            material.material_name = str(material_prim.GetPath())
+            material.material_name = material_prim.GetName()  # the prim's name; its path is material_location
             material.material_location = self.location(material_prim.GetPath())
             material.extra["usd_render_context"] = context
             material.extra["usd_surface_output"] = where.input

@@ -1,0 +1,56 @@
+"""Material identities survive every writer and reader: materials sharing a name stay distinct (and
+the rename is reported), a USD Material holding OpenPBR plus its UsdPreviewSurface fallback is one
+material, and USD material names are prim names, not paths."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+from click.testing import CliRunner
+
+from cli.main import cli
+from openpbr_tools.io import read_asset
+
+GLTF = {"asset": {"version": "2.0"}, "materials": [
+    {"name": "Mat", "pbrMetallicRoughness": {"baseColorFactor": [1, 0, 0, 1]}},
+    {"name": "Mat", "pbrMetallicRoughness": {"baseColorFactor": [0, 1, 0, 1]}},
+    {"name": "Other", "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 1, 1]}},
+]}
+
+
+def _convert(source, target, *extra):
+    result = CliRunner().invoke(cli, ["convert", str(source), "-o", str(target), "--format", "json", *extra])
+    assert result.exit_code == 0, result.output
+    return json.loads(result.stdout)["diagnostics"]
+
+
+@pytest.mark.parametrize("middle", ["usda", "mtlx"])
+def test_gltf_materials_sharing_a_name_come_back_distinct(tmp_path, middle):
+    source = tmp_path / "in.gltf"
+    source.write_text(json.dumps(GLTF))
+    notes = _convert(source, tmp_path / f"mid.{middle}")
+    renamed = [n for n in notes if "same name" in n["message"]]
+    assert len(renamed) == 1 and renamed[0]["location"]["material"] == "Mat"
+    _convert(tmp_path / f"mid.{middle}", tmp_path / "back.gltf")
+    back = json.loads((tmp_path / "back.gltf").read_text())["materials"]
+    assert [m["name"] for m in back] == ["Mat", "Mat_2", "Other"]
+    assert [m["pbrMetallicRoughness"]["baseColorFactor"][:3] for m in back] == [[1, 0, 0], [0, 1, 0], [0, 0, 1]]
+
+
+def test_a_usd_material_with_its_preview_fallback_is_one_material(tmp_path):
+    source = tmp_path / "in.gltf"
+    source.write_text(json.dumps(GLTF))
+    _convert(source, tmp_path / "mid.usda")
+    asset = read_asset(str(tmp_path / "mid.usda"))
+    assert len(asset.materials) == 6  # both shaders are read, so the rules check both
+    primary = [m for m in asset.materials if not m.extra.get("fallback_of")]
+    assert [(m.model, m.material_name, m.material_location.path) for m in primary] == [
+        ("open_pbr_surface", "Mat", "/Looks/Mat"), ("open_pbr_surface", "Mat_2", "/Looks/Mat_2"),
+        ("open_pbr_surface", "Other", "/Looks/Other")]
+    validated = CliRunner().invoke(cli, ["validate", "--no-config", "--format", "json", str(tmp_path / "mid.usda")])
+    assert json.loads(validated.stdout)["summary"]["materials"] == 3
+    mtlx = tmp_path / "back.mtlx"
+    _convert(tmp_path / "mid.usda", mtlx)
+    text = mtlx.read_text()
+    assert text.count("<surfacematerial") == 3 and "_Looks_" not in text
