@@ -137,6 +137,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                                                 "taken as metres", material.inputs[unitless[0]].location))
             translation = convert(material, target, step_settings)
             notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context)
+            notes += _gltf_state(material, kind, context)
             translated = translation.material
             translated.material_name = unique
             result.materials.append(translated)
@@ -163,6 +164,20 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     result.diagnostics += [context.adjust(note) for note in notes]
     result.diagnostics.sort(key=Diagnostic.sort_key)
     return result
+
+
+def _gltf_state(source: Material, kind: str, context: Context) -> list[Diagnostic]:
+    """What a glTF material holds beside its factors (``doubleSided``, ``extras``, extensions the
+    gltf_pbr node does not carry, such as KHR_materials_diffuse_transmission and KHR_materials_unlit)
+    travels to a glTF output only; anywhere else each is reported, never dropped in silence."""
+    state = source.extra.get("gltf") if isinstance(source.extra.get("gltf"), dict) else None
+    if state is None or kind == "gltf":
+        return []
+    lost = [f"doubleSided {str(state['doubleSided']).lower()}" for _ in [0] if state.get("doubleSided")]
+    lost += ["extras"] if state.get("extras") else []
+    lost += sorted(state.get("extensions") or {})
+    return [context.diagnostic(NOT_CARRIED, f"{source.name}: {what} is glTF material state this output cannot hold; "
+                                            "not written", source.location) for what in lost]
 
 
 def _unreadable_inputs(source: Material, result: Material, kind: str, context: Context) -> list[Diagnostic]:

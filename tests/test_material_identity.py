@@ -54,3 +54,33 @@ def test_a_usd_material_with_its_preview_fallback_is_one_material(tmp_path):
     _convert(tmp_path / "mid.usda", mtlx)
     text = mtlx.read_text()
     assert text.count("<surfacematerial") == 3 and "_Looks_" not in text
+
+
+def test_iridescence_thickness_defaults_follow_gltf_both_ways(tmp_path):
+    # KHR_materials_iridescence: iridescenceThicknessMaximum defaults to 400 nm (gltf_pbr's node: 100)
+    source = tmp_path / "in.gltf"
+    source.write_text(json.dumps({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_iridescence"],
+                                  "materials": [{"name": "Absent", "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 1}}},
+                                                {"name": "Hundred", "extensions": {"KHR_materials_iridescence": {
+                                                    "iridescenceFactor": 1, "iridescenceThicknessMaximum": 100}}}]}))
+    _convert(source, tmp_path / "mid.mtlx")
+    thickness = {m.material_name: m.inputs["thin_film_thickness"].constant for m in read_asset(str(tmp_path / "mid.mtlx")).materials}
+    assert thickness == {"Absent": pytest.approx(0.4), "Hundred": pytest.approx(0.1)}  # micrometres
+    _convert(tmp_path / "mid.mtlx", tmp_path / "back.gltf")
+    back = json.loads((tmp_path / "back.gltf").read_text())["materials"]
+    assert [m["extensions"]["KHR_materials_iridescence"]["iridescenceThicknessMaximum"] for m in back] == [400.0, 100.0]
+
+
+def test_gltf_state_openpbr_cannot_hold_is_reported_not_dropped(tmp_path):
+    source = tmp_path / "in.gltf"
+    source.write_text(json.dumps({"asset": {"version": "2.0"},
+                                  "extensionsUsed": ["KHR_materials_diffuse_transmission", "KHR_materials_unlit"],
+                                  "materials": [{"name": "A", "doubleSided": True, "alphaMode": "MASK", "alphaCutoff": 0.3},
+                                                {"name": "B", "extensions": {"KHR_materials_diffuse_transmission": {
+                                                    "diffuseTransmissionFactor": 0.5}}},
+                                                {"name": "C", "extensions": {"KHR_materials_unlit": {}}}]}))
+    notes = [(n["location"]["material"], n["message"]) for n in _convert(source, tmp_path / "out.usda")
+             if n["code"] == "OPBR1104"]
+    said = " | ".join(f"{m}: {text}" for m, text in notes)
+    for expected in ("doubleSided true", "alpha_cutoff", "KHR_materials_diffuse_transmission", "KHR_materials_unlit"):
+        assert expected in said

@@ -231,6 +231,11 @@ class _Reader(TextureReading):
                 entry.raw, entry.error = json_text(container[slot.factor]), factor_error
             else:
                 entry.value = Constant(factor)
+        elif slot.factor is not None and slot.container not in (slots.CORE, slots.PBR) and \
+                not _same(slot.default, parameter.default):
+            # an extension present without this factor means glTF's default, which gltf_pbr's node
+            # definition does not share (iridescenceThicknessMaximum: 400 nm in glTF, 100 in MaterialX)
+            entry = Input(slot.parameter, parameter.type, Constant(slot.default), self.location(pointer))
         else:
             return
         if parameter.unit == "scene_length":
@@ -288,3 +293,7 @@ def _escape(token: str) -> str:
 
 def _names(value) -> list[str]:
     return [v for v in value if isinstance(v, str)] if isinstance(value, list) else []
+
+
+def _same(a, b) -> bool:
+    return a == b or (isinstance(a, (tuple, list)) and isinstance(b, (tuple, list)) and tuple(a) == tuple(b))

@@ -138,6 +138,7 @@ class _MaterialWriter(TextureWriting):
                           slot.parameter)
         for name in sorted(set(inputs) - set(slots.SLOT_BY_PARAMETER)):
             self.note(NOT_CARRIED, f"{name} is not a glTF parameter; not written", name)
+        self.pin_node_defaults()
         for prop in dict.fromkeys(s.texture for s in slots.SLOTS if s.texture):
             members = [s for s in slots.SLOTS if s.texture == prop and isinstance(getattr(inputs.get(s.parameter), "value", None), Texture)]
             if members:
@@ -181,6 +182,19 @@ class _MaterialWriter(TextureWriting):
                       "not written", slot.parameter)
             return
         self.container(slot)[slot.factor] = self.clamped(slot, _json_value(value))
+
+    def pin_node_defaults(self) -> None:
+        """An unset gltf_pbr input means the node definition's default; where glTF's own default for
+        the factor differs (iridescenceThicknessMaximum: 400 nm in glTF, 100 in MaterialX), the node's
+        is written, or a reader would take glTF's."""
+        table = tables.table("gltf_pbr")
+        for slot in slots.SLOTS:
+            if slot.container in (slots.CORE, slots.PBR) or slot.container not in self.containers or slot.factor is None \
+                    or slot.factor in self.containers[slot.container] or slot.parameter in self.material.inputs:
+                continue
+            default = table[slot.parameter].default
+            if default is not None and default != slot.default and tuple([default]) != tuple([slot.default]):
+                self.containers[slot.container][slot.factor] = _json_value(default)
 
     def clamped(self, slot: slots.Slot, value):
         """``value`` inside the parameter's hard range, which glTF's schema enforces (the Khronos
