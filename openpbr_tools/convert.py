@@ -173,11 +173,13 @@ def _gltf_state(source: Material, kind: str, context: Context) -> list[Diagnosti
     state = source.extra.get("gltf") if isinstance(source.extra.get("gltf"), dict) else None
     if state is None or kind == "gltf":
         return []
-    lost = [f"doubleSided {str(state['doubleSided']).lower()}" for _ in [0] if state.get("doubleSided")]
-    lost += ["extras"] if state.get("extras") else []
-    lost += sorted(state.get("extensions") or {})
-    return [context.diagnostic(NOT_CARRIED, f"{source.name}: {what} is glTF material state this output cannot hold; "
-                                            "not written", source.location) for what in lost]
+    kept = [f"doubleSided {str(state['doubleSided']).lower()}" for _ in [0] if state.get("doubleSided")]
+    kept += ["extras"] if state.get("extras") else []
+    kept += sorted(state.get("extensions") or {})
+    where = "attribute openpbr_gltf of its surfacematerial" if kind == "mtlx" else "customData openpbr:gltf of its Material"
+    return [context.diagnostic(CONVERTED, f"{source.name}: {what} (glTF material state OpenPBR has no parameter for) is "
+                                          f"kept in the {where} and restored when converted back to glTF",
+                               source.location) for what in kept]
 
 
 def _unreadable_inputs(source: Material, result: Material, kind: str, context: Context) -> list[Diagnostic]:

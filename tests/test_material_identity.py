@@ -71,16 +71,24 @@ def test_iridescence_thickness_defaults_follow_gltf_both_ways(tmp_path):
     assert [m["extensions"]["KHR_materials_iridescence"]["iridescenceThicknessMaximum"] for m in back] == [400.0, 100.0]
 
 
-def test_gltf_state_openpbr_cannot_hold_is_reported_not_dropped(tmp_path):
+@pytest.mark.parametrize("middle", ["usda", "mtlx"])
+def test_gltf_state_openpbr_cannot_hold_travels_and_comes_back(tmp_path, middle):
+    state = {"name": "B", "doubleSided": True, "extras": {"studio": "x"},
+             "extensions": {"KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 0.5}}}
     source = tmp_path / "in.gltf"
     source.write_text(json.dumps({"asset": {"version": "2.0"},
                                   "extensionsUsed": ["KHR_materials_diffuse_transmission", "KHR_materials_unlit"],
-                                  "materials": [{"name": "A", "doubleSided": True, "alphaMode": "MASK", "alphaCutoff": 0.3},
-                                                {"name": "B", "extensions": {"KHR_materials_diffuse_transmission": {
-                                                    "diffuseTransmissionFactor": 0.5}}},
+                                  "materials": [{"name": "A", "alphaMode": "MASK", "alphaCutoff": 0.3}, state,
                                                 {"name": "C", "extensions": {"KHR_materials_unlit": {}}}]}))
-    notes = [(n["location"]["material"], n["message"]) for n in _convert(source, tmp_path / "out.usda")
-             if n["code"] == "OPBR1104"]
-    said = " | ".join(f"{m}: {text}" for m, text in notes)
-    for expected in ("doubleSided true", "alpha_cutoff", "KHR_materials_diffuse_transmission", "KHR_materials_unlit"):
-        assert expected in said
+    notes = _convert(source, tmp_path / f"mid.{middle}")
+    said = " | ".join(f"{n['code']} {n['location']['material']}: {n['message']}" for n in notes)
+    assert "OPBR1104 A" in said and "alpha_cutoff" in said  # the cut-off has no side channel yet: reported
+    for kept in ("doubleSided true", "extras", "KHR_materials_diffuse_transmission", "KHR_materials_unlit"):
+        assert f"{kept} (glTF material state" in said
+    _convert(tmp_path / f"mid.{middle}", tmp_path / "back.gltf")
+    back = json.loads((tmp_path / "back.gltf").read_text())
+    b = back["materials"][1]
+    assert (b["doubleSided"], b["extras"], b["extensions"]["KHR_materials_diffuse_transmission"]) == (
+        True, {"studio": "x"}, {"diffuseTransmissionFactor": 0.5})
+    assert "KHR_materials_unlit" in back["materials"][2]["extensions"]
+    assert {"KHR_materials_diffuse_transmission", "KHR_materials_unlit"} <= set(back["extensionsUsed"])

@@ -169,6 +169,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         version_basis="written by openpbr convert", material_name=material.material_name,
         material_location=material.material_location, colorspace=material.colorspace,
     )
+    if isinstance(material.extra.get("gltf"), dict):  # glTF state travels with the material (gltf_state)
+        result.extra["gltf"] = copy.deepcopy(material.extra["gltf"])
     report: list[Diagnostic] = []
     working = WorkingSpace(material, source_table)
 

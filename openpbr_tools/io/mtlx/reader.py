@@ -21,7 +21,7 @@ from __future__ import annotations
 import os
 from functools import lru_cache
 
-from ... import versioning
+from ... import gltf_state, versioning
 from ...model import Asset, Constant, Input, Location, Material
 from ...values import ValueSyntaxError, parse_value
 from .. import ReadError, read_bytes
@@ -283,6 +283,10 @@ class _Reader(GraphFollower):
         if material.material_name is None:
             material.material_name = node.getName()
             material.material_location = location
+            state = gltf_state.decode(node.getAttribute(gltf_state.MTLX_ATTRIBUTE)) if node.hasAttribute(
+                gltf_state.MTLX_ATTRIBUTE) else {}
+            if state:
+                material.extra["gltf"] = state
 
     # -- shaders ---------------------------------------------------------------------------
     def read_shader(self, node) -> Material:

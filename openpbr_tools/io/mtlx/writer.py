@@ -13,7 +13,7 @@ import os
 
 import MaterialX as mx
 
-from ... import colorspaces, tables
+from ... import colorspaces, gltf_state, tables
 from ...atomic import write_text
 from ...model import Connection, Constant, Material, Texture
 from ...values import format_value
@@ -106,6 +106,9 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
             port.setUnitType(entry.unittype)
     node = document.addMaterialNode(material_name, shader)
     node.setType("material")
+    state = gltf_state.travelling(material)
+    if state:
+        node.setAttribute(gltf_state.MTLX_ATTRIBUTE, gltf_state.encode(state))
 
 
 def _write_texture(document, shader_name: str, input_name: str, input_type: str, texture: Texture, used) -> str:

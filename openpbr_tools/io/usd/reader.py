@@ -44,7 +44,7 @@ from __future__ import annotations
 
 import os
 
-from ... import colorspaces, tables, versioning
+from ... import colorspaces, gltf_state, tables, versioning
 from ...model import Asset, Constant, Input, Location, Material
 from .. import ReadError
 from .network import MAX_DEPTH, NetworkReader
@@ -239,6 +239,9 @@ class _Reader(NetworkReader):
         if material.material_name is None:
             material.material_name = material_prim.GetName()  # the prim's name; its path is material_location
             material.material_location = self.location(material_prim.GetPath())
+            state = gltf_state.decode(material_prim.GetCustomDataByKey(gltf_state.USD_CUSTOM_DATA_KEY))
+            if state:
+                material.extra["gltf"] = state
             material.extra["usd_render_context"] = context
             material.extra["usd_surface_output"] = where.input
             # MaterialX's name for it, so colour maths elsewhere (plausibility) can use it

@@ -30,7 +30,7 @@ import shutil
 import tempfile
 import time
 
-from ... import colorspaces, tables
+from ... import colorspaces, gltf_state, tables
 from ...atomic import default_mode
 from ...diagnostics import Diagnostic
 from ...model import Asset, Connection, Constant, Location, Material, Texture
@@ -167,6 +167,9 @@ class _Writer(TextureNetworkWriter):
         if usd_material is None:
             usd_material = self.UsdShade.Material.Define(self.stage, self.unique_child(LOOKS, key))
             self.material_prims[key] = usd_material
+            state = gltf_state.travelling(material)
+            if state:
+                usd_material.GetPrim().SetCustomDataByKey(gltf_state.USD_CUSTOM_DATA_KEY, gltf_state.encode(state))
             if material.colorspace:
                 self.set_material_colorspace(usd_material.GetPrim(), material.colorspace)
         preview = material.model == "UsdPreviewSurface"

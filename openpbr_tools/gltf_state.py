@@ -1,0 +1,40 @@
+"""glTF material state OpenPBR has no parameter for, carried through .mtlx and USD outputs so that a
+glTF -> .mtlx/USD -> glTF round trip restores it.
+
+What travels: ``doubleSided``, ``extras`` and the material extensions the gltf_pbr node does not
+carry (KHR_materials_diffuse_transmission, KHR_materials_unlit, unknown ones), as they were in the
+source (``Material.extra["gltf"]``). Where: a JSON string in the ``openpbr_gltf`` attribute of the
+``surfacematerial`` element (MaterialX keeps unknown attributes and renderers ignore them), and in
+the ``openpbr:gltf`` customData of the USD ``Material`` prim. Extensions that reference the source's
+textures do not travel (their indices mean nothing elsewhere) and are reported.
+"""
+
+from __future__ import annotations
+
+import json
+
+MTLX_ATTRIBUTE = "openpbr_gltf"
+USD_CUSTOM_DATA_KEY = "openpbr:gltf"
+KEYS = ("doubleSided", "extras", "extensions")
+
+
+def travelling(material) -> dict:
+    """The part of ``material``'s glTF state that a side channel carries (empty when none)."""
+    state = material.extra.get("gltf")
+    if not isinstance(state, dict):
+        return {}
+    kept = {key: state[key] for key in KEYS if state.get(key)}
+    return kept
+
+
+def encode(state: dict) -> str:
+    return json.dumps(state, sort_keys=True, separators=(",", ":"))
+
+
+def decode(text) -> dict:
+    """The state a side channel holds; ``{}`` for anything that is not a JSON object of known keys."""
+    try:
+        value = json.loads(text) if isinstance(text, str) else None
+    except ValueError:
+        return {}
+    return {key: value[key] for key in KEYS if isinstance(value, dict) and key in value}
