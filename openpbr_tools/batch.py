@@ -24,6 +24,7 @@ import os
 from dataclasses import dataclass, field
 
 from .diagnostics import Diagnostic, Severity
+from .io.paths import PathGuard
 from .model import Location
 from .rules.document import UNREADABLE
 from .selection import SelectionError, changed_since, shard
@@ -102,7 +103,9 @@ def plan(paths, outdir: str, output_format: str, *, force: bool = False, skip_ex
             relative = os.path.relpath(os.path.abspath(file), root)
             outputs.setdefault(os.path.abspath(file), os.path.join(os.path.abspath(outdir),
                                                                    os.path.splitext(relative)[0] + suffix))
-    sources = sorted(outputs)
+    # outputs of an earlier run inside an input folder are not inputs (out/ below in/ with -o in/out)
+    written = PathGuard(outdir)
+    sources = sorted(source for source in outputs if not written.contains(source))
     try:
         if options.changed_since:
             sources = changed_since(sources, options.changed_since)

@@ -16,6 +16,7 @@ import json
 MTLX_ATTRIBUTE = "openpbr_gltf"
 USD_CUSTOM_DATA_KEY = "openpbr:gltf"
 KEYS = ("doubleSided", "extras", "extensions")
+MAX_TEXT = 1 << 20  # a side channel larger than this is not read (a hostile file)
 
 
 def travelling(material) -> dict:
@@ -34,7 +35,17 @@ def encode(state: dict) -> str:
 def decode(text) -> dict:
     """The state a side channel holds; ``{}`` for anything that is not a JSON object of known keys."""
     try:
-        value = json.loads(text) if isinstance(text, str) else None
-    except ValueError:
+        value = json.loads(text) if isinstance(text, str) and len(text) <= MAX_TEXT else None
+    except (ValueError, RecursionError):
         return {}
-    return {key: value[key] for key in KEYS if isinstance(value, dict) and key in value}
+    if not isinstance(value, dict):
+        return {}
+    state = {}
+    if isinstance(value.get("doubleSided"), bool):
+        state["doubleSided"] = value["doubleSided"]
+    if "extras" in value:
+        state["extras"] = value["extras"]
+    extensions = value.get("extensions")
+    if isinstance(extensions, dict) and all(isinstance(k, str) and isinstance(v, dict) for k, v in extensions.items()):
+        state["extensions"] = extensions
+    return state

@@ -158,3 +158,12 @@ def test_the_single_file_form_is_unchanged(tmp_path):
     result = run("convert", sample, "-o", tmp_path / "one.gltf")
     assert result.exit_code == 0 and (tmp_path / "one.gltf").is_file()
     assert run("convert", sample, sample, "-o", tmp_path / "x").exit_code == 2  # several inputs need --output-format
+
+
+def test_an_output_folder_inside_the_input_folder_is_not_read_as_input(tmp_path):
+    source = _library(tmp_path / "in", 3)
+    out = source / "converted"
+    for _ in range(2):
+        result = run("convert", source, "-o", out, "--output-format", "mtlx", "--jobs", "1", "--force")
+        assert result.exit_code == 0, result.output
+    assert len(list(out.rglob("*.mtlx"))) == 3 and not (out / "converted").exists()

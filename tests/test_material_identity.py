@@ -92,3 +92,18 @@ def test_gltf_state_openpbr_cannot_hold_travels_and_comes_back(tmp_path, middle)
         True, {"studio": "x"}, {"diffuseTransmissionFactor": 0.5})
     assert "KHR_materials_unlit" in back["materials"][2]["extensions"]
     assert {"KHR_materials_diffuse_transmission", "KHR_materials_unlit"} <= set(back["extensionsUsed"])
+
+
+@pytest.mark.parametrize("text", ['{"extensions": [1, 2]}', '{"doubleSided": "yes"}', "not json", "[" * 5000,
+                                  '{"extensions": {"X": 3}}'])
+def test_a_hostile_side_channel_is_ignored_not_a_crash(tmp_path, text):
+    from xml.sax.saxutils import quoteattr
+
+    source = tmp_path / "in.mtlx"
+    source.write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n'
+                      '  <open_pbr_surface name="S" type="surfaceshader" />\n'
+                      f'  <surfacematerial name="M" type="material" openpbr_gltf={quoteattr(text)}>\n'
+                      '    <input name="surfaceshader" type="surfaceshader" nodename="S" />\n  </surfacematerial>\n</materialx>\n')
+    _convert(source, tmp_path / "out.gltf")
+    material = json.loads((tmp_path / "out.gltf").read_text())["materials"][0]
+    assert "doubleSided" not in material and not material.get("extensions")
