@@ -175,6 +175,7 @@ def _gltf_state(source: Material, kind: str, context: Context) -> list[Diagnosti
         return []
     kept = [f"doubleSided {str(state['doubleSided']).lower()}" for _ in [0] if state.get("doubleSided")]
     kept += ["extras"] if state.get("extras") else []
+    kept += [f"alphaMode MASK with alphaCutoff {state.get('alphaCutoff', 0.5):g}"] if state.get("alphaMode") == "MASK" else []
     kept += sorted(state.get("extensions") or {})
     where = "attribute openpbr_gltf of its surfacematerial" if kind == "mtlx" else "customData openpbr:gltf of its Material"
     return [context.diagnostic(CONVERTED, f"{source.name}: {what} (glTF material state OpenPBR has no parameter for) is "

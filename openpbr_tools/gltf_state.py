@@ -1,7 +1,8 @@
 """glTF material state OpenPBR has no parameter for, carried through .mtlx and USD outputs so that a
 glTF -> .mtlx/USD -> glTF round trip restores it.
 
-What travels: ``doubleSided``, ``extras`` and the material extensions the gltf_pbr node does not
+What travels: ``doubleSided``, ``extras``, an alpha ``MASK`` with its ``alphaCutoff`` (OpenPBR keeps
+the cut-out as geometry_opacity, not the mode) and the material extensions the gltf_pbr node does not
 carry (KHR_materials_diffuse_transmission, KHR_materials_unlit, unknown ones), as they were in the
 source (``Material.extra["gltf"]``). Where: a JSON string in the ``openpbr_gltf`` attribute of the
 ``surfacematerial`` element (MaterialX keeps unknown attributes and renderers ignore them), and in
@@ -15,7 +16,7 @@ import json
 
 MTLX_ATTRIBUTE = "openpbr_gltf"
 USD_CUSTOM_DATA_KEY = "openpbr:gltf"
-KEYS = ("doubleSided", "extras", "extensions")
+KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff")
 MAX_TEXT = 1 << 20  # a side channel larger than this is not read (a hostile file)
 
 
@@ -45,6 +46,9 @@ def decode(text) -> dict:
         state["doubleSided"] = value["doubleSided"]
     if "extras" in value:
         state["extras"] = value["extras"]
+    if value.get("alphaMode") == "MASK" and isinstance(value.get("alphaCutoff"), (int, float)) \
+            and not isinstance(value.get("alphaCutoff"), bool) and 0.0 <= value["alphaCutoff"]:
+        state["alphaMode"], state["alphaCutoff"] = "MASK", float(value["alphaCutoff"])
     extensions = value.get("extensions")
     if isinstance(extensions, dict) and all(isinstance(k, str) and isinstance(v, dict) for k, v in extensions.items()):
         state["extensions"] = extensions

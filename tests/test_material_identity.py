@@ -82,11 +82,12 @@ def test_gltf_state_openpbr_cannot_hold_travels_and_comes_back(tmp_path, middle)
                                                 {"name": "C", "extensions": {"KHR_materials_unlit": {}}}]}))
     notes = _convert(source, tmp_path / f"mid.{middle}")
     said = " | ".join(f"{n['code']} {n['location']['material']}: {n['message']}" for n in notes)
-    assert "OPBR1104 A" in said and "alpha_cutoff" in said  # the cut-off has no side channel yet: reported
-    for kept in ("doubleSided true", "extras", "KHR_materials_diffuse_transmission", "KHR_materials_unlit"):
+    for kept in ("alphaMode MASK with alphaCutoff 0.3", "doubleSided true", "extras", "KHR_materials_diffuse_transmission",
+                 "KHR_materials_unlit"):
         assert f"{kept} (glTF material state" in said
     _convert(tmp_path / f"mid.{middle}", tmp_path / "back.gltf")
     back = json.loads((tmp_path / "back.gltf").read_text())
+    assert (back["materials"][0]["alphaMode"], back["materials"][0]["alphaCutoff"]) == ("MASK", 0.3)
     b = back["materials"][1]
     assert (b["doubleSided"], b["extras"], b["extensions"]["KHR_materials_diffuse_transmission"]) == (
         True, {"studio": "x"}, {"diffuseTransmissionFactor": 0.5})

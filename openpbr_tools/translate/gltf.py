@@ -350,8 +350,6 @@ def from_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
 DROPPED_FROM_GLTF = (
     Dropped("occlusion", "OpenPBR has no ambient occlusion input (bake it into lighting)", matters=lambda v: v != 1.0),
     Dropped("anisotropy_rotation", "OpenPBR rotates anisotropy through the tangent", matters=lambda v: v != 0.0),
-    Dropped("alpha_cutoff", "OpenPBR has no alpha mode: the MASK threshold is applied to geometry_opacity, and the "
-            "mode and cut-off themselves are not kept", matters=lambda c, m: m == 1, needs=("alpha_mode",)),
     Dropped("thickness", "OpenPBR has no volume thickness (only thin-walled or not): the value is not kept",
             matters=lambda d, t: d > 0 and d != 1.0 and t > 0, needs=("transmission",)),  # 1: what OpenPBR -> glTF writes
 )

@@ -174,6 +174,10 @@ class _Reader(TextureReading):
         for key in ("doubleSided", "extras"):
             if key in raw:
                 extra[key] = raw[key]
+        if raw.get("alphaMode") == "MASK":  # OpenPBR keeps the cut-out, not the mode: gltf_state carries it
+            extra["alphaMode"] = "MASK"
+            cutoff = raw.get("alphaCutoff", 0.5)
+            extra["alphaCutoff"] = float(cutoff) if json_numbers([cutoff], 1) else 0.5
         kept = {n: v for n, v in extensions.items() if n not in slots.INTERPRETED_MATERIAL_EXTENSIONS}
         if kept:
             extra["extensions"] = kept

@@ -272,6 +272,9 @@ class _MaterialWriter(TextureWriting):
         for key in ("doubleSided", "extras"):
             if key in self.extra:
                 self.out[key] = self.extra[key]
+        if self.extra.get("alphaMode") == "MASK" and self.out.get("alphaMode") != "MASK":
+            # the source's cut-out came through OpenPBR as a (binary) opacity: its mode and threshold return
+            self.out["alphaMode"], self.out["alphaCutoff"] = "MASK", self.extra.get("alphaCutoff", 0.5)
         for name, value in sorted((self.extra.get("extensions") or {}).items()):
             if name in slots.INTERPRETED_MATERIAL_EXTENSIONS:
                 continue
