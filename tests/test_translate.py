@@ -395,3 +395,12 @@ def test_an_hdr_emission_colour_moves_its_excess_into_standard_surfaces_weight()
     product = float(value(ss, "emission")) * np.asarray(value(ss, "emission_color"))
     np.testing.assert_allclose(product, 2.0 * np.array([0.4, 4.0, 0.6]), rtol=1e-9)
     assert max(value(ss, "emission_color")) <= 1.0
+
+
+def test_a_base_smoother_than_openpbrs_coat_allows_keeps_its_roughness_and_says_so():
+    # OpenPBR 1.1 "Coat": the base under a coat is roughened to min(1, (r^4 + 2 rc^4)^(1/4)); with a fully
+    # rough coat (rc = 1) every base is at 1, so glTF's 0.6 base has no inverse. It must stay 0.6, not ~0.
+    source = material("gltf_pbr", roughness=0.6, clearcoat=1.0, clearcoat_roughness=1.0)
+    there = convert(source, "open_pbr_surface")
+    assert float(value(there.material, "specular_roughness")) == pytest.approx(0.6)
+    assert any(d.code == "OPBR1103" and "smoother than" in d.message for d in there.diagnostics)

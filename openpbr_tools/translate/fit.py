@@ -229,7 +229,8 @@ def fuzz_albedo_scale(fuzz_roughness):
 # -- the coat's roughening of the base (evaluate.coat.coat_roughened) -----------------------------
 def coat_unroughened(roughened, coat_weight, coat_roughness, iterations: int = 48):
     """Inverse of :func:`~openpbr_tools.evaluate.coat.coat_roughened` in the base roughness (increasing in it; bisection, vectorised).
-    A roughness below what the coat alone gives maps to 0."""
+    A roughness below what the coat alone gives (:func:`smoother_than_the_coat_allows`) has no
+    inverse: it is kept as it is (the caller reports the approximation) rather than sent to 0."""
     roughened = np.asarray(roughened, dtype=np.float64)
     low = np.zeros(np.broadcast(roughened, coat_weight, coat_roughness).shape)
     high = np.ones_like(low)
@@ -238,4 +239,12 @@ def coat_unroughened(roughened, coat_weight, coat_roughness, iterations: int = 4
         above = coat_roughened(middle, coat_weight, coat_roughness) > roughened
         high = np.where(above, middle, high)
         low = np.where(above, low, middle)
-    return np.where(coat_weight > 0, 0.5 * (low + high), roughened + 0.0 * low)
+    solved = 0.5 * (low + high)
+    return np.where((coat_weight > 0) & ~smoother_than_the_coat_allows(roughened, coat_weight, coat_roughness),
+                    solved, roughened + 0.0 * low)
+
+
+def smoother_than_the_coat_allows(roughened, coat_weight, coat_roughness):
+    """Whether a base roughness is below the least OpenPBR's coat leaves (that of a mirror base
+    under it): no OpenPBR base roughness reproduces it."""
+    return (np.asarray(coat_weight) > 0) & (np.asarray(roughened) < coat_roughened(0.0, coat_weight, coat_roughness) - 1e-9)

@@ -85,6 +85,11 @@ def gltf_anisotropy_strength(r, a):
     return np.sqrt(np.clip(s2, 0.0, 1.0))
 
 
+def _smoother_than_the_coat(r, s, c, rc) -> bool:
+    with np.errstate(all="ignore"):  # inf/nan from hostile files are reported elsewhere
+        return bool(np.any(fit.smoother_than_the_coat_allows(openpbr_roughness(r, s), c, rc)))
+
+
 def openpbr_roughness(r_g, s):
     alpha_b = r_g ** 2
     alpha_t = gltf_anisotropic_alpha(alpha_b, s)
@@ -298,7 +303,10 @@ def from_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
         Mapping("base_metalness", ("metallic",)),
         Mapping("specular_roughness", ("roughness", "anisotropy_strength", "clearcoat", "clearcoat_roughness"),
                 lambda r, s, c, rc: fit.coat_unroughened(openpbr_roughness(r, s), c, rc),
-                converted="roughness from glTF's anisotropic alphas, less the roughening OpenPBR's coat adds"),
+                converted="roughness from glTF's anisotropic alphas, less the roughening OpenPBR's coat adds",
+                exact=False, matters=_smoother_than_the_coat,
+                note="the base is smoother than OpenPBR's coat lets a base be (the coat roughens it, glTF's does not): "
+                     "its roughness is kept, and OpenPBR renders it rougher"),
         Mapping("specular_roughness_anisotropy", ("roughness", "anisotropy_strength"), openpbr_anisotropy,
                 converted="anisotropy from glTF's alpha_t / alpha_b"),
         Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES, openpbr_specular_weight, exact=False,
