@@ -1,0 +1,63 @@
+"""Translation fidelity over the OpenPBR parameter space: generated constant materials (every
+parameter over its legal range, absent-means-default; tests/generated_materials.py) in lin_rec709,
+acescg and lin_displayp3 documents, converted to Standard Surface, glTF and UsdPreviewSurface, judged
+by the lobe evaluator (mean CIEDE2000 over the lit sphere).
+
+    python tests/benchmarks/bench_fidelity.py [--count 1000] [--seed 11]
+
+Prints, per target: the share of materials under 2.3 (just noticeable), the median, p95 and the
+five worst with their file and index. The materials are random over the whole space, so many are
+combinations no artist authors (a glass that is also a metal with fuzz); the tail says where the
+models differ, not only where the converter errs.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+from generated_materials import COLORSPACES, document  # noqa: E402
+from openpbr_tools.convert import convert_file, measure  # noqa: E402
+from openpbr_tools.translate.common import Settings  # noqa: E402
+
+TARGETS = {"standard_surface": ("mtlx", "standard_surface"), "gltf_pbr": ("gltf", None),
+           "UsdPreviewSurface": ("mtlx", "UsdPreviewSurface")}
+PER_DOCUMENT = 50
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--count", type=int, default=1000)
+    parser.add_argument("--seed", type=int, default=11)
+    arguments = parser.parse_args()
+    folder = tempfile.mkdtemp(prefix="openpbr-fidelity-")
+    sources = []
+    for index in range(max(1, arguments.count // PER_DOCUMENT)):
+        space = COLORSPACES[index % len(COLORSPACES)]
+        path = os.path.join(folder, f"set{index:03d}_{space}.mtlx")
+        with open(path, "w", encoding="utf-8") as handle:
+            handle.write(document("open_pbr_surface", space, arguments.seed * 1000 + index, PER_DOCUMENT))
+        sources.append(path)
+    start = time.perf_counter()
+    for target, (suffix, model) in TARGETS.items():
+        rows = []
+        for path in sources:
+            conversion = convert_file(path, os.path.join(folder, f"out.{suffix}"), model, Settings())
+            rows += [(delta.mean, os.path.basename(path), source.name) for source, delta in measure(conversion)]
+        means = sorted(r[0] for r in rows)
+        p95 = means[int(0.95 * (len(means) - 1))]
+        print(f"{target}: {len(means)} materials, under 2.3: {sum(m < 2.3 for m in means) / len(means):.1%}, "
+              f"median {statistics.median(means):.2f}, p95 {p95:.2f}")
+        for mean, file, name in sorted(rows)[-5:]:
+            print(f"    {mean:6.2f}  {file} {name}")
+    print(f"{time.perf_counter() - start:.0f} s")
+
+
+if __name__ == "__main__":
+    main()
