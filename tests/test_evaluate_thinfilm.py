@@ -82,3 +82,15 @@ def test_film_colour_matches_colour_science_spectral_integration():
     expected = colour.XYZ_to_RGB(xyz, space, illuminant=space.whitepoint, apply_cctf_encoding=False)
     got = thinfilm.thin_film_rgb(np.cos(theta), thickness, n_film, np.full(3, n_sub))
     np.testing.assert_allclose(got, expected, atol=3e-3)
+
+
+@pytest.mark.parametrize("film, substrate", [(1.0, 1.0), (1.0, 1.5), (1.5, 1.0), (1.3, 0.2 + 3.0j)])
+def test_grazing_incidence_with_index_one_layers_is_finite(film, substrate):
+    # Born & Wolf: with no index step there is no reflection; at grazing incidence on any index step
+    # the reflectance tends to 1. Neither limit may come out as 0/0.
+    with np.errstate(all="raise"):
+        reflectance = thinfilm.airy_reflectance(0.0, 500.0, film, substrate, 550.0)
+    if film == 1.0 and substrate == 1.0:
+        assert reflectance == pytest.approx(0.0, abs=1e-6)
+    else:
+        assert 0.99 < reflectance <= 1.0 + 1e-9

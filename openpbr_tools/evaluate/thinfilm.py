@@ -36,7 +36,9 @@ def airy_reflectance(cos_theta, thickness_nm, film_ior, substrate_ior, wavelengt
     reflections inside the film are summed exactly (the Airy series). Broadcasting: the result
     has the broadcast shape of all arguments; pass ``wavelength_nm`` with a trailing axis.
     """
-    c1 = np.clip(np.abs(np.asarray(cos_theta, dtype=float)), 0.0, 1.0)
+    # exact grazing (cos 0) with an index-1 film or substrate makes every coefficient 0/0; a cosine
+    # of 1e-7 gives the limits instead (no interface: 0; an interface: total reflection)
+    c1 = np.clip(np.abs(np.asarray(cos_theta, dtype=float)), 1e-7, 1.0)
     n2 = np.maximum(np.asarray(film_ior, dtype=float), 1.0).astype(complex)
     n3 = np.asarray(substrate_ior, dtype=complex)
     sin2 = 1.0 - c1 * c1
