@@ -24,6 +24,9 @@ OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tool
               help="Batch form: the format of every output, written under --output mirroring the input tree.")
 @click.option("--to", "target", type=click.Choice(MODELS), help="Shading model of a .mtlx output [default: open_pbr_surface].")
 @click.option("--mesh", type=click.Choice(["sphere"]), help="glTF: add a UV sphere per material so any viewer shows it.")
+@click.option("--gltf-drafts", is_flag=True,
+              help="glTF: also write the draft KHR_materials_coat, _fuzz, _diffuse_roughness and "
+                   "EXT_materials_specular_openpbr beside the ratified fallbacks (exact for OpenPBR).")
 @click.option("--nits-per-unit", type=click.FloatRange(min=1e-9), default=1.0, show_default=True,
               help="Nits one unit of a unitless emission weight stands for (MaterialX's reference renders 1).")
 @click.option("--allow-outside", multiple=True, type=click.Path(file_okay=False),
@@ -47,7 +50,7 @@ OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tool
               help="Format of the loss report.")
 @click.option("--fail-on", type=click.Choice(SEVERITIES + ("never",)), default="never", show_default=True,
               callback=_severity, help="Exit 1 when a report entry reaches this severity (error: something was dropped).")
-def convert(inputs, output, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, max_delta_e,
+def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_unit, allow_outside, verify, threshold, max_delta_e,
             force, skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format,
             fail_on):
     """Convert every material of INPUT (.mtlx, USD, glTF) and write OUTPUT; the report lists every
@@ -63,7 +66,8 @@ def convert(inputs, output, batch_format, target, mesh, nits_per_unit, allow_out
         if max_delta_e is not None:
             raise click.UsageError("--max-delta-e applies to one input; use --verify --threshold X with several")
         _batch(inputs, output, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, force,
-               skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on)
+               skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on,
+               gltf_drafts)
         return
     input_path = inputs[0]
 
@@ -84,7 +88,8 @@ def convert(inputs, output, batch_format, target, mesh, nits_per_unit, allow_out
     if os.path.exists(output) and not force:
         raise click.UsageError(f"{output} exists; pass --force to overwrite it")
     try:
-        result = convert_file(input_path, output, target, Settings(nits_per_unit=nits_per_unit), mesh=mesh,
+        result = convert_file(input_path, output, target, Settings(nits_per_unit=nits_per_unit, gltf_drafts=gltf_drafts),
+                              mesh=mesh,
                               allow_outside=tuple(allow_outside))
     except ReadError as error:
         click.echo(render(Report(files=[unreadable(input_path, error)]), output_format), nl=False)
@@ -113,7 +118,8 @@ def convert(inputs, output, batch_format, target, mesh, nits_per_unit, allow_out
 
 
 def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, force,
-           skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on):
+           skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on,
+           gltf_drafts=False):
     # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools import batch
     from openpbr_tools.reports import render
@@ -135,7 +141,7 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
     planned = batch.plan(inputs, outdir, batch_format, force=force, skip_existing=skip_existing, options=options,
                          target=target, nits_per_unit=nits_per_unit, mesh=mesh,
                          allow_outside=tuple(os.path.abspath(f) for f in allow_outside), verify=verify,
-                         threshold=threshold)
+                         threshold=threshold, gltf_drafts=gltf_drafts)
     show_progress = sys.stderr.isatty() if progress is None else progress
     try:
         report = batch.run(planned, options, progress=_progress_bar() if show_progress else None)

@@ -47,6 +47,7 @@ class Job:
     allow_outside: tuple[str, ...] = ()
     verify: bool = False
     threshold: float = 2.0
+    gltf_drafts: bool = False
 
 
 @dataclass(slots=True)
@@ -150,7 +151,7 @@ def _convert(job: Job) -> FileResult:
 
     try:
         os.makedirs(os.path.dirname(job.output), exist_ok=True)
-        result = convert_file(job.source, job.output, job.target, Settings(nits_per_unit=job.nits_per_unit),
+        result = convert_file(job.source, job.output, job.target, Settings(nits_per_unit=job.nits_per_unit, gltf_drafts=job.gltf_drafts),
                               mesh=job.mesh, allow_outside=job.allow_outside)
     except ReadError as error:
         return unreadable(job.source, error)

@@ -124,14 +124,16 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                     "not converted on its own; the material is its MaterialX shader", material.location)], material)
                 continue
             meters, unitless = _meters_per_unit(material, asset)
-            step_settings = Settings(settings.nits_per_unit, meters, context, baker)
+            step_settings = Settings(settings.nits_per_unit, meters, context, baker, settings.gltf_drafts)
             name = unique = material.material_name or material.name
-            while unique in used_names:
+            while unique in used_names and kind != "gltf":  # glTF keeps materials apart by index
                 unique = f"{name}_{len(used_names) + 1}"
             used_names.add(unique)
             if unique != name:
                 notes.append(context.diagnostic(CONVERTED, f"{name}: an earlier material has the same name; written as "
-                                                f"{unique!r} so that no writer merges the two", material.location))
+                                                f"{unique!r} so that no writer merges the two"
+                                                + (" (a glTF output restores the name)" if asset.format == "gltf" else ""),
+                                                material.location))
             if unitless:
                 notes.append(context.diagnostic(APPROXIMATED, f"{material.name}: {', '.join(unitless)} carry no unit; "
                                                 "taken as metres", material.inputs[unitless[0]].location))
@@ -140,6 +142,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             notes += _gltf_state(material, kind, context)
             translated = translation.material
             translated.material_name = unique
+            if unique != name and asset.format == "gltf" and isinstance(translated.extra.get("gltf"), dict):
+                translated.extra["gltf"]["name"] = name
             result.materials.append(translated)
             result.pairs.append((material, translated))
             if kind == "usd":
@@ -171,16 +175,24 @@ def _gltf_state(source: Material, kind: str, context: Context) -> list[Diagnosti
     gltf_pbr node does not carry, such as KHR_materials_diffuse_transmission and KHR_materials_unlit)
     travels to a glTF output only; anywhere else each is reported, never dropped in silence."""
     state = source.extra.get("gltf") if isinstance(source.extra.get("gltf"), dict) else None
-    if state is None or kind == "gltf":
+    if state is None:
         return []
+    lost = [context.diagnostic(NOT_CARRIED, f"{source.name}: {sub} inside {parent} is not read by the toolkit; not "
+                                            "carried", dataclasses.replace(
+                                   source.location, path=f"{source.location.path}/extensions/{parent}/extensions/{sub}"))
+            for parent, sub, read in state.get("nested_extensions") or () if not read]
+    if kind == "gltf":
+        return lost + [context.diagnostic(CONVERTED, f"{source.name}: {name} is not interpreted; written back as it was "
+                                                     "(unless it references the source's textures)", source.location)
+                       for name in sorted(state.get("extensions") or {})]
     kept = [f"doubleSided {str(state['doubleSided']).lower()}" for _ in [0] if state.get("doubleSided")]
     kept += ["extras"] if state.get("extras") else []
     kept += [f"alphaMode MASK with alphaCutoff {state.get('alphaCutoff', 0.5):g}"] if state.get("alphaMode") == "MASK" else []
     kept += sorted(state.get("extensions") or {})
     where = "attribute openpbr_gltf of its surfacematerial" if kind == "mtlx" else "customData openpbr:gltf of its Material"
-    return [context.diagnostic(CONVERTED, f"{source.name}: {what} (glTF material state OpenPBR has no parameter for) is "
-                                          f"kept in the {where} and restored when converted back to glTF",
-                               source.location) for what in kept]
+    return lost + [context.diagnostic(CONVERTED, f"{source.name}: {what} (glTF material state OpenPBR has no parameter "
+                                                 f"for) is kept in the {where} and restored when converted back to glTF",
+                                      source.location) for what in kept]
 
 
 def _unreadable_inputs(source: Material, result: Material, kind: str, context: Context) -> list[Diagnostic]:

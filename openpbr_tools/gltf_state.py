@@ -1,7 +1,8 @@
 """glTF material state OpenPBR has no parameter for, carried through .mtlx and USD outputs so that a
 glTF -> .mtlx/USD -> glTF round trip restores it.
 
-What travels: ``doubleSided``, ``extras``, an alpha ``MASK`` with its ``alphaCutoff`` (OpenPBR keeps
+What travels: the glTF ``name`` where a writer that needs unique names renamed the material (glTF
+allows two materials one name: a glTF output restores it), ``doubleSided``, ``extras``, an alpha ``MASK`` with its ``alphaCutoff`` (OpenPBR keeps
 the cut-out as geometry_opacity, not the mode) and the material extensions the gltf_pbr node does not
 carry (KHR_materials_diffuse_transmission, KHR_materials_unlit, unknown ones), as they were in the
 source (``Material.extra["gltf"]``). Where: a JSON string in the ``openpbr_gltf`` attribute of the
@@ -16,7 +17,7 @@ import json
 
 MTLX_ATTRIBUTE = "openpbr_gltf"
 USD_CUSTOM_DATA_KEY = "openpbr:gltf"
-KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff")
+KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff", "name")
 MAX_TEXT = 1 << 20  # a side channel larger than this is not read (a hostile file)
 
 
@@ -42,6 +43,8 @@ def decode(text) -> dict:
     if not isinstance(value, dict):
         return {}
     state = {}
+    if isinstance(value.get("name"), str) and value["name"]:
+        state["name"] = value["name"]
     if isinstance(value.get("doubleSided"), bool):
         state["doubleSided"] = value["doubleSided"]
     if "extras" in value:

@@ -28,10 +28,27 @@ def describe(asset: Asset) -> dict:
                     for name, t in m.textures()
                 ],
                 "procedural_inputs": sorted(n for n, i in m.inputs.items() if isinstance(i.value, Connection)),
+                "extensions": _extensions(m) if asset.format == "gltf" else [],
             }
             for m in asset.materials
         ],
     }
+
+
+def _extensions(material) -> list[dict]:
+    """The glTF material extensions ``material`` uses (nested ones as ``parent/name``), each with how
+    the toolkit treats it: ``ratified`` (read), ``draft`` (read, see io.gltf.drafts) or ``not converted``."""
+    from .io.gltf import drafts, slots  # lazy: info on a .mtlx file does not need the glTF tables
+
+    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    found = []
+    for name in state.get("material_extensions") or ():
+        status = "ratified" if name in slots.INTERPRETED_MATERIAL_EXTENSIONS else \
+            "draft" if name in drafts.MATERIAL_DRAFTS else "not converted"
+        found.append({"name": name, "status": status})
+    for parent, name, read in state.get("nested_extensions") or ():
+        found.append({"name": f"{parent}/{name}", "status": "draft" if read else "not converted"})
+    return found
 
 
 def describe_text(entries: list[dict]) -> str:
@@ -60,4 +77,6 @@ def describe_text(entries: list[dict]) -> str:
                 lines.append(f"    {t['input']}: {t['file']} ({t['colorspace'] or 'no colour space'}){suffix}")
             for name in m["procedural_inputs"]:
                 lines.append(f"    {name}: procedural (not interpreted)")
+            if m.get("extensions"):
+                lines.append("    extensions: " + ", ".join(f"{e['name']} ({e['status']})" for e in m["extensions"]))
     return "\n".join(lines) + "\n"

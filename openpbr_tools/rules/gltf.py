@@ -92,10 +92,15 @@ EXCLUSIVE_EXTENSIONS = Rule(
 )
 NOT_CONVERTED = Rule(
     "OPBR1204", "gltf-material-model-not-converted", Severity.WARNING,
-    "A material uses KHR_materials_unlit or KHR_materials_pbrSpecularGlossiness, which the gltf_pbr node does not carry.",
-    "Unlit materials (no lighting at all) and the archived specular-glossiness workflow have no "
-    "gltf_pbr parameters. The extension is kept as data for a translator (Material.extra) and the "
-    "material is checked as its metallic-roughness fallback, which is what conversions use.",
+    "A material uses a material extension the toolkit does not convert (KHR_materials_unlit, "
+    "KHR_materials_pbrSpecularGlossiness, KHR_materials_diffuse_transmission, or one it does not know).",
+    "Unlit materials (no lighting at all), the archived specular-glossiness workflow, diffuse "
+    "transmission and unknown or vendor extensions (also those nested in a KHR_materials_* object, "
+    "such as KHR_materials_clearcoat_ior) have no gltf_pbr or OpenPBR parameters here. The extension "
+    "is kept as data (Material.extra: a conversion back to glTF restores it) and the material is "
+    "checked and converted as its metallic-roughness fallback. The draft extensions that align glTF "
+    "with OpenPBR (KHR_materials_coat, _fuzz, _diffuse_roughness and Adobe's EXT_materials_*_openpbr "
+    "family) are read, not reported.",
     passing=_gltf('"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0]}}]'),
     failing=_gltf('"extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"]',
                   '"materials": [{"name": "M", "extensions": {"KHR_materials_pbrSpecularGlossiness": '
@@ -237,8 +242,9 @@ def _observations(asset, context):
             yield context.diagnostic(INVALID_PROPERTY, detail["message"], observation.location)
         elif observation.kind == "gltf_not_converted":
             yield context.diagnostic(
-                NOT_CONVERTED, f"material {detail['material']!r} uses {detail['extension']}, which gltf_pbr does not carry",
-                observation.location, hint="it is kept as data; findings describe the metallic-roughness fallback",
+                NOT_CONVERTED, f"material {detail['material']!r} uses {detail['extension']}, which the toolkit does not convert",
+                observation.location, hint="findings and conversions describe the material without it (one directly on the "
+                                           "material is kept as data and restored on glTF output)",
             )
 
 

@@ -81,12 +81,16 @@ class Settings:
     1, is MaterialX's reference implementation (``emission_luminance`` 1 renders as radiance 1).
     ``meters_per_unit``: the scene unit of lengths in the source (MaterialX ``unit`` attributes
     override it per input; USD's ``metersPerUnit``); glTF is always metres.
+    ``gltf_drafts``: a glTF output also gets the draft extensions that carry what the ratified ones
+    cannot (KHR_materials_coat, _fuzz, _diffuse_roughness, EXT_materials_specular_openpbr; see
+    :mod:`openpbr_tools.io.gltf.drafts`), beside the ratified fallbacks.
     """
 
     nits_per_unit: float = 1.0
     meters_per_unit: float | None = None
     context: Context = field(default_factory=Context)
     baker: Any = None  # an openpbr_tools.bake.Baker: textures a formula transforms are baked per texel
+    gltf_drafts: bool = False
 
 
 class Values:

@@ -6,6 +6,8 @@ if the target is not OpenPBR, on to the target. The loss reports of every step a
 
 from __future__ import annotations
 
+import dataclasses
+
 from .. import tables
 from ..model import Material
 from .common import Settings, Translation
@@ -29,6 +31,13 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
     settings = settings or Settings()
     diagnostics = []
     current = material
+    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    if material.model == target == "gltf_pbr" and state.get("drafts"):
+        # a glTF material with draft extensions goes through OpenPBR (where the drafts' values live) and
+        # comes back with them: they reference the source's textures, so they cannot be copied as JSON
+        step = gltf_to_openpbr(material, settings)
+        back = openpbr_to_gltf(step.material, dataclasses.replace(settings, gltf_drafts=True))
+        return Translation(back.material, step.diagnostics + back.diagnostics, material)
     if current.model == "open_pbr_surface":
         if current.version and current.version != tables.latest("open_pbr_surface"):
             upgraded = upgrade(current, context=settings.context)

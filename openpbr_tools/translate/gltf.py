@@ -52,6 +52,23 @@ before -> after the fits of :mod:`.fit`, from ``openpbr convert --verify``):
     are fitted to the fuzz's albedo (:func:`.fit.sheen_fit`), the colour clamped to 1 where rough
     fuzz reflects more than a sheen can. Velvets 1.2-2.3 (3.2-5.2), a 0.6-weight grey dust 1.6 (1.0);
   * the coat's IOR (glTF fixes 1.5), subsurface (folded into the base colour).
+
+Draft extensions (:mod:`openpbr_tools.io.gltf.drafts`, with the versions implemented). Read whenever
+present, exactly: KHR_materials_coat (weight, roughness and anisotropy with glTF's anisotropy
+convention, IOR, colour, darkening, normal) in place of its KHR_materials_clearcoat fallback,
+KHR_materials_fuzz in place of the sheen fit, KHR_materials_diffuse_roughness, and the
+EXT_materials_*_openpbr sub-extensions (OpenPBR's specular weight and colour, whose base colour is
+then a metal's F0 as is; coat darkening; OpenPBR's anisotropy). Written with
+``Settings.gltf_drafts`` (``openpbr convert --gltf-drafts``): the same extensions beside the ratified
+fallbacks, and then the core factors are OpenPBR's own where a draft gives them their meaning: the
+base colour is not darkened or tinted by the coat (KHR_materials_coat does that) and a metal's base
+colour is its F0 with KHR_materials_specular + EXT_materials_specular_openpbr holding the specular
+weight and F82 tint, so OpenPBR -> glTF -> OpenPBR returns every draft-carried parameter exactly. A
+viewer without the drafts sees the ratified fallbacks (clearcoat without the coat's colour, sheen).
+The drafts' own code is :mod:`.gltf_drafts`, the anisotropy convention :mod:`.gltf_anisotropy`.
+
+One module because the two directions are each other's inverses: every fit and its inverse (the
+metal F0, the specular weight under a coat, the coat's roughening, the sheen fit) sit side by side.
 """
 
 from __future__ import annotations
@@ -60,49 +77,23 @@ import numpy as np
 
 from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_roughened
 from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
+from ..io.gltf import drafts
 from ..model import Material
 from . import fit
 from .common import Dropped, Mapping, Settings, Translation, differs, translate
+from .gltf_anisotropy import gltf_anisotropy_strength, gltf_roughness, openpbr_anisotropy, openpbr_roughness
+from .gltf_drafts import DRAFT_TARGETS, GLTF_CLEARCOAT_IOR, apply_drafts, draft_record, with_draft_coat
 
 WHITE = np.ones(3)
-#: KHR_materials_clearcoat's fixed IOR (its F0 is 0.04).
-GLTF_CLEARCOAT_IOR = 1.5
 #: Measured residuals, mean CIEDE2000 on the evaluator's lit sphere (module docstring).
 COAT_RESIDUAL = "measured ΔE2000 0.1-1.1 on coated plastics, 1.0 on a coated car paint"
 METAL_RESIDUAL = "measured ΔE2000 up to 1.2 on tinted metals, 1.7 for a strong tint"
 SHEEN_RESIDUAL = "measured ΔE2000 1.2-2.3 on velvets"
 
 
-def gltf_roughness(r, a):
-    _, alpha_b = openpbr_alphas(r, a)
-    return np.sqrt(alpha_b)
-
-
-def gltf_anisotropy_strength(r, a):
-    alpha_t, alpha_b = openpbr_alphas(r, a)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s2 = np.where(alpha_b < 1.0, (np.minimum(alpha_t, 1.0) - alpha_b) / np.where(alpha_b < 1.0, 1.0 - alpha_b, 1.0), 0.0)
-    return np.sqrt(np.clip(s2, 0.0, 1.0))
-
-
 def _smoother_than_the_coat(r, s, c, rc) -> bool:
     with np.errstate(all="ignore"):  # inf/nan from hostile files are reported elsewhere
         return bool(np.any(fit.smoother_than_the_coat_allows(openpbr_roughness(r, s), c, rc)))
-
-
-def openpbr_roughness(r_g, s):
-    alpha_b = r_g ** 2
-    alpha_t = gltf_anisotropic_alpha(alpha_b, s)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        a = np.where(alpha_t > 0, 1.0 - alpha_b / np.where(alpha_t > 0, alpha_t, 1.0), 0.0)
-    return np.sqrt(alpha_t * np.sqrt((1.0 + (1.0 - a) ** 2) / 2.0))
-
-
-def openpbr_anisotropy(r_g, s):
-    alpha_b = r_g ** 2
-    alpha_t = gltf_anisotropic_alpha(alpha_b, s)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(alpha_t > 0, 1.0 - alpha_b / np.where(alpha_t > 0, alpha_t, 1.0), 0.0)
 
 
 def average_alpha_openpbr(r, a):
@@ -148,19 +139,21 @@ SPECULAR_SOURCES = ("specular_weight", "specular_ior", "coat_ior", "coat_weight"
                     "base_metalness", "subsurface_weight", "subsurface_color", "coat_darkening")
 
 
-def openpbr_specular_weight(specular, metallic, ior, clearcoat, iridescence):
-    """Inverse of :func:`gltf_specular` (glTF's clearcoat has IOR 1.5 and does not darken)."""
-    scale = fit.dielectric_specular_scale(ior, GLTF_CLEARCOAT_IOR, clearcoat, iridescence)
+def openpbr_specular_weight(specular, metallic, ior, clearcoat, iridescence, coat_ior=GLTF_CLEARCOAT_IOR):
+    """Inverse of :func:`gltf_specular` (glTF's clearcoat has IOR 1.5, KHR_materials_coat's its
+    ``coatIor``; neither darkens here: the ratified reading sets no darkening)."""
+    scale = fit.dielectric_specular_scale(ior, coat_ior, clearcoat, iridescence)
     return fit.specular_weight_from_coated(specular, scale, metallic)
 
 
 SPECULAR_WEIGHT_SOURCES = ("specular", "metallic", "ior", "clearcoat", "iridescence")
 
 
-def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources):
+def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
+                       coat_ior=GLTF_CLEARCOAT_IOR):
     """Inverse of the metal fit in :func:`gltf_base_color`: OpenPBR's base colour (F0 under an F82
     edge tint of ``specular_color``) whose fitted Schlick metal is glTF's base colour."""
-    specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:])
+    specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior)
     return fit.openpbr_metal_from_schlick(color, metallic, specular_color, specular_weight,
                                           average_alpha_gltf(roughness, anisotropy_strength))
 
@@ -215,6 +208,25 @@ def fuzz_weight_from_gltf(sheen_color, sheen_roughness):
     return np.clip(_peak(sheen_color) / scale, 0.0, 1.0)
 
 
+def gltf_base_color_drafts(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color):
+    """glTF's base colour beside the drafts: OpenPBR's own (KHR_materials_coat tints and darkens,
+    EXT_materials_specular_openpbr makes it a metal's F0), with transmission and subsurface mixed in."""
+    diffuse = weight * color
+    diffuse = diffuse + subsurface * (weight * subsurface_color - diffuse)
+    tint = np.where(depth > 0, WHITE, transmission_color)
+    return diffuse + transmission * (tint - diffuse)
+
+
+def _mixed_base_matters(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color):
+    mixed_transmission = 0 < transmission < 1 and (depth > 0 or differs(transmission_color, weight * color))
+    full_volume = transmission >= 1 and depth > 0 and differs(color, WHITE)
+    return bool(subsurface > 0 or mixed_transmission or full_volume)
+
+
+DRAFT_BASE_SOURCES = ("base_weight", "base_color", "transmission_weight", "transmission_color", "transmission_depth",
+                      "subsurface_weight", "subsurface_color")
+
+
 def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
@@ -222,12 +234,30 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
                     "subsurface_weight", "subsurface_color", "base_metalness", "specular_weight", "coat_weight",
                     "coat_darkening", "coat_ior", "coat_color", "specular_color", "specular_roughness",
                     "specular_roughness_anisotropy", "coat_roughness")
-    return (
-        Mapping("base_color", base_sources, gltf_base_color, exact=False, matters=_base_color_matters,
-                note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed; "
-                     "the coat's colour (glTF's clearcoat is colourless) is folded into it, which misses the "
-                     f"tint of the dielectric reflection under the coat; a metal's F82 edge tint and specular "
-                     f"weight are fitted into its F0 ({METAL_RESIDUAL})"),
+    if settings.gltf_drafts:
+        base_and_specular = (
+            Mapping("base_color", DRAFT_BASE_SOURCES, gltf_base_color_drafts, exact=False, matters=_mixed_base_matters,
+                    note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed"),
+            Mapping("specular", ("specular_weight",)),
+            Mapping("specular_color", ("specular_color",)),
+        )
+    else:
+        base_and_specular = (
+            Mapping("base_color", base_sources, gltf_base_color, exact=False, matters=_base_color_matters,
+                    note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed; "
+                         "the coat's colour (glTF's clearcoat is colourless) is folded into it, which misses the "
+                         f"tint of the dielectric reflection under the coat; a metal's F82 edge tint and specular "
+                         f"weight are fitted into its F0 ({METAL_RESIDUAL})"),
+            Mapping("specular", SPECULAR_SOURCES, gltf_specular,
+                    exact=False, matters=lambda *v: v[6] < 1 and differs(gltf_specular(*v), 1.0),
+                    note="KHR_materials_specular scales F0 and F90 where OpenPBR's specular_weight and a coat (the base's "
+                         f"IOR relative to the coat's) change F0 only: equal at normal incidence ({COAT_RESIDUAL})"),
+            Mapping("specular_color", ("specular_color", "base_metalness"), lambda c, m: c, exact=False,
+                    matters=lambda c, m: differs(c, WHITE) and m > 0,
+                    note="glTF's specular colour tints dielectric F0 only; a metal's F82 edge tint is fitted into its "
+                         f"base colour instead ({METAL_RESIDUAL})"),
+        )
+    return base_and_specular + (
         Mapping("metallic", ("base_metalness",)),
         Mapping("roughness", ROUGHNESS_SOURCES, lambda r, a, c, rc: gltf_roughness(coat_roughened(r, c, rc), a),
                 converted="roughness from OpenPBR's anisotropic alpha_b, roughened by the coat as OpenPBR does "
@@ -235,14 +265,6 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
         Mapping("anisotropy_strength", ROUGHNESS_SOURCES,
                 lambda r, a, c, rc: gltf_anisotropy_strength(coat_roughened(r, c, rc), a),
                 converted="KHR_materials_anisotropy strength solved from OpenPBR's alpha_t and alpha_b"),
-        Mapping("specular", SPECULAR_SOURCES, gltf_specular,
-                exact=False, matters=lambda *v: v[6] < 1 and differs(gltf_specular(*v), 1.0),
-                note="KHR_materials_specular scales F0 and F90 where OpenPBR's specular_weight and a coat (the base's "
-                     f"IOR relative to the coat's) change F0 only: equal at normal incidence ({COAT_RESIDUAL})"),
-        Mapping("specular_color", ("specular_color", "base_metalness"), lambda c, m: c, exact=False,
-                matters=lambda c, m: differs(c, WHITE) and m > 0,
-                note="glTF's specular colour tints dielectric F0 only; a metal's F82 edge tint is fitted into its "
-                     f"base colour instead ({METAL_RESIDUAL})"),
         Mapping("ior", ("specular_ior",)),
         Mapping("transmission", ("transmission_weight",)),
         Mapping("attenuation_color", ("transmission_color", "transmission_depth"), lambda c, d: np.where(d > 0, c, WHITE)),
@@ -258,8 +280,10 @@ def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
         Mapping("dispersion", ("transmission_dispersion_scale", "transmission_dispersion_abbe_number"),
                 lambda s, v: np.where(v > 0, 20.0 * s / np.where(v > 0, v, 1.0), 0.0),
                 converted="KHR_materials_dispersion = 20 * scale / Abbe number"),
-        Mapping("sheen_color", ("fuzz_color", "fuzz_weight", "fuzz_roughness"), gltf_sheen_color, exact=False,
-                matters=lambda c, w, r: w > 0,
+        Mapping("sheen_color", ("fuzz_color", "fuzz_weight", "fuzz_roughness"), gltf_sheen_color,
+                exact=settings.gltf_drafts, matters=lambda c, w, r: w > 0,
+                converted="the fallback of KHR_materials_fuzz (draft, exact): fuzz (Zeltner) as sheen (Charlie), "
+                          "colour and roughness fitted to its albedo",
                 note=f"fuzz (Zeltner) as glTF sheen (Charlie): colour and roughness fitted to its albedo ({SHEEN_RESIDUAL})"),
         Mapping("sheen_roughness", ("fuzz_roughness", "fuzz_weight"), lambda r, w: gltf_sheen_roughness(r),
                 converted="Charlie roughness fitted to the fuzz's albedo",
@@ -293,26 +317,51 @@ DROPPED_TO_GLTF = (
 )
 
 
-def from_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
+def from_gltf_mappings(settings: Settings, found: dict | None = None,
+                       coat_ior: float = GLTF_CLEARCOAT_IOR) -> tuple[Mapping, ...]:
+    """The glTF -> OpenPBR mappings; ``found``: the material's draft extensions (see
+    :func:`gltf_to_openpbr`), ``coat_ior``: KHR_materials_coat's IOR where it replaces clearcoat's."""
+    found = found or {}
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
-    return (
-        Mapping("base_color", ("base_color", "metallic", "specular_color", "roughness", "anisotropy_strength")
-                + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:], openpbr_base_color,
-                converted="a metal's base colour solved for OpenPBR's F82 edge tint (specular_color)"),
+    overridden = {target for name in found for target in DRAFT_TARGETS.get(name, ())}
+    if drafts.SPECULAR_OPENPBR in found:  # OpenPBR's specular: the base colour is a metal's F0 as is
+        base_and_specular = (Mapping("base_color", ("base_color",)), Mapping("specular_weight", ("specular",)))
+    else:
+        base_and_specular = (
+            Mapping("base_color", ("base_color", "metallic", "specular_color", "roughness", "anisotropy_strength")
+                    + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:],
+                    lambda *v: openpbr_base_color(*v, coat_ior=coat_ior),
+                    converted="a metal's base colour solved for OpenPBR's F82 edge tint (specular_color)"),
+            Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES,
+                    lambda *v: openpbr_specular_weight(*v, coat_ior=coat_ior), exact=False,
+                    matters=lambda s, m, n, w, f: m < 1 and (s != 1.0 or w > 0),
+                    note="KHR_materials_specular scales F0 and F90, OpenPBR's specular_weight F0 only (under a coat, of "
+                         "the base relative to the coat): equal at normal incidence"),
+        )
+    if drafts.ANISOTROPY_OPENPBR in found:  # roughnessFactor and anisotropyStrength are OpenPBR's
+        roughness = (
+            Mapping("specular_roughness", ("roughness", "clearcoat", "clearcoat_roughness"),
+                    lambda r, c, rc: fit.coat_unroughened(r, c, rc),
+                    converted="roughness less the roughening OpenPBR's coat adds", exact=False,
+                    matters=lambda r, c, rc: bool(np.any(fit.smoother_than_the_coat_allows(r, c, rc))),
+                    note="the base is smoother than OpenPBR's coat lets a base be (the coat roughens it, glTF's does "
+                         "not): its roughness is kept, and OpenPBR renders it rougher"),
+            Mapping("specular_roughness_anisotropy", ("anisotropy_strength",)),
+        )
+    else:
+        roughness = (
+            Mapping("specular_roughness", ("roughness", "anisotropy_strength", "clearcoat", "clearcoat_roughness"),
+                    lambda r, s, c, rc: fit.coat_unroughened(openpbr_roughness(r, s), c, rc),
+                    converted="roughness from glTF's anisotropic alphas, less the roughening OpenPBR's coat adds",
+                    exact=False, matters=_smoother_than_the_coat,
+                    note="the base is smoother than OpenPBR's coat lets a base be (the coat roughens it, glTF's does "
+                         "not): its roughness is kept, and OpenPBR renders it rougher"),
+            Mapping("specular_roughness_anisotropy", ("roughness", "anisotropy_strength"), openpbr_anisotropy,
+                    converted="anisotropy from glTF's alpha_t / alpha_b"),
+        )
+    mappings = base_and_specular + roughness + (
         Mapping("base_metalness", ("metallic",)),
-        Mapping("specular_roughness", ("roughness", "anisotropy_strength", "clearcoat", "clearcoat_roughness"),
-                lambda r, s, c, rc: fit.coat_unroughened(openpbr_roughness(r, s), c, rc),
-                converted="roughness from glTF's anisotropic alphas, less the roughening OpenPBR's coat adds",
-                exact=False, matters=_smoother_than_the_coat,
-                note="the base is smoother than OpenPBR's coat lets a base be (the coat roughens it, glTF's does not): "
-                     "its roughness is kept, and OpenPBR renders it rougher"),
-        Mapping("specular_roughness_anisotropy", ("roughness", "anisotropy_strength"), openpbr_anisotropy,
-                converted="anisotropy from glTF's alpha_t / alpha_b"),
-        Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES, openpbr_specular_weight, exact=False,
-                matters=lambda s, m, n, w, f: m < 1 and (s != 1.0 or w > 0),
-                note="KHR_materials_specular scales F0 and F90, OpenPBR's specular_weight F0 only (under a coat, of "
-                     "the base relative to the coat): equal at normal incidence"),
         Mapping("specular_color", ("specular_color",)),
         Mapping("specular_ior", ("ior",)),
         Mapping("transmission_weight", ("transmission",)),
@@ -353,6 +402,7 @@ def from_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
         Mapping("geometry_tangent", ("tangent",)),
         Mapping("geometry_coat_normal", ("clearcoat_normal",)),
     )
+    return tuple(m for m in mappings if m.target not in overridden)
 
 
 DROPPED_FROM_GLTF = (
@@ -363,12 +413,35 @@ DROPPED_FROM_GLTF = (
 )
 
 
+DRAFT_DROPPED = ("coat_ior", "coat_roughness_anisotropy", "base_diffuse_roughness")  # carried by the drafts
+
+
 def openpbr_to_gltf(material: Material, settings: Settings | None = None) -> Translation:
     settings = settings or Settings()
-    return translate(material, "gltf_pbr", to_gltf_mappings(settings), DROPPED_TO_GLTF, settings, "OpenPBR -> glTF")
+    dropped = DROPPED_TO_GLTF
+    if settings.gltf_drafts:
+        dropped = tuple(d for d in dropped if d.source not in DRAFT_DROPPED)
+    translation = translate(material, "gltf_pbr", to_gltf_mappings(settings), dropped, settings, "OpenPBR -> glTF")
+    if settings.gltf_drafts:
+        record, notes = draft_record(material, settings)
+        if record:
+            translation.material.extra["gltf_drafts"] = record
+        translation.diagnostics += notes
+    return translation
 
 
 def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Translation:
+    """glTF -> OpenPBR: the ratified extensions through the mappings above, and the draft extensions
+    the glTF reader found (``extra["gltf"]["drafts"]``) exactly, in place of their fallbacks."""
     settings = settings or Settings()
-    return translate(material, "open_pbr_surface", from_gltf_mappings(settings), DROPPED_FROM_GLTF, settings,
-                     "glTF -> OpenPBR")
+    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    found = state.get("drafts") if isinstance(state.get("drafts"), dict) else {}
+    if drafts.COAT in found:  # the clearcoat is KHR_materials_coat's fallback: its sub-extensions too
+        found = {k: v for k, v in found.items() if k not in (drafts.CLEARCOAT_DARKENING, drafts.CLEARCOAT_IOR)}
+    source, coat_ior = with_draft_coat(material, found.get(drafts.COAT) or found.get(drafts.CLEARCOAT_IOR))
+    translation = translate(source, "open_pbr_surface", from_gltf_mappings(settings, found, coat_ior), DROPPED_FROM_GLTF,
+                            settings, "glTF -> OpenPBR")
+    translation.source = material
+    if found:
+        translation.diagnostics += apply_drafts(translation.material, material, found, settings)
+    return translation

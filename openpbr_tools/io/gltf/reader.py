@@ -49,7 +49,7 @@ import os
 from ... import tables, versioning
 from ...model import Asset, Constant, Input, Location, Material, Texture
 from .. import ReadError
-from . import slots
+from . import drafts, slots
 from .document import GltfDocument, ResourceError, load_document
 from .textures import TextureReading, json_float, json_numbers, json_text
 
@@ -178,14 +178,16 @@ class _Reader(TextureReading):
             extra["alphaMode"] = "MASK"
             cutoff = raw.get("alphaCutoff", 0.5)
             extra["alphaCutoff"] = float(cutoff) if json_numbers([cutoff], 1) else 0.5
-        kept = {n: v for n, v in extensions.items() if n not in slots.INTERPRETED_MATERIAL_EXTENSIONS}
+        kept = {n: v for n, v in extensions.items()
+                if n not in slots.INTERPRETED_MATERIAL_EXTENSIONS and n not in drafts.MATERIAL_DRAFTS}
         if kept:
             extra["extensions"] = kept
         material.extra["gltf"] = extra
-        for recorded in (slots.UNLIT, slots.SPECULAR_GLOSSINESS):
-            if recorded in extensions:
+        for recorded in sorted(kept):
+            if recorded not in slots.NEUTRAL_EXTENSIONS:  # e.g. KHR_materials_variants lives elsewhere
                 self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{recorded}"),
                                    extension=recorded, material=name)
+        self.unknown_sub_extensions(extensions, pointer, name, extra)
         self.index, self.reported = index, set()
         # glTF ignores alpha in OPAQUE mode (specification 3.9.4): only MASK and BLEND read the
         # base colour texture's A channel, so only they get an alpha texture input.
@@ -194,10 +196,73 @@ class _Reader(TextureReading):
             container, container_pointer = self.container(raw, extensions, slot, pointer)
             if container is not None:
                 self.read_slot(material, slot, container, container_pointer)
+        self.read_drafts(material, extensions, pointer)
         versioning.settle(material)
         if material.version == VERSION and material.version_basis.startswith("default"):
             material.version_basis = "glTF 2.0 material"
         return material
+
+    def unknown_sub_extensions(self, extensions: dict, pointer: str, name: str, extra: dict) -> None:
+        """Extensions nested in an interpreted extension object (KHR_materials_clearcoat_ior inside
+        KHR_materials_clearcoat, say) that the toolkit does not read are reported, never ignored;
+        ``extra["gltf"]["nested_extensions"]`` lists every nested one as ``[parent, name, read]``."""
+        nested = []
+        for parent in slots.INTERPRETED_MATERIAL_EXTENSIONS + drafts.MATERIAL_DRAFTS:
+            inner = extensions.get(parent)
+            subs = inner.get("extensions") if isinstance(inner, dict) else None
+            for sub in sorted(subs) if isinstance(subs, dict) else ():
+                read = (parent, sub) in drafts.SUB_DRAFTS
+                nested.append([parent, sub, read])
+                if not read:
+                    self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{parent}/extensions/{sub}"),
+                                       extension=sub, material=name)
+        if nested:
+            extra["nested_extensions"] = nested
+
+    def read_drafts(self, material: Material, extensions: dict, pointer: str) -> None:
+        """The draft extensions (:mod:`.drafts`) into ``extra["gltf"]["drafts"]``: per extension, its
+        properties as :class:`Input` s keyed by the draft record's names (OpenPBR's where one to one)."""
+        found: dict = {}
+        containers = [(name, extensions.get(name), f"{pointer}/extensions/{name}") for name in drafts.MATERIAL_DRAFTS]
+        for parent, sub in drafts.SUB_DRAFTS:
+            inner = extensions.get(parent)
+            subs = inner.get("extensions") if isinstance(inner, dict) else None
+            containers.append((sub, subs.get(sub) if isinstance(subs, dict) else None,
+                               f"{pointer}/extensions/{parent}/extensions/{sub}"))
+        for name, container, where in containers:
+            if container is None:
+                continue
+            if not isinstance(container, dict):
+                self.invalid(where, f"{name} is not an object")
+                continue
+            if name == drafts.ANISOTROPY_OPENPBR and container.get("openPbrAnisotropyEnabled") is not True:
+                continue  # present but off: glTF's own anisotropy convention
+            record: dict = {}
+            for slot in drafts.SLOTS.get(name, ()):
+                entry = self.draft_property(slot, container, where)
+                if entry is not None:
+                    record[slot.parameter] = entry
+            found[name] = record
+        if found:
+            material.extra["gltf"]["drafts"] = found
+
+    def draft_property(self, slot: slots.Slot, container: dict, pointer: str) -> Input | None:
+        kind = "vector3" if slot.texture_kind == "normalTextureInfo" else \
+            ("color3" if isinstance(slot.default, tuple) else "float")
+        factor, error = self.factor(slot, container)
+        if slot.texture and slot.texture in container:
+            value = self.texture(slot, container[slot.texture], f"{pointer}/{slot.texture}", None if error else factor,
+                                 container)
+            return Input(slot.parameter, kind, value, self.location(pointer, slot.texture))
+        if slot.factor is None or slot.factor not in container:
+            return None
+        if error:
+            self.invalid(pointer, error, slot.factor)
+            return None
+        entry = Input(slot.parameter, kind, Constant(factor), self.location(pointer, slot.factor))
+        if kind == "color3":
+            entry.colorspace = "lin_rec709"
+        return entry
 
     def container(self, raw: dict, extensions: dict, slot: slots.Slot, pointer: str) -> tuple[dict | None, str]:
         if slot.container == slots.CORE:

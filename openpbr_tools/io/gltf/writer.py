@@ -33,7 +33,7 @@ from ...atomic import write_bytes
 from ...diagnostics import Diagnostic
 from ...model import Asset, Connection, Constant, Location, Material, Texture
 from ...rules.translation import CONVERTED, NOT_CARRIED
-from . import slots
+from . import drafts, slots
 from .document_writer import DocumentBuilder
 from .images import GltfWriteError, ImageResolver
 from .texture_writer import TextureWriting
@@ -105,9 +105,11 @@ class _MaterialWriter(TextureWriting):
     def __init__(self, material: Material, images: ImageResolver, builder, notes: list[Diagnostic], index: int):
         self.material, self.images, self.builder, self.notes = material, images, builder, notes
         self.output = Location(builder.path, path=f"/materials/{index}")
-        self.out: dict = {"name": material.material_name or material.name}
-        self.containers: dict[str, dict] = {slots.CORE: self.out, slots.PBR: {}}
         self.extra = material.extra.get("gltf", {}) if isinstance(material.extra.get("gltf"), dict) else {}
+        # a glTF name another format had to make unique comes back as it was (gltf_state)
+        name = self.extra.get("name") if isinstance(self.extra.get("name"), str) and self.extra.get("name") else None
+        self.out: dict = {"name": name or material.material_name or material.name}
+        self.containers: dict[str, dict] = {slots.CORE: self.out, slots.PBR: {}}
 
     def note(self, rule, message: str, input: str | None = None) -> None:
         """A note of ``rule`` about the source of ``input`` (a parameter of this material)."""
@@ -145,7 +147,9 @@ class _MaterialWriter(TextureWriting):
                 self.texture_group(prop, members)
         self.fold_emission()
         self.passthrough()
+        self.write_drafts()
         self.omit_inert()
+        self.honour_exclusions()
         pbr = self.containers.pop(slots.PBR)
         extensions = {name: self.containers[name] for name in sorted(self.containers) if name != slots.CORE}
         ordered = {"name": self.out.pop("name")}
@@ -282,6 +286,76 @@ class _MaterialWriter(TextureWriting):
                 self.note(NOT_CARRIED, f"{name} references textures of the source file; not written")
                 continue
             self.containers[name] = value
+
+
+    def honour_exclusions(self) -> None:
+        """KHR_materials_unlit and KHR_materials_pbrSpecularGlossiness (restored from a side channel)
+        must not be used with the other material extensions (their Exclusions sections; the Khronos
+        validator warns MULTIPLE_EXTENSIONS): those the translation derived are omitted, noted."""
+        for exclusive, excluded in ((slots.UNLIT, slots.EXCLUDED_WITH_UNLIT + drafts.MATERIAL_DRAFTS),
+                                    (slots.SPECULAR_GLOSSINESS, slots.EXCLUDED_WITH_SPECULAR_GLOSSINESS + drafts.MATERIAL_DRAFTS)):
+            if exclusive not in self.containers:
+                continue
+            for name in sorted(set(self.containers) & set(excluded)):
+                del self.containers[name]
+                self.note(CONVERTED, f"{name} omitted: it must not be used with {exclusive}, which the source material "
+                                     "uses (its look is that extension's)")
+
+    def write_drafts(self) -> None:
+        """The draft extensions a translation asked for (``Material.extra["gltf_drafts"]``, see
+        :mod:`.drafts`) beside the ratified fallbacks already written."""
+        record = self.material.extra.get("gltf_drafts")
+        if not isinstance(record, dict):
+            return
+        for name in drafts.MATERIAL_DRAFTS:
+            if name not in record:
+                continue
+            container = {}
+            for slot in drafts.SLOTS[name]:
+                entry = record[name].get(slot.parameter)
+                if entry is None:
+                    continue
+                if isinstance(entry.value, Constant) and slot.factor is not None:
+                    value = entry.value.value
+                    if not _finite(value):
+                        continue
+                    if slot.parameter in drafts.COLOUR_KEYS:
+                        value = self.linear(value, entry)
+                    value = self.draft_clamped(name, slot, _json_value(value))
+                    if value != _json_value(slot.default):
+                        container[slot.factor] = value
+                elif isinstance(entry.value, Texture) and slot.texture is not None:
+                    shared = drafts.SHARED_TEXTURES.get((slot.parameter, name))
+                    ratified = self.containers.get(shared[0], {}) if shared else {}
+                    if shared and shared[1] in ratified:
+                        container[slot.texture] = dict(ratified[shared[1]])
+                        factor = {"clearcoatTexture": "clearcoatFactor"}.get(shared[1])
+                        if factor and factor in ratified:
+                            container[slot.factor] = ratified[factor]
+                    else:
+                        self.note(NOT_CARRIED, f"{slot.parameter} is textured; {name} (draft) gets its default for it "
+                                               "(only textures a ratified fallback shares are written)", slot.parameter)
+            self.containers[name] = container
+        specular = self.containers.get(slots.SPECULAR)
+        interpreted = specular is not None or slots.CLEARCOAT in self.containers or \
+            self.containers[slots.PBR].get("metallicFactor", 1.0) > 0
+        if drafts.SPECULAR_OPENPBR in record and interpreted:
+            # the factors were written with OpenPBR's meaning (even at their defaults, which a coat or a
+            # metal reads differently in glTF's): the sub-extension says so
+            specular = self.containers.setdefault(slots.SPECULAR, {})
+            specular.setdefault("extensions", {})[drafts.SPECULAR_OPENPBR] = {}
+
+    def draft_clamped(self, name: str, slot: slots.Slot, value):
+        low, high = drafts.RANGES.get(slot.parameter, (None, None))
+        values = value if isinstance(value, list) else [value]
+        fixed = []
+        for v in values:
+            v = v if low is None else max(v, low)
+            fixed.append(v if high is None else min(v, high))
+        if fixed != values:
+            self.note(NOT_CARRIED, f"{name} {slot.factor} {values if len(values) > 1 else values[0]} is outside the "
+                                   f"draft's range; clamped to {fixed if len(fixed) > 1 else fixed[0]}", slot.parameter)
+        return fixed if isinstance(value, list) else fixed[0]
 
 
 def _display_name(material: Material) -> str:
