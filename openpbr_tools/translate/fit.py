@@ -108,8 +108,9 @@ def dielectric_specular_scale(specular_ior, coat_ior, coat_weight, film_weight, 
 def specular_weight_under_coat(specular_weight, scale, metalness=0.0):
     """The target's specular weight: OpenPBR's times :func:`dielectric_specular_scale` on
     dielectrics; on metals the weight is kept (a metal's reflection is not under the base's
-    dielectric interface). Within the targets' range [0, 1]."""
-    return np.clip(specular_weight * (scale + metalness * (1.0 - scale)), 0.0, 1.0)
+    dielectric interface). Not clipped to the targets' range [0, 1]: the translation clamps it there
+    and reports the loss (a silent clip here hid it)."""
+    return np.maximum(specular_weight * (scale + metalness * (1.0 - scale)), 0.0)
 
 
 def specular_weight_from_coated(weight, scale, metalness=0.0):

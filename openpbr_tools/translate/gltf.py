@@ -82,7 +82,8 @@ from ..model import Material
 from . import fit
 from .common import Dropped, Mapping, Settings, Translation, differs, translate
 from .gltf_anisotropy import gltf_anisotropy_strength, gltf_roughness, openpbr_anisotropy, openpbr_roughness
-from .gltf_drafts import DRAFT_TARGETS, GLTF_CLEARCOAT_IOR, apply_drafts, draft_record, with_draft_coat
+from .gltf_drafts import (DRAFT_TARGETS, GLTF_CLEARCOAT_IOR, apply_drafts, draft_record, needs_specular_openpbr,
+                          with_draft_coat)
 
 WHITE = np.ones(3)
 #: Measured residuals, mean CIEDE2000 on the evaluator's lit sphere (module docstring).
@@ -227,18 +228,36 @@ DRAFT_BASE_SOURCES = ("base_weight", "base_color", "transmission_weight", "trans
                       "subsurface_weight", "subsurface_color")
 
 
-def to_gltf_mappings(settings: Settings) -> tuple[Mapping, ...]:
+def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False) -> tuple[Mapping, ...]:
+    """The OpenPBR -> glTF mappings; ``specular_openpbr``: with ``Settings.gltf_drafts``, the material gets
+    EXT_materials_specular_openpbr (a metal with an F82 tint or a specular weight)."""
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
     base_sources = ("base_weight", "base_color", "transmission_weight", "transmission_color", "transmission_depth",
                     "subsurface_weight", "subsurface_color", "base_metalness", "specular_weight", "coat_weight",
                     "coat_darkening", "coat_ior", "coat_color", "specular_color", "specular_roughness",
                     "specular_roughness_anisotropy", "coat_roughness")
-    if settings.gltf_drafts:
+    if settings.gltf_drafts and specular_openpbr:
+        # EXT_materials_specular_openpbr: KHR_materials_specular and the base colour are OpenPBR's own
         base_and_specular = (
             Mapping("base_color", DRAFT_BASE_SOURCES, gltf_base_color_drafts, exact=False, matters=_mixed_base_matters,
                     note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed"),
             Mapping("specular", ("specular_weight",)),
+            Mapping("specular_color", ("specular_color",)),
+        )
+    elif settings.gltf_drafts:
+        # KHR_materials_coat carries the coat's colour and darkening: not folded into the base or the
+        # specular weight (whose fit, without darkening, is what the reader inverts)
+        base_and_specular = (
+            Mapping("base_color", base_sources, lambda *v: gltf_base_color(*v[:10], 0.0, v[11], WHITE, *v[13:]),
+                    exact=False, matters=lambda *v: _mixed_base_matters(*v[:7]),
+                    note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed"),
+            # the coat's IOR as KHR_materials_coat holds it (at least 1), which is what a reader inverts with
+            Mapping("specular", SPECULAR_SOURCES, lambda *v: gltf_specular(v[0], v[1], np.maximum(v[2], 1.0), *v[3:9], 0.0),
+                    exact=False,
+                    matters=lambda *v: v[6] < 1 and differs(gltf_specular(v[0], v[1], np.maximum(v[2], 1.0), *v[3:9], 0.0), 1.0),
+                    note="KHR_materials_specular scales F0 and F90 where OpenPBR's specular_weight and a coat (the base's "
+                         f"IOR relative to the coat's) change F0 only: equal at normal incidence ({COAT_RESIDUAL})"),
             Mapping("specular_color", ("specular_color",)),
         )
     else:
@@ -421,9 +440,11 @@ def openpbr_to_gltf(material: Material, settings: Settings | None = None) -> Tra
     dropped = DROPPED_TO_GLTF
     if settings.gltf_drafts:
         dropped = tuple(d for d in dropped if d.source not in DRAFT_DROPPED)
-    translation = translate(material, "gltf_pbr", to_gltf_mappings(settings), dropped, settings, "OpenPBR -> glTF")
+    specular_openpbr = settings.gltf_drafts and needs_specular_openpbr(material)
+    translation = translate(material, "gltf_pbr", to_gltf_mappings(settings, specular_openpbr), dropped, settings,
+                            "OpenPBR -> glTF")
     if settings.gltf_drafts:
-        record, notes = draft_record(material, settings)
+        record, notes = draft_record(material, settings, specular_openpbr)
         if record:
             translation.material.extra["gltf_drafts"] = record
         translation.diagnostics += notes

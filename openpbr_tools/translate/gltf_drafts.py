@@ -166,7 +166,22 @@ def _authored_or_default(material: Material, name: str, table) -> Input:
                  colorspace=material.colorspace)
 
 
-def draft_record(material: Material, settings: Settings) -> tuple[dict, list]:
+def needs_specular_openpbr(material: Material) -> bool:
+    """Whether ``material`` (OpenPBR) needs EXT_materials_specular_openpbr to be exact in glTF: a metal
+    whose F82 edge tint or specular weight glTF's Schlick metal cannot hold (its ratified fit is
+    approximate). Dielectrics keep glTF's own KHR_materials_specular, fitted and inverted exactly,
+    which a viewer without the draft also reads right. A textured term counts as not at its default."""
+    metalness = _constant(material.inputs.get("base_metalness"))
+    if "base_metalness" not in material.inputs or metalness == 0:  # OpenPBR's default metalness is 0
+        return False
+    color = material.inputs.get("specular_color")
+    weight = material.inputs.get("specular_weight")
+    tinted = color is not None and (_constant(color) is None or tuple(_constant(color)) != (1.0, 1.0, 1.0))
+    weighted = weight is not None and _constant(weight) != 1.0
+    return tinted or weighted
+
+
+def draft_record(material: Material, settings: Settings, specular_openpbr: bool = False) -> tuple[dict, list]:
     """What the draft extensions carry for ``material`` (OpenPBR), keyed as the reader keys them:
     {extension: {key: Input}}; the writer turns it into JSON (colours to linear Rec.709)."""
     table = tables.table("open_pbr_surface")
@@ -212,5 +227,6 @@ def draft_record(material: Material, settings: Settings) -> tuple[dict, list]:
                                for key in ("fuzz_weight", "fuzz_color", "fuzz_roughness")}
     if active("base_diffuse_roughness"):
         record[drafts.DIFFUSE_ROUGHNESS] = {"base_diffuse_roughness": material.inputs["base_diffuse_roughness"]}
-    record[drafts.SPECULAR_OPENPBR] = {}  # KHR_materials_specular, where written, holds OpenPBR's values
+    if specular_openpbr:
+        record[drafts.SPECULAR_OPENPBR] = {}  # KHR_materials_specular holds OpenPBR's values
     return record, notes

@@ -336,10 +336,7 @@ class _MaterialWriter(TextureWriting):
                         self.note(NOT_CARRIED, f"{slot.parameter} is textured; {name} (draft) gets its default for it "
                                                "(only textures a ratified fallback shares are written)", slot.parameter)
             self.containers[name] = container
-        specular = self.containers.get(slots.SPECULAR)
-        interpreted = specular is not None or slots.CLEARCOAT in self.containers or \
-            self.containers[slots.PBR].get("metallicFactor", 1.0) > 0
-        if drafts.SPECULAR_OPENPBR in record and interpreted:
+        if drafts.SPECULAR_OPENPBR in record:
             # the factors were written with OpenPBR's meaning (even at their defaults, which a coat or a
             # metal reads differently in glTF's): the sub-extension says so
             specular = self.containers.setdefault(slots.SPECULAR, {})
