@@ -216,7 +216,11 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             typed = as_value(value, parameter.type)
             plain_copy = mapping.formula is None and values.authored(mapping.sources[0])
             if _equal(typed, parameter.default) and not plain_copy:
-                continue  # the target's default already says it (source defaults can differ: then written)
+                # the target's default already says it (source defaults can differ: then written); an
+                # approximation that lands on the default is still one
+                if not mapping.exact and (mapping.matters is None or mapping.matters(*arrays)):
+                    say(APPROXIMATED, f"{mapping.target}: {mapping.note}", mapping.sources[0])
+                continue
             clamped = ""
             if sources_valid:  # a source already out of range is the validator's to report
                 typed, clamped = inside(typed, parameter)

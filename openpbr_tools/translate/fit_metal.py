@@ -109,6 +109,14 @@ def openpbr_metal_from_schlick(fitted, metalness, tint, weight, alpha):
     return np.clip(_unblend_metal(fitted, metalness, tint, weight, alpha, "schlick"), 0.0, 1.0)
 
 
+def metal_from_schlick_clips(fitted, metalness, tint, weight, alpha) -> bool:
+    """Whether :func:`openpbr_metal_from_schlick` had to clip (no OpenPBR base colour in [0, 1]
+    gives glTF's metal: the tint or weight darkens it more than a base colour of 1 makes up for)."""
+    with np.errstate(all="ignore"):
+        raw = _unblend_metal(fitted, metalness, tint, weight, alpha, "schlick")
+    return bool(np.any((raw < -1e-6) | (raw > 1.0 + 1e-6)))
+
+
 def constant_metal_reflectance(color, metalness, tint, weight, alpha):
     """UsdPreviewSurface's metallic ``diffuseColor`` (F0 = F90 = the colour) whose albedo best
     matches OpenPBR's F82-tint metal (as :func:`schlick_metal_f0`)."""

@@ -79,6 +79,7 @@ from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_roughen
 from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
 from ..io.gltf import drafts
 from ..model import Material
+from ..rules.translation import NOT_CARRIED
 from . import fit
 from .common import Dropped, Mapping, Settings, Translation, differs, translate
 from .gltf_anisotropy import gltf_anisotropy_strength, gltf_roughness, openpbr_anisotropy, openpbr_roughness
@@ -159,11 +160,20 @@ def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_st
                                           average_alpha_gltf(roughness, anisotropy_strength))
 
 
+def _metal_inverse_clips(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
+                         coat_ior=GLTF_CLEARCOAT_IOR):
+    specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior)
+    return fit.metal_from_schlick_clips(color, metallic, specular_color, specular_weight,
+                                        average_alpha_gltf(roughness, anisotropy_strength))
+
+
 def _base_color_matters(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color,
                         metalness, specular_weight, coat_weight, coat_darkening, coat_ior, coat_color, specular_color,
                         *roughness):
     mixed_transmission = 0 < transmission < 1 and (depth > 0 or differs(transmission_color, weight * color))
-    full_volume = transmission >= 1 and depth > 0 and differs(color, WHITE)
+    # a full volume's glTF base colour is white (it would tint the transmission): exact for a dielectric,
+    # whose OpenPBR base colour then shows nowhere; a metal's colour is lost
+    full_volume = transmission >= 1 and depth > 0 and differs(color, WHITE) and metalness > 0
     tinted_metal = metalness > 0 and (differs(specular_color, WHITE) or specular_weight != 1)
     coloured_coat = coat_weight > 0 and differs(coat_color, WHITE)
     return bool(subsurface > 0 or mixed_transmission or full_volume or tinted_metal or coloured_coat)
@@ -220,8 +230,7 @@ def gltf_base_color_drafts(weight, color, transmission, transmission_color, dept
 
 def _mixed_base_matters(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color):
     mixed_transmission = 0 < transmission < 1 and (depth > 0 or differs(transmission_color, weight * color))
-    full_volume = transmission >= 1 and depth > 0 and differs(color, WHITE)
-    return bool(subsurface > 0 or mixed_transmission or full_volume)
+    return bool(subsurface > 0 or mixed_transmission)
 
 
 DRAFT_BASE_SOURCES = ("base_weight", "base_color", "transmission_weight", "transmission_color", "transmission_depth",
@@ -250,7 +259,7 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False) -> tupl
         # specular weight (whose fit, without darkening, is what the reader inverts)
         base_and_specular = (
             Mapping("base_color", base_sources, lambda *v: gltf_base_color(*v[:10], 0.0, v[11], WHITE, *v[13:]),
-                    exact=False, matters=lambda *v: _mixed_base_matters(*v[:7]),
+                    exact=False, matters=lambda *v: _base_color_matters(*v[:10], 0.0, v[11], WHITE, *v[13:]),
                     note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed"),
             # the coat's IOR as KHR_materials_coat holds it (at least 1), which is what a reader inverts with
             Mapping("specular", SPECULAR_SOURCES, lambda *v: gltf_specular(v[0], v[1], np.maximum(v[2], 1.0), *v[3:9], 0.0),
@@ -283,7 +292,10 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False) -> tupl
                           "(glTF's clearcoat does not roughen the base)"),
         Mapping("anisotropy_strength", ROUGHNESS_SOURCES,
                 lambda r, a, c, rc: gltf_anisotropy_strength(coat_roughened(r, c, rc), a),
-                converted="KHR_materials_anisotropy strength solved from OpenPBR's alpha_t and alpha_b"),
+                converted="KHR_materials_anisotropy strength solved from OpenPBR's alpha_t and alpha_b", exact=False,
+                matters=lambda r, a, c, rc: bool(np.any(openpbr_alphas(coat_roughened(r, c, rc), a)[0] > 1.0 + 1e-9)),
+                note="OpenPBR's alpha_t along the tangent exceeds 1, glTF's cap (alpha_t = mix(alpha, 1, s^2)): the "
+                     "highlight is stretched less"),
         Mapping("ior", ("specular_ior",)),
         Mapping("transmission", ("transmission_weight",)),
         Mapping("attenuation_color", ("transmission_color", "transmission_depth"), lambda c, d: np.where(d > 0, c, WHITE)),
@@ -351,7 +363,11 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
             Mapping("base_color", ("base_color", "metallic", "specular_color", "roughness", "anisotropy_strength")
                     + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:],
                     lambda *v: openpbr_base_color(*v, coat_ior=coat_ior),
-                    converted="a metal's base colour solved for OpenPBR's F82 edge tint (specular_color)"),
+                    converted="a metal's base colour solved for OpenPBR's F82 edge tint (specular_color)", exact=False,
+                    matters=lambda *v: _metal_inverse_clips(*v, coat_ior=coat_ior),
+                    note="a metal's base colour solved for OpenPBR's F82 edge tint and specular weight (glTF's metals "
+                         "ignore KHR_materials_specular, OpenPBR's do not) leaves [0, 1] and is clipped: the metal "
+                         "renders darker or differently tinted"),
             Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES,
                     lambda *v: openpbr_specular_weight(*v, coat_ior=coat_ior), exact=False,
                     matters=lambda s, m, n, w, f: m < 1 and (s != 1.0 or w > 0),
@@ -384,12 +400,17 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
         Mapping("specular_color", ("specular_color",)),
         Mapping("specular_ior", ("ior",)),
         Mapping("transmission_weight", ("transmission",)),
-        Mapping("transmission_color", ("base_color", "attenuation_color", "attenuation_distance", "transmission"),
-                lambda c, a, d, t: np.where(np.isfinite(d) & (d > 0), a, c), exact=False, when=lambda c, a, d, t: t > 0,
-                matters=lambda c, a, d, t: bool(0 < t < 1 or (np.isfinite(d) and d > 0 and differs(c, WHITE))),
+        # a volume (thickness > 0) absorbs by its attenuation; a thin wall (thickness 0, where glTF ignores
+        # attenuation) is tinted by the base colour only
+        Mapping("transmission_color", ("base_color", "attenuation_color", "attenuation_distance", "transmission",
+                                       "thickness"),
+                lambda c, a, d, t, h: np.where(np.isfinite(d) & (d > 0) & (h > 0), a, c), exact=False,
+                when=lambda c, a, d, t, h: t > 0,
+                matters=lambda c, a, d, t, h: bool(0 < t < 1 or (np.isfinite(d) and d > 0 and h > 0 and differs(c, WHITE))),
                 note="glTF tints transmission with the base colour (shared with the diffuse part, and on top of "
                      "a volume's attenuation); OpenPBR keeps one transmission colour"),
-        Mapping("transmission_depth", ("attenuation_distance",), lambda d: np.where(np.isfinite(d), d / mpu, 0.0),
+        Mapping("transmission_depth", ("attenuation_distance", "thickness"),
+                lambda d, h: np.where(np.isfinite(d) & (h > 0), d / mpu, 0.0),
                 converted=f"metres to scene units at {mpu:g} m per unit"),
         Mapping("geometry_thin_walled", ("transmission", "thickness"), lambda t, d: np.where((t > 0) & (d <= 0), 1.0, 0.0),
                 converted="glTF transmission without a volume is thin-walled"),
@@ -459,10 +480,35 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     found = state.get("drafts") if isinstance(state.get("drafts"), dict) else {}
     if drafts.COAT in found:  # the clearcoat is KHR_materials_coat's fallback: its sub-extensions too
         found = {k: v for k, v in found.items() if k not in (drafts.CLEARCOAT_DARKENING, drafts.CLEARCOAT_IOR)}
-    source, coat_ior = with_draft_coat(material, found.get(drafts.COAT) or found.get(drafts.CLEARCOAT_IOR))
+    if drafts.COAT in found:
+        source, coat_ior = with_draft_coat(material, found[drafts.COAT])
+    else:
+        source, coat_ior = with_draft_coat(material, found.get(drafts.CLEARCOAT_IOR), ior_only=True)
     translation = translate(source, "open_pbr_surface", from_gltf_mappings(settings, found, coat_ior), DROPPED_FROM_GLTF,
                             settings, "glTF -> OpenPBR")
     translation.source = material
     if found:
         translation.diagnostics += apply_drafts(translation.material, material, found, settings)
+    translation.diagnostics += _volume_of_diffuse_transmission(material, state, settings)
     return translation
+
+
+def _volume_of_diffuse_transmission(material: Material, state: dict, settings: Settings) -> list:
+    """A volume that only KHR_materials_diffuse_transmission uses (no KHR_materials_transmission):
+    OpenPBR's volume belongs to its specular transmission, so the volume is not carried (the diffuse
+    transmission itself travels in the side channel, gltf_state)."""
+    thickness = material.inputs.get("thickness")
+    transmission = material.inputs.get("transmission")
+    if _has_diffuse_transmission(state) and thickness is not None and \
+            getattr(thickness.value, "value", 1.0) != 0.0 and \
+            (transmission is None or getattr(transmission.value, "value", 1.0) == 0.0):
+        return [settings.context.diagnostic(
+            NOT_CARRIED, f"{material.name} (glTF -> OpenPBR): KHR_materials_volume serves only "
+                         "KHR_materials_diffuse_transmission, which OpenPBR does not carry: the volume (thickness, "
+                         "attenuation, dispersion) is not carried", thickness.location)]
+    return []
+
+
+def _has_diffuse_transmission(state: dict) -> bool:
+    extensions = state.get("extensions") if isinstance(state.get("extensions"), dict) else {}
+    return "KHR_materials_diffuse_transmission" in extensions

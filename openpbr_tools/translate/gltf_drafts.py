@@ -51,29 +51,41 @@ def _constant(entry):
     return entry.value.value if entry is not None and isinstance(entry.value, Constant) else None
 
 
-def with_draft_coat(material: Material, coat: dict | None) -> tuple[Material, float]:
+def with_draft_coat(material: Material, coat: dict | None, ior_only: bool = False) -> tuple[Material, float]:
     """``material`` with KHR_materials_coat's weight and roughness standing for clearcoat's (the base's
-    roughness and specular inverses read them), and the coat's IOR (1.5 without the draft)."""
-    if not coat:
+    roughness and specular inverses read them), and the coat's IOR (1.5 without the draft).
+    ``ior_only``: ``coat`` is KHR_materials_clearcoat_ior's record (the clearcoat is read as it is)."""
+    if coat is None:
         return material, GLTF_CLEARCOAT_IOR
     ior = _constant(coat.get("coat_ior"))
     ior = float(ior) if isinstance(ior, (int, float)) and ior >= 1.0 else GLTF_CLEARCOAT_IOR
-    if "coat_weight" not in coat and "coat_roughness" not in coat and "coat_ior" in coat:
-        return material, ior  # KHR_materials_clearcoat_ior: the clearcoat itself is read as it is
+    if ior_only:
+        return material, ior
     source = copy.copy(material)
     source.inputs = dict(material.inputs)
-    for draft_key, slot in (("coat_weight", "clearcoat"), ("coat_roughness", "clearcoat_roughness")):
-        entry = coat.get(draft_key)
-        if entry is None:
-            source.inputs.pop(slot, None)  # the draft's default (0) replaces the fallback's value
-            continue
-        replaced = copy.copy(entry)
-        replaced.name = slot
-        strength = _constant(coat.get("coat_anisotropy_strength")) if "coat_anisotropy_strength" in coat else 0.0
-        if slot == "clearcoat_roughness" and isinstance(_constant(entry), float) and isinstance(strength, float):
-            # the coat roughens the base by OpenPBR's coat roughness (the writer's convention)
-            replaced.value = Constant(float(openpbr_roughness(np.float64(entry.value.value), np.float64(strength))))
-        source.inputs[slot] = replaced
+    weight = coat.get("coat_weight")
+    if weight is None:
+        source.inputs.pop("clearcoat", None)  # the draft's default (0) replaces the fallback's value
+    else:
+        source.inputs["clearcoat"] = copy.copy(weight)
+        source.inputs["clearcoat"].name = "clearcoat"
+    # the coat roughens the base by OpenPBR's coat roughness (the writer's convention), which the
+    # coat's anisotropy changes even at coatRoughnessFactor 0 (alpha_t = mix(0, 1, s^2))
+    rough, strength = coat.get("coat_roughness"), coat.get("coat_anisotropy_strength")
+    r = 0.0 if rough is None else _constant(rough)
+    s = 0.0 if strength is None else _constant(strength)
+    if isinstance(r, float) and isinstance(s, float):
+        value = float(openpbr_roughness(np.float64(r), np.float64(s)))
+        anchor = rough if rough is not None else strength
+        if value == 0.0 or anchor is None:
+            source.inputs.pop("clearcoat_roughness", None)
+        else:
+            source.inputs["clearcoat_roughness"] = Input("clearcoat_roughness", "float", Constant(value), anchor.location)
+    elif rough is not None:  # a textured roughness: read isotropic (apply_drafts reports the anisotropy)
+        source.inputs["clearcoat_roughness"] = copy.copy(rough)
+        source.inputs["clearcoat_roughness"].name = "clearcoat_roughness"
+    else:
+        source.inputs.pop("clearcoat_roughness", None)
     return source, ior
 
 

@@ -25,7 +25,6 @@ shortest round-trip float text) and written atomically. Returns notes on anythin
 
 from __future__ import annotations
 
-import math
 import os
 
 from ... import colorspaces, tables
@@ -33,8 +32,10 @@ from ...atomic import write_bytes
 from ...diagnostics import Diagnostic
 from ...model import Asset, Connection, Constant, Location, Material, Texture
 from ...rules.translation import CONVERTED, NOT_CARRIED
-from . import drafts, slots
+from . import slots
 from .document_writer import DocumentBuilder
+from .draft_writer import DraftWriting
+from .writer_values import finite as _finite, json_value as _json_value
 from .images import GltfWriteError, ImageResolver
 from .texture_writer import TextureWriting
 
@@ -101,7 +102,7 @@ def _texcoords_of(material: dict) -> set[int]:
 
 # -- one material ------------------------------------------------------------------------------
 
-class _MaterialWriter(TextureWriting):
+class _MaterialWriter(TextureWriting, DraftWriting):
     def __init__(self, material: Material, images: ImageResolver, builder, notes: list[Diagnostic], index: int):
         self.material, self.images, self.builder, self.notes = material, images, builder, notes
         self.output = Location(builder.path, path=f"/materials/{index}")
@@ -288,73 +289,6 @@ class _MaterialWriter(TextureWriting):
             self.containers[name] = value
 
 
-    def honour_exclusions(self) -> None:
-        """KHR_materials_unlit and KHR_materials_pbrSpecularGlossiness (restored from a side channel)
-        must not be used with the other material extensions (their Exclusions sections; the Khronos
-        validator warns MULTIPLE_EXTENSIONS): those the translation derived are omitted, noted."""
-        for exclusive, excluded in ((slots.UNLIT, slots.EXCLUDED_WITH_UNLIT + drafts.MATERIAL_DRAFTS),
-                                    (slots.SPECULAR_GLOSSINESS, slots.EXCLUDED_WITH_SPECULAR_GLOSSINESS + drafts.MATERIAL_DRAFTS)):
-            if exclusive not in self.containers:
-                continue
-            for name in sorted(set(self.containers) & set(excluded)):
-                del self.containers[name]
-                self.note(CONVERTED, f"{name} omitted: it must not be used with {exclusive}, which the source material "
-                                     "uses (its look is that extension's)")
-
-    def write_drafts(self) -> None:
-        """The draft extensions a translation asked for (``Material.extra["gltf_drafts"]``, see
-        :mod:`.drafts`) beside the ratified fallbacks already written."""
-        record = self.material.extra.get("gltf_drafts")
-        if not isinstance(record, dict):
-            return
-        for name in drafts.MATERIAL_DRAFTS:
-            if name not in record:
-                continue
-            container = {}
-            for slot in drafts.SLOTS[name]:
-                entry = record[name].get(slot.parameter)
-                if entry is None:
-                    continue
-                if isinstance(entry.value, Constant) and slot.factor is not None:
-                    value = entry.value.value
-                    if not _finite(value):
-                        continue
-                    if slot.parameter in drafts.COLOUR_KEYS:
-                        value = self.linear(value, entry)
-                    value = self.draft_clamped(name, slot, _json_value(value))
-                    if value != _json_value(slot.default):
-                        container[slot.factor] = value
-                elif isinstance(entry.value, Texture) and slot.texture is not None:
-                    shared = drafts.SHARED_TEXTURES.get((slot.parameter, name))
-                    ratified = self.containers.get(shared[0], {}) if shared else {}
-                    if shared and shared[1] in ratified:
-                        container[slot.texture] = dict(ratified[shared[1]])
-                        factor = {"clearcoatTexture": "clearcoatFactor"}.get(shared[1])
-                        if factor and factor in ratified:
-                            container[slot.factor] = ratified[factor]
-                    else:
-                        self.note(NOT_CARRIED, f"{slot.parameter} is textured; {name} (draft) gets its default for it "
-                                               "(only textures a ratified fallback shares are written)", slot.parameter)
-            self.containers[name] = container
-        if drafts.SPECULAR_OPENPBR in record:
-            # the factors were written with OpenPBR's meaning (even at their defaults, which a coat or a
-            # metal reads differently in glTF's): the sub-extension says so
-            specular = self.containers.setdefault(slots.SPECULAR, {})
-            specular.setdefault("extensions", {})[drafts.SPECULAR_OPENPBR] = {}
-
-    def draft_clamped(self, name: str, slot: slots.Slot, value):
-        low, high = drafts.RANGES.get(slot.parameter, (None, None))
-        values = value if isinstance(value, list) else [value]
-        fixed = []
-        for v in values:
-            v = v if low is None else max(v, low)
-            fixed.append(v if high is None else min(v, high))
-        if fixed != values:
-            self.note(NOT_CARRIED, f"{name} {slot.factor} {values if len(values) > 1 else values[0]} is outside the "
-                                   f"draft's range; clamped to {fixed if len(fixed) > 1 else fixed[0]}", slot.parameter)
-        return fixed if isinstance(value, list) else fixed[0]
-
-
 def _display_name(material: Material) -> str:
     return material.material_name or material.name
 
@@ -365,19 +299,6 @@ def _references_textures(value) -> bool:
     if isinstance(value, list):
         return any(_references_textures(v) for v in value)
     return False
-
-
-def _finite(value) -> bool:
-    values = value if isinstance(value, tuple) else (value,)
-    return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
-
-
-def _json_value(value):
-    if isinstance(value, tuple):
-        return [float(v) for v in value]
-    if isinstance(value, bool):
-        return value
-    return float(value) if isinstance(value, (int, float)) else value
 
 
 __all__ = ["write_gltf", "GltfWriteError"]

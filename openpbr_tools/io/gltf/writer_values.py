@@ -1,0 +1,20 @@
+"""Python values as glTF JSON values, for the material writer and its draft mixin."""
+
+from __future__ import annotations
+
+import math
+
+
+def finite(value) -> bool:
+    """Whether every component of a constant is a finite number (glTF has no NaN or infinity)."""
+    values = value if isinstance(value, tuple) else (value,)
+    return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
+
+
+def json_value(value):
+    """A constant as JSON: tuples become lists of floats, numbers floats, booleans stay."""
+    if isinstance(value, tuple):
+        return [float(v) for v in value]
+    if isinstance(value, bool):
+        return value
+    return float(value) if isinstance(value, (int, float)) else value

@@ -1,0 +1,204 @@
+"""Compare a glTF material with what came back from a round trip, factor by factor, for the
+round-trip tests and the before/after counts (tests/benchmarks/gltf_round_trip_counts.py).
+
+:func:`effective` reads a material as a viewer does: every factor of the core material and of every
+ratified extension with glTF's default filled in, and the drafts where present (they take precedence
+over their fallbacks). Render-equivalent forms are compared, each stated here, from the glTF
+specification and the extensions' READMEs:
+
+* a property without effect is not compared: alpha and ``alphaCutoff`` of an OPAQUE material
+  (specification 3.9.4), ``alphaCutoff`` unless MASK; a clearcoat's roughness at factor 0, a sheen's
+  roughness with a black colour, a specular colour at factor 0; the dielectric-only terms
+  (transmission, volume, IOR, specular, dispersion, diffuse transmission) of a fully metallic
+  material (``metallicFactor`` 1); a volume without transmission; attenuation and dispersion of a
+  thin-walled volume (thickness 0); iridescence IOR and thickness at factor 0, and the minimum
+  thickness without a thickness texture; a coat's other properties at weight 0; an alpha BLEND of
+  alpha 1 and an alpha MASK the alpha passes are OPAQUE (without a base colour texture);
+* roughness and anisotropy are compared as the alphas they render with: alpha_b = r^2 and
+  alpha_t = mix(r^2, 1, s^2) (KHR_materials_anisotropy), or OpenPBR's r^2 sqrt(2 / (1 + (1 - a)^2))
+  and (1 - a) alpha_t under EXT_materials_anisotropy_openpbr, alpha_t capped at 1 as glTF's is; the
+  rotation only where the alphas differ and alpha_b is inside (0, 1);
+* the emission is ``emissiveFactor * emissiveStrength`` (what renders; the split is free);
+* a volume's thickness is compared as thin (0) or not: glTF's thickness is the mesh's, OpenPBR has
+  none (the writer states what it writes).
+
+:func:`classify` then says, per factor, ``exact`` (within 1e-5), ``noted`` (differs, and a note of
+OPBR1103/1104 names that material and a related input) or ``silent``.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+TOLERANCE = 1e-5
+
+# (container, property, default); container "" is the material, "pbr" pbrMetallicRoughness
+FACTORS = (
+    ("pbr", "baseColorFactor", [1.0, 1.0, 1.0, 1.0]), ("pbr", "metallicFactor", 1.0), ("pbr", "roughnessFactor", 1.0),
+    ("", "emissiveFactor", [0.0, 0.0, 0.0]), ("", "alphaMode", "OPAQUE"), ("", "alphaCutoff", 0.5),
+    ("", "doubleSided", False),
+    ("KHR_materials_clearcoat", "clearcoatFactor", 0.0), ("KHR_materials_clearcoat", "clearcoatRoughnessFactor", 0.0),
+    ("KHR_materials_sheen", "sheenColorFactor", [0.0, 0.0, 0.0]), ("KHR_materials_sheen", "sheenRoughnessFactor", 0.0),
+    ("KHR_materials_specular", "specularFactor", 1.0), ("KHR_materials_specular", "specularColorFactor", [1.0, 1.0, 1.0]),
+    ("KHR_materials_transmission", "transmissionFactor", 0.0),
+    ("KHR_materials_volume", "thicknessFactor", 0.0), ("KHR_materials_volume", "attenuationDistance", math.inf),
+    ("KHR_materials_volume", "attenuationColor", [1.0, 1.0, 1.0]),
+    ("KHR_materials_ior", "ior", 1.5),
+    ("KHR_materials_iridescence", "iridescenceFactor", 0.0), ("KHR_materials_iridescence", "iridescenceIor", 1.3),
+    ("KHR_materials_iridescence", "iridescenceThicknessMaximum", 400.0),
+    ("KHR_materials_anisotropy", "anisotropyStrength", 0.0), ("KHR_materials_anisotropy", "anisotropyRotation", 0.0),
+    ("KHR_materials_emissive_strength", "emissiveStrength", 1.0),
+    ("KHR_materials_dispersion", "dispersion", 0.0),
+    ("KHR_materials_diffuse_transmission", "diffuseTransmissionFactor", 0.0),
+    ("KHR_materials_diffuse_transmission", "diffuseTransmissionColorFactor", [1.0, 1.0, 1.0]),
+)
+
+#: factor -> inputs a note about it may be located at: its glTF property, the gltf_pbr parameter and
+#: the OpenPBR parameters it is made from or turns into (the translations' mapping tables).
+RELATED = {
+    "baseColor": {"baseColorFactor", "base_color", "base_weight", "alpha", "geometry_opacity"},
+    "alpha": {"baseColorFactor", "alpha", "geometry_opacity", "alphaMode", "alpha_mode"},
+    "metallic": {"metallicFactor", "metallic", "base_metalness"},
+    "roughness": {"roughnessFactor", "roughness", "specular_roughness", "specular_roughness_anisotropy"},
+    "emission": {"emissiveFactor", "emissive", "emission_color", "emission_luminance", "emissiveStrength",
+                 "emissive_strength"},
+    "alphaMode": {"alphaMode", "alpha_mode", "geometry_opacity"},
+    "alphaCutoff": {"alphaCutoff", "alpha_cutoff", "geometry_opacity"},
+    "doubleSided": {"doubleSided"},
+    "clearcoat": {"clearcoatFactor", "clearcoatRoughnessFactor", "clearcoat", "clearcoat_roughness", "coat_weight",
+                  "coat_roughness", "coat_roughness_anisotropy"},
+    "sheen": {"sheenColorFactor", "sheenRoughnessFactor", "sheen_color", "sheen_roughness", "fuzz_weight", "fuzz_color",
+              "fuzz_roughness"},
+    "specular": {"specularFactor", "specularColorFactor", "specular", "specular_color", "specular_weight"},
+    "transmission": {"transmissionFactor", "transmission", "transmission_weight"},
+    "volume": {"thicknessFactor", "attenuationDistance", "attenuationColor", "thickness", "attenuation_distance",
+               "attenuation_color", "transmission_depth", "transmission_color", "geometry_thin_walled"},
+    "ior": {"ior", "specular_ior"},
+    "iridescence": {"iridescenceFactor", "iridescenceIor", "iridescenceThicknessMaximum", "iridescence",
+                    "iridescence_ior", "iridescence_thickness", "thin_film_weight", "thin_film_ior", "thin_film_thickness"},
+    "anisotropy": {"anisotropyStrength", "anisotropyRotation", "anisotropy_strength", "anisotropy_rotation",
+                   "specular_roughness_anisotropy", "roughnessFactor", "roughness", "specular_roughness"},
+    "dispersion": {"dispersion", "transmission_dispersion_scale", "transmission_dispersion_abbe_number", "thicknessFactor"},
+    "diffuseTransmission": {"diffuseTransmissionFactor", "diffuseTransmissionColorFactor"},
+}
+
+
+def _read(material: dict):
+    extensions = material.get("extensions") if isinstance(material.get("extensions"), dict) else {}
+    containers = {"": material, "pbr": material.get("pbrMetallicRoughness") or {}}
+    containers.update(extensions)
+    values = {}
+    for container, prop, default in FACTORS:
+        holder = containers.get(container)
+        values[prop] = holder.get(prop, default) if isinstance(holder, dict) else default
+    return values, extensions
+
+
+def effective(material: dict, drafts: set | None = None) -> dict:
+    """(group, name) -> value: the factors that change how ``material`` renders (module docstring).
+    ``drafts``: the draft extensions that take precedence over their fallbacks (default: those the
+    material has; for a returned material, those its source had, so fallbacks compare with fallbacks)."""
+    v, extensions = _read(material)
+    drafts = set(extensions) if drafts is None else drafts
+    out = {}
+    metal = v["metallicFactor"] >= 1.0
+    out[("baseColor", "rgb")] = v["baseColorFactor"][:3]
+    alpha, mode = v["baseColorFactor"][3], v["alphaMode"]
+    textured_alpha = "baseColorTexture" in (material.get("pbrMetallicRoughness") or {})
+    if not textured_alpha and ((mode == "BLEND" and alpha >= 1.0) or (mode == "MASK" and alpha >= v["alphaCutoff"])):
+        mode = "OPAQUE"  # every fragment is drawn, fully opaque
+    if mode != "OPAQUE":
+        out[("alpha", "alpha")] = alpha
+    out[("alphaMode", "mode")] = mode
+    if mode == "MASK":
+        out[("alphaCutoff", "cutoff")] = v["alphaCutoff"]
+    out[("metallic", "metallic")] = v["metallicFactor"]
+    strength = v["emissiveStrength"]
+    out[("emission", "radiance")] = [c * strength for c in v["emissiveFactor"]]
+    out[("doubleSided", "doubleSided")] = bool(v["doubleSided"])
+    if "KHR_materials_coat" not in drafts:  # a draft takes precedence: its fallback is not the material
+        out[("clearcoat", "weight")] = v["clearcoatFactor"]
+        if v["clearcoatFactor"] > 0:
+            out[("clearcoat", "roughness")] = v["clearcoatRoughnessFactor"]
+    if "KHR_materials_fuzz" not in drafts:
+        out[("sheen", "color")] = v["sheenColorFactor"]
+        if max(v["sheenColorFactor"]) > 0:
+            out[("sheen", "roughness")] = v["sheenRoughnessFactor"]
+    specular = extensions.get("KHR_materials_specular") if isinstance(extensions.get("KHR_materials_specular"), dict) else {}
+    openpbr_specular = "EXT_materials_specular_openpbr" in (specular.get("extensions") or {}) and \
+        "EXT_materials_specular_openpbr" in drafts
+    if not metal:
+        if not openpbr_specular:  # the draft's meaning is the drafts test's
+            out[("specular", "weight")] = v["specularFactor"]
+            if v["specularFactor"] > 0:
+                out[("specular", "color")] = v["specularColorFactor"]
+        out[("ior", "ior")] = v["ior"]
+        out[("transmission", "weight")] = v["transmissionFactor"]
+        transmits = v["transmissionFactor"] > 0 or v["diffuseTransmissionFactor"] > 0
+        if transmits:
+            out[("volume", "thick")] = v["thicknessFactor"] > 0
+            if v["thicknessFactor"] > 0:
+                out[("volume", "attenuationDistance")] = v["attenuationDistance"]
+                out[("volume", "attenuationColor")] = v["attenuationColor"]
+                out[("dispersion", "dispersion")] = v["dispersion"]
+        out[("diffuseTransmission", "weight")] = v["diffuseTransmissionFactor"]
+        if v["diffuseTransmissionFactor"] > 0:
+            out[("diffuseTransmission", "color")] = v["diffuseTransmissionColorFactor"]
+    out[("iridescence", "weight")] = v["iridescenceFactor"]
+    if v["iridescenceFactor"] > 0:
+        out[("iridescence", "ior")] = v["iridescenceIor"]
+        out[("iridescence", "thickness")] = v["iridescenceThicknessMaximum"]
+    anisotropy = extensions.get("KHR_materials_anisotropy") if isinstance(extensions.get("KHR_materials_anisotropy"), dict) else {}
+    if (anisotropy.get("extensions") or {}).get("EXT_materials_anisotropy_openpbr", {}).get("openPbrAnisotropyEnabled") \
+            is True and "EXT_materials_anisotropy_openpbr" in drafts:
+        # OpenPBR's convention: compared as the alphas it renders with, in glTF's form (alpha_t capped at 1)
+        r, a = v["roughnessFactor"], v["anisotropyStrength"]
+        alpha_t = r * r * math.sqrt(2.0 / (1.0 + (1.0 - a) ** 2))
+        alpha_b = (1.0 - a) * alpha_t
+    else:
+        alpha_b = v["roughnessFactor"] ** 2
+        alpha_t = alpha_b + (1.0 - alpha_b) * v["anisotropyStrength"] ** 2
+    out[("roughness", "roughness")] = math.sqrt(alpha_b)  # glTF's roughness, alpha_b = r^2
+    out[("anisotropy", "alpha_t")] = min(alpha_t, 1.0)
+    if alpha_t > alpha_b and 0 < alpha_b < 1:
+        out[("anisotropy", "rotation")] = v["anisotropyRotation"]
+    return out
+
+
+def _equal(a, b) -> bool:
+    if isinstance(a, (str, bool)) or isinstance(b, (str, bool)):
+        return a == b
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    if a.shape != b.shape:
+        return False
+    with np.errstate(invalid="ignore"):  # inf - inf: equal infinities compare equal through a == b
+        return bool(np.all((a == b) | (np.abs(a - b) <= TOLERANCE)))
+
+
+def draft_names(material: dict) -> set:
+    extensions = material.get("extensions") if isinstance(material.get("extensions"), dict) else {}
+    names = set(extensions)
+    for value in extensions.values():
+        if isinstance(value, dict) and isinstance(value.get("extensions"), dict):
+            names |= set(value["extensions"])
+    return names
+
+
+def classify(source: dict, returned: dict, noted_inputs: set, expected: dict | None = None):
+    """[(factor, status, source value, returned value)], status ``exact``, ``noted`` or ``silent``;
+    ``expected`` overrides what the source leads to expect for some factors."""
+    drafts = draft_names(source)
+    before, after = effective(source, drafts), effective(returned, drafts)
+    before.update(expected or {})
+    found = []
+    for key, value in before.items():
+        got = after.get(key)
+        if got is not None and _equal(value, got):
+            found.append((key, "exact", value, got))
+        elif noted_inputs & RELATED[key[0]]:
+            found.append((key, "noted", value, got))
+        else:
+            found.append((key, "silent", value, got))
+    return found
