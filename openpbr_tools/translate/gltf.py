@@ -79,7 +79,7 @@ from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_roughen
 from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
 from ..io.gltf import drafts
 from ..model import Material
-from ..rules.translation import NOT_CARRIED
+from ..rules.translation import APPROXIMATED, NOT_CARRIED
 from . import fit
 from .common import Dropped, Mapping, Settings, Translation, differs, translate
 from .gltf_anisotropy import gltf_anisotropy_strength, gltf_roughness, openpbr_anisotropy, openpbr_roughness
@@ -176,7 +176,36 @@ def _base_color_matters(weight, color, transmission, transmission_color, depth, 
     full_volume = transmission >= 1 and depth > 0 and differs(color, WHITE) and metalness > 0
     tinted_metal = metalness > 0 and (differs(specular_color, WHITE) or specular_weight != 1)
     coloured_coat = coat_weight > 0 and differs(coat_color, WHITE)
-    return bool(subsurface > 0 or mixed_transmission or full_volume or tinted_metal or coloured_coat)
+    darkened = coat_weight > 0 and coat_darkening > 0 and differs(
+        coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color, coat_weight, coat_darkening,
+                              fit.positive_ior(coat_ior)), 1.0)
+    return bool(subsurface > 0 or mixed_transmission or full_volume or tinted_metal or coloured_coat or darkened)
+
+
+def _coat_folding_notes(material: Material, settings: Settings) -> list:
+    """Ratified glTF output: the coat's colour and darkening have no place in glTF's colourless,
+    non-darkening clearcoat and are folded into the base colour (view-independent factors): each
+    is reported at its own input, where a reader of the report looks for it."""
+    values = {name: getattr(material.inputs.get(name), "value", None) for name in ("coat_weight", "coat_color",
+                                                                                   "coat_darkening")}
+    weight = values["coat_weight"].value if hasattr(values["coat_weight"], "value") else 0.0
+    if not isinstance(weight, (int, float)) or weight <= 0:
+        return []
+    notes = []
+    color = values["coat_color"]
+    if color is not None and (not hasattr(color, "value") or differs(color.value, WHITE)):
+        notes.append(("coat_color", "glTF's clearcoat is colourless: the coat's colour is folded into the base colour, "
+                                    "which misses its tint on the reflection under the coat"))
+    darkening = material.inputs.get("coat_darkening")
+    amount = darkening.value.value if darkening is not None and hasattr(darkening.value, "value") else \
+        (None if darkening is not None else 1.0)  # OpenPBR's default darkening is 1
+    if amount is None or amount > 0:
+        notes.append(("coat_darkening", "glTF's clearcoat does not darken the base: OpenPBR's darkening is folded into "
+                                        "the base colour as its view-independent factor"))
+    return [settings.context.diagnostic(APPROXIMATED, f"{material.name} (OpenPBR -> glTF): {name}: {why}",
+                                        (material.inputs[name].location if name in material.inputs
+                                         else material.location.with_input(name)))
+            for name, why in notes]
 
 
 def _peak(color):
@@ -469,6 +498,8 @@ def openpbr_to_gltf(material: Material, settings: Settings | None = None) -> Tra
         if record:
             translation.material.extra["gltf_drafts"] = record
         translation.diagnostics += notes
+    else:
+        translation.diagnostics += _coat_folding_notes(material, settings)
     return translation
 
 
