@@ -181,7 +181,12 @@ def _gltf_state(source: Material, kind: str, context: Context) -> list[Diagnosti
                                             "carried", dataclasses.replace(
                                    source.location, path=f"{source.location.path}/extensions/{parent}/extensions/{sub}"))
             for parent, sub, read in state.get("nested_extensions") or () if not read]
+    variants = state.get("variants") or []
     if kind == "gltf":
+        lost += [context.diagnostic(NOT_CARRIED, f"{source.name}: selected by the KHR_materials_variants variants "
+                                                 f"{', '.join(variants)}, whose mappings live on mesh primitives: not "
+                                                 "written (the output has no meshes of the source)", source.location)
+                 ] if variants else []
         return lost + [context.diagnostic(CONVERTED, f"{source.name}: {name} is not interpreted; written back as it was "
                                                      "(unless it references the source's textures)", source.location)
                        for name in sorted(state.get("extensions") or {})]
@@ -189,6 +194,8 @@ def _gltf_state(source: Material, kind: str, context: Context) -> list[Diagnosti
     kept += ["extras"] if state.get("extras") else []
     kept += [f"alphaMode MASK with alphaCutoff {state.get('alphaCutoff', 0.5):g}"] if state.get("alphaMode") == "MASK" else []
     kept += sorted(state.get("extensions") or {})
+    kept += [f"KHR_materials_variants names ({', '.join(variants)})"] if variants else []
+    kept += [f"KHR_materials_volume thicknessFactor {state['thickness']:g}"] if state.get("thickness") else []
     where = "attribute openpbr_gltf of its surfacematerial" if kind == "mtlx" else "customData openpbr:gltf of its Material"
     return lost + [context.diagnostic(CONVERTED, f"{source.name}: {what} (glTF material state OpenPBR has no parameter "
                                                  f"for) is kept in the {where} and restored when converted back to glTF",

@@ -1,7 +1,10 @@
 """glTF material state OpenPBR has no parameter for, carried through .mtlx and USD outputs so that a
 glTF -> .mtlx/USD -> glTF round trip restores it.
 
-What travels: the glTF ``name`` where a writer that needs unique names renamed the material (glTF
+What travels: KHR_materials_volume's ``thicknessFactor`` (OpenPBR has no thickness: a glTF
+output gives the volume its source thickness again instead of one scene unit), the names of the KHR_materials_variants variants that select the material (the
+mappings live on mesh primitives, which .mtlx and a material-only USD file do not have; a glTF
+output without meshes reports them), the glTF ``name`` where a writer that needs unique names renamed the material (glTF
 allows two materials one name: a glTF output restores it), ``doubleSided``, ``extras``, an alpha ``MASK`` with its ``alphaCutoff`` (OpenPBR keeps
 the cut-out as geometry_opacity, not the mode) and the material extensions the gltf_pbr node does not
 carry (KHR_materials_diffuse_transmission, KHR_materials_unlit, unknown ones), as they were in the
@@ -17,7 +20,7 @@ import json
 
 MTLX_ATTRIBUTE = "openpbr_gltf"
 USD_CUSTOM_DATA_KEY = "openpbr:gltf"
-KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff", "name")
+KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff", "name", "variants", "thickness")
 MAX_TEXT = 1 << 20  # a side channel larger than this is not read (a hostile file)
 
 
@@ -43,6 +46,11 @@ def decode(text) -> dict:
     if not isinstance(value, dict):
         return {}
     state = {}
+    thickness = value.get("thickness")
+    if isinstance(thickness, (int, float)) and not isinstance(thickness, bool) and 0 < thickness < float("inf"):
+        state["thickness"] = float(thickness)
+    if isinstance(value.get("variants"), list) and all(isinstance(v, str) for v in value["variants"]):
+        state["variants"] = value["variants"]
     if isinstance(value.get("name"), str) and value["name"]:
         state["name"] = value["name"]
     if isinstance(value.get("doubleSided"), bool):

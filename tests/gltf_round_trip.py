@@ -11,7 +11,7 @@ specification and the extensions' READMEs:
   roughness with a black colour, a specular colour at factor 0; the dielectric-only terms
   (transmission, volume, IOR, specular, dispersion, diffuse transmission) of a fully metallic
   material (``metallicFactor`` 1); a volume without transmission; attenuation and dispersion of a
-  thin-walled volume (thickness 0); iridescence IOR and thickness at factor 0, and the minimum
+  thin-walled volume (thickness 0); the attenuation colour at an infinite attenuation distance; iridescence IOR and thickness at factor 0, and the minimum
   thickness without a thickness texture; a coat's other properties at weight 0; an alpha BLEND of
   alpha 1 and an alpha MASK the alpha passes are OPAQUE (without a base colour texture);
 * roughness and anisotropy are compared as the alphas they render with: alpha_b = r^2 and
@@ -19,8 +19,6 @@ specification and the extensions' READMEs:
   and (1 - a) alpha_t under EXT_materials_anisotropy_openpbr, alpha_t capped at 1 as glTF's is; the
   rotation only where the alphas differ and alpha_b is inside (0, 1);
 * the emission is ``emissiveFactor * emissiveStrength`` (what renders; the split is free);
-* a volume's thickness is compared as thin (0) or not: glTF's thickness is the mesh's, OpenPBR has
-  none (the writer states what it writes).
 
 :func:`classify` then says, per factor, ``exact`` (within 1e-5), ``noted`` (differs, and a note of
 OPBR1103/1104 names that material and a related input) or ``silent``.
@@ -141,10 +139,11 @@ def effective(material: dict, drafts: set | None = None) -> dict:
         out[("transmission", "weight")] = v["transmissionFactor"]
         transmits = v["transmissionFactor"] > 0 or v["diffuseTransmissionFactor"] > 0
         if transmits:
-            out[("volume", "thick")] = v["thicknessFactor"] > 0
+            out[("volume", "thickness")] = v["thicknessFactor"]
             if v["thicknessFactor"] > 0:
                 out[("volume", "attenuationDistance")] = v["attenuationDistance"]
-                out[("volume", "attenuationColor")] = v["attenuationColor"]
+                if math.isfinite(v["attenuationDistance"]):
+                    out[("volume", "attenuationColor")] = v["attenuationColor"]
                 out[("dispersion", "dispersion")] = v["dispersion"]
         out[("diffuseTransmission", "weight")] = v["diffuseTransmissionFactor"]
         if v["diffuseTransmissionFactor"] > 0:

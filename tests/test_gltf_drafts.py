@@ -228,7 +228,8 @@ def test_openpbr_to_gltf_with_drafts_to_openpbr_returns_every_parameter_the_draf
                          ids=["mtlx-drafts", "usda-drafts", "mtlx-ratified"])
 def test_gltf_round_trips_a_generated_corpus_through_mtlx_and_usd(tmp_path, route, drafts):
     """2,000 generated glTF materials (tests/generated_gltf_materials.py: every factor of the core
-    material, every ratified extension and every draft over its schema range, duplicate names)
+    material, every ratified extension and every draft over its schema range, duplicate names;
+    textures with KHR_texture_transform are the next test's corpus)
     through ``route`` and back, with ``--gltf-drafts`` or ratified-only: material count and names come back; every
     factor and every value a draft carries (tests/gltf_round_trip.py, render-equivalences stated
     there) returns within 1e-5 or has a note (OPBR1103/1104) at its material and a related input;
@@ -239,7 +240,7 @@ def test_gltf_round_trips_a_generated_corpus_through_mtlx_and_usd(tmp_path, rout
     silent = []
     for seed in range(4):
         source = tmp_path / f"corpus{seed}.gltf"
-        source.write_text(json.dumps(document(seed, 500)))
+        source.write_text(json.dumps(document(seed, 500)))  # textures: the textured test below
         there = convert_file(str(source), str(tmp_path / f"corpus{seed}.{route}"))
         back_path = tmp_path / f"back{seed}.gltf"
         back = convert_file(str(tmp_path / f"corpus{seed}.{route}"), str(back_path), settings=Settings(gltf_drafts=drafts))
@@ -338,3 +339,19 @@ def test_textures_and_their_uv_transforms_survive_a_round_trip_or_are_reported(t
     assert silent == [], silent[:5]
     report = validate_with_khronos(tmp_path / "back.gltf", tmp_path)
     assert (report["issues"]["numErrors"], report["issues"]["numWarnings"]) == (0, 0), describe_issues(report)
+
+
+def test_variant_names_travel_in_the_side_channel_and_their_loss_is_reported(tmp_path):
+    source = tmp_path / "variants.gltf"
+    source.write_text(json.dumps({
+        "asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_variants"],
+        "extensions": {"KHR_materials_variants": {"variants": [{"name": "red"}, {"name": "blue"}]}},
+        "materials": [{"name": "Red"}, {"name": "Blue"}],
+        "meshes": [{"primitives": [{"attributes": {}, "material": 0, "extensions": {"KHR_materials_variants": {
+            "mappings": [{"material": 0, "variants": [0]}, {"material": 1, "variants": [1]}]}}}]}]}))
+    there = convert_file(str(source), str(tmp_path / "mid.mtlx"))
+    assert any("KHR_materials_variants names (blue)" in d.message for d in there.diagnostics)
+    assert "&quot;variants&quot;:[&quot;red&quot;]" in (tmp_path / "mid.mtlx").read_text()
+    back = convert_file(str(tmp_path / "mid.mtlx"), str(tmp_path / "back.gltf"))
+    lost = [d for d in back.diagnostics if d.code == "OPBR1104" and "variants red" in d.message]
+    assert len(lost) == 1 and lost[0].location.material == "Red"

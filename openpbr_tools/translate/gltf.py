@@ -266,9 +266,11 @@ DRAFT_BASE_SOURCES = ("base_weight", "base_color", "transmission_weight", "trans
                       "subsurface_weight", "subsurface_color")
 
 
-def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False) -> tuple[Mapping, ...]:
+def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
+                     thickness: float | None = None) -> tuple[Mapping, ...]:
     """The OpenPBR -> glTF mappings; ``specular_openpbr``: with ``Settings.gltf_drafts``, the material gets
-    EXT_materials_specular_openpbr (a metal with an F82 tint or a specular weight)."""
+    EXT_materials_specular_openpbr (a metal with an F82 tint or a specular weight); ``thickness``: the
+    volume thickness of the glTF material this one came from (gltf_state), in metres."""
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
     base_sources = ("base_weight", "base_color", "transmission_weight", "transmission_color", "transmission_depth",
@@ -333,8 +335,9 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False) -> tupl
         # A solid (not thin-walled) transmissive OpenPBR material is a volume in glTF whatever its
         # depth: glTF's thickness 0 means thin-walled (no refraction, no dispersion).
         Mapping("thickness", ("transmission_depth", "geometry_thin_walled", "transmission_weight"),
-                lambda d, thin, t: np.where((thin > 0.5) | (t <= 0), 0.0, mpu) + 0.0 * d,
-                exact=False, matters=lambda d, thin, t: d > 0 and thin < 0.5 and t > 0,
+                lambda d, thin, t: np.where((thin > 0.5) | (t <= 0), 0.0, thickness or mpu) + 0.0 * d,
+                exact=thickness is not None, matters=lambda d, thin, t: d > 0 and thin < 0.5 and t > 0,
+                converted="the source glTF's volume thickness, kept in the side channel (gltf_state)",
                 note="glTF's volume thickness is the mesh's; set to one scene unit, the path MaterialX's "
                      "reference renders OpenPBR's absorption over"),
         Mapping("dispersion", ("transmission_dispersion_scale", "transmission_dispersion_abbe_number"),
@@ -477,8 +480,9 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
 DROPPED_FROM_GLTF = (
     Dropped("occlusion", "OpenPBR has no ambient occlusion input (bake it into lighting)", matters=lambda v: v != 1.0),
     Dropped("anisotropy_rotation", "OpenPBR rotates anisotropy through the tangent", matters=lambda v: v != 0.0),
-    Dropped("thickness", "OpenPBR has no volume thickness (only thin-walled or not): the value is not kept",
-            matters=lambda d, t: d > 0 and d != 1.0 and t > 0, needs=("transmission",)),  # 1: what OpenPBR -> glTF writes
+    # a constant thickness travels in the side channel (gltf_state); a thickness texture does not
+    Dropped("thickness", "OpenPBR has no volume thickness (only thin-walled or not): the texture is not kept",
+            matters=lambda d, t: False, needs=("transmission",)),
 )
 
 
@@ -491,8 +495,10 @@ def openpbr_to_gltf(material: Material, settings: Settings | None = None) -> Tra
     if settings.gltf_drafts:
         dropped = tuple(d for d in dropped if d.source not in DRAFT_DROPPED)
     specular_openpbr = settings.gltf_drafts and needs_specular_openpbr(material)
-    translation = translate(material, "gltf_pbr", to_gltf_mappings(settings, specular_openpbr), dropped, settings,
-                            "OpenPBR -> glTF")
+    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    thickness = state.get("thickness") if isinstance(state.get("thickness"), float) else None
+    translation = translate(material, "gltf_pbr", to_gltf_mappings(settings, specular_openpbr, thickness), dropped,
+                            settings, "OpenPBR -> glTF")
     if settings.gltf_drafts:
         record, notes = draft_record(material, settings, specular_openpbr)
         if record:
@@ -535,8 +541,8 @@ def _volume_of_diffuse_transmission(material: Material, state: dict, settings: S
             (transmission is None or getattr(transmission.value, "value", 1.0) == 0.0):
         return [settings.context.diagnostic(
             NOT_CARRIED, f"{material.name} (glTF -> OpenPBR): KHR_materials_volume serves only "
-                         "KHR_materials_diffuse_transmission, which OpenPBR does not carry: the volume (thickness, "
-                         "attenuation, dispersion) is not carried", thickness.location)]
+                         "KHR_materials_diffuse_transmission, which OpenPBR does not carry: its attenuation and "
+                         "dispersion are not carried (its thickness travels in the side channel)", thickness.location)]
     return []
 
 

@@ -121,6 +121,34 @@ class _Reader(TextureReading):
                 self.invalid(f"/materials/{index}", "material is not an object")
                 continue
             self.asset.materials.append(self.read_material(index, raw))
+        self.read_variants()
+
+    def read_variants(self) -> None:
+        """KHR_materials_variants: the names of the variants that select each material (the root's
+        ``variants`` list, indexed by each primitive's ``mappings``), as ``extra["gltf"]["variants"]``,
+        which travels in the side channel (gltf_state)."""
+        root = self.document.json.get("extensions")
+        declared = root.get("KHR_materials_variants") if isinstance(root, dict) else None
+        names = declared.get("variants") if isinstance(declared, dict) else None
+        if not isinstance(names, list):
+            return
+        names = [v.get("name") if isinstance(v, dict) and isinstance(v.get("name"), str) else f"variant_{i}"
+                 for i, v in enumerate(names)]
+        by_index = {m.extra["gltf"]["index"]: m for m in self.asset.materials}
+        for mesh in self.document.array("meshes"):
+            for primitive in mesh.get("primitives", []) if isinstance(mesh, dict) and isinstance(mesh.get("primitives"), list) else []:
+                extension = (primitive.get("extensions") or {}).get("KHR_materials_variants") \
+                    if isinstance(primitive, dict) and isinstance(primitive.get("extensions"), dict) else None
+                for mapping in extension.get("mappings", []) if isinstance(extension, dict) and \
+                        isinstance(extension.get("mappings"), list) else []:
+                    material = by_index.get(mapping.get("material")) if isinstance(mapping, dict) else None
+                    if material is None or not isinstance(mapping.get("variants"), list):
+                        continue
+                    chosen = material.extra["gltf"].setdefault("variants", [])
+                    for variant in mapping["variants"]:
+                        if isinstance(variant, int) and not isinstance(variant, bool) and 0 <= variant < len(names) \
+                                and names[variant] not in chosen:
+                            chosen.append(names[variant])
 
     # -- resources ---------------------------------------------------------------------------
     def check_buffers(self) -> None:
@@ -178,6 +206,10 @@ class _Reader(TextureReading):
             extra["alphaMode"] = "MASK"
             cutoff = raw.get("alphaCutoff", 0.5)
             extra["alphaCutoff"] = float(cutoff) if json_numbers([cutoff], 1) else 0.5
+        volume = extensions.get(slots.VOLUME)
+        if isinstance(volume, dict) and json_numbers([volume.get("thicknessFactor")], 1) and \
+                json_float(volume["thicknessFactor"]) > 0:  # OpenPBR has no thickness: gltf_state carries it
+            extra["thickness"] = json_float(volume["thicknessFactor"])
         kept = {n: v for n, v in extensions.items()
                 if n not in slots.INTERPRETED_MATERIAL_EXTENSIONS and n not in drafts.MATERIAL_DRAFTS}
         if kept:
