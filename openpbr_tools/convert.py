@@ -22,7 +22,7 @@ import shutil
 import tempfile
 from dataclasses import dataclass, field
 
-from . import tables
+from . import gltf_state, tables
 from .atomic import write_bytes
 from .diagnostics import Diagnostic
 from .io import read_asset
@@ -111,10 +111,22 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                   tuple(allow_outside), png_only=kind == "gltf")
     result.baker = baker
     used_names: set[str] = set()
+    for observation in asset.observations:
+        if observation.kind == "unsupported_shader":  # a custom or renderer-specific shader: never silent
+            detail = observation.detail
+            result.diagnostics.append(context.diagnostic(
+                NOT_CARRIED, f"{detail.get('material')}: its {detail.get('category')} shader is none of the shading "
+                             "models the toolkit converts; the material is not written", observation.location))
     try:
         for material in asset.materials:
             if material.model not in MODELS:
                 continue
+            if material.extra.get("expanded_from"):
+                origin = material.extra["expanded_from"]
+                result.diagnostics += _at_material([context.diagnostic(
+                    CONVERTED, f"{material.name}: a custom {origin['category']} node ({origin['nodedef']}); converted "
+                               f"as the {material.model} its definition's node graph wraps, with the node's values",
+                    material.location)], material)
             notes: list[Diagnostic] = []
             if material.extra.get("fallback_of"):
                 # a USD preview fallback of a MaterialX shader: the material is that shader (its own
@@ -139,7 +151,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                                                 "taken as metres", material.inputs[unitless[0]].location))
             translation = convert(material, target, step_settings)
             notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context)
-            notes += _gltf_state(material, kind, context)
+            notes += gltf_state.notes(material, kind, context)
             translated = translation.material
             translated.material_name = unique
             if unique != name and asset.format == "gltf" and isinstance(translated.extra.get("gltf"), dict):
@@ -168,38 +180,6 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     result.diagnostics += [context.adjust(note) for note in notes]
     result.diagnostics.sort(key=Diagnostic.sort_key)
     return result
-
-
-def _gltf_state(source: Material, kind: str, context: Context) -> list[Diagnostic]:
-    """What a glTF material holds beside its factors (``doubleSided``, ``extras``, extensions the
-    gltf_pbr node does not carry, such as KHR_materials_diffuse_transmission and KHR_materials_unlit)
-    travels to a glTF output only; anywhere else each is reported, never dropped in silence."""
-    state = source.extra.get("gltf") if isinstance(source.extra.get("gltf"), dict) else None
-    if state is None:
-        return []
-    lost = [context.diagnostic(NOT_CARRIED, f"{source.name}: {sub} inside {parent} is not read by the toolkit; not "
-                                            "carried", dataclasses.replace(
-                                   source.location, path=f"{source.location.path}/extensions/{parent}/extensions/{sub}"))
-            for parent, sub, read in state.get("nested_extensions") or () if not read]
-    variants = state.get("variants") or []
-    if kind == "gltf":
-        lost += [context.diagnostic(NOT_CARRIED, f"{source.name}: selected by the KHR_materials_variants variants "
-                                                 f"{', '.join(variants)}, whose mappings live on mesh primitives: not "
-                                                 "written (the output has no meshes of the source)", source.location)
-                 ] if variants else []
-        return lost + [context.diagnostic(CONVERTED, f"{source.name}: {name} is not interpreted; written back as it was "
-                                                     "(unless it references the source's textures)", source.location)
-                       for name in sorted(state.get("extensions") or {})]
-    kept = [f"doubleSided {str(state['doubleSided']).lower()}" for _ in [0] if state.get("doubleSided")]
-    kept += ["extras"] if state.get("extras") else []
-    kept += [f"alphaMode MASK with alphaCutoff {state.get('alphaCutoff', 0.5):g}"] if state.get("alphaMode") == "MASK" else []
-    kept += sorted(state.get("extensions") or {})
-    kept += [f"KHR_materials_variants names ({', '.join(variants)})"] if variants else []
-    kept += [f"KHR_materials_volume thicknessFactor {state['thickness']:g}"] if state.get("thickness") else []
-    where = "attribute openpbr_gltf of its surfacematerial" if kind == "mtlx" else "customData openpbr:gltf of its Material"
-    return lost + [context.diagnostic(CONVERTED, f"{source.name}: {what} (glTF material state OpenPBR has no parameter "
-                                                 f"for) is kept in the {where} and restored when converted back to glTF",
-                                      source.location) for what in kept]
 
 
 def _unreadable_inputs(source: Material, result: Material, kind: str, context: Context) -> list[Diagnostic]:

@@ -17,6 +17,9 @@ textures do not travel (their indices mean nothing elsewhere) and are reported.
 from __future__ import annotations
 
 import json
+from dataclasses import replace
+
+from .rules.translation import CONVERTED, NOT_CARRIED
 
 MTLX_ATTRIBUTE = "openpbr_gltf"
 USD_CUSTOM_DATA_KEY = "openpbr:gltf"
@@ -64,3 +67,35 @@ def decode(text) -> dict:
     if isinstance(extensions, dict) and all(isinstance(k, str) and isinstance(v, dict) for k, v in extensions.items()):
         state["extensions"] = extensions
     return state
+
+
+def notes(source, kind: str, context) -> list:
+    """What a glTF material holds beside its factors (``doubleSided``, ``extras``, extensions the
+    gltf_pbr node does not carry, such as KHR_materials_diffuse_transmission and KHR_materials_unlit)
+    travels to a glTF output only; anywhere else each is reported, never dropped in silence."""
+    state = source.extra.get("gltf") if isinstance(source.extra.get("gltf"), dict) else None
+    if state is None:
+        return []
+    lost = [context.diagnostic(NOT_CARRIED, f"{source.name}: {sub} inside {parent} is not read by the toolkit; not "
+                                            "carried", replace(
+                                   source.location, path=f"{source.location.path}/extensions/{parent}/extensions/{sub}"))
+            for parent, sub, read in state.get("nested_extensions") or () if not read]
+    variants = state.get("variants") or []
+    if kind == "gltf":
+        lost += [context.diagnostic(NOT_CARRIED, f"{source.name}: selected by the KHR_materials_variants variants "
+                                                 f"{', '.join(variants)}, whose mappings live on mesh primitives: not "
+                                                 "written (the output has no meshes of the source)", source.location)
+                 ] if variants else []
+        return lost + [context.diagnostic(CONVERTED, f"{source.name}: {name} is not interpreted; written back as it was "
+                                                     "(unless it references the source's textures)", source.location)
+                       for name in sorted(state.get("extensions") or {})]
+    kept = [f"doubleSided {str(state['doubleSided']).lower()}" for _ in [0] if state.get("doubleSided")]
+    kept += ["extras"] if state.get("extras") else []
+    kept += [f"alphaMode MASK with alphaCutoff {state.get('alphaCutoff', 0.5):g}"] if state.get("alphaMode") == "MASK" else []
+    kept += sorted(state.get("extensions") or {})
+    kept += [f"KHR_materials_variants names ({', '.join(variants)})"] if variants else []
+    kept += [f"KHR_materials_volume thicknessFactor {state['thickness']:g}"] if state.get("thickness") else []
+    where = "attribute openpbr_gltf of its surfacematerial" if kind == "mtlx" else "customData openpbr:gltf of its Material"
+    return lost + [context.diagnostic(CONVERTED, f"{source.name}: {what} (glTF material state OpenPBR has no parameter "
+                                                 f"for) is kept in the {where} and restored when converted back to glTF",
+                                      source.location) for what in kept]

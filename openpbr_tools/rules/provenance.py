@@ -169,6 +169,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "graph, and says so.", MX_NODES),
     "OPBR804": ("Nothing renders wrong; an unbound shader is usually left over and never reaches a renderer.",
                 MX_SPEC),
+    "OPBR805": ("A shader the toolkit does not read is not checked and cannot be converted: without the report "
+                "the material would vanish from a converted file.", f"{MX_SPEC}; {USD_SHADER}"),
     # -- plausibility --------------------------------------------------------------------------
     "OPBR901": ("Real metals reflect at least ~50% at normal incidence; a darker metal reads as plastic under "
                 "image-based light (info: heuristic, some measured alloys come close).",

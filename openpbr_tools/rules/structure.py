@@ -42,7 +42,21 @@ UNASSIGNED = Rule(
     failing='<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
 )
 
-RULES = (NO_SHADER, DANGLING, UNINTERPRETED, UNASSIGNED)
+NOT_READ = Rule(
+    "OPBR805", "material-shader-not-read", Severity.WARNING,
+    "A material's surface shader is none of the shading models the toolkit reads.",
+    "A renderer-specific or custom shader (a nodedef without a node graph around OpenPBR, Standard "
+    "Surface, glTF PBR or UsdPreviewSurface) is neither checked nor converted: a conversion leaves the "
+    "material out and reports it. Custom nodes whose definition wraps one of those shaders are "
+    "read as that shader.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />\n<surfacematerial name="M" type="material">\n'
+            '  <input name="surfaceshader" type="surfaceshader" nodename="S" />\n</surfacematerial>',
+    failing='<nodedef name="ND_toon" node="toon">\n  <output name="out" type="surfaceshader" />\n</nodedef>\n'
+            '<toon name="S" type="surfaceshader" />\n<surfacematerial name="M" type="material">\n'
+            '  <input name="surfaceshader" type="surfaceshader" nodename="S" />\n</surfacematerial>',
+)
+
+RULES = (NO_SHADER, DANGLING, UNINTERPRETED, UNASSIGNED, NOT_READ)
 
 
 def check(asset, context):
@@ -51,6 +65,12 @@ def check(asset, context):
             yield context.diagnostic(
                 NO_SHADER, f"material {observation.detail.get('material')!r} has no surface shader",
                 observation.location, hint="connect its surfaceshader input to a shader node",
+            )
+        elif observation.kind == "unsupported_shader":
+            yield context.diagnostic(
+                NOT_READ, f"material {observation.detail.get('material')!r} uses a {observation.detail.get('category')} "
+                          "shader, which the toolkit does not read: not checked, and left out of conversions",
+                observation.location,
             )
         elif observation.kind == "dangling_reference":
             target = observation.detail.get("target")

@@ -54,6 +54,9 @@ class GraphFollower:
         node = self.upstream_node(port)
         if node is None:
             return Connection(target or port.getOutputString(), None, "connection target not found", dangling=True)
+        constant = _constant_value(self, node, port.getType())
+        if constant is not None:
+            return constant
         texture = self.texture_chain(node, port.getOutputString() if not port.getNodeGraphString() else "")
         if texture is not None:
             return texture
@@ -152,6 +155,33 @@ class GraphFollower:
             if index is not None and index.hasAttribute("value") and int(index.getValue()) != 0:
                 uv_set = int(index.getValue())
         return (None if transform.is_identity else transform), uv_set
+
+
+def _constant_value(follower, node, type_name: str):
+    """A ``constant`` node (through ``dot`` nodes) with an authored value of the port's type: its
+    value, as :class:`Constant` (MaterialX renders the same; UsdMtlx keeps such networks). A
+    constant fed by a connection, or of another type, stays a connection."""
+    for _ in range(8):
+        if node is None:
+            return None
+        category = node.getCategory()
+        if category not in ("dot", "constant"):
+            return None
+        port = node.getInput("in" if category == "dot" else "value")
+        if port is None:
+            return None
+        if any(port.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename", "output")):
+            if category == "constant":
+                return None
+            node = follower.upstream_node(port)
+            continue
+        if not port.hasAttribute("value") or port.getType() != type_name:
+            return None
+        try:
+            return Constant(parse_value(port.getValueString(), type_name))
+        except ValueSyntaxError:
+            return None
+    return None
 
 
 def _vector2(port) -> tuple[float, float] | None:

@@ -4,11 +4,16 @@ Parsing is MaterialX's (``MaterialX.readFromXmlString``, XInclude disabled so a 
 make the reader open another file); line numbers and duplicate children come from the expat
 pre-pass in :mod:`.xmlscan`. Every ``open_pbr_surface``, ``standard_surface``, ``gltf_pbr`` and
 ``UsdPreviewSurface`` node is read wherever it sits (top level or inside a node graph), whether or
-not a ``surfacematerial`` or a look reaches it.
+not a ``surfacematerial`` or a look reaches it, except inside a node graph that implements a node
+definition (a definition, not a material). A material whose shader is a custom node defined by such
+a graph around one of those shaders is read as that shader with the node's values bound to its
+interface (:meth:`_Reader.expand_custom_shader`); any other shader is an ``unsupported_shader``
+observation (OPBR805; a conversion reports it).
 
 Each shader input becomes an :class:`~openpbr_tools.model.Input` whose value is
 
-* a :class:`Constant` parsed strictly from the value string (see :mod:`openpbr_tools.values`);
+* a :class:`Constant` parsed strictly from the value string (see :mod:`openpbr_tools.values`), or
+  from a ``constant`` node (through ``dot`` nodes) that feeds the input;
 * a :class:`Texture` when the upstream chain is an ``image``/``tiledimage`` node, optionally through
   ``extract``, ``convert``, ``normalmap`` and, on the texture coordinates, ``place2d`` and
   ``texcoord``; followed through ``nodegraph``/``output`` and ``interfacename`` indirections;
@@ -174,6 +179,16 @@ def _include(document, path: str, xincludes, guard: PathGuard, seen: set[str], d
     return not_followed
 
 
+def _in_definition(element) -> bool:
+    """Whether ``element`` lies in a node graph that implements a node definition."""
+    parent = element.getParent()
+    while parent is not None and parent.getCategory() != "materialx":
+        if parent.getCategory() == "nodegraph" and parent.getAttribute("nodedef"):
+            return True
+        parent = parent.getParent()
+    return False
+
+
 def _scan_with_materialx(text: str):
     """A scan without line numbers from a document only MaterialX can parse, or ``None``."""
     import MaterialX as mx  # lazy: as in standard_library
@@ -220,6 +235,8 @@ class _Reader(GraphFollower):
             if not element.isA(mx.Node):
                 continue
             category = element.getCategory()
+            if category in SHADER_CATEGORIES and _in_definition(element):
+                continue  # part of a nodedef's implementation graph: a definition, not a material
             if category in SHADER_CATEGORIES:
                 material = self.read_shader(element)
                 shaders[element.getNamePath()] = material
@@ -274,7 +291,7 @@ class _Reader(GraphFollower):
             else:
                 self.asset.observe("material_without_shader", location, material=node.getName())
             return
-        material = shaders.get(shader.getNamePath())
+        material = shaders.get(shader.getNamePath()) or self.expand_custom_shader(shader)
         if material is None:
             self.asset.observe(
                 "unsupported_shader", location, material=node.getName(), category=shader.getCategory()
@@ -287,6 +304,36 @@ class _Reader(GraphFollower):
                 gltf_state.MTLX_ATTRIBUTE) else {}
             if state:
                 material.extra["gltf"] = state
+
+    def expand_custom_shader(self, instance) -> Material | None:
+        """A shader node of a custom category whose node definition is implemented by a node graph
+        around one shader the toolkit reads (OpenUSD's UsdMtlx test files are full of them): that
+        shader, its interface inputs bound to the instance's values (the definition's defaults where
+        the instance authors none), named and located as the instance. ``None`` otherwise."""
+        import MaterialX as mx  # lazy: as in standard_library
+
+        nodedef = instance.getNodeDef()
+        graph = nodedef.getImplementation() if nodedef is not None else None
+        if graph is None or not graph.isA(mx.NodeGraph) or len(graph.getOutputs()) != 1:
+            return None
+        inner = graph.getOutputs()[0].getConnectedNode()
+        if inner is None or inner.getCategory() not in SHADER_CATEGORIES:
+            return None
+        material = self.read_shader(inner)
+        for port in inner.getInputs():
+            name = port.getInterfaceName()
+            bound = (instance.getInput(name) or nodedef.getActiveInput(name)) if name else None
+            if bound is not None:  # the node's value, else the definition's default
+                entry = self.read_input(bound)
+                entry.name = port.getName()
+                if bound.getParent() is nodedef or bound.getParent().getName() == nodedef.getName():
+                    entry.location = material.inputs[port.getName()].location
+                material.inputs[port.getName()] = entry
+        material.name, material.location = instance.getName(), self.location(instance)
+        material.extra["node_path"] = instance.getNamePath()
+        material.extra["expanded_from"] = {"category": instance.getCategory(), "nodedef": nodedef.getName()}
+        self.asset.materials.append(material)
+        return material
 
     # -- shaders ---------------------------------------------------------------------------
     def read_shader(self, node) -> Material:
