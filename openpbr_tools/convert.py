@@ -136,7 +136,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                     "not converted on its own; the material is its MaterialX shader", material.location)], material)
                 continue
             meters, unitless = _meters_per_unit(material, asset)
-            step_settings = Settings(settings.nits_per_unit, meters, context, baker, settings.gltf_drafts)
+            step_settings = Settings(settings.nits_per_unit, meters, context, baker, settings.gltf_drafts, kind == "gltf")
             name = unique = material.material_name or material.name
             while unique in used_names and kind != "gltf":  # glTF keeps materials apart by index
                 unique = f"{name}_{len(used_names) + 1}"
@@ -151,7 +151,9 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                                                 "taken as metres", material.inputs[unitless[0]].location))
             translation = convert(material, target, step_settings)
             notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context)
-            notes += gltf_state.notes(material, kind, context)
+            translated_state = translation.material.extra.get("gltf")
+            notes += gltf_state.notes(material, kind, context,
+                                      translated_state if isinstance(translated_state, dict) else None)
             translated = translation.material
             translated.material_name = unique
             if unique != name and asset.format == "gltf" and isinstance(translated.extra.get("gltf"), dict):

@@ -69,11 +69,12 @@ def decode(text) -> dict:
     return state
 
 
-def notes(source, kind: str, context) -> list:
+def notes(source, kind: str, context, state: dict | None = None) -> list:
     """What a glTF material holds beside its factors (``doubleSided``, ``extras``, extensions the
     gltf_pbr node does not carry, such as KHR_materials_diffuse_transmission and KHR_materials_unlit)
     travels to a glTF output only; anywhere else each is reported, never dropped in silence."""
-    state = source.extra.get("gltf") if isinstance(source.extra.get("gltf"), dict) else None
+    if state is None:  # ``state``: the translated material's, where the translation interpreted part of it
+        state = source.extra.get("gltf") if isinstance(source.extra.get("gltf"), dict) else None
     if state is None:
         return []
     lost = [context.diagnostic(NOT_CARRIED, f"{source.name}: {sub} inside {parent} is not read by the toolkit; not "

@@ -293,7 +293,11 @@ def round_trip(before: list, after: list, there, back) -> list:
         inputs = noted.get(a["name"], set()) | noted.get(unique, set()) | noted.get(f"{unique}_shader", set())
         override = {}
         gained = "EXT_materials_specular_openpbr" in json.dumps(b) and "EXT_materials_specular_openpbr" not in json.dumps(a)
-        if gained and not value_of(middle, "transmission_weight", 0.0) and not value_of(middle, "subsurface_weight", 0.0):
+        # (a thin-walled subsurface scattered forward only is glTF's diffuse transmission: the base colour stays)
+        forward_only = value_of(middle, "geometry_thin_walled", False) and \
+            value_of(middle, "subsurface_scatter_anisotropy", 0.0) == 1.0
+        if gained and not value_of(middle, "transmission_weight", 0.0) and \
+                (not value_of(middle, "subsurface_weight", 0.0) or forward_only):
             weight = value_of(middle, "base_weight", 1.0)
             override[("baseColor", "rgb")] = [weight * c for c in value_of(middle, "base_color", (0.8, 0.8, 0.8))]
         found = classify(a, b, inputs, override)

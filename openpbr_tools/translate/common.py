@@ -83,7 +83,9 @@ class Settings:
     override it per input; USD's ``metersPerUnit``); glTF is always metres.
     ``gltf_drafts``: a glTF output also gets the draft extensions that carry what the ratified ones
     cannot (KHR_materials_coat, _fuzz, _diffuse_roughness, EXT_materials_specular_openpbr; see
-    :mod:`openpbr_tools.io.gltf.drafts`), beside the ratified fallbacks.
+    :mod:`openpbr_tools.io.gltf.drafts`), beside the ratified fallbacks. ``gltf_file``: the result is
+    written to a glTF file (not a gltf_pbr node), so a translation may use glTF extensions the node
+    has no input for (KHR_materials_diffuse_transmission for a thin-walled subsurface).
     """
 
     nits_per_unit: float = 1.0
@@ -91,6 +93,7 @@ class Settings:
     context: Context = field(default_factory=Context)
     baker: Any = None  # an openpbr_tools.bake.Baker: textures a formula transforms are baked per texel
     gltf_drafts: bool = False
+    gltf_file: bool = False  # the result goes to a glTF file, which holds extensions the gltf_pbr node cannot
 
 
 class Values:

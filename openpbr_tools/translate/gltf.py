@@ -73,13 +73,15 @@ metal F0, the specular weight under a coat, the coat's roughening, the sheen fit
 
 from __future__ import annotations
 
+import copy
+
 import numpy as np
 
 from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_roughened
 from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
 from ..io.gltf import drafts
-from ..model import Material
-from ..rules.translation import APPROXIMATED, NOT_CARRIED
+from ..model import Constant, Input, Material
+from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import fit
 from .common import Dropped, Mapping, Settings, Translation, differs, translate
 from .gltf_anisotropy import gltf_anisotropy_strength, gltf_roughness, openpbr_anisotropy, openpbr_roughness
@@ -489,8 +491,59 @@ DROPPED_FROM_GLTF = (
 DRAFT_DROPPED = ("coat_ior", "coat_roughness_anisotropy", "base_diffuse_roughness")  # carried by the drafts
 
 
+DIFFUSE_TRANSMISSION = "KHR_materials_diffuse_transmission"
+
+
+def _thin_subsurface_as_diffuse_transmission(material: Material):
+    """OpenPBR's thin-walled subsurface (OpenPBR 1.1, "Thin-walled mode": a sheet that scatters
+    S = subsurface_color, 1/2 S (1 - g) back and 1/2 S (1 + g) through) as glTF's
+    KHR_materials_diffuse_transmission (reflection (1 - t) baseColor, transmission t colour): t =
+    w (1 + g) / 2, colour S, and the base colour the reflection left, ((1 - w) C + w S (1 - g) / 2) /
+    (1 - t), exact (at most 1). Returns (the material with that base colour and no subsurface, the
+    extension's values) or (the material, None) where it does not apply (not thin-walled, textured)."""
+    def constant(name, default):
+        entry = material.inputs.get(name)
+        if entry is None:
+            return np.asarray(default, dtype=np.float64)
+        value = getattr(entry.value, "value", None)
+        return None if value is None or isinstance(value, str) else np.asarray(value, dtype=np.float64)
+
+    thin, weight = constant("geometry_thin_walled", 0.0), constant("subsurface_weight", 0.0)
+    if thin is None or weight is None or float(thin) < 0.5 or float(weight) <= 0:
+        return material, None
+    color, scatter = constant("subsurface_color", (0.8, 0.8, 0.8)), constant("subsurface_scatter_anisotropy", 0.0)
+    base, base_weight = constant("base_color", (0.8, 0.8, 0.8)), constant("base_weight", 1.0)
+    if color is None or scatter is None or base is None or base_weight is None:
+        return material, None
+    t = float(weight) * (1.0 + float(scatter)) / 2.0
+    reflected = (1.0 - weight) * base_weight * base + weight * color * (1.0 - scatter) / 2.0
+    left = reflected / (1.0 - t) if 1.0 - t > 1e-9 else base_weight * base
+    changed = copy.copy(material)
+    changed.inputs = dict(material.inputs)
+    anchor = material.inputs["subsurface_weight"]
+    changed.inputs["base_color"] = Input("base_color", "color3", Constant(tuple(float(c) for c in left)),
+                                         (material.inputs.get("base_color") or anchor).location,
+                                         colorspace=(material.inputs.get("base_color") or anchor).colorspace
+                                         or material.colorspace)
+    changed.inputs["base_weight"] = Input("base_weight", "float", Constant(1.0), (
+        material.inputs["base_weight"].location if "base_weight" in material.inputs
+        else material.location.with_input("base_weight")))
+    changed.inputs.pop("subsurface_weight")
+    source_color = material.inputs.get("subsurface_color")
+    record = {"diffuseTransmissionFactor": Input("diffuse_transmission", "float", Constant(t), anchor.location),
+              "diffuseTransmissionColorFactor": Input(
+                  "diffuse_transmission_color", "color3", Constant(tuple(float(c) for c in color)),
+                  (source_color or anchor).location,
+                  colorspace=(source_color.colorspace if source_color is not None else None) or material.colorspace)}
+    return changed, record
+
+
 def openpbr_to_gltf(material: Material, settings: Settings | None = None) -> Translation:
     settings = settings or Settings()
+    source = material
+    diffuse_transmission = None
+    if settings.gltf_file:  # a gltf_pbr node has no diffuse transmission: the subsurface is folded, as before
+        material, diffuse_transmission = _thin_subsurface_as_diffuse_transmission(material)
     dropped = DROPPED_TO_GLTF
     if settings.gltf_drafts:
         dropped = tuple(d for d in dropped if d.source not in DRAFT_DROPPED)
@@ -506,6 +559,13 @@ def openpbr_to_gltf(material: Material, settings: Settings | None = None) -> Tra
         translation.diagnostics += notes
     else:
         translation.diagnostics += _coat_folding_notes(material, settings)
+    if diffuse_transmission is not None:
+        translation.material.extra.setdefault("gltf_extensions", {})[DIFFUSE_TRANSMISSION] = diffuse_transmission
+        translation.diagnostics.append(settings.context.diagnostic(
+            CONVERTED, f"{material.name} (OpenPBR -> glTF): the thin-walled subsurface is "
+                       f"KHR_materials_diffuse_transmission (its forward scattering) and the base colour (its back "
+                       "scattering)", source.inputs["subsurface_weight"].location))
+        translation.source = source
     return translation
 
 
@@ -527,7 +587,44 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     if found:
         translation.diagnostics += apply_drafts(translation.material, material, found, settings)
     translation.diagnostics += _volume_of_diffuse_transmission(material, state, settings)
+    translation.diagnostics += _diffuse_transmission_in(translation.material, material, state, settings)
     return translation
+
+
+def _diffuse_transmission_in(result: Material, material: Material, state: dict, settings: Settings) -> list:
+    """KHR_materials_diffuse_transmission on a thin glTF material (no volume) as OpenPBR's thin-walled
+    subsurface: weight t, colour the transmission colour, all of it scattered forward (anisotropy 1),
+    so that the diffuse reflection is (1 - t) baseColor as glTF's (the inverse of
+    :func:`_thin_subsurface_as_diffuse_transmission`). Textured factors, or a volume (glTF's diffuse
+    transmission into a volume is subsurface scattering, which OpenPBR parameterises differently),
+    stay in the side channel."""
+    extensions = state.get("extensions") if isinstance(state.get("extensions"), dict) else {}
+    found = extensions.get(DIFFUSE_TRANSMISSION)
+    if not isinstance(found, dict):
+        return []
+    thickness = material.inputs.get("thickness")
+    volume = thickness is not None and getattr(thickness.value, "value", 1.0) != 0.0
+    factor, color = found.get("diffuseTransmissionFactor", 0.0), found.get("diffuseTransmissionColorFactor", [1.0] * 3)
+    numbers = isinstance(factor, (int, float)) and not isinstance(factor, bool) and isinstance(color, list) and \
+        len(color) == 3 and all(isinstance(c, (int, float)) and not isinstance(c, bool) for c in color)
+    if volume or not numbers or any(key.endswith("Texture") for key in found) or not 0 <= factor <= 1:
+        return []
+    where = material.location
+    if factor > 0:
+        result.inputs["geometry_thin_walled"] = Input("geometry_thin_walled", "boolean", Constant(True), where)
+        result.inputs["subsurface_weight"] = Input("subsurface_weight", "float", Constant(float(factor)), where)
+        result.inputs["subsurface_color"] = Input("subsurface_color", "color3", Constant(tuple(float(c) for c in color)),
+                                                  where, colorspace="lin_rec709")
+        result.inputs["subsurface_scatter_anisotropy"] = Input("subsurface_scatter_anisotropy", "float", Constant(1.0),
+                                                               where)
+    kept = result.extra.get("gltf", {}).get("extensions")
+    if isinstance(kept, dict):
+        kept.pop(DIFFUSE_TRANSMISSION, None)
+        if not kept:
+            result.extra["gltf"].pop("extensions")
+    return [settings.context.diagnostic(
+        CONVERTED, f"{material.name} (glTF -> OpenPBR): KHR_materials_diffuse_transmission read as OpenPBR's thin-walled "
+                   "subsurface (weight, colour, scattered forward: subsurface_scatter_anisotropy 1)", where)]
 
 
 def _volume_of_diffuse_transmission(material: Material, state: dict, settings: Settings) -> list:

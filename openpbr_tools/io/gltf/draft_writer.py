@@ -46,6 +46,22 @@ class DraftWriting:
             self.note(CONVERTED, f"emissive strength {strength:g} folded into emissiveFactor ({exclusive} excludes "
                                  "KHR_materials_emissive_strength)", "emissive")
 
+    def write_derived(self) -> None:
+        """Ratified extensions a translation derived from OpenPBR parameters the gltf_pbr node has no
+        input for (``Material.extra["gltf_extensions"]``: KHR_materials_diffuse_transmission from a
+        thin-walled subsurface), factors only; they replace a side channel's copy."""
+        record = self.material.extra.get("gltf_extensions")
+        for name, properties in sorted(record.items()) if isinstance(record, dict) else ():
+            container = {}
+            for prop, entry in sorted(properties.items()):
+                value = entry.value.value
+                if entry.type == "color3":
+                    value = [min(max(c, 0.0), 1.0) for c in self.linear(value, entry)]
+                value = _json_value(value)
+                if value != [1.0, 1.0, 1.0]:  # a white colour is the extensions' default
+                    container[prop] = value
+            self.containers[name] = container
+
     def write_drafts(self) -> None:
         """The draft extensions a translation asked for (``Material.extra["gltf_drafts"]``, see
         :mod:`.drafts`) beside the ratified fallbacks already written."""

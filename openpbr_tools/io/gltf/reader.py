@@ -51,6 +51,7 @@ from ...model import Asset, Constant, Input, Location, Material, Texture
 from .. import ReadError
 from . import drafts, slots
 from .document import GltfDocument, ResourceError, load_document
+from .extension_reader import ExtensionReading, thin_diffuse_transmission
 from .textures import TextureReading, json_float, json_numbers, json_text
 
 MODEL, VERSION = "gltf_pbr", "2.0.1"
@@ -73,7 +74,7 @@ def read_gltf(path: str, allow_outside: tuple[str, ...] = ()) -> Asset:
     return asset
 
 
-class _Reader(TextureReading):
+class _Reader(TextureReading, ExtensionReading):
     def __init__(self, asset: Asset, document: GltfDocument) -> None:
         self.asset, self.document, self.path = asset, document, asset.path
         self.table = tables.table(MODEL, VERSION)
@@ -122,33 +123,6 @@ class _Reader(TextureReading):
                 continue
             self.asset.materials.append(self.read_material(index, raw))
         self.read_variants()
-
-    def read_variants(self) -> None:
-        """KHR_materials_variants: the names of the variants that select each material (the root's
-        ``variants`` list, indexed by each primitive's ``mappings``), as ``extra["gltf"]["variants"]``,
-        which travels in the side channel (gltf_state)."""
-        root = self.document.json.get("extensions")
-        declared = root.get("KHR_materials_variants") if isinstance(root, dict) else None
-        names = declared.get("variants") if isinstance(declared, dict) else None
-        if not isinstance(names, list):
-            return
-        names = [v.get("name") if isinstance(v, dict) and isinstance(v.get("name"), str) else f"variant_{i}"
-                 for i, v in enumerate(names)]
-        by_index = {m.extra["gltf"]["index"]: m for m in self.asset.materials}
-        for mesh in self.document.array("meshes"):
-            for primitive in mesh.get("primitives", []) if isinstance(mesh, dict) and isinstance(mesh.get("primitives"), list) else []:
-                extension = (primitive.get("extensions") or {}).get("KHR_materials_variants") \
-                    if isinstance(primitive, dict) and isinstance(primitive.get("extensions"), dict) else None
-                for mapping in extension.get("mappings", []) if isinstance(extension, dict) and \
-                        isinstance(extension.get("mappings"), list) else []:
-                    material = by_index.get(mapping.get("material")) if isinstance(mapping, dict) else None
-                    if material is None or not isinstance(mapping.get("variants"), list):
-                        continue
-                    chosen = material.extra["gltf"].setdefault("variants", [])
-                    for variant in mapping["variants"]:
-                        if isinstance(variant, int) and not isinstance(variant, bool) and 0 <= variant < len(names) \
-                                and names[variant] not in chosen:
-                            chosen.append(names[variant])
 
     # -- resources ---------------------------------------------------------------------------
     def check_buffers(self) -> None:
@@ -216,6 +190,8 @@ class _Reader(TextureReading):
             extra["extensions"] = kept
         material.extra["gltf"] = extra
         for recorded in sorted(kept):
+            if recorded == slots.DIFFUSE_TRANSMISSION and thin_diffuse_transmission(extensions):
+                continue  # read as OpenPBR's thin-walled subsurface by the translation
             if recorded not in slots.NEUTRAL_EXTENSIONS:  # e.g. KHR_materials_variants lives elsewhere
                 self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{recorded}"),
                                    extension=recorded, material=name)
@@ -233,68 +209,6 @@ class _Reader(TextureReading):
         if material.version == VERSION and material.version_basis.startswith("default"):
             material.version_basis = "glTF 2.0 material"
         return material
-
-    def unknown_sub_extensions(self, extensions: dict, pointer: str, name: str, extra: dict) -> None:
-        """Extensions nested in an interpreted extension object (KHR_materials_clearcoat_ior inside
-        KHR_materials_clearcoat, say) that the toolkit does not read are reported, never ignored;
-        ``extra["gltf"]["nested_extensions"]`` lists every nested one as ``[parent, name, read]``."""
-        nested = []
-        for parent in slots.INTERPRETED_MATERIAL_EXTENSIONS + drafts.MATERIAL_DRAFTS:
-            inner = extensions.get(parent)
-            subs = inner.get("extensions") if isinstance(inner, dict) else None
-            for sub in sorted(subs) if isinstance(subs, dict) else ():
-                read = (parent, sub) in drafts.SUB_DRAFTS
-                nested.append([parent, sub, read])
-                if not read:
-                    self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{parent}/extensions/{sub}"),
-                                       extension=sub, material=name)
-        if nested:
-            extra["nested_extensions"] = nested
-
-    def read_drafts(self, material: Material, extensions: dict, pointer: str) -> None:
-        """The draft extensions (:mod:`.drafts`) into ``extra["gltf"]["drafts"]``: per extension, its
-        properties as :class:`Input` s keyed by the draft record's names (OpenPBR's where one to one)."""
-        found: dict = {}
-        containers = [(name, extensions.get(name), f"{pointer}/extensions/{name}") for name in drafts.MATERIAL_DRAFTS]
-        for parent, sub in drafts.SUB_DRAFTS:
-            inner = extensions.get(parent)
-            subs = inner.get("extensions") if isinstance(inner, dict) else None
-            containers.append((sub, subs.get(sub) if isinstance(subs, dict) else None,
-                               f"{pointer}/extensions/{parent}/extensions/{sub}"))
-        for name, container, where in containers:
-            if container is None:
-                continue
-            if not isinstance(container, dict):
-                self.invalid(where, f"{name} is not an object")
-                continue
-            if name == drafts.ANISOTROPY_OPENPBR and container.get("openPbrAnisotropyEnabled") is not True:
-                continue  # present but off: glTF's own anisotropy convention
-            record: dict = {}
-            for slot in drafts.SLOTS.get(name, ()):
-                entry = self.draft_property(slot, container, where)
-                if entry is not None:
-                    record[slot.parameter] = entry
-            found[name] = record
-        if found:
-            material.extra["gltf"]["drafts"] = found
-
-    def draft_property(self, slot: slots.Slot, container: dict, pointer: str) -> Input | None:
-        kind = "vector3" if slot.texture_kind == "normalTextureInfo" else \
-            ("color3" if isinstance(slot.default, tuple) else "float")
-        factor, error = self.factor(slot, container)
-        if slot.texture and slot.texture in container:
-            value = self.texture(slot, container[slot.texture], f"{pointer}/{slot.texture}", None if error else factor,
-                                 container)
-            return Input(slot.parameter, kind, value, self.location(pointer, slot.texture))
-        if slot.factor is None or slot.factor not in container:
-            return None
-        if error:
-            self.invalid(pointer, error, slot.factor)
-            return None
-        entry = Input(slot.parameter, kind, Constant(factor), self.location(pointer, slot.factor))
-        if kind == "color3":
-            entry.colorspace = "lin_rec709"
-        return entry
 
     def container(self, raw: dict, extensions: dict, slot: slots.Slot, pointer: str) -> tuple[dict | None, str]:
         if slot.container == slots.CORE:

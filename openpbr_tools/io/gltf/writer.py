@@ -148,6 +148,7 @@ class _MaterialWriter(TextureWriting, DraftWriting):
                 self.texture_group(prop, members)
         self.fold_emission()
         self.passthrough()
+        self.write_derived()
         self.write_drafts()
         self.omit_inert()
         self.honour_exclusions()
