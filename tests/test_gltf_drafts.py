@@ -14,6 +14,7 @@ from __future__ import annotations
 import collections
 import json
 import math
+import random
 
 import numpy as np
 import pytest
@@ -355,3 +356,46 @@ def test_variant_names_travel_in_the_side_channel_and_their_loss_is_reported(tmp
     back = convert_file(str(tmp_path / "mid.mtlx"), str(tmp_path / "back.gltf"))
     lost = [d for d in back.diagnostics if d.code == "OPBR1104" and "variants red" in d.message]
     assert len(lost) == 1 and lost[0].location.material == "Red"
+
+
+JUNK = [None, "x", -1, 1e309, float("nan"), [], {}, [1, 2], [1, "a", 3], True, {"index": 99}, {"index": "a"}, 1e-320,
+        -0.0, 5, [0.5, 0.5, 0.5, 0.5]]
+HOSTILE_PROPERTIES = {
+    "KHR_materials_coat": ["coatFactor", "coatRoughnessFactor", "coatIor", "coatColorFactor", "coatDarkeningFactor",
+                           "coatAnisotropyStrength", "coatAnisotropyRotation", "coatTexture", "coatNormalTexture",
+                           "coatColorTexture", "coatAnisotropyTexture", "coatRoughnessTexture"],
+    "KHR_materials_fuzz": ["fuzzFactor", "fuzzColorFactor", "fuzzRoughnessFactor", "fuzzTexture", "fuzzColorTexture",
+                           "fuzzRoughnessTexture"],
+    "KHR_materials_diffuse_roughness": ["diffuseRoughnessFactor", "diffuseRoughnessTexture"],
+    "KHR_materials_diffuse_transmission": ["diffuseTransmissionFactor", "diffuseTransmissionColorFactor"],
+}
+
+
+def test_hostile_draft_and_side_channel_values_never_crash_a_conversion(tmp_path):
+    """Seeded junk (wrong types, NaN, infinities, dangling texture indices) in every draft property,
+    the sub-extensions and KHR_materials_variants: every conversion finishes (notes, no traceback)
+    and every glTF it writes is JSON (no NaN or infinity)."""
+    rng = random.Random(11)
+    for trial in range(60):
+        extensions: dict = {}
+        for name, properties in HOSTILE_PROPERTIES.items():
+            if rng.random() < 0.6:
+                extensions[name] = {p: rng.choice(JUNK) for p in properties if rng.random() < 0.5} \
+                    if rng.random() < 0.9 else rng.choice(JUNK)
+        if rng.random() < 0.5:
+            extensions["KHR_materials_clearcoat"] = {"clearcoatFactor": 0.5, "extensions": rng.choice([
+                {"EXT_materials_clearcoat_darkening": {"clearcoatDarkeningFactor": rng.choice(JUNK)}},
+                {"KHR_materials_clearcoat_ior": rng.choice(JUNK)}, rng.choice(JUNK)])}
+        if rng.random() < 0.3:
+            extensions["KHR_materials_anisotropy"] = {"anisotropyStrength": 0.5, "extensions": {
+                "EXT_materials_anisotropy_openpbr": {"openPbrAnisotropyEnabled": rng.choice(JUNK + [True])}}}
+        document = {"asset": {"version": "2.0"}, "materials": [{"name": "M", "extensions": extensions}],
+                    "extensions": {"KHR_materials_variants": rng.choice(JUNK + [{"variants": rng.choice(JUNK)}])}}
+        source = tmp_path / "hostile.gltf"
+        source.write_text(json.dumps(document, allow_nan=True))
+        convert_file(str(source), str(tmp_path / "out.mtlx"))
+        convert_file(str(tmp_path / "out.mtlx"), str(tmp_path / "back.gltf"), settings=Settings(gltf_drafts=True))
+        convert_file(str(source), str(tmp_path / "out.gltf"), settings=Settings(gltf_drafts=True))
+        convert_file(str(source), str(tmp_path / "out.usda"))
+        for written in ("back.gltf", "out.gltf"):
+            json.loads((tmp_path / written).read_text(), parse_constant=lambda c: pytest.fail(f"{c} in {written}"))

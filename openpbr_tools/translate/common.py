@@ -221,7 +221,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             if _equal(typed, parameter.default) and not plain_copy:
                 # the target's default already says it (source defaults can differ: then written); an
                 # approximation that lands on the default is still one
-                if not mapping.exact and (mapping.matters is None or mapping.matters(*arrays)):
+                if not mapping.exact and _matters(mapping, arrays):
                     say(APPROXIMATED, f"{mapping.target}: {mapping.note}", mapping.sources[0])
                 continue
             clamped = ""
@@ -230,7 +230,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             result.inputs[mapping.target] = _constant_input(material, mapping, typed, parameter.type)
             if clamped:
                 say(APPROXIMATED, f"{mapping.target}: {clamped}", mapping.sources[0])
-            if not mapping.exact and (mapping.matters is None or mapping.matters(*arrays)):
+            if not mapping.exact and _matters(mapping, arrays):
                 say(APPROXIMATED, f"{mapping.target}: {mapping.note}", mapping.sources[0])
             elif mapping.converted and authored and _changed(arrays[0], value):
                 say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0])
@@ -275,6 +275,15 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             say(NOT_CARRIED, f"{drop.source} has no equivalent: {drop.why}", drop.source)
     report.sort(key=Diagnostic.sort_key)
     return Translation(result, report, material)
+
+
+def _matters(mapping: Mapping, arrays) -> bool:
+    """``mapping.matters`` on constants (always, without one); NaN and infinities from hostile files
+    pass quietly, as in the formulas."""
+    if mapping.matters is None:
+        return True
+    with np.errstate(all="ignore"):
+        return bool(mapping.matters(*arrays))
 
 
 def _matters_on_average(mapping: Mapping, values: Values, averages: dict) -> bool:

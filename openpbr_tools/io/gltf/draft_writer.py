@@ -55,6 +55,8 @@ class DraftWriting:
             container = {}
             for prop, entry in sorted(properties.items()):
                 value = entry.value.value
+                if not _finite(value):
+                    continue
                 if entry.type == "color3":
                     value = [min(max(c, 0.0), 1.0) for c in self.linear(value, entry)]
                 value = _json_value(value)

@@ -35,7 +35,7 @@ from ...rules.translation import CONVERTED, NOT_CARRIED
 from . import slots
 from .document_writer import DocumentBuilder
 from .draft_writer import DraftWriting
-from .writer_values import finite as _finite, json_value as _json_value
+from .writer_values import finite as _finite, json_finite, json_value as _json_value
 from .images import GltfWriteError, ImageResolver
 from .texture_writer import TextureWriting
 
@@ -277,6 +277,9 @@ class _MaterialWriter(TextureWriting, DraftWriting):
     def passthrough(self) -> None:
         for key in ("doubleSided", "extras"):
             if key in self.extra:
+                if not json_finite(self.extra[key]):
+                    self.note(NOT_CARRIED, f"the source's {key} holds a number JSON cannot (NaN or infinity); not written")
+                    continue
                 self.out[key] = self.extra[key]
         if self.extra.get("alphaMode") == "MASK" and self.out.get("alphaMode") != "MASK":
             # the source's cut-out came through OpenPBR as a (binary) opacity: its mode and threshold return
@@ -286,6 +289,9 @@ class _MaterialWriter(TextureWriting, DraftWriting):
                 continue
             if _references_textures(value):
                 self.note(NOT_CARRIED, f"{name} references textures of the source file; not written")
+                continue
+            if not json_finite(value):
+                self.note(NOT_CARRIED, f"{name} holds a number JSON cannot (NaN or infinity); not written")
                 continue
             self.containers[name] = value
 

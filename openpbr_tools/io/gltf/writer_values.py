@@ -18,3 +18,14 @@ def json_value(value):
     if isinstance(value, bool):
         return value
     return float(value) if isinstance(value, (int, float)) else value
+
+
+def json_finite(value) -> bool:
+    """Whether a JSON value (from a source file, possibly hostile) holds only finite numbers."""
+    if isinstance(value, float):
+        return math.isfinite(value)
+    if isinstance(value, dict):
+        return all(json_finite(v) for v in value.values())
+    if isinstance(value, list):
+        return all(json_finite(v) for v in value)
+    return True
