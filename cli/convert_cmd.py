@@ -31,7 +31,9 @@ OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tool
               help="Nits one unit of a unitless emission weight stands for (MaterialX's reference renders 1).")
 @click.option("--allow-outside", multiple=True, type=click.Path(file_okay=False),
               help="A folder outside the input's from which textures may be read or embedded (repeatable).")
-@click.option("--verify", is_flag=True, help="Render original and result with the lobe evaluator and report CIEDE2000.")
+@click.option("--verify", is_flag=True, help="Render original and result with the lobe evaluator and report CIEDE2000; "
+                                            "an approximated constant OpenPBR material takes MaterialX's translation "
+                                            "graphs' result where it renders closer.")
 @click.option("--threshold", type=click.FloatRange(min=0), default=2.0, show_default=True,
               help="With --verify: warn when a material's mean CIEDE2000 exceeds this.")
 @click.option("--max-delta-e", type=click.FloatRange(min=0), default=None, metavar="X",
@@ -88,7 +90,8 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
     if os.path.exists(output) and not force:
         raise click.UsageError(f"{output} exists; pass --force to overwrite it")
     try:
-        result = convert_file(input_path, output, target, Settings(nits_per_unit=nits_per_unit, gltf_drafts=gltf_drafts),
+        result = convert_file(input_path, output, target, Settings(nits_per_unit=nits_per_unit, gltf_drafts=gltf_drafts,
+                                                                        candidates=verify or max_delta_e is not None),
                               mesh=mesh,
                               allow_outside=tuple(allow_outside))
     except ReadError as error:

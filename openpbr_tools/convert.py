@@ -34,6 +34,7 @@ from .rules import Context
 from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED, VERIFIED, VERIFY_THRESHOLD
 from .bake import Baker
 from .translate.common import BakeError, Settings
+from .translate import candidates
 from .translate.convert import MODELS, convert
 
 OUTPUT_KINDS = {".mtlx": "mtlx", ".usda": "usd", ".usdc": "usd", ".usd": "usd", ".usdz": "usd",
@@ -136,7 +137,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                     "not converted on its own; the material is its MaterialX shader", material.location)], material)
                 continue
             meters, unitless = _meters_per_unit(material, asset)
-            step_settings = Settings(settings.nits_per_unit, meters, context, baker, settings.gltf_drafts, kind == "gltf")
+            step_settings = Settings(settings.nits_per_unit, meters, context, baker, settings.gltf_drafts, kind == "gltf",
+                                     settings.candidates)
             name = unique = material.material_name or material.name
             while unique in used_names and kind != "gltf":  # glTF keeps materials apart by index
                 unique = f"{name}_{len(used_names) + 1}"
@@ -150,6 +152,9 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 notes.append(context.diagnostic(APPROXIMATED, f"{material.name}: {', '.join(unitless)} carry no unit; "
                                                 "taken as metres", material.inputs[unitless[0]].location))
             translation = convert(material, target, step_settings)
+            if target != "open_pbr_surface" and material.model == "open_pbr_surface" and \
+                    material.version in (None, tables.latest("open_pbr_surface")):
+                translation = candidates.choose(material, translation, target, step_settings)
             notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context)
             translated_state = translation.material.extra.get("gltf")
             notes += gltf_state.notes(material, kind, context,
@@ -161,7 +166,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             result.materials.append(translated)
             result.pairs.append((material, translated))
             if kind == "usd":
-                preview = convert(translated, "UsdPreviewSurface", step_settings)
+                preview = candidates.choose(translated, convert(translated, "UsdPreviewSurface", step_settings),
+                                            "UsdPreviewSurface", step_settings)
                 notes += preview.diagnostics
                 preview.material.name = f"{translated.name}_preview"
                 preview.material.material_name = translated.material_name

@@ -1,0 +1,113 @@
+"""Never worse than the anchor: for an OpenPBR material the toolkit's mapping can only approximate in
+the target, MaterialX's own translation graphs (:mod:`.materialx_graphs`) give a second candidate,
+and the lobe evaluator keeps the one that renders closer to the source.
+
+Weighed when asked (``Settings.candidates``: ``openpbr convert --verify``, which renders with the
+evaluator anyway), not with ``--gltf-drafts`` (whose point is the mapping's exact inverses). Only
+constant-valued materials have a graph candidate; a value the graphs put outside the target's range
+is brought inside it, as the toolkit's own results are (an ``attenuation_distance`` of 0, the
+graphs' "no attenuation", is left unset) (the graphs are evaluated on values; a textured
+material keeps the toolkit's mapping, which bakes per texel). An exact mapping (no OPBR1103 note) is
+kept without a search. The two are rendered on the evaluator's lit sphere at a small size
+(:data:`RIG`, 32 pixels: a few milliseconds per candidate; ``--verify`` measures the result at full
+size), CIEDE2000 mean against the source; the graph's result wins only by more than
+:data:`MARGIN`. The report says which was kept and both figures (OPBR1102); when the graph's is
+kept, the mapping's approximation notes are replaced by one naming the graph.
+"""
+
+from __future__ import annotations
+
+import math
+
+from .. import tables
+from ..evaluate.preview import Rig
+from ..model import Constant, Input, Material
+from ..rules.translation import APPROXIMATED, CONVERTED
+from . import materialx_graphs
+from .common import Settings, Translation
+from .target import inside
+
+RIG = Rig(size=32)
+MARGIN = 0.05  # mean CIEDE2000: a smaller win is noise at this size
+
+
+def _constant_values(material: Material) -> dict | None:
+    values = {}
+    for name, entry in material.inputs.items():
+        if not isinstance(entry.value, Constant):
+            return None
+        values[name] = entry.value.value
+    return values
+
+
+def _finite(value) -> bool:
+    values = value if isinstance(value, tuple) else (value,)
+    return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
+
+
+def graph_candidate(source: Material, target: str) -> Material | None:
+    """The target material MaterialX's graphs make of ``source`` (constant OpenPBR), or None."""
+    values = _constant_values(source)
+    if values is None or target not in materialx_graphs.CHAINS:
+        return None
+    try:
+        produced = materialx_graphs.chain(target, values)
+    except (materialx_graphs.GraphError, TypeError, ValueError, KeyError, IndexError):
+        return None
+    table = tables.table(target)
+    candidate = Material(name=source.name, model=target, location=source.location, version=table.version,
+                         version_basis="written by openpbr convert", material_name=source.material_name,
+                         material_location=source.material_location, colorspace=source.colorspace)
+    for name, value in produced.items():
+        parameter = table.get(name)
+        if parameter is None or parameter.role in ("normal", "tangent"):
+            continue
+        if parameter.type == "integer":
+            value = int(round(float(value)))
+        if parameter.default is None and isinstance(value, float) and value <= 0:
+            continue  # an unbounded length (attenuation_distance) of 0: the graphs' "none", the default
+        value, moved = inside(value, parameter)
+        if moved and not _finite(value):
+            return None
+        entry = source.inputs.get(name)
+        candidate.inputs[name] = Input(name, parameter.type, Constant(value),
+                                       entry.location if entry is not None else source.location.with_input(name),
+                                       colorspace=source.colorspace if parameter.role == "color" else None)
+    return candidate
+
+
+def choose(source: Material, translation: Translation, target: str, settings: Settings) -> Translation:
+    """``translation`` (OpenPBR ``source`` -> ``target``) or MaterialX's graph result, whichever the
+    evaluator renders closer to the source (module docstring)."""
+    if not settings.candidates or settings.gltf_drafts or source.model != "open_pbr_surface" or \
+            not any(d.code == APPROXIMATED.code for d in translation.diagnostics):
+        return translation  # (with the drafts, the mapping's exact inverses are the point)
+    candidate = graph_candidate(source, target)
+    if candidate is None:
+        return translation
+    # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
+    from ..evaluate import model_for_material
+    from ..evaluate.difference import compare_images
+    from ..evaluate.preview import shade_sphere
+
+    try:
+        reference, mask = shade_sphere(model_for_material(source)[0], RIG)
+        ours = compare_images(reference, shade_sphere(model_for_material(translation.material)[0], RIG)[0], mask,
+                              RIG.white()).mean
+        theirs = compare_images(reference, shade_sphere(model_for_material(candidate)[0], RIG)[0], mask,
+                                RIG.white()).mean
+    except (ValueError, KeyError, TypeError, FloatingPointError):
+        return translation
+    context = settings.context
+    figures = (f"mean CIEDE2000 on the evaluator's {RIG.size}-pixel sphere: the toolkit's mapping {ours:.2f}, "
+               f"MaterialX's translation graphs {theirs:.2f}")
+    if not theirs < ours - MARGIN:
+        translation.diagnostics.append(context.diagnostic(
+            CONVERTED, f"{source.name}: candidates for {target}: {figures}; kept the toolkit's", source.location))
+        return translation
+    candidate.extra = dict(translation.material.extra)  # glTF state, drafts: the material's, not the mapping's
+    kept = [d for d in translation.diagnostics if d.code != APPROXIMATED.code]
+    kept.append(context.diagnostic(
+        APPROXIMATED, f"{source.name}: converted to {target} by MaterialX's translation graphs, which render closer "
+                      f"than the toolkit's mapping ({figures})", source.location))
+    return Translation(candidate, kept, translation.source)

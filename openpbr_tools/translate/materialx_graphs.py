@@ -1,0 +1,172 @@
+"""MaterialX's own translation graphs (``libraries/bxdf/translation/*.mtlx`` in the ``materialx``
+wheel: OpenPBR -> Standard Surface, Standard Surface -> glTF PBR and -> UsdPreviewSurface), evaluated
+on constant inputs: the anchor's answer as a candidate beside the toolkit's own mapping (#13: never
+worse than the anchor).
+
+The graphs are read with MaterialX and interpreted node by node, each node as its definition in
+MaterialX's standard library says (an input a node leaves unset takes its node definition's default,
+an interface input the caller does not give takes the translation nodedef's default):
+arithmetic (``add``, ``subtract``, ``multiply``, ``divide``, ``power``, ``sqrt``, ``mix`` = bg (1 - mix)
++ fg mix, ``dotproduct``), channels (``convert``, ``extract``, ``separate2``), conditionals
+(``ifgreater``, ``ifgreatereq``, ``ifequal``: in1 when the comparison holds, else in2), ``dot``,
+``constant``, ``luminance`` (the dot product with ``lumacoeffs``) and ``roughness_anisotropy``
+(MaterialX's ``mx_roughness_anisotropy``: alpha = clamp(r^2, eps, 1); with anisotropy a > 0, aspect =
+sqrt(1 - clamp(a, 0, 0.98)), (min(alpha / aspect, 1), alpha aspect)). A node of any other category
+raises :class:`GraphError` (the caller then has no anchor candidate). The values it produces are
+checked against MaterialX's ShaderTranslator + TextureBaker (GLSL) in the tests.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+from functools import lru_cache
+
+import numpy as np
+
+FLOAT_EPS = 1e-8  # MaterialX's M_FLOAT_EPS
+CHAINS = {  # target model -> the graphs from OpenPBR, in order
+    "standard_surface": ("open_pbr_to_standard_surface",),
+    "gltf_pbr": ("open_pbr_to_standard_surface", "standard_surface_to_gltf_pbr"),
+    "UsdPreviewSurface": ("open_pbr_to_standard_surface", "standard_surface_to_usd"),
+}
+
+
+class GraphError(ValueError):
+    """A translation graph this interpreter cannot evaluate (a node category it does not know)."""
+
+
+@lru_cache(maxsize=8)
+def _graph(name: str):
+    import MaterialX as mx  # lazy: only a conversion that weighs candidates needs it
+
+    from ..io.mtlx.reader import standard_library  # lazy: as MaterialX above
+
+    folder = os.path.join(os.path.dirname(mx.__file__), "libraries", "bxdf", "translation")
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, os.path.join(folder, f"{name}.mtlx"))
+    (graph,) = document.getNodeGraphs()  # the file's own (before the library's join the document)
+    document.setDataLibrary(standard_library())
+    return document, graph, graph.getNodeDef()  # the document too: its elements die with it
+
+
+def _python(value):
+    if isinstance(value, (bool, int, float)):
+        return value
+    try:
+        return tuple(float(v) for v in value)
+    except TypeError:
+        return value
+
+
+class _Evaluation:
+    def __init__(self, graph, nodedef, values: dict):
+        self.graph, self.nodedef, self.values, self.memo = graph, nodedef, values, {}
+
+    def port(self, port, node=None, name: str | None = None):
+        """The value of input ``name`` of ``node`` (``port`` the element, None when unset)."""
+        if port is None:
+            definition = node.getNodeDef()
+            default = definition.getActiveInput(name) if definition is not None else None
+            if default is None or not default.hasValueString():
+                raise GraphError(f"{node.getName()}.{name} has no value and no default")
+            return _python(default.getValue())
+        if port.getInterfaceName():
+            interface = port.getInterfaceName()
+            if interface in self.values:
+                return self.values[interface]
+            return _python(self.nodedef.getActiveInput(interface).getValue())
+        if port.getNodeName():
+            return self.node(self.graph.getNode(port.getNodeName()), port.getOutputString())
+        if port.hasValueString():
+            return _python(port.getValue())
+        return self.port(None, node or port.getParent(), port.getName())
+
+    def node(self, node, output: str = ""):
+        key = (node.getName(), output)
+        if key not in self.memo:
+            self.memo[key] = self.compute(node, output)
+        return self.memo[key]
+
+    def compute(self, node, output: str):
+        category = node.getCategory()
+
+        def get(name):
+            return self.port(node.getInput(name), node, name)
+
+        def arr(name):  # 32-bit, as the GLSL MaterialX renders the graphs with
+            return np.asarray(get(name), dtype=np.float32)
+
+        kind = node.getType()
+        if category == "dot":
+            return get("in")
+        if category == "constant":
+            return get("value")
+        if category in ("add", "subtract", "multiply", "divide", "power"):
+            a, b = arr("in1"), arr("in2")
+            with np.errstate(all="ignore"):
+                result = {"add": a + b, "subtract": a - b, "multiply": a * b, "divide": a / b,
+                          "power": np.power(a, b)}[category]
+            return self.typed(result, kind)
+        if category == "sqrt":
+            with np.errstate(all="ignore"):
+                return self.typed(np.sqrt(arr("in")), kind)
+        if category == "mix":
+            m = arr("mix")
+            return self.typed(arr("bg") * (1.0 - m) + arr("fg") * m, kind)
+        if category == "dotproduct":
+            return float(np.float32(np.dot(arr("in1"), arr("in2"))))
+        if category in ("ifgreater", "ifgreatereq", "ifequal"):
+            v1, v2 = get("value1"), get("value2")
+            holds = {"ifgreater": lambda: v1 > v2, "ifgreatereq": lambda: v1 >= v2, "ifequal": lambda: v1 == v2}[category]()
+            return get("in1") if holds else get("in2")
+        if category == "convert":
+            return self.typed(np.asarray(float(get("in")) if isinstance(get("in"), bool) else get("in"), dtype=np.float32),
+                              kind)
+        if category == "extract":
+            return float(arr("in")[int(get("index"))])
+        if category == "separate2":
+            vector = arr("in")
+            return float(vector[0] if output == "outx" else vector[1])
+        if category == "luminance":
+            return self.typed(np.full(3, np.float32(np.dot(arr("in"), arr("lumacoeffs")))), kind)
+        if category == "roughness_anisotropy":
+            r, a = float(get("roughness")), float(get("anisotropy"))
+            alpha = min(max(r * r, FLOAT_EPS), 1.0)
+            if a > 0.0:
+                aspect = math.sqrt(1.0 - min(max(a, 0.0), 0.98))
+                return (min(alpha / aspect, 1.0), alpha * aspect)
+            return (alpha, alpha)
+        raise GraphError(f"translation graph node {node.getName()!r}: category {category!r} is not interpreted")
+
+    @staticmethod
+    def typed(array, kind: str):
+        if kind == "boolean":
+            return bool(np.reshape(array, -1)[0] != 0)
+        if kind in ("float", "integer"):
+            return float(np.reshape(array, -1)[0])
+        width = {"color3": 3, "vector3": 3, "color4": 4, "vector4": 4, "vector2": 2}[kind]
+        return tuple(float(v) for v in np.broadcast_to(array, (width,)))
+
+
+def evaluate(name: str, values: dict) -> dict:
+    """The outputs of translation graph ``name`` for interface ``values`` (others: defaults), by
+    output name without its ``_out`` suffix (the target's parameter names)."""
+    _, graph, nodedef = _graph(name)
+    evaluation = _Evaluation(graph, nodedef, values)
+    outputs = {}
+    for output in graph.getOutputs():
+        source = output.getNodeName()
+        if not source:
+            continue
+        value = evaluation.node(graph.getNode(source), output.getOutputString())
+        if value is not None:
+            outputs[output.getName().removesuffix("_out")] = value
+    return outputs
+
+
+def chain(target: str, values: dict) -> dict:
+    """OpenPBR ``values`` through MaterialX's graphs to ``target``: its parameter values."""
+    for name in CHAINS[target]:
+        values = evaluate(name, values)
+    return values

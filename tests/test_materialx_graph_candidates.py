@@ -1,0 +1,110 @@
+"""MaterialX's translation graphs as a candidate (#13): the interpreter of
+``openpbr_tools/translate/materialx_graphs.py`` against MaterialX itself (ShaderTranslator +
+TextureBaker, rendered with GLSL: the values MaterialX's chain really produces), and the choice
+``convert --verify`` makes between the toolkit's mapping and the graphs.
+"""
+
+from __future__ import annotations
+
+import os
+import random
+import sys
+from pathlib import Path
+
+import pytest
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+sys.path.insert(0, str(Path(__file__).resolve().parent / "benchmarks"))
+from glsupport import require_gl  # noqa: E402
+
+from openpbr_tools.convert import convert_file  # noqa: E402
+from openpbr_tools.translate import materialx_graphs  # noqa: E402
+from openpbr_tools.translate.common import Settings  # noqa: E402
+
+FLOATS = ("base_weight", "base_metalness", "specular_weight", "specular_roughness", "specular_roughness_anisotropy",
+          "transmission_weight", "subsurface_weight", "fuzz_weight", "fuzz_roughness", "coat_weight",
+          "coat_roughness", "coat_darkening", "thin_film_weight", "emission_luminance", "geometry_opacity")
+COLOURS = ("base_color", "specular_color", "transmission_color", "subsurface_color", "fuzz_color", "coat_color",
+           "emission_color")
+
+
+def _material(rng: random.Random) -> dict:
+    values = {name: round(rng.random(), 4) for name in FLOATS if rng.random() < 0.6}
+    values.update({name: tuple(round(rng.random(), 4) for _ in range(3)) for name in COLOURS if rng.random() < 0.6})
+    if rng.random() < 0.5:
+        values["coat_ior"] = round(1.2 + rng.random(), 4)
+    if rng.random() < 0.5:
+        values["specular_ior"] = round(1.2 + rng.random(), 4)
+    return values
+
+
+def _document(path: Path, values: dict) -> None:
+    def text(value):
+        return ", ".join(str(v) for v in value) if isinstance(value, tuple) else str(value)
+
+    inputs = "".join(f'<input name="{k}" type="{"color3" if isinstance(v, tuple) else "float"}" value="{text(v)}" />'
+                     for k, v in values.items())
+    path.write_text('<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n'
+                    f'<open_pbr_surface name="S" type="surfaceshader">{inputs}</open_pbr_surface>\n'
+                    '<surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" '
+                    'nodename="S" /></surfacematerial>\n</materialx>\n')
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("target", ["standard_surface", "gltf_pbr", "UsdPreviewSurface"])
+def test_the_graph_interpreter_gives_the_values_materialx_bakes(tmp_path, target):
+    require_gl()
+    import MaterialX as mx
+    from bench_translation import MaterialXChain
+
+    chain = MaterialXChain(4)
+    rng = random.Random(sum(map(ord, target)))  # (str hash() is salted per process)
+    for index in range(4 if target == "standard_surface" else 2):
+        values = _material(rng)
+        source = tmp_path / f"m{index}.mtlx"
+        _document(source, values)
+        baked_path = str(source)
+        for graph in materialx_graphs.CHAINS[target]:
+            model = {"standard_surface": "standard_surface", "gltf_pbr": "gltf_pbr",
+                     "usd": "UsdPreviewSurface"}[graph.split("_to_")[1]]
+            baked_path, _ = chain.translate(baked_path, model, str(tmp_path / f"m{index}_{model}"))
+        document = mx.createDocument()
+        mx.readFromXmlFile(document, baked_path)
+        document.setDataLibrary(chain.library)
+        (shader,) = [n for n in document.getNodes() if n.getCategory() == target]
+        ours = materialx_graphs.chain(target, values)
+        compared = 0
+        for definition in shader.getNodeDef().getActiveInputs():  # the baker omits values at their default
+            port = shader.getInput(definition.getName())
+            port = port if port is not None and port.hasValueString() else definition
+            if not port.hasValueString() or port.getType() not in ("float", "color3") or port.getName() not in ours:
+                continue
+            value = port.getValue()
+            expected = tuple(value) if port.getType() == "color3" else value
+            assert ours[port.getName()] == pytest.approx(expected, abs=2e-5), (index, port.getName(), values)
+            compared += 1
+        assert compared >= 5
+
+
+def test_verify_keeps_the_graphs_result_where_it_renders_closer_and_says_so(tmp_path):
+    source = Path(__file__).parent / "data" / "translation_set" / "plastic_translucent_blue.mtlx"
+    default = convert_file(str(source), str(tmp_path / "plain.gltf"))
+    verified = convert_file(str(source), str(tmp_path / "verified.gltf"), settings=Settings(candidates=True))
+    assert not [d for d in default.diagnostics if "candidates for" in d.message or "translation graphs" in d.message]
+    chosen = [d for d in verified.diagnostics if "by MaterialX's translation graphs" in d.message]
+    assert len(chosen) == 1 and chosen[0].code == "OPBR1103"
+    # the graphs' own arithmetic, not the mapping's, is what was written
+    from openpbr_tools.io import read_asset
+
+    (material,) = read_asset(str(source)).materials
+    expected = materialx_graphs.chain("gltf_pbr", {k: v.value.value for k, v in material.inputs.items()})
+    written = read_asset(str(tmp_path / "verified.gltf")).materials[0]
+    assert written.inputs["transmission"].value.value == pytest.approx(expected["transmission"], abs=1e-6)
+
+
+def test_an_exact_mapping_is_kept_without_a_search(tmp_path):
+    source = tmp_path / "plain.mtlx"
+    _document(source, {"base_color": (0.5, 0.2, 0.1), "specular_roughness": 0.4})
+    result = convert_file(str(source), str(tmp_path / "out.gltf"), settings=Settings(candidates=True))
+    assert not [d for d in result.diagnostics if "candidates for" in d.message]
+    assert os.path.exists(tmp_path / "out.gltf")
