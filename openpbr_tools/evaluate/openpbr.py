@@ -32,7 +32,9 @@ Decisions, where the specification leaves room or MaterialX approximates:
   1.39.5's double multiplication by subsurface_color); MaterialX's GLSL instead wraps the key
   light around the terminator with a Burley diffusion profile, which is not reproduced;
 * thin film: exact Airy reflectance integrated over the spectrum (:mod:`.thinfilm`) replaces the
-  Fresnel factor of the dielectric and metal reflections, mixed in by thin_film_weight;
+  Fresnel factor of the dielectric and metal reflections, mixed in by thin_film_weight; under the
+  film a metal is the dielectric whose Fresnel gives its F0, as in MaterialX's reference
+  (``mx_fresnel_airy`` with the Schlick model: eta3 = mx_f0_to_ior(F0), no extinction);
 * emission = luminance * colour, under a coat tinted by coat_color and (1 - F0_coat) Schlick
   (MaterialX ``generalized_schlick_edf``); geometry_opacity is the coverage.
 """
@@ -43,7 +45,7 @@ import numpy as np
 
 from . import closures, microfacet
 from .coat import coat_absorption, coat_darkening_factor, coat_relative_ior, coat_roughened
-from .fresnel import artistic_ior, ior_to_f0
+from .fresnel import ior_to_f0
 from .layering import BSDFModel, Scatter, add, any_nonzero, as_colour, layer, mix
 
 ALPHA_FLOOR = 1e-4
@@ -142,10 +144,12 @@ class OpenPBRSurface(BSDFModel):
         base = dielectric
         if any_nonzero(metalness):
             f0 = f["base_color"] * as_colour(f["base_weight"])
-            # Under a thin film the metal is a conductor whose n, k reproduce F0 and the edge tint.
-            substrate = artistic_ior(f0, f["specular_color"]) if self.film is not None else None
+            # Under a thin film the metal is the dielectric of the IOR giving its F0, as in MaterialX's
+            # reference (generalized_schlick_bsdf with a thin film: mx_fresnel_airy takes eta3 =
+            # mx_f0_to_ior(F0), kappa 0), which the toolkit is judged against; a conductor's n, k
+            # (artistic_ior) gave anodised titanium another colour entirely (mean CIEDE2000 40 to GLSL).
             metal = closures.schlick_lobe(
-                wi, wo, ax, ay, f0, 1.0, f82_tint=f["specular_color"], thin_film=self.film, film_substrate=substrate,
+                wi, wo, ax, ay, f0, 1.0, f82_tint=f["specular_color"], thin_film=self.film,
                 reflection_shape=shape,
             ).scaled(as_colour(f["specular_weight"]))
             base = mix(dielectric, metal, as_colour(metalness))
