@@ -143,3 +143,39 @@ def test_where_the_graphs_win_materialx_glsl_agrees(tmp_path, name, target):
         (material,) = read_asset(str(tmp_path / f"{label}.{suffix}")).materials
         errors[label] = compare_images(reference, renderer.render(target, values(material)), mask, rig.white()).mean
     assert errors["chosen"] < errors["plain"] + 0.05, errors
+
+
+@pytest.mark.gl
+def test_a_fitted_film_thickness_is_closer_in_materialx_glsl_too(tmp_path):
+    """Anodised titanium (a measured thin film on a metal) to Standard Surface, whose MaterialX
+    implementation puts the film on a conductor where OpenPBR's puts it on the metal's F0: the
+    evaluator fits the film thickness, and MaterialX's GLSL renderer, an independent judge, must
+    agree that the fitted material renders closer to the OpenPBR source than the mapped one."""
+    import numpy as np
+    from glsupport import comparison_mask, materialx_renderer
+
+    from openpbr_tools.evaluate.difference import compare_images
+    from openpbr_tools.evaluate.preview import Rig
+    from openpbr_tools.io import read_asset
+
+    rig = Rig(size=64)
+    renderer = materialx_renderer(rig)
+    source_path = Path(__file__).parent / "data" / "published" / "measured" / "Titanium_Anodized.mtlx"
+    convert_file(str(source_path), str(tmp_path / "plain.mtlx"), "standard_surface")
+    fitted = convert_file(str(source_path), str(tmp_path / "fitted.mtlx"), "standard_surface",
+                          settings=Settings(candidates=True))
+    assert [d for d in fitted.diagnostics if "thin_film_thickness fitted" in d.message]
+
+    def values(material):
+        return {k: (list(v.value.value) if isinstance(v.value.value, tuple) else v.value.value)
+                for k, v in material.inputs.items()}
+
+    (source,) = read_asset(str(source_path)).materials
+    reference = renderer.render("open_pbr_surface", values(source))
+    mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
+    errors = {}
+    for label in ("plain", "fitted"):
+        (material,) = read_asset(str(tmp_path / f"{label}.mtlx")).materials
+        errors[label] = compare_images(reference, renderer.render("standard_surface", values(material)), mask,
+                                       rig.white()).mean
+    assert errors["fitted"] < errors["plain"] - 1.0, errors

@@ -9,7 +9,7 @@ is brought inside it, as the toolkit's own results are (an ``attenuation_distanc
 graphs' "no attenuation", is left unset) (the graphs are evaluated on values; a textured
 material keeps the toolkit's mapping, which bakes per texel). An exact mapping (no OPBR1103 note) is
 kept without a search. The two are rendered on the evaluator's lit sphere at a small size
-(:data:`RIG`, 32 pixels: a few milliseconds per candidate; ``--verify`` measures the result at full
+(:data:`RIG_SIZE`, 32 pixels: a few milliseconds per candidate; ``--verify`` measures the result at full
 size), CIEDE2000 mean against the source; the graph's result wins only by more than
 :data:`MARGIN`. The report says which was kept and both figures (OPBR1102); when the graph's is
 kept, the mapping's approximation notes are replaced by one naming the graph.
@@ -17,17 +17,17 @@ kept, the mapping's approximation notes are replaced by one naming the graph.
 
 from __future__ import annotations
 
+import copy
 import math
 
 from .. import tables
-from ..evaluate.preview import Rig
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED
 from . import materialx_graphs
 from .common import Settings, Translation
 from .target import inside
 
-RIG = Rig(size=32)
+RIG_SIZE = 32  # pixels of the evaluator's sphere for the candidate search
 MARGIN = 0.05  # mean CIEDE2000: a smaller win is noise at this size
 
 
@@ -76,19 +76,72 @@ def graph_candidate(source: Material, target: str) -> Material | None:
     return candidate
 
 
+#: the thickness parameter of each target's thin film, in nanometres
+FILM_THICKNESS = {"gltf_pbr": "iridescence_thickness", "standard_surface": "thin_film_thickness"}
+FILM_SCALES = tuple(0.5 * 4.0 ** (i / 24) for i in range(25))  # 0.5x to 2x, geometric steps
+FILM_RIG_SIZE = 16
+
+
+def refine_thin_film(source: Material, translation: Translation, target: str, settings: Settings) -> Translation:
+    """A thin film on a metal interferes differently in the targets' models (MaterialX's OpenPBR puts
+    it on the dielectric of the metal's F0, its Standard Surface on a conductor of artistic n, k): the
+    same thickness can show another colour (measured anodised titanium to Standard Surface: mean
+    CIEDE2000 24.6). Where the mapping is approximated, the film's thickness is searched over 0.5-2x
+    the mapped one (25 geometric steps, the evaluator's 16-pixel sphere) and the best kept when it wins
+    by more than :data:`MARGIN`, reported with both figures."""
+    name = FILM_THICKNESS.get(target)
+    entry = translation.material.inputs.get(name) if name else None
+    film = source.inputs.get("thin_film_weight")
+    if entry is None or not isinstance(entry.value, Constant) or film is None or \
+            not isinstance(film.value, Constant) or not film.value.value > 0 or _constant_values(source) is None:
+        return translation
+    # lazy: the evaluator (NumPy, albedo tables) loads only for an approximated constant film
+    from ..evaluate import model_for_material
+    from ..evaluate.difference import compare_images  # lazy: as above
+    from ..evaluate.preview import Rig, shade_sphere  # lazy: as above
+
+    FILM_RIG = Rig(size=FILM_RIG_SIZE)
+    base = float(entry.value.value)
+
+    def score(thickness, reference, mask):
+        trial = copy.copy(translation.material)
+        trial.inputs = dict(trial.inputs)
+        trial.inputs[name] = Input(name, entry.type, Constant(thickness), entry.location)
+        return compare_images(reference, shade_sphere(model_for_material(trial)[0], FILM_RIG)[0], mask,
+                              FILM_RIG.white()).mean
+
+    try:
+        reference, mask = shade_sphere(model_for_material(source)[0], FILM_RIG)
+        mapped = score(base, reference, mask)
+        found = min((score(base * scale, reference, mask), base * scale) for scale in FILM_SCALES)
+    except (ValueError, KeyError, TypeError, FloatingPointError):
+        return translation
+    if not found[0] < mapped - MARGIN:
+        return translation
+    translation.material.inputs[name] = Input(name, entry.type, Constant(float(found[1])), entry.location)
+    translation.diagnostics.append(settings.context.diagnostic(
+        APPROXIMATED, f"{source.name}: {name} fitted to {found[1]:.1f} nm (the mapped {base:.1f} nm interferes "
+                      f"differently in {target}'s film model): mean CIEDE2000 on the evaluator's "
+                      f"{FILM_RIG.size}-pixel sphere {mapped:.2f} -> {found[0]:.2f}", source.location))
+    return translation
+
+
 def choose(source: Material, translation: Translation, target: str, settings: Settings) -> Translation:
     """``translation`` (OpenPBR ``source`` -> ``target``) or MaterialX's graph result, whichever the
     evaluator renders closer to the source (module docstring)."""
     if not settings.candidates or settings.gltf_drafts or source.model != "open_pbr_surface" or \
             not any(d.code == APPROXIMATED.code for d in translation.diagnostics):
         return translation  # (with the drafts, the mapping's exact inverses are the point)
+    translation = refine_thin_film(source, translation, target, settings)
     candidate = graph_candidate(source, target)
     if candidate is None:
         return translation
     # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
     from ..evaluate import model_for_material
-    from ..evaluate.difference import compare_images
-    from ..evaluate.preview import shade_sphere
+    from ..evaluate.difference import compare_images  # lazy: as above
+    from ..evaluate.preview import Rig, shade_sphere  # lazy: as above
+
+    RIG = Rig(size=RIG_SIZE)
 
     try:
         reference, mask = shade_sphere(model_for_material(source)[0], RIG)
