@@ -120,6 +120,9 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
     sys.exit(report.exit_code(fail_on))
 
 
+STREAMED = ("jsonl", "github")  # report formats with one line per finding and no summary
+
+
 def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, force,
            skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on,
            gltf_drafts=False):
@@ -146,13 +149,27 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
                          allow_outside=tuple(os.path.abspath(f) for f in allow_outside), verify=verify,
                          threshold=threshold, gltf_drafts=gltf_drafts)
     show_progress = sys.stderr.isatty() if progress is None else progress
+    streamed = output_format in STREAMED and not planned.refusals
+    if streamed:  # one line per finding: written as each file finishes, so memory stays flat
+        from openpbr_tools.diagnostics import Severity  # lazy: as the imports above
+        from openpbr_tools.validate import FileResult, Report  # lazy: as the imports above
+
+        click.echo(render(Report(problems=planned.problems), output_format, fail_on), nl=False)
+        threshold = fail_on if fail_on is not None else Severity.ERROR
+
+        def on_result(result):
+            click.echo(render(Report(files=[result]), output_format, fail_on), nl=False)
+            worst = [d for d in result.diagnostics if d.severity >= threshold][:1]  # enough for the exit code
+            return FileResult(result.path, worst, result.materials, result.unreadable)
     try:
-        report = batch.run(planned, options, progress=_progress_bar() if show_progress else None)
+        report = batch.run(planned, options, progress=_progress_bar() if show_progress else None,
+                           on_result=on_result if streamed else None)
     except RuntimeError as error:  # a cluster that cannot be reached
         raise click.UsageError(str(error)) from None
     if show_progress:
         click.echo("", err=True)
-    click.echo(render(report, output_format, fail_on), nl=False)
+    if not streamed:
+        click.echo(render(report, output_format, fail_on), nl=False)
     written = sum(1 for result in report.files if not result.unreadable)
     click.echo(f"wrote {written} file(s) under {outdir}; {len(planned.skipped)} up to date, skipped", err=True)
     sys.exit(report.exit_code(fail_on))

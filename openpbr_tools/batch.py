@@ -164,11 +164,13 @@ def _convert(job: Job) -> FileResult:
     return FileResult(job.source, diagnostics, materials=len(result.pairs))
 
 
-def run(found: Plan, options: Options | None = None, progress=None) -> Report:
-    """Convert the planned jobs; one report in input order (problems and refusals exit 2)."""
+def run(found: Plan, options: Options | None = None, progress=None, on_result=None) -> Report:
+    """Convert the planned jobs; one report in input order (problems and refusals exit 2).
+    ``on_result``: see :func:`openpbr_tools.validate.run_chunks` (a streamed report)."""
     options = options or Options()
     report = Report(problems=found.problems + found.refusals)
     if found.refusals:
         return report  # refused before anything is written
-    report.files = run_chunks(found.jobs, convert_jobs, options, progress, threshold=BATCH_POOL_THRESHOLD)
+    report.files = run_chunks(found.jobs, convert_jobs, options, progress, threshold=BATCH_POOL_THRESHOLD,
+                              on_result=on_result)
     return report

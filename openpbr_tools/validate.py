@@ -216,19 +216,24 @@ def _run(tasks, options: Options, progress) -> list[FileResult]:
     return run_chunks(tasks, _validate_chunk, options, progress)
 
 
-def run_chunks(tasks: list, work_chunk, options: Options, progress, threshold: int = POOL_THRESHOLD) -> list:
+def run_chunks(tasks: list, work_chunk, options: Options, progress, threshold: int = POOL_THRESHOLD,
+               on_result: Callable | None = None) -> list:
     """``work_chunk`` (a module-level function of a list of tasks, returning one result per task)
     over ``tasks``: in this process, in a process pool of ``options.jobs`` (from ``threshold`` tasks
     on), or on the Dask cluster at ``options.scheduler``. Results keep the tasks' order whichever
-    way they ran; ``progress(done, total)`` is called as they arrive. Shared by validate and the
-    batch form of convert."""
+    way they ran; ``progress(done, total)`` is called as they arrive. ``on_result``, when given,
+    receives each result in the tasks' order as soon as it and those before it are done, and what it
+    returns is kept instead (a caller streaming a report keeps a slim result: memory stays flat).
+    Shared by validate and the batch form of convert."""
     total = len(tasks)
+    keep = on_result or (lambda result: result)
     if options.scheduler:
-        return run_on_cluster(tasks, options.scheduler, work_chunk, _chunks, timeout=options.scheduler_timeout)
+        return [keep(r) for r in run_on_cluster(tasks, options.scheduler, work_chunk, _chunks,
+                                                timeout=options.scheduler_timeout)]
     if options.jobs <= 1 or total < threshold:
         results = []
         for done, task in enumerate(tasks, 1):
-            results += work_chunk([task])
+            results += [keep(r) for r in work_chunk([task])]
             if progress:
                 progress(done, total)
         return results
@@ -237,12 +242,16 @@ def run_chunks(tasks: list, work_chunk, options: Options, progress, threshold: i
 
     chunks = _chunks(tasks, options.jobs * 8)
     ordered: list[list[FileResult] | None] = [None] * len(chunks)
+    released = 0  # chunks handed to on_result, in order
     done = 0
     with ProcessPoolExecutor(max_workers=options.jobs) as pool:
         futures = {pool.submit(work_chunk, chunk): i for i, chunk in enumerate(chunks)}
         for future in as_completed(futures):
             ordered[futures[future]] = future.result()
             done += len(chunks[futures[future]])
+            while released < len(chunks) and ordered[released] is not None:
+                ordered[released] = [keep(r) for r in ordered[released]]
+                released += 1
             if progress:
                 progress(done, total)
     return [result for chunk in ordered for result in chunk]

@@ -167,3 +167,24 @@ def test_an_output_folder_inside_the_input_folder_is_not_read_as_input(tmp_path)
         result = run("convert", source, "-o", out, "--output-format", "mtlx", "--jobs", "1", "--force")
         assert result.exit_code == 0, result.output
     assert len(list(out.rglob("*.mtlx"))) == 3 and not (out / "converted").exists()
+
+
+def test_line_formats_stream_the_same_report_the_library_renders(tmp_path):
+    """jsonl and github are written file by file as the batch runs (memory stays flat over a large
+    library): the bytes equal the combined report rendered at the end."""
+    from openpbr_tools import batch
+    from openpbr_tools.reports import render
+    from openpbr_tools.validate import Options
+
+    source = _library(tmp_path / "in", 6)
+    shutil.copy(data_dir("samples") / "broken" / "vendor_export.mtlx", source / "vendor_export.mtlx")
+    for index, name in enumerate(("jsonl", "github")):
+        streamed = run("convert", source, "-o", tmp_path / f"out{index}", "--output-format", "gltf", "--jobs", "1",
+                       "--format", name)
+        plan = batch.plan([str(source)], str(tmp_path / f"again{index}"), "gltf", options=Options(jobs=1))
+        report = batch.run(plan, Options(jobs=1))
+        combined = render(report, name, None)
+        assert streamed.exit_code == report.exit_code(None) == 2  # vendor_export's texture is outside: refused
+        assert streamed.stdout.replace(str(tmp_path / f"out{index}"), "OUT") == \
+            combined.replace(str(tmp_path / f"again{index}"), "OUT")
+        assert streamed.stdout.count("\n") > 6
