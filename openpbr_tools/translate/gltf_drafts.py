@@ -22,11 +22,11 @@ import copy
 import numpy as np
 
 from .. import tables
+from ..evaluate.microfacet import openpbr_alphas
 from ..io.gltf import drafts
 from ..model import Constant, Input, Material, Texture
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .common import Settings
-from ..evaluate.microfacet import openpbr_alphas
 from .gltf_anisotropy import gltf_anisotropy_strength, gltf_roughness, openpbr_anisotropy, openpbr_roughness
 from .target import inside
 
