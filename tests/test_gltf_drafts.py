@@ -145,8 +145,8 @@ def test_unknown_nested_and_vendor_extensions_are_reported_by_convert_and_valida
     assert lost and lost[0].location.material == "M" and kept
     report = CliRunner().invoke(cli, ["validate", str(path), "--format", "json"])
     found = {(d["code"], d["location"]["path"]) for d in json.loads(report.output)["diagnostics"]}
-    assert ("OPBR1204", "/materials/0/extensions/KHR_materials_clearcoat/extensions/VENDOR_clearcoat_magic") in found
-    assert ("OPBR1204", "/materials/0/extensions/VENDOR_materials_sparkle") in found
+    assert ("OPBR1212", "/materials/0/extensions/KHR_materials_clearcoat/extensions/VENDOR_clearcoat_magic") in found
+    assert ("OPBR1212", "/materials/0/extensions/VENDOR_materials_sparkle") in found
     info = CliRunner().invoke(cli, ["info", str(path)])
     assert "KHR_materials_clearcoat/VENDOR_clearcoat_magic (not converted)" in info.output
 

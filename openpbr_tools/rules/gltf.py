@@ -92,19 +92,28 @@ EXCLUSIVE_EXTENSIONS = Rule(
 )
 NOT_CONVERTED = Rule(
     "OPBR1204", "gltf-material-model-not-converted", Severity.WARNING,
-    "A material uses a material extension the toolkit does not convert (KHR_materials_unlit, "
-    "KHR_materials_pbrSpecularGlossiness, KHR_materials_diffuse_transmission, or one it does not know).",
-    "Unlit materials (no lighting at all), the archived specular-glossiness workflow, diffuse "
-    "transmission and unknown or vendor extensions (also those nested in a KHR_materials_* object, "
-    "such as KHR_materials_clearcoat_ior) have no gltf_pbr or OpenPBR parameters here. The extension "
-    "is kept as data (Material.extra: a conversion back to glTF restores it) and the material is "
-    "checked and converted as its metallic-roughness fallback. The draft extensions that align glTF "
-    "with OpenPBR (KHR_materials_coat, _fuzz, _diffuse_roughness and Adobe's EXT_materials_*_openpbr "
-    "family) are read, not reported.",
+    "A material uses KHR_materials_unlit or KHR_materials_pbrSpecularGlossiness, which the gltf_pbr node does not carry.",
+    "Unlit materials (no lighting at all) and the archived specular-glossiness workflow have no "
+    "gltf_pbr parameters. The extension is kept as data for a translator (Material.extra) and the "
+    "material is checked as its metallic-roughness fallback, which is what conversions use.",
     passing=_gltf('"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0]}}]'),
     failing=_gltf('"extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"]',
                   '"materials": [{"name": "M", "extensions": {"KHR_materials_pbrSpecularGlossiness": '
                   '{"diffuseFactor": [0.8, 0.8, 0.8, 1.0], "glossinessFactor": 0.5}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+EXTENSION_NOT_CONVERTED = Rule(
+    "OPBR1212", "gltf-extension-not-converted", Severity.INFO,
+    "A material uses a material extension the toolkit does not convert (KHR_materials_diffuse_transmission "
+    "with textures or a volume, or one it does not know, also nested in a KHR_materials_* object).",
+    "The file is not wrong (Khronos' own samples use these); the toolkit's reach ends: checks and "
+    "conversions see the material without the extension. A top-level one is kept as data and restored "
+    "on glTF output; a conversion reports what it keeps and what it loses. The draft extensions that "
+    "align glTF with OpenPBR (KHR_materials_coat, _fuzz, _diffuse_roughness, KHR_materials_clearcoat_ior "
+    "and Adobe's EXT_materials_*_openpbr family) are read, not reported.",
+    passing=_gltf('"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0]}}]'),
+    failing=_gltf('"extensionsUsed": ["VENDOR_materials_sparkle"]',
+                  '"materials": [{"name": "M", "extensions": {"VENDOR_materials_sparkle": {"amount": 0.5}}}]'),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 MISSING_TEXCOORD = Rule(
@@ -197,7 +206,8 @@ NO_EFFECT = Rule(
 )
 
 RULES = (UNDECLARED_EXTENSION, REQUIRED_UNSUPPORTED, EXCLUSIVE_EXTENSIONS, NOT_CONVERTED, MISSING_TEXCOORD,
-         NOT_POWER_OF_TWO, UNSUPPORTED_IMAGE, STRENGTH_WITHOUT_EMISSIVE, BROKEN_RESOURCE, INVALID_PROPERTY, NO_EFFECT)
+         NOT_POWER_OF_TWO, UNSUPPORTED_IMAGE, STRENGTH_WITHOUT_EMISSIVE, BROKEN_RESOURCE, INVALID_PROPERTY, NO_EFFECT,
+         EXTENSION_NOT_CONVERTED)
 
 
 def check(asset, context):
@@ -241,8 +251,9 @@ def _observations(asset, context):
         elif observation.kind == "gltf_invalid":
             yield context.diagnostic(INVALID_PROPERTY, detail["message"], observation.location)
         elif observation.kind == "gltf_not_converted":
+            rule = NOT_CONVERTED if detail["extension"] in (slots.UNLIT, slots.SPECULAR_GLOSSINESS) else EXTENSION_NOT_CONVERTED
             yield context.diagnostic(
-                NOT_CONVERTED, f"material {detail['material']!r} uses {detail['extension']}, which the toolkit does not convert",
+                rule, f"material {detail['material']!r} uses {detail['extension']}, which the toolkit does not convert",
                 observation.location, hint="findings and conversions describe the material without it (one directly on the "
                                            "material is kept as data and restored on glTF output)",
             )

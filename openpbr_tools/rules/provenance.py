@@ -169,8 +169,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "graph, and says so.", MX_NODES),
     "OPBR804": ("Nothing renders wrong; an unbound shader is usually left over and never reaches a renderer.",
                 MX_SPEC),
-    "OPBR805": ("A shader the toolkit does not read is not checked and cannot be converted: without the report "
-                "the material would vanish from a converted file.", f"{MX_SPEC}; {USD_SHADER}"),
+    "OPBR805": ("Nothing renders wrong (info: published files use other shaders); a shader the toolkit does not "
+                "read is not checked and cannot be converted, and without the report the material would vanish "
+                "from a converted file.", f"{MX_SPEC}; {USD_SHADER}"),
     # -- plausibility --------------------------------------------------------------------------
     "OPBR901": ("Real metals reflect at least ~50% at normal incidence; a darker metal reads as plastic under "
                 "image-based light (info: heuristic, some measured alloys come close).",
@@ -263,4 +264,7 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1211": ("The extension texts say these settings do nothing (transmission on a metal, a volume without "
                  "transmission, dispersion without a volume): intent lost, and viewers differ.",
                  f"{khr('KHR_materials_volume')}; {khr('KHR_materials_dispersion')}; {khr('KHR_materials_iridescence')}"),
+    "OPBR1212": ("Nothing renders wrong (info: Khronos' own samples use these); checks and conversions see the "
+                 "material without the extension, and a conversion reports what it keeps or loses.",
+                 f"{khr('KHR_materials_diffuse_transmission')}; {GLTF}"),
 }

@@ -43,12 +43,12 @@ UNASSIGNED = Rule(
 )
 
 NOT_READ = Rule(
-    "OPBR805", "material-shader-not-read", Severity.WARNING,
+    "OPBR805", "material-shader-not-read", Severity.INFO,
     "A material's surface shader is none of the shading models the toolkit reads.",
     "A renderer-specific or custom shader (a nodedef without a node graph around OpenPBR, Standard "
     "Surface, glTF PBR or UsdPreviewSurface) is neither checked nor converted: a conversion leaves the "
-    "material out and reports it. Custom nodes whose definition wraps one of those shaders are "
-    "read as that shader.",
+    "material out and reports it (an error there). Custom nodes whose definition wraps one of those "
+    "shaders are read as that shader. Info: the file is not wrong, the toolkit's reach ends.",
     passing='<open_pbr_surface name="S" type="surfaceshader" />\n<surfacematerial name="M" type="material">\n'
             '  <input name="surfaceshader" type="surfaceshader" nodename="S" />\n</surfacematerial>',
     failing='<nodedef name="ND_toon" node="toon">\n  <output name="out" type="surfaceshader" />\n</nodedef>\n'
