@@ -162,7 +162,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             translated = translation.material
             translated.material_name = unique
             if unique != name and asset.format == "gltf" and isinstance(translated.extra.get("gltf"), dict):
-                translated.extra["gltf"]["name"] = name
+                # restored on glTF output while the material still bears the name it was written as
+                translated.extra["gltf"]["name"], translated.extra["gltf"]["renamed_to"] = name, unique
             result.materials.append(translated)
             result.pairs.append((material, translated))
             if kind == "usd":

@@ -5,7 +5,8 @@ What travels: KHR_materials_volume's ``thicknessFactor`` (OpenPBR has no thickne
 output gives the volume its source thickness again instead of one scene unit), the names of the KHR_materials_variants variants that select the material (the
 mappings live on mesh primitives, which .mtlx and a material-only USD file do not have; a glTF
 output without meshes reports them), the glTF ``name`` where a writer that needs unique names renamed the material (glTF
-allows two materials one name: a glTF output restores it), ``doubleSided``, ``extras``, an alpha ``MASK`` with its ``alphaCutoff`` (OpenPBR keeps
+allows two materials one name: a glTF output restores it while the material still bears the name it
+was written as, ``renamed_to``; a material renamed since keeps its new name), ``doubleSided``, ``extras``, an alpha ``MASK`` with its ``alphaCutoff`` (OpenPBR keeps
 the cut-out as geometry_opacity, not the mode) and the material extensions the gltf_pbr node does not
 carry (KHR_materials_diffuse_transmission, KHR_materials_unlit, unknown ones), as they were in the
 source (``Material.extra["gltf"]``). Where: a JSON string in the ``openpbr_gltf`` attribute of the
@@ -23,7 +24,8 @@ from .rules.translation import CONVERTED, NOT_CARRIED
 
 MTLX_ATTRIBUTE = "openpbr_gltf"
 USD_CUSTOM_DATA_KEY = "openpbr:gltf"
-KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff", "name", "variants", "thickness")
+KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff", "name", "renamed_to", "variants",
+        "thickness")
 MAX_TEXT = 1 << 20  # a side channel larger than this is not read (a hostile file)
 
 
@@ -54,8 +56,8 @@ def decode(text) -> dict:
         state["thickness"] = float(thickness)
     if isinstance(value.get("variants"), list) and all(isinstance(v, str) for v in value["variants"]):
         state["variants"] = value["variants"]
-    if isinstance(value.get("name"), str) and value["name"]:
-        state["name"] = value["name"]
+    if isinstance(value.get("name"), str) and value["name"] and isinstance(value.get("renamed_to"), str):
+        state["name"], state["renamed_to"] = value["name"], value["renamed_to"]
     if isinstance(value.get("doubleSided"), bool):
         state["doubleSided"] = value["doubleSided"]
     if "extras" in value:

@@ -110,3 +110,15 @@ def test_a_hostile_side_channel_is_ignored_not_a_crash(tmp_path, text):
     _convert(source, tmp_path / "out.gltf")
     material = json.loads((tmp_path / "out.gltf").read_text())["materials"][0]
     assert "doubleSided" not in material and not material.get("extensions")
+
+
+def test_a_restored_glTF_name_yields_to_a_rename_made_since(tmp_path):
+    source = tmp_path / "in.gltf"
+    source.write_text(json.dumps(GLTF))
+    _convert(source, tmp_path / "mid.mtlx")
+    text = (tmp_path / "mid.mtlx").read_text()
+    assert 'name="Mat_2"' in text
+    (tmp_path / "edited.mtlx").write_text(text.replace('name="Mat_2"', 'name="Chair"'))
+    _convert(tmp_path / "edited.mtlx", tmp_path / "back.gltf")
+    back = json.loads((tmp_path / "back.gltf").read_text())["materials"]
+    assert [m["name"] for m in back] == ["Mat", "Chair", "Other"]

@@ -108,7 +108,8 @@ class _MaterialWriter(TextureWriting, DraftWriting):
         self.output = Location(builder.path, path=f"/materials/{index}")
         self.extra = material.extra.get("gltf", {}) if isinstance(material.extra.get("gltf"), dict) else {}
         # a glTF name another format had to make unique comes back as it was (gltf_state)
-        name = self.extra.get("name") if isinstance(self.extra.get("name"), str) and self.extra.get("name") else None
+        name = self.extra.get("name") if isinstance(self.extra.get("name"), str) and self.extra.get("name") and \
+            self.extra.get("renamed_to") == (material.material_name or material.name) else None
         self.out: dict = {"name": name or material.material_name or material.name}
         self.containers: dict[str, dict] = {slots.CORE: self.out, slots.PBR: {}}
 
