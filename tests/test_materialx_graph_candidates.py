@@ -110,12 +110,9 @@ def test_an_exact_mapping_is_kept_without_a_search(tmp_path):
     assert os.path.exists(tmp_path / "out.gltf")
 
 
-@pytest.mark.gl
-@pytest.mark.parametrize("name, target", [("open_pbr_gold.mtlx", "gltf_pbr"), ("open_pbr_pearl.mtlx", "standard_surface")])
-def test_where_the_graphs_win_materialx_glsl_agrees(tmp_path, name, target):
-    """The evaluator's choice checked by an independent judge: MaterialX's GLSL renderer must not
-    render the graphs' result further from the OpenPBR source than the mapping's (a tie within 0.05
-    mean CIEDE2000 allowed: the evaluator's gold win, 1.42 -> 0.23, is a tie in GLSL)."""
+def _glsl_errors(source_path: Path, results: dict, target: str) -> dict:
+    """Mean CIEDE2000, rendered by MaterialX's GLSL renderer (an independent judge), of each result
+    file in ``results`` (label -> path, one ``target`` material) against the OpenPBR source."""
     import numpy as np
     from glsupport import comparison_mask, materialx_renderer
 
@@ -125,11 +122,6 @@ def test_where_the_graphs_win_materialx_glsl_agrees(tmp_path, name, target):
 
     rig = Rig(size=64)
     renderer = materialx_renderer(rig)
-    source_path = Path(__file__).parent / "data" / "published" / "openpbr" / name
-    suffix, to = ("gltf", None) if target == "gltf_pbr" else ("mtlx", target)
-    convert_file(str(source_path), str(tmp_path / f"plain.{suffix}"), to)
-    chosen = convert_file(str(source_path), str(tmp_path / f"chosen.{suffix}"), to, settings=Settings(candidates=True))
-    assert [d for d in chosen.diagnostics if "by MaterialX's translation graphs" in d.message]
 
     def values(material):
         return {k: (list(v.value.value) if isinstance(v.value.value, tuple) else v.value.value)
@@ -139,9 +131,24 @@ def test_where_the_graphs_win_materialx_glsl_agrees(tmp_path, name, target):
     reference = renderer.render("open_pbr_surface", values(source))
     mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
     errors = {}
-    for label in ("plain", "chosen"):
-        (material,) = read_asset(str(tmp_path / f"{label}.{suffix}")).materials
+    for label, path in results.items():
+        (material,) = read_asset(str(path)).materials
         errors[label] = compare_images(reference, renderer.render(target, values(material)), mask, rig.white()).mean
+    return errors
+
+
+@pytest.mark.gl
+@pytest.mark.parametrize("name, target", [("open_pbr_gold.mtlx", "gltf_pbr"), ("open_pbr_pearl.mtlx", "standard_surface")])
+def test_where_the_graphs_win_materialx_glsl_agrees(tmp_path, name, target):
+    """The evaluator's choice checked by an independent judge: MaterialX's GLSL renderer must not
+    render the graphs' result further from the OpenPBR source than the mapping's (a tie within 0.05
+    mean CIEDE2000 allowed: the evaluator's gold win, 1.42 -> 0.23, is a tie in GLSL)."""
+    source_path = Path(__file__).parent / "data" / "published" / "openpbr" / name
+    suffix, to = ("gltf", None) if target == "gltf_pbr" else ("mtlx", target)
+    convert_file(str(source_path), str(tmp_path / f"plain.{suffix}"), to)
+    chosen = convert_file(str(source_path), str(tmp_path / f"chosen.{suffix}"), to, settings=Settings(candidates=True))
+    assert [d for d in chosen.diagnostics if "by MaterialX's translation graphs" in d.message]
+    errors = _glsl_errors(source_path, {label: tmp_path / f"{label}.{suffix}" for label in ("plain", "chosen")}, target)
     assert errors["chosen"] < errors["plain"] + 0.05, errors
 
 
@@ -151,31 +158,11 @@ def test_a_fitted_film_thickness_is_closer_in_materialx_glsl_too(tmp_path):
     implementation puts the film on a conductor where OpenPBR's puts it on the metal's F0: the
     evaluator fits the film thickness, and MaterialX's GLSL renderer, an independent judge, must
     agree that the fitted material renders closer to the OpenPBR source than the mapped one."""
-    import numpy as np
-    from glsupport import comparison_mask, materialx_renderer
-
-    from openpbr_tools.evaluate.difference import compare_images
-    from openpbr_tools.evaluate.preview import Rig
-    from openpbr_tools.io import read_asset
-
-    rig = Rig(size=64)
-    renderer = materialx_renderer(rig)
     source_path = Path(__file__).parent / "data" / "published" / "measured" / "Titanium_Anodized.mtlx"
     convert_file(str(source_path), str(tmp_path / "plain.mtlx"), "standard_surface")
     fitted = convert_file(str(source_path), str(tmp_path / "fitted.mtlx"), "standard_surface",
                           settings=Settings(candidates=True))
     assert [d for d in fitted.diagnostics if "thin_film_thickness fitted" in d.message]
-
-    def values(material):
-        return {k: (list(v.value.value) if isinstance(v.value.value, tuple) else v.value.value)
-                for k, v in material.inputs.items()}
-
-    (source,) = read_asset(str(source_path)).materials
-    reference = renderer.render("open_pbr_surface", values(source))
-    mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
-    errors = {}
-    for label in ("plain", "fitted"):
-        (material,) = read_asset(str(tmp_path / f"{label}.mtlx")).materials
-        errors[label] = compare_images(reference, renderer.render("standard_surface", values(material)), mask,
-                                       rig.white()).mean
+    errors = _glsl_errors(source_path, {label: tmp_path / f"{label}.mtlx" for label in ("plain", "fitted")},
+                          "standard_surface")
     assert errors["fitted"] < errors["plain"] - 1.0, errors

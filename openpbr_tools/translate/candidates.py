@@ -18,9 +18,9 @@ kept, the mapping's approximation notes are replaced by one naming the graph.
 from __future__ import annotations
 
 import copy
-import math
 
 from .. import tables
+from ..values import is_finite
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED
 from . import materialx_graphs
@@ -38,11 +38,6 @@ def _constant_values(material: Material) -> dict | None:
             return None
         values[name] = entry.value.value
     return values
-
-
-def _finite(value) -> bool:
-    values = value if isinstance(value, tuple) else (value,)
-    return all(isinstance(v, (int, float)) and math.isfinite(v) for v in values)
 
 
 def graph_candidate(source: Material, target: str) -> Material | None:
@@ -67,7 +62,7 @@ def graph_candidate(source: Material, target: str) -> Material | None:
         if parameter.default is None and isinstance(value, float) and value <= 0:
             continue  # an unbounded length (attenuation_distance) of 0: the graphs' "none", the default
         value, moved = inside(value, parameter)
-        if moved and not _finite(value):
+        if moved and not is_finite(value):
             return None
         entry = source.inputs.get(name)
         candidate.inputs[name] = Input(name, parameter.type, Constant(value),

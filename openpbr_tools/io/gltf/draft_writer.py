@@ -10,7 +10,7 @@ from __future__ import annotations
 from ...model import Constant, Texture
 from ...rules.translation import CONVERTED, NOT_CARRIED
 from . import drafts, slots
-from .writer_values import finite as _finite, json_value as _json_value
+from .writer_values import clamp, finite as _finite, json_value as _json_value
 
 
 class DraftWriting:
@@ -107,13 +107,10 @@ class DraftWriting:
 
     def draft_clamped(self, name: str, slot: slots.Slot, value):
         low, high = drafts.RANGES.get(slot.parameter, (None, None))
-        values = value if isinstance(value, list) else [value]
-        fixed = []
-        for v in values:
-            v = v if low is None else max(v, low)
-            fixed.append(v if high is None else min(v, high))
-        if fixed != values:
-            self.note(NOT_CARRIED, f"{name} {slot.factor} {values if len(values) > 1 else values[0]} is outside the "
-                                   f"draft's range; clamped to {fixed if len(fixed) > 1 else fixed[0]}", slot.parameter)
-        return fixed if isinstance(value, list) else fixed[0]
+        count = len(value) if isinstance(value, list) else 1
+        fixed = clamp(value, (low,) * count, (high,) * count)
+        if fixed != value:
+            self.note(NOT_CARRIED, f"{name} {slot.factor} {value} is outside the draft's range; clamped to {fixed}",
+                      slot.parameter)
+        return fixed
 

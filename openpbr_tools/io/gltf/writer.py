@@ -35,7 +35,7 @@ from ...rules.translation import CONVERTED, NOT_CARRIED
 from . import slots
 from .document_writer import DocumentBuilder
 from .draft_writer import DraftWriting
-from .writer_values import finite as _finite, json_finite, json_value as _json_value
+from .writer_values import clamp, finite as _finite, json_finite, json_value as _json_value
 from .images import GltfWriteError, ImageResolver
 from .texture_writer import TextureWriting
 
@@ -209,17 +209,13 @@ class _MaterialWriter(TextureWriting, DraftWriting):
         parameter = tables.table("gltf_pbr").get(slot.parameter)
         if parameter is None or slot.parameter == "emissive":  # emissive above 1 is folded, not clamped
             return value
-        values = value if isinstance(value, list) else [value]
-        lows = parameter.hard_min if isinstance(parameter.hard_min, tuple) else (parameter.hard_min,) * len(values)
-        highs = parameter.hard_max if isinstance(parameter.hard_max, tuple) else (parameter.hard_max,) * len(values)
-        fixed = []
-        for v, low, high in zip(values, lows, highs):
-            v = v if low is None else max(v, low)
-            fixed.append(v if high is None else min(v, high))
-        if fixed != values:
-            self.note(NOT_CARRIED, f"{slot.factor} {values if len(values) > 1 else values[0]} is outside glTF's range; "
-                                   f"clamped to {fixed if len(fixed) > 1 else fixed[0]}", slot.parameter)
-        return fixed if isinstance(value, list) else fixed[0]
+        count = len(value) if isinstance(value, list) else 1
+        lows = parameter.hard_min if isinstance(parameter.hard_min, tuple) else (parameter.hard_min,) * count
+        highs = parameter.hard_max if isinstance(parameter.hard_max, tuple) else (parameter.hard_max,) * count
+        fixed = clamp(value, lows, highs)
+        if fixed != value:
+            self.note(NOT_CARRIED, f"{slot.factor} {value} is outside glTF's range; clamped to {fixed}", slot.parameter)
+        return fixed
 
     def linear(self, value, entry):
         """A colour constant in linear Rec.709, as glTF factors are (specification 3.9.2)."""

@@ -29,3 +29,14 @@ def json_finite(value) -> bool:
     if isinstance(value, list):
         return all(json_finite(v) for v in value)
     return True
+
+
+def clamp(value, lows, highs):
+    """``value`` (a number or a list of them) inside per-component bounds ``lows``/``highs`` (a
+    ``None`` bound is open); the same shape back."""
+    values = value if isinstance(value, list) else [value]
+    fixed = []
+    for v, low, high in zip(values, lows, highs):
+        v = v if low is None else max(v, low)
+        fixed.append(v if high is None else min(v, high))
+    return fixed if isinstance(value, list) else fixed[0]
