@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import glob
 import os
+import re
 import sys
 
 import click
@@ -38,6 +39,10 @@ OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tool
               help="With --verify: warn when a material's mean CIEDE2000 exceeds this.")
 @click.option("--max-delta-e", type=click.FloatRange(min=0), default=None, metavar="X",
               help="Implies --verify: exit 1 when a material's mean CIEDE2000 exceeds X (the report names it).")
+@click.option("--delta-e-images", type=click.Path(file_okay=False), metavar="DIR",
+              help="Implies --verify: write per material a side-by-side (original | converted | ΔE map) PNG per view.")
+@click.option("--report", "html_report", type=click.Path(dir_okay=False), metavar="FILE.html",
+              help="Implies --verify: write a self-contained HTML page with previews, ΔE maps, numbers and losses.")
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT (batch: any output) if it exists.")
 @click.option("--skip-existing", is_flag=True,
               help="Batch: keep an output newer than its input and the toolkit (an interrupted run resumes).")
@@ -53,7 +58,7 @@ OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tool
 @click.option("--fail-on", type=click.Choice(SEVERITIES + ("never",)), default="never", show_default=True,
               callback=_severity, help="Exit 1 when a report entry reaches this severity (error: something was dropped).")
 def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_unit, allow_outside, verify, threshold, max_delta_e,
-            force, skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format,
+            delta_e_images, html_report, force, skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format,
             fail_on):
     """Convert every material of INPUT (.mtlx, USD, glTF) and write OUTPUT; the report lists every
     conversion, approximation and loss.
@@ -67,6 +72,8 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
     if batch_format or len(inputs) > 1 or os.path.isdir(inputs[0]) or (glob.has_magic(inputs[0]) and not os.path.exists(inputs[0])):
         if max_delta_e is not None:
             raise click.UsageError("--max-delta-e applies to one input; use --verify --threshold X with several")
+        if delta_e_images or html_report:
+            raise click.UsageError("--delta-e-images and --report apply to one input")
         _batch(inputs, output, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, force,
                skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on,
                gltf_drafts)
@@ -89,9 +96,10 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
         raise click.UsageError("OUTPUT is the input file: openpbr never modifies its input")
     if os.path.exists(output) and not force:
         raise click.UsageError(f"{output} exists; pass --force to overwrite it")
+    verify = verify or max_delta_e is not None or bool(delta_e_images) or bool(html_report)
     try:
         result = convert_file(input_path, output, target, Settings(nits_per_unit=nits_per_unit, gltf_drafts=gltf_drafts,
-                                                                        candidates=verify or max_delta_e is not None),
+                                                                        candidates=verify),
                               mesh=mesh,
                               allow_outside=tuple(allow_outside))
     except ReadError as error:
@@ -100,17 +108,23 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
     except ValueError as error:
         raise click.UsageError(str(error)) from None
     too_far = []
-    if verify or max_delta_e is not None:
+    if verify:
         # lazy: `openpbr --help` loads every command module; the library loads when this command runs
-        from openpbr_tools.convert import display_name, measure
-        from openpbr_tools.convert import verify as verify_conversion
+        from openpbr_tools.convert import display_name
+        from openpbr_tools.verification import compare
+        from openpbr_tools.verification import verify as verify_conversion
 
-        measured = measure(result)
+        measured = compare(result, keep_images=bool(delta_e_images or html_report))
         limit = threshold if max_delta_e is None else min(threshold, max_delta_e)
         result.diagnostics = sorted(result.diagnostics + verify_conversion(result, limit, measured=measured),
                                     key=Diagnostic.sort_key)
         if max_delta_e is not None:
-            too_far = [display_name(source) for source, delta in measured if delta.mean > max_delta_e]
+            too_far = sorted({display_name(source) for source, c in measured if c.worst.mean > max_delta_e})
+        if delta_e_images:
+            write_delta_e_images(delta_e_images, [(display_name(source), c) for source, c in measured])
+        if html_report:
+            write_html_report(html_report, f"openpbr convert {os.path.basename(input_path)} -> {os.path.basename(output)}",
+                              [(display_name(source), c) for source, c in measured], result.diagnostics, limit)
     report = Report(files=[FileResult(input_path, result.diagnostics, materials=len(result.pairs))])
     click.echo(render(report, output_format, fail_on), nl=False)
     click.echo(f"wrote {output} ({len(result.pairs)} material(s))", err=True)
@@ -118,6 +132,47 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
         click.echo(f"mean CIEDE2000 above --max-delta-e {max_delta_e:g}: {', '.join(sorted(too_far))}", err=True)
         sys.exit(max(1, report.exit_code(fail_on)))
     sys.exit(report.exit_code(fail_on))
+
+
+def write_delta_e_images(folder, comparisons) -> None:
+    """One ``NAME_SHAPE.png`` side-by-side strip per material and view (ΔE map last)."""
+    # lazy: Pillow and the evaluator load only when images are asked for
+    from openpbr_tools.atomic import write_bytes
+    from openpbr_tools.evaluate.visual import view_images
+
+    try:
+        os.makedirs(folder, exist_ok=True)
+        used = set()
+        for name, comparison in comparisons:
+            stem = re.sub(r"[^A-Za-z0-9_.-]", "_", comparison.name_b if comparison.name_b != comparison.name_a else name)
+            while stem in used:
+                stem += "_"
+            used.add(stem)
+            for view in comparison.views:
+                write_bytes(os.path.join(folder, f"{stem}_{view.shape}.png"), view_images(view)["side_by_side"])
+    except OSError as error:
+        click.echo(f"openpbr: {folder}: {error}", err=True)
+        sys.exit(2)
+
+
+def write_html_report(path, title, comparisons, diagnostics, threshold, labels=("original", "converted")) -> None:
+    """The visual report (openpbr_tools.reports.html) of ``comparisons`` with the notes at each material."""
+    # lazy: as in write_delta_e_images
+    from openpbr_tools.atomic import write_text
+    from openpbr_tools.evaluate.visual import legend
+    from openpbr_tools.reports.html import entry_for, render_html
+    from openpbr_tools.rules.translation import VERIFIED, VERIFY_THRESHOLD
+
+    shown = (VERIFIED.code, VERIFY_THRESHOLD.code)  # the report's own numbers, shown as a table instead
+    entries = []
+    for name, comparison in comparisons:
+        at = [d for d in diagnostics if d.location.material == name and d.code not in shown]
+        entries.append(entry_for(comparison, at, threshold, name))
+    try:
+        write_text(path, render_html(title, entries, threshold, legend(), labels))
+    except OSError as error:
+        click.echo(f"openpbr: {path}: {error}", err=True)
+        sys.exit(2)
 
 
 STREAMED = ("jsonl", "github")  # report formats with one line per finding and no summary

@@ -84,19 +84,50 @@ class Baker:
         except (ImageRefused, ImageUnavailable) as error:
             raise BakeError(str(error)) from None
 
-    def _load(self, texture: Texture, owner: str):
+    def _load(self, texture: Texture, owner: str, levels: bool = False):
         key = ("baked", texture.file)
         if key in self._pixels:  # baked by an earlier step of this conversion: decoded on first use
             if isinstance(self._pixels[key], tuple):
                 self._pixels[key] = _as_read(*self._pixels[key])
             return self._pixels[key]
         located = self._resolve(texture, owner)
-        if located.key not in self._pixels:
+        key = located.key + ("levels",) if levels else located.key
+        if key not in self._pixels:
             try:
-                self._pixels[located.key] = load_pixels(located.image)
+                self._pixels[key] = load_pixels(located.image, levels)
             except Exception as error:  # noqa: BLE001 - Pillow and OpenImageIO raise many types for undecodable data
                 raise BakeError(f"{owner}: {texture.file!r} cannot be decoded ({error})") from None
-        return self._pixels[located.key]
+        return self._pixels[key]
+
+    def pixels(self, texture: Texture, owner: str):
+        """The decoded image of ``texture``, read once per conversion, with no channel selection, colour
+        management, scale or bias: uint8 levels ``(H, W, C)`` for an 8-bit image (greyscale keeps one
+        channel, two with alpha), else float ``(H, W, C)`` in [0, 1] as :meth:`texels` reads it.
+        ``BakeError`` when it cannot be read."""
+        return self._load(texture, owner, levels=True)
+
+    def size(self, texture: Texture, owner: str) -> tuple[int, int]:
+        """(width, height) of ``texture``'s image, from its header where Pillow reads it (no decode)."""
+        located = self._resolve(texture, owner)
+        try:
+            from PIL import Image  # lazy: as in load_pixels
+
+            with Image.open(io.BytesIO(located.image) if isinstance(located.image, bytes) else located.image) as opened:
+                return opened.size
+        except Exception:  # noqa: BLE001 - not an image Pillow opens (EXR...): decode it
+            pixels = self._load(texture, owner)
+            return pixels.shape[1], pixels.shape[0]
+
+    def source_space(self, texture: Texture, working_space: str, owner: str) -> str | None:
+        """The colour space a colour texture's texels are converted from (``None``: used as they are,
+        the working space or data); ``BakeError`` for a name that is not a known colour space."""
+        space = colorspaces.materialx_name(texture.colorspace)
+        if space is None or space == working_space or colorspaces.is_data(space):
+            return None
+        if space not in colorspaces.materialx_names():
+            raise BakeError(f"{owner}: colour space {texture.colorspace!r} of {texture.file!r} is unknown, "
+                            "so its texels cannot be decoded")
+        return space
 
     def texels(self, texture: Texture, type_name: str, working_space: str, owner: str):
         """The texture's values for a parameter of ``type_name``: ``(H, W, 1)`` or ``(H, W, 3)``,
@@ -112,11 +143,8 @@ class Baker:
         planes = [pixels[:, :, c] if c < pixels.shape[2] else np.ones(pixels.shape[:2]) for c in channels]
         values = np.stack(planes, axis=-1)
         if width == 3 and type_name == "color3":
-            space = colorspaces.materialx_name(texture.colorspace)
-            if space is not None and space != working_space and not colorspaces.is_data(space):
-                if space not in colorspaces.materialx_names():
-                    raise BakeError(f"{owner}: colour space {texture.colorspace!r} of {texture.file!r} is unknown, "
-                                    "so its texels cannot be decoded")
+            space = self.source_space(texture, working_space, owner)
+            if space is not None:
                 values = colorspaces.from_lin_rec709(colorspaces.to_lin_rec709(values, space), working_space)
         if texture.scale is not None:
             values = values * np.asarray(texture.scale, dtype=np.float64)

@@ -145,7 +145,8 @@ def convert_jobs(jobs: list[Job]) -> list[FileResult]:
 
 def _convert(job: Job) -> FileResult:
     # lazy: the conversion pipeline loads NumPy and the translators; planning and reporting do not need them
-    from .convert import convert_file, verify
+    from .convert import convert_file
+    from .verification import verify  # lazy: as the line above
     from .io import ReadError
     from .translate.common import Settings
 

@@ -140,15 +140,39 @@ def to_lin_rec709(rgb, colorspace: str | None):
     spec = _conversion(colorspace)
     if spec is None:
         return values
-    source = _space(spec["space"])
-    transfer = spec["transfer"]
-    if transfer == "space":
-        values = _per_level(source.cctf_decoding, values)
-    elif isinstance(transfer, dict):
-        values = _per_level(lambda v: np.sign(v) * np.abs(v) ** transfer["gamma"], values)
+    values = _decode(spec, values, _per_level)
     if spec["space"] == "sRGB":
         return np.asarray(values, dtype=np.float64)
     return values @ _matrix(spec["space"], "sRGB").T
+
+
+def levels_to_lin_rec709(levels, colorspace: str | None, dtype=None):
+    """:func:`to_lin_rec709` of ``levels / 255`` for 8-bit ``levels`` (uint8 ``(..., 3)``, what an
+    8-bit image stores): the transfer function tabulated over the 256 levels (the same numbers as
+    :func:`to_lin_rec709`), then the primaries. ``dtype`` (default float64) is that of the result."""
+    import numpy as np  # lazy: as in to_lin_rec709
+
+    dtype = dtype or np.float64
+    spec = _conversion(colorspace)
+    table = np.arange(256, dtype=np.float64) / 255.0
+    if spec is not None:
+        table = _decode(spec, table, lambda transfer, v: transfer(v))
+    values = np.asarray(table, dtype=dtype)[np.asarray(levels)]
+    if spec is None or spec["space"] == "sRGB":
+        return values
+    return values @ np.asarray(_matrix(spec["space"], "sRGB").T, dtype=dtype)
+
+
+def _decode(spec: dict, values, apply):
+    """The transfer function of a colour-space entry applied through ``apply(transfer, values)``."""
+    import numpy as np  # lazy: as in to_lin_rec709
+
+    transfer = spec["transfer"]
+    if transfer == "space":
+        return apply(_space(spec["space"]).cctf_decoding, values)
+    if isinstance(transfer, dict):
+        return apply(lambda v: np.sign(v) * np.abs(v) ** transfer["gamma"], values)
+    return values
 
 
 def _per_level(transfer, values):

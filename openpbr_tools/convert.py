@@ -28,12 +28,12 @@ from .diagnostics import Diagnostic
 from .io import read_asset
 from .io.gltf.document import load_document
 from .io.paths import Kind, PathGuard, classify
-from .model import Asset, Connection, Constant, Material, Texture
+from .model import Asset, Connection, Material, Texture
 from .resources import load_json
 from .rules import Context
-from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED, VERIFIED, VERIFY_THRESHOLD
+from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .bake import Baker
-from .translate.common import BakeError, Settings
+from .translate.common import Settings
 from .translate import candidates
 from .translate.convert import MODELS, convert
 
@@ -314,67 +314,3 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside)
     except ImportError:
         raise ValueError("glTF output needs the glTF writer, which this installation lacks") from None
     return write_gltf(result.materials, output_path, mesh=mesh, allow_outside=allow_outside, source=asset) or []
-
-
-def measure(conversion: Conversion) -> list[tuple[Material, object]]:
-    """(source material, CIEDE2000 statistics of its lit-sphere preview against the result's) for
-    every converted material, rendered by the lobe evaluator. Colours are compared in each
-    material's own colour space converted to linear Rec.709, so a glTF result (linear Rec.709
-    factors) and an ACEScg source are compared fairly."""
-    from .evaluate.verify import compare_materials  # lazy: the evaluator loads its albedo tables
-
-    readers = _texture_readers(conversion)
-    return [(source, compare_materials(_at_mean_texels(source, readers), _at_mean_texels(result, readers)).preview)
-            for source, result in conversion.pairs]
-
-
-def _texture_readers(conversion: Conversion) -> list[Baker]:
-    """Bakers that can read a texture of the source or of the result: the conversion's own (the
-    source's folder, and the images it baked), then one anchored at the output (rebased or packaged
-    textures), allowed to read the source's folder too."""
-    readers = [conversion.baker] if conversion.baker is not None else []
-    if conversion.output:
-        source_folder = os.path.dirname(os.path.abspath(conversion.asset.path))
-        readers.append(Baker(conversion.output, tempfile.gettempdir(), conversion.allow_outside + (source_folder,)))
-    return readers
-
-
-def _at_mean_texels(material: Material, readers: list[Baker]) -> Material:
-    """``material`` with each texture replaced by its mean texel (linear Rec.709), so the lobe
-    evaluator, which shades constants, compares textured materials at a representative value
-    rather than at their fallbacks. Textures no reader can read keep their fallback."""
-    table = tables.table(material.model, material.version) if material.version else tables.table(material.model)
-    inputs = dict(material.inputs)
-    for name, entry in material.inputs.items():
-        texture, parameter = entry.texture, table.get(name)
-        if texture is None or parameter is None or parameter.role in ("normal", "tangent") or texture.normal_map:
-            continue
-        for reader in readers:
-            try:
-                mean = reader.mean(texture, parameter.type, f"{material.name}.{name}")
-            except BakeError:
-                continue
-            if parameter.type in ("color3", "vector3") and not isinstance(mean, tuple):
-                mean = (mean,) * 3
-            if parameter.type not in ("color3", "vector3") and isinstance(mean, tuple):
-                mean = mean[0]
-            inputs[name] = dataclasses.replace(entry, value=Constant(mean),
-                                               colorspace="lin_rec709" if parameter.role == "color" else None)
-            break
-    return dataclasses.replace(material, inputs=inputs)
-
-
-def verify(conversion: Conversion, threshold: float = 2.0, context: Context | None = None,
-           measured: list | None = None) -> list[Diagnostic]:
-    """The report of :func:`measure` (or of ``measured``, its result): OPBR1108 per material, OPBR1109
-    where the mean CIEDE2000 exceeds ``threshold``."""
-    context = context or Context()
-    found = []
-    results = dict((id(source), result) for source, result in conversion.pairs)
-    for source, delta in (measured if measured is not None else measure(conversion)):
-        result = results[id(source)]
-        message = (f"{source.name}: {source.model} -> {result.model}, CIEDE2000 mean {delta.mean:.2f}, "
-                   f"p95 {delta.p95:.2f}, max {delta.max:.2f} (lit sphere)")
-        rule = VERIFY_THRESHOLD if delta.mean > threshold else VERIFIED
-        found.append(context.diagnostic(rule, message, source.location.with_material(display_name(source))))
-    return found

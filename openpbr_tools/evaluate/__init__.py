@@ -49,9 +49,10 @@ def build_model(model: str, values: dict | None = None) -> BSDFModel:
     return model_class(model)(resolved.values)
 
 
-def model_for_material(material) -> tuple[BSDFModel, ResolvedParameters]:
-    """An evaluator for a :class:`~openpbr_tools.model.Material` and how its inputs resolved."""
-    resolved = resolve(material)
+def model_for_material(material, sampler=None, uvs=None) -> tuple[BSDFModel, ResolvedParameters]:
+    """An evaluator for a :class:`~openpbr_tools.model.Material` and how its inputs resolved; with a
+    :class:`~.textures.TextureSampler` and ``uvs``, textures are read at those points."""
+    resolved = resolve(material, sampler, uvs)
     return model_class(material.model)(resolved.values), resolved
 
 

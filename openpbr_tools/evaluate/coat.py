@@ -51,13 +51,18 @@ def coat_darkening_factor(base_color, base_metalness, specular_weight, subsurfac
     Reference: OpenPBR Surface 1.1, section "Coat" ("Coat darkening"); MaterialX
     ``open_pbr_surface`` graph, which evaluates it view-independently as here.
     """
+    amount = np.asarray(coat_weight) * np.asarray(coat_darkening)
+    if not np.any(amount):  # no coat, or no darkening: 1 everywhere (a texture's worth of arithmetic saved)
+        shapes = [np.shape(v) for v in (base_color, base_metalness, specular_weight, subsurface_weight,
+                                        subsurface_color, coat_weight, coat_darkening, coat_ior)]
+        return np.ones(np.broadcast_shapes(*shapes))
     f0 = ior_to_f0(coat_ior)
     k = 1.0 - (1.0 - f0) / (coat_ior * coat_ior)
     dielectric = base_color + subsurface_weight * (subsurface_color - base_color)
     metal = base_color * specular_weight
     e_base = dielectric + base_metalness * (metal - dielectric)
     factor = (1.0 - k) / (1.0 - e_base * k)
-    return 1.0 + (factor - 1.0) * coat_weight * coat_darkening
+    return 1.0 + (factor - 1.0) * amount
 
 
 def coat_absorption(coat_color, coat_weight):

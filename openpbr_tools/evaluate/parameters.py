@@ -4,14 +4,18 @@ For every parameter of the model's table (``schemas/models/``, latest version of
 
 * an authored constant is used as is (colours converted to linear Rec.709 from the input's, or
   else the material's, colour space);
-* a texture contributes its ``fallback`` value when it has one, otherwise the table default,
-  and the parameter is listed under ``textured`` ("textured (not evaluated)");
+* a texture, given a :class:`~.textures.TextureSampler` and the shading points' UVs, is read per
+  point (an array with one value per point; the main normal map becomes ``normal``, a
+  tangent-space vector per point); without a sampler, or where the sampler cannot read it, it
+  contributes its ``fallback`` value when it has one, otherwise the table default, and the
+  parameter is listed under ``textured`` ("textured (not evaluated)", with the reason);
 * a connection the reader could not interpret, or an unparsable value, falls back to the
   table default and is listed under ``not_evaluated``;
 * anything unset takes the table default.
 
-Geometric inputs (normals, tangents) are not evaluated: the evaluator works in the shading
-frame. Defaults are never retyped here; they come from the tables.
+Of the geometric inputs only the main normal map is evaluated (it tilts the shading frame); a
+textured coat normal or tangent is listed as approximated (the lobes share one frame, the base's).
+Defaults are never retyped here; they come from the tables.
 """
 
 from __future__ import annotations
@@ -44,9 +48,15 @@ class ResolvedParameters:
     textured: list[str] = field(default_factory=list)
     not_evaluated: list[str] = field(default_factory=list)
     ignored: list[str] = field(default_factory=list)
+    sampled: list[str] = field(default_factory=list)  # textured parameters read per shading point
+    normal: object = None  # (N, 3) tangent-space normals from the main normal map, or None
+    approximated: list[tuple[str, str]] = field(default_factory=list)  # (parameter, why)
+    why_not: dict = field(default_factory=dict)  # textured parameter -> why it was not sampled
 
     def notes(self) -> list[str]:
-        out = [f"{name}: textured (not evaluated)" for name in self.textured]
+        out = [f"{name}: textured (not evaluated{': ' + self.why_not[name] if name in self.why_not else ''})"
+               for name in self.textured]
+        out += [f"{name}: {why}" for name, why in self.approximated]
         out += [f"{name}: not evaluated (connection or invalid value), default used" for name in self.not_evaluated]
         out += [f"{name}: not a parameter of {self.model} {self.version}, ignored" for name in self.ignored]
         return out
@@ -65,6 +75,28 @@ def _convert(value, ptype: str, role: str, colorspace: str | None):
     if ptype in ("color3", "color4") and role == "color":
         array = colour_to_lin_rec709(array[..., :3], colorspace)
     return array
+
+
+def _fallback_for(texture: Texture, ptype: str):
+    """A texture's fallback in the parameter's width: UsdUVTexture's is a float4, of which a float
+    parameter reads the channel the texture delivers and a colour the first three."""
+    fallback = texture.fallback
+    if not isinstance(fallback, (tuple, list)):
+        return fallback
+    if ptype in ("color3", "vector3"):
+        return tuple(fallback[:3]) if len(fallback) >= 3 else fallback
+    if ptype in ("float", "integer"):
+        channel = texture.channels[0] if texture.channels else 0
+        return fallback[channel] if channel < len(fallback) else fallback[0]
+    return fallback
+
+
+def _sampled(values: np.ndarray, p) -> np.ndarray:
+    """A sampler's values shaped for the evaluator: (N,) for floats, (N, 3) for colours (a single
+    channel read for a colour is grey)."""
+    if p.type in ("color3", "color4", "vector3"):
+        return values if values.ndim == 2 else np.repeat(values[:, None], 3, axis=1)
+    return values if values.ndim == 1 else values[:, 0]
 
 
 def colour_to_lin_rec709(rgb: np.ndarray, colorspace: str | None) -> np.ndarray:
@@ -102,8 +134,16 @@ def with_values(model: str, overrides: dict) -> ResolvedParameters:
     return resolved
 
 
-def resolve(material: Material) -> ResolvedParameters:
-    """Resolve ``material`` (see the module docstring)."""
+#: The normal input whose map tilts the shading frame, per model; other normal inputs (coats) share it.
+MAIN_NORMAL = {"open_pbr_surface": "geometry_normal", "standard_surface": "normal", "gltf_pbr": "normal",
+               "UsdPreviewSurface": "normal"}
+
+
+def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
+    """Resolve ``material`` (see the module docstring); with ``sampler`` and ``uvs`` (a
+    :class:`~.textures.UVs` of N shading points) textures are read per point."""
+    from .textures import TextureUnavailable  # lazy: circular (textures is a sibling only samplers need)
+
     resolved = defaults(material.model)
     table = tables.table(material.model)
     for name, entry in material.inputs.items():
@@ -111,12 +151,34 @@ def resolve(material: Material) -> ResolvedParameters:
         if p is None:
             resolved.ignored.append(name)
             continue
+        value = entry.value
+        if sampler is not None and uvs is not None and isinstance(value, Texture) and p.type not in ("boolean", "integer") \
+                and p.role not in ("filename", "string"):
+            owner = f"{material.name}.{name}"
+            if p.role in ("normal", "tangent") and name != MAIN_NORMAL.get(material.model):
+                resolved.approximated.append((name, "textured; shaded with the main normal's frame (one frame for "
+                                                    "all lobes)" if p.role == "normal" else "textured direction map "
+                                                    "not evaluated (the surface's tangent is used)"))
+                continue
+            if p.role == "normal" and value.normal_map is None:
+                resolved.approximated.append((name, "an image without a normal-map decode; the surface normal is used"))
+                continue
+            try:
+                sampled = sampler.sample(value, p.type, uvs, owner)
+            except TextureUnavailable as error:
+                resolved.why_not[name] = str(error).removeprefix(owner + ": ")
+            else:
+                resolved.sampled.append(name)
+                if p.role == "normal":
+                    resolved.normal = sampled
+                else:
+                    resolved.values[name] = _sampled(sampled, p)
+                continue
         if p.role in _GEOMETRIC_ROLES:
-            if isinstance(entry.value, Texture):
+            if isinstance(value, Texture):
                 resolved.textured.append(name)
             continue
         colorspace = entry.colorspace or material.colorspace
-        value = entry.value
         try:
             if isinstance(value, Constant):
                 resolved.values[name] = _convert(value.value, p.type, p.role, colorspace)
@@ -124,7 +186,7 @@ def resolve(material: Material) -> ResolvedParameters:
                 resolved.textured.append(name)
                 if value.fallback is not None:
                     space = value.colorspace or colorspace
-                    resolved.values[name] = _convert(value.fallback, p.type, p.role, space)
+                    resolved.values[name] = _convert(_fallback_for(value, p.type), p.type, p.role, space)
             elif isinstance(value, Connection) or value is None:
                 resolved.not_evaluated.append(name)
         except (TypeError, ValueError):

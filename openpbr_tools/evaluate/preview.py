@@ -27,12 +27,14 @@ adds it to its lighting.
 
 from __future__ import annotations
 
+import dataclasses
 import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from .layering import BSDFModel
+from .textures import UVs
 
 
 @dataclass(frozen=True)
@@ -55,15 +57,29 @@ class Rig:
 
 
 @dataclass
-class SphereGeometry:
-    mask: np.ndarray  # (H, W) bool: pixel centre on the sphere
+class Geometry:
+    """Shading points of a preview: the image pixels they cover, their frames and their texture
+    coordinates (with screen-space derivatives, for mip-mapped lookups)."""
+
+    mask: np.ndarray  # (H, W) bool: pixel centre on the surface
     normal: np.ndarray  # (N, 3) world normals of the masked pixels
     tangent: np.ndarray  # (N, 3)
     bitangent: np.ndarray  # (N, 3)
     shape: tuple[int, int] = field(default=(0, 0))
+    uvs: UVs | None = None
 
 
-def sphere_geometry(rig: Rig) -> SphereGeometry:
+SphereGeometry = Geometry  # the name before swatches existed
+
+SHAPES = ("sphere", "swatch")
+
+
+def sphere_geometry(rig: Rig) -> Geometry:
+    """The preview sphere. Its texture coordinates are those of a latitude-longitude UV sphere
+    with the seam at the back: ``u = 1/2 + atan2(x, z) / 2 pi`` (increasing along the tangent),
+    ``v = 1/2 + asin(y) / pi`` (0 at the south pole, V up as in MaterialX). Derivatives per pixel
+    step: ``du/dx = 1 / (2 pi z)``, ``du/dy = x y / (2 pi z (x^2 + z^2))``, ``dv/dy = 1 / (pi
+    sqrt(1 - y^2))``, ``dv/dx = 0``, times the pixel size."""
     n = rig.size
     c = -rig.extent + (np.arange(n) + 0.5) * (2.0 * rig.extent / n)
     x, y = np.meshgrid(c, -c)  # row 0 at the top (+y)
@@ -76,40 +92,156 @@ def sphere_geometry(rig: Rig) -> SphereGeometry:
     t_len = np.linalg.norm(t, axis=-1, keepdims=True)
     t = np.where(t_len > 1e-6, t / np.maximum(t_len, 1e-12), np.array([1.0, 0.0, 0.0]))
     b = np.cross(normal, t)
-    return SphereGeometry(mask, normal, t, b, (n, n))
+    u = 0.5 + np.arctan2(xs, zs) / (2.0 * np.pi)
+    v = 0.5 + np.arcsin(np.clip(ys, -1.0, 1.0)) / np.pi
+    step = 2.0 * rig.extent / n
+    z = np.maximum(zs, 1e-3)
+    ring = np.maximum(xs * xs + zs * zs, 1e-6)
+    dx = np.stack([step / (2.0 * np.pi * z), np.zeros_like(z)], axis=-1)
+    dy = np.stack([step * xs * ys / (2.0 * np.pi * z * ring), step / (np.pi * np.sqrt(ring))], axis=-1)
+    return Geometry(mask, normal, t, b, (n, n), UVs(np.stack([u, v], axis=-1), dx, dy))
 
 
-def _to_local(v, geo: SphereGeometry) -> np.ndarray:
+def swatch_geometry(rig: Rig) -> Geometry:
+    """A flat square facing the camera that fills the image with UV space [0, 1]^2 (u to the
+    right, v up): one pixel per ``1 / size`` of UV. Tangent +x, bitangent +y, normal +z."""
+    n = rig.size
+    centres = (np.arange(n) + 0.5) / n
+    u, v = np.meshgrid(centres, 1.0 - centres)
+    count = n * n
+    ones = np.ones(count)
+    zeros = np.zeros(count)
+    normal = np.stack([zeros, zeros, ones], axis=-1)
+    tangent = np.stack([ones, zeros, zeros], axis=-1)
+    bitangent = np.stack([zeros, ones, zeros], axis=-1)
+    step = np.full(count, 1.0 / n)
+    uvs = UVs(np.stack([u.ravel(), v.ravel()], axis=-1), np.stack([step, zeros], axis=-1),
+              np.stack([zeros, step], axis=-1))
+    return Geometry(np.ones((n, n), dtype=bool), normal, tangent, bitangent, (n, n), uvs)
+
+
+def geometry(shape: str, rig: Rig) -> Geometry:
+    if shape not in SHAPES:
+        raise ValueError(f"unknown preview shape {shape!r} (one of {', '.join(SHAPES)})")
+    return sphere_geometry(rig) if shape == "sphere" else swatch_geometry(rig)
+
+
+def perturbed(geo: Geometry, normal_ts: np.ndarray | None) -> Geometry:
+    """``geo`` with its shading normals replaced by tangent-space ``normal_ts`` (N, 3): n =
+    normalize(x T + y B + z N), the tangent re-orthogonalised against it (Gram-Schmidt) and
+    B = n x T, as MaterialX's ``normalmap`` and glTF's normal textures define the frame. A zero
+    or non-finite vector keeps the surface normal."""
+    if normal_ts is None:
+        return geo
+    ts = np.asarray(normal_ts, dtype=float)
+    n = ts[:, :1] * geo.tangent + ts[:, 1:2] * geo.bitangent + ts[:, 2:3] * geo.normal
+    length = np.linalg.norm(n, axis=-1, keepdims=True)
+    ok = np.isfinite(length) & (length > 1e-8)
+    n = np.where(ok, n / np.where(ok, length, 1.0), geo.normal)
+    t = geo.tangent - n * np.sum(n * geo.tangent, -1, keepdims=True)
+    t_len = np.linalg.norm(t, axis=-1, keepdims=True)
+    t = np.where(t_len > 1e-6, t / np.maximum(t_len, 1e-12), geo.tangent)
+    return dataclasses.replace(geo, normal=n, tangent=t, bitangent=np.cross(n, t))
+
+
+def _to_local(v, geo: Geometry) -> np.ndarray:
     v = np.asarray(v, dtype=float)
     return np.stack([np.sum(v * geo.tangent, -1), np.sum(v * geo.bitangent, -1), np.sum(v * geo.normal, -1)], axis=-1)
+
+
+def _above(local: np.ndarray) -> np.ndarray:
+    """A view direction a perturbed normal put below the surface, lifted just above it."""
+    lifted = local.copy()
+    lifted[:, 2] = np.maximum(lifted[:, 2], 1e-4)
+    return lifted / np.linalg.norm(lifted, axis=-1, keepdims=True)
 
 
 def shade_sphere(model: BSDFModel, rig: Rig = Rig(), background: bool = True) -> tuple[np.ndarray, np.ndarray]:
     """Render ``model`` on the preview sphere. Returns ``(image, mask)``: linear Rec.709 RGB of
     shape (size, size, 3) and the boolean mask of sphere pixels. With ``background`` the
     environment radiance fills the pixels off the sphere, otherwise they are 0."""
-    geo = sphere_geometry(rig)
+    return shade(model, sphere_geometry(rig), rig, background)
+
+
+def shade(model: BSDFModel, geo: Geometry, rig: Rig = Rig(), background: bool = True,
+          environment: "Environment | None" = None) -> tuple[np.ndarray, np.ndarray]:
+    """Render ``model`` (constant or per-pixel parameters, one per masked pixel of ``geo``) on
+    ``geo``, lit by the rig or by ``environment``. Returns ``(image, mask)`` as
+    :func:`shade_sphere`."""
     wo = _to_local(np.array([0.0, 0.0, 1.0]), geo)
-    wi = _to_local(rig.key, geo)
-    cos_i = wi[:, 2]
-    f = model.evaluate(wi, wo)
-    lit = np.where(cos_i > 0.0, cos_i, 0.0)
-    if model.thin_walled:
-        lit = np.abs(cos_i)
-    direct = f * (lit * rig.key_irradiance)[:, None]
+    if np.any(wo[:, 2] < 1e-4):
+        wo = _above(wo)
+    ambient = rig.environment_radiance if environment is None else environment.mean
+    if environment is None:
+        lights = [(rig.key, rig.key_irradiance)]
+    else:
+        lights = environment.lights
+    direct = 0.0
+    for direction, irradiance in lights:
+        wi = _to_local(direction, geo)
+        cos_i = wi[:, 2]
+        lit = np.abs(cos_i) if model.thin_walled else np.where(cos_i > 0.0, cos_i, 0.0)
+        if not np.any(lit):
+            continue
+        f = model.evaluate(wi, wo)
+        direct = direct + f * lit[:, None] * np.asarray(irradiance, dtype=float)
     albedo = model.albedo(wo)
     transmit = np.asarray(albedo.transmit)
     if model.volume_absorption is not None and np.any(transmit):
         path = getattr(model, "volume_path_length", None)
         path = rig.volume_path_length if path is None else np.asarray(path, dtype=float)
         transmit = transmit * np.exp(-np.asarray(model.volume_absorption) * np.asarray(path)[..., None])
-    radiance = direct + rig.environment_radiance * (np.asarray(albedo.reflect) + transmit)
+    radiance = direct + ambient * (np.asarray(albedo.reflect) + transmit)
     radiance = radiance + model.emission(wo)
     coverage = np.asarray(model.opacity, dtype=float)
-    radiance = coverage[..., None] * radiance + (1.0 - coverage[..., None]) * rig.environment_radiance
-    image = np.full(geo.shape + (3,), rig.environment_radiance if background else 0.0)
-    image[geo.mask] = radiance
+    radiance = coverage[..., None] * radiance + (1.0 - coverage[..., None]) * ambient
+    image = np.zeros(geo.shape + (3,))
+    if background:
+        image[:] = ambient
+    image[geo.mask] = np.broadcast_to(radiance, (int(geo.mask.sum()), 3))
     return image, geo.mask
+
+
+@dataclass
+class Environment:
+    """A latitude-longitude environment reduced for the evaluator: its mean radiance lights every
+    point through the directional albedo (exact for a uniform environment, as the rig's), and the
+    brightest cells of a 16 x 32 grid, where they exceed that mean, act as directional lights
+    carrying their excess irradiance (radiance above the mean times the cell's solid angle).
+    Deterministic; no ray tracing, no GL."""
+
+    mean: np.ndarray  # (3,) mean radiance (solid-angle weighted)
+    lights: list  # [(direction (3,), irradiance (3,))]
+
+    @classmethod
+    def from_latlong(cls, radiance: np.ndarray, count: int = 24) -> "Environment":
+        """``radiance``: (H, W, 3) linear Rec.709 in MaterialX's latitude-longitude layout
+        (``mx_latlong_projection``: ``u = 1/2 + atan2(x, -z) / 2 pi``, ``v = 1/2 - asin(y) / pi``,
+        row 0 up), i.e. the direction of (u, v) is ``(-sin(2 pi u) sin(pi v), cos(pi v),
+        cos(2 pi u) sin(pi v))``."""
+        rows, cols = 16, 32
+        h, w = radiance.shape[:2]
+        grid = np.zeros((rows, cols, 3))
+        for j in range(rows):
+            for i in range(cols):
+                block = radiance[j * h // rows:max(j * h // rows + 1, (j + 1) * h // rows),
+                                 i * w // cols:max(i * w // cols + 1, (i + 1) * w // cols), :3]
+                grid[j, i] = block.reshape(-1, 3).mean(axis=0)
+        theta = np.pi * (np.arange(rows) + 0.5) / rows
+        phi = 2.0 * np.pi * (np.arange(cols) + 0.5) / cols
+        solid = (2.0 * np.pi / cols) * (np.cos(np.pi * np.arange(rows) / rows) - np.cos(np.pi * (np.arange(rows) + 1) / rows))
+        weights = np.repeat(solid[:, None], cols, axis=1)
+        mean = (grid * weights[..., None]).sum(axis=(0, 1)) / (4.0 * np.pi)
+        excess = np.clip(grid - mean, 0.0, None) * weights[..., None]
+        order = np.argsort(-excess.sum(axis=-1), axis=None, kind="stable")[:count]
+        lights = []
+        for index in order:
+            j, i = divmod(int(index), cols)
+            if not np.any(excess[j, i] > 0):
+                continue
+            d = np.array([-np.sin(phi[i]) * np.sin(theta[j]), np.cos(theta[j]), np.cos(phi[i]) * np.sin(theta[j])])
+            lights.append((d, excess[j, i]))
+        return cls(mean, lights)
 
 
 def encode_srgb(linear: np.ndarray) -> np.ndarray:

@@ -1,24 +1,32 @@
-"""Verifying translations: render materials on the preview sphere, pair the materials of two
-assets and measure their CIEDE2000 differences.
+"""Verifying translations: render materials on the preview sphere and the texture-space swatch,
+pair the materials of two assets and measure their CIEDE2000 differences.
 
 A pair's difference is measured on the lit-sphere previews (every sphere pixel, the same rig for
-both; see :mod:`.preview` and :mod:`.difference` for the lighting, exposure and white point) and,
-as a second number, on the directional-albedo curves E(mu) at 16 view angles.
+both; see :mod:`.preview` and :mod:`.difference` for the lighting, exposure and white point), as a
+second number on the directional-albedo curves E(mu) at 16 view angles, and, when either material
+is textured and a :class:`~.textures.TextureSampler` is given, per texel on the flat swatch that
+shows UV space [0, 1]^2 (one pixel per texel of the finest texture, up to
+:data:`MAX_SWATCH`), where a swapped channel, a flipped V or a lost normal map shows wherever the
+texture varies. Textures are read per pixel on both shapes; without a sampler they are
+evaluated at their fallbacks (and listed in the notes).
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from . import model_for_material
-from .difference import DeltaE, compare_albedo, compare_images
+from .difference import DeltaE, compare_albedo, delta_e_2000, summarize
 from .measure import directional_albedo
-from .preview import Rig, shade_sphere
+from .preview import Rig, geometry, perturbed, shade
 
 #: View cosines at which albedo curves are compared.
 ALBEDO_COSINES = np.linspace(0.05, 1.0, 16)
+#: Largest texture-space swatch (pixels per side) a comparison renders.
+MAX_SWATCH = 512
 
 
 @dataclass
@@ -28,13 +36,37 @@ class Swatch:
     image: np.ndarray
     mask: np.ndarray
     notes: list[str] = field(default_factory=list)
+    textured: bool = False  # some texture was read per pixel
 
 
-def render_material(material, rig: Rig = Rig()) -> Swatch:
-    """Preview of one :class:`~openpbr_tools.model.Material` with notes on what was not evaluated."""
-    model, resolved = model_for_material(material)
-    image, mask = shade_sphere(model, rig)
-    return Swatch(material.name, material.model, image, mask, resolved.notes())
+def _render(material, rig: Rig, sampler, shape: str, environment=None):
+    geo = geometry(shape, rig)
+    model, resolved = model_for_material(material, sampler, geo.uvs if sampler is not None else None)
+    image, mask = shade(model, perturbed(geo, resolved.normal), rig, environment=environment)
+    notes = resolved.notes()
+    if sampler is not None:
+        prefix = f"{material.name}."
+        notes += [f"{owner[len(prefix):]}: {text}" for owner, text in sampler.notes if owner.startswith(prefix)]
+    return image, mask, notes, resolved
+
+
+def render_material(material, rig: Rig = Rig(), sampler=None, shape: str = "sphere", environment=None) -> Swatch:
+    """Preview of one :class:`~openpbr_tools.model.Material` on ``shape`` (``sphere`` or
+    ``swatch``), its textures read through ``sampler`` when given, lit by the rig or by an
+    :class:`~.preview.Environment`; with notes on what was not evaluated."""
+    image, mask, notes, resolved = _render(material, rig, sampler, shape, environment)
+    return Swatch(material.name, material.model, image, mask, list(dict.fromkeys(notes)), bool(resolved.sampled))
+
+
+@dataclass
+class View:
+    """Both materials rendered on one shape, and the per-pixel CIEDE2000 map (NaN off the shape)."""
+
+    shape: str
+    image_a: np.ndarray
+    image_b: np.ndarray
+    delta_e: np.ndarray
+    white: float
 
 
 @dataclass
@@ -46,30 +78,85 @@ class MaterialComparison:
     preview: DeltaE
     albedo: DeltaE
     notes: list[str] = field(default_factory=list)
+    swatch: DeltaE | None = None  # per texel on the texture-space swatch, when either side is textured
+    views: list[View] = field(default_factory=list)  # kept when asked (images for reports)
+
+    @property
+    def worst(self) -> DeltaE:
+        """The shape whose mean CIEDE2000 is larger: what a threshold applies to."""
+        if self.swatch is not None and self.swatch.mean > self.preview.mean:
+            return self.swatch
+        return self.preview
 
     def as_dict(self) -> dict:
-        return {
+        out = {
             "a": {"name": self.name_a, "model": self.model_a},
             "b": {"name": self.name_b, "model": self.model_b},
             "preview": self.preview.as_dict(),
             "albedo": self.albedo.as_dict(),
             "notes": list(self.notes),
         }
+        if self.swatch is not None:
+            out["swatch"] = self.swatch.as_dict()
+        return out
 
 
-def compare_materials(material_a, material_b, rig: Rig = Rig()) -> MaterialComparison:
-    """CIEDE2000 between the previews and the albedo curves of two materials."""
-    model_a, resolved_a = model_for_material(material_a)
-    model_b, resolved_b = model_for_material(material_b)
-    image_a, mask = shade_sphere(model_a, rig)
-    image_b, _ = shade_sphere(model_b, rig)
-    preview = compare_images(image_a, image_b, mask, rig.white())
+def swatch_size(materials, sampler, rig: Rig) -> int:
+    """Pixels per side of the texture-space swatch: one per texel of the finest texture of
+    ``materials`` (its resolution divided by its place2d scale), at least the rig's size, at most
+    :data:`MAX_SWATCH`."""
+    size = rig.size
+    for material in materials:
+        for _, texture in material.textures():
+            resolution = sampler.resolution(texture) if sampler is not None else None
+            if resolution is None:
+                continue
+            scale = texture.uv.scale if texture.uv is not None else (1.0, 1.0)
+            for extent, s in zip(resolution, scale):
+                if s:
+                    size = max(size, int(round(extent / abs(s))))
+    return min(size, MAX_SWATCH)
+
+
+def compare_materials(material_a, material_b, rig: Rig = Rig(), sampler=None, keep_images: bool = False,
+                      swatch: bool | None = None, sampler_b=None) -> MaterialComparison:
+    """CIEDE2000 between the previews and the albedo curves of two materials; with ``sampler``
+    (and ``sampler_b`` for the second material, when its textures resolve elsewhere), textures
+    are read per pixel and, when either material is textured (or ``swatch`` is True), the
+    texture-space swatches are compared too. ``keep_images`` keeps both renders and the ΔE map
+    of each shape in ``views``."""
+    sampler_b = sampler if sampler_b is None else sampler_b
+    image_a, mask, notes_a, resolved_a = _render(material_a, rig, sampler, "sphere")
+    image_b, _, notes_b, resolved_b = _render(material_b, rig, sampler_b, "sphere")
+    white = rig.white()
+    sphere_map = _delta_map(image_a, image_b, mask, white)
+    views = [View("sphere", image_a, image_b, sphere_map, white)] if keep_images else []
+    textured = bool(resolved_a.sampled or resolved_b.sampled)
+    swatch_delta = None
+    if sampler is not None and sampler_b is not None and (swatch or (swatch is None and textured)):
+        size = max(swatch_size((material_a,), sampler, rig), swatch_size((material_b,), sampler_b, rig))
+        flat = dataclasses.replace(rig, size=size)
+        flat_a, flat_mask, _, _ = _render(material_a, flat, sampler, "swatch")
+        flat_b, _, _, _ = _render(material_b, flat, sampler_b, "swatch")
+        flat_map = _delta_map(flat_a, flat_b, flat_mask, flat.white())
+        swatch_delta = summarize(flat_map[flat_mask])
+        if keep_images:
+            views.append(View("swatch", flat_a, flat_b, flat_map, flat.white()))
+    model_a, _ = model_for_material(material_a)
+    model_b, _ = model_for_material(material_b)
     albedo_a = directional_albedo(model_a, ALBEDO_COSINES)
     albedo_b = directional_albedo(model_b, ALBEDO_COSINES)
     albedo = compare_albedo(albedo_a[0] + albedo_a[1], albedo_b[0] + albedo_b[1])
-    notes = [f"A {material_a.name}: {n}" for n in resolved_a.notes()]
-    notes += [f"B {material_b.name}: {n}" for n in resolved_b.notes()]
-    return MaterialComparison(material_a.name, material_b.name, material_a.model, material_b.model, preview, albedo, notes)
+    notes = [f"A {material_a.name}: {n}" for n in dict.fromkeys(notes_a)]
+    notes += [f"B {material_b.name}: {n}" for n in dict.fromkeys(notes_b)]
+    return MaterialComparison(material_a.name, material_b.name, material_a.model, material_b.model,
+                              summarize(sphere_map[mask]), albedo, notes, swatch_delta, views)
+
+
+def _delta_map(image_a, image_b, mask, white: float) -> np.ndarray:
+    out = np.full(mask.shape, np.nan)
+    out[mask] = delta_e_2000(image_a[mask], image_b[mask], white)
+    return out
 
 
 @dataclass

@@ -92,9 +92,12 @@ PACKAGED_IMAGE_SUFFIXES = GLTF_SUFFIXES  # containers whose embedded images can 
 
 
 def packaged_image(container: str, member: str, cache: dict | None = None) -> tuple[bytes, str | None]:
-    """The bytes and MIME type of image ``member`` (``#/images/N``) stored inside ``container`` (a
-    ``.gltf``/``.glb``); :class:`ReadError` when the container or the image cannot be read, or
+    """The bytes and MIME type of image ``member`` stored inside ``container``: ``#/images/N`` of a
+    ``.gltf``/``.glb``, or a path inside a ``.usdz`` package (a zip archive, read with
+    :mod:`zipfile`); :class:`ReadError` when the container or the image cannot be read, or
     ``member`` names no image. ``cache`` keeps loaded containers between calls."""
+    if container.lower().endswith(".usdz"):
+        return _usdz_member(container, member)
     match = re.fullmatch(r"#/images/(\d+)", member)
     if match is None or not container.lower().endswith(PACKAGED_IMAGE_SUFFIXES):
         raise ReadError("unsupported", f"{member!r} is not an image of a glTF container", Location(container))
@@ -104,6 +107,22 @@ def packaged_image(container: str, member: str, cache: dict | None = None) -> tu
     if container not in cache:
         cache[container] = load_document(container)
     return cache[container].image_bytes(int(match.group(1)))
+
+
+def _usdz_member(container: str, member: str) -> tuple[bytes, str | None]:
+    import zipfile  # lazy: only a texture packaged in a USDZ needs it
+
+    name = member.split("[", 1)[-1].rstrip("]") if member.endswith("]") else member
+    name = name.lstrip("./")
+    try:
+        with zipfile.ZipFile(container) as archive:
+            data = archive.read(name)
+    except KeyError:
+        raise ReadError("unreadable", f"{member!r} is not in the package", Location(container)) from None
+    except (OSError, zipfile.BadZipFile) as error:
+        raise ReadError("unreadable", f"the package cannot be opened ({error})", Location(container)) from None
+    mime = "image/png" if data.startswith(b"\x89PNG") else "image/jpeg" if data.startswith(b"\xff\xd8\xff") else None
+    return data, mime
 
 
 def available_suffixes() -> tuple[str, ...]:

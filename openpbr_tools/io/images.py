@@ -118,14 +118,17 @@ class ImageLocator:
             data, mime = packaged_image(container or "", texture.file, self.containers)
         except ReadError as error:
             if error.kind == "unsupported":
-                raise ImageUnavailable(f"{owner}: {texture.file!r} is inside a package the glTF writer cannot open, "
-                                       "not written") from None
+                raise ImageUnavailable(f"{owner}: {texture.file!r} is inside a package that cannot be opened here, "
+                                       "not read") from None
             raise ImageUnavailable(f"{owner}: {texture.file!r} cannot be loaded ({error.message}), not written") from None
         stem = os.path.splitext(os.path.basename(container))[0]
-        index = texture.file.rsplit("/", 1)[1]
         extension = {"image/png": ".png", "image/jpeg": ".jpg"}.get(sniff(data) or mime or "", ".png")
+        if texture.file.startswith("#/images/"):  # a glTF's image N
+            name = f"{stem}_image{texture.file.rsplit('/', 1)[1]}{extension}"
+        else:  # a member of a USDZ package
+            name = f"{stem}_{os.path.splitext(os.path.basename(texture.file))[0]}{extension}"
         return ImageSource(key=("packaged", os.path.abspath(container), texture.file), image=data,
-                           name=f"{stem}_image{index}{extension}", mime=sniff(data) or mime)
+                           name=name, mime=sniff(data) or mime)
 
 
 def sniff(data: bytes) -> str | None:
@@ -143,8 +146,10 @@ def _mime_of_file(path: str) -> str | None:
 
 
 
-def load_pixels(image: str | bytes):
-    """Pixels as float64 ``(height, width, channels)`` in [0, 1] (greyscale expanded to RGB)."""
+def load_pixels(image: str | bytes, levels: bool = False):
+    """Pixels as float64 ``(height, width, channels)`` in [0, 1] (greyscale expanded to RGB). With
+    ``levels``, an 8-bit image comes as its uint8 levels instead (``levels / 255`` is the float
+    image), and greyscale stays one channel (two with alpha)."""
     import numpy as np  # lazy: numpy ~60 ms, Pillow ~15 ms; every conversion imports this module (the baker)
 
     try:
@@ -152,6 +157,10 @@ def load_pixels(image: str | bytes):
 
         with Image.open(io.BytesIO(image) if isinstance(image, bytes) else image) as opened:
             mode = opened.mode
+            if levels and mode in ("L", "LA", "RGB", "RGBA", "P", "PA"):
+                target = {"P": "RGBA" if "transparency" in opened.info else "RGB", "PA": "RGBA"}.get(mode, mode)
+                values = np.asarray(opened.convert(target) if target != mode else opened)
+                return values[:, :, None] if values.ndim == 2 else values
             if mode in ("I;16", "I;16B", "I;16L", "I"):
                 scale = 65535.0 if mode.startswith("I;16") else float(max(1, np.asarray(opened).max()))
                 values = np.asarray(opened, dtype=np.float64) / scale

@@ -23,7 +23,8 @@ import time
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 from generated_materials import COLORSPACES, document  # noqa: E402
-from openpbr_tools.convert import convert_file, measure  # noqa: E402
+from openpbr_tools.convert import convert_file  # noqa: E402
+from openpbr_tools.verification import measure  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
 
 TARGETS = {"standard_surface": ("mtlx", "standard_surface"), "gltf_pbr": ("gltf", None),

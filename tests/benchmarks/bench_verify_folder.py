@@ -15,7 +15,8 @@ import statistics
 import sys
 import tempfile
 
-from openpbr_tools.convert import convert_file, measure
+from openpbr_tools.convert import convert_file
+from openpbr_tools.verification import measure
 from openpbr_tools.translate.common import Settings
 
 

@@ -1,0 +1,109 @@
+"""Verifying a conversion (``openpbr convert --verify``): the written output read back and each of
+its materials rendered beside its source by the lobe evaluator, textures read per pixel, on the lit
+sphere and, where textured, on the texture-space swatch (:mod:`openpbr_tools.evaluate.verify`);
+the report's OPBR1108 / OPBR1109 notes.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+
+from .bake import Baker
+from .convert import Conversion, display_name
+from .diagnostics import Diagnostic
+from .model import Material
+from .rules import Context
+from .rules.translation import VERIFIED, VERIFY_THRESHOLD
+
+
+def measure(conversion: Conversion) -> list[tuple[Material, object]]:
+    """(source material, CIEDE2000 statistics of the view that differs most: the lit sphere or, for a
+    textured material, the texture-space swatch) for every converted material; see :func:`compare`."""
+    return [(source, comparison.worst) for source, comparison in compare(conversion)]
+
+
+def compare(conversion: Conversion, keep_images: bool = False) -> list[tuple[Material, object]]:
+    """(source material, :class:`~openpbr_tools.evaluate.verify.MaterialComparison`) for every
+    converted material, rendered by the lobe evaluator with textures read per pixel on the lit
+    sphere and, where textured, on the texture-space swatch.
+
+    What is judged is the output as written: the output file is read back and each source is
+    compared with the materials written for it (same material name; a USD output's OpenPBR shader
+    and its UsdPreviewSurface fallback each get a comparison, named ``material (model)``), their
+    textures read from the output's folder (and the source's, which .mtlx outputs reference). When
+    the output cannot be read back, the in-memory result is compared and a note says so. Colours are
+    compared in each material's own colour space converted to linear Rec.709, so a glTF result
+    (linear Rec.709 factors) and an ACEScg source are compared fairly."""
+    from .evaluate.textures import TextureSampler  # lazy: the evaluator loads its albedo tables
+    from .evaluate.verify import compare_materials  # lazy: as above
+
+    source_sampler = TextureSampler(_texture_readers(conversion)[:1] or
+                                    [Baker(conversion.asset.path, tempfile.gettempdir(), conversion.allow_outside)])
+    written, output_sampler, why = _written(conversion)
+    found = []
+    for source, result in conversion.pairs:
+        targets = written.get(display_name(result), []) if written is not None else []
+        if not targets:
+            comparison = compare_materials(source, result, sampler=source_sampler, keep_images=keep_images,
+                                           sampler_b=TextureSampler(_texture_readers(conversion)))
+            comparison.notes.append(f"the output {why or 'has no material ' + repr(display_name(result))}: "
+                                    "the in-memory result was compared")
+            found.append((source, comparison))
+            continue
+        for target in targets:
+            comparison = compare_materials(source, target, sampler=source_sampler, sampler_b=output_sampler,
+                                           keep_images=keep_images)
+            if len(targets) > 1:
+                comparison.name_b = f"{display_name(target)} ({target.model})"
+            found.append((source, comparison))
+    return found
+
+
+def _texture_readers(conversion: Conversion) -> list[Baker]:
+    """Bakers that can read a texture of the source or of the in-memory result: the conversion's own
+    (the source's folder, and the images it baked), then one anchored at the output (rebased or
+    packaged textures), allowed to read the source's folder too."""
+    readers = [conversion.baker] if conversion.baker is not None else []
+    if conversion.output:
+        source_folder = os.path.dirname(os.path.abspath(conversion.asset.path))
+        readers.append(Baker(conversion.output, tempfile.gettempdir(), conversion.allow_outside + (source_folder,)))
+    return readers
+
+
+def _written(conversion: Conversion):
+    """(materials of the written output by material name, a sampler for its textures, why not)."""
+    from .evaluate.textures import TextureSampler  # lazy: as in compare
+    from .io import ReadError, read_asset  # lazy: the readers load with the formats they read
+
+    if not conversion.output or not os.path.exists(conversion.output):
+        return None, None, "was not written"
+    try:
+        asset = read_asset(conversion.output)
+    except (ReadError, OSError, ValueError) as error:
+        return None, None, f"cannot be read back ({error})"
+    by_name: dict[str, list[Material]] = {}
+    for material in asset.materials:
+        by_name.setdefault(display_name(material), []).append(material)
+    source_folder = os.path.dirname(os.path.abspath(conversion.asset.path))
+    reader = Baker(conversion.output, tempfile.gettempdir(), conversion.allow_outside + (source_folder,))
+    return by_name, TextureSampler([reader]), None
+
+
+def verify(conversion: Conversion, threshold: float = 2.0, context: Context | None = None,
+           measured: list | None = None) -> list[Diagnostic]:
+    """The report of :func:`compare` (or of ``measured``, its result): OPBR1108 per material, OPBR1109
+    where the mean CIEDE2000 of the sphere or of the texture-space swatch exceeds ``threshold``."""
+    context = context or Context()
+    found = []
+    for source, comparison in (measured if measured is not None else compare(conversion)):
+        delta = comparison.preview
+        written = f" ({comparison.name_b})" if comparison.name_b not in (comparison.name_a, display_name(source)) else ""
+        message = (f"{source.name}: {source.model} -> {comparison.model_b}{written}, CIEDE2000 mean {delta.mean:.2f}, "
+                   f"p95 {delta.p95:.2f}, max {delta.max:.2f} (lit sphere)")
+        if comparison.swatch is not None:
+            flat = comparison.swatch
+            message += f"; mean {flat.mean:.2f}, p95 {flat.p95:.2f}, max {flat.max:.2f} (texture swatch, per texel)"
+        rule = VERIFY_THRESHOLD if comparison.worst.mean > threshold else VERIFIED
+        found.append(context.diagnostic(rule, message, source.location.with_material(display_name(source))))
+    return found
