@@ -104,6 +104,7 @@ class Texture:
     node_category: str | None = None
     location: Location | None = None
     packaged: bool = False  # ``file`` is a path inside the asset's own package (USDZ), not on disk
+    constant_uv: bool = False  # a MaterialX place2d whose texcoord is unconnected: ND_place2d_vector2 defaults it to (0, 0)
 
     @property
     def reads_alpha(self) -> bool:

@@ -120,13 +120,14 @@ def require_gl() -> None:
 
 
 def write_sphere_obj(path: Path, segments_u: int = 256, segments_v: int = 128) -> Path:
-    """A UV sphere of radius 1 with normals and texture coordinates (u along the longitude
-    atan2(x, z), v from the south pole), as a Wavefront OBJ."""
+    """A UV sphere of radius 1 with normals and texture coordinates (u = 1/2 + atan2(x, z) / 2 pi
+    along the longitude, the seam at the back; v from the south pole), as a Wavefront OBJ: the
+    evaluator's preview sphere (openpbr_tools.evaluate.preview.sphere_geometry)."""
     lines = []
     for j in range(segments_v + 1):
         theta = np.pi * j / segments_v
         for i in range(segments_u + 1):
-            phi = 2.0 * np.pi * i / segments_u
+            phi = 2.0 * np.pi * i / segments_u - np.pi  # from the back seam (u = 0) round to it (u = 1)
             x, y, z = np.sin(theta) * np.sin(phi), np.cos(theta), np.sin(theta) * np.cos(phi)
             lines.append(f"v {x:.8f} {y:.8f} {z:.8f}")
             lines.append(f"vn {x:.8f} {y:.8f} {z:.8f}")
@@ -240,6 +241,44 @@ class MaterialXRenderer:
             if inp.getType() == "color3" and hasattr(value, "asTuple"):
                 value = value.asTuple()
             self.renderer.updateUniform(inp.getName(), self._uniform(nodedef, inp.getName(), value))
+        self.renderer.render()
+        image = self.renderer.captureImage(None)
+        h, w, c = image.getHeight(), image.getWidth(), image.getChannelCount()
+        buffer = (ctypes.c_float * (h * w * c)).from_address(image.getResourceBuffer())
+        pixels = np.ctypeslib.as_array(buffer).reshape(h, w, c).copy()
+        return pixels[::-1, :, :3].astype(float)
+
+
+    def render_document(self, path) -> np.ndarray:
+        """Render the first surface shader of the MaterialX document at ``path`` with its own node
+        graph (images, place2d, normal maps: MaterialX's GLSL samples the textures; file paths
+        resolve against the document's folder; V is flipped for OpenGL's bottom-up texture rows,
+        as MaterialXView does). Returns linear RGB (size, size, 3), row 0 at the top."""
+        mx = self.mx
+        import MaterialX.PyMaterialXGenShader as gs
+
+        doc = mx.createDocument()
+        mx.readFromXmlFile(doc, str(path))
+        doc.importLibrary(self.library)
+        elements = gs.findRenderableElements(doc)
+        if not elements:
+            raise ValueError(f"{path}: nothing to render")
+        if not getattr(self, "_colour_managed", False):  # MaterialX's own colour management (cmlib transforms)
+            cms = gs.DefaultColorManagementSystem.create(self.generator.getTarget())
+            cms.loadLibrary(self.library)
+            self.generator.setColorManagementSystem(cms)
+            self._colour_managed = True
+        options = self.context.getOptions()
+        options.targetColorSpaceOverride = "lin_rec709"
+        flip = options.fileTextureVerticalFlip
+        options.fileTextureVerticalFlip = True
+        try:
+            shader = self.generator.generate("textured", elements[0], self.context)
+        finally:
+            options.fileTextureVerticalFlip = flip
+        self.renderer.getImageHandler().setSearchPath(mx.FileSearchPath(str(Path(path).parent)))
+        self.renderer.createProgram(shader)
+        self._current = None
         self.renderer.render()
         image = self.renderer.captureImage(None)
         h, w, c = image.getHeight(), image.getWidth(), image.getChannelCount()

@@ -160,6 +160,10 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "on a farm; a symlink out of the folder breaks on copy.", f"{USD_COMPLIANCE}; {GLTF}"),
     "OPBR705": ("An image node without a file renders its default: the texture silently vanishes.",
                 f"{MX_NODES}; {USD_PREVIEW}"),
+    "OPBR706": ("A place2d whose texcoord is unconnected transforms the constant (0, 0): MaterialX's renderers "
+                "read one texel everywhere and the texture shows as a flat colour (the node definition gives "
+                "texcoord no default geometric property, where image's defaults to UV0).",
+                _MX + "libraries/stdlib/stdlib_defs.mtlx"),
     # -- structure -----------------------------------------------------------------------------
     "OPBR801": ("A material without a surface shader renders black or with the renderer's fallback shader.",
                 f"{MX_SPEC}; {USD_SHADER}"),

@@ -60,8 +60,18 @@ EMPTY_PATH = Rule(
     failing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
     example_files=("albedo.png",),
 )
+PLACE2D_WITHOUT_TEXCOORD = Rule(
+    "OPBR706", "place2d-without-texcoord", Severity.WARNING,
+    "A place2d feeding an image has no texcoord connected, so every point reads the same texel.",
+    "MaterialX's place2d (ND_place2d_vector2) gives texcoord no default geometric property: unconnected, "
+    "it is the constant (0, 0), and MaterialX's renderers (checked with its GLSL renderer) show the texture "
+    "as one flat colour, where image alone would default to the mesh's UV0. Connect a texcoord node.",
+    passing='<texcoord name="uv0" type="vector2" />\n<place2d name="tile" type="vector2">\n  <input name="texcoord" type="vector2" nodename="uv0" />\n  <input name="scale" type="vector2" value="2, 2" />\n</place2d>\n<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />\n  <input name="texcoord" type="vector2" nodename="tile" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
+    failing='<place2d name="tile" type="vector2">\n  <input name="scale" type="vector2" value="2, 2" />\n</place2d>\n<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />\n  <input name="texcoord" type="vector2" nodename="tile" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
+    example_files=("albedo.png",),
+)
 
-RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, EMPTY_PATH)
+RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, EMPTY_PATH, PLACE2D_WITHOUT_TEXCOORD)
 
 _TILE_TOKENS = re.compile(r"<UDIM>|<UVTILE>", re.IGNORECASE)
 # Not portable whatever they resolve to: a URL, or a path not relative to the asset (io.paths).
@@ -115,6 +125,11 @@ def check(asset, context):
                 IMAGE_TYPE_MISMATCH, f"{entry.name} is {expected} but {texture.node!r} produces {produced}",
                 entry.location, hint="add an extract node, or declare the image with the input's type",
             )
+        if texture.constant_uv:
+            yield context.diagnostic(
+                PLACE2D_WITHOUT_TEXCOORD, f"{entry.name}: {texture.node!r} is placed by a place2d without a texcoord "
+                "input, so MaterialX reads one texel everywhere", where,
+                hint="connect a texcoord node (index 0) to the place2d's texcoord input")
         if parameter is not None and parameter.role == "normal" and texture.normal_map is None:
             yield context.diagnostic(
                 NORMAL_WITHOUT_DECODE, f"{entry.name} reads {texture.file!r} without a normalmap decode",

@@ -125,7 +125,20 @@ class GraphFollower:
                 wrap_v.getValueString() if wrap_v is not None else "periodic",
             )
         texture.uv, texture.texcoord = self.uv_transform(node)
+        texture.constant_uv = self.constant_placement(node)
         return texture
+
+    def constant_placement(self, node) -> bool:
+        """Whether the image's coordinates come from a ``place2d`` whose own ``texcoord`` is not
+        connected: MaterialX 1.39's ``ND_place2d_vector2`` gives that input no default geometric
+        property (unlike ``image``'s, which defaults to UV0), so its renderers read one texel, at
+        (0, 0) or the authored value, everywhere."""
+        texcoord = node.getInput("texcoord")
+        place = self.upstream_node(texcoord) if texcoord is not None else None
+        if place is None or place.getCategory() != "place2d":
+            return False
+        inner = place.getInput("texcoord")
+        return inner is None or self.upstream_node(inner) is None
 
     def uv_transform(self, node) -> tuple[UVTransform | None, int | None]:
         """The UV transform (``tiledimage`` tiling/offset, an upstream ``place2d``) and the UV

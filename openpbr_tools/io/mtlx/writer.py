@@ -149,10 +149,14 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
 
 
 def _write_placement(document, image, prefix: str, texture: Texture, used) -> None:
+    """A ``texcoord`` node (the UV set) and, for a transform, a ``place2d`` on it. The ``texcoord``
+    node is written even for set 0 under a ``place2d``: ND_place2d_vector2's own texcoord defaults to
+    the constant (0, 0), not to the mesh's UVs (rule OPBR706)."""
     coordinates = None
-    if texture.texcoord:
+    if texture.texcoord or texture.uv is not None:
         coordinates = document.addNode("texcoord", _unique(f"{prefix}_texcoord", used), "vector2")
-        coordinates.addInput("index", "integer").setValueString(str(int(texture.texcoord)))
+        if texture.texcoord:
+            coordinates.addInput("index", "integer").setValueString(str(int(texture.texcoord)))
     target = coordinates
     if texture.uv is not None:
         place = document.addNode("place2d", _unique(f"{prefix}_place2d", used), "vector2")
