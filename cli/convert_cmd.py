@@ -40,7 +40,7 @@ OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tool
 @click.option("--max-delta-e", type=click.FloatRange(min=0), default=None, metavar="X",
               help="Implies --verify: exit 1 when a material's mean CIEDE2000 exceeds X (the report names it).")
 @click.option("--delta-e-images", type=click.Path(file_okay=False), metavar="DIR",
-              help="Implies --verify: write per material a side-by-side (original | converted | ΔE map) PNG per view.")
+              help="Implies --verify: write per material and view a side-by-side (original | converted) and a ΔE heat-map PNG.")
 @click.option("--report", "html_report", type=click.Path(dir_okay=False), metavar="FILE.html",
               help="Implies --verify: write a self-contained HTML page with previews, ΔE maps, numbers and losses.")
 @click.option("--force", is_flag=True, help="Overwrite OUTPUT (batch: any output) if it exists.")
@@ -135,7 +135,7 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
 
 
 def write_delta_e_images(folder, comparisons) -> None:
-    """One ``NAME_SHAPE.png`` side-by-side strip per material and view (ΔE map last)."""
+    """Per material and view: ``NAME_SHAPE.png`` (original | converted) and ``NAME_SHAPE_delta_e.png``."""
     # lazy: Pillow and the evaluator load only when images are asked for
     from openpbr_tools.atomic import write_bytes
     from openpbr_tools.evaluate.visual import view_images
@@ -149,7 +149,9 @@ def write_delta_e_images(folder, comparisons) -> None:
                 stem += "_"
             used.add(stem)
             for view in comparison.views:
-                write_bytes(os.path.join(folder, f"{stem}_{view.shape}.png"), view_images(view)["side_by_side"])
+                images = view_images(view)
+                write_bytes(os.path.join(folder, f"{stem}_{view.shape}.png"), images["side_by_side"])
+                write_bytes(os.path.join(folder, f"{stem}_{view.shape}_delta_e.png"), images["delta_e"])
     except OSError as error:
         click.echo(f"openpbr: {folder}: {error}", err=True)
         sys.exit(2)

@@ -108,7 +108,7 @@ def _environment(path, environment_class):
               help="Which preview statistic --threshold applies to.")
 @click.option("--size", type=click.IntRange(min=16, max=1024), default=128, show_default=True, help="Preview size in pixels.")
 @click.option("--delta-e-images", type=click.Path(file_okay=False), metavar="DIR",
-              help="Write per pair a side-by-side (A | B | ΔE map) PNG per view.")
+              help="Write per pair and view a side-by-side (A | B) and a ΔE heat-map PNG.")
 @click.option("--report", "html_report", type=click.Path(dir_okay=False), metavar="FILE.html",
               help="Write a self-contained HTML page with both previews, ΔE maps and numbers per pair.")
 @click.option("--allow-outside", multiple=True, type=click.Path(file_okay=False),

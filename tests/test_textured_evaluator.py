@@ -292,3 +292,81 @@ def test_minified_texture_reads_its_average(tmp_path):
     magnified = swatch_geometry(Rig(size=64)).uvs  # one pixel per texel: the texels themselves
     values = sampler.sample(texture, "float", magnified, "m.p")
     assert values == pytest.approx(checker.ravel() / 255.0, abs=1e-6)  # swatch row 0 is image row 0
+
+
+def test_gltf_anisotropy_direction_texture_turns_the_highlight(tmp_path):
+    """KHR_materials_anisotropy: the texture's R, G hold a tangent-space direction (2 t - 1), added to
+    anisotropyRotation. A texture pointing along the bitangent (R 0.5, G 1) renders as rotation
+    atan2(1, 0.0039) (about pi/2) without a texture; B = 1 keeps the strength factor."""
+    import json
+
+    write_png(tmp_path / "aniso.png", np.tile(np.array([128, 255, 255], dtype=np.uint8), (4, 4, 1)))
+    def material(name, extension):
+        return {"name": name, "pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 0.3},
+                "extensions": {"KHR_materials_anisotropy": extension}}
+    document = {
+        "asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_anisotropy"],
+        "images": [{"uri": "aniso.png"}], "textures": [{"source": 0}],
+        "materials": [material("Textured", {"anisotropyStrength": 0.8, "anisotropyTexture": {"index": 0}}),
+                      material("Rotated", {"anisotropyStrength": 0.8,
+                                           "anisotropyRotation": math.atan2(2 * 255 / 255 - 1, 2 * 128 / 255 - 1)}),
+                      material("Plain", {"anisotropyStrength": 0.8})],
+    }
+    (tmp_path / "a.gltf").write_text(json.dumps(document))
+    asset = read_asset(str(tmp_path / "a.gltf"))
+    sampler = TextureSampler.for_asset(asset.path)
+    rig = Rig(size=48)
+    textured, rotated, plain = (render_material(m, rig, sampler).image for m in asset.materials)
+    # G 255 encodes 2 * 255/255 - 1 = 1, R 128 encodes 2 * 128/255 - 1 = 0.0039: atan2(1, 0.0039)
+    assert np.abs(textured - rotated).max() < 1e-5
+    assert np.abs(textured - plain).max() > 0.05
+
+
+def _textured_samples():
+    from openpbr_tools.resources import data_dir
+
+    here = __import__("pathlib").Path(__file__).parent
+    paths = sorted(data_dir("samples").glob("*.mtlx")) + sorted((here / "data" / "translation_set").glob("textured_*"))
+    return [p for p in paths if read_asset(str(p)).materials and any(m.textures() for m in read_asset(str(p)).materials)]
+
+
+@pytest.mark.parametrize("path", _textured_samples(), ids=lambda p: p.name)
+def test_every_textured_sample_preview_shows_its_textures(path):
+    asset = read_asset(str(path))
+    sampler = TextureSampler.for_asset(asset.path)
+    for material in asset.materials:
+        if not material.textures():
+            continue
+        swatch = render_material(material, Rig(size=32), sampler, "swatch")
+        assert swatch.textured
+        assert not any("textured (not evaluated" in note for note in swatch.notes), swatch.notes
+        assert np.ptp(swatch.image.reshape(-1, 3), axis=0).max() > 1e-3  # the texture varies across the swatch
+
+
+def test_preview_environment_from_an_hdr_file(tmp_path):
+    """`preview --environment`: a Radiance .hdr (written with OpenImageIO) of uniform radiance 0.35
+    lights a grey Lambertian swatch to albedo x 0.35 (no key light: the environment replaces the rig)."""
+    import OpenImageIO as oiio
+    from click.testing import CliRunner
+
+    from cli.main import cli
+
+    hdr = str(tmp_path / "sky.hdr")
+    out = oiio.ImageOutput.create(hdr)
+    assert out.open(hdr, oiio.ImageSpec(32, 16, 3, oiio.FLOAT))
+    out.write_image(np.full((16, 32, 3), 0.35, dtype=np.float32))
+    out.close()
+    (tmp_path / "grey.mtlx").write_text("""<?xml version="1.0"?>
+<materialx version="1.39"><open_pbr_surface name="G" type="surfaceshader">
+  <input name="base_color" type="color3" value="0.5, 0.5, 0.5" /><input name="specular_weight" type="float" value="0" />
+  <input name="base_diffuse_roughness" type="float" value="0" /></open_pbr_surface></materialx>""")
+    png = tmp_path / "p.png"
+    result = CliRunner().invoke(cli, ["preview", str(tmp_path / "grey.mtlx"), "-o", str(png), "--shape", "swatch",
+                                      "--size", "16", "--environment", hdr])
+    assert result.exit_code == 0, result.output
+    pixel = np.asarray(Image.open(png).convert("RGB"))[8, 8]
+    expected = 255 * (1.055 * (0.5 * 0.35) ** (1 / 2.4) - 0.055)  # sRGB encoding of 0.175 (IEC 61966-2-1)
+    assert np.all(np.abs(pixel - expected) <= 1), (pixel, expected)
+    bad = CliRunner().invoke(cli, ["preview", str(tmp_path / "grey.mtlx"), "-o", str(png), "--environment",
+                                   str(tmp_path / "grey.mtlx")])
+    assert bad.exit_code == 2 and "latitude-longitude" in bad.output

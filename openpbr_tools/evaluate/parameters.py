@@ -191,4 +191,29 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
                 resolved.not_evaluated.append(name)
         except (TypeError, ValueError):
             resolved.not_evaluated.append(name)
+    if sampler is not None and uvs is not None and material.model == "gltf_pbr":
+        _gltf_anisotropy_direction(material, resolved, sampler, uvs)
     return resolved
+
+
+def _gltf_anisotropy_direction(material: Material, resolved: ResolvedParameters, sampler, uvs) -> None:
+    """KHR_materials_anisotropy's texture carries a tangent-space direction in R, G (``2 t - 1``),
+    rotated by ``anisotropyRotation`` (the extension's README): the evaluator's per-point rotation is
+    ``anisotropy_rotation + atan2(d_y, d_x)``. The glTF reader keeps that texture beside the strength
+    it also feeds (``extra["gltf"]["anisotropy_direction"]``)."""
+    from .textures import TextureUnavailable  # lazy: as in resolve
+
+    direction = (material.extra.get("gltf") or {}).get("anisotropy_direction")
+    if not isinstance(direction, Texture):
+        return
+    owner = f"{material.name}.anisotropy_direction"
+    try:
+        rg = sampler.sample(direction, "vector3", uvs, owner)
+    except TextureUnavailable as error:
+        resolved.approximated.append(("anisotropy_rotation", f"direction texture not read ({error}); "
+                                                             "the factor's rotation is used"))
+        return
+    d = 2.0 * rg[:, :2] - 1.0
+    rotation = np.asarray(resolved.values["anisotropy_rotation"], dtype=float)
+    resolved.values["anisotropy_rotation"] = rotation + np.arctan2(d[:, 1], d[:, 0])
+    resolved.sampled.append("anisotropy_rotation")

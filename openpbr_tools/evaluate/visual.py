@@ -1,4 +1,4 @@
-"""Images of a comparison: a ΔE2000 heat map and a side-by-side strip (A | B | ΔE map) per shape,
+"""Images of a comparison: a side-by-side (A | B) and a ΔE2000 heat map per shape,
 as PNG bytes for ``--delta-e-images`` and the HTML report. Needs Pillow.
 
 Heat-map scale (fixed, so maps of different materials read alike): black at 0, blue at 1, green
@@ -43,11 +43,10 @@ def png(pixels: np.ndarray) -> bytes:
 
 def view_images(view) -> dict[str, bytes]:
     """PNGs of one :class:`~.verify.View`: ``a``, ``b`` (sRGB previews), ``delta_e`` (heat map) and
-    ``side_by_side`` (the three in a row, 4-pixel gaps)."""
+    ``side_by_side`` (A and B in a row, a 4-pixel gap between)."""
     a, b, heat = encode_srgb(view.image_a), encode_srgb(view.image_b), heat_map(view.delta_e)
     gap = np.full((a.shape[0], 4, 3), 32, dtype=np.uint8)
-    strip = np.concatenate([a, gap, b, gap, heat], axis=1)
-    return {"a": png(a), "b": png(b), "delta_e": png(heat), "side_by_side": png(strip)}
+    return {"a": png(a), "b": png(b), "delta_e": png(heat), "side_by_side": png(np.concatenate([a, gap, b], axis=1))}
 
 
 def legend() -> bytes:
