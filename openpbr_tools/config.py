@@ -152,7 +152,13 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
                 overrides: tuple[int, ...] | None = None, allow_outside: tuple[str, ...] = ()) -> Context:
     """The :class:`Context` for one file: configuration, matching overrides, then CLI options.
     Files with the same configuration and matching overrides get equal contexts (callers cache)."""
-    known = frozenset(all_rules())
+    loaded: list[frozenset[str]] = []
+
+    def known() -> frozenset[str]:  # every rule family loads for this: only when codes are selected or ignored
+        if not loaded:
+            loaded.append(frozenset(all_rules()))
+        return loaded[0]
+
     context = Context() if base is None else Context(file_exists=base.file_exists, list_dir=base.list_dir)
     scopes = []
     if config is not None:
@@ -166,8 +172,9 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
     thresholds: dict[str, float] = {}
     for scope in scopes:
         if "select" in scope:
-            selected = _expand(scope["select"], known)
-        ignored |= _expand(scope.get("ignore", []), known)
+            selected = _expand(scope["select"], known())
+        if scope.get("ignore"):
+            ignored |= _expand(scope["ignore"], known())
         severity.update({code: Severity.parse(level) for code, level in scope.get("severity", {}).items()})
         thresholds.update(scope.get("thresholds", {}))
         units = scope.get("units")
@@ -179,10 +186,10 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
             severity["OPBR603"] = Severity.WARNING
             ignored -= {"OPBR603"}
     if select:
-        selected = _expand(select, known)
+        selected = _expand(select, known())
     if ignore:
-        ignored |= _expand(ignore, known)
-    disabled = ignored | (known - selected if selected is not None else frozenset())
+        ignored |= _expand(ignore, known())
+    disabled = ignored | (known() - selected if selected is not None else frozenset())
     settings = config.settings if config is not None else {}
     context.severity = severity
     context.disabled = frozenset(disabled)

@@ -7,16 +7,24 @@ running from the tree) they are the top-level folders beside it.
 from __future__ import annotations
 
 import json
+import os
 from functools import lru_cache
-from pathlib import Path
 
-_PACKAGE = Path(__file__).resolve().parent
+_PACKAGE = os.path.dirname(os.path.abspath(__file__))
 
 
-def data_dir(name: str) -> Path:
-    """The folder ``schemas``, ``libraries`` or ``samples``."""
-    for candidate in (_PACKAGE / name, _PACKAGE.parent / name):
-        if candidate.is_dir() and any(candidate.iterdir()):
+def data_dir(name: str):
+    """The folder ``schemas``, ``libraries`` or ``samples`` (a :class:`pathlib.Path`)."""
+    from pathlib import Path  # lazy: pathlib costs ~3 ms of every start-up; the validator reads data through data_folder
+
+    return Path(data_folder(name))
+
+
+@lru_cache(maxsize=None)
+def data_folder(name: str) -> str:
+    """The folder ``schemas``, ``libraries`` or ``samples``, as a string path."""
+    for candidate in (os.path.join(_PACKAGE, name), os.path.join(os.path.dirname(_PACKAGE), name)):
+        if os.path.isdir(candidate) and os.listdir(candidate):
             return candidate
     raise FileNotFoundError(f"openpbr-tools data folder {name!r} is missing from the installation")
 
@@ -24,5 +32,5 @@ def data_dir(name: str) -> Path:
 @lru_cache(maxsize=None)
 def load_json(relative: str) -> dict:
     """A JSON file under ``schemas/``, parsed once per process."""
-    with open(data_dir("schemas") / relative, encoding="utf-8") as handle:
+    with open(os.path.join(data_folder("schemas"), relative), encoding="utf-8") as handle:
         return json.load(handle)

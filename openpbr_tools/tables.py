@@ -9,10 +9,11 @@ stays as quick as ``mxvalidate``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+import os
 from functools import lru_cache
 from typing import Any
 
-from .resources import data_dir, load_json
+from .resources import data_folder, load_json
 
 MODELS = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
 
@@ -69,11 +70,18 @@ def _relative(model: str, version: str) -> str:
 @lru_cache(maxsize=None)
 def versions(model: str) -> tuple[str, ...]:
     """Every version of ``model`` with a table, oldest first."""
-    folder = data_dir("schemas") / "models" / model
-    if not folder.is_dir():
+    folder = os.path.join(data_folder("schemas"), "models", model)
+    if not os.path.isdir(folder):
         return ()
-    found = [p.stem for p in folder.glob("*.json")]
+    found = [name[:-5] for name in os.listdir(folder) if name.endswith(".json")]
     return tuple(sorted(found, key=version_key))
+
+
+@lru_cache(maxsize=None)
+def names(model: str, version: str) -> frozenset[str]:
+    """The parameter names of ``model`` at ``version`` (read from its table file without building
+    the table: version inference asks every version)."""
+    return frozenset(load_json(_relative(model, version))["parameters"])
 
 
 def latest(model: str) -> str:

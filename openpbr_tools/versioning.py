@@ -17,7 +17,7 @@ from .model import Material
 
 @lru_cache(maxsize=None)
 def _names_by_version(model: str) -> dict[str, frozenset[str]]:
-    return {v: frozenset(tables.table(model, v).parameters) for v in tables.versions(model)}
+    return {v: tables.names(model, v) for v in tables.versions(model)}
 
 
 @lru_cache(maxsize=None)

@@ -37,6 +37,9 @@ FAMILIES = (
     "translation",
 )
 
+#: Families that check one input format only (their modules, and what they import, load only for it).
+FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "gltf": "gltf", "translation": None}
+
 
 @dataclass(frozen=True, slots=True)
 class Rule:
@@ -143,6 +146,8 @@ def check_asset(asset: Asset, context: Context | None = None) -> list[Diagnostic
     found: list[Diagnostic] = []
     suppressions = asset.suppressions
     for family in FAMILIES:
+        if family in FAMILY_FORMATS and FAMILY_FORMATS[family] != asset.format:
+            continue  # a family for another format (translation: notes of convert and upgrade, never found here)
         for diagnostic in _family_module(family).check(asset, context):
             if diagnostic.code not in context.disabled and not (suppressions and _suppressed(diagnostic, suppressions)):
                 found.append(diagnostic)

@@ -211,8 +211,7 @@ RULES = (UNDECLARED_EXTENSION, REQUIRED_UNSUPPORTED, EXCLUSIVE_EXTENSIONS, NOT_C
 
 
 def check(asset, context):
-    if asset.format != "gltf":
-        return
+    """Runs on glTF assets only (rules.FAMILY_FORMATS)."""
     facts = asset.extra.get("gltf", {})
     yield from _declarations(asset, facts, context)
     yield from _observations(asset, context)

@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import difflib
 import io
-import zipfile
 
 from ..diagnostics import Severity
 from ..io.usd.types import (
@@ -125,6 +124,8 @@ USD_CORE = Rule(
 
 def _package(*entries: tuple[str, str]) -> bytes:
     """A USDZ's bytes: entries stored uncompressed, the root layer first."""
+    import zipfile  # lazy: only a USDZ example package needs it
+
     buffer = io.BytesIO()
     with zipfile.ZipFile(buffer, "w", zipfile.ZIP_STORED) as package:
         for name, text in entries:
@@ -188,8 +189,7 @@ _COVERED_USD_CORE = {
 
 
 def check(asset, context):
-    if asset.format != "usd":
-        return
+    """Runs on USD assets only (rules.FAMILY_FORMATS)."""
     yield from _observations(asset, context)
     yield from _types(asset, context)
     yield from colour_managed_textures(asset, context)

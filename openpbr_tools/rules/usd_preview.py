@@ -122,8 +122,7 @@ PREVIEW_LIMITS = {
 
 
 def check(asset, context):
-    if asset.format != "usd":
-        return
+    """Runs on USD assets only (rules.FAMILY_FORMATS)."""
     for material in asset.materials:
         if material.model == "UsdPreviewSurface":
             yield from _preview_conventions(material, context)
