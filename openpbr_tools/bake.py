@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import colorspaces
+from . import bake_cache, colorspaces
 from .io.images import ImageLocator, ImageRefused, ImageUnavailable, load_pixels, resample
 from .model import Constant, Input, Texture
 from .translate.common import BakeError
@@ -94,7 +94,7 @@ class Baker:
         key = located.key + ("levels",) if levels else located.key
         if key not in self._pixels:
             try:
-                self._pixels[key] = load_pixels(located.image, levels)
+                self._pixels[key] = bake_cache.decoded(located, levels)
             except Exception as error:  # noqa: BLE001 - Pillow and OpenImageIO raise many types for undecodable data
                 raise BakeError(f"{owner}: {texture.file!r} cannot be decoded ({error})") from None
         return self._pixels[key]
@@ -223,7 +223,8 @@ class Baker:
             which = "the largest" if discrete else "the mean"
             return Baked(made, f"{mapping.target}: from {sources} evaluated per texel; {why}, so {which} is written",
                          averages=averages)
-        data, space, clipped, kind = self._encode(result, target_type, working)
+        data, space, clipped, kind = bake_cache.RUN.encoded(result, (target_type, working, self.png_only),
+                                                  lambda: self._encode(result, target_type, working))
         name = self._name(material, mapping.target, kind)
         path = os.path.join(self.folder, name)
         self.images[path] = data

@@ -19,7 +19,6 @@ Single core: set OMP_NUM_THREADS=1 etc. before running for the one-core figure.
 from __future__ import annotations
 
 import argparse
-import os
 import statistics
 import sys
 import tempfile
