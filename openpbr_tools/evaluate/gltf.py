@@ -167,13 +167,14 @@ class GltfPbr(BSDFModel):
             base = layer(sheen_lobe, base)
         cc = f["clearcoat"]
         if any_nonzero(cc):
-            mu_o = wo[..., 2]
+            cwi, cwo = self.coat_dirs(wi, wo)  # clearcoat_normal's frame
+            mu_o = cwo[..., 2]
             fc = CLEARCOAT_F0 + (1.0 - CLEARCOAT_F0) * (1.0 - mu_o) ** 5
             comp = tab.ggx_compensation(mu_o, self.alpha_c, np.full(3, CLEARCOAT_F0)) if self.energy_compensation else 1.0
             e_c = as_colour(tab.ggx_albedo(mu_o, self.alpha_c)) * comp
             value = None
             if wi is not None:
-                shape_c, _ = microfacet.ggx_reflection(wi, wo, self.alpha_c, self.alpha_c)
+                shape_c, _ = microfacet.ggx_reflection(cwi, cwo, self.alpha_c, self.alpha_c)
                 value = as_colour(shape_c) * comp
             coat = Scatter.lobe(value, e_c, 0.0, 1.0 - e_c)
             base = mix(base, coat, as_colour(cc * fc))

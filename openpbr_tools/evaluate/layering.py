@@ -19,6 +19,7 @@ albedos. Mixing is statistical: f = (1 - w) f_a + w f_b.
 
 from __future__ import annotations
 
+from contextlib import contextmanager
 from contextvars import ContextVar
 from dataclasses import dataclass
 
@@ -165,6 +166,27 @@ class BSDFModel:
         self.thin_walled = False
         self.volume_absorption = None
         self.opacity = np.asarray(1.0)
+        self.coat_directions = None  # (wi, wo) in the coat's own frame, while a caller sets them
+
+    @contextmanager
+    def coat_frame(self, wi, wo):
+        """Within the block, the coat (OpenPBR geometry_coat_normal, Standard Surface coat_normal,
+        glTF clearcoat_normal) is evaluated with ``wi``/``wo`` expressed in its own shading frame
+        (one entry per entry of the directions passed to :meth:`evaluate`/:meth:`albedo`; ``wi``
+        None for albedos), the rest of the material in the frame of those directions."""
+        previous = self.coat_directions
+        self.coat_directions = (wi, wo)
+        try:
+            yield
+        finally:
+            self.coat_directions = previous
+
+    def coat_dirs(self, wi, wo):
+        """The directions the coat lobe is evaluated with (see :meth:`coat_frame`)."""
+        if self.coat_directions is None:
+            return wi, wo
+        cwi, cwo = self.coat_directions
+        return (None if wi is None else cwi), cwo
 
     # -- to implement
     def _scatter(self, wi, wo, inside) -> Scatter:  # pragma: no cover - abstract
@@ -183,7 +205,7 @@ class BSDFModel:
         wo = np.asarray(wo, dtype=float)
         shape = np.broadcast_shapes(wi.shape, wo.shape)[:-1] + (3,)
         count = int(np.prod(shape[:-1]))
-        if count > self.chunk_size and self._scalar_parameters():
+        if count > self.chunk_size and self._scalar_parameters() and self.coat_directions is None:
             # Evaluate in cache-sized chunks: NumPy's temporaries then stay in the CPU cache.
             wi_flat = np.broadcast_to(wi, shape).reshape(-1, 3)
             wo_flat = np.broadcast_to(wo, shape).reshape(-1, 3)

@@ -156,8 +156,9 @@ class OpenPBRSurface(BSDFModel):
         coat_w = f["coat_weight"]
         if any_nonzero(coat_w):
             cx, cy = self.alpha_c
+            cwi, cwo = self.coat_dirs(wi, wo)  # geometry_coat_normal's frame
             coat, _ = closures.dielectric_interface(
-                wi, wo, np.zeros(np.shape(wo)[:-1], bool), cx, cy, f["coat_ior"], transmission=False
+                cwi, cwo, np.zeros(np.shape(cwo)[:-1], bool), cx, cy, f["coat_ior"], transmission=False
             )
             base = layer(coat.weighted(as_colour(coat_w)), base.scaled(self.base_factor))
         fuzz_w = f["fuzz_weight"]

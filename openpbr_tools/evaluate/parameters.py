@@ -13,8 +13,9 @@ For every parameter of the model's table (``schemas/models/``, latest version of
   table default and is listed under ``not_evaluated``;
 * anything unset takes the table default.
 
-Of the geometric inputs only the main normal map is evaluated (it tilts the shading frame); a
-textured coat normal or tangent is listed as approximated (the lobes share one frame, the base's).
+Of the geometric inputs the main normal map tilts the shading frame and the coat's normal map the
+coat's (without one the coat keeps the geometric normal); a textured tangent is listed as
+approximated.
 Defaults are never retyped here; they come from the tables.
 """
 
@@ -50,6 +51,7 @@ class ResolvedParameters:
     ignored: list[str] = field(default_factory=list)
     sampled: list[str] = field(default_factory=list)  # textured parameters read per shading point
     normal: object = None  # (N, 3) tangent-space normals from the main normal map, or None
+    coat_normal: object = None  # (N, 3) tangent-space normals from the coat's normal map, or None
     approximated: list[tuple[str, str]] = field(default_factory=list)  # (parameter, why)
     why_not: dict = field(default_factory=dict)  # textured parameter -> why it was not sampled
 
@@ -134,9 +136,14 @@ def with_values(model: str, overrides: dict) -> ResolvedParameters:
     return resolved
 
 
-#: The normal input whose map tilts the shading frame, per model; other normal inputs (coats) share it.
+#: The normal input whose map tilts the shading frame, per model.
 MAIN_NORMAL = {"open_pbr_surface": "geometry_normal", "standard_surface": "normal", "gltf_pbr": "normal",
                "UsdPreviewSurface": "normal"}
+#: The coat's own normal input: its map tilts the coat's frame; without one the coat keeps the
+#: geometric normal, not the base's map (MaterialX defaultgeomprop Nworld for geometry_coat_normal
+#: and coat_normal; glTF: "no normal mapping is applied to the clear coat layer").
+COAT_NORMAL = {"open_pbr_surface": "geometry_coat_normal", "standard_surface": "coat_normal",
+               "gltf_pbr": "clearcoat_normal"}
 
 
 def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
@@ -155,10 +162,10 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
         if sampler is not None and uvs is not None and isinstance(value, Texture) and p.type not in ("boolean", "integer") \
                 and p.role not in ("filename", "string"):
             owner = f"{material.name}.{name}"
-            if p.role in ("normal", "tangent") and name != MAIN_NORMAL.get(material.model):
-                resolved.approximated.append((name, "textured; shaded with the main normal's frame (one frame for "
-                                                    "all lobes)" if p.role == "normal" else "textured direction map "
-                                                    "not evaluated (the surface's tangent is used)"))
+            if p.role == "tangent" or (p.role == "normal" and name not in (MAIN_NORMAL.get(material.model),
+                                                                            COAT_NORMAL.get(material.model))):
+                resolved.approximated.append((name, "textured direction map not evaluated (the surface's tangent "
+                                                    "is used)" if p.role == "tangent" else "textured; not evaluated"))
                 continue
             if p.role == "normal" and value.normal_map is None:
                 resolved.approximated.append((name, "an image without a normal-map decode; the surface normal is used"))
@@ -169,7 +176,9 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
                 resolved.why_not[name] = str(error).removeprefix(owner + ": ")
             else:
                 resolved.sampled.append(name)
-                if p.role == "normal":
+                if p.role == "normal" and name == COAT_NORMAL.get(material.model):
+                    resolved.coat_normal = sampled
+                elif p.role == "normal":
                     resolved.normal = sampled
                 else:
                     resolved.values[name] = _sampled(sampled, p)

@@ -164,10 +164,18 @@ def shade_sphere(model: BSDFModel, rig: Rig = Rig(), background: bool = True) ->
 
 
 def shade(model: BSDFModel, geo: Geometry, rig: Rig = Rig(), background: bool = True,
-          environment: "Environment | None" = None) -> tuple[np.ndarray, np.ndarray]:
+          environment: "Environment | None" = None, coat_geo: Geometry | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Render ``model`` (constant or per-pixel parameters, one per masked pixel of ``geo``) on
-    ``geo``, lit by the rig or by ``environment``. Returns ``(image, mask)`` as
-    :func:`shade_sphere`."""
+    ``geo``, lit by the rig or by ``environment``; with ``coat_geo`` (the same points, the coat's
+    frames) the coat is shaded in its own frame. Returns ``(image, mask)`` as :func:`shade_sphere`."""
+    if coat_geo is not None:
+        coat_wo = _to_local(np.array([0.0, 0.0, 1.0]), coat_geo)
+        coat_wo = _above(coat_wo) if np.any(coat_wo[:, 2] < 1e-4) else coat_wo
+        return _shade(model, geo, rig, background, environment, coat_geo, coat_wo)
+    return _shade(model, geo, rig, background, environment, None, None)
+
+
+def _shade(model, geo, rig, background, environment, coat_geo, coat_wo):
     wo = _to_local(np.array([0.0, 0.0, 1.0]), geo)
     if np.any(wo[:, 2] < 1e-4):
         wo = _above(wo)
@@ -183,9 +191,17 @@ def shade(model: BSDFModel, geo: Geometry, rig: Rig = Rig(), background: bool = 
         lit = np.abs(cos_i) if model.thin_walled else np.where(cos_i > 0.0, cos_i, 0.0)
         if not np.any(lit):
             continue
-        f = model.evaluate(wi, wo)
+        if coat_geo is None:
+            f = model.evaluate(wi, wo)
+        else:
+            with model.coat_frame(_to_local(direction, coat_geo), coat_wo):
+                f = model.evaluate(wi, wo)
         direct = direct + f * lit[:, None] * np.asarray(irradiance, dtype=float)
-    albedo = model.albedo(wo)
+    if coat_geo is None:
+        albedo = model.albedo(wo)
+    else:
+        with model.coat_frame(None, coat_wo):
+            albedo = model.albedo(wo)
     transmit = np.asarray(albedo.transmit)
     if model.volume_absorption is not None and np.any(transmit):
         path = getattr(model, "volume_path_length", None)

@@ -121,9 +121,10 @@ class StandardSurface(BSDFModel):
             base = mix(dielectric, metal, as_colour(f["metalness"]))
         if any_nonzero(f["coat"]):
             cx, cy = self.alpha_c
-            wi_c, wo_c = rotate_about_normal(wi, self.coat_rotation), rotate_about_normal(wo, self.coat_rotation)
+            cwi, cwo = self.coat_dirs(wi, wo)  # coat_normal's frame
+            wi_c, wo_c = rotate_about_normal(cwi, self.coat_rotation), rotate_about_normal(cwo, self.coat_rotation)
             coat, _ = closures.dielectric_interface(
-                wi_c, wo_c, np.zeros(np.shape(wo)[:-1], bool), cx, cy, f["coat_IOR"], transmission=False
+                wi_c, wo_c, np.zeros(np.shape(cwo)[:-1], bool), cx, cy, f["coat_IOR"], transmission=False
             )
             base = layer(coat.weighted(as_colour(f["coat"])), base.scaled(self.coat_attenuation))
         return base

@@ -42,7 +42,10 @@ class Swatch:
 def _render(material, rig: Rig, sampler, shape: str, environment=None):
     geo = geometry(shape, rig)
     model, resolved = model_for_material(material, sampler, geo.uvs if sampler is not None else None)
-    image, mask = shade(model, perturbed(geo, resolved.normal), rig, environment=environment)
+    coat_geo = None
+    if resolved.normal is not None or resolved.coat_normal is not None:  # the coat's frame differs from the base's
+        coat_geo = perturbed(geo, resolved.coat_normal)
+    image, mask = shade(model, perturbed(geo, resolved.normal), rig, environment=environment, coat_geo=coat_geo)
     notes = resolved.notes()
     if sampler is not None:
         prefix = f"{material.name}."
