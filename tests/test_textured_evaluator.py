@@ -370,3 +370,38 @@ def test_preview_environment_from_an_hdr_file(tmp_path):
     bad = CliRunner().invoke(cli, ["preview", str(tmp_path / "grey.mtlx"), "-o", str(png), "--environment",
                                    str(tmp_path / "grey.mtlx")])
     assert bad.exit_code == 2 and "latitude-longitude" in bad.output
+
+
+def test_tangent_map_turns_the_anisotropic_highlight(tmp_path):
+    """An OpenPBR geometry_tangent read through a normalmap decode is a tangent-space direction: a
+    texel (128, 255, 128) decodes to about +B, so on the swatch (T = +x, B = +y, N = +z) the
+    tangent becomes +y and the bitangent n x t = -x. Expected: the same constant material shaded on
+    a swatch whose frame is built that way by hand."""
+    import dataclasses
+
+    write_png(tmp_path / "t.png", np.tile(np.array([128, 255, 128], dtype=np.uint8), (2, 2, 1)))
+    (tmp_path / "t.mtlx").write_text("""<?xml version="1.0"?>
+<materialx version="1.39">
+  <image name="timg" type="vector3"><input name="file" type="filename" value="t.png" /></image>
+  <normalmap name="tdecode" type="vector3"><input name="in" type="vector3" nodename="timg" /></normalmap>
+  <open_pbr_surface name="A" type="surfaceshader">
+    <input name="base_metalness" type="float" value="1" />
+    <input name="specular_roughness" type="float" value="0.4" />
+    <input name="specular_roughness_anisotropy" type="float" value="0.9" />
+    <input name="geometry_tangent" type="vector3" nodename="tdecode" />
+  </open_pbr_surface>
+</materialx>""")
+    asset = read_asset(str(tmp_path / "t.mtlx"))
+    rig = Rig(size=8, key_direction=(0.5, 0.2, 0.8))
+    swatch = render_material(asset.materials[0], rig, TextureSampler.for_asset(asset.path), "swatch")
+    assert swatch.textured and not swatch.notes
+    d = 2 * 128 / 255 - 1  # the decoded x and z components (0.0039), y = 1
+    t = np.array([d, 1.0, 0.0]) / np.hypot(d, 1.0)  # projected on the tangent plane (z dropped)
+    geo = swatch_geometry(rig)
+    by_hand = dataclasses.replace(geo, tangent=np.tile(t, (64, 1)), bitangent=np.tile(np.cross([0, 0, 1], t), (64, 1)))
+    model = build_model("open_pbr_surface", {"base_metalness": 1.0, "specular_roughness": 0.4,
+                                             "specular_roughness_anisotropy": 0.9})
+    expected, _ = shade(model, by_hand, rig)
+    plain, _ = shade(model, geo, rig)
+    assert np.allclose(swatch.image, expected, atol=1e-9)
+    assert np.abs(swatch.image - plain).max() > 1e-3  # the turn is visible

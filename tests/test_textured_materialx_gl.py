@@ -172,3 +172,24 @@ def test_coat_is_shaded_in_its_own_frame_as_materialx_does(documents, case, inpu
     assert not any("not evaluated" in n for n in swatch.notes), swatch.notes
     mask = comparison_mask(RIG)
     assert float(np.mean(delta_e_2000(gl[mask], swatch.image[mask], RIG.white()))) < 1.2  # measured 0.74-0.79
+
+
+def test_tangent_map_turns_anisotropy_as_materialx_does(documents):
+    """geometry_tangent from a normalmap-decoded image (a tangent-space direction per texel) on an
+    anisotropic metal: the evaluator stays as close to GLSL as without the map (measured 1.04 vs
+    1.02 mean ΔE), and the map's effect matches GLSL's (2.7 vs 3.0)."""
+    original, _ = documents
+    aniso = '<input name="specular_roughness_anisotropy" type="float" value="0.85" />'
+    renderer, mask = materialx_renderer(RIG), comparison_mask(RIG)
+    images = {}
+    for case, inputs in (("tangent", '<input name="geometry_tangent" type="vector3" nodename="nmap" />' + aniso),
+                         ("plain", aniso)):
+        path = _document(original.parent, f"aniso_{case}", normal=inputs)
+        material, sampler = _evaluator(path)
+        images[case] = (renderer.render_document(path), render_material(material, RIG, sampler).image)
+    gl_t, ours_t = images["tangent"]
+    gl_p, ours_p = images["plain"]
+    assert float(np.mean(delta_e_2000(gl_t[mask], ours_t[mask], RIG.white()))) < 1.5
+    effect_gl = float(np.mean(delta_e_2000(gl_t[mask], gl_p[mask], RIG.white())))
+    effect_ours = float(np.mean(delta_e_2000(ours_t[mask], ours_p[mask], RIG.white())))
+    assert abs(effect_ours - effect_gl) < 0.25 * effect_gl + 0.3, (effect_gl, effect_ours)

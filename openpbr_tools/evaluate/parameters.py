@@ -14,8 +14,10 @@ For every parameter of the model's table (``schemas/models/``, latest version of
 * anything unset takes the table default.
 
 Of the geometric inputs the main normal map tilts the shading frame and the coat's normal map the
-coat's (without one the coat keeps the geometric normal); a textured tangent is listed as
-approximated.
+coat's (without one the coat keeps the geometric normal); a textured tangent (OpenPBR
+geometry_tangent / geometry_coat_tangent, Standard Surface tangent) turns the frame's tangent:
+read through a ``normalmap`` decode it is a tangent-space direction, otherwise a world-space
+vector, as MaterialX passes it to the BSDF.
 Defaults are never retyped here; they come from the tables.
 """
 
@@ -52,6 +54,7 @@ class ResolvedParameters:
     sampled: list[str] = field(default_factory=list)  # textured parameters read per shading point
     normal: object = None  # (N, 3) tangent-space normals from the main normal map, or None
     coat_normal: object = None  # (N, 3) tangent-space normals from the coat's normal map, or None
+    tangents: dict = field(default_factory=dict)  # tangent input -> ((N, 3) vectors, in tangent space?)
     approximated: list[tuple[str, str]] = field(default_factory=list)  # (parameter, why)
     why_not: dict = field(default_factory=dict)  # textured parameter -> why it was not sampled
 
@@ -162,10 +165,8 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
         if sampler is not None and uvs is not None and isinstance(value, Texture) and p.type not in ("boolean", "integer") \
                 and p.role not in ("filename", "string"):
             owner = f"{material.name}.{name}"
-            if p.role == "tangent" or (p.role == "normal" and name not in (MAIN_NORMAL.get(material.model),
-                                                                            COAT_NORMAL.get(material.model))):
-                resolved.approximated.append((name, "textured direction map not evaluated (the surface's tangent "
-                                                    "is used)" if p.role == "tangent" else "textured; not evaluated"))
+            if p.role == "normal" and name not in (MAIN_NORMAL.get(material.model), COAT_NORMAL.get(material.model)):
+                resolved.approximated.append((name, "textured; not evaluated"))
                 continue
             if p.role == "normal" and value.normal_map is None:
                 resolved.approximated.append((name, "an image without a normal-map decode; the surface normal is used"))
@@ -176,7 +177,9 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
                 resolved.why_not[name] = str(error).removeprefix(owner + ": ")
             else:
                 resolved.sampled.append(name)
-                if p.role == "normal" and name == COAT_NORMAL.get(material.model):
+                if p.role == "tangent":
+                    resolved.tangents[name] = (sampled, value.normal_map is not None)
+                elif p.role == "normal" and name == COAT_NORMAL.get(material.model):
                     resolved.coat_normal = sampled
                 elif p.role == "normal":
                     resolved.normal = sampled

@@ -144,6 +144,23 @@ def perturbed(geo: Geometry, normal_ts: np.ndarray | None) -> Geometry:
     return dataclasses.replace(geo, normal=n, tangent=t, bitangent=np.cross(n, t))
 
 
+def turned(frame: Geometry, surface: Geometry, vectors: np.ndarray | None, tangent_space: bool) -> Geometry:
+    """``frame`` with its tangent turned towards ``vectors`` (N, 3): a tangent-space direction in
+    ``surface``'s (the unperturbed geometry's) frame, as a ``normalmap`` decode gives it, or a
+    world-space vector. The tangent is the vector's projection on the frame's tangent plane,
+    normalised (where it vanishes the frame's own tangent stays), the bitangent n x t."""
+    if vectors is None:
+        return frame
+    v = np.asarray(vectors, dtype=float)
+    if tangent_space:
+        v = v[:, :1] * surface.tangent + v[:, 1:2] * surface.bitangent + v[:, 2:3] * surface.normal
+    t = v - frame.normal * np.sum(frame.normal * v, -1, keepdims=True)
+    length = np.linalg.norm(t, axis=-1, keepdims=True)
+    ok = np.isfinite(length) & (length > 1e-6)
+    t = np.where(ok, t / np.where(ok, length, 1.0), frame.tangent)
+    return dataclasses.replace(frame, tangent=t, bitangent=np.cross(frame.normal, t))
+
+
 def _to_local(v, geo: Geometry) -> np.ndarray:
     v = np.asarray(v, dtype=float)
     return np.stack([np.sum(v * geo.tangent, -1), np.sum(v * geo.bitangent, -1), np.sum(v * geo.normal, -1)], axis=-1)

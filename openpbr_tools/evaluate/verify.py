@@ -21,7 +21,7 @@ import numpy as np
 from . import model_for_material
 from .difference import DeltaE, compare_albedo, delta_e_2000, summarize
 from .measure import directional_albedo
-from .preview import Rig, geometry, perturbed, shade
+from .preview import Rig, geometry, perturbed, shade, turned
 
 #: View cosines at which albedo curves are compared.
 ALBEDO_COSINES = np.linspace(0.05, 1.0, 16)
@@ -42,15 +42,30 @@ class Swatch:
 def _render(material, rig: Rig, sampler, shape: str, environment=None):
     geo = geometry(shape, rig)
     model, resolved = model_for_material(material, sampler, geo.uvs if sampler is not None else None)
-    coat_geo = None
-    if resolved.normal is not None or resolved.coat_normal is not None:  # the coat's frame differs from the base's
-        coat_geo = perturbed(geo, resolved.coat_normal)
-    image, mask = shade(model, perturbed(geo, resolved.normal), rig, environment=environment, coat_geo=coat_geo)
+    base_geo, coat_geo = _frames(material.model, geo, resolved)
+    image, mask = shade(model, base_geo, rig, environment=environment, coat_geo=coat_geo)
     notes = resolved.notes()
     if sampler is not None:
         prefix = f"{material.name}."
         notes += [f"{owner[len(prefix):]}: {text}" for owner, text in sampler.notes if owner.startswith(prefix)]
     return image, mask, notes, resolved
+
+
+#: The tangent inputs that turn the base's and the coat's frames, per model (Standard Surface's coat
+#: shares the one tangent; glTF turns anisotropy by rotation instead).
+TANGENTS = {"open_pbr_surface": ("geometry_tangent", "geometry_coat_tangent"), "standard_surface": ("tangent", "tangent")}
+
+
+def _frames(model: str, geo, resolved):
+    """(base frames, coat frames or None when the coat shares the base's) of ``geo`` after the
+    material's normal and tangent maps (see :mod:`.parameters`)."""
+    base_tangent, coat_tangent = TANGENTS.get(model, (None, None))
+    tangents = resolved.tangents
+    base = turned(perturbed(geo, resolved.normal), geo, *tangents.get(base_tangent, (None, False)))
+    if resolved.normal is None and resolved.coat_normal is None and not tangents:
+        return base, None
+    coat = turned(perturbed(geo, resolved.coat_normal), geo, *tangents.get(coat_tangent, (None, False)))
+    return base, coat
 
 
 def render_material(material, rig: Rig = Rig(), sampler=None, shape: str = "sphere", environment=None) -> Swatch:
