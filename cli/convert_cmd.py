@@ -57,8 +57,8 @@ OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tool
               help="Format of the loss report.")
 @click.option("--fail-on", type=click.Choice(SEVERITIES + ("never",)), default="never", show_default=True,
               callback=_severity, help="Exit 1 when a report entry reaches this severity (error: something was dropped).")
-def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_unit, allow_outside, verify, threshold, max_delta_e,
-            delta_e_images, html_report, force, skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format,
+def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_unit, allow_outside, verify,
+            threshold, max_delta_e, delta_e_images, html_report, force, skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format,
             fail_on):
     """Convert every material of INPUT (.mtlx, USD, glTF) and write OUTPUT; the report lists every
     conversion, approximation and loss.

@@ -122,8 +122,9 @@ def test_openpbr_to_gltf_keeps_the_products_gltf_has():
     for _ in range(40):
         values = random_openpbr(rng)
         # glTF's clearcoat is colourless: OpenPBR's coat colour is folded into the base colour (see
-        # test_translate_fit.py), so the product returns under a white coat.
-        values.update(transmission_weight=0.0, subsurface_weight=0.0, coat_color=(1.0, 1.0, 1.0))
+        # test_translate_fit.py), so the product returns under a white coat; its IOR is fixed at 1.5, and
+        # the emission under a coat of another IOR comes back scaled by the two coats' Fresnel transmissions.
+        values.update(transmission_weight=0.0, subsurface_weight=0.0, coat_color=(1.0, 1.0, 1.0), coat_ior=1.5)
         source = material("open_pbr_surface", **values)
         there = convert(source, "gltf_pbr").material
         back = convert(there, "open_pbr_surface").material
@@ -404,3 +405,24 @@ def test_a_base_smoother_than_openpbrs_coat_allows_keeps_its_roughness_and_says_
     there = convert(source, "open_pbr_surface")
     assert float(value(there.material, "specular_roughness")) == pytest.approx(0.6)
     assert any(d.code == "OPBR1103" and "smoother than" in d.message for d in there.diagnostics)
+
+
+@pytest.mark.parametrize("target, emitted", [("UsdPreviewSurface", lambda m: value(m, "emissiveColor")),
+                                             ("gltf_pbr", lambda m: value(m, "emissive") * value(m, "emissive_strength"))])
+def test_emission_under_a_tinted_coat_matches_openpbr_on_the_sphere(target, emitted):
+    """OpenPBR's coat tints and Fresnel-attenuates the emission beneath it (MaterialX's graph, which the
+    evaluator follows per view angle); glTF's and UsdPreviewSurface's clear coats do not, so the
+    converted emission is the one the OpenPBR sphere shows on average over its visible disk: the mean
+    of the evaluator's view-dependent emission over the preview sphere's pixels."""
+    from openpbr_tools.evaluate import model_for_material
+    from openpbr_tools.evaluate.preview import Rig, sphere_geometry
+
+    source = material("open_pbr_surface", emission_luminance=3.0, emission_color=(0.9, 0.6, 0.3),
+                      coat_weight=0.8, coat_color=(0.5, 0.2, 0.1), coat_ior=2.0)
+    geo = sphere_geometry(Rig(size=256))
+    wo = np.stack([np.zeros(len(geo.normal)), np.zeros(len(geo.normal)), geo.normal[:, 2]], axis=-1)
+    on_sphere = model_for_material(source)[0].emission(wo).mean(axis=0)
+    converted = emitted(convert(source, target).material)
+    np.testing.assert_allclose(converted, on_sphere, rtol=0.01)
+    uncoated = np.array([0.9, 0.6, 0.3]) * 3.0
+    assert np.all(converted < 0.7 * uncoated)  # before, the coat was ignored: the uncoated emission was written

@@ -73,3 +73,24 @@ def coat_absorption(coat_color, coat_weight):
     Autodesk Standard Surface 1.0.1, section "Coat" (the same mix by ``coat``).
     """
     return 1.0 + (coat_color - 1.0) * coat_weight
+
+
+#: The projected-hemisphere mean of Schlick's transmission shape 1 - (1 - mu)^5:
+#: integral of (1 - (1 - mu)^5) 2 mu dmu over [0, 1] = 1 - 2 B(2, 6) = 20 / 21.
+SCHLICK_TRANSMISSION_MEAN = 20.0 / 21.0
+
+
+def coat_emission_factor(coat_color, coat_weight, coat_ior):
+    """What OpenPBR's coat does to the emission beneath it, as one view-independent colour:
+    mix(1, coat_color (1 - F0(coat_ior)) T, coat_weight) with T the projected-hemisphere mean of
+    the Schlick transmission 1 - (1 - mu)^5 (:data:`SCHLICK_TRANSMISSION_MEAN`), for targets whose
+    clear coat leaves emission alone (glTF, UsdPreviewSurface: MaterialX's ``gltf_pbr`` and
+    ``UsdPreviewSurface`` graphs add their emission on top).
+
+    Reference: OpenPBR Surface 1.1, section "Emission" (the coat tints and Fresnel-attenuates the
+    emission); MaterialX ``open_pbr_surface`` graph (``coat_tinted_emission_edf`` through
+    ``generalized_schlick_edf`` with color0 = 1 - F0, mixed by coat_weight), which the evaluator's
+    :meth:`~.openpbr.OpenPBRSurface.emission` follows per view angle.
+    """
+    through = np.asarray(coat_color) * ((1.0 - ior_to_f0(coat_ior)) * SCHLICK_TRANSMISSION_MEAN)
+    return 1.0 + (through - 1.0) * coat_weight

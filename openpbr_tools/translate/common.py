@@ -55,6 +55,14 @@ class Mapping:
     when: Callable[..., bool] | None = None  # given the source values: does the target need this at all?
 
 
+#: The sources of an emission a coat covers, and the note where a target's clear coat leaves emission
+#: alone (glTF, UsdPreviewSurface) so the coat's effect is folded into it (evaluate.coat.coat_emission_factor).
+EMISSION_UNDER_COAT = ("emission_color", "emission_luminance", "coat_weight", "coat_color", "coat_ior")
+COAT_EMISSION_NOTE = ("the coat's tint and Fresnel transmission over the emission are folded into it, averaged over "
+                      "view angles (the target's clear coat leaves emission alone)")
+COAT_EMISSION_UNDONE = "divided by what OpenPBR's coat does to emission (the source's clear coat leaves it alone)"
+
+
 @dataclass(frozen=True, slots=True)
 class Dropped:
     """A source parameter with no equivalent in the target. ``matters`` decides, from the source

@@ -77,13 +77,13 @@ import copy
 
 import numpy as np
 
-from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_roughened
+from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_emission_factor, coat_roughened
 from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
 from ..io.gltf import drafts
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import fit
-from .common import Dropped, Mapping, Settings, Translation, differs, translate
+from .common import COAT_EMISSION_NOTE, COAT_EMISSION_UNDONE, EMISSION_UNDER_COAT, Dropped, Mapping, Settings, Translation, differs, translate
 from .gltf_anisotropy import gltf_anisotropy_strength, gltf_roughness, openpbr_anisotropy, openpbr_roughness
 from .gltf_drafts import (DRAFT_TARGETS, GLTF_CLEARCOAT_IOR, apply_drafts, draft_record, needs_specular_openpbr,
                           with_draft_coat)
@@ -359,9 +359,12 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
         Mapping("iridescence_thickness", ("thin_film_thickness", "thin_film_weight"), lambda t, w: t * 1000.0,
                 when=lambda t, w: w > 0, converted="micrometres to nanometres"),
         Mapping("iridescence_ior", ("thin_film_ior", "thin_film_weight"), lambda n, w: n, when=lambda n, w: w > 0),
-        Mapping("emissive", ("emission_color", "emission_luminance"), _emissive, when=lambda c, l: l > 0),
-        Mapping("emissive_strength", ("emission_color", "emission_luminance"), lambda c, l: _emissive_strength(c, l, nits),
-                when=lambda c, l: l > 0, converted=f"nits at {nits:g} nit(s) per unit"),
+        Mapping("emissive", EMISSION_UNDER_COAT, lambda c, l, w, cc, ci: _emissive(c * coat_emission_factor(cc, w, ci), l),
+                when=lambda c, l, *coat: l > 0, exact=False, matters=lambda c, l, w, *coat: l > 0 and w > 0,
+                note=COAT_EMISSION_NOTE),
+        Mapping("emissive_strength", EMISSION_UNDER_COAT,
+                lambda c, l, w, cc, ci: _emissive_strength(c * coat_emission_factor(cc, w, ci), l, nits),
+                when=lambda c, l, *coat: l > 0, converted=f"nits at {nits:g} nit(s) per unit"),
         Mapping("alpha", ("geometry_opacity",)),
         Mapping("alpha_mode", ("geometry_opacity",), lambda o: np.where(o < 1.0, 2.0, 0.0)),
         Mapping("normal", ("geometry_normal",)),
@@ -466,9 +469,11 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
         Mapping("thin_film_weight", ("iridescence",)),
         Mapping("thin_film_thickness", ("iridescence_thickness",), lambda t: t / 1000.0, converted="nanometres to micrometres"),
         Mapping("thin_film_ior", ("iridescence_ior",)),
-        Mapping("emission_color", ("emissive",), _normalised),
-        Mapping("emission_luminance", ("emissive", "emissive_strength"), lambda c, s: _peak(c) * s * nits,
-                converted=f"nits at {nits:g} nit(s) per unit"),
+        Mapping("emission_color", ("emissive", "clearcoat"),
+                lambda c, w: _normalised(c / coat_emission_factor(1.0, w, GLTF_CLEARCOAT_IOR))),
+        Mapping("emission_luminance", ("emissive", "emissive_strength", "clearcoat"),
+                lambda c, s, w: _peak(c / coat_emission_factor(1.0, w, GLTF_CLEARCOAT_IOR)) * s * nits,
+                converted=f"nits at {nits:g} nit(s) per unit; {COAT_EMISSION_UNDONE}"),
         Mapping("geometry_opacity", ("alpha", "alpha_mode", "alpha_cutoff"),
                 lambda a, m, c: np.where(m == 0, 1.0, np.where(m == 1, np.where(a >= c, 1.0, 0.0), a)),
                 exact=False, matters=lambda a, m, c: m == 1, note="an alpha MASK becomes a binary opacity"),

@@ -42,11 +42,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..evaluate.coat import coat_absorption, coat_darkening_factor
+from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_emission_factor
 from ..evaluate.microfacet import openpbr_alphas
 from ..model import Material
 from . import fit
-from .common import Dropped, Mapping, Settings, Translation, differs, translate
+from .common import COAT_EMISSION_NOTE, COAT_EMISSION_UNDONE, EMISSION_UNDER_COAT, Dropped, Mapping, Settings, Translation, differs, translate
 
 WHITE = np.ones(3)
 REC709_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
@@ -121,7 +121,9 @@ def to_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
                      f"IOR relative to it included; {COAT_RESIDUAL})"),
         Mapping("clearcoat", ("coat_weight",)),
         Mapping("clearcoatRoughness", ("coat_roughness",)),
-        Mapping("emissiveColor", ("emission_color", "emission_luminance"), lambda c, l: c * l / nits,
+        Mapping("emissiveColor", EMISSION_UNDER_COAT,
+                lambda c, l, w, cc, ci: c * coat_emission_factor(cc, w, ci) * l / nits, exact=False,
+                matters=lambda c, l, w, *coat: l > 0 and w > 0, note=COAT_EMISSION_NOTE,
                 converted=f"emission_color * emission_luminance at {nits:g} nit(s) per unit"),
         Mapping("opacity", ("geometry_opacity", "transmission_weight"), lambda o, t: o * (1.0 - t), exact=False,
                 matters=lambda o, t: t > 0, note="no refraction in UsdPreviewSurface: transmission becomes transparency"),
@@ -186,9 +188,11 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
                 converted="the preview's clear coat has the preview's ior"),
         Mapping("coat_darkening", ("clearcoat",), lambda c: 0.0, when=lambda c: c > 0,
                 converted="the preview does not darken under its clear coat"),
-        Mapping("emission_color", ("emissiveColor",), emission_color),
-        Mapping("emission_luminance", ("emissiveColor",), lambda c: np.max(c, axis=-1, keepdims=True) * nits,
-                converted=f"nits at {nits:g} nit(s) per unit"),
+        Mapping("emission_color", ("emissiveColor", "clearcoat", "ior"),
+                lambda c, w, n: emission_color(c / coat_emission_factor(1.0, w, n))),
+        Mapping("emission_luminance", ("emissiveColor", "clearcoat", "ior"),
+                lambda c, w, n: np.max(c / coat_emission_factor(1.0, w, n), axis=-1, keepdims=True) * nits,
+                converted=f"nits at {nits:g} nit(s) per unit; {COAT_EMISSION_UNDONE}"),
         Mapping("geometry_opacity", OPACITY_SOURCES, presence, exact=False, matters=lambda o, t, m: t > 0,
                 note="an opacity threshold becomes a binary opacity"),
         Mapping("transmission_weight", OPACITY_SOURCES, transparency, exact=False,
