@@ -426,3 +426,13 @@ def test_emission_under_a_tinted_coat_matches_openpbr_on_the_sphere(target, emit
     np.testing.assert_allclose(converted, on_sphere, rtol=0.01)
     uncoated = np.array([0.9, 0.6, 0.3]) * 3.0
     assert np.all(converted < 0.7 * uncoated)  # before, the coat was ignored: the uncoated emission was written
+
+
+def test_a_tinted_coat_over_glass_tints_gltf_transmission():
+    """OpenPBR's coat covers the whole base, transmission included; glTF's clearcoat is colourless and
+    its base colour tints what it transmits: a fully transmissive, thin-walled glass of colour c_t under
+    a coat of colour c_c (no darkening) has the glTF base colour c_t * c_c (before: c_t alone)."""
+    c_t, c_c = np.array([0.9, 0.8, 0.6]), np.array([0.5, 0.7, 0.95])
+    source = material("open_pbr_surface", transmission_weight=1.0, transmission_color=tuple(c_t),
+                      geometry_thin_walled=True, coat_weight=1.0, coat_color=tuple(c_c), coat_darkening=0.0)
+    np.testing.assert_allclose(value(convert(source, "gltf_pbr").material, "base_color"), c_t * c_c, atol=1e-9)

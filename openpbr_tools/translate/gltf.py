@@ -118,12 +118,14 @@ def gltf_base_color(weight, color, transmission, transmission_color, depth, subs
     roughness = coat_roughened(roughness, coat_weight, coat_roughness)  # glTF's base roughness
     darkening = coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color,
                                       coat_weight, coat_darkening, fit.positive_ior(coat_ior))
-    color = color * darkening * coat_absorption(coat_color, coat_weight)  # glTF's clearcoat is colourless
+    absorption = coat_absorption(coat_color, coat_weight)  # glTF's clearcoat is colourless
+    color = color * darkening * absorption
     diffuse = weight * color
     diffuse = diffuse + subsurface * (weight * subsurface_color - diffuse)
     diffuse = fit.schlick_metal_f0(diffuse, metalness, specular_color, specular_weight,
                                    average_alpha_openpbr(roughness, anisotropy))
-    tint = np.where(depth > 0, WHITE, transmission_color)
+    # the coat covers the transmission too (OpenPBR scales the whole base under it)
+    tint = np.where(depth > 0, WHITE, transmission_color) * darkening * absorption
     return diffuse + transmission * (tint - diffuse)
 
 
