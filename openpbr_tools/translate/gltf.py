@@ -15,7 +15,11 @@ Exact:
   * the base colour of an opaque dielectric (``base_weight * base_color``: glTF has no base weight),
     and of an untinted metal of specular weight 1 (its F0 in both models);
   * emission: colour normalised to glTF's [0, 1] factor with the rest moved to
-    KHR_materials_emissive_strength; ``emission_luminance`` / ``nits_per_unit``.
+    KHR_materials_emissive_strength; ``emission_luminance`` / ``nits_per_unit``; under a coat, times
+    what OpenPBR's coat does to emission (:func:`openpbr_tools.evaluate.coat.coat_emission_factor`;
+    MaterialX's ``gltf_pbr`` adds its emission above the clearcoat, as this evaluator does; the
+    KHR_materials_clearcoat text darkens it by the clearcoat's Fresnel, which a viewer following it
+    applies on top), divided by it coming back;
 
 Exact, given glTF's model:
   * the coat's roughening of the base (OpenPBR spec, "Coat": mix(r, min(1, (r^4 + 2 r_c^4)^(1/4)),

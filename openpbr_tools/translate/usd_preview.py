@@ -28,7 +28,10 @@ before -> after the fits of :mod:`.fit`, from ``openpbr convert --verify``):
   * transmission: the preview has no refraction; glass becomes opacity 1 - transmission_weight
     (the reflection stays, the refracted image becomes see-through);
   * ``specular_color`` (the metallic workflow has no tint), subsurface (folded into the diffuse colour);
-  * emission: ``emissiveColor`` = ``emission_color * emission_luminance / nits_per_unit``.
+  * emission: ``emissiveColor`` = ``emission_color * emission_luminance / nits_per_unit``, times what
+    OpenPBR's coat does to it (its tint and Fresnel transmission, averaged over the visible disk:
+    :func:`openpbr_tools.evaluate.coat.coat_emission_factor`), which the preview's clear coat does not do;
+    divided by it coming back.
 
 Not carried (reported): fuzz, thin film, dispersion, diffuse roughness, volume colour.
 Reading the preview's opacity: in its default "transparent" mode a glass keeps its reflections, so
