@@ -436,3 +436,36 @@ def test_a_tinted_coat_over_glass_tints_gltf_transmission():
     source = material("open_pbr_surface", transmission_weight=1.0, transmission_color=tuple(c_t),
                       geometry_thin_walled=True, coat_weight=1.0, coat_color=tuple(c_c), coat_darkening=0.0)
     np.testing.assert_allclose(value(convert(source, "gltf_pbr").material, "base_color"), c_t * c_c, atol=1e-9)
+
+
+def test_a_metal_covers_its_transmission():
+    """OpenPBR mixes its metal over the dielectric, transmission included, by base_metalness: only
+    (1 - m) t of the surface transmits. UsdPreviewSurface's opacity is 1 - t (1 - m) (before: 1 - t,
+    a full metal became 80% see-through), and its inverse splits a transparency the dielectric part
+    cannot hold into geometry_opacity; glTF's base colour under a full metal is the metal's whatever
+    the transmission (before: pulled 80% towards the transmission tint)."""
+    for m, t, expected in ((1.0, 0.8, 1.0), (0.5, 0.8, 0.6), (0.0, 0.8, 0.2)):
+        source = material("open_pbr_surface", base_metalness=m, transmission_weight=t)
+        assert value(convert(source, "UsdPreviewSurface").material, "opacity") == pytest.approx(expected, abs=1e-12)
+    preview = material("UsdPreviewSurface", metallic=0.5, opacity=0.3)
+    there = convert(preview, "open_pbr_surface").material
+    assert value(there, "transmission_weight") == pytest.approx(1.0)
+    assert value(there, "geometry_opacity") == pytest.approx(0.6)  # 0.6 x (1 - 1 x 0.5) = 0.3
+    assert value(convert(there, "UsdPreviewSurface").material, "opacity") == pytest.approx(0.3)
+    colour = (0.9, 0.6, 0.3)
+    metal = value(convert(material("open_pbr_surface", base_metalness=1.0, base_color=colour), "gltf_pbr").material,
+                  "base_color")
+    clear = material("open_pbr_surface", base_metalness=1.0, base_color=colour, transmission_weight=0.8,
+                     transmission_color=(0.2, 0.9, 0.9), geometry_thin_walled=True)
+    np.testing.assert_allclose(value(convert(clear, "gltf_pbr").material, "base_color"), metal, atol=1e-12)
+
+
+@pytest.mark.parametrize("target, name", [("gltf_pbr", "base_color"), ("UsdPreviewSurface", "diffuseColor")])
+def test_base_weight_does_not_dim_subsurface(target, name):
+    """OpenPBR's base_weight weighs the diffuse lobe only (MaterialX's open_pbr_surface graph:
+    oren_nayar_diffuse_bsdf weight = base_weight; subsurface_bsdf color = subsurface_color): a fully
+    subsurface material shows its subsurface colour whatever base_weight is (before: times it)."""
+    s = (0.8, 0.5, 0.3)
+    source = material("open_pbr_surface", base_weight=0.2, base_color=(0.1, 0.9, 0.1), subsurface_weight=1.0,
+                      subsurface_color=s)
+    np.testing.assert_allclose(value(convert(source, target).material, name), s, atol=1e-12)

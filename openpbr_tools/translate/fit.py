@@ -49,6 +49,7 @@ from .fit_metal import (  # re-exported: the translation modules call every fit 
     openpbr_metal_from_constant,
     openpbr_metal_from_schlick,
     schlick_metal_f0,
+    schlick_metal_mix,
     ss_metal_tint,
 )
 

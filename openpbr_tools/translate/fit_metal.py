@@ -104,6 +104,11 @@ def schlick_metal_f0(color, metalness, tint, weight, alpha):
     return np.clip(_blend_metal(color, metalness, tint, weight, alpha, "schlick"), 0.0, 1.0)
 
 
+def schlick_metal_mix(color, metalness, tint, weight, alpha):
+    """:func:`schlick_metal_f0` before its clip to [0, 1], for callers that mix more in first."""
+    return _blend_metal(color, metalness, tint, weight, alpha, "schlick")
+
+
 def openpbr_metal_from_schlick(fitted, metalness, tint, weight, alpha):
     """Inverse of :func:`schlick_metal_f0` (the OpenPBR base colour, clamped to [0, 1])."""
     return np.clip(_unblend_metal(fitted, metalness, tint, weight, alpha, "schlick"), 0.0, 1.0)

@@ -125,12 +125,14 @@ def gltf_base_color(weight, color, transmission, transmission_color, depth, subs
     absorption = coat_absorption(coat_color, coat_weight)  # glTF's clearcoat is colourless
     color = color * darkening * absorption
     diffuse = weight * color
-    diffuse = diffuse + subsurface * (weight * subsurface_color - diffuse)
-    diffuse = fit.schlick_metal_f0(diffuse, metalness, specular_color, specular_weight,
-                                   average_alpha_openpbr(roughness, anisotropy))
-    # the coat covers the transmission too (OpenPBR scales the whole base under it)
+    diffuse = diffuse + subsurface * (subsurface_color - diffuse)  # base_weight: the diffuse lobe only
+    mixed = fit.schlick_metal_mix(diffuse, metalness, specular_color, specular_weight,
+                                  average_alpha_openpbr(roughness, anisotropy))
+    # Only the dielectric part transmits (OpenPBR's metal, like glTF's, covers it by metalness): the mix
+    # of the transmitting dielectric and the fitted metal is the metal blend plus (1 - m) t (tint - D). The
+    # coat covers the transmission too (OpenPBR scales the whole base under it). openpbr_base_color inverts.
     tint = np.where(depth > 0, WHITE, transmission_color) * darkening * absorption
-    return diffuse + transmission * (tint - diffuse)
+    return np.clip(mixed + (1.0 - metalness) * transmission * (tint - diffuse), 0.0, 1.0)
 
 
 def gltf_specular(specular_weight, specular_ior, coat_ior, coat_weight, film_weight, color, metalness, subsurface,
@@ -157,21 +159,37 @@ def openpbr_specular_weight(specular, metallic, ior, clearcoat, iridescence, coa
 
 
 SPECULAR_WEIGHT_SOURCES = ("specular", "metallic", "ior", "clearcoat", "iridescence")
+TRANSMISSION_MIX_SOURCES = ("transmission", "attenuation_distance", "thickness")
+
+
+def _unmixed(color, metallic, transmission, attenuation_distance, thickness):
+    """(target, effective metalness) of the metal-fit inverse once the transmission is taken out of
+    :func:`gltf_base_color`'s mix: with k = 1 - (1 - m) t, (1 - m)(1 - t) D + m fit(D) equals k B for a
+    thin wall (tinted by the base colour, OpenPBR's transmission colour coming back) and B - (1 - m) t
+    for a volume (tinted white): a mix of D and fit(D) by m / k reaching B, or (B - (1 - m) t) / k."""
+    k = 1.0 - (1.0 - metallic) * transmission
+    safe = np.where(k > 0, k, 1.0)
+    volume = np.isfinite(attenuation_distance) & (attenuation_distance > 0) & (thickness > 0)
+    target = np.where(volume & (k > 0), (color - (1.0 - metallic) * transmission) / safe, color)
+    return np.clip(target, 0.0, 1.0), np.where(k > 0, metallic / safe, metallic)
 
 
 def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
-                       coat_ior=GLTF_CLEARCOAT_IOR):
-    """Inverse of the metal fit in :func:`gltf_base_color`: OpenPBR's base colour (F0 under an F82
-    edge tint of ``specular_color``) whose fitted Schlick metal is glTF's base colour."""
+                       coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0):
+    """Inverse of :func:`gltf_base_color`'s metal fit and transmission mix: OpenPBR's base colour (F0
+    under an F82 edge tint of ``specular_color``) whose fitted Schlick metal, mixed with the transmitting
+    dielectric, is glTF's base colour."""
     specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior)
-    return fit.openpbr_metal_from_schlick(color, metallic, specular_color, specular_weight,
+    target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness)
+    return fit.openpbr_metal_from_schlick(target, metalness, specular_color, specular_weight,
                                           average_alpha_gltf(roughness, anisotropy_strength))
 
 
 def _metal_inverse_clips(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
-                         coat_ior=GLTF_CLEARCOAT_IOR):
+                         coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0):
     specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior)
-    return fit.metal_from_schlick_clips(color, metallic, specular_color, specular_weight,
+    target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness)
+    return fit.metal_from_schlick_clips(target, metalness, specular_color, specular_weight,
                                         average_alpha_gltf(roughness, anisotropy_strength))
 
 
@@ -260,7 +278,7 @@ def gltf_base_color_drafts(weight, color, transmission, transmission_color, dept
     """glTF's base colour beside the drafts: OpenPBR's own (KHR_materials_coat tints and darkens,
     EXT_materials_specular_openpbr makes it a metal's F0), with transmission and subsurface mixed in."""
     diffuse = weight * color
-    diffuse = diffuse + subsurface * (weight * subsurface_color - diffuse)
+    diffuse = diffuse + subsurface * (subsurface_color - diffuse)  # base_weight: the diffuse lobe only
     tint = np.where(depth > 0, WHITE, transmission_color)
     return diffuse + transmission * (tint - diffuse)
 
@@ -404,10 +422,12 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
     else:
         base_and_specular = (
             Mapping("base_color", ("base_color", "metallic", "specular_color", "roughness", "anisotropy_strength")
-                    + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:],
-                    lambda *v: openpbr_base_color(*v, coat_ior=coat_ior),
+                    + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:] + TRANSMISSION_MIX_SOURCES,
+                    lambda *v: openpbr_base_color(*v[:-3], coat_ior=coat_ior, transmission=v[-3],
+                                                  attenuation_distance=v[-2], thickness=v[-1]),
                     converted="a metal's base colour solved for OpenPBR's F82 edge tint (specular_color)", exact=False,
-                    matters=lambda *v: _metal_inverse_clips(*v, coat_ior=coat_ior),
+                    matters=lambda *v: _metal_inverse_clips(*v[:-3], coat_ior=coat_ior, transmission=v[-3],
+                                                            attenuation_distance=v[-2], thickness=v[-1]),
                     note="a metal's base colour solved for OpenPBR's F82 edge tint and specular weight (glTF's metals "
                          "ignore KHR_materials_specular, OpenPBR's do not) leaves [0, 1] and is clipped: the metal "
                          "renders darker or differently tinted"),

@@ -26,7 +26,8 @@ before -> after the fits of :mod:`.fit`, from ``openpbr convert --verify``):
     0.6-0.8 on metals 0.2-0.7 (4.9-9.4);
   * anisotropy: the preview's isotropic roughness keeps the geometric mean of OpenPBR's alphas;
   * transmission: the preview has no refraction; glass becomes opacity 1 - transmission_weight
-    (the reflection stays, the refracted image becomes see-through);
+    (the reflection stays, the refracted image becomes see-through), of the dielectric part only:
+    1 - transmission_weight (1 - base_metalness), as OpenPBR's metal covers its transmission;
   * ``specular_color`` (the metallic workflow has no tint), subsurface (folded into the diffuse colour);
   * emission: ``emissiveColor`` = ``emission_color * emission_luminance / nits_per_unit``, times what
     OpenPBR's coat does to it (its tint and Fresnel transmission, averaged over the visible disk:
@@ -83,7 +84,7 @@ def preview_diffuse_color(weight, color, subsurface, subsurface_color, metalness
     metal (:func:`fit.constant_metal_reflectance`)."""
     darkening = _darkening(color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
                            coat_darkening, coat_ior)
-    base = weight * color + subsurface * (weight * subsurface_color - weight * color)
+    base = weight * color + subsurface * (subsurface_color - weight * color)  # base_weight: the diffuse lobe only
     base = base * darkening * coat_absorption(coat_color, coat_weight)
     return fit.constant_metal_reflectance(base, metalness, specular_color, specular_weight,
                                           preview_roughness(roughness, anisotropy) ** 2)
@@ -128,8 +129,10 @@ def to_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
                 lambda c, l, w, cc, ci: c * coat_emission_factor(cc, w, ci) * l / nits, exact=False,
                 matters=lambda c, l, w, *coat: l > 0 and w > 0, note=COAT_EMISSION_NOTE,
                 converted=f"emission_color * emission_luminance at {nits:g} nit(s) per unit"),
-        Mapping("opacity", ("geometry_opacity", "transmission_weight"), lambda o, t: o * (1.0 - t), exact=False,
-                matters=lambda o, t: t > 0, note="no refraction in UsdPreviewSurface: transmission becomes transparency"),
+        Mapping("opacity", ("geometry_opacity", "transmission_weight", "base_metalness"),
+                lambda o, t, m: o * (1.0 - t * (1.0 - m)), exact=False, matters=lambda o, t, m: t * (1.0 - m) > 0,
+                note="no refraction in UsdPreviewSurface: transmission becomes transparency (of the dielectric part "
+                     "only: OpenPBR's metal covers it by base_metalness)"),
         Mapping("normal", ("geometry_normal",)),
     )
 
@@ -169,11 +172,24 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
         peak = np.max(color, axis=-1, keepdims=True)
         return np.where(peak > 0, color / np.where(peak > 0, peak, 1.0), WHITE)
 
-    def presence(opacity, threshold, mode):
-        return np.where(threshold > 0, np.where(opacity >= threshold, 1.0, 0.0), np.where(mode >= 1, opacity, 1.0))
+    # Only OpenPBR's dielectric transmits (its metal covers the transmission by base_metalness), while
+    # the preview's transparency covers the metal too: a transparency 1 - opacity of a metal m takes
+    # transmission (1 - opacity) / (1 - m) where that is at most 1; beyond, transmission 1 and the rest as
+    # geometry_opacity (opacity / m). to_usd_mappings' opacity is the inverse.
+    def _transparent(opacity, threshold, mode, metallic, workflow):
+        metalness = np.where(workflow >= 1, 0.0, metallic)
+        seen = (threshold <= 0) & (mode < 1)
+        return seen, np.where(seen, 1.0 - opacity, 0.0), 1.0 - metalness
 
-    def transparency(opacity, threshold, mode):
-        return np.where((threshold <= 0) & (mode < 1), 1.0 - opacity, 0.0)
+    def presence(opacity, threshold, mode, metallic, workflow):
+        seen, wanted, room = _transparent(opacity, threshold, mode, metallic, workflow)
+        plain = np.where(threshold > 0, np.where(opacity >= threshold, 1.0, 0.0), np.where(mode >= 1, opacity, 1.0))
+        beyond = seen & (wanted > room + 1e-12)
+        return np.where(beyond, opacity / np.where(room < 1.0, 1.0 - room, 1.0), plain)
+
+    def transparency(opacity, threshold, mode, metallic, workflow):
+        seen, wanted, room = _transparent(opacity, threshold, mode, metallic, workflow)
+        return np.where(seen & (room > 0), np.minimum(wanted / np.where(room > 0, room, 1.0), 1.0), 0.0)
 
     return (
         Mapping("base_color", ("diffuseColor", "metallic", "useSpecularWorkflow", "roughness"), base_color,
@@ -196,10 +212,10 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
         Mapping("emission_luminance", ("emissiveColor", "clearcoat", "ior"),
                 lambda c, w, n: np.max(c / coat_emission_factor(1.0, w, n), axis=-1, keepdims=True) * nits,
                 converted=f"nits at {nits:g} nit(s) per unit; {COAT_EMISSION_UNDONE}"),
-        Mapping("geometry_opacity", OPACITY_SOURCES, presence, exact=False, matters=lambda o, t, m: t > 0,
+        Mapping("geometry_opacity", OPACITY_SOURCES, presence, exact=False, matters=lambda o, t, m, *w: t > 0,
                 note="an opacity threshold becomes a binary opacity"),
         Mapping("transmission_weight", OPACITY_SOURCES, transparency, exact=False,
-                matters=lambda o, t, m: t <= 0 and m < 1 and o < 1,
+                matters=lambda o, t, m, *w: t <= 0 and m < 1 and o < 1,
                 note="the preview's transparent opacity keeps its specular reflection; OpenPBR's transmission "
                      "refracts what the preview shows see-through"),
         Mapping("geometry_normal", ("normal",)),
@@ -211,7 +227,7 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
 #: transparent object still receives lighting as, for example, perfectly clear glass still has a
 #: specular response"), so 1 - opacity is OpenPBR transmission; "presence" (1) is OpenPBR's
 #: geometry_opacity; a non-zero opacityThreshold cuts out in either mode.
-OPACITY_SOURCES = ("opacity", "opacityThreshold", "opacityMode")
+OPACITY_SOURCES = ("opacity", "opacityThreshold", "opacityMode", "metallic", "useSpecularWorkflow")
 
 DROPPED_FROM_USD = (
     Dropped("occlusion", "OpenPBR has no ambient occlusion input", matters=lambda v: v != 1.0),
