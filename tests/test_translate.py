@@ -469,3 +469,15 @@ def test_base_weight_does_not_dim_subsurface(target, name):
     source = material("open_pbr_surface", base_weight=0.2, base_color=(0.1, 0.9, 0.1), subsurface_weight=1.0,
                       subsurface_color=s)
     np.testing.assert_allclose(value(convert(source, target).material, name), s, atol=1e-12)
+
+
+@pytest.mark.parametrize("target, name", [("gltf_pbr", "base_color"), ("UsdPreviewSurface", "diffuseColor")])
+def test_a_metal_is_not_coloured_by_subsurface(target, name):
+    """OpenPBR's metal has F0 base_weight * base_color; subsurface belongs to the dielectric it covers.
+    A full metal with subsurface converts as the same metal without (before: its F0 took the
+    subsurface colour)."""
+    plain = material("open_pbr_surface", base_metalness=1.0, base_color=(0.2, 0.9, 0.3))
+    with_sss = material("open_pbr_surface", base_metalness=1.0, base_color=(0.2, 0.9, 0.3), subsurface_weight=0.9,
+                        subsurface_color=(0.8, 0.3, 0.2))
+    np.testing.assert_allclose(value(convert(with_sss, target).material, name),
+                               value(convert(plain, target).material, name), atol=1e-12)

@@ -45,11 +45,11 @@ from .fit_metal import (  # re-exported: the translation modules call every fit 
     constant_metal_reflectance,
     edge_color_for_f82_tint,
     f82_tint_of_edge_color,
+    fitted_metal,
     metal_from_schlick_clips,
     openpbr_metal_from_constant,
     openpbr_metal_from_schlick,
     schlick_metal_f0,
-    schlick_metal_mix,
     ss_metal_tint,
 )
 

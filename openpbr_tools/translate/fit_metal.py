@@ -104,9 +104,12 @@ def schlick_metal_f0(color, metalness, tint, weight, alpha):
     return np.clip(_blend_metal(color, metalness, tint, weight, alpha, "schlick"), 0.0, 1.0)
 
 
-def schlick_metal_mix(color, metalness, tint, weight, alpha):
-    """:func:`schlick_metal_f0` before its clip to [0, 1], for callers that mix more in first."""
-    return _blend_metal(color, metalness, tint, weight, alpha, "schlick")
+def fitted_metal(color, tint, weight, alpha, target: str = "schlick"):
+    """The metal alone, before any clip: glTF's Schlick F0 (``target`` "schlick") or the preview's
+    constant reflectance ("constant") fitted to OpenPBR's metal of F0 ``color`` (affine in the colour),
+    for callers that mix the metal with a dielectric of their own (subsurface, transmission)."""
+    gain, offset = _affine_metal(tint, weight, alpha, target)
+    return gain * color + offset
 
 
 def openpbr_metal_from_schlick(fitted, metalness, tint, weight, alpha):

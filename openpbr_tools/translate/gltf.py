@@ -123,16 +123,16 @@ def gltf_base_color(weight, color, transmission, transmission_color, depth, subs
     darkening = coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color,
                                       coat_weight, coat_darkening, fit.positive_ior(coat_ior))
     absorption = coat_absorption(coat_color, coat_weight)  # glTF's clearcoat is colourless
-    color = color * darkening * absorption
-    diffuse = weight * color
-    diffuse = diffuse + subsurface * (subsurface_color - diffuse)  # base_weight: the diffuse lobe only
-    mixed = fit.schlick_metal_mix(diffuse, metalness, specular_color, specular_weight,
-                                  average_alpha_openpbr(roughness, anisotropy))
-    # Only the dielectric part transmits (OpenPBR's metal, like glTF's, covers it by metalness): the mix
-    # of the transmitting dielectric and the fitted metal is the metal blend plus (1 - m) t (tint - D). The
-    # coat covers the transmission too (OpenPBR scales the whole base under it). openpbr_base_color inverts.
+    # OpenPBR's metal has F0 base_weight * base_color; its dielectric diffuses base_weight * base_color and
+    # scatters subsurface_color (base_weight weighs the diffuse lobe only), and transmits; the coat covers
+    # them all. glTF's one base colour mixes the fitted metal and that dielectric by metalness (only the
+    # dielectric transmits, in both models). openpbr_base_color inverts it (with no subsurface).
+    diffuse = weight * (color * darkening * absorption)
+    metal = fit.fitted_metal(diffuse, specular_color, specular_weight, average_alpha_openpbr(roughness, anisotropy))
+    dielectric = diffuse + subsurface * (subsurface_color * darkening * absorption - diffuse)
     tint = np.where(depth > 0, WHITE, transmission_color) * darkening * absorption
-    return np.clip(mixed + (1.0 - metalness) * transmission * (tint - diffuse), 0.0, 1.0)
+    dielectric = dielectric + transmission * (tint - dielectric)
+    return np.clip(dielectric + metalness * (metal - dielectric), 0.0, 1.0)
 
 
 def gltf_specular(specular_weight, specular_ior, coat_ior, coat_weight, film_weight, color, metalness, subsurface,

@@ -84,10 +84,12 @@ def preview_diffuse_color(weight, color, subsurface, subsurface_color, metalness
     metal (:func:`fit.constant_metal_reflectance`)."""
     darkening = _darkening(color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
                            coat_darkening, coat_ior)
-    base = weight * color + subsurface * (subsurface_color - weight * color)  # base_weight: the diffuse lobe only
-    base = base * darkening * coat_absorption(coat_color, coat_weight)
-    return fit.constant_metal_reflectance(base, metalness, specular_color, specular_weight,
-                                          preview_roughness(roughness, anisotropy) ** 2)
+    under = darkening * coat_absorption(coat_color, coat_weight)
+    # base_weight weighs the diffuse lobe only; the metal's F0 is base_weight * base_color (no subsurface)
+    dielectric = (weight * color + subsurface * (subsurface_color - weight * color)) * under
+    metal = fit.fitted_metal(weight * color * under, specular_color, specular_weight,
+                             preview_roughness(roughness, anisotropy) ** 2, "constant")
+    return np.clip(dielectric + metalness * (metal - dielectric), 0.0, 1.0)
 
 
 def _diffuse_matters(weight, color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
