@@ -241,13 +241,17 @@ class MaterialXRenderer:
             if inp.getType() == "color3" and hasattr(value, "asTuple"):
                 value = value.asTuple()
             self.renderer.updateUniform(inp.getName(), self._uniform(nodedef, inp.getName(), value))
+        return self._capture()
+
+
+    def _capture(self) -> np.ndarray:
+        """Render and read back the framebuffer: linear RGB, row 0 at the top."""
         self.renderer.render()
         image = self.renderer.captureImage(None)
         h, w, c = image.getHeight(), image.getWidth(), image.getChannelCount()
         buffer = (ctypes.c_float * (h * w * c)).from_address(image.getResourceBuffer())
         pixels = np.ctypeslib.as_array(buffer).reshape(h, w, c).copy()
         return pixels[::-1, :, :3].astype(float)
-
 
     def render_document(self, path) -> np.ndarray:
         """Render the first surface shader of the MaterialX document at ``path`` with its own node
@@ -279,12 +283,7 @@ class MaterialXRenderer:
         self.renderer.getImageHandler().setSearchPath(mx.FileSearchPath(str(Path(path).parent)))
         self.renderer.createProgram(shader)
         self._current = None
-        self.renderer.render()
-        image = self.renderer.captureImage(None)
-        h, w, c = image.getHeight(), image.getWidth(), image.getChannelCount()
-        buffer = (ctypes.c_float * (h * w * c)).from_address(image.getResourceBuffer())
-        pixels = np.ctypeslib.as_array(buffer).reshape(h, w, c).copy()
-        return pixels[::-1, :, :3].astype(float)
+        return self._capture()
 
 
 @lru_cache(maxsize=2)
