@@ -107,6 +107,9 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
         sys.exit(2)
     except ValueError as error:
         raise click.UsageError(str(error)) from None
+    except OSError as error:  # the output's folder cannot be made or written
+        click.echo(f"openpbr: cannot write {output}: {error.strerror or error}", err=True)
+        sys.exit(2)
     too_far = []
     if verify:
         # lazy: `openpbr --help` loads every command module; the library loads when this command runs

@@ -179,3 +179,20 @@ def test_verify_evaluates_textures_at_their_mean_texel(tmp_path):
                                       "--format", "json"])
     (verified,) = [d for d in json.loads(result.stdout)["diagnostics"] if d["code"] in ("OPBR1108", "OPBR1109")]
     assert verified["code"] == "OPBR1108" and float(verified["message"].split("mean ")[1].split(",")[0]) < 0.5
+
+
+@pytest.mark.parametrize("suffix", [".gltf", ".glb", ".usda", ".usdz", ".mtlx"])
+def test_output_in_a_folder_that_does_not_exist_yet(tmp_path, suffix):
+    """The output's folder is made, as the batch form makes its tree (before: a traceback from the
+    atomic writer's temporary file)."""
+    output = tmp_path / "new" / "deeper" / f"wood{suffix}"
+    result = run("convert", data_dir("samples") / "textured_wood.mtlx", "-o", output)
+    assert result.exit_code == 0, result.output
+    assert output.is_file()
+
+
+def test_output_that_cannot_be_written_exits_two_with_a_message(tmp_path):
+    blocker = tmp_path / "file"
+    blocker.write_text("not a folder")
+    result = run("convert", data_dir("samples") / "textured_wood.mtlx", "-o", blocker / "out.gltf")
+    assert result.exit_code == 2 and "cannot write" in result.output and "Traceback" not in result.output
