@@ -49,7 +49,11 @@ def upgrade(input_path, output, target, force, output_format, fail_on):
         report = Report(files=[unreadable(input_path, error)])
         click.echo(render(report, output_format), nl=False)
         sys.exit(2)
-    write_text(output, result.text)
+    try:
+        write_text(output, result.text)
+    except OSError as error:
+        click.echo(f"openpbr: cannot write {output}: {error.strerror or error}", err=True)
+        sys.exit(2)
     report = Report(files=[FileResult(input_path, result.diagnostics, materials=len(result.upgrades))])
     text = render(report, output_format, fail_on)
     click.echo(text, nl=False)

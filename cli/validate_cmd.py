@@ -92,7 +92,11 @@ def validate(paths, output_format, output, fail_on, min_severity, select, ignore
         from openpbr_tools.atomic import write_text
         from openpbr_tools.baseline import baseline_text
 
-        write_text(write_baseline, baseline_text(report, write_baseline))
+        try:
+            write_text(write_baseline, baseline_text(report, write_baseline))
+        except OSError as error:
+            click.echo(f"openpbr: cannot write {write_baseline}: {error.strerror or error}", err=True)
+            sys.exit(2)
         click.echo(f"wrote {write_baseline} ({len(report.diagnostics)} finding(s))", err=True)
         sys.exit(2 if report.unreadable else 0)
     if baseline:
@@ -110,7 +114,11 @@ def validate(paths, output_format, output, fail_on, min_severity, select, ignore
         # lazy: `openpbr --help` loads every command module; the library loads when this command runs
         from openpbr_tools.atomic import write_text
 
-        write_text(output, text)
+        try:
+            write_text(output, text)
+        except OSError as error:
+            click.echo(f"openpbr: cannot write {output}: {error.strerror or error}", err=True)
+            sys.exit(2)
     else:
         click.echo(text, nl=False)
     sys.exit(report.exit_code(fail_on_severity))

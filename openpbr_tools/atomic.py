@@ -1,7 +1,8 @@
 """Atomic output: write to a temporary file beside the target, then rename over it.
 
 A reader of the target sees either the old file or the complete new one, never a partial write,
-and a failure leaves no partial file behind.
+and a failure leaves no partial file behind. A target's folder that does not exist yet is made
+(every command's output: ``-o new/folder/file`` works as the batch form's output tree does).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ def default_mode() -> int:
 def write_bytes(path: str | os.PathLike, data: bytes) -> None:
     target = os.fspath(path)
     folder = os.path.dirname(os.path.abspath(target))
+    os.makedirs(folder, exist_ok=True)
     handle, temporary = tempfile.mkstemp(prefix=".openpbr-", suffix=".tmp", dir=folder)
     try:
         os.fchmod(handle, default_mode())

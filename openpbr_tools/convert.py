@@ -177,7 +177,6 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
         written = _write_baked(baker, result.materials)
         try:
             allowed = tuple(allow_outside) + ((staging,) if staging else ())
-            os.makedirs(os.path.dirname(os.path.abspath(output_path)), exist_ok=True)  # the output's folder, once the input is read
             notes = _write(kind, result, output_path, mesh, allowed)
         except BaseException:
             for path in written:  # a failed conversion leaves no partial output behind

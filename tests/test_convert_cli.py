@@ -196,3 +196,22 @@ def test_output_that_cannot_be_written_exits_two_with_a_message(tmp_path):
     blocker.write_text("not a folder")
     result = run("convert", data_dir("samples") / "textured_wood.mtlx", "-o", blocker / "out.gltf")
     assert result.exit_code == 2 and "cannot write" in result.output and "Traceback" not in result.output
+
+
+@pytest.mark.parametrize("command", [
+    ["upgrade", "{samples}/broken/legacy_openpbr_0_2.mtlx", "-o", "{out}/a.mtlx"],
+    ["validate", "{samples}", "--output", "{out}/r.json", "--format", "json"],
+    ["preview", "{samples}/car_paint.mtlx", "-o", "{out}/p.png"],
+    ["compare", "{samples}/car_paint.mtlx", "{samples}/car_paint.mtlx", "--report", "{out}/r.html"],
+])
+def test_every_command_writes_into_a_new_folder_and_never_tracebacks(tmp_path, command):
+    """Outputs are written atomically (openpbr_tools.atomic), which makes a missing folder; a path
+    that cannot be a folder exits 2 with a message."""
+    samples = str(data_dir("samples"))
+    args = [a.format(samples=samples, out=tmp_path / "new" / "deeper") for a in command]
+    result = run(*args)
+    assert result.exit_code in (0, 1), result.output
+    assert (tmp_path / "new" / "deeper").is_dir() and any((tmp_path / "new" / "deeper").iterdir())
+    (tmp_path / "blocker").write_text("a file")
+    blocked = run(*[a.format(samples=samples, out=tmp_path / "blocker") for a in command])
+    assert blocked.exit_code == 2 and "Traceback" not in blocked.output, blocked.output

@@ -89,6 +89,7 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
     for material in materials:
         writer.write(material)
     # Atomically, as openpbr_tools.atomic does: a temporary file beside the target, renamed over it.
+    os.makedirs(folder, exist_ok=True)  # as openpbr_tools.atomic does for every other output
     handle, temporary = tempfile.mkstemp(prefix=".openpbr-", suffix=suffix, dir=folder)
     os.fchmod(handle, default_mode())
     os.close(handle)
