@@ -138,9 +138,8 @@ class Baker:
             raise BakeError(f"{owner}: normal map {texture.file!r} cannot go through a formula")
         pixels = self._load(texture, owner)
         width = 3 if type_name in ("color3", "vector3") else 1
-        channels = list(texture.channels) if texture.channels else ([0, 1, 2] if width == 3 else [0])
-        channels = (channels * 3)[:3] if width == 3 and len(channels) == 1 else channels[:width]
-        planes = [pixels[:, :, c] if c < pixels.shape[2] else np.ones(pixels.shape[:2]) for c in channels]
+        planes = [pixels[:, :, c] if c < pixels.shape[2] else np.ones(pixels.shape[:2])
+                  for c in texture.selected_channels(width)]
         values = np.stack(planes, axis=-1)
         if width == 3 and type_name == "color3":
             space = self.source_space(texture, working_space, owner)

@@ -116,6 +116,13 @@ class Texture:
     def is_udim(self) -> bool:
         return "<UDIM>" in self.file or "<udim>" in self.file.lower()
 
+    def selected_channels(self, width: int) -> list[int]:
+        """The image channels a parameter of ``width`` components (1 or 3) reads: ``channels`` (one
+        channel read by a three-component parameter is repeated, as grey), else R or RGB. A channel
+        beyond the image's reads 1 (an absent alpha), which the readers of texels apply."""
+        channels = list(self.channels) if self.channels else ([0, 1, 2] if width == 3 else [0])
+        return (channels * 3)[:3] if width == 3 and len(channels) == 1 else channels[:width]
+
 
 @dataclass(slots=True)
 class Connection:

@@ -252,10 +252,8 @@ class TextureSampler:
         else:
             values = filtered(self._prepared(texture, read_as, owner), moved, wrap)
         if read_as == "data":
-            width = 3 if wide else 1
-            channels = list(texture.channels) if texture.channels else ([0, 1, 2] if width == 3 else [0])
-            channels = (channels * 3)[:3] if width == 3 and len(channels) == 1 else channels[:width]
-            values = np.stack([values[:, c] if c < values.shape[1] else np.ones(len(values)) for c in channels], axis=-1)
+            values = np.stack([values[:, c] if c < values.shape[1] else np.ones(len(values))
+                               for c in texture.selected_channels(3 if wide else 1)], axis=-1)
         if texture.scale is not None:
             values = values * np.asarray(_width(texture.scale, values.shape[1]), dtype=float)
         if texture.bias is not None:
