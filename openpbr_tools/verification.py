@@ -38,15 +38,19 @@ def compare(conversion: Conversion, keep_images: bool = False) -> list[tuple[Mat
     from .evaluate.textures import TextureSampler  # lazy: the evaluator loads its albedo tables
     from .evaluate.verify import compare_materials  # lazy: as above
 
-    source_sampler = TextureSampler(_texture_readers(conversion)[:1] or
-                                    [Baker(conversion.asset.path, tempfile.gettempdir(), conversion.allow_outside)])
-    written, output_sampler, why = _written(conversion)
+    source_reader = conversion.baker or Baker(conversion.asset.path, tempfile.gettempdir(), conversion.allow_outside)
+    source_sampler = TextureSampler([source_reader])
+    output_reader = _output_reader(conversion)
+    written, why = _written(conversion)
+    output_sampler = TextureSampler([output_reader]) if output_reader is not None else None
+    # the in-memory result's textures: the conversion's baker (the source's folder, the images it baked), the output's
+    in_memory = TextureSampler([r for r in (conversion.baker, output_reader) if r is not None])
     found = []
     for source, result in conversion.pairs:
         targets = written.get(display_name(result), []) if written is not None else []
         if not targets:
             comparison = compare_materials(source, result, sampler=source_sampler, keep_images=keep_images,
-                                           sampler_b=TextureSampler(_texture_readers(conversion)))
+                                           sampler_b=in_memory)
             comparison.notes.append(f"the output {why or 'has no material ' + repr(display_name(result))}: "
                                     "the in-memory result was compared")
             found.append((source, comparison))
@@ -60,34 +64,29 @@ def compare(conversion: Conversion, keep_images: bool = False) -> list[tuple[Mat
     return found
 
 
-def _texture_readers(conversion: Conversion) -> list[Baker]:
-    """Bakers that can read a texture of the source or of the in-memory result: the conversion's own
-    (the source's folder, and the images it baked), then one anchored at the output (rebased or
-    packaged textures), allowed to read the source's folder too."""
-    readers = [conversion.baker] if conversion.baker is not None else []
-    if conversion.output:
-        source_folder = os.path.dirname(os.path.abspath(conversion.asset.path))
-        readers.append(Baker(conversion.output, tempfile.gettempdir(), conversion.allow_outside + (source_folder,)))
-    return readers
+def _output_reader(conversion: Conversion) -> Baker | None:
+    """A reader anchored at the output (rebased or packaged textures), allowed to read the source's
+    folder too (a .mtlx output references the source's textures); None when nothing was written."""
+    if not conversion.output:
+        return None
+    source_folder = os.path.dirname(os.path.abspath(conversion.asset.path))
+    return Baker(conversion.output, tempfile.gettempdir(), conversion.allow_outside + (source_folder,))
 
 
 def _written(conversion: Conversion):
-    """(materials of the written output by material name, a sampler for its textures, why not)."""
-    from .evaluate.textures import TextureSampler  # lazy: as in compare
+    """(materials of the written output by material name, or None and why not)."""
     from .io import ReadError, read_asset  # lazy: the readers load with the formats they read
 
     if not conversion.output or not os.path.exists(conversion.output):
-        return None, None, "was not written"
+        return None, "was not written"
     try:
         asset = read_asset(conversion.output)
     except (ReadError, OSError, ValueError) as error:
-        return None, None, f"cannot be read back ({error})"
+        return None, f"cannot be read back ({error})"
     by_name: dict[str, list[Material]] = {}
     for material in asset.materials:
         by_name.setdefault(display_name(material), []).append(material)
-    source_folder = os.path.dirname(os.path.abspath(conversion.asset.path))
-    reader = Baker(conversion.output, tempfile.gettempdir(), conversion.allow_outside + (source_folder,))
-    return by_name, TextureSampler([reader]), None
+    return by_name, None
 
 
 def verify(conversion: Conversion, threshold: float = 2.0, context: Context | None = None,
