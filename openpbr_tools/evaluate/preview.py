@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import dataclasses
 import warnings
+from contextlib import nullcontext
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -68,8 +69,6 @@ class Geometry:
     shape: tuple[int, int] = field(default=(0, 0))
     uvs: UVs | None = None
 
-
-SphereGeometry = Geometry  # the name before swatches existed
 
 SHAPES = ("sphere", "swatch")
 
@@ -166,11 +165,14 @@ def _to_local(v, geo: Geometry) -> np.ndarray:
     return np.stack([np.sum(v * geo.tangent, -1), np.sum(v * geo.bitangent, -1), np.sum(v * geo.normal, -1)], axis=-1)
 
 
-def _above(local: np.ndarray) -> np.ndarray:
-    """A view direction a perturbed normal put below the surface, lifted just above it."""
-    lifted = local.copy()
-    lifted[:, 2] = np.maximum(lifted[:, 2], 1e-4)
-    return lifted / np.linalg.norm(lifted, axis=-1, keepdims=True)
+def _view(geo: Geometry) -> np.ndarray:
+    """The view direction (+z) in ``geo``'s frames; where a perturbed normal put it below the
+    surface, lifted just above it."""
+    local = _to_local(np.array([0.0, 0.0, 1.0]), geo)
+    if not np.any(local[:, 2] < 1e-4):
+        return local
+    local[:, 2] = np.maximum(local[:, 2], 1e-4)
+    return local / np.linalg.norm(local, axis=-1, keepdims=True)
 
 
 def shade_sphere(model: BSDFModel, rig: Rig = Rig(), background: bool = True) -> tuple[np.ndarray, np.ndarray]:
@@ -185,22 +187,16 @@ def shade(model: BSDFModel, geo: Geometry, rig: Rig = Rig(), background: bool = 
     """Render ``model`` (constant or per-pixel parameters, one per masked pixel of ``geo``) on
     ``geo``, lit by the rig or by ``environment``; with ``coat_geo`` (the same points, the coat's
     frames) the coat is shaded in its own frame. Returns ``(image, mask)`` as :func:`shade_sphere`."""
-    if coat_geo is not None:
-        coat_wo = _to_local(np.array([0.0, 0.0, 1.0]), coat_geo)
-        coat_wo = _above(coat_wo) if np.any(coat_wo[:, 2] < 1e-4) else coat_wo
-        return _shade(model, geo, rig, background, environment, coat_geo, coat_wo)
-    return _shade(model, geo, rig, background, environment, None, None)
+    wo = _view(geo)
+    coat_wo = _view(coat_geo) if coat_geo is not None else None
 
+    def coat_frame(direction):  # the coat's own frame for the block, when it has one
+        if coat_geo is None:
+            return nullcontext()
+        return model.coat_frame(None if direction is None else _to_local(direction, coat_geo), coat_wo)
 
-def _shade(model, geo, rig, background, environment, coat_geo, coat_wo):
-    wo = _to_local(np.array([0.0, 0.0, 1.0]), geo)
-    if np.any(wo[:, 2] < 1e-4):
-        wo = _above(wo)
     ambient = rig.environment_radiance if environment is None else environment.mean
-    if environment is None:
-        lights = [(rig.key, rig.key_irradiance)]
-    else:
-        lights = environment.lights
+    lights = [(rig.key, rig.key_irradiance)] if environment is None else environment.lights
     direct = 0.0
     for direction, irradiance in lights:
         wi = _to_local(direction, geo)
@@ -208,17 +204,11 @@ def _shade(model, geo, rig, background, environment, coat_geo, coat_wo):
         lit = np.abs(cos_i) if model.thin_walled else np.where(cos_i > 0.0, cos_i, 0.0)
         if not np.any(lit):
             continue
-        if coat_geo is None:
+        with coat_frame(direction):
             f = model.evaluate(wi, wo)
-        else:
-            with model.coat_frame(_to_local(direction, coat_geo), coat_wo):
-                f = model.evaluate(wi, wo)
         direct = direct + f * lit[:, None] * np.asarray(irradiance, dtype=float)
-    if coat_geo is None:
+    with coat_frame(None):
         albedo = model.albedo(wo)
-    else:
-        with model.coat_frame(None, coat_wo):
-            albedo = model.albedo(wo)
     transmit = np.asarray(albedo.transmit)
     if model.volume_absorption is not None and np.any(transmit):
         path = getattr(model, "volume_path_length", None)
