@@ -152,13 +152,7 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
                 overrides: tuple[int, ...] | None = None, allow_outside: tuple[str, ...] = ()) -> Context:
     """The :class:`Context` for one file: configuration, matching overrides, then CLI options.
     Files with the same configuration and matching overrides get equal contexts (callers cache)."""
-    loaded: list[frozenset[str]] = []
-
-    def known() -> frozenset[str]:  # every rule family loads for this: only when codes are selected or ignored
-        if not loaded:
-            loaded.append(frozenset(all_rules()))
-        return loaded[0]
-
+    # all_rules() (cached) loads every rule family: it is called only where codes are selected or ignored
     context = Context() if base is None else Context(file_exists=base.file_exists, list_dir=base.list_dir)
     scopes = []
     if config is not None:
@@ -172,9 +166,9 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
     thresholds: dict[str, float] = {}
     for scope in scopes:
         if "select" in scope:
-            selected = _expand(scope["select"], known())
+            selected = _expand(scope["select"], all_rules())
         if scope.get("ignore"):
-            ignored |= _expand(scope["ignore"], known())
+            ignored |= _expand(scope["ignore"], all_rules())
         severity.update({code: Severity.parse(level) for code, level in scope.get("severity", {}).items()})
         thresholds.update(scope.get("thresholds", {}))
         units = scope.get("units")
@@ -186,10 +180,10 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
             severity["OPBR603"] = Severity.WARNING
             ignored -= {"OPBR603"}
     if select:
-        selected = _expand(select, known())
+        selected = _expand(select, all_rules())
     if ignore:
-        ignored |= _expand(ignore, known())
-    disabled = ignored | (known() - selected if selected is not None else frozenset())
+        ignored |= _expand(ignore, all_rules())
+    disabled = ignored | (frozenset(all_rules()) - selected if selected is not None else frozenset())
     settings = config.settings if config is not None else {}
     context.severity = severity
     context.disabled = frozenset(disabled)
