@@ -101,8 +101,8 @@ class Baker:
 
     def pixels(self, texture: Texture, owner: str):
         """The decoded image of ``texture``, read once per conversion, with no channel selection, colour
-        management, scale or bias: uint8 levels ``(H, W, C)`` for an 8-bit image (greyscale keeps one
-        channel, two with alpha), else float ``(H, W, C)`` in [0, 1] as :meth:`texels` reads it.
+        management, scale or bias: uint8 levels ``(H, W, C)`` for an 8-bit image, else float ``(H, W, C)``
+        in [0, 1] as :meth:`texels` reads it (greyscale expanded to RGB in both).
         ``BakeError`` when it cannot be read."""
         return self._load(texture, owner, levels=True)
 

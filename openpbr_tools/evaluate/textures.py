@@ -289,11 +289,9 @@ class TextureSampler:
 def _decoded(reader, texture: Texture, colour: bool, owner: str) -> np.ndarray:
     """The image of ``texture`` as float32 ``(H, W, C)``: a colour's channels (its own, else RGB; one
     channel is grey) converted to linear Rec.709 from its colour space (the baker's rules), anything
-    else every channel as stored (greyscale expanded to RGB, alpha last, as the baker reads it)."""
-    pixels = reader.pixels(texture, owner)
+    else every channel as decoded (greyscale expanded to RGB, alpha last, as the baker reads it)."""
+    pixels = reader.pixels(texture, owner)  # greyscale already expanded to RGB (io.images.load_pixels)
     eight_bit = pixels.dtype == np.uint8
-    if pixels.shape[2] in (1, 2):  # grey is every colour channel
-        pixels = np.concatenate([np.repeat(pixels[:, :, :1], 3, axis=2), pixels[:, :, 1:]], axis=2)
     if not colour:
         return pixels.astype(np.float32) * np.float32(1.0 / 255.0) if eight_bit else pixels.astype(np.float32)
     channels = list(texture.channels) if texture.channels else [0, 1, 2]

@@ -149,7 +149,7 @@ def _mime_of_file(path: str) -> str | None:
 def load_pixels(image: str | bytes, levels: bool = False):
     """Pixels as float64 ``(height, width, channels)`` in [0, 1] (greyscale expanded to RGB). With
     ``levels``, an 8-bit image comes as its uint8 levels instead (``levels / 255`` is the float
-    image), and greyscale stays one channel (two with alpha)."""
+    image)."""
     import numpy as np  # lazy: numpy ~60 ms, Pillow ~15 ms; every conversion imports this module (the baker)
 
     try:
@@ -157,10 +157,6 @@ def load_pixels(image: str | bytes, levels: bool = False):
 
         with Image.open(io.BytesIO(image) if isinstance(image, bytes) else image) as opened:
             mode = opened.mode
-            if levels and mode in ("L", "LA", "RGB", "RGBA", "P", "PA"):
-                target = {"P": "RGBA" if "transparency" in opened.info else "RGB", "PA": "RGBA"}.get(mode, mode)
-                values = np.asarray(opened.convert(target) if target != mode else opened)
-                return values[:, :, None] if values.ndim == 2 else values
             if mode in ("I;16", "I;16B", "I;16L", "I"):
                 scale = 65535.0 if mode.startswith("I;16") else float(max(1, np.asarray(opened).max()))
                 values = np.asarray(opened, dtype=np.float64) / scale
@@ -168,7 +164,8 @@ def load_pixels(image: str | bytes, levels: bool = False):
                 values = np.asarray(opened, dtype=np.float64)
             else:
                 target = {"L": "L", "LA": "LA", "RGB": "RGB", "RGBA": "RGBA"}.get(mode, "RGBA" if "A" in mode or mode == "P" else "RGB")
-                values = np.asarray(opened.convert(target), dtype=np.float64) / 255.0
+                values = np.asarray(opened.convert(target))
+                values = values if levels else values.astype(np.float64) / 255.0
     except Exception:  # Pillow raises many exception types for formats it does not know
         values = _load_with_openimageio(image)
     if values.ndim == 2:
