@@ -9,7 +9,8 @@ import sys
 
 import click
 
-from cli.validate_cmd import SEVERITIES, _progress_bar, _severity
+from cli.validate_cmd import SEVERITIES, _severity
+from cli.validate_run import progress_bar
 from openpbr_tools.reports import FORMATS
 
 MODELS = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
@@ -222,7 +223,7 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
             worst = [d for d in result.diagnostics if d.severity >= threshold][:1]  # enough for the exit code
             return FileResult(result.path, worst, result.materials, result.unreadable)
     try:
-        report = batch.run(planned, options, progress=_progress_bar() if show_progress else None,
+        report = batch.run(planned, options, progress=progress_bar() if show_progress else None,
                            on_result=on_result if streamed else None)
     except RuntimeError as error:  # a cluster that cannot be reached
         raise click.UsageError(str(error)) from None

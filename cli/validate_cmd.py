@@ -3,25 +3,16 @@
 from __future__ import annotations
 
 import json
-import os
 import sys
 
 import click
 
-from openpbr_tools.diagnostics import Severity
+from cli.validate_run import SEVERITIES, UsageProblem, run_validate, severity
 from openpbr_tools.reports import FORMATS
-
-SEVERITIES = ("error", "warning", "info")
 
 
 def _severity(_ctx, _param, value):
-    if value is None or value == "never":
-        return None
-    return Severity.parse(value)
-
-
-def _codes(value: str | None) -> frozenset[str]:
-    return frozenset(c.strip().upper() for c in (value or "").split(",") if c.strip())
+    return severity(value)
 
 
 @click.command()
@@ -59,93 +50,15 @@ def validate(paths, output_format, output, fail_on, min_severity, select, ignore
     Exit codes: 0 clean, 1 a finding at or above --fail-on, 2 usage error, bad configuration or
     unreadable input.
     """
-    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
-    from openpbr_tools.reports import render
-    from openpbr_tools.rules import all_rules
-    from openpbr_tools.selection import SelectionError, parse_shard
-    from openpbr_tools.validate import Options, validate_paths
-
-    selected, ignored = _codes(select), _codes(ignore)
-    known = set(all_rules()) if selected or ignored else set()  # every family loads: only when codes are named
-    unknown = sorted(c for c in selected | ignored if not any(k.startswith(c) for k in known))
-    if unknown:
-        raise click.UsageError(f"unknown rule code(s): {', '.join(unknown)}")
     try:
-        shard_range = parse_shard(shard) if shard else None
-    except SelectionError as error:
-        raise click.UsageError(str(error)) from None
-    options = Options(select=tuple(sorted(selected)), ignore=tuple(sorted(ignored)), use_config=not no_config,
-                      jobs=jobs or os.cpu_count() or 1, changed_since=changed_since, shard=shard_range,
-                      scheduler=scheduler, scheduler_timeout=scheduler_timeout,
-                      allow_outside=tuple(os.path.abspath(f) for f in allow_outside))
-    show_progress = sys.stderr.isatty() if progress is None else progress
-    try:
-        report = validate_paths(paths, options=options, progress=_progress_bar() if show_progress else None)
-    except RuntimeError as error:  # a cluster that cannot be reached
-        click.echo(f"openpbr: {error}", err=True)
-        sys.exit(2)
-    if show_progress:
-        click.echo("", err=True)
-    fail_on_severity = _severity(None, None, fail_on or _configured_fail_on(paths, no_config) or "error")
-    if write_baseline:
-        # lazy: `openpbr --help` loads every command module; the library loads when this command runs
-        from openpbr_tools.atomic import write_text
-        from openpbr_tools.baseline import baseline_text
-
-        try:
-            write_text(write_baseline, baseline_text(report, write_baseline))
-        except OSError as error:
-            click.echo(f"openpbr: cannot write {write_baseline}: {error.strerror or error}", err=True)
-            sys.exit(2)
-        click.echo(f"wrote {write_baseline} ({len(report.diagnostics)} finding(s))", err=True)
-        sys.exit(2 if report.unreadable else 0)
-    if baseline:
-        # lazy: `openpbr --help` loads every command module; the library loads when this command runs
-        from openpbr_tools.baseline import BaselineError, apply_baseline
-
-        try:
-            dropped = apply_baseline(report, baseline)
-        except BaselineError as error:
-            raise click.UsageError(str(error)) from None
-        click.echo(f"{dropped} finding(s) in the baseline not shown", err=True)
-    color = output is None and output_format == "text" and sys.stdout.isatty()
-    text = render(report, output_format, fail_on_severity, click.style if color else None, Severity.parse(min_severity))
-    if output:
-        # lazy: `openpbr --help` loads every command module; the library loads when this command runs
-        from openpbr_tools.atomic import write_text
-
-        try:
-            write_text(output, text)
-        except OSError as error:
-            click.echo(f"openpbr: cannot write {output}: {error.strerror or error}", err=True)
-            sys.exit(2)
-    else:
-        click.echo(text, nl=False)
-    sys.exit(report.exit_code(fail_on_severity))
-
-
-def _configured_fail_on(paths, no_config: bool) -> str | None:
-    if no_config:
-        return None
-    # lazy: `openpbr --help` loads every command module; the library loads when this command runs
-    from openpbr_tools.config import ConfigError, configured_fail_on, find_config
-
-    first = os.path.abspath(paths[0]) if paths else os.getcwd()
-    folder = first if os.path.isdir(first) else os.path.dirname(first)
-    try:
-        return configured_fail_on(find_config(folder))
-    except ConfigError:
-        return None  # reported per file by validate_paths
-
-
-def _progress_bar():
-    width = 30
-
-    def show(done: int, total: int) -> None:
-        filled = width * done // max(total, 1)
-        click.echo(f"\r[{'#' * filled}{' ' * (width - filled)}] {done}/{total}", err=True, nl=False)
-
-    return show
+        code = run_validate(paths, output_format=output_format, output=output, fail_on=fail_on,
+                            min_severity=min_severity, select=select, ignore=ignore, no_config=no_config,
+                            baseline=baseline, write_baseline=write_baseline, jobs=jobs, changed_since=changed_since,
+                            shard=shard, scheduler=scheduler, scheduler_timeout=scheduler_timeout, progress=progress,
+                            allow_outside=allow_outside)
+    except UsageProblem as problem:
+        raise click.UsageError(str(problem)) from None
+    sys.exit(code)
 
 
 @click.command()

@@ -55,7 +55,7 @@ def _inputs(folder: Path) -> list[str]:
 
 
 def _run(runner, args: list[str]) -> tuple[int, bytes]:
-    from cli.main import cli
+    from cli.group import cli
 
     result = runner.invoke(cli, args, catch_exceptions=False)
     return result.exit_code, result.stdout_bytes

@@ -11,7 +11,7 @@ import pytest
 from click.testing import CliRunner
 from PIL import Image
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.validate import Options, validate_paths
 
 LOOK = """<?xml version="1.0"?>

@@ -11,7 +11,7 @@ import jsonschema
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.resources import load_json
 
 CLEAN = '<open_pbr_surface name="S" type="surfaceshader" version="1.1.1">\n  <input name="base_color" type="color3" value="0.5, 0.4, 0.3" />\n</open_pbr_surface>'

@@ -17,7 +17,7 @@ from pathlib import Path
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.resources import data_dir
 
 DOC = """<?xml version="1.0"?>

@@ -8,7 +8,7 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.io import read_asset
 from openpbr_tools.resources import data_dir
 from openpbr_tools.validate import validate_file

@@ -10,7 +10,7 @@ import shutil
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.resources import data_dir
 from openpbr_tools.rules import all_rules
 

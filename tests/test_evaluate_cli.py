@@ -5,7 +5,7 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 
 HEADER = '<?xml version="1.0"?>\n<materialx version="1.39">\n'
 FOOTER = "</materialx>\n"

@@ -20,7 +20,7 @@ import numpy as np
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from generated_materials import COLORSPACES
 from generated_materials import document as openpbr_document
 import gltf_round_trip

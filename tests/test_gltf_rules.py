@@ -11,7 +11,7 @@ import pytest
 from click.testing import CliRunner
 from PIL import Image
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.validate import validate_paths
 
 from gltf_support import gltf_pbr_material

@@ -10,7 +10,7 @@ import time
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 
 BOMB = b"""<?xml version="1.0"?>
 <!DOCTYPE lolz [

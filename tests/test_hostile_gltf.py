@@ -17,7 +17,7 @@ from contextlib import contextmanager
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 
 PNG = base64.b64decode("iVBORw0KGgoAAAANSUhEUgAAAAQAAAAECAIAAAAmkwkpAAAAFElEQVR42mM8kWLEAANMDEgANwcARfYBZsiXQosAAAAASUVORK5CYII=")
 PNG_URI = "data:image/png;base64," + base64.b64encode(PNG).decode()

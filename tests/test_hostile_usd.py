@@ -15,7 +15,7 @@ import zlib
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.io.usd.text_layer import MAX_TEXT_NESTING
 
 MATERIAL = """def Material "M"

@@ -15,7 +15,7 @@ import pytest
 from click.testing import CliRunner
 from PIL import Image
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.resources import data_dir
 
 WOOD = str(data_dir("samples") / "textured_wood.mtlx")

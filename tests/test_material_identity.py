@@ -9,7 +9,7 @@ import json
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.io import read_asset
 
 GLTF = {"asset": {"version": "2.0"}, "materials": [

@@ -16,7 +16,7 @@ import MaterialX as mx
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.convert import convert_file
 from openpbr_tools.io import read_asset
 from openpbr_tools.model import Constant

@@ -18,7 +18,7 @@ import pytest
 from click.testing import CliRunner
 from PIL import Image
 
-from cli.main import cli
+from cli.group import cli
 
 SAMPLES = Path(__file__).resolve().parent.parent / "openpbr_tools" / "samples"
 OUTPUTS = ("wood.gltf", "wood.glb", "wood.usda", "wood.usdc", "wood.usdz", "wood_ss.mtlx", "paint.glb", "paint.usdz")
@@ -26,7 +26,7 @@ OUTPUTS = ("wood.gltf", "wood.glb", "wood.usda", "wood.usdc", "wood.usdz", "wood
 SCRIPT = """
 import json, sys
 from click.testing import CliRunner
-from cli.main import cli
+from cli.group import cli
 runs = [("asset/textured_wood.mtlx", "out/wood.gltf", []), ("asset/textured_wood.mtlx", "out/wood.glb", ["--mesh", "sphere"]),
         ("asset/textured_wood.mtlx", "out/wood.usda", []), ("asset/textured_wood.mtlx", "out/wood.usdc", []),
         ("asset/textured_wood.mtlx", "out/wood.usdz", []), ("asset/textured_wood.mtlx", "out/wood_ss.mtlx", ["--to", "standard_surface"]),

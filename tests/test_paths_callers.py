@@ -21,7 +21,7 @@ from xml.sax.saxutils import quoteattr
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.io import read_asset
 from openpbr_tools.io.paths import is_url
 from openpbr_tools.model import Texture

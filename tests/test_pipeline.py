@@ -12,7 +12,7 @@ import jsonschema
 import pytest
 from click.testing import CliRunner
 
-from cli.main import COMMANDS, cli
+from cli.group import COMMANDS, cli
 from openpbr_tools.resources import load_json
 
 BROKEN = '<open_pbr_surface name="S" type="surfaceshader" version="1.1.1">\n  <input name="base_weight" type="float" value="1.5" />\n  <input name="specular_ior" type="float" value="4.5" />\n</open_pbr_surface>'

@@ -43,7 +43,7 @@ def _command_codes(rule, fragment: str, folder) -> set[str]:
 
     from click.testing import CliRunner
 
-    from cli.main import cli
+    from cli.group import cli
     from conftest import document
 
     source = folder / "example.mtlx"

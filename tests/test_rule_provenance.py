@@ -9,7 +9,7 @@ import re
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.rules import all_rules
 from openpbr_tools.rules.provenance import PROVENANCE
 from openpbr_tools.rules_doc import protects, sources

@@ -251,7 +251,7 @@ def test_compare_cli_flags_a_corrupted_gltf_on_disk(converted, tmp_path):
 
     from click.testing import CliRunner
 
-    from cli.main import cli
+    from cli.group import cli
 
     conversion = converted["gltf"]
     copy = tmp_path / "copy"

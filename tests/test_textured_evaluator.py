@@ -268,7 +268,7 @@ def test_environment_sun_lights_from_its_direction():
 def test_textured_preview_cli_shows_the_texture(tmp_path):
     from click.testing import CliRunner
 
-    from cli.main import cli
+    from cli.group import cli
 
     path = checker_mtlx(tmp_path)
     out = tmp_path / "p.png"
@@ -349,7 +349,7 @@ def test_preview_environment_from_an_hdr_file(tmp_path):
     import OpenImageIO as oiio
     from click.testing import CliRunner
 
-    from cli.main import cli
+    from cli.group import cli
 
     hdr = str(tmp_path / "sky.hdr")
     out = oiio.ImageOutput.create(hdr)

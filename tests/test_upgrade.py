@@ -7,7 +7,7 @@ import hashlib
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 from openpbr_tools.io import read_asset
 from openpbr_tools.translate.upgrade import fold_ior_level, upgrade, upgrade_mtlx_file
 from openpbr_tools.validate import validate_file

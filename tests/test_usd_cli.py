@@ -12,7 +12,7 @@ import zipfile
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 
 GOOD = ('#usda 1.0\n(\n    defaultPrim = "M"\n    metersPerUnit = 0.01\n    upAxis = "Y"\n)\n\n'
         'def Material "M"\n{\n    token outputs:mtlx:surface.connect = </M/S.outputs:surface>\n'

@@ -17,7 +17,7 @@ import zipfile
 import pytest
 from click.testing import CliRunner
 
-from cli.main import cli
+from cli.group import cli
 
 HEADER = '#usda 1.0\n(\n    defaultPrim = "M"\n    metersPerUnit = 0.01\n    upAxis = "Y"\n{metadata})\n\n'
 MATERIAL = """def Material "M"

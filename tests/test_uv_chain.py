@@ -12,7 +12,7 @@ import pytest
 from click.testing import CliRunner
 from PIL import Image
 
-from cli.main import cli
+from cli.group import cli
 from gltf_support import place2d
 from openpbr_tools.io import read_asset
 from openpbr_tools.model import UVTransform

@@ -67,8 +67,10 @@ def main() -> None:
         one = paths[0]
         for command in ([openpbr, "validate", one], [mxvalidate, one]):
             wall(command)  # warm the page cache
-        ours = [wall([openpbr, "validate", one]) for _ in range(args.repeat)]
-        theirs = [wall([mxvalidate, one]) for _ in range(args.repeat)]
+        ours, theirs = [], []
+        for _ in range(args.repeat):  # alternating, so that the machine's drift falls on both
+            ours.append(wall([openpbr, "validate", one]))
+            theirs.append(wall([mxvalidate, one]))
         results["one_file_openpbr_s"] = statistics.median(ours)
         results["one_file_mxvalidate_s"] = statistics.median(theirs)
         results["one_file_ratio"] = results["one_file_openpbr_s"] / results["one_file_mxvalidate_s"]
