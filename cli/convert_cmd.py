@@ -181,15 +181,12 @@ def write_html_report(path, title, comparisons, diagnostics, threshold, labels=(
         sys.exit(2)
 
 
-STREAMED = ("jsonl", "github")  # report formats with one line per finding and no summary
-
-
 def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, force,
            skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on,
            gltf_drafts=False):
     # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools import batch
-    from openpbr_tools.reports import render
+    from openpbr_tools.reports import STREAMED, render
     from openpbr_tools.selection import SelectionError, parse_shard
     from openpbr_tools.validate import Options
 
@@ -211,15 +208,17 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
                          threshold=threshold, gltf_drafts=gltf_drafts)
     show_progress = sys.stderr.isatty() if progress is None else progress
     streamed = output_format in STREAMED and not planned.refusals
-    if streamed:  # one line per finding: written as each file finishes, so memory stays flat
+    if streamed:  # written as each file finishes, so memory stays flat
         from openpbr_tools.diagnostics import Severity  # lazy: as the imports above
-        from openpbr_tools.validate import FileResult, Report  # lazy: as the imports above
+        from openpbr_tools.reports import StreamedReport  # lazy: as the imports above
+        from openpbr_tools.validate import FileResult  # lazy: as the imports above
 
-        click.echo(render(Report(problems=planned.problems), output_format, fail_on), nl=False)
+        stream = StreamedReport(output_format, fail_on)
+        click.echo(stream.begin(planned.problems), nl=False)
         threshold = fail_on if fail_on is not None else Severity.ERROR
 
         def on_result(result):
-            click.echo(render(Report(files=[result]), output_format, fail_on), nl=False)
+            click.echo(stream.add(result), nl=False)
             worst = [d for d in result.diagnostics if d.severity >= threshold][:1]  # enough for the exit code
             return FileResult(result.path, worst, result.materials, result.unreadable)
     try:
@@ -229,8 +228,7 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
         raise click.UsageError(str(error)) from None
     if show_progress:
         click.echo("", err=True)
-    if not streamed:
-        click.echo(render(report, output_format, fail_on), nl=False)
+    click.echo(stream.end() if streamed else render(report, output_format, fail_on), nl=False)
     written = sum(1 for result in report.files if not result.unreadable)
     click.echo(f"wrote {written} file(s) under {outdir}; {len(planned.skipped)} up to date, skipped", err=True)
     sys.exit(report.exit_code(fail_on))

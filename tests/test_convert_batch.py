@@ -170,7 +170,7 @@ def test_an_output_folder_inside_the_input_folder_is_not_read_as_input(tmp_path)
 
 
 def test_line_formats_stream_the_same_report_the_library_renders(tmp_path):
-    """jsonl and github are written file by file as the batch runs (memory stays flat over a large
+    """text, jsonl and github are written file by file as the batch runs (memory stays flat over a large
     library): the bytes equal the combined report rendered at the end."""
     from openpbr_tools import batch
     from openpbr_tools.reports import render
@@ -178,7 +178,7 @@ def test_line_formats_stream_the_same_report_the_library_renders(tmp_path):
 
     source = _library(tmp_path / "in", 6)
     shutil.copy(data_dir("samples") / "broken" / "vendor_export.mtlx", source / "vendor_export.mtlx")
-    for index, name in enumerate(("jsonl", "github")):
+    for index, name in enumerate(("text", "jsonl", "github")):
         streamed = run("convert", source, "-o", tmp_path / f"out{index}", "--output-format", "gltf", "--jobs", "1",
                        "--format", name)
         plan = batch.plan([str(source)], str(tmp_path / f"again{index}"), "gltf", options=Options(jobs=1))
@@ -188,3 +188,26 @@ def test_line_formats_stream_the_same_report_the_library_renders(tmp_path):
         assert streamed.stdout.replace(str(tmp_path / f"out{index}"), "OUT") == \
             combined.replace(str(tmp_path / f"again{index}"), "OUT")
         assert streamed.stdout.count("\n") > 6
+    assert "7 file(s)" in streamed_text(tmp_path, source)
+
+
+def streamed_text(tmp_path, source):
+    return run("convert", source, "-o", tmp_path / "text", "--output-format", "gltf", "--jobs", "1").stdout
+
+
+def test_a_streamed_report_is_the_rendered_report_in_every_streamed_format(tmp_path):
+    """StreamedReport over a report with an argument problem, clean files and files with findings in
+    several severities: begin + add... + end is what render makes of the whole."""
+    from openpbr_tools.reports import STREAMED, StreamedReport, render
+    from openpbr_tools.validate import Options, validate_paths
+
+    source = _library(tmp_path / "in", 3)
+    shutil.copy(data_dir("samples") / "broken" / "vendor_export.mtlx", source / "vendor_export.mtlx")
+    shutil.copy(data_dir("samples") / "broken" / "legacy_openpbr_0_2.mtlx", source / "legacy.mtlx")
+    report = validate_paths([str(source), str(tmp_path / "missing.mtlx")], options=Options(jobs=1, use_config=False))
+    assert report.problems and len(report.files) == 5 and {d.severity for d in report.diagnostics} >= {1, 2, 3}
+    assert STREAMED == ("text", "jsonl", "github")
+    for name in STREAMED:
+        stream = StreamedReport(name, None)
+        parts = stream.begin(report.problems) + "".join(stream.add(r) for r in report.files) + stream.end()
+        assert parts == render(report, name, None), name

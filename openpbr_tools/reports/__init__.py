@@ -11,6 +11,7 @@ from ..diagnostics import Severity
 from ..validate import Report
 
 FORMATS = ("text", "json", "jsonl", "sarif", "junit", "github")
+STREAMED = ("text", "jsonl", "github")  # formats that can be written file by file (StreamedReport)
 
 
 def render(report: Report, output_format: str, fail_on: Severity | None = Severity.ERROR,
@@ -40,3 +41,43 @@ def render(report: Report, output_format: str, fail_on: Severity | None = Severi
 
         return to_github(report)
     raise ValueError(f"unknown report format {output_format!r}")
+
+
+class StreamedReport:
+    """A report in one of the :data:`STREAMED` formats, written file by file so that a run over many
+    files holds only counts: ``begin(problems) + add(result)... + end()`` is, byte for byte, what
+    :func:`render` makes of the whole report (text: the sections as the files come, then the summary
+    line; jsonl and github: one line per finding, no summary)."""
+
+    def __init__(self, output_format: str, fail_on: Severity | None = Severity.ERROR):
+        if output_format not in STREAMED:
+            raise ValueError(f"report format {output_format!r} is not written file by file")
+        self.output_format, self.fail_on = output_format, fail_on
+        self.files = self.materials = 0
+        self.counts = {Severity.ERROR: 0, Severity.WARNING: 0, Severity.INFO: 0}
+
+    def _part(self, report: Report) -> str:
+        for diagnostic in report.diagnostics:
+            self.counts[diagnostic.severity] += 1
+        self.files += len(report.files)
+        self.materials += sum(r.materials for r in report.files)
+        if self.output_format == "text":
+            from .text import text_sections  # lazy: as in render
+
+            return text_sections(report.diagnostics)
+        return render(report, self.output_format, self.fail_on)
+
+    def begin(self, problems) -> str:
+        return self._part(Report(problems=list(problems)))
+
+    def add(self, result) -> str:
+        return self._part(Report(files=[result]))
+
+    def end(self) -> str:
+        if self.output_format != "text":
+            return ""
+        from .text import text_summary  # lazy: as in render
+
+        counts = self.counts
+        return text_summary(self.files, self.materials, (counts[Severity.ERROR], counts[Severity.WARNING],
+                                                         counts[Severity.INFO]))

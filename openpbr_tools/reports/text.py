@@ -22,15 +22,26 @@ SEVERITY_STYLE = {
 
 
 def to_text(report: Report, style: Style = _plain, min_severity: Severity = Severity.INFO) -> str:
-    """Diagnostics grouped by file: ``line:path.input  severity  CODE  message`` then the hint."""
+    """Diagnostics grouped by file: ``line:path.input  severity  CODE  message`` then the hint; the
+    files in the report's order (the arguments' problems, then the files as they were given, sorted),
+    then the summary line. :func:`text_sections` and :func:`text_summary` are its two parts, for a
+    caller writing the report file by file."""
+    errors, warnings, infos = (report.count(s) for s in (Severity.ERROR, Severity.WARNING, Severity.INFO))
+    materials = sum(r.materials for r in report.files)
+    return text_sections(report.diagnostics, style, min_severity) + \
+        text_summary(len(report.files), materials, (errors, warnings, infos), style)
+
+
+def text_sections(diagnostics, style: Style = _plain, min_severity: Severity = Severity.INFO) -> str:
+    """The per-file part of the text report: one section per file, in order of first appearance."""
     lines: list[str] = []
     groups: dict[str, list] = {}
-    for diagnostic in report.diagnostics:
+    for diagnostic in diagnostics:
         if diagnostic.severity >= min_severity:
             groups.setdefault(diagnostic.location.file, []).append(diagnostic)
-    for file in sorted(groups):
+    for file, found in groups.items():
         lines.append(style(file, bold=True, underline=True))
-        for d in groups[file]:
+        for d in found:
             where = []
             if d.location.line:
                 where.append(f"{d.location.line}")
@@ -45,9 +56,11 @@ def to_text(report: Report, style: Style = _plain, min_severity: Severity = Seve
             if d.hint:
                 lines.append(f"  {'':32} {'':7} {'':7}  hint: {d.hint}")
         lines.append("")
-    errors, warnings, infos = (report.count(s) for s in (Severity.ERROR, Severity.WARNING, Severity.INFO))
-    materials = sum(r.materials for r in report.files)
-    summary = (f"{len(report.files)} file(s), {materials} material(s): "
-               f"{errors} error(s), {warnings} warning(s), {infos} info")
-    lines.append(style(summary, bold=True))
-    return "\n".join(lines) + "\n"
+    return "".join(line + "\n" for line in lines)
+
+
+def text_summary(files: int, materials: int, counts: tuple[int, int, int], style: Style = _plain) -> str:
+    """The text report's last line; ``counts``: errors, warnings, infos."""
+    errors, warnings, infos = counts
+    return style(f"{files} file(s), {materials} material(s): {errors} error(s), {warnings} warning(s), {infos} info",
+                 bold=True) + "\n"

@@ -7,8 +7,8 @@ Measures, side by side in one run, on generated small OpenPBR documents:
    of --singles calls, extrapolated to --files: the per-call time does not depend on the file);
 2. the same batch with --jobs 2 against --jobs 1;
 3. peak resident memory (/usr/bin/time's maximum RSS) of --jobs 1 batches over --files and --large
-   documents with a streamed report (--format jsonl: written file by file): it must stay flat. (A
-   document format, json, sarif, junit or text, holds the combined report until the end.)
+   documents with a streamed report (--format text, the default, and jsonl: written file by file): it
+   must stay flat. (A document format, json, sarif or junit, holds the combined report until the end.)
 """
 
 from __future__ import annotations
@@ -68,15 +68,19 @@ def main() -> None:
     files = sorted(os.path.join(root, n) for root, _, names in os.walk(small) for n in names)[: arguments.singles]
     singles = [_timed(base + ["convert", f, "-o", os.path.join(work, f"single{i}.gltf")])[0] for i, f in enumerate(files)]
     per_call = statistics.median(singles)
-    streamed = lambda source, out: [*batch(source, out, 1)[:-1], "jsonl"]  # noqa: E731
-    _, one_peak = _timed(streamed(small, os.path.join(work, "one_streamed")))
-    big, big_peak = _timed(streamed(large, os.path.join(work, "big")))
+    streamed = lambda source, out, name: [*batch(source, out, 1)[:-1], name]  # noqa: E731
+    peaks = {}
+    for name in ("text", "jsonl"):
+        _, one_peak = _timed(streamed(small, os.path.join(work, f"one_{name}"), name))
+        big, big_peak = _timed(streamed(large, os.path.join(work, f"big_{name}"), name))
+        peaks[name] = (one_peak, big_peak, big)
     print(f"{arguments.files} files, one call --jobs 1: {one:.1f} s ({one / arguments.files * 1000:.1f} ms/file)")
     print(f"{arguments.files} single calls (median of {len(singles)} x {arguments.files}): {per_call * arguments.files:.1f} s"
           f" -> one call is {per_call * arguments.files / one:.1f}x faster")
     print(f"--jobs 2: {two:.1f} s -> {one / two:.2f}x over --jobs 1")
-    print(f"peak RSS --jobs 1: {one_peak / 1024:.0f} MiB ({arguments.files} files), "
-          f"{big_peak / 1024:.0f} MiB ({arguments.large} files, {big:.1f} s)")
+    for name, (one_peak, big_peak, big) in peaks.items():
+        print(f"peak RSS --jobs 1, --format {name}: {one_peak / 1024:.0f} MiB ({arguments.files} files), "
+              f"{big_peak / 1024:.0f} MiB ({arguments.large} files, {big:.1f} s)")
     shutil.rmtree(work, ignore_errors=True)
 
 
