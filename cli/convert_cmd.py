@@ -123,7 +123,7 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
         result.diagnostics = sorted(result.diagnostics + verify_conversion(result, limit, measured=measured),
                                     key=Diagnostic.sort_key)
         if max_delta_e is not None:
-            too_far = sorted({display_name(source) for source, c in measured if c.worst.mean > max_delta_e})
+            too_far = sorted({display_name(source) for source, c in measured if c.worst.exceeds(max_delta_e)})
         if delta_e_images:
             write_delta_e_images(delta_e_images, [(display_name(source), c) for source, c in measured])
         if html_report:

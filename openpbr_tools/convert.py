@@ -152,8 +152,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 notes.append(context.diagnostic(APPROXIMATED, f"{material.name}: {', '.join(unitless)} carry no unit; "
                                                 "taken as metres", material.inputs[unitless[0]].location))
             translation = convert(material, target, step_settings)
-            if target != "open_pbr_surface" and material.model == "open_pbr_surface" and \
-                    material.version in (None, tables.latest("open_pbr_surface")):
+            if material.model != "open_pbr_surface" or material.version in (None, tables.latest("open_pbr_surface")):
                 translation = candidates.choose(material, translation, target, step_settings)
             notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context)
             translated_state = translation.material.extra.get("gltf")

@@ -103,6 +103,6 @@ def verify(conversion: Conversion, threshold: float = 2.0, context: Context | No
         if comparison.swatch is not None:
             flat = comparison.swatch
             message += f"; mean {flat.mean:.2f}, p95 {flat.p95:.2f}, max {flat.max:.2f} (texture swatch, per texel)"
-        rule = VERIFY_THRESHOLD if comparison.worst.mean > threshold else VERIFIED
+        rule = VERIFY_THRESHOLD if comparison.worst.exceeds(threshold) else VERIFIED
         found.append(context.diagnostic(rule, message, source.location.with_material(display_name(source))))
     return found

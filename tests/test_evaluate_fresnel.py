@@ -97,3 +97,23 @@ def test_artistic_ior_reproduces_the_reflectivity_at_normal_incidence(r, g):
 def test_ior_f0_round_trip():
     eta = np.array([1.0, 1.33, 1.5, 2.0, 3.0])
     np.testing.assert_allclose(fresnel.f0_to_ior(fresnel.ior_to_f0(eta)), eta, rtol=1e-9)
+
+
+def test_an_ior_of_zero_reflects_everything_and_is_finite():
+    """Standard Surface admits specular_IOR 0 (F0 = ((0 - 1) / (0 + 1))^2 = 1, as MaterialX's
+    mx_ior_to_f0 gives); the exact formula is 0/0 at normal incidence and used to return NaN, which
+    made a whole preview NaN and a NaN CIEDE2000 pass every threshold."""
+    cosines = np.array([1.0, 0.7, 0.2, 0.0])
+    assert fresnel.fresnel_dielectric(cosines, 0.0) == pytest.approx([1.0, 1.0, 1.0, 1.0])
+    assert fresnel.fresnel_dielectric(np.array([1.0, 0.0]), 1.0) == pytest.approx([0.0, 0.0])  # no interface
+    from openpbr_tools.evaluate.thinfilm import thin_film_rgb
+
+    film = thin_film_rgb(np.linspace(0.0, 1.0, 7), 400.0, 1.5, np.zeros(3))
+    assert np.isfinite(film).all()
+
+
+def test_a_comparison_that_is_not_a_number_exceeds_every_threshold():
+    from openpbr_tools.evaluate.difference import DeltaE
+
+    assert DeltaE(float("nan"), float("nan"), float("nan"), 10).exceeds(1e9)
+    assert not DeltaE(0.5, 1.0, 2.0, 10).exceeds(0.5) and DeltaE(0.51, 1.0, 2.0, 10).exceeds(0.5)

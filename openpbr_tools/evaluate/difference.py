@@ -55,6 +55,11 @@ class DeltaE:
     def as_dict(self) -> dict:
         return asdict(self)
 
+    def exceeds(self, threshold: float) -> bool:
+        """The mean is above ``threshold`` — or is not a number: a comparison that could not be made
+        never passes."""
+        return not self.mean <= threshold
+
 
 def summarize(values) -> DeltaE:
     v = np.asarray(values, dtype=float).ravel()

@@ -29,10 +29,13 @@ def fresnel_dielectric(cos_theta, eta):
     c = np.abs(cos_theta)
     eta = np.asarray(eta, dtype=float)
     g2 = eta * eta + c * c - 1.0
-    tir = g2 < 0.0
+    # at the critical angle (g2 = 0) of an interface into a lower index the formula is 0/0 and its limit 1
+    # (an IOR of 0, which Standard Surface's specular_IOR admits, is critical at normal incidence)
+    tir = (g2 < 0.0) | ((g2 <= 0.0) & (eta < 1.0))
     g = np.sqrt(np.where(tir, 0.0, g2))
     a = (g - c) / np.maximum(g + c, 1e-300)
-    b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0)
+    with np.errstate(invalid="ignore", divide="ignore"):  # 0/0 only where tir replaces the value
+        b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0)
     f = 0.5 * a * a * (1.0 + b * b)
     return np.where(tir, 1.0, np.clip(f, 0.0, 1.0))
 

@@ -41,6 +41,7 @@ def airy_reflectance(cos_theta, thickness_nm, film_ior, substrate_ior, wavelengt
     c1 = np.clip(np.abs(np.asarray(cos_theta, dtype=float)), 1e-7, 1.0)
     n2 = np.maximum(np.asarray(film_ior, dtype=float), 1.0).astype(complex)
     n3 = np.asarray(substrate_ior, dtype=complex)
+    n3 = np.where(np.abs(n3) < 1e-4, 1e-4, n3)  # an index of 0 (legal in Standard Surface): total reflection, finite
     sin2 = 1.0 - c1 * c1
     c2 = np.sqrt(1.0 - sin2 / (n2 * n2))
     c3 = np.sqrt(1.0 - sin2 / (n3 * n3))

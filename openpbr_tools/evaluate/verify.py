@@ -102,7 +102,7 @@ class MaterialComparison:
     @property
     def worst(self) -> DeltaE:
         """The shape whose mean CIEDE2000 is larger: what a threshold applies to."""
-        if self.swatch is not None and self.swatch.mean > self.preview.mean:
+        if self.swatch is not None and not self.swatch.mean <= self.preview.mean:  # a NaN is the worse
             return self.swatch
         return self.preview
 

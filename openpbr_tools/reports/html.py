@@ -120,7 +120,7 @@ def entry_for(comparison, diagnostics=(), threshold: float | None = None, name: 
         numbers["swatch"] = comparison.swatch
     numbers["albedo"] = comparison.albedo
     images = {view.shape: view_images(view) for view in comparison.views}
-    exceeds = threshold is not None and comparison.worst.mean > threshold
+    exceeds = threshold is not None and comparison.worst.exceeds(threshold)
     name_b = comparison.name_b if comparison.name_b not in (comparison.name_a, name) else None
     return Entry(name or comparison.name_a, comparison.model_a, comparison.model_b, name_b, numbers, images,
                  sorted(diagnostics, key=lambda d: (-int(d.severity), d.code, d.location.input or "", d.message)),

@@ -1,6 +1,7 @@
 """Never worse than the anchor: for an OpenPBR material the toolkit's mapping can only approximate in
-the target, MaterialX's own translation graphs (:mod:`.materialx_graphs`) give a second candidate,
-and the lobe evaluator keeps the one that renders closer to the source.
+the target (and for a Standard Surface material converted to OpenPBR, glTF or UsdPreviewSurface), MaterialX's own translation
+graphs (:mod:`.materialx_graphs`) give a second candidate, and the lobe evaluator keeps the one that
+renders closer to the source.
 
 Weighed when asked (``Settings.candidates``: ``openpbr convert --verify``, which renders with the
 evaluator anyway), not with ``--gltf-drafts`` nor for a material that came from glTF (whose point is
@@ -44,12 +45,13 @@ def _constant_values(material: Material) -> dict | None:
 
 
 def graph_candidate(source: Material, target: str) -> Material | None:
-    """The target material MaterialX's graphs make of ``source`` (constant OpenPBR), or None."""
+    """The target material MaterialX's graphs make of ``source`` (constant OpenPBR or Standard Surface),
+    or None."""
     values = _constant_values(source)
-    if values is None or target not in materialx_graphs.CHAINS:
+    if values is None or not materialx_graphs.graphs(source.model, target):
         return None
     try:
-        produced = materialx_graphs.chain(target, values)
+        produced = materialx_graphs.chain(target, values, source.model)
     except (materialx_graphs.GraphError, TypeError, ValueError, KeyError, IndexError):
         return None
     table = tables.table(target)
@@ -128,7 +130,7 @@ def refine_thin_film(source: Material, translation: Translation, target: str, se
 def choose(source: Material, translation: Translation, target: str, settings: Settings) -> Translation:
     """``translation`` (OpenPBR ``source`` -> ``target``) or MaterialX's graph result, whichever the
     evaluator renders closer to the source (module docstring)."""
-    if not settings.candidates or settings.gltf_drafts or source.model != "open_pbr_surface" or \
+    if not settings.candidates or settings.gltf_drafts or not materialx_graphs.graphs(source.model, target) or \
             isinstance(source.extra.get("gltf"), dict) or \
             not any(d.code == APPROXIMATED.code for d in translation.diagnostics):
         return translation  # (with the drafts, or for a material read from glTF, the mapping's exact inverses are the point)

@@ -1,5 +1,6 @@
 """MaterialX's own translation graphs (``libraries/bxdf/translation/*.mtlx`` in the ``materialx``
-wheel: OpenPBR -> Standard Surface, Standard Surface -> glTF PBR and -> UsdPreviewSurface), evaluated
+wheel: OpenPBR -> Standard Surface, Standard Surface -> OpenPBR, glTF PBR and UsdPreviewSurface),
+evaluated
 on constant inputs: the anchor's answer as a candidate beside the toolkit's own mapping (#13: never
 worse than the anchor).
 
@@ -29,6 +30,11 @@ CHAINS = {  # target model -> the graphs from OpenPBR, in order
     "standard_surface": ("open_pbr_to_standard_surface",),
     "gltf_pbr": ("open_pbr_to_standard_surface", "standard_surface_to_gltf_pbr"),
     "UsdPreviewSurface": ("open_pbr_to_standard_surface", "standard_surface_to_usd"),
+}
+FROM_STANDARD_SURFACE = {  # target model -> the graph from Standard Surface
+    "open_pbr_surface": ("standard_surface_to_open_pbr",),
+    "gltf_pbr": ("standard_surface_to_gltf_pbr",),
+    "UsdPreviewSurface": ("standard_surface_to_usd",),
 }
 
 
@@ -165,8 +171,16 @@ def evaluate(name: str, values: dict) -> dict:
     return outputs
 
 
-def chain(target: str, values: dict) -> dict:
-    """OpenPBR ``values`` through MaterialX's graphs to ``target``: its parameter values."""
-    for name in CHAINS[target]:
+def chain(target: str, values: dict, source: str = "open_pbr_surface") -> dict:
+    """``values`` of a ``source`` material through MaterialX's graphs to ``target`` (from OpenPBR:
+    :data:`CHAINS`; from Standard Surface: :data:`FROM_STANDARD_SURFACE`): the target's parameter values."""
+    for name in graphs(source, target):
         values = evaluate(name, values)
     return values
+
+
+def graphs(source: str, target: str) -> tuple[str, ...]:
+    """The translation graphs from ``source`` to ``target``, in order; () when MaterialX has none."""
+    if source == "open_pbr_surface":
+        return CHAINS.get(target, ())
+    return FROM_STANDARD_SURFACE.get(target, ()) if source == "standard_surface" else ()

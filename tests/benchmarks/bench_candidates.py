@@ -1,0 +1,61 @@
+"""The candidate search's cost: generated OpenPBR materials (tests/generated_materials.py, three
+document colour spaces) converted to glTF in one process, with the search (the default) and without
+(``Settings(candidates=False)``, the conversion before the search existed), side by side.
+
+    python tests/benchmarks/bench_candidates.py [--count 1000] [--seed 11] [--target gltf|mtlx|usda]
+
+Documents of 50 materials each; the two settings alternate document by document (the machine's drift
+falls on both). Prints both totals, their ratio (#13's budget: <= 3x) and how many materials the search
+evaluated, changed and left.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+import tempfile
+import time
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+from generated_materials import COLORSPACES, document  # noqa: E402
+from openpbr_tools.convert import convert_file  # noqa: E402
+from openpbr_tools.translate.common import Settings  # noqa: E402
+
+PER_DOCUMENT = 50
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--count", type=int, default=1000)
+    parser.add_argument("--seed", type=int, default=11)
+    parser.add_argument("--target", default="gltf", choices=("gltf", "mtlx", "usda"))
+    arguments = parser.parse_args()
+    folder = tempfile.mkdtemp(prefix="openpbr-candidates-")
+    sources = []
+    for index in range(max(1, arguments.count // PER_DOCUMENT)):
+        space = COLORSPACES[index % len(COLORSPACES)]
+        path = os.path.join(folder, f"set{index:03d}_{space}.mtlx")
+        with open(path, "w", encoding="utf-8") as handle:
+            handle.write(document("open_pbr_surface", space, arguments.seed * 1000 + index, PER_DOCUMENT))
+        sources.append(path)
+    model = "standard_surface" if arguments.target == "mtlx" else None
+    out = os.path.join(folder, f"out.{arguments.target}")
+    convert_file(sources[0], out, model, Settings())  # load libraries and tables once, for both
+    totals = {False: 0.0, True: 0.0}
+    notes = {False: 0, True: 0}
+    for path in sources:
+        for searched in (False, True):
+            start = time.perf_counter()
+            result = convert_file(path, out, model, Settings(candidates=searched))
+            totals[searched] += time.perf_counter() - start
+            notes[searched] += sum("candidates for" in d.message or "translation graphs, which render" in d.message
+                                   for d in result.diagnostics)
+    materials = len(sources) * PER_DOCUMENT
+    print(f"{materials} materials to {arguments.target}: without the search {totals[False]:.1f} s, with it "
+          f"{totals[True]:.1f} s -> {totals[True] / totals[False]:.2f}x; {notes[True]} materials weighed")
+
+
+if __name__ == "__main__":
+    main()
