@@ -33,9 +33,11 @@ OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tool
               help="Nits one unit of a unitless emission weight stands for (MaterialX's reference renders 1).")
 @click.option("--allow-outside", multiple=True, type=click.Path(file_okay=False),
               help="A folder outside the input's from which textures may be read or embedded (repeatable).")
+@click.option("--candidates/--no-candidates", default=True, show_default=True,
+              help="Where the mapping approximates a constant OpenPBR or Standard Surface material, also weigh MaterialX's "
+                   "translation graphs' result and keep whichever the lobe evaluator renders closer (reported).")
 @click.option("--verify", is_flag=True, help="Render original and result with the lobe evaluator and report CIEDE2000; "
-                                            "an approximated constant OpenPBR material takes MaterialX's translation "
-                                            "graphs' result where it renders closer.")
+                                            "also fits a thin film's thickness where the target's film model differs.")
 @click.option("--threshold", type=click.FloatRange(min=0), default=2.0, show_default=True,
               help="With --verify: warn when a material's mean CIEDE2000 exceeds this.")
 @click.option("--max-delta-e", type=click.FloatRange(min=0), default=None, metavar="X",
@@ -58,7 +60,7 @@ OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tool
               help="Format of the loss report.")
 @click.option("--fail-on", type=click.Choice(SEVERITIES + ("never",)), default="never", show_default=True,
               callback=_severity, help="Exit 1 when a report entry reaches this severity (error: something was dropped).")
-def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_unit, allow_outside, verify,
+def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_unit, allow_outside, candidates, verify,
             threshold, max_delta_e, delta_e_images, html_report, force, skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format,
             fail_on):
     """Convert every material of INPUT (.mtlx, USD, glTF) and write OUTPUT; the report lists every
@@ -77,7 +79,7 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
             raise click.UsageError("--delta-e-images and --report apply to one input")
         _batch(inputs, output, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, force,
                skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on,
-               gltf_drafts)
+               gltf_drafts, candidates)
         return
     input_path = inputs[0]
 
@@ -100,7 +102,7 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
     verify = verify or max_delta_e is not None or bool(delta_e_images) or bool(html_report)
     try:
         result = convert_file(input_path, output, target, Settings(nits_per_unit=nits_per_unit, gltf_drafts=gltf_drafts,
-                                                                        candidates=verify),
+                                                                        candidates=candidates, fit_films=verify),
                               mesh=mesh,
                               allow_outside=tuple(allow_outside))
     except ReadError as error:
@@ -183,7 +185,7 @@ def write_html_report(path, title, comparisons, diagnostics, threshold, labels=(
 
 def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outside, verify, threshold, force,
            skip_existing, jobs, changed_since, shard, scheduler, scheduler_timeout, progress, output_format, fail_on,
-           gltf_drafts=False):
+           gltf_drafts=False, candidates=True):
     # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools import batch
     from openpbr_tools.reports import STREAMED, render
@@ -204,7 +206,7 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
                       scheduler=scheduler, scheduler_timeout=scheduler_timeout)
     planned = batch.plan(inputs, outdir, batch_format, force=force, skip_existing=skip_existing, options=options,
                          target=target, nits_per_unit=nits_per_unit, mesh=mesh,
-                         allow_outside=tuple(os.path.abspath(f) for f in allow_outside), verify=verify,
+                         allow_outside=tuple(os.path.abspath(f) for f in allow_outside), verify=verify, candidates=candidates,
                          threshold=threshold, gltf_drafts=gltf_drafts)
     show_progress = sys.stderr.isatty() if progress is None else progress
     streamed = output_format in STREAMED and not planned.refusals

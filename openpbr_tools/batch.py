@@ -48,6 +48,7 @@ class Job:
     verify: bool = False
     threshold: float = 2.0
     gltf_drafts: bool = False
+    candidates: bool = True
 
 
 @dataclass(slots=True)
@@ -153,7 +154,8 @@ def _convert(job: Job) -> FileResult:
     try:
         os.makedirs(os.path.dirname(job.output), exist_ok=True)
         result = convert_file(job.source, job.output, job.target, Settings(nits_per_unit=job.nits_per_unit, gltf_drafts=job.gltf_drafts,
-                                                                                  candidates=job.verify),
+                                                                                  candidates=job.candidates,
+                                                                                  fit_films=job.verify),
                               mesh=job.mesh, allow_outside=job.allow_outside)
     except ReadError as error:
         return unreadable(job.source, error)

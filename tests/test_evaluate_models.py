@@ -1,6 +1,8 @@
 """Model behaviours the specifications state in closed form, checked at normal incidence on
 near-mirror or black configurations where the albedo is the Fresnel factor itself."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -186,3 +188,37 @@ def test_models_evaluate_from_a_material():
     model, resolved = model_for_material(material)
     assert resolved.values["base_metalness"] == 1.0
     assert model.evaluate(np.array([[0.0, 0.6, 0.8]]), np.array([[0.0, -0.6, 0.8]])).shape == (1, 3)
+
+
+def test_stacked_spheres_are_the_spheres_rendered_one_by_one(tmp_path):
+    """preview.shade_sphere_many (the candidate search's one evaluation for several materials) gives
+    each material's own shade_sphere image, for every model and generated parameter sets that share
+    their switches (films, coats, metals, glass, fuzz, emission among them); sets whose thin-walled
+    switch differs are refused (None), not mixed."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from generated_materials import document
+    from openpbr_tools.evaluate import model_for_material, resolve
+    from openpbr_tools.evaluate.preview import Rig, shade_sphere, shade_sphere_many
+    from openpbr_tools.io import read_asset
+
+    rig = Rig(size=12)
+    for model in ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface"):
+        path = tmp_path / f"{model}.mtlx"
+        path.write_text(document(model, "acescg", 3, 24))
+        groups = {}
+        for material in read_asset(str(path)).materials:
+            values = resolve(material).values
+            switches = tuple((k, np.asarray(v).tolist()) for k, v in sorted(values.items())
+                             if np.asarray(v).dtype.kind in "biu")
+            groups.setdefault((switches, tuple(sorted(values))), []).append(material)
+        group = max(groups.values(), key=len)
+        assert len(group) >= 3, model
+        stacked = shade_sphere_many(model, [resolve(m).values for m in group], rig)
+        for material, image in zip(group, stacked):
+            np.testing.assert_allclose(image, shade_sphere(model_for_material(material)[0], rig)[0], atol=1e-9)
+        others = [m for key, members in groups.items() if members is not group for m in members]
+        if others:
+            mixed = [resolve(group[0]).values, resolve(others[0]).values]
+            assert shade_sphere_many(model, mixed, rig) is None

@@ -30,7 +30,7 @@ def test_no_material_is_worse_than_materialx_chain(tmp_path, colorspace):
     compared, worse = 0, []
     for material in read_asset(str(path)).materials:
         for target in TARGETS:
-            settings = Settings(context=Context(), candidates=True)
+            settings = Settings(context=Context())
             ours = candidates.choose(material, convert(material, target, settings), target, settings).material
             chain = candidates.graph_candidate(material, target)
             assert chain is not None, (material.name, target)
@@ -57,7 +57,7 @@ def test_no_standard_surface_material_is_worse_than_materialx_graphs(tmp_path, c
     compared, worse = 0, []
     for material in read_asset(str(path)).materials:
         for target in REVERSE_TARGETS:
-            settings = Settings(context=Context(), candidates=True)
+            settings = Settings(context=Context())
             ours = candidates.choose(material, convert(material, target, settings), target, settings).material
             graph = candidates.graph_candidate(material, target)
             assert graph is not None and graph.model == target, (material.name, target)

@@ -182,6 +182,34 @@ def shade_sphere(model: BSDFModel, rig: Rig = Rig(), background: bool = True) ->
     return shade(model, sphere_geometry(rig), rig, background)
 
 
+def shade_sphere_many(model: str, parameter_sets: list[dict], rig: Rig = Rig()) -> list[np.ndarray] | None:
+    """Render several constant parameter sets of one shading ``model`` (``ResolvedParameters.values``
+    of each) on the preview sphere in one evaluation: the spheres are stacked into one tall image
+    whose per-pixel parameters are each set's values, and cut apart again. The same pixels as
+    :func:`shade_sphere` (background included) for a fraction of the cost when the sets are many
+    (the evaluator's cost is mostly per call, not per pixel). ``None`` when the sets differ in a
+    boolean or integer parameter (a uniform switch such as thin-walled), which cannot vary per pixel."""
+    from . import model_class  # lazy: the package imports this module
+
+    geo = sphere_geometry(rig)
+    count, pixels = len(parameter_sets), int(geo.mask.sum())
+    stacked = {}
+    if any(values.keys() != parameter_sets[0].keys() for values in parameter_sets[1:]):
+        return None  # a parameter without a default (unbounded length) set in one and not another
+    for name in parameter_sets[0]:
+        values = [np.asarray(values[name]) for values in parameter_sets]
+        if values[0].dtype.kind in "biu":
+            if any(v.shape != values[0].shape or not np.array_equal(v, values[0]) for v in values[1:]):
+                return None
+            stacked[name] = parameter_sets[0][name]
+            continue
+        stacked[name] = np.concatenate([np.broadcast_to(v.astype(float), (pixels,) + v.shape) for v in values])
+    tall = Geometry(np.tile(geo.mask, (count, 1)), np.tile(geo.normal, (count, 1)), np.tile(geo.tangent, (count, 1)),
+                    np.tile(geo.bitangent, (count, 1)), (count * rig.size, rig.size))
+    image, _ = shade(model_class(model)(stacked), tall, rig)
+    return [image[i * rig.size:(i + 1) * rig.size] for i in range(count)]
+
+
 def shade(model: BSDFModel, geo: Geometry, rig: Rig = Rig(), background: bool = True,
           environment: "Environment | None" = None, coat_geo: Geometry | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Render ``model`` (constant or per-pixel parameters, one per masked pixel of ``geo``) on

@@ -1,22 +1,26 @@
 """Never worse than the anchor: for an OpenPBR material the toolkit's mapping can only approximate in
-the target (and for a Standard Surface material converted to OpenPBR, glTF or UsdPreviewSurface), MaterialX's own translation
-graphs (:mod:`.materialx_graphs`) give a second candidate, and the lobe evaluator keeps the one that
-renders closer to the source.
+the target (and for a Standard Surface material converted to OpenPBR, glTF or UsdPreviewSurface),
+MaterialX's own translation graphs (:mod:`.materialx_graphs`) give a second candidate, and the lobe
+evaluator keeps the one that renders closer to the source.
 
-Weighed when asked (``Settings.candidates``: ``openpbr convert --verify``, which renders with the
-evaluator anyway), not with ``--gltf-drafts`` nor for a material that came from glTF (whose point is
-the mapping's exact inverses: a glTF round trip stays exact). On 72 generated materials in three
-document colour spaces the mapping alone was up to 13.6 mean CIEDE2000 worse than MaterialX's chain,
-with the search at most 0.05 (tests/test_never_worse_than_chain.py). Only
-constant-valued materials have a graph candidate; a value the graphs put outside the target's range
-is brought inside it, as the toolkit's own results are (an ``attenuation_distance`` of 0, the
-graphs' "no attenuation", is left unset) (the graphs are evaluated on values; a textured
-material keeps the toolkit's mapping, which bakes per texel). An exact mapping (no OPBR1103 note) is
-kept without a search. The two are rendered on the evaluator's lit sphere at a small size
-(:data:`RIG_SIZE`, 32 pixels: a few milliseconds per candidate; ``--verify`` measures the result at full
-size), CIEDE2000 mean against the source; the graph's result wins only by more than
-:data:`MARGIN`. The report says which was kept and both figures (OPBR1102); when the graph's is
-kept, the mapping's approximation notes are replaced by one naming the graph.
+On by default (``Settings.candidates``; ``openpbr convert --no-candidates`` turns it off), not with
+``--gltf-drafts`` nor for a material that came from glTF (whose point is the mapping's exact
+inverses: a glTF round trip stays exact). On 360 generated OpenPBR materials in three document colour
+spaces the mapping alone was up to 5.6 mean CIEDE2000 worse than MaterialX's chain; with the search
+no material is worse by more than 0.3 (tests/test_never_worse_than_chain.py,
+tests/benchmarks/bench_never_worse.py). Only constant-valued materials have a graph candidate; a
+value the graphs put outside the target's range is brought inside it, as the toolkit's own results
+are (an ``attenuation_distance`` of 0, the graphs' "no attenuation", is left unset) (the graphs are
+evaluated on values; a textured material keeps the toolkit's mapping, which bakes per texel). An
+exact mapping (no OPBR1103 note) is kept without a search. The candidates are rendered together in
+one stacked evaluation on the evaluator's lit sphere at a small size (:data:`RIG_SIZE` pixels, films
+on a coarse cosine table: a few milliseconds; ``--verify`` measures the result at full size), CIEDE2000
+mean against the source; the graph's result wins only by more than :data:`MARGIN`, since it drops
+structure the mapping keeps (a thin-walled flag, a subsurface lobe) for small gains. The report says
+which was kept and both figures (OPBR1102); when the graph's is kept, the mapping's approximation
+notes are replaced by one naming the graph and one at every authored input the graph's result does
+not carry exactly (:func:`read_back_notes`). ``Settings.fit_films`` (``--verify``) also fits a thin
+film's thickness (:func:`refine_thin_film`), which costs a render of 26 thicknesses.
 """
 
 from __future__ import annotations
@@ -31,8 +35,8 @@ from . import materialx_graphs
 from .common import Settings, Translation
 from .target import inside
 
-RIG_SIZE = 32  # pixels of the evaluator's sphere for the candidate search
-MARGIN = 0.05  # mean CIEDE2000: a smaller win is noise at this size
+RIG_SIZE = 16  # pixels of the evaluator's sphere for the candidate search
+MARGIN = 0.25  # mean CIEDE2000: a smaller win does not pay for what the graphs drop (thin-walled, subsurface)
 
 
 def _constant_values(material: Material) -> dict | None:
@@ -95,36 +99,55 @@ def refine_thin_film(source: Material, translation: Translation, target: str, se
     if entry is None or not isinstance(entry.value, Constant) or film is None or \
             not isinstance(film.value, Constant) or not film.value.value > 0 or _constant_values(source) is None:
         return translation
-    # lazy: the evaluator (NumPy, albedo tables) loads only for an approximated constant film
-    from ..evaluate import model_for_material
-    from ..evaluate.difference import compare_images  # lazy: as above
-    from ..evaluate.preview import Rig, shade_sphere  # lazy: as above
-
-    FILM_RIG = Rig(size=FILM_RIG_SIZE)
     base = float(entry.value.value)
 
-    def score(thickness, reference, mask):
-        trial = copy.copy(translation.material)
-        trial.inputs = dict(trial.inputs)
-        trial.inputs[name] = Input(name, entry.type, Constant(thickness), entry.location)
-        return compare_images(reference, shade_sphere(model_for_material(trial)[0], FILM_RIG)[0], mask,
-                              FILM_RIG.white()).mean
+    def trial(thickness):
+        material = copy.copy(translation.material)
+        material.inputs = dict(material.inputs)
+        material.inputs[name] = Input(name, entry.type, Constant(thickness), entry.location)
+        return material
 
+    thicknesses = [base] + [base * scale for scale in FILM_SCALES]
     try:
-        reference, mask = shade_sphere(model_for_material(source)[0], FILM_RIG)
-        mapped = score(base, reference, mask)
-        found = min((score(base * scale, reference, mask), base * scale) for scale in FILM_SCALES)
+        scores = score_candidates(source, [trial(t) for t in thicknesses], FILM_RIG_SIZE)
     except (ValueError, KeyError, TypeError, FloatingPointError):
         return translation
+    mapped = scores[0]
+    found = min(zip(scores[1:], thicknesses[1:]))
     if not found[0] < mapped - MARGIN:
         return translation
     translation.material.inputs[name] = Input(name, entry.type, Constant(float(found[1])), entry.location)
     translation.diagnostics.append(settings.context.diagnostic(
         APPROXIMATED, f"{source.name}: {name} fitted to {found[1]:.1f} nm (the mapped {base:.1f} nm interferes "
                       f"differently in {target}'s film model): mean CIEDE2000 on the evaluator's "
-                      f"{FILM_RIG.size}-pixel sphere {mapped:.2f} -> {found[0]:.2f}",
+                      f"{FILM_RIG_SIZE}-pixel sphere {mapped:.2f} -> {found[0]:.2f}",
         source.location.with_input("thin_film_thickness")))
     return translation
+
+
+def score_candidates(source: Material, materials: list[Material], size: int = RIG_SIZE) -> list[float]:
+    """Mean CIEDE2000 of each of ``materials`` (one shading model) against ``source`` on the
+    evaluator's lit sphere of ``size`` pixels: the candidates are rendered together in one stacked
+    evaluation where their switches agree (:func:`~openpbr_tools.evaluate.preview.shade_sphere_many`;
+    the same pixels), and their differences computed in one call."""
+    # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
+    import numpy as np
+
+    from ..evaluate import model_for_material, resolve  # lazy: as above
+    from ..evaluate.difference import delta_e_2000  # lazy: as above
+    from ..evaluate.preview import Rig, shade_sphere, shade_sphere_many  # lazy: as above
+    from ..evaluate.thinfilm import coarse_films  # lazy: as above
+
+    rig = Rig(size=size)
+    with coarse_films():
+        reference, mask = shade_sphere(model_for_material(source)[0], rig)
+        images = shade_sphere_many(materials[0].model, [resolve(m).values for m in materials], rig) \
+            if len(materials) > 1 else None
+        if images is None:
+            images = [shade_sphere(model_for_material(m)[0], rig)[0] for m in materials]
+    delta = delta_e_2000(np.concatenate([image[mask] for image in images]), np.tile(reference[mask], (len(images), 1)),
+                         rig.white())
+    return [float(block.mean()) for block in np.split(delta, len(images))]
 
 
 def choose(source: Material, translation: Translation, target: str, settings: Settings) -> Translation:
@@ -134,29 +157,19 @@ def choose(source: Material, translation: Translation, target: str, settings: Se
             isinstance(source.extra.get("gltf"), dict) or \
             not any(d.code == APPROXIMATED.code for d in translation.diagnostics):
         return translation  # (with the drafts, or for a material read from glTF, the mapping's exact inverses are the point)
-    translation = refine_thin_film(source, translation, target, settings)
+    if settings.fit_films:
+        translation = refine_thin_film(source, translation, target, settings)
     candidate = graph_candidate(source, target)
     if candidate is None:
         return translation
-    # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
-    from ..evaluate import model_for_material
-    from ..evaluate.difference import compare_images  # lazy: as above
-    from ..evaluate.preview import Rig, shade_sphere  # lazy: as above
-
-    RIG = Rig(size=RIG_SIZE)
-
     try:
-        reference, mask = shade_sphere(model_for_material(source)[0], RIG)
-        ours = compare_images(reference, shade_sphere(model_for_material(translation.material)[0], RIG)[0], mask,
-                              RIG.white()).mean
-        theirs = compare_images(reference, shade_sphere(model_for_material(candidate)[0], RIG)[0], mask,
-                                RIG.white()).mean
+        ours, theirs = score_candidates(source, [translation.material, candidate])
     except (ValueError, KeyError, TypeError, FloatingPointError):
         return translation
     context = settings.context
     # the choice concerns the whole material; it is reported at the first input the mapping approximated
     where = next(d.location for d in translation.diagnostics if d.code == APPROXIMATED.code)
-    figures = (f"mean CIEDE2000 on the evaluator's {RIG.size}-pixel sphere: the toolkit's mapping {ours:.2f}, "
+    figures = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: the toolkit's mapping {ours:.2f}, "
                f"MaterialX's translation graphs {theirs:.2f}")
     if not theirs < ours - MARGIN:
         translation.diagnostics.append(context.diagnostic(
@@ -167,4 +180,50 @@ def choose(source: Material, translation: Translation, target: str, settings: Se
     kept.append(context.diagnostic(
         APPROXIMATED, f"{source.name}: converted to {target} by MaterialX's translation graphs, which render closer "
                       f"than the toolkit's mapping ({figures})", where))
+    kept += read_back_notes(source, candidate, where, context)
     return Translation(candidate, kept, translation.source)
+
+
+def read_back_notes(source: Material, written: Material, where, context) -> list:
+    """A note at every authored input of ``source`` that ``written`` (the graphs' result) does not
+    carry exactly: the written material is converted back to the source's model with the toolkit's
+    inverse mapping, and each authored constant compared with what comes back (1e-5). The graphs'
+    arithmetic is their own, so no input can be assumed to survive; this says which did not."""
+    from .convert import convert  # lazy: translate.convert imports the translators, which this module serves
+
+    try:
+        back = convert(written, source.model, Settings(context=context, candidates=False)).material
+    except (ValueError, KeyError, TypeError):
+        return [context.diagnostic(APPROXIMATED, f"{source.name}: the graphs' result could not be read back to "
+                                                 f"{source.model}; every input may differ", where)]
+    defaults = tables.table(source.model)
+    notes = []
+    for name, entry in source.inputs.items():
+        parameter = defaults.get(name)
+        if not isinstance(entry.value, Constant) or parameter is None or parameter.role in ("normal", "tangent"):
+            continue
+        returned = back.inputs.get(name)
+        value = returned.value.value if returned is not None and isinstance(returned.value, Constant) \
+            else parameter.default
+        if not _same(entry.value.value, value):
+            notes.append(context.diagnostic(
+                APPROXIMATED, f"{source.name}: {name} {_shown(entry.value.value)} is not carried exactly by MaterialX's "
+                              f"translation graphs' result (reads back as {_shown(value)})", entry.location))
+    return notes
+
+
+def _same(a, b) -> bool:
+    if isinstance(a, (str, bool)) or isinstance(b, (str, bool)) or a is None or b is None:
+        return a == b
+    try:
+        a, b = [float(v) for v in (a if isinstance(a, (tuple, list)) else (a,))], \
+            [float(v) for v in (b if isinstance(b, (tuple, list)) else (b,))]
+    except (TypeError, ValueError):
+        return a == b
+    return len(a) == len(b) and all(abs(x - y) <= 1e-5 * max(1.0, abs(x)) for x, y in zip(a, b))
+
+
+def _shown(value) -> str:
+    if isinstance(value, (tuple, list)):
+        return "(" + ", ".join(f"{float(v):.4g}" for v in value) + ")"
+    return f"{value:.4g}" if isinstance(value, float) else str(value)

@@ -102,7 +102,8 @@ class Settings:
     baker: Any = None  # an openpbr_tools.bake.Baker: textures a formula transforms are baked per texel
     gltf_drafts: bool = False
     gltf_file: bool = False  # the result goes to a glTF file, which holds extensions the gltf_pbr node cannot
-    candidates: bool = False  # weigh MaterialX's translation graphs against the mapping (translate.candidates)
+    candidates: bool = True  # weigh MaterialX's translation graphs against the mapping (translate.candidates)
+    fit_films: bool = False  # also fit a thin film's thickness by rendering (translate.candidates; --verify)
 
 
 class Values:
