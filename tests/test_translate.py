@@ -107,6 +107,9 @@ def test_openpbr_round_trip_recovers_what_the_target_represents(target):
         for name in REPRESENTABLE_IN[target]:
             if any(at_bound(there, carrier) for carrier in CARRIED_BY[target].get(name, ())):
                 continue
+            if target == "standard_surface" and name == "base_color" and value(source, "base_diffuse_roughness") > 0 \
+                    and np.any(np.asarray(value(there, "base_color")) >= 1.0 - 1e-12):
+                continue  # brightened for Standard Surface's darker rough diffuse past 1: clipped (and noted)
             np.testing.assert_allclose(value(back, name), value(source, name), atol=1e-5, err_msg=f"{target}: {name}")
         if target != "UsdPreviewSurface":  # the effective Abbe number (Abbe / scale) is what renders
             ratio = lambda m: value(m, "transmission_dispersion_abbe_number") / value(m, "transmission_dispersion_scale")  # noqa: E731

@@ -357,3 +357,53 @@ def test_fitted_approximations_report_their_residual(target):
             continue  # no sheen: reported as not carried
         notes = [d.message for d in convert(source, target).diagnostics if d.code == "OPBR1103"]
         assert any(topic in n and "ΔE2000" in n for n in notes), (target, topic, notes)
+
+
+def _hemispherical(brdf_of_cosines, count=48):
+    """Cosine-weighted average over mu_o of the directional albedo: (1/pi) int int f cos_i dw_i cos_o dw_o
+    by Gauss-Legendre in both polar angles and the trapezoid rule in azimuth (the BRDF's own formula,
+    not the evaluator's albedo tables)."""
+    nodes, weights = np.polynomial.legendre.leggauss(count)
+    mu, w = 0.5 * (nodes + 1.0), 0.5 * weights
+    phi = np.linspace(0.0, 2.0 * np.pi, 64, endpoint=False)
+    mo, mi, p = np.meshgrid(mu, mu, phi, indexing="ij")
+    so, si = np.sqrt(1 - mo * mo), np.sqrt(1 - mi * mi)
+    cos_io = mo * mi + so * si * np.cos(p)
+    f = brdf_of_cosines(mi, mo, cos_io)
+    directional = np.sum(f * mi * w[None, :, None], axis=(1, 2)) * (2.0 * np.pi / len(phi))
+    return float(np.sum(2.0 * mu * directional * w))
+
+
+@pytest.mark.parametrize("sigma", [0.3, 0.7, 1.0])
+def test_rough_diffuse_albedos_match_between_standard_surface_and_openpbr(sigma):
+    """Standard Surface's qualitative Oren-Nayar and OpenPBR's EON, integrated from their BRDFs
+    (evaluate.diffuse, EON paper eq. 10-12): the colour fit.eon_colour_for_qon gives OpenPBR reflects
+    the hemispherical albedo Standard Surface reflects with the original colour, and
+    fit.qon_colour_for_eon inverts it."""
+    from openpbr_tools.evaluate import diffuse
+
+    qon = _hemispherical(lambda ci, co, cio: diffuse.oren_nayar(ci, co, cio, sigma))
+    assert fit.qon_average_albedo(sigma) == pytest.approx(qon, abs=2e-3)
+    for rho in (0.1, 0.42, 0.8):
+        matched = float(fit.eon_colour_for_qon(np.array([rho]), sigma)[0])
+        eon = _hemispherical(lambda ci, co, cio: diffuse.eon_diffuse(ci, co, cio, sigma, np.array([matched]))[..., 0])
+        assert eon == pytest.approx(qon * rho, abs=2e-3)
+        assert matched < rho  # EON is the brighter model
+        assert float(fit.qon_colour_for_eon(np.array([matched]), sigma)[0]) == pytest.approx(rho, abs=1e-9)
+
+
+def test_a_rough_standard_surface_diffuse_converts_to_openpbr_and_back():
+    """Rough concrete (Standard Surface, diffuse_roughness 1, no base weight authored) to OpenPBR: was
+    5.8 mean CIEDE2000 on the evaluator (EON brighter than the qualitative Oren-Nayar), now under 2;
+    OpenPBR -> Standard Surface -> OpenPBR brings the base colour back exactly where nothing clips."""
+    from openpbr_tools.evaluate.preview import Rig
+
+    concrete = material("standard_surface", base_color=(0.42, 0.41, 0.39), diffuse_roughness=1.0,
+                        specular_roughness=0.9)
+    opbr = convert(concrete, "open_pbr_surface", Settings(candidates=False)).material
+    assert compare_materials(concrete, opbr, Rig(size=48)).preview.mean < 2.0
+    source = material("open_pbr_surface", base_color=(0.5, 0.3, 0.2), base_diffuse_roughness=0.8)
+    there = convert(source, "standard_surface", Settings(candidates=False)).material
+    back = convert(there, "open_pbr_surface", Settings(candidates=False)).material
+    assert back.inputs["base_color"].value.value == pytest.approx((0.5, 0.3, 0.2), abs=1e-6)
+    assert there.inputs["base_color"].value.value[0] > 0.5

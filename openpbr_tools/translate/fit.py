@@ -36,6 +36,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..evaluate import albedo as _albedo
+from ..evaluate import diffuse as _diffuse
 from ..evaluate import sheen as _sheen
 from ..evaluate.coat import coat_relative_ior, coat_roughened
 from ..evaluate.fresnel import f0_to_ior, ior_to_f0
@@ -251,3 +252,66 @@ def smoother_than_the_coat_allows(roughened, coat_weight, coat_roughness):
     """Whether a base roughness is below the least OpenPBR's coat leaves (that of a mirror base
     under it): no OpenPBR base roughness reproduces it."""
     return (np.asarray(coat_weight) > 0) & (np.asarray(roughened) < coat_roughened(0.0, coat_weight, coat_roughness) - 1e-9)
+
+
+# Rough diffuse: Standard Surface's qualitative Oren-Nayar (QON) loses the light its single-scattering
+# model does not return; OpenPBR's energy-preserving Oren-Nayar (EON) adds it back as a multiple-
+# scattering lobe. At the same roughness EON is brighter (rough concrete, roughness 1: 5.8 mean
+# CIEDE2000). The base colour is scaled so that the two hemispherical (cosine-weighted) albedos match:
+# EON's is rho A / (1 - rho (1 - A)) in closed form (A = FON's average albedo, EON eq. 9; the
+# multiple-scattering colour rho_ms = rho^2 A / (1 - rho (1 - A)), eq. 12, summed with rho A), QON's
+# is integrated from its albedo table. The angular shapes still differ (QON is flatter at grazing).
+
+
+def qon_average_albedo(sigma):
+    """Cosine-weighted hemispherical average of the qualitative Oren-Nayar albedo per unit colour
+    (32-point Gauss-Legendre over the evaluator's albedo table), the shape of ``sigma``."""
+    nodes, weights = np.polynomial.legendre.leggauss(32)
+    mu, weights = 0.5 * (nodes + 1.0), 0.5 * weights
+    sigma = np.clip(np.asarray(sigma, dtype=float), 0.0, 1.0)
+    values = _albedo.oren_nayar_albedo(mu, sigma[..., None] * np.ones_like(mu))
+    return np.sum(2.0 * mu * values * weights, axis=-1)
+
+
+def per_channel(x, rho):
+    """``x`` (a constant, or per texel with or without a trailing axis of 1) shaped to broadcast
+    against the colours ``rho`` (last axis RGB)."""
+    x = np.asarray(x, dtype=float)
+    return x if x.ndim == np.ndim(rho) else x[..., None]
+
+
+def eon_average_albedo(rho, sigma):
+    """EON's cosine-weighted hemispherical albedo for colour ``rho`` (last axis RGB) and roughness."""
+    a = per_channel(_diffuse.fujii_oren_nayar_average_albedo(np.clip(sigma, 0.0, 1.0)), rho)
+    rho = np.asarray(rho, dtype=float)
+    return rho * a / (1.0 - rho * (1.0 - a))
+
+
+def eon_colour_for_qon(rho, sigma):
+    """The OpenPBR (EON) base colour whose hemispherical albedo is Standard Surface's (QON) for
+    ``rho`` at roughness ``sigma``: rho' A / (1 - rho' (1 - A)) = t = A_QON rho, so
+    rho' = t / (A + t (1 - A))."""
+    a = per_channel(_diffuse.fujii_oren_nayar_average_albedo(np.clip(sigma, 0.0, 1.0)), rho)
+    target = per_channel(qon_average_albedo(sigma), rho) * np.asarray(rho, dtype=float)
+    return target / (a + target * (1.0 - a))
+
+
+def qon_colour_for_eon(rho, sigma):
+    """The Standard Surface (QON) base colour whose hemispherical albedo is OpenPBR's (EON) for
+    ``rho`` at roughness ``sigma``; the inverse of :func:`eon_colour_for_qon` (may exceed 1)."""
+    return eon_average_albedo(rho, sigma) / per_channel(qon_average_albedo(sigma), rho)
+
+
+def eon_colour_for_qon_dielectric(rho, sigma, metalness):
+    """:func:`eon_colour_for_qon` where the base is a dielectric (metalness 0); a base with any metal
+    keeps its colour (a metal's colour is its F0, which the diffuse model does not touch, and one
+    colour cannot serve a diffuse and a metal that need different corrections; the metal floor of
+    :func:`~.standard_surface.openpbr_specular_weight` needs the colour as it is)."""
+    rho = np.asarray(rho, dtype=float)
+    return np.where(per_channel(metalness, rho) > 0.0, rho, eon_colour_for_qon(rho, sigma))
+
+
+def qon_colour_for_eon_dielectric(rho, sigma, metalness):
+    """The inverse of :func:`eon_colour_for_qon_dielectric`."""
+    rho = np.asarray(rho, dtype=float)
+    return np.where(per_channel(metalness, rho) > 0.0, rho, qon_colour_for_eon(rho, sigma))

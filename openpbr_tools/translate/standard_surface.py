@@ -50,8 +50,15 @@ evaluator's lit sphere, before -> after the fits of :mod:`.fit`, from ``openpbr 
     Surface, ``coat_affect_roughness`` is solved so the roughened base roughness matches OpenPBR's
     (spec: r_b = min(1, (r^4 + 2 r_c^4)^(1/4))) and the base colour is pre-darkened by OpenPBR's
     view-independent darkening factor; coming back, ``coat_darkening`` is 0 (the same look);
+  * rough diffuse: Standard Surface's qualitative Oren-Nayar is darker than OpenPBR's energy-preserving
+    EON at the same roughness; a dielectric base's colour is scaled so the hemispherical albedos match
+    (:func:`.fit.eon_colour_for_qon`, exact inverses; clipped at 1 going to Standard Surface). Rough
+    concrete (roughness 1) 5.8 -> 1.5 both ways; the angular shapes still differ;
   * Standard Surface's colour ``opacity`` becomes OpenPBR's scalar opacity (mean of the channels),
     ``transmission_extra_roughness`` and ``coat_affect_color`` have no OpenPBR equivalent.
+
+One module because the two directions are each other's inverses, formula by formula, and are tested
+as round trips.
 """
 
 from __future__ import annotations
@@ -105,13 +112,14 @@ SPECULAR_SOURCES = ("specular_weight", "specular_ior", "thin_film_weight", "base
 
 
 def ss_base_color(color, metalness, specular_weight, subsurface, subsurface_color, coat_weight, coat_darkening,
-                  coat_ior):
+                  coat_ior, clip=True):
     """OpenPBR's base colour darkened as OpenPBR darkens the base under its coat, and, on metals,
     times ``specular_weight``, which scales OpenPBR's metal (its F0) but not Standard Surface's
     conductor."""
     darkening = coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color, coat_weight,
                                       coat_darkening, fit.positive_ior(coat_ior))
-    return np.clip(color * darkening * (1.0 + metalness * (specular_weight - 1.0)), 0.0, 1.0)
+    color = color * darkening * (1.0 + metalness * (specular_weight - 1.0))
+    return np.clip(color, 0.0, 1.0) if clip else color
 
 
 def ss_specular(specular_weight, specular_ior, film_weight, color, metalness, subsurface, subsurface_color,
@@ -125,11 +133,12 @@ def ss_specular(specular_weight, specular_ior, film_weight, color, metalness, su
 
 
 def ss_specular_color(specular_color, base_weight, color, metalness, specular_weight, subsurface, subsurface_color,
-                      coat_weight, coat_darkening, coat_ior, specular_ior, film_weight):
+                      coat_weight, coat_darkening, coat_ior, specular_ior, film_weight, diffuse_roughness=0.0):
     """Standard Surface's ``specular_color``: the dielectric tint, and on metals the edge colour
-    whose conductor has OpenPBR's reflectance at 82 degrees (:func:`fit.edge_color_for_f82_tint`)."""
-    reflectivity = base_weight * ss_base_color(color, metalness, specular_weight, subsurface, subsurface_color,
-                                               coat_weight, coat_darkening, coat_ior)
+    whose conductor has OpenPBR's reflectance at 82 degrees (:func:`fit.edge_color_for_f82_tint`),
+    for the base colour written beside it (:func:`ss_base_color_rough`)."""
+    reflectivity = base_weight * ss_base_color_rough(color, metalness, specular_weight, subsurface, subsurface_color,
+                                                     coat_weight, coat_darkening, coat_ior, diffuse_roughness)
     specular = ss_specular(specular_weight, specular_ior, film_weight, color, metalness, subsurface, subsurface_color,
                            coat_weight, coat_darkening, coat_ior)
     return fit.edge_color_for_f82_tint(specular_color, metalness, reflectivity, specular, specular_weight)
@@ -168,6 +177,30 @@ def openpbr_base_color(color, metalness, *weight_sources):
         return np.clip(np.where(denominator > 1e-9, color / np.where(denominator > 1e-9, denominator, 1.0), color), 0.0, 1.0)
 
 
+def openpbr_base_color_rough(color, metalness, *rest):
+    """:func:`openpbr_base_color`, then under a rough diffuse (the last source, ``diffuse_roughness``)
+    darkened so OpenPBR's EON reflects the hemispherical albedo of Standard Surface's qualitative
+    Oren-Nayar, on a dielectric base (:func:`fit.eon_colour_for_qon_dielectric`)."""
+    return fit.eon_colour_for_qon_dielectric(openpbr_base_color(color, metalness, *rest[:-1]), rest[-1], metalness)
+
+
+def _ss_rough_unclipped(color, metalness, *rest):
+    brightened = fit.qon_colour_for_eon_dielectric(color, rest[-1], metalness)  # first: the inverse of the above
+    return ss_base_color(brightened, metalness, *rest[:-1], clip=False)
+
+
+def ss_base_color_rough(*sources):
+    """:func:`ss_base_color` (``BASE_SOURCES``) of the colour that, under a rough diffuse (the last
+    source, ``base_diffuse_roughness``), makes Standard Surface's qualitative Oren-Nayar reflect the
+    hemispherical albedo of OpenPBR's EON (the exact inverse of :func:`openpbr_base_color_rough`);
+    clipped at 1."""
+    return np.clip(_ss_rough_unclipped(*sources), 0.0, 1.0)
+
+
+def ss_rough_clipped(*sources) -> bool:
+    return bool(np.any(_ss_rough_unclipped(*sources) > 1.0 + 1e-6))
+
+
 def openpbr_specular_color(specular_color, base, color, metalness, *weight_sources):
     specular_weight = openpbr_specular_weight(weight_sources[0], metalness, *weight_sources[1:])
     return np.clip(fit.ss_metal_tint(specular_color, metalness, base * color, weight_sources[0], specular_weight), 0.0, 1.0)
@@ -198,17 +231,23 @@ def _radius_scalar(radius_scale, scale):
 
 TO_SS = (
     Mapping("base", ("base_weight",)),
-    Mapping("base_color", BASE_SOURCES, ss_base_color,
+    Mapping("base_color", BASE_SOURCES + ("base_diffuse_roughness",), ss_base_color_rough, exact=False,
+            matters=lambda *v: ss_rough_clipped(*v),
+            note="a bright base colour at this diffuse roughness would exceed 1 in Standard Surface's darker "
+                 "qualitative Oren-Nayar: clipped",
             converted="darkened as OpenPBR darkens the base under its coat (Standard Surface does not); on metals "
-                      "times specular_weight, which Standard Surface's conductor ignores"),
+                      "times specular_weight, which Standard Surface's conductor ignores; under a rough diffuse, "
+                      "brightened so the qualitative Oren-Nayar reflects what OpenPBR's EON does"),
     Mapping("diffuse_roughness", ("base_diffuse_roughness",), exact=False, matters=lambda r: r > 0,
             note="OpenPBR's rough diffuse is energy-preserving Oren-Nayar (EON), Standard Surface's the "
-                 "qualitative Oren-Nayar, darker at the same roughness (rough concrete, roughness 0.9: 5.8 ΔE)"),
+                 "qualitative Oren-Nayar, darker at the same roughness: a dielectric base's colour is brightened so "
+                 "the two reflect the same hemispherical albedo; the angular shapes still differ"),
     Mapping("metalness", ("base_metalness",)),
     Mapping("specular", SPECULAR_SOURCES, ss_specular, exact=False, matters=lambda *v: differs(ss_specular(*v), v[0]),
             note="OpenPBR's base reflects with its IOR relative to the coat's, and darkened, under a coat: "
                  f"Standard Surface's specular weight scales its bare reflection to the same F0 ({COAT_RESIDUAL})"),
-    Mapping("specular_color", ("specular_color", "base_weight") + BASE_SOURCES + ("specular_ior", "thin_film_weight"),
+    Mapping("specular_color", ("specular_color", "base_weight") + BASE_SOURCES + ("specular_ior", "thin_film_weight",
+                                                                               "base_diffuse_roughness"),
             ss_specular_color, exact=False,
             note="a metal's edge colour is solved so that Standard Surface's conductor (artistic IOR) reflects as "
                  f"OpenPBR's F82-tint metal at 82 degrees; it reaches 90 degrees at 1 ({METAL_RESIDUAL})",
@@ -260,11 +299,14 @@ TO_SS = (
 
 FROM_SS = (
     Mapping("base_weight", ("base",)),
-    Mapping("base_color", ("base_color", "metalness") + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:],
-            openpbr_base_color, converted="a metal's base colour divided by its specular weight"),
+    Mapping("base_color", ("base_color", "metalness") + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:]
+            + ("diffuse_roughness",), openpbr_base_color_rough,
+            converted="on a metal, divided by its specular weight; under a rough diffuse, darkened so OpenPBR's "
+                      "energy-preserving Oren-Nayar reflects the hemispherical albedo of the qualitative one"),
     Mapping("base_diffuse_roughness", ("diffuse_roughness",), exact=False, matters=lambda r: r > 0,
             note="Standard Surface's rough diffuse is the qualitative Oren-Nayar, OpenPBR's the energy-preserving "
-                 "EON, brighter at the same roughness"),
+                 "EON, brighter at the same roughness: a dielectric base's colour is darkened so the two reflect the "
+                 "same hemispherical albedo; the angular shapes still differ"),
     Mapping("base_metalness", ("metalness",)),
     Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES, openpbr_specular_weight, exact=False,
             matters=lambda s, m, n, nc, c, t, color: c > 0 and m < 1,

@@ -32,6 +32,17 @@ TARGETS = {"standard_surface": ("mtlx", "standard_surface"), "gltf_pbr": ("gltf"
 PER_DOCUMENT = 50
 
 
+def _opaque(material) -> bool:
+    """No transmission and full geometry opacity (absent means default)."""
+    def value(name, default):
+        entry = material.inputs.get(name)
+        return entry.value.value if entry is not None and hasattr(entry.value, "value") else default
+
+    opacity = value("geometry_opacity", 1.0)
+    return not value("transmission_weight", 0.0) > 0 and float(min(opacity if isinstance(opacity, tuple) else
+                                                                   (opacity,))) >= 1.0
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--count", type=int, default=1000)
@@ -50,12 +61,15 @@ def main() -> None:
         rows = []
         for path in sources:
             conversion = convert_file(path, os.path.join(folder, f"out.{suffix}"), model, Settings())
-            rows += [(delta.mean, os.path.basename(path), source.name) for source, delta in measure(conversion)]
+            rows += [(delta.mean, os.path.basename(path), source.name, _opaque(source))
+                     for source, delta in measure(conversion)]
         means = sorted(r[0] for r in rows)
         p95 = means[int(0.95 * (len(means) - 1))]
-        print(f"{target}: {len(means)} materials, under 2.3: {sum(m < 2.3 for m in means) / len(means):.1%}, "
+        opaque = [r[0] for r in rows if r[3]]
+        print(f"{target}: {len(means)} materials, under 2.3: {sum(m < 2.3 for m in means) / len(means):.1%} "
+              f"(opaque ones: {sum(m < 2.3 for m in opaque) / max(len(opaque), 1):.1%} of {len(opaque)}), "
               f"median {statistics.median(means):.2f}, p95 {p95:.2f}")
-        for mean, file, name in sorted(rows)[-5:]:
+        for mean, file, name, _ in sorted(rows)[-5:]:
             print(f"    {mean:6.2f}  {file} {name}")
     print(f"{time.perf_counter() - start:.0f} s")
 

@@ -1,0 +1,97 @@
+"""The candidate search judged by MaterialX's own GLSL renderer (an independent judge, not the
+evaluator that made the choice): a seeded sample of generated OpenPBR materials
+(tests/generated_materials.py, lin_rec709 / acescg / lin_displayp3 documents), each converted by
+``openpbr convert``'s default path (mapping + candidate search) and by MaterialX's chain (its
+translation graphs), the source and both results rendered with MaterialX's GLSL shaders on the
+lit sphere (Xvfb + Mesa; tests/glsupport.py), mean CIEDE2000 against the source's render.
+
+    python tests/benchmarks/bench_glsl_sample.py [--count 100] [--seed 23]
+
+Per target: medians, share under 2.3, how many the toolkit leaves worse than the chain by more than
+0.5 and the worst gap (#13: none beyond 0.5), and the five worst materials. MaterialX's GLSL
+gltf_pbr does not render KHR_materials_volume attenuation, so tinted thick glass is judged without
+its volume on the glTF side (the evaluator, which integrates it, is the reference for volumes).
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import statistics
+import sys
+import tempfile
+
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+
+from generated_materials import COLORSPACES, document  # noqa: E402
+from glsupport import comparison_mask, materialx_renderer  # noqa: E402
+from openpbr_tools.evaluate import resolve  # noqa: E402
+from openpbr_tools.evaluate.difference import compare_images  # noqa: E402
+from openpbr_tools.evaluate.preview import Rig  # noqa: E402
+from openpbr_tools.io import read_asset  # noqa: E402
+from openpbr_tools.rules import Context  # noqa: E402
+from openpbr_tools.translate import candidates  # noqa: E402
+from openpbr_tools.translate.common import Settings  # noqa: E402
+from openpbr_tools.translate.convert import convert  # noqa: E402
+
+TARGETS = ("standard_surface", "gltf_pbr", "UsdPreviewSurface")
+
+
+def _values(material) -> dict:
+    """Linear Rec.709 numbers of every parameter (the document's colour space converted, defaults filled)."""
+    out = {}
+    for name, value in resolve(material).values.items():
+        array = np.asarray(value)
+        if array.dtype.kind == "b":
+            out[name] = bool(array)
+        elif array.ndim == 0:
+            out[name] = int(array) if array.dtype.kind in "iu" else float(array)
+        else:
+            out[name] = [float(v) for v in array]
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--count", type=int, default=100)
+    parser.add_argument("--seed", type=int, default=23)
+    arguments = parser.parse_args()
+    rig = Rig(size=64)
+    renderer = materialx_renderer(rig)
+    materials = []
+    per_space = -(-arguments.count // len(COLORSPACES))
+    for space in COLORSPACES:
+        path = os.path.join(tempfile.mkdtemp(prefix="openpbr-glsl-"), f"{space}.mtlx")
+        with open(path, "w", encoding="utf-8") as handle:
+            handle.write(document("open_pbr_surface", space, arguments.seed, per_space))
+        materials += [(space, m) for m in read_asset(path).materials]
+    materials = materials[: arguments.count]
+    rows = {target: [] for target in TARGETS}
+    for space, material in materials:
+        reference = renderer.render("open_pbr_surface", _values(material))
+        mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
+        for target in TARGETS:
+            settings = Settings(context=Context())
+            ours = candidates.choose(material, convert(material, target, settings), target, settings).material
+            chain = candidates.graph_candidate(material, target)
+            if chain is None:
+                continue
+            deltas = [compare_images(reference, renderer.render(target, _values(m)), mask, rig.white()).mean
+                      for m in (ours, chain)]
+            rows[target].append((*deltas, f"{space}:{material.name}"))
+    for target in TARGETS:
+        found = rows[target]
+        ours, chain = np.array([r[0] for r in found]), np.array([r[1] for r in found])
+        gap = ours - chain
+        print(f"{target}: {len(found)} materials; median toolkit {statistics.median(ours):.2f} / chain "
+              f"{statistics.median(chain):.2f}; under 2.3: toolkit {np.mean(ours < 2.3):.0%}, chain {np.mean(chain < 2.3):.0%}; "
+              f"toolkit worse than the chain by >0.5: {int(np.sum(gap > 0.5))} (worst {gap.max():+.2f}); "
+              f"better by >0.5: {int(np.sum(gap < -0.5))}")
+        for row in sorted(found, key=lambda r: r[0] - r[1])[-3:]:
+            print(f"    gap {row[0] - row[1]:+6.2f}  toolkit {row[0]:6.2f}  chain {row[1]:6.2f}  {row[2]}")
+
+
+if __name__ == "__main__":
+    main()
