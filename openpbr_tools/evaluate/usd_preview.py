@@ -6,7 +6,8 @@ specular workflow: F0 = specularColor, F90 = 1; metallic workflow: F0 and F90 in
 ``metallic`` from (((1 - ior)/(1 + ior))^2, 1) to (diffuseColor, diffuseColor); a white second
 specular lobe ``clearcoat`` with roughness clearcoatRoughness^2 whose F0 comes from ``ior``;
 ``emissiveColor``; ``opacity`` with ``opacityThreshold`` (cut-out when > 0) — "a fully
-transparent object still receives lighting".
+transparent object still receives lighting" — and ``opacityMode`` (spec 2.6): "presence" makes
+opacity the surface's coverage, lighting and emission included.
 
 Where it is silent, MaterialX's ``IMP_UsdPreviewSurface_surfaceshader`` graph is followed: the
 specular lobe is layered over the diffuse with albedo scaling, the diffuse weight is
@@ -14,7 +15,8 @@ specular lobe is layered over the diffuse with albedo scaling, the diffuse weigh
 and in "transparent" mode (threshold 0) opacity mixes the diffuse with a smooth dielectric
 transmission of the same ``ior``. Unlike MaterialX's graph, the metallic workflow is the single
 interpolated Schlick lobe the specification describes, not an additional artistic-IOR conductor.
-Coverage is 1 unless ``opacityThreshold`` > 0 (then opacity >= threshold). ``normal``,
+Coverage is 1 unless ``opacityThreshold`` > 0 (then opacity >= threshold) or the mode is
+"presence" (then opacity). ``normal``,
 ``displacement`` and ``occlusion`` are not evaluated.
 """
 
@@ -50,8 +52,10 @@ class UsdPreviewSurface(BSDFModel):
         self.coat_f0 = f0_ior
         threshold = f["opacityThreshold"]
         cutout = threshold > 0.0
-        self.opacity = np.where(cutout, np.where(f["opacity"] >= threshold, 1.0, 0.0), 1.0)
-        self.transparency = np.where(cutout, 0.0, 1.0 - np.clip(f["opacity"], 0.0, 1.0))
+        presence = ~cutout & (f["opacityMode"] >= 1)  # spec 2.6: opacity is coverage, lighting included
+        opacity = np.clip(f["opacity"], 0.0, 1.0)
+        self.opacity = np.where(cutout, np.where(f["opacity"] >= threshold, 1.0, 0.0), np.where(presence, opacity, 1.0))
+        self.transparency = np.where(cutout | presence, 0.0, 1.0 - opacity)
         self.thin_walled = False
 
     def _scatter(self, wi, wo, inside) -> Scatter:

@@ -48,7 +48,8 @@ import numpy as np
 
 from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_emission_factor
 from ..evaluate.microfacet import openpbr_alphas
-from ..model import Material
+from ..model import Constant, Input, Material
+from ..rules.translation import APPROXIMATED, CONVERTED
 from . import fit
 from .common import COAT_EMISSION_NOTE, COAT_EMISSION_UNDONE, EMISSION_UNDER_COAT, Dropped, Mapping, Settings, Translation, differs, translate
 
@@ -240,8 +241,43 @@ DROPPED_FROM_USD = (
 
 def openpbr_to_usd_preview(material: Material, settings: Settings | None = None) -> Translation:
     settings = settings or Settings()
-    return translate(material, "UsdPreviewSurface", to_usd_mappings(settings), DROPPED_TO_USD, settings,
-                     "OpenPBR -> UsdPreviewSurface")
+    translation = translate(material, "UsdPreviewSurface", to_usd_mappings(settings), DROPPED_TO_USD, settings,
+                            "OpenPBR -> UsdPreviewSurface")
+    _presence(material, translation, settings)
+    return translation
+
+
+def _presence(material: Material, translation: Translation, settings: Settings) -> None:
+    """OpenPBR's ``geometry_opacity`` is presence: below 1 the surface, its reflections and emission
+    included, is partly absent. The preview's default "transparent" opacity keeps reflections and
+    emission (a glass); its "presence" mode (spec 2.6) is OpenPBR's. Where nothing transmits the
+    opacity is written in presence mode (exact); where the material also transmits, one opacity
+    cannot hold both and the transparent product stays, reported at geometry_opacity."""
+    entry = material.inputs.get("geometry_opacity")
+    if entry is None or (isinstance(entry.value, Constant) and not _below_one(entry.value.value)):
+        return
+    transmits = [material.inputs.get(name) for name in ("transmission_weight", "base_metalness")]
+    weight, metal = (e.value.value if e is not None and isinstance(e.value, Constant) else (0.0 if e is None else None)
+                     for e in transmits)
+    label = f"{material.name} (OpenPBR -> UsdPreviewSurface)"
+    if weight is not None and metal is not None and not float(weight) * (1.0 - float(metal)) > 0.0:
+        translation.material.inputs["opacityMode"] = Input("opacityMode", "integer", Constant(1), entry.location)
+        translation.diagnostics.append(settings.context.diagnostic(
+            CONVERTED, f"{label}: opacity: geometry_opacity written in opacityMode 'presence' (UsdPreviewSurface "
+                       "2.6; a reader older than 2.6 shows it as a see-through glass that keeps its reflections)",
+            entry.location))
+    else:
+        translation.diagnostics.append(settings.context.diagnostic(
+            APPROXIMATED, f"{label}: opacity: the preview's one opacity cannot be both OpenPBR's presence "
+                          "(geometry_opacity) and its transmission: folded into a transparent opacity, which keeps "
+                          "the reflection and emission that geometry_opacity removes", entry.location))
+
+
+def _below_one(value) -> bool:
+    try:
+        return float(value) < 1.0
+    except (TypeError, ValueError):
+        return True  # not a number: not known to be opaque
 
 
 def usd_preview_to_openpbr(material: Material, settings: Settings | None = None) -> Translation:

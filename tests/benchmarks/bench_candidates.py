@@ -3,6 +3,11 @@ document colour spaces) converted to glTF in one process, with the search (the d
 (``Settings(candidates=False)``, the conversion before the search existed), side by side.
 
     python tests/benchmarks/bench_candidates.py [--count 1000] [--seed 11] [--target gltf|mtlx|usda]
+    python tests/benchmarks/bench_candidates.py --library FOLDER [--target ...]
+
+``--library``: the .mtlx files of FOLDER (e.g. tests/data/translation_set, real-world-like materials
+where most conversions are exact or only mildly approximated) instead of the generated corpus, where
+every material is approximated and most carry a film, a coat and a volume at once.
 
 Documents of 50 materials each; the two settings alternate document by document (the machine's drift
 falls on both). Prints both totals, their ratio (#13's budget: <= 3x) and how many materials the search
@@ -31,10 +36,13 @@ def main() -> None:
     parser.add_argument("--count", type=int, default=1000)
     parser.add_argument("--seed", type=int, default=11)
     parser.add_argument("--target", default="gltf", choices=("gltf", "mtlx", "usda"))
+    parser.add_argument("--library", help="convert the .mtlx files of this folder instead")
     arguments = parser.parse_args()
     folder = tempfile.mkdtemp(prefix="openpbr-candidates-")
     sources = []
-    for index in range(max(1, arguments.count // PER_DOCUMENT)):
+    if arguments.library:
+        sources = sorted(os.path.join(arguments.library, n) for n in os.listdir(arguments.library) if n.endswith(".mtlx"))
+    for index in range(0 if arguments.library else max(1, arguments.count // PER_DOCUMENT)):
         space = COLORSPACES[index % len(COLORSPACES)]
         path = os.path.join(folder, f"set{index:03d}_{space}.mtlx")
         with open(path, "w", encoding="utf-8") as handle:
@@ -52,8 +60,8 @@ def main() -> None:
             totals[searched] += time.perf_counter() - start
             notes[searched] += sum("candidates for" in d.message or "translation graphs, which render" in d.message
                                    for d in result.diagnostics)
-    materials = len(sources) * PER_DOCUMENT
-    print(f"{materials} materials to {arguments.target}: without the search {totals[False]:.1f} s, with it "
+    materials = len(sources) if arguments.library else len(sources) * PER_DOCUMENT
+    print(f"{materials} {'files' if arguments.library else 'materials'} to {arguments.target}: without the search {totals[False]:.1f} s, with it "
           f"{totals[True]:.1f} s -> {totals[True] / totals[False]:.2f}x; {notes[True]} materials weighed")
 
 
