@@ -251,8 +251,12 @@ def _presence(material: Material, translation: Translation, settings: Settings) 
     """OpenPBR's ``geometry_opacity`` is presence: below 1 the surface, its reflections and emission
     included, is partly absent. The preview's default "transparent" opacity keeps reflections and
     emission (a glass); its "presence" mode (spec 2.6) is OpenPBR's. Where nothing transmits the
-    opacity is written in presence mode (exact); where the material also transmits, one opacity
-    cannot hold both and the transparent product stays, reported at geometry_opacity."""
+    opacity is written in presence mode (exact). Where the material also transmits, one opacity cannot
+    hold both: presence mode misshows the share o t (1 - m) of the surface that transmits (as its base),
+    the transparent product misshows the absent share 1 - o (as reflections and emission); the smaller
+    error is chosen and reported at geometry_opacity. A full transmission keeps the transparent product
+    (a glass partly absent; and what the reader makes of a transparency beyond the dielectric's share,
+    transmission 1 plus geometry_opacity, so the way back is exact)."""
     entry = material.inputs.get("geometry_opacity")
     if entry is None or (isinstance(entry.value, Constant) and not _below_one(entry.value.value)):
         return
@@ -260,11 +264,22 @@ def _presence(material: Material, translation: Translation, settings: Settings) 
     weight, metal = (e.value.value if e is not None and isinstance(e.value, Constant) else (0.0 if e is None else None)
                      for e in transmits)
     label = f"{material.name} (OpenPBR -> UsdPreviewSurface)"
-    if weight is not None and metal is not None and not float(weight) * (1.0 - float(metal)) > 0.0:
+    caveat = "UsdPreviewSurface 2.6; a reader older than 2.6 shows it as a see-through glass that keeps its reflections"
+    known = weight is not None and metal is not None and isinstance(entry.value, Constant)
+    transmits = float(weight) * (1.0 - float(metal)) if weight is not None and metal is not None else 1.0
+    if weight is not None and metal is not None and not transmits > 0.0:
         translation.material.inputs["opacityMode"] = Input("opacityMode", "integer", Constant(1), entry.location)
         translation.diagnostics.append(settings.context.diagnostic(
-            CONVERTED, f"{label}: opacity: geometry_opacity written in opacityMode 'presence' (UsdPreviewSurface "
-                       "2.6; a reader older than 2.6 shows it as a see-through glass that keeps its reflections)",
+            CONVERTED, f"{label}: opacity: geometry_opacity written in opacityMode 'presence' ({caveat})",
+            entry.location))
+    elif known and float(weight) < 1.0 and float(entry.value.value) * transmits < 1.0 - float(entry.value.value):
+        translation.material.inputs["opacity"] = Input("opacity", "float", Constant(float(entry.value.value)),
+                                                       entry.location)
+        translation.material.inputs["opacityMode"] = Input("opacityMode", "integer", Constant(1), entry.location)
+        translation.diagnostics.append(settings.context.diagnostic(
+            APPROXIMATED, f"{label}: opacity: geometry_opacity written in opacityMode 'presence' ({caveat}); the "
+                          "preview's one opacity cannot also hold the transmission, which shows as the base on the "
+                          "part that is present (the smaller error here: the surface is mostly absent)",
             entry.location))
     else:
         translation.diagnostics.append(settings.context.diagnostic(
