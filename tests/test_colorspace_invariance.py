@@ -32,13 +32,17 @@ TARGETS = {"standard_surface.mtlx": "standard_surface", "gltf": None, "preview.m
 
 
 def _document(inputs: dict, space: str) -> str:
+    """``inputs`` (linear Rec.709) re-expressed in ``space``: every color3 input converted as MaterialX's
+    colour management would read it back, the rest written as they are."""
+    from openpbr_tools import tables
+
+    table = tables.table("open_pbr_surface")
     lines = []
     for name, value in inputs.items():
-        if isinstance(value, tuple):
+        kind = table[name].type
+        if kind == "color3":
             value = tuple(float(c) for c in colorspaces.from_lin_rec709(value, space))
-            lines.append(f'    <input name="{name}" type="color3" value="{format_value(value, "color3")}" />')
-        else:
-            lines.append(f'    <input name="{name}" type="float" value="{format_value(value, "float")}" />')
+        lines.append(f'    <input name="{name}" type="{kind}" value="{format_value(value, kind)}" />')
     body = "\n".join(lines)
     return (f'<?xml version="1.0"?>\n<materialx version="1.39" colorspace="{space}">\n'
             f'  <open_pbr_surface name="S" type="surfaceshader" version="1.1.1">\n{body}\n  </open_pbr_surface>\n'
@@ -60,25 +64,6 @@ def test_the_authoring_colour_space_does_not_change_the_result(tmp_path, name, t
     assert spread <= 0.5, means
 
 
-def _generated_document(values: dict, space: str) -> str:
-    """``values`` (linear Rec.709) re-expressed in ``space``: every color3 input converted as MaterialX's
-    colour management would read it back, the rest written as they are."""
-    from openpbr_tools import tables
-
-    table = tables.table("open_pbr_surface")
-    lines = []
-    for name, value in values.items():
-        kind = table[name].type
-        if kind == "color3":
-            value = tuple(float(c) for c in colorspaces.from_lin_rec709(value, space))
-        lines.append(f'    <input name="{name}" type="{kind}" value="{format_value(value, kind)}" />')
-    body = "\n".join(lines)
-    return (f'<?xml version="1.0"?>\n<materialx version="1.39" colorspace="{space}">\n'
-            f'  <open_pbr_surface name="S" type="surfaceshader" version="1.1.1">\n{body}\n  </open_pbr_surface>\n'
-            '  <surfacematerial name="M" type="material">\n'
-            '    <input name="surfaceshader" type="surfaceshader" nodename="S" />\n  </surfacematerial>\n</materialx>\n')
-
-
 @pytest.mark.parametrize("target", sorted(TARGETS))
 def test_generated_materials_do_not_depend_on_the_authoring_space(tmp_path, target):
     """The same check on seeded materials that sweep every parameter (tests/generated_materials.py),
@@ -95,7 +80,7 @@ def test_generated_materials_do_not_depend_on_the_authoring_space(tmp_path, targ
         means = {}
         for space in SPACES:
             source = tmp_path / f"{index}_{space}.mtlx"
-            source.write_text(_generated_document(values, space))
+            source.write_text(_document(values, space))
             conversion = convert_file(str(source), str(tmp_path / f"{index}_{space}.{target}"), TARGETS[target],
                                       Settings())
             ((original, result),) = conversion.pairs
