@@ -260,9 +260,9 @@ def _presence(material: Material, translation: Translation, settings: Settings) 
     entry = material.inputs.get("geometry_opacity")
     if entry is None or (isinstance(entry.value, Constant) and not _below_one(entry.value.value)):
         return
-    transmits = [material.inputs.get(name) for name in ("transmission_weight", "base_metalness")]
+    entries = [material.inputs.get(name) for name in ("transmission_weight", "base_metalness")]
     weight, metal = (e.value.value if e is not None and isinstance(e.value, Constant) else (0.0 if e is None else None)
-                     for e in transmits)
+                     for e in entries)  # None: textured or connected, not known here
     label = f"{material.name} (OpenPBR -> UsdPreviewSurface)"
     caveat = "UsdPreviewSurface 2.6; a reader older than 2.6 shows it as a see-through glass that keeps its reflections"
     known = weight is not None and metal is not None and isinstance(entry.value, Constant)
