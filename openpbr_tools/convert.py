@@ -137,8 +137,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                     "not converted on its own; the material is its MaterialX shader", material.location)], material)
                 continue
             meters, unitless = _meters_per_unit(material, asset)
-            step_settings = Settings(settings.nits_per_unit, meters, context, baker, settings.gltf_drafts, kind == "gltf",
-                                     settings.candidates, settings.fit_films)
+            step_settings = dataclasses.replace(settings, meters_per_unit=meters, context=context, baker=baker,
+                                                gltf_file=kind == "gltf")
             name = unique = material.material_name or material.name
             while unique in used_names and kind != "gltf":  # glTF keeps materials apart by index
                 unique = f"{name}_{len(used_names) + 1}"

@@ -27,12 +27,14 @@ from __future__ import annotations
 
 import copy
 
+import numpy as np
+
 from .. import tables
 from ..values import is_finite
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED
 from . import materialx_graphs
-from .common import Settings, Translation
+from .common import Settings, Translation, differs
 from .target import inside
 
 RIG_SIZE = 16  # pixels of the evaluator's sphere for the candidate search
@@ -131,9 +133,7 @@ def score_candidates(source: Material, materials: list[Material], size: int = RI
     evaluation where their switches agree (:func:`~openpbr_tools.evaluate.preview.shade_sphere_many`;
     the same pixels), and their differences computed in one call."""
     # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
-    import numpy as np
-
-    from ..evaluate import model_for_material, resolve  # lazy: as above
+    from ..evaluate import model_for_material, resolve
     from ..evaluate.difference import delta_e_2000  # lazy: as above
     from ..evaluate.preview import Rig, shade_sphere, shade_sphere_many  # lazy: as above
     from ..evaluate.thinfilm import coarse_films  # lazy: as above
@@ -205,22 +205,19 @@ def read_back_notes(source: Material, written: Material, where, context) -> list
         returned = back.inputs.get(name)
         value = returned.value.value if returned is not None and isinstance(returned.value, Constant) \
             else parameter.default
-        if not _same(entry.value.value, value):
+        if _changed(entry.value.value, value):
             notes.append(context.diagnostic(
                 APPROXIMATED, f"{source.name}: {name} {_shown(entry.value.value)} is not carried exactly by MaterialX's "
                               f"translation graphs' result (reads back as {_shown(value)})", entry.location))
     return notes
 
 
-def _same(a, b) -> bool:
-    if isinstance(a, (str, bool)) or isinstance(b, (str, bool)) or a is None or b is None:
-        return a == b
+def _changed(authored, returned) -> bool:
+    """:func:`.common.differs`, the translators' own test of a changed value, for values of any type."""
     try:
-        a, b = [float(v) for v in (a if isinstance(a, (tuple, list)) else (a,))], \
-            [float(v) for v in (b if isinstance(b, (tuple, list)) else (b,))]
+        return np.shape(authored) != np.shape(returned) or differs(returned, np.asarray(authored, dtype=float))
     except (TypeError, ValueError):
-        return a == b
-    return len(a) == len(b) and all(abs(x - y) <= 1e-5 * max(1.0, abs(x)) for x, y in zip(a, b))
+        return authored != returned
 
 
 def _shown(value) -> str:

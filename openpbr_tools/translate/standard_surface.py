@@ -232,7 +232,7 @@ def _radius_scalar(radius_scale, scale):
 TO_SS = (
     Mapping("base", ("base_weight",)),
     Mapping("base_color", BASE_SOURCES + ("base_diffuse_roughness",), ss_base_color_rough, exact=False,
-            matters=lambda *v: ss_rough_clipped(*v),
+            matters=ss_rough_clipped,
             note="a bright base colour at this diffuse roughness would exceed 1 in Standard Surface's darker "
                  "qualitative Oren-Nayar: clipped",
             converted="darkened as OpenPBR darkens the base under its coat (Standard Surface does not); on metals "
