@@ -110,8 +110,23 @@ def preview_specular_ior(specular_ior, specular_weight, coat_ior, coat_weight, m
     return dielectric + metalness * (metal - dielectric)
 
 
-def to_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
+PRESENCE_CAVEAT = "UsdPreviewSurface 2.6; a reader older than 2.6 shows it as a see-through glass that keeps its reflections"
+
+
+def to_usd_mappings(settings: Settings, presence_over_transmission: bool = False) -> tuple[Mapping, ...]:
+    """The OpenPBR -> UsdPreviewSurface mappings; ``presence_over_transmission``: the opacity is written in
+    presence mode although the material transmits (:func:`_opacity_mode`), so it is geometry_opacity alone."""
     nits = settings.nits_per_unit
+    opacity = Mapping("opacity", ("geometry_opacity", "transmission_weight", "base_metalness"),
+                      lambda o, t, m: o * (1.0 - t * (1.0 - m)), exact=False, matters=lambda o, t, m: t * (1.0 - m) > 0,
+                      note="no refraction in UsdPreviewSurface: transmission becomes transparency (of the dielectric "
+                           "part only: OpenPBR's metal covers it by base_metalness)")
+    if presence_over_transmission:
+        opacity = Mapping("opacity", ("geometry_opacity", "transmission_weight", "base_metalness"), lambda o, t, m: o,
+                          exact=False,
+                          note=f"geometry_opacity written in opacityMode 'presence' ({PRESENCE_CAVEAT}); the preview's "
+                               "one opacity cannot also hold the transmission, which shows as the base on the part "
+                               "that is present (the smaller error here: the surface is mostly absent)")
     return (
         Mapping("diffuseColor", DIFFUSE_SOURCES, preview_diffuse_color, exact=False, matters=_diffuse_matters,
                 note="subsurface, and the coat's darkening and colour (the preview's clear coat is colourless and "
@@ -132,10 +147,7 @@ def to_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
                 lambda c, l, w, cc, ci: c * coat_emission_factor(cc, w, ci) * l / nits, exact=False,
                 matters=lambda c, l, w, *coat: l > 0 and w > 0, note=COAT_EMISSION_NOTE,
                 converted=f"emission_color * emission_luminance at {nits:g} nit(s) per unit"),
-        Mapping("opacity", ("geometry_opacity", "transmission_weight", "base_metalness"),
-                lambda o, t, m: o * (1.0 - t * (1.0 - m)), exact=False, matters=lambda o, t, m: t * (1.0 - m) > 0,
-                note="no refraction in UsdPreviewSurface: transmission becomes transparency (of the dielectric part "
-                     "only: OpenPBR's metal covers it by base_metalness)"),
+        opacity,
         Mapping("normal", ("geometry_normal",)),
     )
 
@@ -241,51 +253,55 @@ DROPPED_FROM_USD = (
 
 def openpbr_to_usd_preview(material: Material, settings: Settings | None = None) -> Translation:
     settings = settings or Settings()
-    translation = translate(material, "UsdPreviewSurface", to_usd_mappings(settings), DROPPED_TO_USD, settings,
-                            "OpenPBR -> UsdPreviewSurface")
-    _presence(material, translation, settings)
-    return translation
-
-
-def _presence(material: Material, translation: Translation, settings: Settings) -> None:
-    """OpenPBR's ``geometry_opacity`` is presence: below 1 the surface, its reflections and emission
-    included, is partly absent. The preview's default "transparent" opacity keeps reflections and
-    emission (a glass); its "presence" mode (spec 2.6) is OpenPBR's. Where nothing transmits the
-    opacity is written in presence mode (exact). Where the material also transmits, one opacity cannot
-    hold both: presence mode misshows the share o t (1 - m) of the surface that transmits (as its base),
-    the transparent product misshows the absent share 1 - o (as reflections and emission); the smaller
-    error is chosen and reported at geometry_opacity. A full transmission keeps the transparent product
-    (a glass partly absent; and what the reader makes of a transparency beyond the dielectric's share,
-    transmission 1 plus geometry_opacity, so the way back is exact)."""
+    mode = _opacity_mode(material)
+    translation = translate(material, "UsdPreviewSurface",
+                            to_usd_mappings(settings, presence_over_transmission=mode == "presence over transmission"),
+                            DROPPED_TO_USD, settings, "OpenPBR -> UsdPreviewSurface")
     entry = material.inputs.get("geometry_opacity")
-    if entry is None or (isinstance(entry.value, Constant) and not _below_one(entry.value.value)):
-        return
-    entries = [material.inputs.get(name) for name in ("transmission_weight", "base_metalness")]
-    weight, metal = (e.value.value if e is not None and isinstance(e.value, Constant) else (0.0 if e is None else None)
-                     for e in entries)  # None: textured or connected, not known here
     label = f"{material.name} (OpenPBR -> UsdPreviewSurface)"
-    caveat = "UsdPreviewSurface 2.6; a reader older than 2.6 shows it as a see-through glass that keeps its reflections"
-    known = weight is not None and metal is not None and isinstance(entry.value, Constant)
-    transmits = float(weight) * (1.0 - float(metal)) if weight is not None and metal is not None else 1.0
-    if weight is not None and metal is not None and not transmits > 0.0:
+    if mode in ("presence", "presence over transmission"):
         translation.material.inputs["opacityMode"] = Input("opacityMode", "integer", Constant(1), entry.location)
+    if mode == "presence":
         translation.diagnostics.append(settings.context.diagnostic(
-            CONVERTED, f"{label}: opacity: geometry_opacity written in opacityMode 'presence' ({caveat})",
+            CONVERTED, f"{label}: opacity: geometry_opacity written in opacityMode 'presence' ({PRESENCE_CAVEAT})",
             entry.location))
-    elif known and float(weight) < 1.0 and float(entry.value.value) * transmits < 1.0 - float(entry.value.value):
-        translation.material.inputs["opacity"] = Input("opacity", "float", Constant(float(entry.value.value)),
-                                                       entry.location)
-        translation.material.inputs["opacityMode"] = Input("opacityMode", "integer", Constant(1), entry.location)
-        translation.diagnostics.append(settings.context.diagnostic(
-            APPROXIMATED, f"{label}: opacity: geometry_opacity written in opacityMode 'presence' ({caveat}); the "
-                          "preview's one opacity cannot also hold the transmission, which shows as the base on the "
-                          "part that is present (the smaller error here: the surface is mostly absent)",
-            entry.location))
-    else:
+    elif mode == "transparent":
         translation.diagnostics.append(settings.context.diagnostic(
             APPROXIMATED, f"{label}: opacity: the preview's one opacity cannot be both OpenPBR's presence "
                           "(geometry_opacity) and its transmission: folded into a transparent opacity, which keeps "
                           "the reflection and emission that geometry_opacity removes", entry.location))
+    return translation
+
+
+def _opacity_mode(material: Material) -> str | None:
+    """How OpenPBR's ``geometry_opacity`` (presence: below 1 the surface, its reflections and emission
+    included, is partly absent) goes to the preview, whose default "transparent" opacity keeps
+    reflections and emission (a glass) and whose "presence" mode (spec 2.6) is OpenPBR's:
+
+    * ``None``: opaque (geometry_opacity 1 or unset);
+    * "presence": nothing transmits: presence mode, exact;
+    * "presence over transmission": the material also transmits, and one opacity cannot hold both.
+      Presence mode misshows the share o t (1 - m) of the surface that transmits (as its base), the
+      transparent product the absent share 1 - o (as reflections and emission); presence where its
+      error is the smaller (constant values; a full transmission excluded: a glass partly absent, and
+      what the reader makes of a transparency beyond the dielectric's share, transmission 1 plus
+      geometry_opacity, so the way back is exact);
+    * "transparent": otherwise, the transparent product, reported at geometry_opacity."""
+    entry = material.inputs.get("geometry_opacity")
+    if entry is None or (isinstance(entry.value, Constant) and not _below_one(entry.value.value)):
+        return None
+    entries = [material.inputs.get(name) for name in ("transmission_weight", "base_metalness")]
+    weight, metal = (e.value.value if e is not None and isinstance(e.value, Constant) else (0.0 if e is None else None)
+                     for e in entries)  # None: textured or connected, not known here
+    if weight is None or metal is None:
+        return "transparent"
+    transmits = float(weight) * (1.0 - float(metal))
+    if not transmits > 0.0:
+        return "presence"
+    presence = float(entry.value.value) if isinstance(entry.value, Constant) else None
+    if presence is not None and float(weight) < 1.0 and presence * transmits < 1.0 - presence:
+        return "presence over transmission"
+    return "transparent"
 
 
 def _below_one(value) -> bool:
