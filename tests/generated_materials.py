@@ -88,3 +88,80 @@ def document(model: str, colorspace: str, seed: int, count: int) -> str:
                      f'    <input name="surfaceshader" type="surfaceshader" nodename="{shader}" />\n  </surfacematerial>')
     parts.append("</materialx>\n")
     return "\n".join(parts)
+
+
+# The kinds of OpenPBR material artists author, each with its own parameters drawn over their whole
+# range (value_for) and everything else absent: a metal with or without an edge tint, an opaque
+# dielectric (plastic, paint, stone), a subsurface material (skin, wax), a glass or liquid (with or
+# without a tinted volume), a thin-walled sheet (paper, leaf, soap bubble), a cut-out. Layers a
+# material of any kind may carry: coat, thin film, fuzz, emission. The fidelity benchmark runs on
+# these as well as on material_values, whose materials switch every lobe on at once.
+KINDS = ("dielectric", "metal", "metal_edge_tint", "subsurface", "glass", "thin_walled", "cutout")
+LAYERS = {"coat": 0.35, "thin_film": 0.15, "fuzz": 0.15, "emission": 0.1}
+_KIND_PARAMETERS = {
+    "dielectric": ("base_weight", "base_color", "base_diffuse_roughness", "specular_weight", "specular_color",
+                   "specular_roughness", "specular_ior", "specular_roughness_anisotropy"),
+    "metal": ("base_weight", "base_color", "specular_weight", "specular_roughness", "specular_roughness_anisotropy"),
+    "subsurface": ("base_color", "specular_roughness", "specular_ior", "subsurface_color", "subsurface_radius",
+                   "subsurface_radius_scale", "subsurface_scatter_anisotropy"),
+    "glass": ("specular_roughness", "specular_ior", "specular_weight", "transmission_color", "transmission_depth",
+              "transmission_scatter", "transmission_scatter_anisotropy", "transmission_dispersion_scale",
+              "transmission_dispersion_abbe_number"),
+    "cutout": ("base_color", "specular_roughness", "base_metalness"),
+}
+_KIND_PARAMETERS["metal_edge_tint"] = _KIND_PARAMETERS["metal"] + ("specular_color",)
+_KIND_PARAMETERS["thin_walled"] = ("base_color", "specular_roughness", "specular_ior", "transmission_color",
+                                   "subsurface_color")
+_LAYER_PARAMETERS = {
+    "coat": ("coat_color", "coat_roughness", "coat_roughness_anisotropy", "coat_ior", "coat_darkening"),
+    "thin_film": ("thin_film_thickness", "thin_film_ior"),
+    "fuzz": ("fuzz_color", "fuzz_roughness"),
+    "emission": ("emission_color",),
+}
+
+
+def archetype_values(rng: random.Random) -> tuple[str, dict]:
+    """(kind, parameter -> value) for one OpenPBR material of a kind artists author (see KINDS)."""
+    table = tables.table("open_pbr_surface")
+    kind = rng.choice(KINDS)
+    values = {name: value_for(table[name], rng) for name in _KIND_PARAMETERS[kind] if rng.random() >= 0.35}
+    unit = lambda: rng.choice((1.0, rng.uniform(0.0, 1.0)))  # noqa: E731 - a full weight half the time
+    if kind.startswith("metal"):
+        values["base_metalness"] = unit()
+    elif kind == "subsurface":
+        values["subsurface_weight"] = unit()
+    elif kind == "glass":
+        values["transmission_weight"] = unit()
+    elif kind == "thin_walled":
+        values["geometry_thin_walled"] = True
+        values[rng.choice(("transmission_weight", "subsurface_weight"))] = unit()
+    elif kind == "cutout":
+        values["geometry_opacity"] = value_for(table["geometry_opacity"], rng)
+    for layer, probability in LAYERS.items():
+        if rng.random() < probability:
+            weight = "emission_luminance" if layer == "emission" else f"{layer}_weight"
+            values[weight] = value_for(table[weight], rng) if layer != "emission" else 10 ** rng.uniform(-1.0, 3.0)
+            values.update((name, value_for(table[name], rng)) for name in _LAYER_PARAMETERS[layer]
+                          if rng.random() >= 0.35)
+    return kind, values
+
+
+def archetype_document(colorspace: str, seed: int, count: int) -> tuple[str, list[str]]:
+    """A .mtlx document of ``count`` OpenPBR materials of the KINDS, and each material's kind."""
+    rng = random.Random(f"archetypes/{colorspace}/{seed}")
+    table = tables.table("open_pbr_surface")
+    parts = [f'<?xml version="1.0"?>\n<materialx version="1.39" colorspace="{colorspace}">']
+    kinds = []
+    for index in range(count):
+        kind, values = archetype_values(rng)
+        kinds.append(kind)
+        parts.append(f'  <open_pbr_surface name="S{index}" type="surfaceshader" version="{table.version}">')
+        for name, value in values.items():
+            type_name = table[name].type
+            parts.append(f'    <input name="{name}" type="{type_name}" value="{format_value(value, type_name)}" />')
+        parts.append("  </open_pbr_surface>")
+        parts.append(f'  <surfacematerial name="M{index}" type="material">\n'
+                     f'    <input name="surfaceshader" type="surfaceshader" nodename="S{index}" />\n'
+                     f'  </surfacematerial>')
+    parts.append("</materialx>\n")
+    return "\n".join(parts), kinds

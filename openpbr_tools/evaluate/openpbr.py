@@ -47,6 +47,7 @@ from . import closures, microfacet
 from .coat import coat_absorption, coat_darkening_factor, coat_relative_ior, coat_roughened
 from .fresnel import ior_to_f0
 from .layering import BSDFModel, Scatter, add, any_nonzero, as_colour, layer, mix
+from .volume import absorption_coefficient
 
 ALPHA_FLOOR = 1e-4
 
@@ -93,12 +94,7 @@ class OpenPBRSurface(BSDFModel):
         has_depth = as_colour(depth > 0.0)
         self.transmission_tint = np.where(has_depth, 1.0, f["transmission_color"])
         if np.any(depth > 0.0):
-            safe_depth = as_colour(np.where(depth > 0.0, depth, 1.0))
-            extinction = -np.log(np.maximum(f["transmission_color"], 1e-6)) / safe_depth
-            absorption = extinction - f["transmission_scatter"] / safe_depth
-            lowest = np.min(absorption, axis=-1, keepdims=True)
-            absorption = np.where(lowest < 0.0, absorption - lowest, absorption)
-            self.volume_absorption = np.where(has_depth, absorption, 0.0)
+            self.volume_absorption = absorption_coefficient(f["transmission_color"], depth, f["transmission_scatter"])
         self.opacity = f["geometry_opacity"]
         self.film = None
         if any_nonzero(f["thin_film_weight"]):

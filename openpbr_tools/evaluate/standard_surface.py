@@ -15,8 +15,9 @@ coat_affect_color; coat_affect_roughness pulls the specular roughness towards 1;
 MaterialX's ``roughness_anisotropy`` and the rotation turns the tangent about the normal.
 Approximations as for OpenPBR (:mod:`.openpbr`): refraction energy-compensated with the
 reflection, subsurface as Lambertian reflection of subsurface_color, thin-walled subsurface as
-translucency, transmission_depth as an absorption coefficient for previews, no dispersion, no
-volumetric scattering. Opacity (a colour) becomes a coverage through its Rec.709 luminance.
+translucency, transmission_depth and transmission_scatter as OpenPBR's absorption coefficient
+(:mod:`.volume`; the two models share Arnold's definition) for previews, no dispersion, no volumetric
+scattering. Opacity (a colour) becomes a coverage through its Rec.709 luminance.
 """
 
 from __future__ import annotations
@@ -27,6 +28,7 @@ from . import closures, microfacet
 from .coat import coat_absorption
 from .fresnel import artistic_ior, ior_to_f0
 from .layering import BSDFModel, Scatter, add, any_nonzero, as_colour, layer, mix, rotate_about_normal
+from .volume import absorption_coefficient
 
 ALPHA_FLOOR = 1e-4
 REC709_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
@@ -74,9 +76,7 @@ class StandardSurface(BSDFModel):
         has_depth = as_colour(depth > 0.0)
         self.transmission_tint = np.where(has_depth, 1.0, f["transmission_color"])
         if np.any(depth > 0.0):
-            safe = as_colour(np.where(depth > 0.0, depth, 1.0))
-            absorption = -np.log(np.maximum(f["transmission_color"], 1e-6)) / safe
-            self.volume_absorption = np.where(has_depth, np.maximum(absorption, 0.0), 0.0)
+            self.volume_absorption = absorption_coefficient(f["transmission_color"], depth, f["transmission_scatter"])
         self.opacity = np.clip(np.sum(f["opacity"] * REC709_LUMINANCE, axis=-1), 0.0, 1.0)
         self.film = None
         if np.any(f["thin_film_thickness"] > 0.0):

@@ -32,8 +32,8 @@ import numpy as np
 from .. import tables
 from ..values import is_finite
 from ..model import Constant, Input, Material
-from ..rules.translation import APPROXIMATED, CONVERTED
-from . import materialx_graphs
+from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
+from . import appearance, materialx_graphs
 from .common import Settings, Translation, differs
 from .target import inside
 
@@ -152,36 +152,66 @@ def score_candidates(source: Material, materials: list[Material], size: int = RI
 
 def choose(source: Material, translation: Translation, target: str, settings: Settings) -> Translation:
     """``translation`` (OpenPBR ``source`` -> ``target``) or MaterialX's graph result, whichever the
-    evaluator renders closer to the source (module docstring)."""
-    if not settings.candidates or settings.gltf_drafts or not materialx_graphs.graphs(source.model, target) or \
-            isinstance(source.extra.get("gltf"), dict) or \
-            not any(d.code == APPROXIMATED.code for d in translation.diagnostics):
+    evaluator renders closer to the source, then the appearance fit of the kept one
+    (:mod:`.appearance`) where it still differs visibly (module docstring)."""
+    if not settings.candidates or settings.gltf_drafts or isinstance(source.extra.get("gltf"), dict) or \
+            not any(d.code in (APPROXIMATED.code, NOT_CARRIED.code) for d in translation.diagnostics) or \
+            _constant_values(source) is None:
         return translation  # (with the drafts, or for a material read from glTF, the mapping's exact inverses are the point)
     if settings.fit_films:
         translation = refine_thin_film(source, translation, target, settings)
-    candidate = graph_candidate(source, target)
-    if candidate is None:
-        return translation
+    candidate = graph_candidate(source, target) if materialx_graphs.graphs(source.model, target) else None
     try:
-        ours, theirs = score_candidates(source, [translation.material, candidate])
+        scores = score_candidates(source, [translation.material] + ([candidate] if candidate is not None else []))
     except (ValueError, KeyError, TypeError, FloatingPointError):
         return translation
     context = settings.context
     # the choice concerns the whole material; it is reported at the first input the mapping approximated
-    where = next(d.location for d in translation.diagnostics if d.code == APPROXIMATED.code)
-    figures = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: the toolkit's mapping {ours:.2f}, "
-               f"MaterialX's translation graphs {theirs:.2f}")
-    if not theirs < ours - MARGIN:
-        translation.diagnostics.append(context.diagnostic(
-            CONVERTED, f"{source.name}: candidates for {target}: {figures}; kept the toolkit's", where))
+    where = next(d.location for d in translation.diagnostics if d.code in (APPROXIMATED.code, NOT_CARRIED.code))
+    if candidate is not None:
+        ours, theirs = scores
+        figures = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: the toolkit's mapping {ours:.2f}, "
+                   f"MaterialX's translation graphs {theirs:.2f}")
+        if not theirs < ours - MARGIN:
+            translation.diagnostics.append(context.diagnostic(
+                CONVERTED, f"{source.name}: candidates for {target}: {figures}; kept the toolkit's", where))
+        else:
+            candidate.extra = dict(translation.material.extra)  # glTF state, drafts: the material's, not the mapping's
+            kept = [d for d in translation.diagnostics if d.code != APPROXIMATED.code]
+            kept.append(context.diagnostic(
+                APPROXIMATED, f"{source.name}: converted to {target} by MaterialX's translation graphs, which render "
+                              f"closer than the toolkit's mapping ({figures})", where))
+            kept += read_back_notes(source, candidate, where, context)
+            translation = Translation(candidate, kept, translation.source)
+            scores = [theirs]
+    return _fit_appearance(source, translation, min(scores), settings)
+
+
+def _fit_appearance(source: Material, translation: Translation, score: float, settings: Settings) -> Translation:
+    """The kept candidate adjusted to look like the source (:mod:`.appearance`) when it renders more
+    than :data:`.appearance.FIT_FROM` off and the adjusted one wins by more than :data:`MARGIN`; a
+    note at each adjusted input's source input."""
+    if not score > appearance.FIT_FROM:
         return translation
-    candidate.extra = dict(translation.material.extra)  # glTF state, drafts: the material's, not the mapping's
-    kept = [d for d in translation.diagnostics if d.code != APPROXIMATED.code]
-    kept.append(context.diagnostic(
-        APPROXIMATED, f"{source.name}: converted to {target} by MaterialX's translation graphs, which render closer "
-                      f"than the toolkit's mapping ({figures})", where))
-    kept += read_back_notes(source, candidate, where, context)
-    return Translation(candidate, kept, translation.source)
+    try:
+        fitted = appearance.fit(source, translation.material, RIG_SIZE, lambda ms: score_candidates(source, ms))
+        if fitted is None:
+            return translation
+        after, = score_candidates(source, [fitted.material])
+    except (ValueError, KeyError, TypeError, FloatingPointError):
+        return translation
+    if not after < score - MARGIN:
+        return translation
+    translation.material.inputs = fitted.material.inputs
+    for name, source_name in fitted.changed.items():
+        entry = source.inputs.get(source_name)
+        where = entry.location if entry is not None else source.location.with_input(source_name)
+        translation.diagnostics.append(settings.context.diagnostic(
+            APPROXIMATED, f"{source.name}: {fitted.material.model} {name} adjusted to "
+                          f"{appearance.shown(fitted.material.inputs[name].value.value)} so that the lit sphere looks "
+                          f"like the source's (what the target cannot hold of {source_name} and the rest): mean "
+                          f"CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere {score:.2f} -> {after:.2f}", where))
+    return translation
 
 
 def read_back_notes(source: Material, written: Material, where, context) -> list:

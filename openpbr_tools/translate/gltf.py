@@ -32,7 +32,8 @@ before -> after the fits of :mod:`.fit`, from ``openpbr convert --verify``):
     transmissive material gets a base colour mixed between its diffuse and transmission colours;
   * a solid (not thin-walled) transmissive material is a volume (KHR_materials_volume; glTF's
     thickness 0 would make it thin-walled, without refraction or dispersion); with
-    ``transmission_depth`` > 0 the volume gets attenuation colour and distance, and its thickness is
+    ``transmission_depth`` > 0 the volume gets attenuation colour and distance (with
+    ``transmission_scatter``, the colour of the absorption alone: glTF's volume does not scatter), and its thickness is
     one scene unit (glTF's thickness is the mesh's, unknown here; one
     unit is the path MaterialX's reference renders OpenPBR's absorption over);
   * the base under a coat: OpenPBR computes its Fresnel with its IOR relative to the coat's and
@@ -83,6 +84,7 @@ import numpy as np
 
 from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_emission_factor, coat_roughened
 from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
+from ..evaluate.volume import absorption_coefficient
 from ..io.gltf import drafts
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
@@ -159,6 +161,27 @@ def openpbr_specular_weight(specular, metallic, ior, clearcoat, iridescence, coa
 
 
 SPECULAR_WEIGHT_SOURCES = ("specular", "metallic", "ior", "clearcoat", "iridescence")
+def gltf_ior(specular_ior):
+    """KHR_materials_ior's ``ior`` (at least 1) for OpenPBR's: as it is from 1 up; below 1, its reciprocal,
+    which has the same normal-incidence reflectance ((n - 1)/(n + 1))^2."""
+    n = np.asarray(specular_ior, dtype=float)
+    return np.where(n >= 1.0, n, 1.0 / np.maximum(n, 1e-6))
+
+
+def attenuation_color(color, depth, scatter):
+    """KHR_materials_volume's attenuation colour (reached at the attenuation distance, the depth): OpenPBR's
+    transmission colour where the medium does not scatter; where it does, the colour its absorption alone
+    reaches (:func:`~openpbr_tools.evaluate.volume.absorption_coefficient`: OpenPBR's absorption is its
+    extinction less its scattering, and glTF's core volume only absorbs)."""
+    color = np.asarray(color, dtype=float)
+    depth = np.asarray(depth, dtype=float)
+    if depth.ndim < color.ndim:
+        depth = depth[..., None]
+    absorbing = np.exp(-absorption_coefficient(color, depth, scatter) * depth)
+    scatters = np.max(np.asarray(scatter, dtype=float), axis=-1, keepdims=True) > 0
+    return np.where(depth > 0, np.where(scatters, absorbing, color), WHITE)
+
+
 TRANSMISSION_MIX_SOURCES = ("transmission", "attenuation_distance", "thickness")
 
 
@@ -353,9 +376,13 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
                 matters=lambda r, a, c, rc: bool(np.any(openpbr_alphas(coat_roughened(r, c, rc), a)[0] > 1.0 + 1e-9)),
                 note="OpenPBR's alpha_t along the tangent exceeds 1, glTF's cap (alpha_t = mix(alpha, 1, s^2)): the "
                      "highlight is stretched less"),
-        Mapping("ior", ("specular_ior",)),
+        Mapping("ior", ("specular_ior",), gltf_ior, exact=False, matters=lambda n: n < 1.0,
+                note="an IOR below 1 (a medium optically denser outside, e.g. a bubble) is written as its reciprocal, "
+                     "glTF's ior being at least 1: the same reflectance at normal incidence, without OpenPBR's total "
+                     "internal reflection towards grazing angles, and refraction bends the other way"),
         Mapping("transmission", ("transmission_weight",)),
-        Mapping("attenuation_color", ("transmission_color", "transmission_depth"), lambda c, d: np.where(d > 0, c, WHITE)),
+        Mapping("attenuation_color", ("transmission_color", "transmission_depth", "transmission_scatter"),
+                attenuation_color),
         Mapping("attenuation_distance", ("transmission_depth",), lambda d: np.where(d > 0, d * mpu, np.inf),
                 converted=f"scene units to metres at {mpu:g} m per unit"),
         # A solid (not thin-walled) transmissive OpenPBR material is a volume in glTF whatever its
@@ -403,7 +430,9 @@ DROPPED_TO_GLTF = (
     Dropped("coat_roughness_anisotropy", "glTF's clearcoat is isotropic", matters=lambda a, w: a > 0 and w > 0,
             needs=("coat_weight",)),
     Dropped("base_diffuse_roughness", "glTF's diffuse is Lambertian", matters=lambda r: r > 0),
-    Dropped("transmission_scatter", "glTF has no volume scattering (not ratified)", matters=lambda c: np.max(c) > 0),
+    Dropped("transmission_scatter", "glTF has no volume scattering (not ratified): the attenuation colour is the "
+                                    "medium's absorption (extinction less scattering, as OpenPBR defines it), and the "
+                                    "scattered light's colour is lost", matters=lambda c: np.max(c) > 0),
     Dropped("subsurface_radius", "glTF has no subsurface scattering", matters=lambda r, w: w > 0, needs=("subsurface_weight",)),
     Dropped("geometry_coat_tangent", "glTF uses the mesh's tangents"),
 )

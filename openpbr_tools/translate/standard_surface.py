@@ -201,6 +201,59 @@ def ss_rough_clipped(*sources) -> bool:
     return bool(np.any(_ss_rough_unclipped(*sources) > 1.0 + 1e-6))
 
 
+THIN_SUBSURFACE_SOURCES = ("subsurface_weight", "geometry_thin_walled", "subsurface_scatter_anisotropy",
+                           "base_metalness")
+
+
+def _thin_split(w, thin, g, metalness):
+    """Where OpenPBR's thin-walled subsurface is split (a thin wall with subsurface on a dielectric base)."""
+    return (np.asarray(thin) > 0.5) & (np.asarray(w) > 0) & (np.asarray(metalness) <= 0)
+
+
+def ss_subsurface(w, thin, g, metalness):
+    """Standard Surface's ``subsurface``. On a thin wall OpenPBR's subsurface reflects (1 - g)/2 of
+    its colour diffusely and transmits (1 + g)/2 (MaterialX's open_pbr_surface graph:
+    ``subsurface_thin_walled``); Standard Surface's thin-walled subsurface only transmits (its
+    translucent_bsdf), so it gets the transmitted share and the reflected share moves into the base
+    colour (:func:`ss_base_color_thin`). Not on a base with metal, whose colour is the metal's."""
+    return np.where(_thin_split(w, thin, g, metalness), w * 0.5 * (1.0 + g), w)
+
+
+def ss_base_weight(base_weight, w, thin, g, metalness):
+    """Standard Surface's ``base``: OpenPBR's, or 1 on a split thin wall (:func:`ss_subsurface`), whose
+    base colour carries the weight (the subsurface's reflected share is not under OpenPBR's base weight)."""
+    return np.where(_thin_split(w, thin, g, metalness), 1.0, base_weight)
+
+
+def ss_base_color_thin(*sources):
+    """:func:`ss_base_color_rough` (``BASE_SOURCES`` + ``base_diffuse_roughness``), and on a thin wall
+    with subsurface (:func:`ss_subsurface`; then also ``base_weight`` and ``THIN_SUBSURFACE_SOURCES``)
+    the colour whose diffuse reflection, beside Standard Surface's subsurface weight, reflects what
+    OpenPBR's diffuse and its subsurface's reflected share do: ((1 - w) b c + w (1 - g)/2 s) / (1 - w'),
+    w' the written weight, with the base weight b folded in (:func:`ss_base_weight`). At most 1 for
+    inputs in range: (1 - w) b c + w (1 - g)/2 s <= 1 - w (1 + g)/2."""
+    return np.clip(_ss_thin_unclipped(*sources), 0.0, 1.0)
+
+
+def _ss_thin_unclipped(*sources):
+    base_sources, (base_weight, w, thin, g, metalness) = sources[:-5], sources[-5:]
+    color = _ss_rough_unclipped(*base_sources)
+    split = _thin_split(w, thin, g, metalness)
+    if not np.any(split):
+        return color
+    subsurface_colour = np.maximum(base_sources[BASE_SOURCES.index("subsurface_color")], 0.0)
+    written = ss_subsurface(w, thin, g, metalness)
+    reflected = (1.0 - w) * base_weight * color + w * 0.5 * (1.0 - g) * subsurface_colour
+    denominator = 1.0 - written  # the base weight is in the colour (ss_base_weight)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        thin_colour = np.where(denominator > 1e-9, reflected / np.where(denominator > 1e-9, denominator, 1.0), color)
+    return np.where(split, thin_colour, color)
+
+
+def ss_base_clipped(*sources) -> bool:
+    return bool(np.any(_ss_thin_unclipped(*sources) > 1.0 + 1e-6))
+
+
 def openpbr_specular_color(specular_color, base, color, metalness, *weight_sources):
     specular_weight = openpbr_specular_weight(weight_sources[0], metalness, *weight_sources[1:])
     return np.clip(fit.ss_metal_tint(specular_color, metalness, base * color, weight_sources[0], specular_weight), 0.0, 1.0)
@@ -230,14 +283,16 @@ def _radius_scalar(radius_scale, scale):
 
 
 TO_SS = (
-    Mapping("base", ("base_weight",)),
-    Mapping("base_color", BASE_SOURCES + ("base_diffuse_roughness",), ss_base_color_rough, exact=False,
-            matters=ss_rough_clipped,
-            note="a bright base colour at this diffuse roughness would exceed 1 in Standard Surface's darker "
-                 "qualitative Oren-Nayar: clipped",
+    Mapping("base", ("base_weight",) + THIN_SUBSURFACE_SOURCES, ss_base_weight,
+            converted="on a thin wall with subsurface, 1: the base weight is in the base colour"),
+    Mapping("base_color", BASE_SOURCES + ("base_diffuse_roughness", "base_weight") + THIN_SUBSURFACE_SOURCES,
+            ss_base_color_thin, exact=False, matters=ss_base_clipped,
+            note="a bright base colour (at this diffuse roughness, in Standard Surface's darker qualitative "
+                 "Oren-Nayar, or carrying a thin wall's reflected subsurface) would exceed 1: clipped",
             converted="darkened as OpenPBR darkens the base under its coat (Standard Surface does not); on metals "
                       "times specular_weight, which Standard Surface's conductor ignores; under a rough diffuse, "
-                      "brightened so the qualitative Oren-Nayar reflects what OpenPBR's EON does"),
+                      "brightened so the qualitative Oren-Nayar reflects what OpenPBR's EON does; on a thin wall, "
+                      "with the share of the subsurface OpenPBR reflects"),
     Mapping("diffuse_roughness", ("base_diffuse_roughness",), exact=False, matters=lambda r: r > 0,
             note="OpenPBR's rough diffuse is energy-preserving Oren-Nayar (EON), Standard Surface's the "
                  "qualitative Oren-Nayar, darker at the same roughness: a dielectric base's colour is brightened so "
@@ -263,10 +318,13 @@ TO_SS = (
     Mapping("transmission_scatter_anisotropy", ("transmission_scatter_anisotropy",)),
     Mapping("transmission_dispersion", ("transmission_dispersion_scale", "transmission_dispersion_abbe_number"),
             _dispersion_to_ss, converted="Abbe number / dispersion scale"),
-    Mapping("subsurface", ("subsurface_weight", "geometry_thin_walled"), lambda w, thin: w, exact=False,
-            matters=lambda w, thin: w > 0 and thin > 0.5,
-            note="thin-walled subsurface is diffuse transmission in OpenPBR and a translucency of different "
-                 "shape in Standard Surface (thin leaves and paper: 5-7 ΔE, as MaterialX's own translation)"),
+    Mapping("subsurface", THIN_SUBSURFACE_SOURCES, ss_subsurface, exact=False,
+            matters=lambda w, thin, g, m: w > 0 and thin > 0.5 and m > 0,
+            note="thin-walled subsurface on a base with metal: OpenPBR's reflects half of it (by its scatter "
+                 "anisotropy), Standard Surface's only transmits, and the base colour is the metal's",
+            converted="on a thin wall, the share of OpenPBR's subsurface that is transmitted ((1 + anisotropy) / 2); "
+                      "Standard Surface's thin-walled subsurface only transmits, the reflected share is in the base "
+                      "colour"),
     Mapping("subsurface_color", ("subsurface_color",)),
     Mapping("subsurface_radius", ("subsurface_radius_scale",), _radius_colour),
     Mapping("subsurface_scale", ("subsurface_radius_scale", "subsurface_radius"), _radius_scalar),
@@ -332,7 +390,11 @@ FROM_SS = (
     Mapping("subsurface_color", ("subsurface_color",)),
     Mapping("subsurface_radius", ("subsurface_radius", "subsurface_scale"), lambda c, s: _peak(c) * s),
     Mapping("subsurface_radius_scale", ("subsurface_radius",), _radius_colour),
-    Mapping("subsurface_scatter_anisotropy", ("subsurface_anisotropy",)),
+    Mapping("subsurface_scatter_anisotropy", ("subsurface_anisotropy", "thin_walled", "subsurface"),
+            lambda a, thin, w: np.where((thin > 0.5) & (w > 0), 1.0, a), exact=False,
+            matters=lambda a, thin, w: thin > 0.5 and w > 0 and a != 1.0,
+            note="Standard Surface's thin-walled subsurface only transmits (its anisotropy has no effect there); "
+                 "OpenPBR's does so at scatter anisotropy 1"),
     Mapping("fuzz_weight", ("sheen", "sheen_roughness"),
             lambda w, r: np.clip(w / fit.fuzz_albedo_scale(fit.fuzz_roughness_for_charlie(r)), 0.0, 1.0), exact=False,
             note=f"sheen (Conty-Kulla) as fuzz (Zeltner): weight and roughness fitted to its albedo ({SHEEN_RESIDUAL})",

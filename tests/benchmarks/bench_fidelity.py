@@ -3,7 +3,13 @@ parameter over its legal range, absent-means-default; tests/generated_materials.
 acescg and lin_displayp3 documents, converted to Standard Surface, glTF and UsdPreviewSurface, judged
 by the lobe evaluator (mean CIEDE2000 over the lit sphere).
 
-    python tests/benchmarks/bench_fidelity.py [--count 1000] [--seed 11]
+    python tests/benchmarks/bench_fidelity.py [--count 1000] [--seed 11] [--corpus archetypes]
+
+``--corpus all-lobes`` (the default) draws every parameter independently, so most materials switch
+every lobe on at once; ``--corpus archetypes`` draws materials of the kinds artists author (metals
+with and without edge tint, dielectrics, subsurface, glass and liquids, thin-walled sheets, cut-outs,
+each possibly coated, filmed, fuzzy or emissive; generated_materials.KINDS) with the same full ranges,
+and breaks the figures down by kind.
 
 Prints, per target: the share of materials under 2.3 (just noticeable), the median, p95 and the
 five worst with their file and index. The materials are random over the whole space, so many are
@@ -22,7 +28,7 @@ import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from generated_materials import COLORSPACES, document  # noqa: E402
+from generated_materials import COLORSPACES, archetype_document, document  # noqa: E402
 from openpbr_tools.convert import convert_file  # noqa: E402
 from openpbr_tools.verification import measure  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
@@ -47,14 +53,22 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--count", type=int, default=1000)
     parser.add_argument("--seed", type=int, default=11)
+    parser.add_argument("--worst", type=int, default=5)
+    parser.add_argument("--corpus", choices=("all-lobes", "archetypes"), default="all-lobes")
     arguments = parser.parse_args()
     folder = tempfile.mkdtemp(prefix="openpbr-fidelity-")
-    sources = []
+    sources, kinds = [], {}
     for index in range(max(1, arguments.count // PER_DOCUMENT)):
         space = COLORSPACES[index % len(COLORSPACES)]
         path = os.path.join(folder, f"set{index:03d}_{space}.mtlx")
+        seed = arguments.seed * 1000 + index
+        if arguments.corpus == "archetypes":
+            text, file_kinds = archetype_document(space, seed, PER_DOCUMENT)
+            kinds.update(((os.path.basename(path), f"S{i}"), kind) for i, kind in enumerate(file_kinds))
+        else:
+            text = document("open_pbr_surface", space, seed, PER_DOCUMENT)
         with open(path, "w", encoding="utf-8") as handle:
-            handle.write(document("open_pbr_surface", space, arguments.seed * 1000 + index, PER_DOCUMENT))
+            handle.write(text)
         sources.append(path)
     start = time.perf_counter()
     for target, (suffix, model) in TARGETS.items():
@@ -69,8 +83,12 @@ def main() -> None:
         print(f"{target}: {len(means)} materials, under 2.3: {sum(m < 2.3 for m in means) / len(means):.1%} "
               f"(opaque ones: {sum(m < 2.3 for m in opaque) / max(len(opaque), 1):.1%} of {len(opaque)}), "
               f"median {statistics.median(means):.2f}, p95 {p95:.2f}")
-        for mean, file, name, _ in sorted(rows)[-5:]:
-            print(f"    {mean:6.2f}  {file} {name}")
+        for kind in sorted(set(kinds.values())):
+            of_kind = [r[0] for r in rows if kinds.get((r[1], r[2])) == kind]
+            print(f"    {kind:16s} {len(of_kind):4d}  under 2.3: {sum(m < 2.3 for m in of_kind) / len(of_kind):6.1%}"
+                  f"  median {statistics.median(of_kind):5.2f}  worst {max(of_kind):6.2f}")
+        for mean, file, name, _ in sorted(rows)[-arguments.worst:]:
+            print(f"    {mean:6.2f}  {file} {name} {kinds.get((file, name), '')}")
     print(f"{time.perf_counter() - start:.0f} s")
 
 

@@ -1,0 +1,213 @@
+"""Appearance fit: where the best candidate for a constant material still renders visibly different
+from the source (the target has no lobe for the source's fuzz or subsurface, no volume for its
+tinted glass, another diffuse model for its rough diffuse, a conductor that ignores OpenPBR's
+``specular_weight``, ...), a few of the target's inputs are adjusted so that its lit sphere looks
+like the source's, and the result is kept only when it renders closer by more than the candidate
+search's margin.
+
+Two steps, both on the evaluator's lit sphere in linear Rec.709 (where the targets render):
+
+1. **A shape search** (:data:`SEARCHES`), where the target has an input for what differs in shape: the
+   diffuse roughness (Standard Surface's qualitative Oren-Nayar and OpenPBR's energy-preserving EON
+   flatten a sphere differently: the roughness that looks alike is not the same number), and a
+   UsdPreviewSurface's opacity for a transmitting source (the preview cannot tint what it lets
+   through; a less transparent surface coloured like the glass can look closer). Each value of a
+   grid is rendered (one stacked evaluation), the base colour of each rescaled per channel by the
+   ratio of the source's mean radiance to its own, rendered again, and the closest kept.
+2. **A colour fit** of the base colour (:data:`KNOB`): Newton steps on each channel's mean radiance
+   over the sphere (the candidate and a copy with the colour perturbed rendered together, the
+   slope of each channel's mean taken from the pair, the component moved to the value that matches
+   the source's mean, within the input's range).
+
+Values are written back in the target input's own colour space and range. A colour with no effect
+on the mean (a zero base weight) is left alone. Every adjusted input carries its own note (OPBR1103)
+with what it became and both figures, so no value changes silently.
+"""
+
+from __future__ import annotations
+
+import copy
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .. import tables
+from ..colorspaces import from_lin_rec709, to_lin_rec709
+from ..model import Constant, Input, Material
+from .target import inside
+
+#: the colour each target's fit adjusts: the one that carries the base's diffuse and metal colour
+KNOB = {"standard_surface": "base_color", "gltf_pbr": "base_color", "UsdPreviewSurface": "diffuseColor",
+        "open_pbr_surface": "base_color"}
+FIT_FROM = 1.0  # mean CIEDE2000 below which the candidate is left as it is (the fit costs renders)
+STEPS = 2  # Newton steps; each renders the candidate and its perturbed copy together
+PERTURBATION = 0.05  # of the colour component (absolute), for the slope
+FLAT = 1e-4  # a channel whose mean moves less than this per unit of colour does not depend on it
+
+
+@dataclass(frozen=True)
+class Search:
+    """A target input searched over ``grid`` when ``applies(source values, candidate values)``; the
+    source input named ``source_input`` is where the note goes."""
+    target_input: str
+    grid: tuple[float, ...]
+    source_input: str
+    applies: Callable[[dict, dict], bool]
+
+
+def _positive(name: str) -> Callable[[dict, dict], bool]:
+    return lambda source, candidate: float(source.get(name, 0.0)) > 0.0
+
+
+def _transparent_transmitter(source: dict, candidate: dict) -> bool:
+    """A transmitting source written as the preview's transparency (opacityMode 0, "transparent")."""
+    return float(source.get("transmission_weight", 0.0)) > 0.0 and candidate.get("opacityMode", 0) in (0, "transparent") \
+        and float(candidate.get("opacity", 1.0)) < 1.0
+
+
+ROUGHNESS_GRID = tuple(i / 10 for i in range(11))
+SEARCHES = {
+    "standard_surface": (Search("diffuse_roughness", ROUGHNESS_GRID, "base_diffuse_roughness",
+                                _positive("base_diffuse_roughness")),),
+    "open_pbr_surface": (Search("base_diffuse_roughness", ROUGHNESS_GRID, "diffuse_roughness",
+                                _positive("diffuse_roughness")),),
+    "UsdPreviewSurface": (Search("opacity", tuple(i / 10 for i in range(11)), "transmission_weight",
+                                 _transparent_transmitter),),
+}
+
+
+@dataclass
+class Fitted:
+    """The adjusted material and, for each adjusted target input, the source input it stands for."""
+    material: Material
+    changed: dict[str, str]
+
+
+class _Renderer:
+    """The source's reference and stacked renders of the candidate's resolved values, at one size."""
+
+    def __init__(self, source: Material, model: str, rig_size: int):
+        # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
+        from ..evaluate import model_for_material
+        from ..evaluate.preview import Rig, shade_sphere  # lazy: as above
+
+        self.model = model
+        self.rig = Rig(size=rig_size)
+        reference, self.mask = shade_sphere(model_for_material(source)[0], self.rig)
+        self.goal = reference[self.mask].mean(axis=0)
+
+    def means(self, value_sets: list[dict]) -> list[np.ndarray]:
+        from ..evaluate.preview import shade_sphere, shade_sphere_many  # lazy: see __init__
+        from ..evaluate import build_model  # lazy: see __init__
+
+        images = shade_sphere_many(self.model, value_sets, self.rig) if len(value_sets) > 1 else None
+        if images is None:
+            images = [shade_sphere(build_model(self.model, values), self.rig)[0] for values in value_sets]
+        return [image[self.mask].mean(axis=0) for image in images]
+
+
+def _in_range(space: str | None) -> Callable[[np.ndarray], np.ndarray]:
+    """Clips a linear Rec.709 colour to [0, 1] in the colour space the input is written in (a wide-gamut
+    document's colours may lie outside [0, 1] in Rec.709, and that is where the fit works)."""
+    return lambda colour: to_lin_rec709(np.clip(from_lin_rec709(colour, space), 0.0, 1.0), space)
+
+
+def _ratio_recoloured(renderer: _Renderer, knob: str, value_sets: list[dict], clip) -> list[dict]:
+    means = renderer.means(value_sets)
+    out = []
+    for values, mean in zip(value_sets, means):
+        colour = np.asarray(values[knob], dtype=float)
+        ratio = np.where(mean > FLAT, renderer.goal / np.maximum(mean, FLAT), 1.0)
+        out.append(dict(values, **{knob: clip(colour * ratio)}))
+    return out
+
+
+def _newton(renderer: _Renderer, knob: str, values: dict, clip) -> dict | None:
+    colour = np.asarray(values[knob], dtype=float)
+    for _ in range(STEPS):
+        step = np.where(clip(colour + PERTURBATION)[...] > colour + PERTURBATION / 2, PERTURBATION, -PERTURBATION)
+        now, moved = renderer.means([dict(values, **{knob: colour}), dict(values, **{knob: colour + step})])
+        slope = (moved - now) / step
+        usable = np.abs(slope) > FLAT
+        if not usable.any():
+            return None
+        colour = clip(np.where(usable, colour + (renderer.goal - now) / np.where(usable, slope, 1.0), colour))
+    return dict(values, **{knob: colour})
+
+
+def fit(source: Material, candidate: Material, rig_size: int, score) -> Fitted | None:
+    """``candidate`` (constant-valued, of a model in :data:`KNOB`) adjusted to look like ``source``
+    (module docstring), or None. ``score(materials) -> list[float]`` is the candidate search's
+    judge (mean CIEDE2000 against the source); the shape search keeps the value it scores best."""
+    from ..evaluate import resolve  # lazy: see _Renderer
+
+    knob = KNOB.get(candidate.model)
+    if knob is None or _constant(candidate) is None:
+        return None
+    values = resolve(candidate).values
+    if np.asarray(values.get(knob)).shape != (3,):
+        return None
+    renderer = _Renderer(source, candidate.model, rig_size)
+    entry = candidate.inputs.get(knob)
+    clip = _in_range((entry.colorspace if entry is not None else None) or candidate.colorspace)
+    source_values = _constant(source) or {}
+    changed: dict[str, str] = {}
+    material = candidate
+    for search in SEARCHES.get(candidate.model, ()):
+        if not search.applies(source_values, _constant(candidate)):
+            continue
+        trials = _ratio_recoloured(renderer, knob, [dict(values, **{search.target_input: g}) for g in search.grid], clip)
+        written = [_written(material, trial, (search.target_input, knob)) for trial in trials]
+        scores = score([material] + [w for w in written if w is not None])
+        best = int(np.argmin(scores))
+        if best > 0:
+            kept = [i for i, w in enumerate(written) if w is not None][best - 1]
+            material, values = written[kept], trials[kept]
+            changed[search.target_input] = search.source_input
+            changed[knob] = KNOB.get(source.model, "base_color")
+    fitted = _newton(renderer, knob, values, clip)
+    if fitted is not None:
+        material = _written(material, fitted, (knob,)) or material
+        changed[knob] = KNOB.get(source.model, "base_color")
+    return Fitted(material, changed) if changed else None
+
+
+def _constant(material: Material) -> dict | None:
+    values = {}
+    for name, entry in material.inputs.items():
+        if not isinstance(entry.value, Constant):
+            return None
+        values[name] = entry.value.value
+    return values
+
+
+def _written(candidate: Material, values: dict, names: tuple[str, ...]) -> Material | None:
+    """``candidate`` with ``names`` set from ``values`` (linear Rec.709 numbers) in each input's own
+    colour space, brought inside the parameter's range; None when an input is not a constant."""
+    table = tables.table(candidate.model)
+    written = copy.copy(candidate)
+    written.inputs = dict(candidate.inputs)
+    for name in names:
+        parameter = table[name]
+        entry = candidate.inputs.get(name)
+        if entry is not None and not isinstance(entry.value, Constant):
+            return None
+        value = np.asarray(values[name], dtype=float)
+        if parameter.role == "color":
+            space = (entry.colorspace if entry is not None else None) or candidate.colorspace
+            value = from_lin_rec709(value, space)
+            written_value, _ = inside(tuple(float(v) for v in value), parameter)
+        else:
+            written_value, _ = inside(float(value), parameter)
+        location = entry.location if entry is not None else candidate.location.with_input(name)
+        colorspace = (entry.colorspace if entry is not None else candidate.colorspace) if parameter.role == "color" \
+            else None
+        written.inputs[name] = Input(name, parameter.type, Constant(written_value), location, colorspace=colorspace)
+    return written
+
+
+def shown(value) -> str:
+    if isinstance(value, (tuple, list)):
+        return "(" + ", ".join(f"{float(v):.4g}" for v in value) + ")"
+    return f"{value:.4g}" if isinstance(value, float) else str(value)
