@@ -36,6 +36,7 @@ from .bake import Baker
 from .translate.common import Settings
 from .translate import candidates
 from .translate.convert import MODELS, convert
+from .translate.upgrade import upgrade
 
 OUTPUT_KINDS = {".mtlx": "mtlx", ".usda": "usd", ".usdc": "usd", ".usd": "usd", ".usdz": "usd",
                 ".gltf": "gltf", ".glb": "gltf"}
@@ -152,8 +153,10 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 notes.append(context.diagnostic(APPROXIMATED, f"{material.name}: {', '.join(unitless)} carry no unit; "
                                                 "taken as metres", material.inputs[unitless[0]].location))
             translation = convert(material, target, step_settings)
-            if material.model != "open_pbr_surface" or material.version in (None, tables.latest("open_pbr_surface")):
-                translation = candidates.choose(material, translation, target, step_settings)
+            judged = material  # the search judges against the material the mapping translated: a legacy one upgraded
+            if material.model == "open_pbr_surface" and material.version not in (None, tables.latest(material.model)):
+                judged = upgrade(material, context=context).material
+            translation = candidates.choose(judged, translation, target, step_settings)
             notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context)
             translated_state = translation.material.extra.get("gltf")
             notes += gltf_state.notes(material, kind, context,

@@ -167,3 +167,55 @@ def test_the_fit_leaves_an_exact_or_close_translation_alone():
     fitted = searched(source, "gltf_pbr")
     assert not [d for d in fitted.diagnostics if "adjusted to" in d.message]
     assert value(fitted, "base_color") == pytest.approx((0.4, 0.3, 0.2))
+
+
+# -- glTF diffuse transmission in the evaluator ----------------------------------------------------
+
+def test_gltf_diffuse_transmission_transmits_its_colour_under_the_fresnel_weight():
+    """KHR_materials_diffuse_transmission at normal incidence: the BTDF mix(BRDF, BTDF, t) transmits
+    (1 - F0) t colour, F0 = 0.04 for ior 1.5 (closed form)."""
+    from openpbr_tools.evaluate import build_model
+
+    colour, t = np.array([0.9, 0.5, 0.1]), 0.6
+    model = build_model("gltf_pbr", {"metallic": 0.0, "base_color": np.array([0.5, 0.5, 0.5]), "roughness": 0.5,
+                                     "diffuse_transmission": t, "diffuse_transmission_color": colour})
+    np.testing.assert_allclose(model.albedo(np.array([0.0, 0.0, 1.0])).transmit, (1 - 0.04) * t * colour, rtol=1e-9)
+
+
+def test_a_thin_wall_written_to_gltf_is_judged_with_its_diffuse_transmission(tmp_path):
+    """The .gltf writer puts a thin wall's subsurface in KHR_materials_diffuse_transmission; read back,
+    the evaluator renders it (7.6 mean CIEDE2000 when it did not), and the search does not 'fit' the
+    base colour for a transmission the file has."""
+    from openpbr_tools.convert import convert_file
+    from openpbr_tools.verification import measure
+
+    source = tmp_path / "leaf.mtlx"
+    source.write_text('<?xml version="1.0"?><materialx version="1.39" colorspace="lin_rec709">'
+                      '<open_pbr_surface name="S" type="surfaceshader" version="1.1.1">'
+                      '<input name="geometry_thin_walled" type="boolean" value="true"/>'
+                      '<input name="subsurface_weight" type="float" value="1"/>'
+                      '<input name="subsurface_color" type="color3" value="0.85, 1, 0.14"/>'
+                      '<input name="specular_roughness" type="float" value="0.97"/></open_pbr_surface>'
+                      '<surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" '
+                      'nodename="S"/></surfacematerial></materialx>')
+    conversion = convert_file(str(source), str(tmp_path / "leaf.gltf"), None, Settings())
+    (_, delta), = measure(conversion)
+    assert delta.mean < 1.2
+    assert not [d for d in conversion.diagnostics if "adjusted to" in d.message]
+
+
+def test_a_document_of_an_earlier_openpbr_version_gets_the_search_too(tmp_path):
+    """The search judges against the material the mapping translated; a 1.1 document (upgraded to
+    1.1.1 first) used to skip it."""
+    from openpbr_tools.convert import convert_file
+
+    source = tmp_path / "velvet.mtlx"
+    source.write_text('<?xml version="1.0"?><materialx version="1.39" colorspace="lin_rec709">'
+                      '<open_pbr_surface name="S" type="surfaceshader" version="1.1">'
+                      '<input name="base_color" type="color3" value="0.3, 0.05, 0.1"/>'
+                      '<input name="fuzz_weight" type="float" value="1"/>'
+                      '<input name="fuzz_color" type="color3" value="1, 0.6, 0.7"/></open_pbr_surface>'
+                      '<surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" '
+                      'nodename="S"/></surfacematerial></materialx>')
+    conversion = convert_file(str(source), str(tmp_path / "velvet_usd.mtlx"), "UsdPreviewSurface", Settings())
+    assert [d for d in conversion.diagnostics if "adjusted to" in d.message and d.location.input == "base_color"]

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 from openpbr_tools import tables
+from openpbr_tools.evaluate.verify import compare_materials
 from openpbr_tools.model import Constant, Input, Location, Material
 from openpbr_tools.translate.common import Settings
 from openpbr_tools.translate.convert import convert
@@ -97,6 +98,17 @@ def coated_f0(m: Material) -> float:
     return w * f0(n_c) + (1 - w * f0(n_c)) * base
 
 
+#: A thin wall's subsurface on a dielectric goes to Standard Surface as its transmitted share, the
+#: reflected share in the base colour (with the base weight); it comes back as OpenPBR's
+#: all-transmitting subsurface (anisotropy 1) beside that colour: other numbers, the same lobes.
+THIN_SPLIT = ("base_weight", "base_color", "subsurface_weight", "subsurface_scatter_anisotropy")
+
+
+def thin_split(m: Material) -> bool:
+    return bool(value(m, "geometry_thin_walled")) and float(value(m, "subsurface_weight")) > 0 and \
+        float(value(m, "base_metalness")) <= 0
+
+
 @pytest.mark.parametrize("target", sorted(REPRESENTABLE_IN))
 def test_openpbr_round_trip_recovers_what_the_target_represents(target):
     rng = np.random.default_rng(7)
@@ -110,7 +122,14 @@ def test_openpbr_round_trip_recovers_what_the_target_represents(target):
             if target == "standard_surface" and name == "base_color" and value(source, "base_diffuse_roughness") > 0 \
                     and np.any(np.asarray(value(there, "base_color")) >= 1.0 - 1e-12):
                 continue  # brightened for Standard Surface's darker rough diffuse past 1: clipped (and noted)
+            if target == "standard_surface" and thin_split(source) and name in THIN_SPLIT:
+                continue  # re-parametrised, the same lobes (checked below)
+            if target == "standard_surface" and name == "subsurface_scatter_anisotropy" and \
+                    bool(value(source, "geometry_thin_walled")) and float(value(source, "subsurface_weight")) > 0:
+                continue  # Standard Surface's thin-walled subsurface only transmits: OpenPBR's anisotropy 1
             np.testing.assert_allclose(value(back, name), value(source, name), atol=1e-5, err_msg=f"{target}: {name}")
+        if target == "standard_surface" and thin_split(source):
+            assert compare_materials(source, back).preview.mean < 0.05
         if target != "UsdPreviewSurface":  # the effective Abbe number (Abbe / scale) is what renders
             ratio = lambda m: value(m, "transmission_dispersion_abbe_number") / value(m, "transmission_dispersion_scale")  # noqa: E731
             np.testing.assert_allclose(ratio(back), ratio(source), rtol=1e-6)
@@ -226,6 +245,9 @@ def test_model_round_trip_through_openpbr_recovers_every_representable_parameter
                 continue  # OpenPBR's coat always roughens the base (spec, "Coat"): a smoother base is not representable
             if model == "gltf_pbr" and name == "sheen_roughness" and max(values.get("sheen_color", (0, 0, 0))) == 0:
                 continue  # a sheen of colour 0 is no sheen: its roughness is invisible and not written
+            if model == "standard_surface" and name == "subsurface_anisotropy" and values.get("thin_walled") and \
+                    values.get("subsurface", 0.0) > 0:
+                continue  # no effect on Standard Surface's thin-walled subsurface (noted): OpenPBR's all-transmitting 1
             np.testing.assert_allclose(value(back, name), value(source, name), atol=1e-5, err_msg=f"{model}: {name}")
 
 

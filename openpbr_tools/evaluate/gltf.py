@@ -31,6 +31,9 @@ F = F0 + (F90 - F0)(1 - |VdotH|)^5. Extensions:
 * KHR_materials_anisotropy: alpha_t = mix(alpha, 1, strength^2), alpha_b = alpha, direction
   rotated by anisotropy_rotation (radians) from the tangent towards the bitangent;
 * KHR_materials_emissive_strength: emission = emissive * emissive_strength;
+* KHR_materials_diffuse_transmission (its factors): the diffuse BRDF becomes mix(Lambert(baseColor),
+  Lambert transmission of diffuseTransmissionColor, diffuseTransmissionFactor) under the same
+  Fresnel weight;
 * KHR_materials_dispersion only changes refraction directions and is not evaluated; occlusion is
   not evaluated (a baked, geometry-dependent factor).
 
@@ -106,6 +109,16 @@ class GltfPbr(BSDFModel):
         y_avg = as_colour(tab.lambert_schlick_albedo(mu_o))
         diffuse_weight_avg = 1.0 - f0_max - (f90 - f0_max) * y_avg
         base_colour = np.maximum(f["base_color"], 0.0)
+        translucent = None
+        if any_nonzero(f["diffuse_transmission"]):
+            # KHR_materials_diffuse_transmission: the diffuse BRDF becomes mix(BRDF, BTDF, t), the BTDF
+            # Lambertian through the surface, tinted by its colour, under the same Fresnel weight
+            # (taken at the view direction for the transmitted part)
+            t = as_colour(np.clip(f["diffuse_transmission"], 0.0, 1.0))
+            weight_o = 1.0 - np.max(f0 + (f90 - f0) * as_colour((1.0 - np.abs(mu_o)) ** 5), axis=-1, keepdims=True)
+            translucent = closures.translucent_lobe(wi, wo, np.maximum(f["diffuse_transmission_color"], 0.0) * t)
+            translucent = translucent.scaled(weight_o)
+            base_colour = base_colour * (1.0 - t)
         e_diffuse = diffuse_weight_avg * base_colour
         value = None
         if wi is not None:
@@ -124,6 +137,8 @@ class GltfPbr(BSDFModel):
                 fr_mixed = fr * (1.0 - w) + w * f_film
                 value = fr_mixed * as_colour(shape) * comp + (1.0 - np.max(fr_mixed, axis=-1, keepdims=True)) * diffuse_value
         opaque = Scatter.lobe(value, e_spec + e_diffuse, 0.0, np.zeros(3))
+        if translucent is not None:
+            opaque = add(opaque, translucent)
         w_t = f["transmission"]
         if not any_nonzero(w_t):
             return opaque

@@ -115,14 +115,22 @@ def colour_to_lin_rec709(rgb: np.ndarray, colorspace: str | None) -> np.ndarray:
         return np.asarray(rgb, dtype=float)
 
 
+#: Evaluator inputs a model's MaterialX node has no parameter for, with their defaults: glTF's
+#: KHR_materials_diffuse_transmission (the gltf_pbr node has none; a glTF material carries it in
+#: ``extra``, see :func:`_gltf_diffuse_transmission`).
+EVALUATOR_EXTRAS = {"gltf_pbr": {"diffuse_transmission": 0.0, "diffuse_transmission_color": (1.0, 1.0, 1.0)}}
+DIFFUSE_TRANSMISSION = "KHR_materials_diffuse_transmission"
+
+
 def defaults(model: str) -> ResolvedParameters:
-    """Every parameter of ``model`` (latest table) at its default."""
+    """Every parameter of ``model`` (latest table) at its default, and its :data:`EVALUATOR_EXTRAS`."""
     table = tables.table(model)
     values = {}
     for name, p in table.parameters.items():
         if p.role in _GEOMETRIC_ROLES or p.default is None:
             continue
         values[name] = _convert(p.default, p.type, p.role, None)
+    values.update((name, np.asarray(default, dtype=float)) for name, default in EVALUATOR_EXTRAS.get(model, {}).items())
     return ResolvedParameters(model=model, version=table.version, values=values)
 
 
@@ -132,6 +140,9 @@ def with_values(model: str, overrides: dict) -> ResolvedParameters:
     resolved = defaults(model)
     table = tables.table(model)
     for name, value in overrides.items():
+        if name in EVALUATOR_EXTRAS.get(model, {}):
+            resolved.values[name] = np.asarray(value, dtype=float)
+            continue
         if name not in table.parameters:
             raise KeyError(f"{name!r} is not a parameter of {model} {table.version}")
         p = table.parameters[name]
@@ -203,9 +214,43 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
                 resolved.not_evaluated.append(name)
         except (TypeError, ValueError):
             resolved.not_evaluated.append(name)
+    if material.model == "gltf_pbr":
+        _gltf_diffuse_transmission(material, resolved)
     if sampler is not None and uvs is not None and material.model == "gltf_pbr":
         _gltf_anisotropy_direction(material, resolved, sampler, uvs)
     return resolved
+
+
+def _gltf_diffuse_transmission(material: Material, resolved: ResolvedParameters) -> None:
+    """KHR_materials_diffuse_transmission's factors: from a translation's record
+    (``extra["gltf_extensions"]``, :class:`~openpbr_tools.model.Input` s in their colour space) or a
+    read glTF's JSON (``extra["gltf"]["extensions"]``, linear Rec.709). Its textures are not read
+    (listed as approximated): the factors apply."""
+    record = (material.extra.get("gltf_extensions") or {}).get(DIFFUSE_TRANSMISSION)
+    if isinstance(record, dict):
+        for key, name in (("diffuseTransmissionFactor", "diffuse_transmission"),
+                          ("diffuseTransmissionColorFactor", "diffuse_transmission_color")):
+            entry = record.get(key)
+            if entry is not None and isinstance(entry.value, Constant):
+                value = np.asarray(entry.value.value, dtype=float)
+                resolved.values[name] = value if value.ndim == 0 else \
+                    colour_to_lin_rec709(value, entry.colorspace or material.colorspace)
+        return
+    found = ((material.extra.get("gltf") or {}).get("extensions") or {}).get(DIFFUSE_TRANSMISSION)
+    if not isinstance(found, dict):
+        return
+    try:
+        factor = float(found.get("diffuseTransmissionFactor", 0.0))
+        colour = np.asarray(found.get("diffuseTransmissionColorFactor", (1.0, 1.0, 1.0)), dtype=float)[:3]
+    except (TypeError, ValueError):
+        resolved.not_evaluated.append("diffuse_transmission")
+        return
+    resolved.values["diffuse_transmission"] = np.asarray(factor)
+    if colour.shape == (3,):
+        resolved.values["diffuse_transmission_color"] = colour
+    for key in ("diffuseTransmissionTexture", "diffuseTransmissionColorTexture"):
+        if key in found:
+            resolved.approximated.append(("diffuse_transmission", f"{key} not read; its factor applies"))
 
 
 def _gltf_anisotropy_direction(material: Material, resolved: ResolvedParameters, sampler, uvs) -> None:

@@ -160,10 +160,13 @@ def choose(source: Material, translation: Translation, target: str, settings: Se
         return translation  # (with the drafts, or for a material read from glTF, the mapping's exact inverses are the point)
     if settings.fit_films:
         translation = refine_thin_film(source, translation, target, settings)
-    candidate = graph_candidate(source, target) if materialx_graphs.graphs(source.model, target) else None
+    try:
+        candidate = graph_candidate(source, target) if materialx_graphs.graphs(source.model, target) else None
+    except (ValueError, KeyError, TypeError, IndexError):  # a malformed constant (reported by the mapping)
+        candidate = None
     try:
         scores = score_candidates(source, [translation.material] + ([candidate] if candidate is not None else []))
-    except (ValueError, KeyError, TypeError, FloatingPointError):
+    except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
         return translation
     context = settings.context
     # the choice concerns the whole material; it is reported at the first input the mapping approximated
@@ -198,7 +201,7 @@ def _fit_appearance(source: Material, translation: Translation, score: float, se
         if fitted is None:
             return translation
         after, = score_candidates(source, [fitted.material])
-    except (ValueError, KeyError, TypeError, FloatingPointError):
+    except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
         return translation
     if not after < score - MARGIN:
         return translation
