@@ -219,3 +219,19 @@ def test_a_document_of_an_earlier_openpbr_version_gets_the_search_too(tmp_path):
                       'nodename="S"/></surfacematerial></materialx>')
     conversion = convert_file(str(source), str(tmp_path / "velvet_usd.mtlx"), "UsdPreviewSurface", Settings())
     assert [d for d in conversion.diagnostics if "adjusted to" in d.message and d.location.input == "base_color"]
+
+
+def test_no_fit_where_the_evaluator_and_materialx_disagree():
+    """An IOR below 1: total internal reflection in the evaluator, F0 only in MaterialX's GLSL (10-17
+    ΔE apart on the source alone); a base colour fitted to the evaluator's rim was 10 ΔE worse under
+    GLSL. The same material with an IOR above 1 is fitted."""
+    values = dict(base_diffuse_roughness=0.62, specular_roughness=0.0, specular_roughness_anisotropy=0.76)
+    below = searched(material(specular_ior=0.344, **values), "UsdPreviewSurface")
+    assert not [d for d in below.diagnostics if "adjusted to" in d.message]
+    velvet = dict(CASES[0][1])
+    assert [d for d in searched(material(**velvet), "UsdPreviewSurface").diagnostics if "adjusted to" in d.message]
+    assert not [d for d in searched(material(coat_weight=0.5, coat_ior=0.8, **velvet), "UsdPreviewSurface").diagnostics
+                if "adjusted to" in d.message]
+    # a film on a metal: the evaluator's spectral film and MaterialX's are 11-15 ΔE apart on the source
+    filmed = material(base_color=(1.0, 0.26, 0.41), base_metalness=0.69, thin_film_weight=0.92, thin_film_ior=1.4)
+    assert not [d for d in searched(filmed, "UsdPreviewSurface").diagnostics if "adjusted to" in d.message]

@@ -120,6 +120,13 @@ def _by_distinct_film(cos_theta, thickness_nm, film_ior, ior, grid: int):
     """:func:`thin_film_rgb` on a ``grid``-cosine table per distinct film, or None when the films are
     so many that the tables would cost more than the direct evaluation."""
     shape = cos_theta.shape
+    mu = (np.minimum(np.abs(cos_theta), 1.0) * (grid - 1)).reshape(-1)
+    i = mu.astype(np.intp)
+    if np.size(thickness_nm) == 1 and np.size(film_ior) == 1 and np.size(ior) in (1, 3):  # one film: no sorting
+        n = np.broadcast_to(np.reshape(ior, -1), (3,))
+        table, slope = _cosine_grid_rgb(float(np.reshape(thickness_nm, -1)[0]), float(np.reshape(film_ior, -1)[0]),
+                                        tuple(n.tolist()), grid)
+        return (table[i] + slope[i] * (mu - i)[:, None]).reshape(shape + (3,))
     columns = [np.broadcast_to(np.asarray(thickness_nm, dtype=float), shape).reshape(-1, 1),
                np.broadcast_to(np.asarray(film_ior, dtype=float), shape).reshape(-1, 1)]
     substrate = np.broadcast_to(ior, shape + (3,)).reshape(-1, 3)
@@ -128,8 +135,6 @@ def _by_distinct_film(cos_theta, thickness_nm, film_ior, ior, grid: int):
     distinct, which = np.unique(keys, axis=0, return_inverse=True)
     if len(distinct) * grid >= cos_theta.size:
         return None
-    mu = (np.minimum(np.abs(cos_theta), 1.0) * (grid - 1)).reshape(-1)
-    i = mu.astype(np.intp)
     out = np.empty((cos_theta.size, 3))
     which = which.reshape(-1)
     for index, row in enumerate(distinct):

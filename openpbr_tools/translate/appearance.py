@@ -19,6 +19,14 @@ Two steps, both on the evaluator's lit sphere in linear Rec.709 (where the targe
    slope of each channel's mean taken from the pair, the component moved to the value that matches
    the source's mean, within the input's range).
 
+Not where the judges disagree (:func:`untrusted`): an interface of relative IOR below 1 (a specular or
+coat IOR under 1) totally reflects beyond its critical angle in the evaluator, as physics has it,
+while MaterialX's GLSL renders it by its F0 (the source alone: 10-17 mean CIEDE2000 apart at IOR
+0.34-0.62, under 0.3 from 1.1 up, tests/benchmarks/bench_glsl_sample.py): a base colour fitted to the
+evaluator's rim made such materials 10 ΔE worse under GLSL. Likewise a thin film on a metal base: the
+evaluator's exact spectral interference and MaterialX's GLSL film are 11-15 mean CIEDE2000 apart on
+such a source alone (0.6 on a dielectric base), and a fitted preview metal was 8 ΔE worse under GLSL.
+
 Values are written back in the target input's own colour space and range. A colour with no effect
 on the mean (a zero base weight) is left alone. Every adjusted input carries its own note (OPBR1103)
 with what it became and both figures, so no value changes silently.
@@ -66,13 +74,13 @@ def _transparent_transmitter(source: dict, candidate: dict) -> bool:
         and float(candidate.get("opacity", 1.0)) < 1.0
 
 
-ROUGHNESS_GRID = tuple(i / 10 for i in range(11))
+ROUGHNESS_GRID = tuple(i / 5 for i in range(6))
 SEARCHES = {
     "standard_surface": (Search("diffuse_roughness", ROUGHNESS_GRID, "base_diffuse_roughness",
                                 _positive("base_diffuse_roughness")),),
     "open_pbr_surface": (Search("base_diffuse_roughness", ROUGHNESS_GRID, "diffuse_roughness",
                                 _positive("diffuse_roughness")),),
-    "UsdPreviewSurface": (Search("opacity", tuple(i / 10 for i in range(11)), "transmission_weight",
+    "UsdPreviewSurface": (Search("opacity", tuple(i / 5 for i in range(6)), "transmission_weight",
                                  _transparent_transmitter),),
 }
 
@@ -84,71 +92,76 @@ class Fitted:
     changed: dict[str, str]
 
 
-class _Renderer:
-    """The source's reference and stacked renders of the candidate's resolved values, at one size."""
-
-    def __init__(self, source: Material, model: str, rig_size: int):
-        # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
-        from ..evaluate import model_for_material
-        from ..evaluate.preview import Rig, shade_sphere  # lazy: as above
-
-        self.model = model
-        self.rig = Rig(size=rig_size)
-        reference, self.mask = shade_sphere(model_for_material(source)[0], self.rig)
-        self.goal = reference[self.mask].mean(axis=0)
-
-    def means(self, value_sets: list[dict]) -> list[np.ndarray]:
-        from ..evaluate.preview import shade_sphere, shade_sphere_many  # lazy: see __init__
-        from ..evaluate import build_model  # lazy: see __init__
-
-        images = shade_sphere_many(self.model, value_sets, self.rig) if len(value_sets) > 1 else None
-        if images is None:
-            images = [shade_sphere(build_model(self.model, values), self.rig)[0] for values in value_sets]
-        return [image[self.mask].mean(axis=0) for image in images]
-
-
 def _in_range(space: str | None) -> Callable[[np.ndarray], np.ndarray]:
     """Clips a linear Rec.709 colour to [0, 1] in the colour space the input is written in (a wide-gamut
     document's colours may lie outside [0, 1] in Rec.709, and that is where the fit works)."""
     return lambda colour: to_lin_rec709(np.clip(from_lin_rec709(colour, space), 0.0, 1.0), space)
 
 
-def _ratio_recoloured(renderer: _Renderer, knob: str, value_sets: list[dict], clip) -> list[dict]:
-    means = renderer.means(value_sets)
+def _ratio_recoloured(judge, model: str, knob: str, value_sets: list[dict], clip) -> list[dict]:
+    means = judge.means(model, value_sets)
     out = []
     for values, mean in zip(value_sets, means):
         colour = np.asarray(values[knob], dtype=float)
-        ratio = np.where(mean > FLAT, renderer.goal / np.maximum(mean, FLAT), 1.0)
+        ratio = np.where(mean > FLAT, judge.goal / np.maximum(mean, FLAT), 1.0)
         out.append(dict(values, **{knob: clip(colour * ratio)}))
     return out
 
 
-def _newton(renderer: _Renderer, knob: str, values: dict, clip) -> dict | None:
+def _newton(judge, model: str, knob: str, values: dict, clip) -> dict | None:
     colour = np.asarray(values[knob], dtype=float)
     for _ in range(STEPS):
         step = np.where(clip(colour + PERTURBATION)[...] > colour + PERTURBATION / 2, PERTURBATION, -PERTURBATION)
-        now, moved = renderer.means([dict(values, **{knob: colour}), dict(values, **{knob: colour + step})])
+        now, moved = judge.means(model, [dict(values, **{knob: colour}), dict(values, **{knob: colour + step})])
         slope = (moved - now) / step
         usable = np.abs(slope) > FLAT
         if not usable.any():
             return None
-        colour = clip(np.where(usable, colour + (renderer.goal - now) / np.where(usable, slope, 1.0), colour))
+        colour = clip(np.where(usable, colour + (judge.goal - now) / np.where(usable, slope, 1.0), colour))
     return dict(values, **{knob: colour})
 
 
-def fit(source: Material, candidate: Material, rig_size: int, score) -> Fitted | None:
+#: Per source model: (IOR input, the weight that switches it on or None) pairs below 1 of which the
+#: evaluator and MaterialX's GLSL disagree (module docstring).
+IORS = {"open_pbr_surface": (("specular_ior", None), ("coat_ior", "coat_weight")),
+        "standard_surface": (("specular_IOR", None), ("coat_IOR", "coat")),
+        "gltf_pbr": (), "UsdPreviewSurface": ()}
+
+
+#: Per source model: (film input, metal input) of a film on a metal, which the judges render apart.
+FILM_ON_METAL = {"open_pbr_surface": ("thin_film_weight", "base_metalness"),
+                 "standard_surface": ("thin_film_thickness", "metalness"), "gltf_pbr": ("iridescence", "metallic")}
+
+
+def untrusted(source: Material) -> str | None:
+    """The source input that makes the evaluator an untrusted judge of this material, or None."""
+    values = _constant(source) or {}
+    table = tables.table(source.model)
+
+    def value(name):
+        return float(values.get(name, table[name].default))
+
+    for name, switch in IORS.get(source.model, ()):
+        if (switch is None or value(switch) > 0) and value(name) < 1.0:
+            return name
+    film, metal = FILM_ON_METAL.get(source.model, (None, None))
+    if film is not None and value(film) > 0 and value(metal) > 0:
+        return film
+    return None
+
+
+def fit(source: Material, candidate: Material, judge) -> Fitted | None:
     """``candidate`` (constant-valued, of a model in :data:`KNOB`) adjusted to look like ``source``
-    (module docstring), or None. ``score(materials) -> list[float]`` is the candidate search's
-    judge (mean CIEDE2000 against the source); the shape search keeps the value it scores best."""
-    from ..evaluate import resolve  # lazy: see _Renderer
+    (module docstring), or None. ``judge`` is the candidate search's :class:`~.candidates.Judge` (the
+    source's render: ``means``, ``goal``, ``scores``); the shape search keeps the value it scores best."""
+    from ..evaluate import resolve  # lazy: the evaluator loads its tables; only a fitted material needs it
 
     knob = KNOB.get(candidate.model)
-    if knob is None or _constant(candidate) is None:
+    if knob is None or _constant(candidate) is None or untrusted(source) is not None:
         return None
     values = resolve(candidate).values
     if np.asarray(values.get(knob)).shape != (3,):
         return None
-    renderer = _Renderer(source, candidate.model, rig_size)
     entry = candidate.inputs.get(knob)
     clip = _in_range((entry.colorspace if entry is not None else None) or candidate.colorspace)
     source_values = _constant(source) or {}
@@ -157,16 +170,16 @@ def fit(source: Material, candidate: Material, rig_size: int, score) -> Fitted |
     for search in SEARCHES.get(candidate.model, ()):
         if not search.applies(source_values, _constant(candidate)):
             continue
-        trials = _ratio_recoloured(renderer, knob, [dict(values, **{search.target_input: g}) for g in search.grid], clip)
+        trials = _ratio_recoloured(judge, candidate.model, knob, [dict(values, **{search.target_input: g}) for g in search.grid], clip)
         written = [_written(material, trial, (search.target_input, knob)) for trial in trials]
-        scores = score([material] + [w for w in written if w is not None])
+        scores = judge.scores([material] + [w for w in written if w is not None])
         best = int(np.argmin(scores))
         if best > 0:
             kept = [i for i, w in enumerate(written) if w is not None][best - 1]
             material, values = written[kept], trials[kept]
             changed[search.target_input] = search.source_input
             changed[knob] = KNOB.get(source.model, "base_color")
-    fitted = _newton(renderer, knob, values, clip)
+    fitted = _newton(judge, candidate.model, knob, values, clip)
     if fitted is not None:
         material = _written(material, fitted, (knob,)) or material
         changed[knob] = KNOB.get(source.model, "base_color")

@@ -4,10 +4,13 @@ document colour spaces) converted to glTF in one process, with the search (the d
 
     python tests/benchmarks/bench_candidates.py [--count 1000] [--seed 11] [--target gltf|mtlx|usda]
     python tests/benchmarks/bench_candidates.py --library FOLDER [--target ...]
+    python tests/benchmarks/bench_candidates.py --corpus archetypes [--count 1000]
 
 ``--library``: the .mtlx files of FOLDER (e.g. tests/data/translation_set, real-world-like materials
 where most conversions are exact or only mildly approximated) instead of the generated corpus, where
-every material is approximated and most carry a film, a coat and a volume at once.
+every material is approximated and most carry a film, a coat and a volume at once; ``--corpus
+archetypes``: the kinds artists author (generated_materials.KINDS). "fitted" counts the materials
+whose appearance fit (translate/appearance.py) was kept.
 
 Documents of 50 materials each; the two settings alternate document by document (the machine's drift
 falls on both). Prints both totals, their ratio (#13's budget: <= 3x) and how many materials the search
@@ -24,7 +27,7 @@ import time
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from generated_materials import COLORSPACES, document  # noqa: E402
+from generated_materials import COLORSPACES, archetype_document, document  # noqa: E402
 from openpbr_tools.convert import convert_file  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
 
@@ -37,6 +40,7 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=11)
     parser.add_argument("--target", default="gltf", choices=("gltf", "mtlx", "usda"))
     parser.add_argument("--library", help="convert the .mtlx files of this folder instead")
+    parser.add_argument("--corpus", choices=("all-lobes", "archetypes"), default="all-lobes")
     arguments = parser.parse_args()
     folder = tempfile.mkdtemp(prefix="openpbr-candidates-")
     sources = []
@@ -46,13 +50,16 @@ def main() -> None:
         space = COLORSPACES[index % len(COLORSPACES)]
         path = os.path.join(folder, f"set{index:03d}_{space}.mtlx")
         with open(path, "w", encoding="utf-8") as handle:
-            handle.write(document("open_pbr_surface", space, arguments.seed * 1000 + index, PER_DOCUMENT))
+            seed = arguments.seed * 1000 + index
+            handle.write(archetype_document(space, seed, PER_DOCUMENT)[0] if arguments.corpus == "archetypes"
+                         else document("open_pbr_surface", space, seed, PER_DOCUMENT))
         sources.append(path)
     model = "standard_surface" if arguments.target == "mtlx" else None
     out = os.path.join(folder, f"out.{arguments.target}")
     convert_file(sources[0], out, model, Settings())  # load libraries and tables once, for both
     totals = {False: 0.0, True: 0.0}
     notes = {False: 0, True: 0}
+    fitted = 0
     for path in sources:
         for searched in (False, True):
             start = time.perf_counter()
@@ -60,9 +67,11 @@ def main() -> None:
             totals[searched] += time.perf_counter() - start
             notes[searched] += sum("candidates for" in d.message or "translation graphs, which render" in d.message
                                    for d in result.diagnostics)
+            if searched:
+                fitted += len({d.location.path for d in result.diagnostics if "adjusted to" in d.message})
     materials = len(sources) if arguments.library else len(sources) * PER_DOCUMENT
     print(f"{materials} {'files' if arguments.library else 'materials'} to {arguments.target}: without the search {totals[False]:.1f} s, with it "
-          f"{totals[True]:.1f} s -> {totals[True] / totals[False]:.2f}x; {notes[True]} materials weighed")
+          f"{totals[True]:.1f} s -> {totals[True] / totals[False]:.2f}x; {notes[True]} materials weighed, {fitted} fitted")
 
 
 if __name__ == "__main__":

@@ -5,7 +5,12 @@ evaluator that made the choice): a seeded sample of generated OpenPBR materials
 translation graphs), the source and both results rendered with MaterialX's GLSL shaders on the
 lit sphere (Xvfb + Mesa; tests/glsupport.py), mean CIEDE2000 against the source's render.
 
-    python tests/benchmarks/bench_glsl_sample.py [--count 100] [--seed 23]
+    python tests/benchmarks/bench_glsl_sample.py [--count 100] [--seed 23] [--corpus archetypes]
+
+``--corpus archetypes`` samples the kinds artists author (generated_materials.KINDS) instead of
+materials with every lobe on. The toolkit's result is also judged without the appearance fit
+(translate/appearance.py), which is chosen on the evaluator: the "fit" column says whether GLSL
+agrees that the fit helps.
 
 Per target: medians, share under 2.3, how many the toolkit leaves worse than the chain by more than
 0.5 and the worst gap (#13: none beyond 0.5), and the three worst materials. Materials with a
@@ -27,14 +32,14 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from generated_materials import COLORSPACES, document  # noqa: E402
+from generated_materials import COLORSPACES, archetype_document, document  # noqa: E402
 from glsupport import comparison_mask, materialx_renderer  # noqa: E402
 from openpbr_tools.evaluate import resolve  # noqa: E402
 from openpbr_tools.evaluate.difference import compare_images  # noqa: E402
 from openpbr_tools.evaluate.preview import Rig  # noqa: E402
 from openpbr_tools.io import read_asset  # noqa: E402
 from openpbr_tools.rules import Context  # noqa: E402
-from openpbr_tools.translate import candidates  # noqa: E402
+from openpbr_tools.translate import appearance, candidates  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
 from openpbr_tools.translate.convert import convert  # noqa: E402
 
@@ -59,6 +64,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--count", type=int, default=100)
     parser.add_argument("--seed", type=int, default=23)
+    parser.add_argument("--corpus", choices=("all-lobes", "archetypes"), default="all-lobes")
     arguments = parser.parse_args()
     rig = Rig(size=64)
     renderer = materialx_renderer(rig)
@@ -67,7 +73,8 @@ def main() -> None:
     for space in COLORSPACES:
         path = os.path.join(tempfile.mkdtemp(prefix="openpbr-glsl-"), f"{space}.mtlx")
         with open(path, "w", encoding="utf-8") as handle:
-            handle.write(document("open_pbr_surface", space, arguments.seed, per_space))
+            handle.write(archetype_document(space, arguments.seed, per_space)[0] if arguments.corpus == "archetypes"
+                         else document("open_pbr_surface", space, arguments.seed, per_space))
         materials += [(space, m) for m in read_asset(path).materials]
     materials = materials[: arguments.count]
     cut_out = [m for _, m in materials if _values(m)["geometry_opacity"] < 1.0]
@@ -80,22 +87,34 @@ def main() -> None:
         for target in TARGETS:
             settings = Settings(context=Context())
             ours = candidates.choose(material, convert(material, target, settings), target, settings).material
+            fit_from, appearance.FIT_FROM = appearance.FIT_FROM, float("inf")
+            try:
+                unfitted = candidates.choose(material, convert(material, target, settings), target, settings).material
+            finally:
+                appearance.FIT_FROM = fit_from
             chain = candidates.graph_candidate(material, target)
             if chain is None:
                 continue
             deltas = [compare_images(reference, renderer.render(target, _values(m)), mask, rig.white()).mean
-                      for m in (ours, chain)]
+                      for m in (ours, chain, unfitted)]
             rows[target].append((*deltas, f"{space}:{material.name}"))
     for target in TARGETS:
         found = rows[target]
         ours, chain = np.array([r[0] for r in found]), np.array([r[1] for r in found])
         gap = ours - chain
+        unfitted = np.array([r[2] for r in found])
+        fitted = np.abs(ours - unfitted) > 1e-9
         print(f"{target}: {len(found)} materials; median toolkit {statistics.median(ours):.2f} / chain "
               f"{statistics.median(chain):.2f}; under 2.3: toolkit {np.mean(ours < 2.3):.0%}, chain {np.mean(chain < 2.3):.0%}; "
               f"toolkit worse than the chain by >0.5: {int(np.sum(gap > 0.5))} (worst {gap.max():+.2f}); "
               f"better by >0.5: {int(np.sum(gap < -0.5))}")
+        if fitted.any():
+            change = ours[fitted] - unfitted[fitted]
+            print(f"    fit: {int(fitted.sum())} materials fitted; GLSL mean {unfitted[fitted].mean():.2f} -> "
+                  f"{ours[fitted].mean():.2f}; better by >0.5: {int(np.sum(change < -0.5))}, worse by >0.5: "
+                  f"{int(np.sum(change > 0.5))} (worst {change.max():+.2f})")
         for row in sorted(found, key=lambda r: r[0] - r[1])[-3:]:
-            print(f"    gap {row[0] - row[1]:+6.2f}  toolkit {row[0]:6.2f}  chain {row[1]:6.2f}  {row[2]}")
+            print(f"    gap {row[0] - row[1]:+6.2f}  toolkit {row[0]:6.2f}  chain {row[1]:6.2f}  {row[3]}")
 
 
 if __name__ == "__main__":
