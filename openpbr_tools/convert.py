@@ -252,7 +252,9 @@ def _rebase_textures(materials: list[Material], source_path: str, output_path: s
                 continue  # an absolute path the user authored stays as it is
             moved = copy.copy(texture)
             moved.file = os.path.relpath(absolute, output_dir).replace(os.sep, "/")
-            entry.value = moved
+            rebased = copy.copy(entry)  # the entry may be the source's own (a value copied through): never mutated
+            rebased.value = moved
+            material.inputs[name] = rebased
 
 
 def _unpack_gltf_images(materials: list[Material], asset: Asset, output_path: str) -> None:

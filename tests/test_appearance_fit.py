@@ -113,6 +113,8 @@ def test_thin_walled_subsurface_to_standard_surface_splits_reflection_and_transm
     reflected = (1 - weight) * base_weight * colour + weight * (1 - anisotropy) / 2 * subsurface
     np.testing.assert_allclose(value(there, "base_color"), reflected / (1 - transmitted), rtol=1e-9)
     assert value(there, "base") == 1.0
+    if base_weight != 1.0:  # the weight lands on Standard Surface's default: still said, at base_weight
+        assert [d for d in there.diagnostics if d.location.input == "base_weight" and d.code == "OPBR1102"]
     assert compare_materials(source, there.material).preview.mean < 0.05  # was 4-12
 
 

@@ -9,7 +9,7 @@ import collections
 
 import pytest
 
-from generated_materials import COLORSPACES, document
+from generated_materials import COLORSPACES, KINDS, archetype_document, document
 from openpbr_tools import tables
 from openpbr_tools.convert import convert_file
 from openpbr_tools.translate.common import Settings
@@ -47,6 +47,25 @@ def test_every_output_of_a_generated_material_has_no_new_error(tmp_path, model, 
         out = tmp_path / f"out.{suffix}"
         convert_file(str(source), str(out), target, Settings())
         found = _errors(out) - already
+        if found:
+            new[suffix] = dict(found)
+    assert new == {}
+
+
+@pytest.mark.parametrize("colorspace", COLORSPACES)
+def test_the_archetype_corpus_is_valid_covers_every_kind_and_converts_without_new_errors(tmp_path, colorspace):
+    """The fidelity corpus of the kinds artists author (generated_materials.KINDS): valid sources, every
+    kind present, and every output validates without an error its source did not have."""
+    text, kinds = archetype_document(colorspace, 5, 40)
+    assert set(kinds) == set(KINDS)
+    source = tmp_path / "archetypes.mtlx"
+    source.write_text(text)
+    assert _errors(source) == collections.Counter()
+    new = {}
+    for suffix, target in OUTPUTS.items():
+        out = tmp_path / f"out.{suffix}"
+        convert_file(str(source), str(out), target, Settings())
+        found = _errors(out)
         if found:
             new[suffix] = dict(found)
     assert new == {}

@@ -53,6 +53,7 @@ class Mapping:
     matters: Callable[..., bool] | None = None  # given the source values: is the approximation visible?
     converted: str = ""  # for exact conversions worth reporting (units, folded parameters)
     when: Callable[..., bool] | None = None  # given the source values: does the target need this at all?
+    converted_to_default: bool = False  # say ``converted`` also where the value lands on the target's default
 
 
 #: The sources of an emission a coat covers, and the note where a target's clear coat leaves emission
@@ -233,6 +234,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 # approximation that lands on the default is still one
                 if not mapping.exact and _matters(mapping, arrays):
                     say(APPROXIMATED, f"{mapping.target}: {mapping.note}", mapping.sources[0])
+                elif mapping.converted_to_default and authored and _changed(arrays[0], value):
+                    say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0])  # folded elsewhere
                 continue
             clamped = ""
             if sources_valid:  # a source already out of range is the validator's to report

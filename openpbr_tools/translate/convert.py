@@ -6,6 +6,7 @@ if the target is not OpenPBR, on to the target. The loss reports of every step a
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 
 from .. import tables
@@ -51,4 +52,8 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         step = FROM_OPENPBR[target](current, settings)
         diagnostics += step.diagnostics
         current = step.material
+    if current is material:  # nothing to translate: a copy, so that what happens to the result (textures
+        current = copy.copy(material)  # rebased beside the output, say) never reaches the source
+        current.inputs = dict(material.inputs)
+        current.extra = dict(material.extra)
     return Translation(current, diagnostics, material)

@@ -283,7 +283,7 @@ def _radius_scalar(radius_scale, scale):
 
 
 TO_SS = (
-    Mapping("base", ("base_weight",) + THIN_SUBSURFACE_SOURCES, ss_base_weight,
+    Mapping("base", ("base_weight",) + THIN_SUBSURFACE_SOURCES, ss_base_weight, converted_to_default=True,
             converted="on a thin wall with subsurface, 1: the base weight is in the base colour"),
     Mapping("base_color", BASE_SOURCES + ("base_diffuse_roughness", "base_weight") + THIN_SUBSURFACE_SOURCES,
             ss_base_color_thin, exact=False, matters=ss_base_clipped,
