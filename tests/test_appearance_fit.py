@@ -237,3 +237,16 @@ def test_no_fit_where_the_evaluator_and_materialx_disagree():
     # a film on a metal: the evaluator's spectral film and MaterialX's are 11-15 ΔE apart on the source
     filmed = material(base_color=(1.0, 0.26, 0.41), base_metalness=0.69, thin_film_weight=0.92, thin_film_ior=1.4)
     assert not [d for d in searched(filmed, "UsdPreviewSurface").diagnostics if "adjusted to" in d.message]
+
+
+def test_a_tinted_glass_stays_see_through_in_the_preview():
+    """UsdPreviewSurface cannot tint what it lets through; the fit may make a glass less transparent
+    and colour it, but not more than half opaque (an opaque green scored closer on the lit sphere, and
+    was no longer a glass)."""
+    source = material(transmission_weight=1.0, transmission_color=(0.2, 0.6, 0.25), transmission_depth=0.05,
+                      specular_roughness=0.0)
+    fitted = searched(source, "UsdPreviewSurface")
+    assert [d for d in fitted.diagnostics if "opacity adjusted to" in d.message]
+    assert 0.0 < value(fitted, "opacity") <= 0.5
+    before = compare_materials(source, convert(source, "UsdPreviewSurface", Settings(candidates=False)).material)
+    assert compare_materials(source, fitted.material).preview.mean < before.preview.mean - 0.5
