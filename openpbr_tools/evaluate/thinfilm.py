@@ -132,7 +132,12 @@ def _by_distinct_film(cos_theta, thickness_nm, film_ior, ior, grid: int):
     substrate = np.broadcast_to(ior, shape + (3,)).reshape(-1, 3)
     columns += [substrate.real, substrate.imag] if np.iscomplexobj(substrate) else [substrate]
     keys = np.concatenate(columns, axis=1)
-    distinct, which = np.unique(keys, axis=0, return_inverse=True)
+    # stacked renders repeat each material's film over its block of pixels: sort the runs, not the pixels
+    change = np.ones(len(keys), dtype=bool)
+    change[1:] = np.any(keys[1:] != keys[:-1], axis=1)
+    starts = np.flatnonzero(change)
+    distinct, which_run = np.unique(keys[starts], axis=0, return_inverse=True)
+    which = np.repeat(np.reshape(which_run, -1), np.diff(np.append(starts, len(keys))))
     if len(distinct) * grid >= cos_theta.size:
         return None
     out = np.empty((cos_theta.size, 3))
