@@ -31,6 +31,7 @@ import dataclasses
 import warnings
 from contextlib import nullcontext
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 
@@ -99,6 +100,16 @@ def sphere_geometry(rig: Rig) -> Geometry:
     dx = np.stack([step / (2.0 * np.pi * z), np.zeros_like(z)], axis=-1)
     dy = np.stack([step * xs * ys / (2.0 * np.pi * z * ring), step / (np.pi * np.sqrt(ring))], axis=-1)
     return Geometry(mask, normal, t, b, (n, n), UVs(np.stack([u, v], axis=-1), dx, dy))
+
+
+@lru_cache(maxsize=8)
+def _shared_sphere(rig: Rig) -> Geometry:
+    """:func:`sphere_geometry`, built once per rig and read-only: the candidate search renders many
+    small spheres, and building the geometry was a tenth of each render."""
+    geo = sphere_geometry(rig)
+    for array in (geo.mask, geo.normal, geo.tangent, geo.bitangent, geo.uvs.uv, geo.uvs.dx, geo.uvs.dy):
+        array.flags.writeable = False
+    return geo
 
 
 def swatch_geometry(rig: Rig) -> Geometry:
@@ -179,7 +190,7 @@ def shade_sphere(model: BSDFModel, rig: Rig = Rig(), background: bool = True) ->
     """Render ``model`` on the preview sphere. Returns ``(image, mask)``: linear Rec.709 RGB of
     shape (size, size, 3) and the boolean mask of sphere pixels. With ``background`` the
     environment radiance fills the pixels off the sphere, otherwise they are 0."""
-    return shade(model, sphere_geometry(rig), rig, background)
+    return shade(model, _shared_sphere(rig), rig, background)
 
 
 def shade_sphere_many(model: str, parameter_sets: list[dict], rig: Rig = Rig()) -> list[np.ndarray] | None:
@@ -191,7 +202,7 @@ def shade_sphere_many(model: str, parameter_sets: list[dict], rig: Rig = Rig()) 
     boolean or integer parameter (a uniform switch such as thin-walled), which cannot vary per pixel."""
     from . import model_class  # lazy: the package imports this module
 
-    geo = sphere_geometry(rig)
+    geo = _shared_sphere(rig)
     count, pixels = len(parameter_sets), int(geo.mask.sum())
     stacked = {}
     if any(values.keys() != parameter_sets[0].keys() for values in parameter_sets[1:]):
