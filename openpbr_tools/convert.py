@@ -120,12 +120,16 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 NOT_CARRIED, f"{detail.get('material')}: its {detail.get('category')} shader is none of the shading "
                              "models the toolkit converts; the material is not written", observation.location))
     try:
+        # First every material's mapping, then the candidate search of all of them at once (their renders
+        # stacked: candidates.choose_many), then the rest in the file's order.
+        pending = []  # (material, its notes so far, (notes, settings, unique, name, translation, judged) or None)
         for material in asset.materials:
             if material.model not in MODELS:
                 continue
+            before: list[Diagnostic] = []
             if material.extra.get("expanded_from"):
                 origin = material.extra["expanded_from"]
-                result.diagnostics += _at_material([context.diagnostic(
+                before += _at_material([context.diagnostic(
                     CONVERTED, f"{material.name}: a custom {origin['category']} node ({origin['nodedef']}); converted "
                                f"as the {material.model} its definition's node graph wraps, with the node's values",
                     material.location)], material)
@@ -133,9 +137,10 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             if material.extra.get("fallback_of"):
                 # a USD preview fallback of a MaterialX shader: the material is that shader (its own
                 # fallback is re-derived for a USD output; validate's OPBR1009 compares the two)
-                result.diagnostics += _at_material([context.diagnostic(
+                before += _at_material([context.diagnostic(
                     CONVERTED, f"{material.name}: the UsdPreviewSurface fallback of {material.extra['fallback_of']} is "
                     "not converted on its own; the material is its MaterialX shader", material.location)], material)
+                pending.append((material, before, None))
                 continue
             meters, unitless = _meters_per_unit(material, asset)
             step_settings = dataclasses.replace(settings, meters_per_unit=meters, context=context, baker=baker,
@@ -156,7 +161,15 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             judged = material  # the search judges against the material the mapping translated: a legacy one upgraded
             if material.model == "open_pbr_surface" and material.version not in (None, tables.latest(material.model)):
                 judged = upgrade(material, context=context).material
-            translation = candidates.choose(judged, translation, target, step_settings)
+            pending.append((material, before, (notes, step_settings, unique, name, translation, judged)))
+        chosen = iter(candidates.choose_many([(state[5], state[4], target, state[1])
+                                              for _, _, state in pending if state is not None]))
+        for material, before, state in pending:
+            result.diagnostics += before
+            if state is None:
+                continue
+            notes, step_settings, unique, name, _, _ = state
+            translation = next(chosen)
             notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context)
             translated_state = translation.material.extra.get("gltf")
             notes += gltf_state.notes(material, kind, context,

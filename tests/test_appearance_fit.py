@@ -242,11 +242,98 @@ def test_no_fit_where_the_evaluator_and_materialx_disagree():
 def test_a_tinted_glass_stays_see_through_in_the_preview():
     """UsdPreviewSurface cannot tint what it lets through; the fit may make a glass less transparent
     and colour it, but not more than half opaque (an opaque green scored closer on the lit sphere, and
-    was no longer a glass)."""
-    source = material(transmission_weight=1.0, transmission_color=(0.2, 0.6, 0.25), transmission_depth=0.05,
+    was no longer a glass). (MaterialX's own graphs make a glass opaque; where their result, fitted,
+    renders closer than the mapping's, it is kept and reported: the anchor's answer.)"""
+    source = material(transmission_weight=1.0, transmission_color=(0.2, 0.6, 0.25), transmission_depth=2.0,
                       specular_roughness=0.0)
     fitted = searched(source, "UsdPreviewSurface")
     assert [d for d in fitted.diagnostics if "opacity adjusted to" in d.message]
     assert 0.0 < value(fitted, "opacity") <= 0.5
     before = compare_materials(source, convert(source, "UsdPreviewSurface", Settings(candidates=False)).material)
     assert compare_materials(source, fitted.material).preview.mean < before.preview.mean - 0.5
+
+
+# -- found by review ---------------------------------------------------------------------------
+
+def test_a_per_pixel_depth_beside_a_constant_colour_absorbs_per_pixel():
+    """A textured transmission_depth reaches the evaluator per pixel (N,) beside a constant colour
+    (3,): each pixel's absorption is -ln(colour) / its depth (it raised, or for N = 3 mixed axes)."""
+    from openpbr_tools.evaluate import build_model
+
+    colour = np.array([0.2, 0.5, 0.9])
+    for count in (3, 4):
+        depth = np.linspace(0.5, 2.0, count)
+        model = build_model("open_pbr_surface", {"transmission_weight": 1.0, "transmission_depth": depth,
+                                                 "transmission_color": colour})
+        np.testing.assert_allclose(model.volume_absorption, -np.log(colour)[None, :] / depth[:, None])
+
+
+def test_a_malformed_diffuse_transmission_colour_is_not_a_traceback(tmp_path):
+    from openpbr_tools.evaluate import resolve
+    from openpbr_tools.io import read_asset
+
+    path = tmp_path / "dt.gltf"
+    path.write_text('{"asset":{"version":"2.0"},"extensionsUsed":["KHR_materials_diffuse_transmission"],'
+                    '"materials":[{"name":"M","pbrMetallicRoughness":{"baseColorFactor":[0.5,0.5,0.5,1]},'
+                    '"extensions":{"KHR_materials_diffuse_transmission":{"diffuseTransmissionFactor":0.5,'
+                    '"diffuseTransmissionColorFactor":null}}}]}')
+    resolved = resolve(read_asset(str(path)).materials[0])
+    assert float(resolved.values["diffuse_transmission"]) == 0.5
+    assert "diffuse_transmission_color" in resolved.not_evaluated
+
+
+def test_the_fit_reports_and_starts_from_the_kept_candidates_own_figure():
+    """The graphs' result scored 1.02 and lost by less than the margin to the mapping's 1.16; the fit
+    of the kept mapping used to start from (and print) 1.02."""
+    source = material(base_color=(1.0, 0.851, 0.218), specular_roughness=0.828, specular_ior=1.869,
+                      subsurface_weight=0.492, subsurface_scatter_anisotropy=0.183, coat_weight=0.325,
+                      coat_color=(0.018, 0.328, 0.783), coat_ior=2.797)
+    result = searched(source, "UsdPreviewSurface")
+    kept = [d.message for d in result.diagnostics if "kept the toolkit's" in d.message]
+    fitted = [d.message for d in result.diagnostics if "adjusted to" in d.message]
+    assert kept and fitted
+    ours = kept[0].split("the toolkit's mapping ")[1].split(" ")[0].rstrip(",")
+    assert f"sphere {ours} ->" in fitted[0]
+
+
+def test_both_candidates_are_fitted_before_the_choice():
+    """A thin glass: the graphs' (opaque) result 14.57 beat the mapping's 16.49 and was kept, fitted to
+    9.86, although the mapping fitted (half see-through) is 8.92; and a translucent plastic whose
+    graphs' result wins on merit keeps it (never worse than the anchor)."""
+    glass = material(specular_roughness=0.88, specular_ior=2.79, geometry_thin_walled=True, transmission_weight=0.94,
+                     coat_weight=0.84, coat_color=(0.11, 1.0, 1.0), coat_roughness=0.56, coat_darkening=1.0)
+    result = searched(glass, "UsdPreviewSurface")
+    assert value(result, "opacity") <= 0.5
+    assert [d for d in result.diagnostics if "fitted), MaterialX's translation graphs" in d.message
+            and "kept the toolkit's" in d.message]
+    judge = candidates.Judge(glass)
+    unfitted_graph, = judge.scores([candidates.graph_candidate(glass, "UsdPreviewSurface")])
+    assert judge.scores([result.material])[0] < unfitted_graph - 0.3
+
+
+def test_a_thin_wall_with_a_textured_metalness_still_bakes_its_base_colour(tmp_path):
+    """The split depends on base_metalness, so a texture on it makes base_color per texel: fit.per_channel
+    gave a per-texel weight beside a constant colour an extra axis and the bake failed (ΔE 14.7)."""
+    from PIL import Image
+
+    from openpbr_tools.convert import convert_file
+    from openpbr_tools.verification import measure
+
+    Image.fromarray((np.linspace(0, 255, 64 * 64).reshape(64, 64)).astype(np.uint8)).save(tmp_path / "metal.png")
+    source = tmp_path / "leaf.mtlx"
+    source.write_text('<?xml version="1.0"?><materialx version="1.39" colorspace="lin_rec709">'
+                      '<nodegraph name="NG"><image name="img" type="float"><input name="file" type="filename" '
+                      'value="metal.png" colorspace="none"/></image><output name="out" type="float" nodename="img"/>'
+                      '</nodegraph><open_pbr_surface name="S" type="surfaceshader" version="1.1.1">'
+                      '<input name="geometry_thin_walled" type="boolean" value="true"/>'
+                      '<input name="subsurface_weight" type="float" value="0.8"/>'
+                      '<input name="subsurface_color" type="color3" value="0.3, 0.7, 0.2"/>'
+                      '<input name="base_color" type="color3" value="0.3, 0.6, 0.2"/>'
+                      '<input name="base_metalness" type="float" nodegraph="NG" output="out"/></open_pbr_surface>'
+                      '<surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" '
+                      'nodename="S"/></surfacematerial></materialx>')
+    conversion = convert_file(str(source), str(tmp_path / "out" / "leaf.mtlx"), "standard_surface", Settings())
+    assert not [d for d in conversion.diagnostics if "cannot be baked" in d.message]
+    assert [d for d in conversion.diagnostics if d.message.startswith("S (OpenPBR -> Standard Surface): base_color: baked")]
+    (_, delta), = measure(conversion)
+    assert delta.mean < 8.0  # 14.7 unbaked; the metal share and the thin wall's reflection share one colour

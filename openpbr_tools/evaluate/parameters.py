@@ -241,13 +241,15 @@ def _gltf_diffuse_transmission(material: Material, resolved: ResolvedParameters)
         return
     try:
         factor = float(found.get("diffuseTransmissionFactor", 0.0))
-        colour = np.asarray(found.get("diffuseTransmissionColorFactor", (1.0, 1.0, 1.0)), dtype=float)[:3]
+        colour = np.atleast_1d(np.asarray(found.get("diffuseTransmissionColorFactor", (1.0, 1.0, 1.0)), dtype=float))
     except (TypeError, ValueError):
         resolved.not_evaluated.append("diffuse_transmission")
         return
     resolved.values["diffuse_transmission"] = np.asarray(factor)
     if colour.shape == (3,):
         resolved.values["diffuse_transmission_color"] = colour
+    else:  # malformed (the validator reports it): the default colour
+        resolved.not_evaluated.append("diffuse_transmission_color")
     for key in ("diffuseTransmissionTexture", "diffuseTransmissionColorTexture"):
         if key in found:
             resolved.approximated.append(("diffuse_transmission", f"{key} not read; its factor applies"))

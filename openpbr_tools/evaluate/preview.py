@@ -193,25 +193,53 @@ def shade_sphere(model: BSDFModel, rig: Rig = Rig(), background: bool = True) ->
     return shade(model, _shared_sphere(rig), rig, background)
 
 
+#: Per model, the float parameters whose being zero or not switches an evaluator's code path for the
+#: whole render (glTF's thickness makes it thin-walled or a volume; a transmission changes how the
+#: reflection is energy-compensated; a film, a subsurface or a diffuse transmission adds a lobe whose
+#: arithmetic is not an exact no-op at weight 0): parameter sets that differ in one are not stacked.
+STACK_SWITCHES = {
+    "gltf_pbr": ("thickness", "transmission", "diffuse_transmission", "iridescence", "attenuation_distance"),
+    "open_pbr_surface": ("transmission_weight", "transmission_depth", "thin_film_weight", "subsurface_weight"),
+    "standard_surface": ("transmission", "transmission_depth", "thin_film_thickness", "subsurface"),
+    "UsdPreviewSurface": ("opacity",),
+}
+
+
+def stack_key(model: str, values: dict) -> tuple:
+    """What parameter sets of ``model`` must share to be rendered in one stacked evaluation with the
+    same pixels as one by one: their names, their booleans and integers (uniform switches), and
+    whether each of :data:`STACK_SWITCHES` is zero (for an unbounded length: finite)."""
+    key = [model, tuple(values)]
+    for name, value in values.items():
+        array = np.asarray(value)
+        if array.dtype.kind in "biu":
+            key.append((name, array.shape, array.tobytes()))
+    for name in STACK_SWITCHES.get(model, ()):
+        if name in values:
+            array = np.asarray(values[name], dtype=float)
+            key.append((name, bool(np.any((array != 0) & np.isfinite(array))), bool(np.all(array == 1))))
+    return tuple(key)
+
+
 def shade_sphere_many(model: str, parameter_sets: list[dict], rig: Rig = Rig()) -> list[np.ndarray] | None:
     """Render several constant parameter sets of one shading ``model`` (``ResolvedParameters.values``
     of each) on the preview sphere in one evaluation: the spheres are stacked into one tall image
     whose per-pixel parameters are each set's values, and cut apart again. The same pixels as
     :func:`shade_sphere` (background included) for a fraction of the cost when the sets are many
     (the evaluator's cost is mostly per call, not per pixel). ``None`` when the sets differ in a
-    boolean or integer parameter (a uniform switch such as thin-walled), which cannot vary per pixel."""
+    uniform switch (:func:`stack_key`: a boolean such as thin-walled, or a lobe one has and another
+    has not), which cannot vary per pixel."""
     from . import model_class  # lazy: the package imports this module
 
     geo = _shared_sphere(rig)
     count, pixels = len(parameter_sets), int(geo.mask.sum())
     stacked = {}
-    if any(values.keys() != parameter_sets[0].keys() for values in parameter_sets[1:]):
-        return None  # a parameter without a default (unbounded length) set in one and not another
+    first = stack_key(model, parameter_sets[0])
+    if any(stack_key(model, values) != first for values in parameter_sets[1:]):
+        return None  # a uniform switch differs (or a parameter without a default is set in one only)
     for name in parameter_sets[0]:
         values = [np.asarray(values[name]) for values in parameter_sets]
         if values[0].dtype.kind in "biu":
-            if any(v.shape != values[0].shape or not np.array_equal(v, values[0]) for v in values[1:]):
-                return None
             stacked[name] = parameter_sets[0][name]
             continue
         stacked[name] = np.concatenate([np.broadcast_to(v.astype(float), (pixels,) + v.shape) for v in values])

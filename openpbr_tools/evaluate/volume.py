@@ -15,14 +15,19 @@ import numpy as np
 COLOUR_FLOOR = 1e-6  # a transmission colour of 0 absorbs everything: -log clipped here
 
 
+def with_channel_axis(x) -> np.ndarray:
+    """``x`` (one value per colour: 0-d, per pixel or per texel) with a trailing axis of 1 to broadcast
+    against colours, unless it already has one."""
+    x = np.asarray(x, dtype=float)
+    return x if x.ndim > 0 and x.shape[-1] == 1 else x[..., None]
+
+
 def absorption_coefficient(color, depth, scatter):
     """Absorption per unit length (per channel, the last axis of ``color`` and ``scatter``) of the
-    medium; 0 where ``depth`` is not positive. ``depth`` has one value per colour, with or without
-    a channel axis of 1 (the translators' per-texel arrays keep it; the evaluators' do not)."""
+    medium; 0 where ``depth`` is not positive. ``depth`` has one value per colour (or per pixel or
+    texel beside a constant colour), with or without a trailing channel axis of 1."""
     color = np.asarray(color, dtype=float)
-    depth = np.asarray(depth, dtype=float)
-    if depth.ndim < color.ndim:
-        depth = depth[..., None]
+    depth = with_channel_axis(depth)
     has_depth = depth > 0.0
     safe = np.where(has_depth, depth, 1.0)
     absorption = (-np.log(np.maximum(color, COLOUR_FLOOR)) - np.asarray(scatter, dtype=float)) / safe

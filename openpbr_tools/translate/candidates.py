@@ -141,16 +141,29 @@ class Judge:
     table), rendered once, against which candidates are scored (:meth:`scores`) and their mean
     radiance compared (:meth:`means`, for :mod:`.appearance`)."""
 
-    def __init__(self, source: Material, size: int = RIG_SIZE):
+    def __init__(self, source: Material | None, size: int = RIG_SIZE, reference: np.ndarray | None = None):
         # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
         from ..evaluate import model_for_material
         from ..evaluate.preview import Rig, shade_sphere  # lazy: as above
         from ..evaluate.thinfilm import coarse_films  # lazy: as above
 
         self.rig = Rig(size=size)
-        with coarse_films():
-            self.reference, self.mask = shade_sphere(model_for_material(source)[0], self.rig)
+        if reference is None:
+            with coarse_films():
+                reference, _ = shade_sphere(model_for_material(source)[0], self.rig)
+        self.reference, self.mask = reference, _sphere_mask(self.rig)
         self.goal = self.reference[self.mask].mean(axis=0)
+
+    @classmethod
+    def many(cls, sources: list[Material], size: int = RIG_SIZE) -> list["Judge"]:
+        """A judge for each of ``sources``, their references rendered in stacked evaluations
+        (:func:`render_many`)."""
+        from ..evaluate import resolve  # lazy: as in __init__
+        from ..evaluate.preview import Rig  # lazy: as above
+
+        rig = Rig(size=size)
+        images = render_many([(s.model, resolve(s).values) for s in sources], rig)
+        return [cls(None, size, image) for image in images]
 
     def images(self, model: str, value_sets: list[dict]) -> list[np.ndarray]:
         """Renders of ``value_sets`` (resolved values of ``model``): one stacked evaluation where their
@@ -180,6 +193,55 @@ class Judge:
         return [float(block.mean()) for block in np.split(delta, len(images))]
 
 
+def _sphere_mask(rig) -> np.ndarray:
+    from ..evaluate.preview import _shared_sphere  # lazy: as in Judge
+
+    return _shared_sphere(rig).mask
+
+
+def render_many(sets: list[tuple[str, dict]], rig) -> list[np.ndarray]:
+    """Renders of (model, resolved values) pairs on ``rig``'s sphere (films on the coarse table):
+    those whose switches agree (:func:`~openpbr_tools.evaluate.preview.stack_key`) in one stacked evaluation each
+    (:func:`~openpbr_tools.evaluate.preview.shade_sphere_many`, the same pixels as one by one)."""
+    from ..evaluate import build_model  # lazy: as in Judge
+    from ..evaluate.preview import shade_sphere, shade_sphere_many, stack_key  # lazy: as above
+    from ..evaluate.thinfilm import coarse_films  # lazy: as above
+
+    groups: dict = {}
+    for index, (model, values) in enumerate(sets):
+        groups.setdefault(stack_key(model, values), []).append(index)
+    images: list = [None] * len(sets)
+    with coarse_films():
+        for key, indices in groups.items():
+            model = key[0]
+            stacked = shade_sphere_many(model, [sets[i][1] for i in indices], rig) if len(indices) > 1 else None
+            for position, index in enumerate(indices):
+                images[index] = stacked[position] if stacked is not None else \
+                    shade_sphere(build_model(model, sets[index][1]), rig)[0]
+    return images
+
+
+def scores_many(judges: list[Judge], materials: list[list[Material]]) -> list[list[float]]:
+    """Mean CIEDE2000 of each material of ``materials[i]`` against ``judges[i]``'s source, all
+    rendered in as few stacked evaluations as their switches allow and compared in one call."""
+    from ..evaluate import resolve  # lazy: as in Judge
+    from ..evaluate.difference import delta_e_2000  # lazy: as above
+
+    if not judges:
+        return []
+    rig, mask = judges[0].rig, judges[0].mask
+    flat = [(judge, material) for judge, group in zip(judges, materials) for material in group]
+    images = render_many([(m.model, resolve(m).values) for _, m in flat], rig)
+    delta = delta_e_2000(np.concatenate([image[mask] for image in images]),
+                         np.concatenate([judge.reference[mask] for judge, _ in flat]), rig.white())
+    means = [float(block.mean()) for block in np.split(delta, len(flat))]
+    out, start = [], 0
+    for group in materials:
+        out.append(means[start:start + len(group)])
+        start += len(group)
+    return out
+
+
 def score_candidates(source: Material, materials: list[Material], size: int = RIG_SIZE) -> list[float]:
     """Mean CIEDE2000 of each of ``materials`` (one shading model) against ``source`` on the
     evaluator's lit sphere of ``size`` pixels: the candidates are rendered together in one stacked
@@ -192,59 +254,108 @@ def choose(source: Material, translation: Translation, target: str, settings: Se
     """``translation`` (OpenPBR ``source`` -> ``target``) or MaterialX's graph result, whichever the
     evaluator renders closer to the source, then the appearance fit of the kept one
     (:mod:`.appearance`) where it still differs visibly (module docstring)."""
-    if not settings.candidates or settings.gltf_drafts or isinstance(source.extra.get("gltf"), dict) or \
-            not any(d.code in (APPROXIMATED.code, NOT_CARRIED.code) for d in translation.diagnostics) or \
-            _constant_values(source) is None:
-        return translation  # (with the drafts, or for a material read from glTF, the mapping's exact inverses are the point)
-    if settings.fit_films:
-        translation = refine_thin_film(source, translation, target, settings)
+    return choose_many([(source, translation, target, settings)])[0]
+
+
+def _searched(source: Material, translation: Translation, settings: Settings) -> bool:
+    return settings.candidates and not settings.gltf_drafts and not isinstance(source.extra.get("gltf"), dict) and \
+        any(d.code in (APPROXIMATED.code, NOT_CARRIED.code) for d in translation.diagnostics) and \
+        _constant_values(source) is not None  # (drafts, glTF sources: the mapping's exact inverses are the point)
+
+
+def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> list[Translation]:
+    """:func:`choose` for each (source, translation, target, settings) of ``items``, the sources'
+    references and the candidates rendered together (:func:`render_many`, :func:`scores_many`): the
+    same choices as one by one, for a fraction of the cost (a file's materials are weighed at once)."""
+    out = [translation for _, translation, _, _ in items]
+    work = []
+    for index, (source, translation, target, settings) in enumerate(items):
+        if not _searched(source, translation, settings):
+            continue
+        if settings.fit_films:
+            translation = out[index] = refine_thin_film(source, translation, target, settings)
+        try:
+            candidate = graph_candidate(source, target) if materialx_graphs.graphs(source.model, target) else None
+        except (ValueError, KeyError, TypeError, IndexError):  # a malformed constant (reported by the mapping)
+            candidate = None
+        work.append((index, candidate))
+    if not work:
+        return out
     try:
-        candidate = graph_candidate(source, target) if materialx_graphs.graphs(source.model, target) else None
-    except (ValueError, KeyError, TypeError, IndexError):  # a malformed constant (reported by the mapping)
-        candidate = None
+        judges = Judge.many([items[index][0] for index, _ in work])
+        scores = scores_many(judges, [[out[index].material] + ([c] if c is not None else []) for index, c in work])
+    except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
+        for index, candidate in work:  # one by one: a material the evaluator cannot take loses only its own search
+            source, _, target, settings = items[index]
+            out[index] = _choose_one(source, out[index], target, settings, candidate)
+        return out
+    for (index, candidate), judge, score in zip(work, judges, scores):
+        source, _, target, settings = items[index]
+        out[index] = _decide(source, out[index], target, settings, candidate, judge, score)
+    return out
+
+
+def _choose_one(source, translation, target, settings, candidate) -> Translation:
+    """One material's choice with its own renders (when a stacked evaluation of several failed)."""
     try:
         judge = Judge(source)
-        scores = judge.scores([translation.material] + ([candidate] if candidate is not None else []))
+        score = judge.scores([translation.material] + ([candidate] if candidate is not None else []))
     except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
         return translation
+    return _decide(source, translation, target, settings, candidate, judge, score)
+
+
+def _decide(source, translation, target, settings, candidate, judge, scores) -> Translation:
+    """Keep the mapping or the graphs' result, each after its appearance fit (:func:`_fitted`), by
+    their figures (the graphs' must win by :data:`MARGIN`), reported with both; then the kept fit."""
     context = settings.context
     # the choice concerns the whole material; it is reported at the first input the mapping approximated
     where = next(d.location for d in translation.diagnostics if d.code in (APPROXIMATED.code, NOT_CARRIED.code))
-    if candidate is not None:
-        ours, theirs = scores
-        figures = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: the toolkit's mapping {ours:.2f}, "
-                   f"MaterialX's translation graphs {theirs:.2f}")
-        if not theirs < ours - MARGIN:
-            translation.diagnostics.append(context.diagnostic(
-                CONVERTED, f"{source.name}: candidates for {target}: {figures}; kept the toolkit's", where))
-        else:
-            candidate.extra = dict(translation.material.extra)  # glTF state, drafts: the material's, not the mapping's
-            kept = [d for d in translation.diagnostics if d.code != APPROXIMATED.code]
-            kept.append(context.diagnostic(
-                APPROXIMATED, f"{source.name}: converted to {target} by MaterialX's translation graphs, which render "
-                              f"closer than the toolkit's mapping ({figures})", where))
-            kept += read_back_notes(source, candidate, where, context)
-            translation = Translation(candidate, kept, translation.source)
-            scores = [theirs]
-    return _fit_appearance(source, translation, min(scores), judge, settings)
+    ours_fit = _fitted(source, translation.material, scores[0], judge)
+    if candidate is None:
+        return _with_fit(source, translation, scores[0], ours_fit, settings)
+    ours, theirs = scores
+    theirs_fit = _fitted(source, candidate, theirs, judge)
+    best_ours = ours_fit[1] if ours_fit else ours
+    best_theirs = theirs_fit[1] if theirs_fit else theirs
+    figures = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: the toolkit's mapping {ours:.2f}"
+               + (f" ({best_ours:.2f} fitted)" if ours_fit else "") + f", MaterialX's translation graphs {theirs:.2f}"
+               + (f" ({best_theirs:.2f} fitted)" if theirs_fit else ""))
+    if not best_theirs < best_ours - MARGIN:
+        translation.diagnostics.append(context.diagnostic(
+            CONVERTED, f"{source.name}: candidates for {target}: {figures}; kept the toolkit's", where))
+        return _with_fit(source, translation, ours, ours_fit, settings)
+    candidate.extra = dict(translation.material.extra)  # glTF state, drafts: the material's, not the mapping's
+    notes = [d for d in translation.diagnostics if d.code != APPROXIMATED.code]
+    notes.append(context.diagnostic(
+        APPROXIMATED, f"{source.name}: converted to {target} by MaterialX's translation graphs, which render "
+                      f"closer than the toolkit's mapping ({figures})", where))
+    notes += read_back_notes(source, candidate, where, context)
+    return _with_fit(source, Translation(candidate, notes, translation.source), theirs, theirs_fit, settings)
 
 
-def _fit_appearance(source: Material, translation: Translation, score: float, judge: Judge,
-                    settings: Settings) -> Translation:
-    """The kept candidate adjusted to look like the source (:mod:`.appearance`) when it renders more
-    than :data:`.appearance.FIT_FROM` off and the adjusted one wins by more than :data:`MARGIN`; a
-    note at each adjusted input's source input."""
+def _fitted(source: Material, material: Material, score: float, judge: Judge):
+    """(:class:`.appearance.Fitted`, its figure) when ``material`` renders more than
+    :data:`.appearance.FIT_FROM` off and the adjusted one (:mod:`.appearance`) wins by more than
+    :data:`MARGIN`, else None."""
     if not score > appearance.FIT_FROM:
-        return translation
+        return None
     try:
-        fitted = appearance.fit(source, translation.material, judge)
+        fitted = appearance.fit(source, material, judge)
         if fitted is None:
-            return translation
+            return None
         after, = judge.scores([fitted.material])
     except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
+        return None
+    return (fitted, after) if after < score - MARGIN else None
+
+
+def _with_fit(source: Material, translation: Translation, score: float, fit, settings: Settings) -> Translation:
+    """``translation`` with its fit applied (when there is one), a note at each adjusted input's source
+    input with both figures."""
+    if fit is None:
         return translation
-    if not after < score - MARGIN:
-        return translation
+    fitted, after = fit
     translation.material.inputs = fitted.material.inputs
     for name, source_name in fitted.changed.items():
         entry = source.inputs.get(source_name)

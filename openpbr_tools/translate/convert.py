@@ -55,5 +55,5 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
     if current is material:  # nothing to translate: a copy, so that what happens to the result (textures
         current = copy.copy(material)  # rebased beside the output, say) never reaches the source
         current.inputs = dict(material.inputs)
-        current.extra = dict(material.extra)
+        current.extra = {k: dict(v) if isinstance(v, dict) else v for k, v in material.extra.items()}  # written into
     return Translation(current, diagnostics, material)

@@ -277,7 +277,7 @@ def per_channel(x, rho):
     """``x`` (a constant, or per texel with or without a trailing axis of 1) shaped to broadcast
     against the colours ``rho`` (last axis RGB)."""
     x = np.asarray(x, dtype=float)
-    return x if x.ndim == np.ndim(rho) else x[..., None]
+    return x if x.ndim == 0 or x.shape[-1] == 1 else x[..., None]  # (a per-texel x beside a constant rho too)
 
 
 def eon_average_albedo(rho, sigma):

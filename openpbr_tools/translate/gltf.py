@@ -84,7 +84,7 @@ import numpy as np
 
 from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_emission_factor, coat_roughened
 from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
-from ..evaluate.volume import absorption_coefficient
+from ..evaluate.volume import absorption_coefficient, with_channel_axis
 from ..io.gltf import drafts
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
@@ -174,9 +174,7 @@ def attenuation_color(color, depth, scatter):
     reaches (:func:`~openpbr_tools.evaluate.volume.absorption_coefficient`: OpenPBR's absorption is its
     extinction less its scattering, and glTF's core volume only absorbs)."""
     color = np.asarray(color, dtype=float)
-    depth = np.asarray(depth, dtype=float)
-    if depth.ndim < color.ndim:
-        depth = depth[..., None]
+    depth = with_channel_axis(depth)
     absorbing = np.exp(-absorption_coefficient(color, depth, scatter) * depth)
     scatters = np.max(np.asarray(scatter, dtype=float), axis=-1, keepdims=True) > 0
     return np.where(depth > 0, np.where(scatters, absorbing, color), WHITE)
