@@ -194,7 +194,7 @@ def test_stacked_spheres_are_the_spheres_rendered_one_by_one(tmp_path):
     """preview.shade_sphere_many (the candidate search's one evaluation for several materials) gives
     each material's own shade_sphere image, for every model and generated parameter sets that share
     their switches (preview.stack_key: films, coats, metals, glass, fuzz, emission among them); sets
-    whose switches differ are refused (None), not mixed. candidates.render_many, which groups any
+    whose switches differ are refused (None), not mixed. judging.render_many, which groups any
     materials by those switches, gives every material's own image: glTF's thickness (thin-walled or a
     volume for the whole render) and OpenPBR's transmission (the reflection's energy compensation)
     made a material stacked with others differ by up to 0.02 mean ΔE before they were switches."""
@@ -206,7 +206,7 @@ def test_stacked_spheres_are_the_spheres_rendered_one_by_one(tmp_path):
     from openpbr_tools.evaluate.preview import Rig, shade_sphere, shade_sphere_many, stack_key
     from openpbr_tools.evaluate.thinfilm import coarse_films
     from openpbr_tools.io import read_asset
-    from openpbr_tools.translate.candidates import render_many
+    from openpbr_tools.translate.judging import render_many
 
     rig = Rig(size=12)
     for model in ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface"):

@@ -156,7 +156,7 @@ def untrusted(source: Material) -> str | None:
 
 def fit(source: Material, candidate: Material, judge) -> Fitted | None:
     """``candidate`` (constant-valued, of a model in :data:`KNOB`) adjusted to look like ``source``
-    (module docstring), or None. ``judge`` is the candidate search's :class:`~.candidates.Judge` (the
+    (module docstring), or None. ``judge`` is the candidate search's :class:`~.judging.Judge` (the
     source's render: ``means``, ``goal``, ``scores``); the shape search keeps the value it scores best."""
     from ..evaluate import resolve  # lazy: the evaluator loads its tables; only a fitted material needs it
 

@@ -43,10 +43,10 @@ from ..values import is_finite
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import appearance, materialx_graphs
+from .judging import RIG_SIZE, Judge, scores_many
 from .common import Settings, Translation, differs
 from .target import inside
 
-RIG_SIZE = 16  # pixels of the evaluator's sphere for the candidate search
 MARGIN = 0.25  # mean CIEDE2000: a smaller win does not pay for what the graphs drop (thin-walled, subsurface)
 
 
@@ -134,112 +134,6 @@ def refine_thin_film(source: Material, translation: Translation, target: str, se
                       f"{FILM_RIG_SIZE}-pixel sphere {mapped:.2f} -> {found[0]:.2f}",
         source.location.with_input("thin_film_thickness")))
     return translation
-
-
-class Judge:
-    """The source's render on the evaluator's lit sphere of ``size`` pixels (films on the coarse cosine
-    table), rendered once, against which candidates are scored (:meth:`scores`) and their mean
-    radiance compared (:meth:`means`, for :mod:`.appearance`)."""
-
-    def __init__(self, source: Material | None, size: int = RIG_SIZE, reference: np.ndarray | None = None):
-        # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
-        from ..evaluate import model_for_material
-        from ..evaluate.preview import Rig, shade_sphere  # lazy: as above
-        from ..evaluate.thinfilm import coarse_films  # lazy: as above
-
-        self.rig = Rig(size=size)
-        if reference is None:
-            with coarse_films():
-                reference, _ = shade_sphere(model_for_material(source)[0], self.rig)
-        self.reference, self.mask = reference, _sphere_mask(self.rig)
-        self.goal = self.reference[self.mask].mean(axis=0)
-
-    @classmethod
-    def many(cls, sources: list[Material], size: int = RIG_SIZE) -> list["Judge"]:
-        """A judge for each of ``sources``, their references rendered in stacked evaluations
-        (:func:`render_many`)."""
-        from ..evaluate import resolve  # lazy: as in __init__
-        from ..evaluate.preview import Rig  # lazy: as above
-
-        rig = Rig(size=size)
-        images = render_many([(s.model, resolve(s).values) for s in sources], rig)
-        return [cls(None, size, image) for image in images]
-
-    def images(self, model: str, value_sets: list[dict]) -> list[np.ndarray]:
-        """Renders of ``value_sets`` (resolved values of ``model``): one stacked evaluation where their
-        switches agree (:func:`~openpbr_tools.evaluate.preview.shade_sphere_many`; the same pixels)."""
-        from ..evaluate import build_model  # lazy: as in __init__
-        from ..evaluate.preview import shade_sphere, shade_sphere_many  # lazy: as above
-        from ..evaluate.thinfilm import coarse_films  # lazy: as above
-
-        with coarse_films():
-            images = shade_sphere_many(model, value_sets, self.rig) if len(value_sets) > 1 else None
-            if images is None:
-                images = [shade_sphere(build_model(model, values), self.rig)[0] for values in value_sets]
-        return images
-
-    def means(self, model: str, value_sets: list[dict]) -> list[np.ndarray]:
-        """Mean radiance (RGB) over the sphere of each of ``value_sets``."""
-        return [image[self.mask].mean(axis=0) for image in self.images(model, value_sets)]
-
-    def scores(self, materials: list[Material]) -> list[float]:
-        """Mean CIEDE2000 of each of ``materials`` (one shading model) against the source."""
-        from ..evaluate import resolve  # lazy: as in __init__
-        from ..evaluate.difference import delta_e_2000  # lazy: as above
-
-        images = self.images(materials[0].model, [resolve(m).values for m in materials])
-        delta = delta_e_2000(np.concatenate([image[self.mask] for image in images]),
-                             np.tile(self.reference[self.mask], (len(images), 1)), self.rig.white())
-        return [float(block.mean()) for block in np.split(delta, len(images))]
-
-
-def _sphere_mask(rig) -> np.ndarray:
-    from ..evaluate.preview import _shared_sphere  # lazy: as in Judge
-
-    return _shared_sphere(rig).mask
-
-
-def render_many(sets: list[tuple[str, dict]], rig) -> list[np.ndarray]:
-    """Renders of (model, resolved values) pairs on ``rig``'s sphere (films on the coarse table):
-    those whose switches agree (:func:`~openpbr_tools.evaluate.preview.stack_key`) in one stacked evaluation each
-    (:func:`~openpbr_tools.evaluate.preview.shade_sphere_many`, the same pixels as one by one)."""
-    from ..evaluate import build_model  # lazy: as in Judge
-    from ..evaluate.preview import shade_sphere, shade_sphere_many, stack_key  # lazy: as above
-    from ..evaluate.thinfilm import coarse_films  # lazy: as above
-
-    groups: dict = {}
-    for index, (model, values) in enumerate(sets):
-        groups.setdefault(stack_key(model, values), []).append(index)
-    images: list = [None] * len(sets)
-    with coarse_films():
-        for key, indices in groups.items():
-            model = key[0]
-            stacked = shade_sphere_many(model, [sets[i][1] for i in indices], rig) if len(indices) > 1 else None
-            for position, index in enumerate(indices):
-                images[index] = stacked[position] if stacked is not None else \
-                    shade_sphere(build_model(model, sets[index][1]), rig)[0]
-    return images
-
-
-def scores_many(judges: list[Judge], materials: list[list[Material]]) -> list[list[float]]:
-    """Mean CIEDE2000 of each material of ``materials[i]`` against ``judges[i]``'s source, all
-    rendered in as few stacked evaluations as their switches allow and compared in one call."""
-    from ..evaluate import resolve  # lazy: as in Judge
-    from ..evaluate.difference import delta_e_2000  # lazy: as above
-
-    if not judges:
-        return []
-    rig, mask = judges[0].rig, judges[0].mask
-    flat = [(judge, material) for judge, group in zip(judges, materials) for material in group]
-    images = render_many([(m.model, resolve(m).values) for _, m in flat], rig)
-    delta = delta_e_2000(np.concatenate([image[mask] for image in images]),
-                         np.concatenate([judge.reference[mask] for judge, _ in flat]), rig.white())
-    means = [float(block.mean()) for block in np.split(delta, len(flat))]
-    out, start = [], 0
-    for group in materials:
-        out.append(means[start:start + len(group)])
-        start += len(group)
-    return out
 
 
 def score_candidates(source: Material, materials: list[Material], size: int = RIG_SIZE) -> list[float]:
@@ -369,8 +263,8 @@ def _with_fit(source: Material, translation: Translation, score: float, fit, set
 
 
 def read_back_notes(source: Material, written: Material, where, context) -> list:
-    """A note at every authored input of ``source`` that ``written`` (the graphs' result) does not
-    carry exactly: the written material is converted back to the source's model with the toolkit's
+    """A note at every input of ``source`` (authored, or left at a default the result changes: a glTF
+    clear coat does not darken) that ``written`` (the graphs' result) does not carry exactly: the written material is converted back to the source's model with the toolkit's
     inverse mapping, and each authored constant compared with what comes back (1e-5). The graphs'
     arithmetic is their own, so no input can be assumed to survive; this says which did not."""
     from .convert import convert  # lazy: translate.convert imports the translators, which this module serves
@@ -380,19 +274,23 @@ def read_back_notes(source: Material, written: Material, where, context) -> list
     except (ValueError, KeyError, TypeError):
         return [context.diagnostic(APPROXIMATED, f"{source.name}: the graphs' result could not be read back to "
                                                  f"{source.model}; every input may differ", where)]
-    defaults = tables.table(source.model)
     notes = []
-    for name, entry in source.inputs.items():
-        parameter = defaults.get(name)
-        if not isinstance(entry.value, Constant) or parameter is None or parameter.role in ("normal", "tangent"):
+    for name, parameter in tables.table(source.model).parameters.items():
+        entry = source.inputs.get(name)
+        if parameter.role in ("normal", "tangent") or (entry is not None and not isinstance(entry.value, Constant)):
+            continue
+        authored = entry.value.value if entry is not None else parameter.default  # a default the result changes too
+        if authored is None:
             continue
         returned = back.inputs.get(name)
         value = returned.value.value if returned is not None and isinstance(returned.value, Constant) \
             else parameter.default
-        if _changed(entry.value.value, value):
+        if _changed(authored, value):
+            what = _shown(authored) if entry is not None else f"(default {_shown(authored)})"
             notes.append(context.diagnostic(
-                APPROXIMATED, f"{source.name}: {name} {_shown(entry.value.value)} is not carried exactly by MaterialX's "
-                              f"translation graphs' result (reads back as {_shown(value)})", entry.location))
+                APPROXIMATED, f"{source.name}: {name} {what} is not carried exactly by MaterialX's "
+                              f"translation graphs' result (reads back as {_shown(value)})",
+                entry.location if entry is not None else source.location.with_input(name)))
     return notes
 
 

@@ -1,0 +1,120 @@
+"""The judge of the candidate search (:mod:`.candidates`) and of the appearance fit
+(:mod:`.appearance`): a source rendered once on the evaluator's lit sphere (:class:`Judge`), and
+renders of many parameter sets in as few stacked evaluations as their switches allow
+(:func:`render_many`, :func:`scores_many`; the same pixels as one by one, films on the coarse cosine
+table), so that a file's materials are weighed together.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from ..model import Material
+
+RIG_SIZE = 16  # pixels of the evaluator's sphere for the candidate search
+
+
+class Judge:
+    """The source's render on the evaluator's lit sphere of ``size`` pixels (films on the coarse cosine
+    table), rendered once, against which candidates are scored (:meth:`scores`) and their mean
+    radiance compared (:meth:`means`, for :mod:`.appearance`)."""
+
+    def __init__(self, source: Material | None, size: int = RIG_SIZE, reference: np.ndarray | None = None):
+        # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
+        from ..evaluate import model_for_material
+        from ..evaluate.preview import Rig, shade_sphere  # lazy: as above
+        from ..evaluate.thinfilm import coarse_films  # lazy: as above
+
+        self.rig = Rig(size=size)
+        if reference is None:
+            with coarse_films():
+                reference, _ = shade_sphere(model_for_material(source)[0], self.rig)
+        self.reference, self.mask = reference, _sphere_mask(self.rig)
+        self.goal = self.reference[self.mask].mean(axis=0)
+
+    @classmethod
+    def many(cls, sources: list[Material], size: int = RIG_SIZE) -> list["Judge"]:
+        """A judge for each of ``sources``, their references rendered in stacked evaluations
+        (:func:`render_many`)."""
+        from ..evaluate import resolve  # lazy: as in __init__
+        from ..evaluate.preview import Rig  # lazy: as above
+
+        rig = Rig(size=size)
+        images = render_many([(s.model, resolve(s).values) for s in sources], rig)
+        return [cls(None, size, image) for image in images]
+
+    def images(self, model: str, value_sets: list[dict]) -> list[np.ndarray]:
+        """Renders of ``value_sets`` (resolved values of ``model``): one stacked evaluation where their
+        switches agree (:func:`~openpbr_tools.evaluate.preview.shade_sphere_many`; the same pixels)."""
+        from ..evaluate import build_model  # lazy: as in __init__
+        from ..evaluate.preview import shade_sphere, shade_sphere_many  # lazy: as above
+        from ..evaluate.thinfilm import coarse_films  # lazy: as above
+
+        with coarse_films():
+            images = shade_sphere_many(model, value_sets, self.rig) if len(value_sets) > 1 else None
+            if images is None:
+                images = [shade_sphere(build_model(model, values), self.rig)[0] for values in value_sets]
+        return images
+
+    def means(self, model: str, value_sets: list[dict]) -> list[np.ndarray]:
+        """Mean radiance (RGB) over the sphere of each of ``value_sets``."""
+        return [image[self.mask].mean(axis=0) for image in self.images(model, value_sets)]
+
+    def scores(self, materials: list[Material]) -> list[float]:
+        """Mean CIEDE2000 of each of ``materials`` (one shading model) against the source."""
+        from ..evaluate import resolve  # lazy: as in __init__
+        from ..evaluate.difference import delta_e_2000  # lazy: as above
+
+        images = self.images(materials[0].model, [resolve(m).values for m in materials])
+        delta = delta_e_2000(np.concatenate([image[self.mask] for image in images]),
+                             np.tile(self.reference[self.mask], (len(images), 1)), self.rig.white())
+        return [float(block.mean()) for block in np.split(delta, len(images))]
+
+
+def _sphere_mask(rig) -> np.ndarray:
+    from ..evaluate.preview import _shared_sphere  # lazy: as in Judge
+
+    return _shared_sphere(rig).mask
+
+
+def render_many(sets: list[tuple[str, dict]], rig) -> list[np.ndarray]:
+    """Renders of (model, resolved values) pairs on ``rig``'s sphere (films on the coarse table):
+    those whose switches agree (:func:`~openpbr_tools.evaluate.preview.stack_key`) in one stacked evaluation each
+    (:func:`~openpbr_tools.evaluate.preview.shade_sphere_many`, the same pixels as one by one)."""
+    from ..evaluate import build_model  # lazy: as in Judge
+    from ..evaluate.preview import shade_sphere, shade_sphere_many, stack_key  # lazy: as above
+    from ..evaluate.thinfilm import coarse_films  # lazy: as above
+
+    groups: dict = {}
+    for index, (model, values) in enumerate(sets):
+        groups.setdefault(stack_key(model, values), []).append(index)
+    images: list = [None] * len(sets)
+    with coarse_films():
+        for key, indices in groups.items():
+            model = key[0]
+            stacked = shade_sphere_many(model, [sets[i][1] for i in indices], rig) if len(indices) > 1 else None
+            for position, index in enumerate(indices):
+                images[index] = stacked[position] if stacked is not None else \
+                    shade_sphere(build_model(model, sets[index][1]), rig)[0]
+    return images
+
+
+def scores_many(judges: list[Judge], materials: list[list[Material]]) -> list[list[float]]:
+    """Mean CIEDE2000 of each material of ``materials[i]`` against ``judges[i]``'s source, all
+    rendered in as few stacked evaluations as their switches allow and compared in one call."""
+    from ..evaluate import resolve  # lazy: as in Judge
+    from ..evaluate.difference import delta_e_2000  # lazy: as above
+
+    if not judges:
+        return []
+    rig, mask = judges[0].rig, judges[0].mask
+    flat = [(judge, material) for judge, group in zip(judges, materials) for material in group]
+    images = render_many([(m.model, resolve(m).values) for _, m in flat], rig)
+    delta = delta_e_2000(np.concatenate([image[mask] for image in images]),
+                         np.concatenate([judge.reference[mask] for judge, _ in flat]), rig.white())
+    means = [float(block.mean()) for block in np.split(delta, len(flat))]
+    out, start = [], 0
+    for group in materials:
+        out.append(means[start:start + len(group)])
+        start += len(group)
+    return out
