@@ -209,8 +209,11 @@ def _decide(source, translation, target, settings, candidate, judge, scores) -> 
     if candidate is None:
         return _with_fit(source, translation, scores[0], ours_fit, settings)
     ours, theirs = scores
-    theirs_fit = _fitted(source, candidate, theirs, judge)
     best_ours = ours_fit[1] if ours_fit else ours
+    # the graphs' result is fitted where it can change the choice or is kept: it already wins, or the
+    # mapping, fitted, still renders visibly off (below FIT_FROM a fitted graph result could only tie)
+    theirs_fit = _fitted(source, candidate, theirs, judge) \
+        if theirs < best_ours - MARGIN or best_ours > appearance.FIT_FROM else None
     best_theirs = theirs_fit[1] if theirs_fit else theirs
     figures = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: the toolkit's mapping {ours:.2f}"
                + (f" ({best_ours:.2f} fitted)" if ours_fit else "") + f", MaterialX's translation graphs {theirs:.2f}"
