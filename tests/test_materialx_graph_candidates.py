@@ -161,11 +161,12 @@ def _glsl_errors(source_path: Path, results: dict, target: str) -> dict:
 
 
 @pytest.mark.gl
-@pytest.mark.parametrize("name, target", [("open_pbr_gold.mtlx", "gltf_pbr"), ("open_pbr_pearl.mtlx", "standard_surface")])
+@pytest.mark.parametrize("name, target", [("open_pbr_pearl.mtlx", "standard_surface")])
 def test_where_the_graphs_win_materialx_glsl_agrees(tmp_path, name, target, without_the_fit):
     """The evaluator's choice checked by an independent judge: MaterialX's GLSL renderer must not
     render the graphs' result further from the OpenPBR source than the mapping's (a tie within 0.05
-    mean CIEDE2000 allowed: the evaluator's gold win, 1.42 -> 0.23, is a tie in GLSL)."""
+    mean CIEDE2000 allowed). (The gold to glTF that was here won only unclamped: its graphs' base colour
+    lies outside Rec.709, the glTF writer clamps it, and judged as written it ties the mapping, 1.42.)"""
     source_path = Path(__file__).parent / "data" / "published" / "openpbr" / name
     suffix, to = ("gltf", None) if target == "gltf_pbr" else ("mtlx", target)
     convert_file(str(source_path), str(tmp_path / f"plain.{suffix}"), to, settings=Settings(candidates=False))
@@ -192,12 +193,13 @@ def test_a_fitted_film_thickness_is_closer_in_materialx_glsl_too(tmp_path):
 
 
 @pytest.mark.gl
-@pytest.mark.parametrize("folder, name, target", [("published/openpbr", "open_pbr_gold.mtlx", "gltf_pbr"),
-                                                  ("translation_set", "fabric_wool.mtlx", "UsdPreviewSurface"),
+@pytest.mark.parametrize("folder, name, target", [("translation_set", "fabric_wool.mtlx", "UsdPreviewSurface"),
                                                   ("translation_set", "thin_paper.mtlx", "UsdPreviewSurface")])
 def test_where_the_appearance_fit_is_kept_materialx_glsl_agrees(tmp_path, folder, name, target):
     """The fit is chosen on the evaluator; MaterialX's GLSL renderer, an independent judge, must not
-    render the fitted material further from the OpenPBR source than the plain mapping (within 0.05)."""
+    render the fitted material further from the OpenPBR source than the plain mapping (within 0.05).
+    Not always so: the anisotropic coat to glTF, fitted 1.92 -> 1.47 on the evaluator, is 1.39 -> 1.51
+    in GLSL; tests/benchmarks/bench_glsl_sample.py counts such disagreements on a seeded sample."""
     source_path = Path(__file__).parent / "data" / folder / name
     suffix, to = ("gltf", None) if target == "gltf_pbr" else ("mtlx", target)
     convert_file(str(source_path), str(tmp_path / f"plain.{suffix}"), to, settings=Settings(candidates=False))

@@ -44,6 +44,7 @@ import numpy as np
 from .. import tables
 from ..colorspaces import from_lin_rec709, to_lin_rec709
 from ..model import Constant, Input, Material
+from .judging import as_written
 from .target import inside
 
 #: the colour each target's fit adjusts: the one that carries the base's diffuse and metal colour
@@ -96,10 +97,21 @@ class Fitted:
     changed: dict[str, str]
 
 
-def _in_range(space: str | None) -> Callable[[np.ndarray], np.ndarray]:
+#: Targets whose files hold colours in linear Rec.709 whatever the document's space (glTF): the writer
+#: converts and clips there, so the fit must stay inside [0, 1] there too.
+REC709_FILES = ("gltf_pbr",)
+
+
+def _in_range(space: str | None, rec709_file: bool) -> Callable[[np.ndarray], np.ndarray]:
     """Clips a linear Rec.709 colour to [0, 1] in the colour space the input is written in (a wide-gamut
-    document's colours may lie outside [0, 1] in Rec.709, and that is where the fit works)."""
-    return lambda colour: to_lin_rec709(np.clip(from_lin_rec709(colour, space), 0.0, 1.0), space)
+    document's colours may lie outside [0, 1] in Rec.709, and that is where the fit works), and, for a
+    target whose file holds Rec.709 (:data:`REC709_FILES`), in Rec.709 as well: a fitted gold written to
+    glTF was clipped by the writer after the fit had scored it unclipped (0.28 on the search's sphere,
+    1.47 in the file)."""
+    def clip(colour):
+        inside = to_lin_rec709(np.clip(from_lin_rec709(colour, space), 0.0, 1.0), space)
+        return np.clip(inside, 0.0, 1.0) if rec709_file else inside
+    return clip
 
 
 def _ratio_recoloured(judge, model: str, knob: str, value_sets: list[dict], clip) -> list[dict]:
@@ -158,16 +170,15 @@ def fit(source: Material, candidate: Material, judge) -> Fitted | None:
     """``candidate`` (constant-valued, of a model in :data:`KNOB`) adjusted to look like ``source``
     (module docstring), or None. ``judge`` is the candidate search's :class:`~.judging.Judge` (the
     source's render: ``means``, ``goal``, ``scores``); the shape search keeps the value it scores best."""
-    from ..evaluate import resolve  # lazy: the evaluator loads its tables; only a fitted material needs it
-
     knob = KNOB.get(candidate.model)
     if knob is None or _constant(candidate) is None or untrusted(source) is not None:
         return None
-    values = resolve(candidate).values
+    values = as_written(candidate)
     if np.asarray(values.get(knob)).shape != (3,):
         return None
     entry = candidate.inputs.get(knob)
-    clip = _in_range((entry.colorspace if entry is not None else None) or candidate.colorspace)
+    clip = _in_range((entry.colorspace if entry is not None else None) or candidate.colorspace,
+                     candidate.model in REC709_FILES)
     source_values = _constant(source) or {}
     changed: dict[str, str] = {}
     material = candidate

@@ -278,10 +278,13 @@ def read_back_notes(source: Material, written: Material, where, context) -> list
         return [context.diagnostic(APPROXIMATED, f"{source.name}: the graphs' result could not be read back to "
                                                  f"{source.model}; every input may differ", where)]
     notes = []
-    for name, parameter in tables.table(source.model).parameters.items():
+    table = tables.table(source.model)
+    for name, parameter in table.parameters.items():
         entry = source.inputs.get(name)
         if parameter.role in ("normal", "tangent") or (entry is not None and not isinstance(entry.value, Constant)):
             continue
+        if entry is None and _lobe_off(source, table, name):
+            continue  # a default of a lobe the material does not have (a fuzz roughness without fuzz)
         authored = entry.value.value if entry is not None else parameter.default  # a default the result changes too
         if authored is None:
             continue
@@ -295,6 +298,28 @@ def read_back_notes(source: Material, written: Material, where, context) -> list
                               f"translation graphs' result (reads back as {_shown(value)})",
                 entry.location if entry is not None else source.location.with_input(name)))
     return notes
+
+
+#: Per source model, the weight that switches each group of inputs (by prefix) on.
+LOBE_WEIGHTS = {
+    "open_pbr_surface": {"fuzz_": "fuzz_weight", "thin_film_": "thin_film_weight", "coat_": "coat_weight",
+                         "transmission_": "transmission_weight", "subsurface_": "subsurface_weight",
+                         "emission_": "emission_luminance"},
+    "standard_surface": {"sheen_": "sheen", "thin_film_": "thin_film_thickness", "coat_": "coat",
+                         "transmission_": "transmission", "subsurface_": "subsurface", "emission_": "emission"},
+}
+
+
+def _lobe_off(source: Material, table, name: str) -> bool:
+    for prefix, weight in LOBE_WEIGHTS.get(source.model, {}).items():
+        if name.startswith(prefix) and name != weight:
+            entry = source.inputs.get(weight)
+            value = entry.value.value if entry is not None and isinstance(entry.value, Constant) else table[weight].default
+            try:
+                return not float(value) > 0
+            except (TypeError, ValueError):
+                return False
+    return False
 
 
 def _changed(authored, returned) -> bool:

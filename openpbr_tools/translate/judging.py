@@ -61,14 +61,32 @@ class Judge:
         return [image[self.mask].mean(axis=0) for image in self.images(model, value_sets)]
 
     def scores(self, materials: list[Material]) -> list[float]:
-        """Mean CIEDE2000 of each of ``materials`` (one shading model) against the source."""
-        from ..evaluate import resolve  # lazy: as in __init__
-        from ..evaluate.difference import delta_e_2000  # lazy: as above
+        """Mean CIEDE2000 of each of ``materials`` (one shading model, as written: :func:`as_written`)
+        against the source."""
+        from ..evaluate.difference import delta_e_2000  # lazy: as in __init__
 
-        images = self.images(materials[0].model, [resolve(m).values for m in materials])
+        images = self.images(materials[0].model, [as_written(m) for m in materials])
         delta = delta_e_2000(np.concatenate([image[self.mask] for image in images]),
                              np.tile(self.reference[self.mask], (len(images), 1)), self.rig.white())
         return [float(block.mean()) for block in np.split(delta, len(images))]
+
+
+#: Per target, the colours its files hold in linear Rec.709 within [0, 1] whatever the document's space
+#: (glTF's writer converts and clamps them; its emissive goes past 1 into emissiveStrength).
+CLAMPED_IN_FILE = {"gltf_pbr": ("base_color", "sheen_color", "attenuation_color")}
+
+
+def as_written(material: Material) -> dict:
+    """The resolved values of ``material`` as its file will hold them (:data:`CLAMPED_IN_FILE`): a
+    wide-gamut colour the glTF writer clamps is judged clamped (a gold whose graphs' result scored 0.22
+    unclamped measured 1.42 in the file)."""
+    from ..evaluate import resolve  # lazy: as in Judge
+
+    values = resolve(material).values
+    for name in CLAMPED_IN_FILE.get(material.model, ()):
+        if name in values:
+            values[name] = np.clip(np.asarray(values[name], dtype=float), 0.0, 1.0)
+    return values
 
 
 def _sphere_mask(rig) -> np.ndarray:
@@ -102,14 +120,13 @@ def render_many(sets: list[tuple[str, dict]], rig) -> list[np.ndarray]:
 def scores_many(judges: list[Judge], materials: list[list[Material]]) -> list[list[float]]:
     """Mean CIEDE2000 of each material of ``materials[i]`` against ``judges[i]``'s source, all
     rendered in as few stacked evaluations as their switches allow and compared in one call."""
-    from ..evaluate import resolve  # lazy: as in Judge
-    from ..evaluate.difference import delta_e_2000  # lazy: as above
+    from ..evaluate.difference import delta_e_2000  # lazy: as in Judge
 
     if not judges:
         return []
     rig, mask = judges[0].rig, judges[0].mask
     flat = [(judge, material) for judge, group in zip(judges, materials) for material in group]
-    images = render_many([(m.model, resolve(m).values) for _, m in flat], rig)
+    images = render_many([(m.model, as_written(m)) for _, m in flat], rig)
     delta = delta_e_2000(np.concatenate([image[mask] for image in images]),
                          np.concatenate([judge.reference[mask] for judge, _ in flat]), rig.white())
     means = [float(block.mean()) for block in np.split(delta, len(flat))]
