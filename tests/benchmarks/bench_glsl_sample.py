@@ -34,12 +34,12 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 
 from generated_materials import COLORSPACES, archetype_document, document  # noqa: E402
 from glsupport import comparison_mask, materialx_renderer  # noqa: E402
-from openpbr_tools.evaluate import resolve  # noqa: E402
 from openpbr_tools.evaluate.difference import compare_images  # noqa: E402
 from openpbr_tools.evaluate.preview import Rig  # noqa: E402
 from openpbr_tools.io import read_asset  # noqa: E402
 from openpbr_tools.rules import Context  # noqa: E402
 from openpbr_tools.translate import appearance, candidates  # noqa: E402
+from openpbr_tools.translate.judging import as_written  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
 from openpbr_tools.translate.convert import convert  # noqa: E402
 
@@ -47,9 +47,11 @@ TARGETS = ("standard_surface", "gltf_pbr", "UsdPreviewSurface")
 
 
 def _values(material) -> dict:
-    """Linear Rec.709 numbers of every parameter (the document's colour space converted, defaults filled)."""
+    """Linear Rec.709 numbers of every parameter (the document's colour space converted, defaults
+    filled), as the material's file holds them (judging.as_written: a glTF writer clamps wide-gamut
+    colours, for the chain's result as for the toolkit's)."""
     out = {}
-    for name, value in resolve(material).values.items():
+    for name, value in as_written(material).items():
         array = np.asarray(value)
         if array.dtype.kind == "b":
             out[name] = bool(array)
