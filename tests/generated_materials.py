@@ -74,13 +74,18 @@ def material_values(model: str, rng: random.Random) -> dict:
 def document(model: str, colorspace: str, seed: int, count: int) -> str:
     """A .mtlx document with ``count`` materials of ``model`` drawn from ``seed``."""
     rng = random.Random(f"{model}/{colorspace}/{seed}")
+    return _mtlx(model, colorspace, [material_values(model, rng) for _ in range(count)])
+
+
+def _mtlx(model: str, colorspace: str, materials: list[dict]) -> str:
+    """A .mtlx document of ``model`` shaders ``S<i>`` with these values, each in a material ``M<i>``."""
     table = tables.table(model)
+    version = f' version="{table.version}"' if model == "open_pbr_surface" else ""
     parts = [f'<?xml version="1.0"?>\n<materialx version="1.39" colorspace="{colorspace}">']
-    for index in range(count):
+    for index, values in enumerate(materials):
         shader = f"S{index}"
-        version = f' version="{table.version}"' if model == "open_pbr_surface" else ""
         parts.append(f'  <{model} name="{shader}" type="surfaceshader"{version}>')
-        for name, value in material_values(model, rng).items():
+        for name, value in values.items():
             type_name = table[name].type
             parts.append(f'    <input name="{name}" type="{type_name}" value="{format_value(value, type_name)}" />')
         parts.append(f"  </{model}>")
@@ -149,19 +154,5 @@ def archetype_values(rng: random.Random) -> tuple[str, dict]:
 def archetype_document(colorspace: str, seed: int, count: int) -> tuple[str, list[str]]:
     """A .mtlx document of ``count`` OpenPBR materials of the KINDS, and each material's kind."""
     rng = random.Random(f"archetypes/{colorspace}/{seed}")
-    table = tables.table("open_pbr_surface")
-    parts = [f'<?xml version="1.0"?>\n<materialx version="1.39" colorspace="{colorspace}">']
-    kinds = []
-    for index in range(count):
-        kind, values = archetype_values(rng)
-        kinds.append(kind)
-        parts.append(f'  <open_pbr_surface name="S{index}" type="surfaceshader" version="{table.version}">')
-        for name, value in values.items():
-            type_name = table[name].type
-            parts.append(f'    <input name="{name}" type="{type_name}" value="{format_value(value, type_name)}" />')
-        parts.append("  </open_pbr_surface>")
-        parts.append(f'  <surfacematerial name="M{index}" type="material">\n'
-                     f'    <input name="surfaceshader" type="surfaceshader" nodename="S{index}" />\n'
-                     f'  </surfacematerial>')
-    parts.append("</materialx>\n")
-    return "\n".join(parts), kinds
+    kinds, materials = zip(*(archetype_values(rng) for _ in range(count))) if count else ((), ())
+    return _mtlx("open_pbr_surface", colorspace, list(materials)), list(kinds)

@@ -312,8 +312,9 @@ def test_both_candidates_are_fitted_before_the_choice():
 
 
 def test_a_thin_wall_with_a_textured_metalness_still_bakes_its_base_colour(tmp_path):
-    """The split depends on base_metalness, so a texture on it makes base_color per texel: fit.per_channel
-    gave a per-texel weight beside a constant colour an extra axis and the bake failed (ΔE 14.7)."""
+    """The split depends on base_metalness, so a texture on it makes base_color per texel: shaping a
+    per-texel weight beside a constant colour (now evaluate.volume.with_channel_axis) gave it an extra
+    axis and the bake failed (ΔE 14.7)."""
     from PIL import Image
 
     from openpbr_tools.convert import convert_file

@@ -160,6 +160,16 @@ def _glsl_errors(source_path: Path, results: dict, target: str) -> dict:
     return errors
 
 
+def _plain_and_searched(tmp_path, source_path: Path, target: str, label: str, settings: Settings | None = None):
+    """``source_path`` converted to ``target`` without the search ("plain") and with ``settings``
+    (``label``): the second conversion and both files' mean CIEDE2000 in MaterialX's GLSL renderer."""
+    suffix, to = ("gltf", None) if target == "gltf_pbr" else ("mtlx", target)
+    convert_file(str(source_path), str(tmp_path / f"plain.{suffix}"), to, settings=Settings(candidates=False))
+    searched = convert_file(str(source_path), str(tmp_path / f"{label}.{suffix}"), to, settings=settings or Settings())
+    return searched, _glsl_errors(source_path, {name: tmp_path / f"{name}.{suffix}" for name in ("plain", label)},
+                                  target)
+
+
 @pytest.mark.gl
 @pytest.mark.parametrize("name, target", [("open_pbr_pearl.mtlx", "standard_surface")])
 def test_where_the_graphs_win_materialx_glsl_agrees(tmp_path, name, target, without_the_fit):
@@ -168,11 +178,8 @@ def test_where_the_graphs_win_materialx_glsl_agrees(tmp_path, name, target, with
     mean CIEDE2000 allowed). (The gold to glTF that was here won only unclamped: its graphs' base colour
     lies outside Rec.709, the glTF writer clamps it, and judged as written it ties the mapping, 1.42.)"""
     source_path = Path(__file__).parent / "data" / "published" / "openpbr" / name
-    suffix, to = ("gltf", None) if target == "gltf_pbr" else ("mtlx", target)
-    convert_file(str(source_path), str(tmp_path / f"plain.{suffix}"), to, settings=Settings(candidates=False))
-    chosen = convert_file(str(source_path), str(tmp_path / f"chosen.{suffix}"), to)
+    chosen, errors = _plain_and_searched(tmp_path, source_path, target, "chosen")
     assert [d for d in chosen.diagnostics if "by MaterialX's translation graphs" in d.message]
-    errors = _glsl_errors(source_path, {label: tmp_path / f"{label}.{suffix}" for label in ("plain", "chosen")}, target)
     assert errors["chosen"] < errors["plain"] + 0.05, errors
 
 
@@ -183,12 +190,9 @@ def test_a_fitted_film_thickness_is_closer_in_materialx_glsl_too(tmp_path):
     evaluator fits the film thickness, and MaterialX's GLSL renderer, an independent judge, must
     agree that the fitted material renders closer to the OpenPBR source than the mapped one."""
     source_path = Path(__file__).parent / "data" / "published" / "measured" / "Titanium_Anodized.mtlx"
-    convert_file(str(source_path), str(tmp_path / "plain.mtlx"), "standard_surface", settings=Settings(candidates=False))
-    fitted = convert_file(str(source_path), str(tmp_path / "fitted.mtlx"), "standard_surface",
-                          settings=Settings(fit_films=True))  # as --verify
+    fitted, errors = _plain_and_searched(tmp_path, source_path, "standard_surface", "fitted",
+                                         Settings(fit_films=True))  # as --verify
     assert [d for d in fitted.diagnostics if "thin_film_thickness fitted" in d.message]
-    errors = _glsl_errors(source_path, {label: tmp_path / f"{label}.mtlx" for label in ("plain", "fitted")},
-                          "standard_surface")
     assert errors["fitted"] < errors["plain"] - 1.0, errors
 
 
@@ -201,9 +205,6 @@ def test_where_the_appearance_fit_is_kept_materialx_glsl_agrees(tmp_path, folder
     Not always so: the anisotropic coat to glTF, fitted 1.92 -> 1.47 on the evaluator, is 1.39 -> 1.51
     in GLSL; tests/benchmarks/bench_glsl_sample.py counts such disagreements on a seeded sample."""
     source_path = Path(__file__).parent / "data" / folder / name
-    suffix, to = ("gltf", None) if target == "gltf_pbr" else ("mtlx", target)
-    convert_file(str(source_path), str(tmp_path / f"plain.{suffix}"), to, settings=Settings(candidates=False))
-    chosen = convert_file(str(source_path), str(tmp_path / f"fitted.{suffix}"), to)
+    chosen, errors = _plain_and_searched(tmp_path, source_path, target, "fitted")
     assert [d for d in chosen.diagnostics if "adjusted to" in d.message]
-    errors = _glsl_errors(source_path, {label: tmp_path / f"{label}.{suffix}" for label in ("plain", "fitted")}, target)
     assert errors["fitted"] < errors["plain"] + 0.05, errors

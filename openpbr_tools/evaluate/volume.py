@@ -16,10 +16,10 @@ COLOUR_FLOOR = 1e-6  # a transmission colour of 0 absorbs everything: -log clipp
 
 
 def with_channel_axis(x) -> np.ndarray:
-    """``x`` (one value per colour: 0-d, per pixel or per texel) with a trailing axis of 1 to broadcast
-    against colours, unless it already has one."""
+    """``x`` (one value per colour: 0-d, per pixel or per texel) shaped to broadcast against colours
+    (last axis RGB): a trailing axis of 1 added unless it has one already or is 0-d."""
     x = np.asarray(x, dtype=float)
-    return x if x.ndim > 0 and x.shape[-1] == 1 else x[..., None]
+    return x if x.ndim == 0 or x.shape[-1] == 1 else x[..., None]
 
 
 def absorption_coefficient(color, depth, scatter):

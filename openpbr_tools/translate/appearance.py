@@ -44,7 +44,7 @@ import numpy as np
 from .. import tables
 from ..colorspaces import from_lin_rec709, to_lin_rec709
 from ..model import Constant, Input, Material
-from .judging import as_written
+from .judging import CLAMPED_IN_FILE, as_written, constant_values
 from .target import inside
 
 #: the colour each target's fit adjusts: the one that carries the base's diffuse and metal colour
@@ -97,15 +97,10 @@ class Fitted:
     changed: dict[str, str]
 
 
-#: Targets whose files hold colours in linear Rec.709 whatever the document's space (glTF): the writer
-#: converts and clips there, so the fit must stay inside [0, 1] there too.
-REC709_FILES = ("gltf_pbr",)
-
-
 def _in_range(space: str | None, rec709_file: bool) -> Callable[[np.ndarray], np.ndarray]:
     """Clips a linear Rec.709 colour to [0, 1] in the colour space the input is written in (a wide-gamut
     document's colours may lie outside [0, 1] in Rec.709, and that is where the fit works), and, for a
-    target whose file holds Rec.709 (:data:`REC709_FILES`), in Rec.709 as well: a fitted gold written to
+    colour the target's file holds in Rec.709 (:data:`.judging.CLAMPED_IN_FILE`), there as well: a fitted gold written to
     glTF was clipped by the writer after the fit had scored it unclipped (0.28 on the search's sphere,
     1.47 in the file)."""
     def clip(colour):
@@ -151,7 +146,7 @@ FILM_ON_METAL = {"open_pbr_surface": ("thin_film_weight", "base_metalness"),
 
 def untrusted(source: Material) -> str | None:
     """The source input that makes the evaluator an untrusted judge of this material, or None."""
-    values = _constant(source) or {}
+    values = constant_values(source) or {}
     table = tables.table(source.model)
 
     def value(name):
@@ -171,19 +166,19 @@ def fit(source: Material, candidate: Material, judge) -> Fitted | None:
     (module docstring), or None. ``judge`` is the candidate search's :class:`~.judging.Judge` (the
     source's render: ``means``, ``goal``, ``scores``); the shape search keeps the value it scores best."""
     knob = KNOB.get(candidate.model)
-    if knob is None or _constant(candidate) is None or untrusted(source) is not None:
+    if knob is None or constant_values(candidate) is None or untrusted(source) is not None:
         return None
     values = as_written(candidate)
     if np.asarray(values.get(knob)).shape != (3,):
         return None
     entry = candidate.inputs.get(knob)
     clip = _in_range((entry.colorspace if entry is not None else None) or candidate.colorspace,
-                     candidate.model in REC709_FILES)
-    source_values = _constant(source) or {}
+                     knob in CLAMPED_IN_FILE.get(candidate.model, ()))
+    source_values = constant_values(source) or {}
     changed: dict[str, str] = {}
     material = candidate
     for search in SEARCHES.get(candidate.model, ()):
-        if not search.applies(source_values, _constant(candidate)):
+        if not search.applies(source_values, constant_values(candidate)):
             continue
         trials = _ratio_recoloured(judge, candidate.model, knob, [dict(values, **{search.target_input: g}) for g in search.grid], clip)
         written = [_written(material, trial, (search.target_input, knob)) for trial in trials]
@@ -199,15 +194,6 @@ def fit(source: Material, candidate: Material, judge) -> Fitted | None:
         material = _written(material, fitted, (knob,)) or material
         changed[knob] = KNOB.get(source.model, "base_color")
     return Fitted(material, changed) if changed else None
-
-
-def _constant(material: Material) -> dict | None:
-    values = {}
-    for name, entry in material.inputs.items():
-        if not isinstance(entry.value, Constant):
-            return None
-        values[name] = entry.value.value
-    return values
 
 
 def _written(candidate: Material, values: dict, names: tuple[str, ...]) -> Material | None:

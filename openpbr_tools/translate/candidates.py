@@ -43,26 +43,17 @@ from ..values import is_finite
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import appearance, materialx_graphs
-from .judging import RIG_SIZE, Judge, scores_many
+from .judging import RIG_SIZE, Judge, constant_values, scores_many
 from .common import Settings, Translation, differs
 from .target import inside
 
 MARGIN = 0.25  # mean CIEDE2000: a smaller win does not pay for what the graphs drop (thin-walled, subsurface)
 
 
-def _constant_values(material: Material) -> dict | None:
-    values = {}
-    for name, entry in material.inputs.items():
-        if not isinstance(entry.value, Constant):
-            return None
-        values[name] = entry.value.value
-    return values
-
-
 def graph_candidate(source: Material, target: str) -> Material | None:
     """The target material MaterialX's graphs make of ``source`` (constant OpenPBR or Standard Surface),
     or None."""
-    values = _constant_values(source)
+    values = constant_values(source)
     if values is None or not materialx_graphs.graphs(source.model, target):
         return None
     try:
@@ -108,7 +99,7 @@ def refine_thin_film(source: Material, translation: Translation, target: str, se
     entry = translation.material.inputs.get(name) if name else None
     film = source.inputs.get("thin_film_weight")
     if entry is None or not isinstance(entry.value, Constant) or film is None or \
-            not isinstance(film.value, Constant) or not film.value.value > 0 or _constant_values(source) is None:
+            not isinstance(film.value, Constant) or not film.value.value > 0 or constant_values(source) is None:
         return translation
     base = float(entry.value.value)
 
@@ -154,7 +145,7 @@ def choose(source: Material, translation: Translation, target: str, settings: Se
 def _searched(source: Material, translation: Translation, settings: Settings) -> bool:
     return settings.candidates and not settings.gltf_drafts and not isinstance(source.extra.get("gltf"), dict) and \
         any(d.code in (APPROXIMATED.code, NOT_CARRIED.code) for d in translation.diagnostics) and \
-        _constant_values(source) is not None  # (drafts, glTF sources: the mapping's exact inverses are the point)
+        constant_values(source) is not None  # (drafts, glTF sources: the mapping's exact inverses are the point)
 
 
 def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> list[Translation]:

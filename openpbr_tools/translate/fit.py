@@ -40,6 +40,7 @@ from ..evaluate import diffuse as _diffuse
 from ..evaluate import sheen as _sheen
 from ..evaluate.coat import coat_relative_ior, coat_roughened
 from ..evaluate.fresnel import f0_to_ior, ior_to_f0
+from ..evaluate.volume import with_channel_axis
 from .fit_metal import (  # re-exported: the translation modules call every fit as fit.NAME
     METAL_FIT_COSINE_POWER,
     conductor_reflectance,
@@ -273,16 +274,9 @@ def qon_average_albedo(sigma):
     return np.sum(2.0 * mu * values * weights, axis=-1)
 
 
-def per_channel(x, rho):
-    """``x`` (a constant, or per texel with or without a trailing axis of 1) shaped to broadcast
-    against the colours ``rho`` (last axis RGB)."""
-    x = np.asarray(x, dtype=float)
-    return x if x.ndim == 0 or x.shape[-1] == 1 else x[..., None]  # (a per-texel x beside a constant rho too)
-
-
 def eon_average_albedo(rho, sigma):
     """EON's cosine-weighted hemispherical albedo for colour ``rho`` (last axis RGB) and roughness."""
-    a = per_channel(_diffuse.fujii_oren_nayar_average_albedo(np.clip(sigma, 0.0, 1.0)), rho)
+    a = with_channel_axis(_diffuse.fujii_oren_nayar_average_albedo(np.clip(sigma, 0.0, 1.0)))
     rho = np.asarray(rho, dtype=float)
     return rho * a / (1.0 - rho * (1.0 - a))
 
@@ -291,15 +285,15 @@ def eon_colour_for_qon(rho, sigma):
     """The OpenPBR (EON) base colour whose hemispherical albedo is Standard Surface's (QON) for
     ``rho`` at roughness ``sigma``: rho' A / (1 - rho' (1 - A)) = t = A_QON rho, so
     rho' = t / (A + t (1 - A))."""
-    a = per_channel(_diffuse.fujii_oren_nayar_average_albedo(np.clip(sigma, 0.0, 1.0)), rho)
-    target = per_channel(qon_average_albedo(sigma), rho) * np.asarray(rho, dtype=float)
+    a = with_channel_axis(_diffuse.fujii_oren_nayar_average_albedo(np.clip(sigma, 0.0, 1.0)))
+    target = with_channel_axis(qon_average_albedo(sigma)) * np.asarray(rho, dtype=float)
     return target / (a + target * (1.0 - a))
 
 
 def qon_colour_for_eon(rho, sigma):
     """The Standard Surface (QON) base colour whose hemispherical albedo is OpenPBR's (EON) for
     ``rho`` at roughness ``sigma``; the inverse of :func:`eon_colour_for_qon` (may exceed 1)."""
-    return eon_average_albedo(rho, sigma) / per_channel(qon_average_albedo(sigma), rho)
+    return eon_average_albedo(rho, sigma) / with_channel_axis(qon_average_albedo(sigma))
 
 
 def eon_colour_for_qon_dielectric(rho, sigma, metalness):
@@ -308,10 +302,10 @@ def eon_colour_for_qon_dielectric(rho, sigma, metalness):
     colour cannot serve a diffuse and a metal that need different corrections; the metal floor of
     :func:`~.standard_surface.openpbr_specular_weight` needs the colour as it is)."""
     rho = np.asarray(rho, dtype=float)
-    return np.where(per_channel(metalness, rho) > 0.0, rho, eon_colour_for_qon(rho, sigma))
+    return np.where(with_channel_axis(metalness) > 0.0, rho, eon_colour_for_qon(rho, sigma))
 
 
 def qon_colour_for_eon_dielectric(rho, sigma, metalness):
     """The inverse of :func:`eon_colour_for_qon_dielectric`."""
     rho = np.asarray(rho, dtype=float)
-    return np.where(per_channel(metalness, rho) > 0.0, rho, qon_colour_for_eon(rho, sigma))
+    return np.where(with_channel_axis(metalness) > 0.0, rho, qon_colour_for_eon(rho, sigma))

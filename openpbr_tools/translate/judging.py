@@ -9,9 +9,20 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model import Material
+from ..model import Constant, Material
 
 RIG_SIZE = 16  # pixels of the evaluator's sphere for the candidate search
+
+
+def constant_values(material: Material) -> dict | None:
+    """Input name -> value of ``material`` when every authored input is a constant, else None (a
+    textured or connected material: the candidate search and the appearance fit weigh values only)."""
+    values = {}
+    for name, entry in material.inputs.items():
+        if not isinstance(entry.value, Constant):
+            return None
+        values[name] = entry.value.value
+    return values
 
 
 class Judge:
@@ -44,17 +55,9 @@ class Judge:
         return [cls(None, size, image) for image in images]
 
     def images(self, model: str, value_sets: list[dict]) -> list[np.ndarray]:
-        """Renders of ``value_sets`` (resolved values of ``model``): one stacked evaluation where their
-        switches agree (:func:`~openpbr_tools.evaluate.preview.shade_sphere_many`; the same pixels)."""
-        from ..evaluate import build_model  # lazy: as in __init__
-        from ..evaluate.preview import shade_sphere, shade_sphere_many  # lazy: as above
-        from ..evaluate.thinfilm import coarse_films  # lazy: as above
-
-        with coarse_films():
-            images = shade_sphere_many(model, value_sets, self.rig) if len(value_sets) > 1 else None
-            if images is None:
-                images = [shade_sphere(build_model(model, values), self.rig)[0] for values in value_sets]
-        return images
+        """Renders of ``value_sets`` (resolved values of ``model``) on this judge's sphere
+        (:func:`render_many`)."""
+        return render_many([(model, values) for values in value_sets], self.rig)
 
     def means(self, model: str, value_sets: list[dict]) -> list[np.ndarray]:
         """Mean radiance (RGB) over the sphere of each of ``value_sets``."""
