@@ -248,26 +248,37 @@ def _write_baked(baker, materials: list[Material]) -> list[str]:
 
 
 def _rebase_textures(materials: list[Material], source_path: str, output_path: str) -> None:
-    """Re-express relative texture paths relative to the output's folder, so they still resolve."""
+    """Re-express relative texture paths relative to the output's folder, so they still resolve: a
+    texture's file, and the filename inputs of a kept procedural graph."""
     source_dir = os.path.dirname(os.path.abspath(source_path))
     output_dir = os.path.dirname(os.path.abspath(output_path))
     output_folder = PathGuard(output_dir, real_path=os.path.normpath)  # where the output's own files are, as spelt
+    def rebased(file: str) -> str | None:
+        kind = classify(file)
+        if kind in (Kind.URL, Kind.NUL, Kind.EMPTY, Kind.DRIVE, Kind.UNC):
+            return None  # names no file here: written as authored
+        absolute = file if kind is Kind.ABSOLUTE else os.path.join(source_dir, file)
+        if kind is Kind.ABSOLUTE and not output_folder.contains(absolute):
+            return None  # an absolute path the user authored stays as it is
+        return os.path.relpath(absolute, output_dir).replace(os.sep, "/")
+
     for material in materials:
         for name, entry in list(material.inputs.items()):
-            texture = entry.value
-            if not isinstance(texture, Texture) or texture.packaged:
+            value = entry.value
+            if isinstance(value, Connection) and value.graph_xml:
+                # lazy: MaterialX is loaded for a .mtlx output anyway (this runs only for one)
+                from .io.mtlx.graph import rewrite_files
+
+                moved = copy.copy(value)
+                moved.graph_xml = rewrite_files(value.graph_xml, rebased)
+            elif isinstance(value, Texture) and not value.packaged and (file := rebased(value.file)) is not None:
+                moved = copy.copy(value)
+                moved.file = file
+            else:
                 continue
-            kind = classify(texture.file)
-            if kind in (Kind.URL, Kind.NUL, Kind.EMPTY, Kind.DRIVE, Kind.UNC):
-                continue  # names no file here: written as authored
-            absolute = texture.file if kind is Kind.ABSOLUTE else os.path.join(source_dir, texture.file)
-            if kind is Kind.ABSOLUTE and not output_folder.contains(absolute):
-                continue  # an absolute path the user authored stays as it is
-            moved = copy.copy(texture)
-            moved.file = os.path.relpath(absolute, output_dir).replace(os.sep, "/")
-            rebased = copy.copy(entry)  # the entry may be the source's own (a value copied through): never mutated
-            rebased.value = moved
-            material.inputs[name] = rebased
+            rebased_entry = copy.copy(entry)  # the entry may be the source's own (a value copied through): never mutated
+            rebased_entry.value = moved
+            material.inputs[name] = rebased_entry
 
 
 def _unpack_gltf_images(materials: list[Material], asset: Asset, output_path: str) -> None:

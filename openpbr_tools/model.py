@@ -105,6 +105,9 @@ class Texture:
     location: Location | None = None
     packaged: bool = False  # ``file`` is a path inside the asset's own package (USDZ), not on disk
     constant_uv: bool = False  # a MaterialX place2d whose texcoord is unconnected: ND_place2d_vector2 defaults it to (0, 0)
+    # a normal map's scale and bias are its whole decode (a UsdPreviewSurface's normal fed by MaterialX
+    # multiply/add nodes, as a UsdUVTexture's are), not followed by a normalmap node's 2 t - 1
+    decoded_by_scale_bias: bool = False
 
     @property
     def reads_alpha(self) -> bool:

@@ -30,6 +30,7 @@ import numpy as np
 from .. import tables
 from ..colorspaces import to_lin_rec709
 from ..model import Connection, Constant, Material, Texture
+from . import procedural
 
 #: Parameter roles the evaluator does not consume.
 _GEOMETRIC_ROLES = ("normal", "tangent", "filename", "string")
@@ -210,6 +211,11 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
                 if value.fallback is not None:
                     space = value.colorspace or colorspace
                     resolved.values[name] = _convert(_fallback_for(value, p.type), p.type, p.role, space)
+            elif isinstance(value, Connection) and value.graph_xml and p.type in ("float", "color3") \
+                    and (stand_in := procedural.value(value.graph_xml, value.output, p.type, colorspace)) is not None:
+                resolved.values[name] = _convert(stand_in, p.type, p.role, None)  # already linear Rec.709
+                resolved.approximated.append((name, f"procedural: its graph's closing arithmetic evaluated, every other "
+                                                    f"node at {procedural.STAND_IN} (the same stand-in on both sides)"))
             elif isinstance(value, Connection) or value is None:
                 resolved.not_evaluated.append(name)
         except (TypeError, ValueError):

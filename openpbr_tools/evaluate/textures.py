@@ -23,8 +23,9 @@ Conventions (every reader stores textures in MaterialX's, see :mod:`openpbr_tool
   tile reads 0 and is reported.
 * Normal maps (``Texture.normal_map`` set): a MaterialX ``normalmap`` or glTF ``normalTexture``
   decodes ``n = 2 t - 1`` and scales ``n.xy`` by the strength (MaterialX ``NG_normalmap``; glTF 2.0
-  section 3.9.3); a UsdUVTexture feeding UsdPreviewSurface's ``normal`` is used as ``t * scale +
-  bias`` (UsdPreviewSurface specification: the texture's scale and bias do the decode). The
+  section 3.9.3); a UsdUVTexture feeding UsdPreviewSurface's ``normal``, or MaterialX multiply/add
+  nodes feeding it (``Texture.decoded_by_scale_bias``), is used as ``t * scale + bias``
+  (UsdPreviewSurface specification: the texture's scale and bias do the decode). The
   result is a tangent-space vector (x along the tangent, y along the bitangent, z along the
   normal), normalised by the caller's frame.
 
@@ -259,7 +260,7 @@ class TextureSampler:
         if texture.bias is not None:
             values = values + np.asarray(_width(texture.bias, values.shape[1]), dtype=float)
         if normal:
-            if texture.node_category != UV_TEXTURE:
+            if texture.node_category != UV_TEXTURE and not texture.decoded_by_scale_bias:
                 values = 2.0 * values - 1.0
                 values[:, :2] *= float(texture.normal_map)
             return values

@@ -13,7 +13,9 @@ the evaluator. :func:`translate` applies the mappings:
   one (a translation in memory, with nowhere to put images), or when the textures cannot be baked
   (UDIM sets, different UV transforms, unreadable images), it is reported (OPBR1104) and the
   target keeps its default;
-* a procedural connection: reported, never dropped silently.
+* a procedural connection (a node graph the reader captured): rewired as is through a plain copy;
+  through a formula, written after the graph as MaterialX nodes where the formula is affine or a
+  polynomial per channel there (:mod:`.expressed`); otherwise reported, never dropped silently.
 
 Each mapping says whether it is exact; an inexact one reports OPBR1103 with its ``note`` when the
 source values are not at the defaults where the approximation is harmless (``matters``).
@@ -33,6 +35,7 @@ from ..io.gltf.slots import SLOT_BY_PARAMETER
 from ..model import Connection, Constant, Input, Material, Texture
 from ..rules import Context
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
+from . import expressed as expressed_module, probes
 from .target import WorkingSpace, inside
 
 
@@ -206,7 +209,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         authored = any(values.authored(s) for s in mapping.sources)
         textured = list(dict.fromkeys(s for s in mapping.sources if not values.is_constant(s)))
         # a textured source the formula ignores here (a metal-only term of a dielectric) leaves it constant
-        ignored = {name: probe for name in textured if (probe := _ignored_probe(mapping, name, values)) is not None}
+        ignored = {name: probe for name in textured if (probe := probes.ignored_probe(mapping, name, values)) is not None}
         textured = [name for name in textured if name not in ignored]
         if not textured:
             arrays = [ignored[s] if s in ignored else values.constant(s) for s in mapping.sources]
@@ -251,13 +254,31 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         source_name = textured[0]
         entry = material.inputs[source_name]
         carriable = isinstance(entry.value, Texture) or (isinstance(entry.value, Connection) and entry.value.graph_xml)
-        if carriable and len(textured) == 1 and _is_identity(mapping, source_name, values):
+        if carriable and len(textured) == 1 and probes.is_identity(mapping, source_name, values):
             # a texture, or a procedural graph the reader captured (a .mtlx writer rebuilds it), rewired as is
             carried = copy.deepcopy(entry)
             carried.name, carried.type = mapping.target, parameter.type
             carried.location = entry.location
             result.inputs[mapping.target] = carried
             continue
+        if mapping.formula is not None and expressed_module.one_graph(material, textured):
+            expressed = expressed_module.express(material, mapping, textured, values, working, parameter, ignored)
+            if expressed is not None:
+                result.inputs[mapping.target], expression = expressed
+                how = "exactly (an affine map)" if expression.kind == "affine" else \
+                    f"as a polynomial per channel (degree {len(expression.coefficients) - 1}), within " \
+                    f"{expression.error:.2g} of the formula over the input's range"
+                clamp = "" if expression.clamp is None else \
+                    f", clamped to [{expression.clamp[0]:g}, {expression.clamp[1]:g}]"
+                say(CONVERTED if expression.kind == "affine" and not clamp else APPROXIMATED,
+                    f"{mapping.target}: the procedural graph on {', '.join(textured)} is kept and the mapping, "
+                    f"with the other inputs at their values, is written after it as MaterialX nodes, {how}{clamp}",
+                    source_name)
+                if not mapping.exact and _matters(mapping, [values.constant(s) if values.is_constant(s) else
+                                                            np.asarray(source_table[s].default, dtype=np.float64)
+                                                            for s in mapping.sources]):
+                    say(APPROXIMATED, f"{mapping.target}: {mapping.note}", source_name)
+                continue
         if settings.baker is not None and mapping.formula is not None:
             try:
                 baked = settings.baker.bake(material, mapping, values, parameter.type, f"{label} {mapping.target}",
@@ -327,47 +348,6 @@ def _texturable(model: str, name: str) -> bool:
         return True
     slot = SLOT_BY_PARAMETER.get(name)
     return slot is None or slot.texture is not None
-
-
-def _ignored_probe(mapping: Mapping, textured: str, values: Values):
-    """A probe value of ``textured`` when ``mapping``'s formula, with every other source constant,
-    gives the same result whatever ``textured`` is (then nothing needs baking); else ``None``."""
-    if mapping.formula is None or len(set(mapping.sources)) == 1:
-        return None
-    others = {name: values.constant(name) for name in mapping.sources if name != textured}
-    if any(v is None for v in others.values()):
-        return None
-    parameter = values.table.get(textured)
-    width = 3 if parameter is not None and parameter.type in ("color3", "vector3") else 1
-    results = []
-    for probe in (0.0, 0.3, 0.55, 1.0):
-        sample = np.full(width, probe) if width > 1 else np.asarray(probe)
-        arguments = [sample if name == textured else others[name] for name in mapping.sources]
-        with np.errstate(all="ignore"):
-            results.append(np.asarray(mapping.formula(*arguments), dtype=np.float64))
-    if all(r.shape == results[0].shape and np.allclose(r, results[0], atol=1e-12) for r in results[1:]):
-        return np.full(width, 0.55) if width > 1 else np.asarray(0.55)
-    return None
-
-
-def _is_identity(mapping: Mapping, textured: str, values: Values) -> bool:
-    """Whether ``mapping``, with its other sources at their constant values, copies ``textured``:
-    then a texture passes through unchanged. Checked by evaluating the formula on probe values."""
-    if mapping.formula is None:
-        return len(mapping.sources) == 1
-    others = {name: values.constant(name) for name in mapping.sources if name != textured}
-    if any(v is None for v in others.values()):
-        return False
-    parameter = values.table.get(textured)
-    width = 3 if parameter is not None and parameter.type in ("color3", "vector3") else 1
-    for probe in (0.0, 0.2, 0.55, 1.0):
-        sample = np.full(width, probe) if width > 1 else np.asarray(probe)
-        arguments = [sample if name == textured else others[name] for name in mapping.sources]
-        with np.errstate(all="ignore"):
-            produced = np.asarray(mapping.formula(*arguments), dtype=np.float64)
-        if produced.shape != sample.shape or not np.allclose(produced, sample, atol=1e-9):
-            return False
-    return True
 
 
 def _constant_input(material: Material, mapping: Mapping, value, type_name: str) -> Input:

@@ -35,6 +35,16 @@ class GraphFollower:
             return output.getConnectedNode()
         return port.getConnectedNode()
 
+    def follow_shader_input(self, port):
+        """:meth:`follow` for an input of a shader node: a texture on a UsdPreviewSurface's ``normal`` is a
+        tangent-space vector decoded by its scale and bias (multiply/add nodes; MaterialX's
+        implementation re-encodes it for its own normalmap), as the USD reader reads a UsdUVTexture's."""
+        value = self.follow(port)
+        if isinstance(value, Texture) and value.normal_map is None and port.getName() == "normal" \
+                and port.getParent().getCategory() == "UsdPreviewSurface":
+            value.normal_map, value.decoded_by_scale_bias = 1.0, True
+        return value
+
     def follow(self, port):
         """Interpret what feeds ``port``: a :class:`Texture` for an image chain, else a
         :class:`Connection` (dangling when the reference does not resolve)."""
@@ -66,9 +76,12 @@ class GraphFollower:
         )
 
     def texture_chain(self, node, output_name: str = "") -> Texture | None:
-        """Walk ``extract``/``convert``/``normalmap``/``separate`` to an image node."""
+        """Walk ``extract``/``convert``/``normalmap``/``separate`` to an image node; ``multiply`` and
+        ``add`` by a constant before any ``normalmap`` are the texture's scale and bias (as a
+        UsdUVTexture's: the writer puts them there)."""
         channels = None
         normal_scale = None
+        arithmetic = _ScaleBias()
         if output_name in ("outr", "outg", "outb", "outa", "outx", "outy", "outz", "outw") and node.getCategory().startswith("separate"):
             channels = ("rgba".find(output_name[-1]) if output_name[-1] in "rgba" else "xyzw".find(output_name[-1]),)
             node = self.upstream_node(node.getInput("in")) if node.getInput("in") else None
@@ -82,12 +95,17 @@ class GraphFollower:
                 index_input = node.getInput("index")
                 index = int(index_input.getValue()) if index_input is not None and index_input.hasAttribute("value") else 0
                 channels = (index,)
+            elif category in ("multiply", "add"):
+                if not arithmetic.take(node, channels):
+                    return None
             elif category == "normalmap":
+                if arithmetic.seen:  # arithmetic after the decode: not a texture's scale and bias
+                    return None
                 scale_input = node.getInput("scale")
                 normal_scale = float(scale_input.getValue()) if scale_input is not None and scale_input.hasAttribute("value") else 1.0
             elif category not in PASS_THROUGH:
                 return None
-            upstream = node.getInput("in")
+            upstream = node.getInput("in1" if category in ("multiply", "add") else "in")
             node = self.upstream_node(upstream) if upstream is not None else None
         else:
             return None
@@ -96,7 +114,9 @@ class GraphFollower:
             image_type, channel = _multioutput_type(node, output_name)
             if channel is not None and channels is None:
                 channels = (channel,)
-        return self.image(node, channels, normal_scale, image_type)
+        texture = self.image(node, channels, normal_scale, image_type)
+        texture.scale, texture.bias = arithmetic.values()
+        return texture
 
     def image(self, node, channels, normal_scale, image_type: str | None = None) -> Texture:
         file_input = node.getInput("file")
@@ -170,6 +190,49 @@ class GraphFollower:
         return (None if transform.is_identity else transform), uv_set
 
 
+class _ScaleBias:
+    """``multiply``/``add`` nodes met walking up from the input, composed into one value * scale + bias
+    (moving up past ``+ c`` adds c * scale to the bias; past ``* k`` multiplies the scale by k). An
+    operation on the whole colour above an ``extract`` is reduced to the extracted channel."""
+
+    def __init__(self):
+        self.scale, self.bias, self.seen = None, None, False
+
+    def take(self, node, channels) -> bool:
+        first, second = node.getInput("in1"), node.getInput("in2")
+        if first is None or second is None or not second.hasAttribute("value") or \
+                any(second.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename", "output")):
+            return False
+        try:
+            value = parse_value(second.getValueString(), second.getType())
+        except ValueSyntaxError:
+            return False
+        operand = [float(v) for v in value] if isinstance(value, (tuple, list)) else [float(value)]
+        if channels is not None and len(operand) > 1:
+            if channels[0] >= len(operand):
+                return False
+            operand = [operand[channels[0]]]
+        self.seen = True
+        scale = self.scale if self.scale is not None else [1.0]
+        if node.getCategory() == "add":
+            bias = self.bias if self.bias is not None else [0.0]
+            self.bias = _combine(bias, _combine(operand, scale, lambda a, b: a * b), lambda a, b: a + b)
+        else:
+            self.scale = _combine(scale, operand, lambda a, b: a * b)
+        return True
+
+    def values(self):
+        def shown(v):
+            return None if v is None else (v[0] if len(v) == 1 else tuple(v))
+        return shown(self.scale), shown(self.bias)
+
+
+def _combine(a: list[float], b: list[float], operation) -> list[float]:
+    width = max(len(a), len(b))
+    a, b = (a * width)[:width] if len(a) == 1 else a, (b * width)[:width] if len(b) == 1 else b
+    return [operation(x, y) for x, y in zip(a, b)]
+
+
 def _constant_value(follower, node, type_name: str):
     """A ``constant`` node (through ``dot`` nodes) with an authored value of the port's type: its
     value, as :class:`Constant` (MaterialX renders the same; UsdMtlx keeps such networks). A
@@ -225,6 +288,7 @@ def _capture_graph(node, limit: int = 256) -> str | None:
         copy = captured.addNode(current.getCategory(), current.getName(), current.getType())
         copy.copyContentFrom(current)
         _bind_interface(copy, current.getParent())
+        _resolve_files(copy, current)
         for port in current.getInputs():
             upstream = port.getConnectedNode()
             if upstream is not None and upstream.getParent() == current.getParent():
@@ -232,6 +296,42 @@ def _capture_graph(node, limit: int = 256) -> str | None:
     from .writer import document_text  # lazy: the writer imports MaterialX at load (see above)
 
     return document_text(captured)
+
+
+def rewrite_files(graph_xml: str, rewrite) -> str:
+    """``graph_xml`` with each filename input's value replaced by ``rewrite(value)`` (None keeps it)."""
+    # lazy: as in _capture_graph
+    import MaterialX as mx
+
+    from .writer import document_text  # lazy: as in _capture_graph
+
+    document = mx.createDocument()
+    mx.readFromXmlString(document, graph_xml)
+    changed = False
+    for node in document.getNodes():
+        for port in node.getInputs():
+            if port.getType() == "filename" and port.hasAttribute("value"):
+                new = rewrite(port.getValueString())
+                if new is not None and new != port.getValueString():
+                    port.setValueString(new)
+                    changed = True
+    return document_text(document) if changed else graph_xml
+
+
+def _resolve_files(copy, original) -> None:
+    """Filename inputs of a captured node as they resolve where the node stood: the enclosing
+    elements' ``fileprefix`` applied (MaterialX's examples put ``../../../Images/`` on the document or
+    the node graph; without it a kept marble's or brick's images would be looked up beside the output),
+    and the colour space an enclosing element gives them written on the input itself."""
+    root = original.getDocument()
+    for port in original.getInputs():
+        if port.getType() != "filename" or not port.hasAttribute("value"):
+            continue
+        target = copy.getInput(port.getName())
+        target.setValueString(port.getResolvedValueString())
+        space = port.getActiveColorSpace()
+        if not port.getColorSpace() and space and space != root.getColorSpace():
+            target.setColorSpace(space)
 
 
 def _bind_interface(copy, scope) -> None:

@@ -15,8 +15,10 @@ Each shader input becomes an :class:`~openpbr_tools.model.Input` whose value is
 * a :class:`Constant` parsed strictly from the value string (see :mod:`openpbr_tools.values`), or
   from a ``constant`` node (through ``dot`` nodes) that feeds the input;
 * a :class:`Texture` when the upstream chain is an ``image``/``tiledimage`` node, optionally through
-  ``extract``, ``convert``, ``normalmap`` and, on the texture coordinates, ``place2d`` and
-  ``texcoord``; followed through ``nodegraph``/``output`` and ``interfacename`` indirections;
+  ``extract``, ``convert``, ``normalmap``, ``multiply``/``add`` by constants (its scale and bias; a
+  UsdPreviewSurface's ``normal`` is then a tangent-space vector, decoded by them, as in USD) and, on
+  the texture coordinates, ``place2d`` and ``texcoord``; through ``nodegraph``/``output`` and
+  ``interfacename`` indirections;
 * a :class:`Connection` otherwise: a procedural graph (kept and reported) or a reference that does
   not resolve (``dangling``).
 """
@@ -384,7 +386,7 @@ class _Reader(GraphFollower):
         entry.authored_colorspace = port.getColorSpace() or None
         if port.hasAttribute("nodename") or port.hasAttribute("nodegraph") or port.hasAttribute("interfacename") \
                 or port.hasAttribute("output"):
-            entry.value = self.follow(port)
+            entry.value = self.follow_shader_input(port)
             return entry
         text = port.getValueString()
         entry.raw = text

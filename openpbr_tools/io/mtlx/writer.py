@@ -90,7 +90,8 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
             elif type_name in COLOUR_TYPES and entry.colorspace and entry.colorspace != (material.colorspace or colorspace):
                 port.setColorSpace(colorspaces.materialx_name(entry.colorspace))
         elif isinstance(value, Texture):
-            port.setNodeName(_write_texture(document, shader_name, name, type_name, value, used))
+            tangent_vector = material.model == "UsdPreviewSurface" and parameter is not None and parameter.role == "normal"
+            port.setNodeName(_write_texture(document, shader_name, name, type_name, value, used, tangent_vector))
         elif isinstance(value, Connection):
             node_name = _write_connection(document, shader_name, name, value, used)
             if node_name:
@@ -111,7 +112,33 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
         node.setAttribute(gltf_state.MTLX_ATTRIBUTE, gltf_state.encode(state))
 
 
-def _write_texture(document, shader_name: str, input_name: str, input_type: str, texture: Texture, used) -> str:
+def _normal_decode(strength: float) -> tuple[tuple, tuple]:
+    """The scale and bias that take a normal map's texels to a tangent-space vector of ``strength``
+    (x, y scaled, as MaterialX's normalmap and glTF's normalTexture.scale do)."""
+    return (2.0 * strength, 2.0 * strength, 2.0), (-strength, -strength, -1.0)
+
+
+def _is_decode(texture: Texture) -> bool:
+    """Whether the texture's scale and bias are the plain decode of a normal map of its strength (a
+    UsdUVTexture's 2, -1): a ``normalmap`` node does that decode itself."""
+    if texture.normal_map is None or texture.scale is None or texture.bias is None:
+        return False
+    scale, bias = _normal_decode(float(texture.normal_map))
+    return tuple(_components(texture.scale, 3)) == scale and tuple(_components(texture.bias, 3)) == bias
+
+
+def _components(value, width: int) -> list[float]:
+    flat = [float(v) for v in value] if isinstance(value, (tuple, list)) else [float(value)]
+    return (flat * width)[:width] if len(flat) == 1 else flat[:width]
+
+
+def _write_texture(document, shader_name: str, input_name: str, input_type: str, texture: Texture, used,
+                   tangent_vector: bool = False) -> str:
+    """The image chain of ``texture``; returns the node feeding the input. Scale and bias (a
+    UsdUVTexture's, Texture.scale/bias) become ``multiply``/``add`` after the lookup. ``tangent_vector``:
+    the input takes a tangent-space vector in [-1, 1] (UsdPreviewSurface's ``normal``: MaterialX's
+    implementation re-encodes it and applies its own ``normalmap``), so a normal map is written as its
+    decode (scale 2, bias -1, x and y by its strength) rather than through a ``normalmap`` node."""
     prefix = f"{shader_name}_{input_name}"
     image_type = texture.image_type or input_type
     if texture.channels is not None and len(texture.channels) == 1 and image_type in ("float", "integer", "boolean"):
@@ -139,7 +166,21 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
         extract.addInput("in", image_type).setNodeName(upstream)
         extract.addInput("index", "integer").setValueString(str(texture.channels[0]))
         upstream = extract.getName()
-    if texture.normal_map is not None:
+    scale, bias = texture.scale, texture.bias
+    if texture.normal_map is not None and (_is_decode(texture) or (scale is None and bias is None)):
+        scale, bias = _normal_decode(float(texture.normal_map)) if tangent_vector else (None, None)
+    delivered = document.getNode(upstream).getType()
+    width = {"float": 1, "color3": 3, "vector3": 3, "color4": 4, "vector4": 4, "vector2": 2}.get(delivered, 1)
+    for category, value, identity in (("multiply", scale, 1.0), ("add", bias, 0.0)):
+        if value is None or all(v == identity for v in _components(value, width)):
+            continue
+        operation = document.addNode(category, _unique(f"{prefix}_{category}", used), delivered)
+        operation.addInput("in1", delivered).setNodeName(upstream)
+        components = _components(value, width)
+        operation.addInput("in2", delivered).setValueString(format_value(components[0] if width == 1 else tuple(components),
+                                                                         delivered))
+        upstream = operation.getName()
+    if texture.normal_map is not None and not tangent_vector:
         decode = document.addNode("normalmap", _unique(f"{prefix}_normalmap", used), "vector3")
         decode.addInput("in", "vector3").setNodeName(upstream)
         if texture.normal_map != 1.0:

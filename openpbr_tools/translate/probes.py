@@ -1,0 +1,57 @@
+"""What a mapping's formula does with a textured or procedural source, found by evaluating it on probe
+values (the other sources at their constants): whether it ignores the source (a metal-only term of a
+dielectric: nothing to bake) or passes it through unchanged (then the texture or graph is rewired as
+is). Used by :func:`.common.translate`."""
+
+from __future__ import annotations
+
+import numpy as np
+
+
+def probe_value(values, name: str, level: float):
+    parameter = values.table.get(name)
+    width = 3 if parameter is not None and parameter.type in ("color3", "vector3") else 1
+    return np.full(width, level) if width > 1 else np.asarray(level)
+
+
+def ignored_probe(mapping, textured: str, values):
+    """A probe value of ``textured`` when ``mapping``'s formula, with every constant source at its
+    value, gives the same result whatever ``textured`` is (then nothing needs baking); else ``None``.
+    Other textured sources are held at each of a few probe values in turn (a procedural roughness
+    beside a procedural colour: the dielectric's diffuse colour does not read the roughness)."""
+    if mapping.formula is None or len(set(mapping.sources)) == 1:
+        return None
+    others = {name: values.constant(name) for name in mapping.sources if name != textured}
+    varying = [name for name, value in others.items() if value is None and not values.is_constant(name)]
+    if any(v is None for name, v in others.items() if name not in varying):
+        return None
+    for held in ((0.3,), (0.3, 0.8))[bool(varying)]:
+        fixed = dict(others, **{name: probe_value(values, name, held) for name in varying})
+        results = []
+        for probe in (0.0, 0.3, 0.55, 1.0):
+            arguments = [probe_value(values, textured, probe) if name == textured else fixed[name] for name in mapping.sources]
+            with np.errstate(all="ignore"):
+                results.append(np.asarray(mapping.formula(*arguments), dtype=np.float64))
+        if not all(r.shape == results[0].shape and np.allclose(r, results[0], atol=1e-12) for r in results[1:]):
+            return None
+    return probe_value(values, textured, 0.55)
+
+
+def is_identity(mapping, textured: str, values) -> bool:
+    """Whether ``mapping``, with its other sources at their constant values, copies ``textured``:
+    then a texture passes through unchanged. Checked by evaluating the formula on probe values."""
+    if mapping.formula is None:
+        return len(mapping.sources) == 1
+    others = {name: values.constant(name) for name in mapping.sources if name != textured}
+    if any(v is None for v in others.values()):
+        return False
+    parameter = values.table.get(textured)
+    width = 3 if parameter is not None and parameter.type in ("color3", "vector3") else 1
+    for probe in (0.0, 0.2, 0.55, 1.0):
+        sample = np.full(width, probe) if width > 1 else np.asarray(probe)
+        arguments = [sample if name == textured else others[name] for name in mapping.sources]
+        with np.errstate(all="ignore"):
+            produced = np.asarray(mapping.formula(*arguments), dtype=np.float64)
+        if produced.shape != sample.shape or not np.allclose(produced, sample, atol=1e-9):
+            return False
+    return True
