@@ -144,7 +144,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 continue
             meters, unitless = _meters_per_unit(material, asset)
             step_settings = dataclasses.replace(settings, meters_per_unit=meters, context=context, baker=baker,
-                                                gltf_file=kind == "gltf")
+                                                gltf_file=kind == "gltf", node_graphs=kind == "mtlx")
             name = unique = material.material_name or material.name
             while unique in used_names and kind != "gltf":  # glTF keeps materials apart by index
                 unique = f"{name}_{len(used_names) + 1}"

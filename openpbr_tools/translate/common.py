@@ -97,7 +97,10 @@ class Settings:
     cannot (KHR_materials_coat, _fuzz, _diffuse_roughness, EXT_materials_specular_openpbr; see
     :mod:`openpbr_tools.io.gltf.drafts`), beside the ratified fallbacks. ``gltf_file``: the result is
     written to a glTF file (not a gltf_pbr node), so a translation may use glTF extensions the node
-    has no input for (KHR_materials_diffuse_transmission for a thin-walled subsurface).
+    has no input for (KHR_materials_diffuse_transmission for a thin-walled subsurface). ``node_graphs``:
+    the output holds MaterialX node graphs (a .mtlx file, or a translation kept in memory), so a mapping
+    of a procedural input is written as nodes after its graph (:mod:`.expressed`); USD and glTF writers
+    write no procedural graph.
     """
 
     nits_per_unit: float = 1.0
@@ -108,6 +111,7 @@ class Settings:
     gltf_file: bool = False  # the result goes to a glTF file, which holds extensions the gltf_pbr node cannot
     candidates: bool = True  # weigh MaterialX's translation graphs against the mapping (translate.candidates)
     fit_films: bool = False  # also fit a thin film's thickness by rendering (translate.candidates; --verify)
+    node_graphs: bool = True  # the output holds MaterialX node graphs (.mtlx): a mapping of a procedural input is written as nodes
 
 
 class Values:
@@ -204,6 +208,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         if not values.fits(name):
             say(NOT_CARRIED, f"{name} holds a value of another shape than its type "
                              f"({source_table[name].type}) and is not carried", name)
+    handled: set[str] = set()  # textured sources carried, baked, expressed, or reported at their own input
+    failed: dict[str, str] = {}  # textured source -> a target that could not take it (reported at another input)
     for mapping in mappings:
         parameter = target_table[mapping.target]
         authored = any(values.authored(s) for s in mapping.sources)
@@ -260,20 +266,15 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             carried.name, carried.type = mapping.target, parameter.type
             carried.location = entry.location
             result.inputs[mapping.target] = carried
+            handled.add(source_name)
             continue
-        if mapping.formula is not None and expressed_module.one_graph(material, textured):
+        if settings.node_graphs and mapping.formula is not None and expressed_module.one_graph(material, textured):
             expressed = expressed_module.express(material, mapping, textured, values, working, parameter, ignored)
             if expressed is not None:
                 result.inputs[mapping.target], expression = expressed
-                how = "exactly (an affine map)" if expression.kind == "affine" else \
-                    f"as a polynomial per channel (degree {len(expression.coefficients) - 1}), within " \
-                    f"{expression.error:.2g} of the formula over the input's range"
-                clamp = "" if expression.clamp is None else \
-                    f", clamped to [{expression.clamp[0]:g}, {expression.clamp[1]:g}]"
-                say(CONVERTED if expression.kind == "affine" and not clamp else APPROXIMATED,
-                    f"{mapping.target}: the procedural graph on {', '.join(textured)} is kept and the mapping, "
-                    f"with the other inputs at their values, is written after it as MaterialX nodes, {how}{clamp}",
-                    source_name)
+                handled.update(textured)
+                say(CONVERTED if expression.exact else APPROXIMATED,
+                    f"{mapping.target}: {expressed_module.described(expression, textured)}", source_name)
                 if not mapping.exact and _matters(mapping, [values.constant(s) if values.is_constant(s) else
                                                             np.asarray(source_table[s].default, dtype=np.float64)
                                                             for s in mapping.sources]):
@@ -285,12 +286,15 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                                             texturable=_texturable(target_model, mapping.target))
             except BakeError as error:
                 say(NOT_CARRIED, f"{mapping.target} cannot be baked: {error}; the target keeps its default", source_name)
+                handled.add(source_name)
+                failed.update((name, mapping.target) for name in textured[1:])
                 continue
             if isinstance(baked.input.value, Constant):  # every texel gave the same value
                 baked.input.value.value, clamped = inside(baked.input.value.value, parameter)
                 if clamped:
                     say(APPROXIMATED, f"{mapping.target}: {clamped}", source_name)
             result.inputs[mapping.target] = baked.input
+            handled.update(textured)
             say(APPROXIMATED if baked.clipped else CONVERTED, baked.message, source_name)
             if not mapping.exact and _matters_on_average(mapping, values, baked.averages):
                 say(APPROXIMATED, f"{mapping.target}: {mapping.note}", source_name)
@@ -300,6 +304,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         say(NOT_CARRIED, f"{mapping.target} needs {what} transformed per texel "
                          f"({mapping.note or 'a formula of ' + ', '.join(mapping.sources)}); nothing to bake into "
                          "(a conversion without an output), so the target keeps its default", source_name)
+        handled.add(source_name)
+        failed.update((name, mapping.target) for name in textured[1:])
     for drop in dropped:
         if not values.authored(drop.source):
             continue
@@ -307,6 +313,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         if not values.is_constant(drop.source) or drop.matters is None or \
                 (all(a is not None for a in arrays) and drop.matters(*arrays)):
             say(NOT_CARRIED, f"{drop.source} has no equivalent: {drop.why}", drop.source)
+            handled.add(drop.source)
+    probes.unreached(material, mappings, handled, failed, source_table, say)
     report.sort(key=Diagnostic.sort_key)
     return Translation(result, report, material)
 

@@ -59,6 +59,20 @@ class Expression:
     clamp: tuple[float, float] | None = None
     error: float = 0.0
 
+    @property
+    def exact(self) -> bool:
+        return self.kind == "affine" and self.clamp is None
+
+
+def described(expression: Expression, textured: list[str]) -> str:
+    """What was written, for the report (OPBR1102 when exact, else OPBR1103)."""
+    how = "exactly (an affine map)" if expression.kind == "affine" else \
+        f"as a polynomial per channel (degree {len(expression.coefficients) - 1}), within {expression.error:.2g} " \
+        "of the formula over the input's range"
+    clamp = "" if expression.clamp is None else f", clamped to [{expression.clamp[0]:g}, {expression.clamp[1]:g}]"
+    return (f"the procedural graph on {', '.join(textured)} is kept and the mapping, with the other inputs at their "
+            f"values, is written after it as MaterialX nodes, {how}{clamp}")
+
 
 def _domain(parameter) -> tuple[float, float]:
     """The range the graph's output is sampled over: the parameter's soft range, else its hard range,

@@ -1,11 +1,15 @@
 """What a mapping's formula does with a textured or procedural source, found by evaluating it on probe
 values (the other sources at their constants): whether it ignores the source (a metal-only term of a
 dielectric: nothing to bake) or passes it through unchanged (then the texture or graph is rewired as
-is). Used by :func:`.common.translate`."""
+is); and, after the mappings, what became of a texture or graph none of them carried
+(:func:`unreached`). Used by :func:`.common.translate`."""
 
 from __future__ import annotations
 
 import numpy as np
+
+from ..model import Connection, Texture
+from ..rules.translation import CONVERTED, NOT_CARRIED
 
 
 def probe_value(values, name: str, level: float):
@@ -55,3 +59,25 @@ def is_identity(mapping, textured: str, values) -> bool:
         if produced.shape != sample.shape or not np.allclose(produced, sample, atol=1e-9):
             return False
     return True
+
+
+def unreached(material, mappings, handled: set[str], failed: dict[str, str], source_table, say) -> None:
+    """A texture or procedural graph that no mapping carried and nothing reported at its input: one a
+    target needed but could not take (reported at another of its sources) is not carried (OPBR1104);
+    where mappings read it and ignore it (a metal's edge colour on a dielectric, a rotation without
+    anisotropy), it has no effect with the other inputs at their values (OPBR1102, so the graph is not
+    gone unnoticed); where none reads it, it is not carried (OPBR1104)."""
+    read = {name for mapping in mappings for name in mapping.sources}
+    for name in sorted(material.inputs):
+        value = material.inputs[name].value
+        if name in handled or name not in source_table or not isinstance(value, (Texture, Connection)):
+            continue
+        what = "texture" if isinstance(value, Texture) else "procedural graph"
+        if name in failed:
+            say(NOT_CARRIED, f"{name}: its {what} is not carried: {failed[name]}, which reads it, could not be "
+                             "written from it (reported with the input it failed on)", name)
+        elif name in read:
+            say(CONVERTED, f"{name}: its {what} is not carried: with the other inputs at their values it has no "
+                           "effect on the result", name)
+        else:
+            say(NOT_CARRIED, f"{name}: its {what} is not carried (no input of the target takes it)", name)
