@@ -44,7 +44,7 @@ import numpy as np
 from .. import tables
 from ..colorspaces import from_lin_rec709, to_lin_rec709
 from ..model import Constant, Input, Material
-from .judging import CLAMPED_IN_FILE, as_written, constant_values
+from .judging import CLAMPED_IN_FILE, as_written, constant_values, render_many, scores_many
 from .target import inside
 
 #: the colour each target's fit adjusts: the one that carries the base's diffuse and metal colour
@@ -109,29 +109,6 @@ def _in_range(space: str | None, rec709_file: bool) -> Callable[[np.ndarray], np
     return clip
 
 
-def _ratio_recoloured(judge, model: str, knob: str, value_sets: list[dict], clip) -> list[dict]:
-    means = judge.means(model, value_sets)
-    out = []
-    for values, mean in zip(value_sets, means):
-        colour = np.asarray(values[knob], dtype=float)
-        ratio = np.where(mean > FLAT, judge.goal / np.maximum(mean, FLAT), 1.0)
-        out.append(dict(values, **{knob: clip(colour * ratio)}))
-    return out
-
-
-def _newton(judge, model: str, knob: str, values: dict, clip) -> dict | None:
-    colour = np.asarray(values[knob], dtype=float)
-    for _ in range(STEPS):
-        step = np.where(clip(colour + PERTURBATION)[...] > colour + PERTURBATION / 2, PERTURBATION, -PERTURBATION)
-        now, moved = judge.means(model, [dict(values, **{knob: colour}), dict(values, **{knob: colour + step})])
-        slope = (moved - now) / step
-        usable = np.abs(slope) > FLAT
-        if not usable.any():
-            return None
-        colour = clip(np.where(usable, colour + (judge.goal - now) / np.where(usable, slope, 1.0), colour))
-    return dict(values, **{knob: colour})
-
-
 #: Per source model: (IOR input, the weight that switches it on or None) pairs below 1 of which the
 #: evaluator and MaterialX's GLSL disagree (module docstring).
 IORS = {"open_pbr_surface": (("specular_ior", None), ("coat_ior", "coat_weight")),
@@ -165,6 +142,22 @@ def fit(source: Material, candidate: Material, judge) -> Fitted | None:
     """``candidate`` (constant-valued, of a model in :data:`KNOB`) adjusted to look like ``source``
     (module docstring), or None. ``judge`` is the candidate search's :class:`~.judging.Judge` (the
     source's render: ``means``, ``goal``, ``scores``); the shape search keeps the value it scores best."""
+    return fit_many([(source, candidate, judge)])[0]
+
+
+@dataclass
+class _Job:
+    """One material's fit in progress (:func:`fit_many`)."""
+    source: Material
+    judge: object
+    knob: str
+    clip: Callable
+    material: Material
+    values: dict
+    changed: dict
+
+
+def _job(source: Material, candidate: Material, judge) -> _Job | None:
     knob = KNOB.get(candidate.model)
     if knob is None or constant_values(candidate) is None or untrusted(source) is not None:
         return None
@@ -174,26 +167,93 @@ def fit(source: Material, candidate: Material, judge) -> Fitted | None:
     entry = candidate.inputs.get(knob)
     clip = _in_range((entry.colorspace if entry is not None else None) or candidate.colorspace,
                      knob in CLAMPED_IN_FILE.get(candidate.model, ()))
-    source_values = constant_values(source) or {}
-    changed: dict[str, str] = {}
-    material = candidate
-    for search in SEARCHES.get(candidate.model, ()):
-        if not search.applies(source_values, constant_values(candidate)):
-            continue
-        trials = _ratio_recoloured(judge, candidate.model, knob, [dict(values, **{search.target_input: g}) for g in search.grid], clip)
-        written = [_written(material, trial, (search.target_input, knob)) for trial in trials]
-        scores = judge.scores([material] + [w for w in written if w is not None])
-        best = int(np.argmin(scores))
+    return _Job(source, judge, knob, clip, candidate, values, {})
+
+
+def _means(jobs_sets: list[tuple[_Job, str, dict]]) -> list[np.ndarray]:
+    """Mean radiance over each job's sphere of each (job, model, values), all rendered together
+    (:func:`.judging.render_many`; the judges share one rig)."""
+    if not jobs_sets:
+        return []
+    images = render_many([(model, values) for _, model, values in jobs_sets], jobs_sets[0][0].judge.rig)
+    return [image[job.judge.mask].mean(axis=0) for (job, _, _), image in zip(jobs_sets, images)]
+
+
+def fit_many(items: list[tuple[Material, Material, object]]) -> list[Fitted | None]:
+    """:func:`fit` for each (source, candidate, judge) of ``items``, every step's renders of all of them
+    stacked together (a file's materials are fitted at once, as the candidate search weighs them)."""
+    jobs = [_job(*item) for item in items]
+    active = [job for job in jobs if job is not None]
+    _shape_search(active)
+    for _ in range(STEPS):
+        active = _newton_step(active)
+    out: list[Fitted | None] = []
+    for job in jobs:
+        out.append(Fitted(job.material, job.changed) if job is not None and job.changed else None)
+    return out
+
+
+def _shape_search(jobs: list[_Job]) -> None:
+    """Each job's :data:`SEARCHES` grid, base colour rescaled by the ratio of the source's mean radiance to
+    the trial's, all scored together; the best kept (module docstring, step 1)."""
+    plans = []
+    for job in jobs:
+        source_values = constant_values(job.source) or {}
+        for search in SEARCHES.get(job.material.model, ()):
+            if search.applies(source_values, constant_values(job.material)):
+                plans.append((job, search, [dict(job.values, **{search.target_input: g}) for g in search.grid]))
+    if not plans:
+        return
+    flat = [(job, job.material.model, values) for job, _, trials in plans for values in trials]
+    means = iter(_means(flat))
+    scored = []
+    for job, search, trials in plans:
+        recoloured = []
+        for values in trials:
+            mean = next(means)
+            colour = np.asarray(values[job.knob], dtype=float)
+            ratio = np.where(mean > FLAT, job.judge.goal / np.maximum(mean, FLAT), 1.0)
+            recoloured.append(dict(values, **{job.knob: job.clip(colour * ratio)}))
+        written = [_written(job.material, trial, (search.target_input, job.knob)) for trial in recoloured]
+        kept = [i for i, w in enumerate(written) if w is not None]
+        scored.append((job, search, recoloured, written, kept))
+    scores = scores_many([job.judge for job, *_ in scored],
+                         [[job.material] + [written[i] for i in kept] for job, _, _, written, kept in scored])
+    for (job, search, recoloured, written, kept), figures in zip(scored, scores):
+        best = int(np.argmin(figures))
         if best > 0:
-            kept = [i for i, w in enumerate(written) if w is not None][best - 1]
-            material, values = written[kept], trials[kept]
-            changed[search.target_input] = search.source_input
-            changed[knob] = KNOB.get(source.model, "base_color")
-    fitted = _newton(judge, candidate.model, knob, values, clip)
-    if fitted is not None:
-        material = _written(material, fitted, (knob,)) or material
-        changed[knob] = KNOB.get(source.model, "base_color")
-    return Fitted(material, changed) if changed else None
+            chosen = kept[best - 1]
+            job.material, job.values = written[chosen], recoloured[chosen]
+            job.changed[search.target_input] = search.source_input
+            job.changed[job.knob] = KNOB.get(job.source.model, "base_color")
+
+
+def _newton_step(jobs: list[_Job]) -> list[_Job]:
+    """One Newton step of every job's colour fit on its channels' mean radiance (module docstring, step
+    2), the colours and their perturbed copies rendered together; returns the jobs still moving."""
+    steps = []
+    for job in jobs:
+        colour = np.asarray(job.values[job.knob], dtype=float)
+        step = np.where(job.clip(colour + PERTURBATION)[...] > colour + PERTURBATION / 2, PERTURBATION, -PERTURBATION)
+        steps.append((colour, step))
+    flat = []
+    for job, (colour, step) in zip(jobs, steps):
+        flat += [(job, job.material.model, dict(job.values, **{job.knob: colour})),
+                 (job, job.material.model, dict(job.values, **{job.knob: colour + step}))]
+    means = _means(flat)
+    moving = []
+    for index, (job, (colour, step)) in enumerate(zip(jobs, steps)):
+        now, moved = means[2 * index], means[2 * index + 1]
+        slope = (moved - now) / step
+        usable = np.abs(slope) > FLAT
+        if not usable.any():
+            continue  # the colour does not move the render: left as it is
+        colour = job.clip(np.where(usable, colour + (job.judge.goal - now) / np.where(usable, slope, 1.0), colour))
+        job.values = dict(job.values, **{job.knob: colour})
+        job.material = _written(job.material, job.values, (job.knob,)) or job.material
+        job.changed[job.knob] = KNOB.get(job.source.model, "base_color")
+        moving.append(job)
+    return moving
 
 
 def _written(candidate: Material, values: dict, names: tuple[str, ...]) -> Material | None:

@@ -174,10 +174,31 @@ def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> lis
             source, _, target, settings = items[index]
             out[index] = _choose_one(source, out[index], target, settings, candidate)
         return out
-    for (index, candidate), judge, score in zip(work, judges, scores):
-        source, _, target, settings = items[index]
-        out[index] = _decide(source, out[index], target, settings, candidate, judge, score)
+    decided = _decide_many([(items[index][0], out[index], items[index][2], items[index][3], candidate, judge, score)
+                            for (index, candidate), judge, score in zip(work, judges, scores)])
+    for (index, _), translation in zip(work, decided):
+        out[index] = translation
     return out
+
+
+def _decide_many(cases: list[tuple]) -> list[Translation]:
+    """:func:`_decide` for each (source, translation, target, settings, candidate, judge, scores), the
+    appearance fits of all of them run together (:func:`.appearance.fit_many`): first the mappings',
+    then the graphs' where one can change the choice."""
+    ours = _fitted_many([(c[0], c[1].material, c[6][0], c[5]) for c in cases])
+    wanted = []
+    for case, ours_fit in zip(cases, ours):
+        source, _, _, _, candidate, judge, scores = case
+        best_ours = ours_fit[1] if ours_fit else scores[0]
+        # the graphs' result is fitted where it can change the choice or is kept: it already wins, or the
+        # mapping, fitted, still renders visibly off (below FIT_FROM a fitted graph result could only tie)
+        if candidate is not None and (scores[1] < best_ours - MARGIN or best_ours > appearance.FIT_FROM):
+            wanted.append((source, candidate, scores[1], judge))
+        else:
+            wanted.append(None)
+    theirs = iter(_fitted_many([w for w in wanted if w is not None]))
+    return [_decide(*case, ours_fit, next(theirs) if want is not None else None)
+            for case, ours_fit, want in zip(cases, ours, wanted)]
 
 
 def _choose_one(source, translation, target, settings, candidate) -> Translation:
@@ -187,24 +208,20 @@ def _choose_one(source, translation, target, settings, candidate) -> Translation
         score = judge.scores([translation.material] + ([candidate] if candidate is not None else []))
     except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
         return translation
-    return _decide(source, translation, target, settings, candidate, judge, score)
+    return _decide_many([(source, translation, target, settings, candidate, judge, score)])[0]
 
 
-def _decide(source, translation, target, settings, candidate, judge, scores) -> Translation:
-    """Keep the mapping or the graphs' result, each after its appearance fit (:func:`_fitted`), by
-    their figures (the graphs' must win by :data:`MARGIN`), reported with both; then the kept fit."""
+def _decide(source, translation, target, settings, candidate, judge, scores, ours_fit, theirs_fit) -> Translation:
+    """Keep the mapping or the graphs' result, each after its appearance fit (``ours_fit``, ``theirs_fit``:
+    :func:`_fitted_many`'s), by their figures (the graphs' must win by :data:`MARGIN`), reported with
+    both; then the kept fit."""
     context = settings.context
     # the choice concerns the whole material; it is reported at the first input the mapping approximated
     where = next(d.location for d in translation.diagnostics if d.code in (APPROXIMATED.code, NOT_CARRIED.code))
-    ours_fit = _fitted(source, translation.material, scores[0], judge)
     if candidate is None:
         return _with_fit(source, translation, scores[0], ours_fit, settings)
     ours, theirs = scores
     best_ours = ours_fit[1] if ours_fit else ours
-    # the graphs' result is fitted where it can change the choice or is kept: it already wins, or the
-    # mapping, fitted, still renders visibly off (below FIT_FROM a fitted graph result could only tie)
-    theirs_fit = _fitted(source, candidate, theirs, judge) \
-        if theirs < best_ours - MARGIN or best_ours > appearance.FIT_FROM else None
     best_theirs = theirs_fit[1] if theirs_fit else theirs
     figures = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: the toolkit's mapping {ours:.2f}"
                + (f" ({best_ours:.2f} fitted)" if ours_fit else "") + f", MaterialX's translation graphs {theirs:.2f}"
@@ -222,20 +239,28 @@ def _decide(source, translation, target, settings, candidate, judge, scores) -> 
     return _with_fit(source, Translation(candidate, notes, translation.source), theirs, theirs_fit, settings)
 
 
-def _fitted(source: Material, material: Material, score: float, judge: Judge):
-    """(:class:`.appearance.Fitted`, its figure) when ``material`` renders more than
-    :data:`.appearance.FIT_FROM` off and the adjusted one (:mod:`.appearance`) wins by more than
-    :data:`MARGIN`, else None."""
-    if not score > appearance.FIT_FROM:
-        return None
+def _fitted_many(cases: list[tuple[Material, Material, float, Judge]]) -> list:
+    """For each (source, material, score, judge): (:class:`.appearance.Fitted`, its figure) when
+    ``material`` renders more than :data:`.appearance.FIT_FROM` off and the adjusted one
+    (:mod:`.appearance`) wins by more than :data:`MARGIN`, else None; all fitted and scored together
+    (one by one where that fails, so a material the evaluator cannot take loses only its own fit)."""
+    out: list = [None] * len(cases)
+    due = [i for i, (_, _, score, _) in enumerate(cases) if score > appearance.FIT_FROM]
+    if not due:
+        return out
     try:
-        fitted = appearance.fit(source, material, judge)
-        if fitted is None:
-            return None
-        after, = judge.scores([fitted.material])
+        fits = appearance.fit_many([(cases[i][0], cases[i][1], cases[i][3]) for i in due])
+        kept = [(i, f) for i, f in zip(due, fits) if f is not None]
+        figures = scores_many([cases[i][3] for i, _ in kept], [[f.material] for _, f in kept])
     except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
-        return None
-    return (fitted, after) if after < score - MARGIN else None
+        if len(due) == 1:
+            return out
+        for i in due:
+            out[i] = _fitted_many([cases[i]])[0]
+        return out
+    for (i, fitted), (after,) in zip(kept, figures):
+        out[i] = (fitted, after) if after < cases[i][2] - MARGIN else None
+    return out
 
 
 def _with_fit(source: Material, translation: Translation, score: float, fit, settings: Settings) -> Translation:
