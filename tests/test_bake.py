@@ -203,8 +203,12 @@ def test_a_texture_outside_the_asset_folder_is_not_read_unless_allowed(tmp_path)
                              image_node("r", "../library/rough.png")))
     output = asset / "ss.mtlx"
     refused = convert(path, "-o", output, "--to", "standard_surface")
-    assert any(d["code"] == "OPBR1104" and "outside the source asset's folder" in d["message"] for d in refused)
+    # not read: no bake; the mapping (an affine scale of the roughness) is written as the kept texture's
+    # scale, referencing the same file the source does (translate/expressed.scaled_texture)
+    assert any(d["code"] == "OPBR1102" and "outside the source asset's folder" in d["message"]
+               and "scale and bias" in d["message"] for d in refused)
     assert not (asset / "ss_textures").exists()
+    assert "../library/rough.png" in output.read_text()
     allowed = convert(path, "-o", output, "--to", "standard_surface", "--force", "--allow-outside", outside)
     assert any("baked per texel" in d["message"] for d in allowed)
     assert (asset / "ss_textures" / "S_specular_roughness.png").is_file()
@@ -222,7 +226,9 @@ def test_a_texture_escaping_through_a_symlink_is_not_read(tmp_path):
                              '    <input name="specular_roughness_anisotropy" type="float" value="0.5"/>',
                              image_node("r", "rough.png")))
     diagnostics = convert(path, "-o", asset / "ss.mtlx", "--to", "standard_surface")
-    assert any(d["code"] == "OPBR1104" and "outside the source asset's folder" in d["message"] for d in diagnostics)
+    assert any(d["code"] in ("OPBR1102", "OPBR1104") and "outside the source asset's folder" in d["message"]
+               for d in diagnostics)
+    assert not (asset / "ss_textures").exists()  # not read, so nothing baked from it
 
 
 def test_baking_is_deterministic(tmp_path, roughness_asset):

@@ -269,3 +269,38 @@ def test_materialx_renders_the_kept_graph_as_the_constant_conversion(tmp_path, c
     polynomial = any("polynomial" in d.message for d in conversion.diagnostics)
     assert delta(kept, reference) < (0.5 if polynomial else 0.05)
     assert delta(renderer.render_document(bare), reference) > 1.0
+
+
+UDIM_DOCUMENT = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <image name="albedo" type="color3">
+    <input name="file" type="filename" value="albedo.&lt;UDIM&gt;.png" colorspace="srgb_texture" />
+  </image>
+  <standard_surface name="S" type="surfaceshader">
+    <input name="base" type="float" value="0.6" />
+    <input name="base_color" type="color3" nodename="albedo" />
+  </standard_surface>
+  <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+</materialx>
+"""
+
+
+def test_a_udim_set_a_mapping_scales_keeps_its_tiles_with_the_scale(tmp_path):
+    """A UDIM set cannot be baked; Standard Surface's base weight 0.6 on it, going to UsdPreviewSurface's
+    diffuseColor (base * base_color), is an affine map per channel, so the set is kept with scale 0.6 (it
+    was reported lost, the diffuse colour left at its default), and renders as the source does."""
+    from PIL import Image
+
+    for tile, colour in ((1001, (200, 120, 40)), (1002, (30, 90, 220))):
+        Image.new("RGB", (16, 16), colour).save(tmp_path / f"albedo.{tile}.png")
+    source = tmp_path / "udim.mtlx"
+    source.write_text(UDIM_DOCUMENT)
+    out = tmp_path / "out" / "udim.mtlx"
+    out.parent.mkdir()
+    conversion = convert_file(str(source), str(out), "UsdPreviewSurface", Settings(candidates=False))
+    texture = read_asset(str(out)).materials[0].inputs["diffuseColor"].value
+    assert isinstance(texture, Texture) and texture.is_udim
+    np.testing.assert_allclose(texture.scale, (0.6, 0.6, 0.6))
+    assert not [d for d in conversion.diagnostics if d.code == "OPBR1104"]
+    [(_, delta)] = measure(conversion)
+    assert delta.mean < 2.3

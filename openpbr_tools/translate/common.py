@@ -275,9 +275,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 handled.update(textured)
                 say(CONVERTED if expression.exact else APPROXIMATED,
                     f"{mapping.target}: {expressed_module.described(expression, textured)}", source_name)
-                if not mapping.exact and _matters(mapping, [values.constant(s) if values.is_constant(s) else
-                                                            np.asarray(source_table[s].default, dtype=np.float64)
-                                                            for s in mapping.sources]):
+                if not mapping.exact and _matters(mapping, _at_defaults(mapping, values, source_table)):
                     say(APPROXIMATED, f"{mapping.target}: {mapping.note}", source_name)
                 continue
         if settings.baker is not None and mapping.formula is not None:
@@ -285,6 +283,17 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 baked = settings.baker.bake(material, mapping, values, parameter.type, f"{label} {mapping.target}",
                                             texturable=_texturable(target_model, mapping.target))
             except BakeError as error:
+                kept = expressed_module.scaled_texture(material, mapping, textured, values, working, parameter, ignored,
+                                                      settings.gltf_file)
+                if kept is not None:
+                    result.inputs[mapping.target] = kept
+                    handled.add(source_name)
+                    say(CONVERTED, f"{mapping.target}: the texture is not baked ({error}); it is kept, and the "
+                                   "mapping, with the other inputs at their values, becomes its scale and bias "
+                                   "(exact: an affine map per channel)", source_name)
+                    if not mapping.exact and _matters(mapping, _at_defaults(mapping, values, source_table)):
+                        say(APPROXIMATED, f"{mapping.target}: {mapping.note}", source_name)
+                    continue
                 say(NOT_CARRIED, f"{mapping.target} cannot be baked: {error}; the target keeps its default", source_name)
                 handled.add(source_name)
                 failed.update((name, mapping.target) for name in textured[1:])
@@ -317,6 +326,13 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     probes.unreached(material, mappings, handled, failed, source_table, say)
     report.sort(key=Diagnostic.sort_key)
     return Translation(result, report, material)
+
+
+def _at_defaults(mapping: Mapping, values: Values, source_table) -> list:
+    """The mapping's sources as constants, a textured or procedural one at its default (``matters`` takes
+    constants)."""
+    return [values.constant(s) if values.is_constant(s) else np.asarray(source_table[s].default, dtype=np.float64)
+            for s in mapping.sources]
 
 
 def _matters(mapping: Mapping, arrays) -> bool:

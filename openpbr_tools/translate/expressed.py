@@ -25,6 +25,11 @@ colour constants are declared ``lin_rec709`` so that no colour management touche
 
 A result outside the target parameter's hard range over the samples gets a ``clamp`` node. Only
 float and colour inputs are expressed (a normal or an integer switch is not a formula of values).
+
+A **texture** that cannot be baked (a UDIM set, an image outside the asset's folder; :mod:`openpbr_tools.bake`)
+is kept the same way where the map is affine with no channel mixing: as the texture's own scale and
+bias (:func:`scaled_texture`), which the .mtlx writer writes as multiply/add nodes and the USD writer
+as a UsdUVTexture's scale and bias.
 """
 
 from __future__ import annotations
@@ -34,7 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model import Connection, Input, Material
+from ..model import Connection, Input, Material, Texture
 
 AFFINE_TOLERANCE = 1e-7  # relative to the output's scale: below this g is affine (exact)
 TOLERANCE = 0.01  # largest error of a polynomial over the range for it to be written (in the input's units)
@@ -229,4 +234,56 @@ def express(material: Material, mapping, textured: list[str], values, working, p
         produced = produced.reshape((1,) * max(0, 3 - produced.ndim) + produced.shape)
         return np.broadcast_to(produced, (len(x), 1, produced.shape[-1])).reshape(len(x), -1)
 
+    if isinstance(entry.value, Texture):
+        return _scaled(entry, g, source_parameter, parameter)
     return carry(entry, g, source_parameter, parameter)
+
+
+def _scaled(entry: Input, g, source_parameter, target_parameter) -> tuple[Input, Expression] | None:
+    """A texture carried through an affine map with no channel mixing (a scale and an offset per
+    channel) as its own scale and bias, composed after those it has (``t * s' + b'`` then ``* a + c``):
+    MaterialX applies them after the lookup, in its working space, where the formulas run (the writer's
+    multiply/add nodes). For a texture that cannot be baked (a UDIM set, an image outside the asset's
+    folder): it stays the same file, resolution and tiles."""
+    width = {"float": 1, "color3": 3}.get(source_parameter.type)
+    texture = entry.value
+    if width is None or target_parameter.type != source_parameter.type or texture.normal_map is not None \
+            or source_parameter.role in ("normal", "tangent"):
+        return None
+    low, high = _domain(source_parameter)
+    expression = fit(g, source_parameter.type, target_parameter.type, low, high)
+    if expression is None or expression.kind != "affine" or \
+            not np.allclose(expression.matrix, np.diag(np.diag(expression.matrix)), atol=1e-12):
+        return None
+    if expression.clamp is not None or _leaves(g(samples(width, low, high)), target_parameter):
+        return None  # the result would leave the target's range, where a bake clamps per texel
+    scale, offset = np.diag(expression.matrix), expression.offset
+    old_scale, old_bias = _wide(texture.scale, 1.0, width), _wide(texture.bias, 0.0, width)
+    new_scale, new_bias = old_scale * scale, old_bias * scale + offset
+    shown = (lambda v: float(v[0])) if width == 1 else (lambda v: tuple(float(x) for x in v))  # noqa: E731
+    moved = dataclasses.replace(texture, scale=None if np.all(new_scale == 1.0) else shown(new_scale),
+                                bias=None if np.all(new_bias == 0.0) else shown(new_bias))
+    return Input(target_parameter.name, target_parameter.type, moved, entry.location, colorspace=entry.colorspace), \
+        expression
+
+
+def _wide(value, identity: float, width: int) -> np.ndarray:
+    """A texture's scale or bias (None: ``identity``) as ``width`` components."""
+    flat = np.asarray(identity if value is None else value, dtype=np.float64).reshape(-1)
+    return flat[:width] if flat.size >= width else np.full(width, flat[0])
+
+
+def _leaves(y: np.ndarray, parameter) -> bool:
+    low = _scalar_bound(parameter.hard_min, max)
+    high = _scalar_bound(parameter.hard_max, min)
+    return bool((low is not None and np.any(y < low - 1e-9)) or (high is not None and np.any(y > high + 1e-9)))
+
+
+def scaled_texture(material, mapping, textured, values, working, parameter, ignored, gltf_file: bool) -> Input | None:
+    """A single texture a formula maps affinely per channel, carried with that map as its scale and bias
+    (:func:`express`), for an output that writes them (.mtlx, USD; a glTF texture has no bias
+    and its factors are per slot); None otherwise."""
+    if gltf_file or len(textured) != 1 or not isinstance(material.inputs[textured[0]].value, Texture):
+        return None
+    kept = express(material, mapping, textured, values, working, parameter, ignored)
+    return kept[0] if kept is not None else None
