@@ -304,3 +304,15 @@ def test_a_udim_set_a_mapping_scales_keeps_its_tiles_with_the_scale(tmp_path):
     assert not [d for d in conversion.diagnostics if d.code == "OPBR1104"]
     [(_, delta)] = measure(conversion)
     assert delta.mean < 2.3
+
+
+def test_a_target_the_material_does_not_need_is_not_written_from_a_texture(tmp_path):
+    """MaterialX's brass puts its colour texture on coat_color; without emission, glTF's emissive colour
+    (OpenPBR's emission colour through the coat) is not needed whatever the texture holds, and was
+    written from it anyway (gltf_pbr's emissive_strength defaults to 1 in MaterialX: the brass glowed,
+    26 mean CIEDE2000 in GLSL)."""
+    shutil.copytree(EXAMPLES, tmp_path / "resources")
+    source = tmp_path / "resources" / "Materials" / "Examples" / "StandardSurface" / "standard_surface_brass_tiled.mtlx"
+    out = source.parent / "brass_gltf_pbr.mtlx"
+    convert_file(str(source), str(out), "gltf_pbr", Settings(), allow_outside=(str(tmp_path),))
+    assert "emissive" not in read_asset(str(out)).materials[0].inputs

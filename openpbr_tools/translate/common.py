@@ -257,6 +257,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             elif mapping.converted and authored and _changed(arrays[0], value):
                 say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0])
             continue
+        if mapping.when is not None and not probes.needed(mapping, textured, values):
+            continue  # not needed whatever the textures hold (an emission colour without luminance)
         source_name = textured[0]
         entry = material.inputs[source_name]
         carriable = isinstance(entry.value, Texture) or (isinstance(entry.value, Connection) and entry.value.graph_xml)

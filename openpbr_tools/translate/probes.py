@@ -41,6 +41,24 @@ def ignored_probe(mapping, textured: str, values):
     return probe_value(values, textured, 0.55)
 
 
+def needed(mapping, textured: list[str], values) -> bool:
+    """``mapping.when`` with the textured sources at probe values (0, 0.3, 1) and the others at their
+    constants: whether the target needs the value for some texel. A glTF emissive colour is not written
+    without emission (``emission_luminance`` 0) whatever a textured coat colour holds."""
+    constants = {name: values.constant(name) for name in mapping.sources if name not in textured}
+    if any(v is None for v in constants.values()):
+        return True
+    for level in (0.0, 0.3, 1.0):
+        arguments = [probe_value(values, name, level) if name in textured else constants[name] for name in mapping.sources]
+        try:
+            with np.errstate(all="ignore"):
+                if bool(np.any(mapping.when(*arguments))):
+                    return True
+        except (TypeError, ValueError):
+            return True
+    return False
+
+
 def is_identity(mapping, textured: str, values) -> bool:
     """Whether ``mapping``, with its other sources at their constant values, copies ``textured``:
     then a texture passes through unchanged. Checked by evaluating the formula on probe values."""
