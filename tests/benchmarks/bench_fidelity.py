@@ -13,7 +13,7 @@ and breaks the figures down by kind.
 
 Prints, per target: the share of materials under 2.3 (just noticeable), the median, p95 and the
 worst with their file and index; the shares again where the evaluator is a trusted judge (sources
-with an IOR below 1, a film on a metal or a film of another IOR than its base, which MaterialX's GLSL renders 2-17 ΔE apart from the
+with an IOR below 1, a film on a metal or a film much denser than its base, which MaterialX's GLSL renders 2-17 ΔE apart from the
 evaluator, left out: translate/appearance.untrusted). The materials are random over the whole space, so many are
 combinations no artist authors (a glass that is also a metal with fuzz); the tail says where the
 models differ, not only where the converter errs.
@@ -87,7 +87,7 @@ def main() -> None:
               f"(opaque ones: {sum(m < 2.3 for m in opaque) / max(len(opaque), 1):.1%} of {len(opaque)}), "
               f"median {statistics.median(means):.2f}, p95 {p95:.2f}")
         trusted = [r for r in rows if r[4]]
-        print(f"    where the evaluator is a trusted judge (no IOR below 1, no film on a metal or of another IOR than its base: "
+        print(f"    where the evaluator is a trusted judge (no IOR below 1, no film on a metal or much denser than its base: "
               f"appearance.untrusted): {sum(r[0] < 2.3 for r in trusted) / max(len(trusted), 1):.1%} of {len(trusted)} "
               f"(opaque: {sum(r[0] < 2.3 for r in trusted if r[3]) / max(sum(r[3] for r in trusted), 1):.1%} "
               f"of {sum(r[3] for r in trusted)})")
