@@ -76,6 +76,13 @@ class Constant:
     value: Value
 
 
+def normal_map_decode(strength: float) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+    """The scale and bias that take a normal map's texels to a tangent-space vector of ``strength``
+    (x and y scaled, as MaterialX's ``normalmap`` and glTF's ``normalTexture.scale`` do): the decode a
+    UsdUVTexture feeding UsdPreviewSurface's ``normal`` applies (UsdPreviewSurface spec, "normal")."""
+    return (2.0 * strength, 2.0 * strength, 2.0), (-strength, -strength, -1.0)
+
+
 @dataclass(slots=True)
 class Texture:
     """A reference to an image file feeding a parameter.

@@ -19,11 +19,10 @@ from functools import lru_cache
 import numpy as np
 
 from ..colorspaces import to_lin_rec709
-from ..values import ValueSyntaxError, parse_value
+from ..values import COMPONENTS, ValueSyntaxError, parse_value
 
 STAND_IN = 0.5  # each component of an upstream node this module does not evaluate
 EVALUATED = ("constant", "multiply", "add", "subtract", "clamp", "convert", "extract", "combine3", "mix")
-_WIDTH = {"float": 1, "integer": 1, "boolean": 1, "vector2": 2, "color3": 3, "vector3": 3, "color4": 4, "vector4": 4}
 _DEFAULTS = {"multiply": {"in1": 0.0, "in2": 1.0}, "add": {"in1": 0.0, "in2": 0.0},
              "subtract": {"in1": 0.0, "in2": 0.0}, "clamp": {"in": 0.0, "low": 0.0, "high": 1.0},
              "convert": {"in": 0.0}, "extract": {"in": 0.0, "index": 0.0}, "constant": {"value": 0.0},
@@ -52,7 +51,7 @@ def _value(graph_xml: str, output: str, type_name: str, colorspace: str | None):
     if node is None:
         return None
     result = _node(document, node, 0, colorspace)
-    width = _WIDTH.get(type_name)
+    width = COMPONENTS.get(type_name)
     if result is None or width is None or result.size not in (1, width):
         return None
     result = np.broadcast_to(result.reshape(-1) if result.size > 1 else result.reshape(()), () if width == 1 else
@@ -61,13 +60,13 @@ def _value(graph_xml: str, output: str, type_name: str, colorspace: str | None):
 
 
 def _stand_in(type_name: str) -> np.ndarray:
-    width = _WIDTH.get(type_name, 1)
+    width = COMPONENTS.get(type_name, 1)
     return np.asarray(STAND_IN) if width == 1 else np.full(width, STAND_IN)
 
 
 def _node(document, node, depth: int, colorspace: str | None) -> np.ndarray | None:
     category, type_name = node.getCategory(), node.getType()
-    if category not in EVALUATED or depth > 64 or type_name not in _WIDTH:
+    if category not in EVALUATED or depth > 64 or type_name not in COMPONENTS:
         return _stand_in(type_name)
     operands = {}
     for name, default in _DEFAULTS[category].items():
@@ -95,7 +94,7 @@ def _node(document, node, depth: int, colorspace: str | None) -> np.ndarray | No
 
 
 def _apply(category: str, type_name: str, o: dict) -> np.ndarray | None:
-    width = _WIDTH[type_name]
+    width = COMPONENTS[type_name]
     with np.errstate(all="ignore"):
         if category == "constant":
             return o["value"]

@@ -152,13 +152,6 @@ def untrusted(source: Material) -> str | None:
     return None
 
 
-def fit(source: Material, candidate: Material, judge) -> Fitted | None:
-    """``candidate`` (constant-valued, of a model in :data:`KNOB`) adjusted to look like ``source``
-    (module docstring), or None. ``judge`` is the candidate search's :class:`~.judging.Judge` (the
-    source's render: ``means``, ``goal``, ``scores``); the shape search keeps the value it scores best."""
-    return fit_many([(source, candidate, judge)])[0]
-
-
 @dataclass
 class _Job:
     """One material's fit in progress (:func:`fit_many`)."""
@@ -194,8 +187,11 @@ def _means(jobs_sets: list[tuple[_Job, str, dict]]) -> list[np.ndarray]:
 
 
 def fit_many(items: list[tuple[Material, Material, object]]) -> list[Fitted | None]:
-    """:func:`fit` for each (source, candidate, judge) of ``items``, every step's renders of all of them
-    stacked together (a file's materials are fitted at once, as the candidate search weighs them)."""
+    """For each (source, candidate, judge) of ``items``: ``candidate`` (constant-valued, of a model in
+    :data:`KNOB`) adjusted to look like ``source`` (module docstring), or None. ``judge`` is the
+    candidate search's :class:`~.judging.Judge` (the source's render: its mask, ``goal``, ``scores``);
+    the shape search keeps the value it scores best. Every step's renders of all of them are stacked
+    together (a file's materials are fitted at once, as the candidate search weighs them)."""
     jobs = [_job(*item) for item in items]
     active = [job for job in jobs if job is not None]
     _shape_search(active)

@@ -204,6 +204,10 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         location = entry.location if entry is not None else material.location.with_input(name)
         report.append(context.diagnostic(rule, f"{material.name} ({label}): {message}", location))
 
+    def say_note(mapping: Mapping, name: str) -> None:  # a texture or graph carried: ``matters`` at the defaults
+        if not mapping.exact and _matters(mapping, _at_defaults(mapping, values, source_table)):
+            say(APPROXIMATED, f"{mapping.target}: {mapping.note}", name)
+
     for name in sorted(material.inputs):
         if not values.fits(name):
             say(NOT_CARRIED, f"{name} holds a value of another shape than its type "
@@ -277,8 +281,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 handled.update(textured)
                 say(CONVERTED if expression.exact else APPROXIMATED,
                     f"{mapping.target}: {expressed_module.described(expression, textured)}", source_name)
-                if not mapping.exact and _matters(mapping, _at_defaults(mapping, values, source_table)):
-                    say(APPROXIMATED, f"{mapping.target}: {mapping.note}", source_name)
+                say_note(mapping, source_name)
                 continue
         if settings.baker is not None and mapping.formula is not None:
             try:
@@ -293,8 +296,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                     say(CONVERTED, f"{mapping.target}: the texture is not baked ({error}); it is kept, and the "
                                    "mapping, with the other inputs at their values, becomes its scale and bias "
                                    "(exact: an affine map per channel)", source_name)
-                    if not mapping.exact and _matters(mapping, _at_defaults(mapping, values, source_table)):
-                        say(APPROXIMATED, f"{mapping.target}: {mapping.note}", source_name)
+                    say_note(mapping, source_name)
                     continue
                 say(NOT_CARRIED, f"{mapping.target} cannot be baked: {error}; the target keeps its default", source_name)
                 handled.add(source_name)

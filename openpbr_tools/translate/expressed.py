@@ -82,11 +82,8 @@ def described(expression: Expression, textured: list[str]) -> str:
 def _domain(parameter) -> tuple[float, float]:
     """The range the graph's output is sampled over: the parameter's soft range, else its hard range,
     else [0, 1] (a bound per component is reduced to its widest)."""
-    def scalar(bound, pick):
-        return None if bound is None else (pick(bound) if isinstance(bound, tuple) else float(bound))
-
-    low = scalar(parameter.soft_min, min) if parameter.soft_min is not None else scalar(parameter.hard_min, min)
-    high = scalar(parameter.soft_max, max) if parameter.soft_max is not None else scalar(parameter.hard_max, max)
+    low = _scalar_bound(parameter.soft_min if parameter.soft_min is not None else parameter.hard_min, min)
+    high = _scalar_bound(parameter.soft_max if parameter.soft_max is not None else parameter.hard_max, max)
     low = 0.0 if low is None else low
     high = low + 1.0 if high is None or high <= low else high
     return low, high
@@ -170,6 +167,11 @@ def _scalar_bound(bound, pick):
     return None if bound is None else (pick(bound) if isinstance(bound, tuple) else float(bound))
 
 
+def _hard_range(parameter) -> tuple[float | None, float | None]:
+    """The parameter's hard (low, high), a bound per component reduced to its narrowest."""
+    return _scalar_bound(parameter.hard_min, max), _scalar_bound(parameter.hard_max, min)
+
+
 def carry(entry: Input, formula_of, source_parameter, target_parameter) -> tuple[Input, Expression] | None:
     """``entry`` (a procedural input) carried to ``target_parameter`` through ``formula_of`` (the
     mapping's g, :func:`fit`'s argument) as a new connection whose graph ends in the expression's
@@ -184,8 +186,7 @@ def carry(entry: Input, formula_of, source_parameter, target_parameter) -> tuple
     if source_parameter.role in ("normal", "tangent") or target_parameter.role in ("normal", "tangent"):
         return None
     low, high = _domain(source_parameter)
-    target_range = (_scalar_bound(target_parameter.hard_min, max), _scalar_bound(target_parameter.hard_max, min))
-    expression = fit(formula_of, source_type, target_type, low, high, target_range)
+    expression = fit(formula_of, source_type, target_type, low, high, _hard_range(target_parameter))
     if expression is None:
         return None
     try:
@@ -245,17 +246,17 @@ def _scaled(entry: Input, g, source_parameter, target_parameter) -> tuple[Input,
     MaterialX applies them after the lookup, in its working space, where the formulas run (the writer's
     multiply/add nodes). For a texture that cannot be baked (a UDIM set, an image outside the asset's
     folder): it stays the same file, resolution and tiles."""
-    width = {"float": 1, "color3": 3}.get(source_parameter.type)
+    width = _WIDTH.get(source_parameter.type)
     texture = entry.value
     if width is None or target_parameter.type != source_parameter.type or texture.normal_map is not None \
             or source_parameter.role in ("normal", "tangent"):
         return None
     low, high = _domain(source_parameter)
-    expression = fit(g, source_parameter.type, target_parameter.type, low, high)
+    expression = fit(g, source_parameter.type, target_parameter.type, low, high, _hard_range(target_parameter))
     if expression is None or expression.kind != "affine" or \
             not np.allclose(expression.matrix, np.diag(np.diag(expression.matrix)), atol=1e-12):
         return None
-    if expression.clamp is not None or _leaves(g(samples(width, low, high)), target_parameter):
+    if expression.clamp is not None:
         return None  # the result would leave the target's range, where a bake clamps per texel
     scale, offset = np.diag(expression.matrix), expression.offset
     old_scale, old_bias = _wide(texture.scale, 1.0, width), _wide(texture.bias, 0.0, width)
@@ -271,12 +272,6 @@ def _wide(value, identity: float, width: int) -> np.ndarray:
     """A texture's scale or bias (None: ``identity``) as ``width`` components."""
     flat = np.asarray(identity if value is None else value, dtype=np.float64).reshape(-1)
     return flat[:width] if flat.size >= width else np.full(width, flat[0])
-
-
-def _leaves(y: np.ndarray, parameter) -> bool:
-    low = _scalar_bound(parameter.hard_min, max)
-    high = _scalar_bound(parameter.hard_max, min)
-    return bool((low is not None and np.any(y < low - 1e-9)) or (high is not None and np.any(y > high + 1e-9)))
 
 
 def scaled_texture(material, mapping, textured, values, working, parameter, ignored, gltf_file: bool) -> Input | None:

@@ -27,8 +27,8 @@ def constant_values(material: Material) -> dict | None:
 
 class Judge:
     """The source's render on the evaluator's lit sphere of ``size`` pixels (films on the coarse cosine
-    table), rendered once, against which candidates are scored (:meth:`scores`) and their mean
-    radiance compared (:meth:`means`, for :mod:`.appearance`)."""
+    table), rendered once, against which candidates are scored (:meth:`scores`); its mask and mean
+    radiance (``goal``) are what :mod:`.appearance` fits to (on renders stacked across judges)."""
 
     def __init__(self, source: Material | None, size: int = RIG_SIZE, reference: np.ndarray | None = None):
         # lazy: the evaluator loads its albedo tables; only an approximated constant material needs it
@@ -58,10 +58,6 @@ class Judge:
         """Renders of ``value_sets`` (resolved values of ``model``) on this judge's sphere
         (:func:`render_many`)."""
         return render_many([(model, values) for values in value_sets], self.rig)
-
-    def means(self, model: str, value_sets: list[dict]) -> list[np.ndarray]:
-        """Mean radiance (RGB) over the sphere of each of ``value_sets``."""
-        return [image[self.mask].mean(axis=0) for image in self.images(model, value_sets)]
 
     def scores(self, materials: list[Material]) -> list[float]:
         """Mean CIEDE2000 of each of ``materials`` (one shading model, as written: :func:`as_written`)

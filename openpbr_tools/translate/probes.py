@@ -13,6 +13,7 @@ from ..rules.translation import CONVERTED, NOT_CARRIED
 
 
 def probe_value(values, name: str, level: float):
+    """``level`` in every component of ``name``'s value (a colour or vector three, else one)."""
     parameter = values.table.get(name)
     width = 3 if parameter is not None and parameter.type in ("color3", "vector3") else 1
     return np.full(width, level) if width > 1 else np.asarray(level)
@@ -67,10 +68,8 @@ def is_identity(mapping, textured: str, values) -> bool:
     others = {name: values.constant(name) for name in mapping.sources if name != textured}
     if any(v is None for v in others.values()):
         return False
-    parameter = values.table.get(textured)
-    width = 3 if parameter is not None and parameter.type in ("color3", "vector3") else 1
     for probe in (0.0, 0.2, 0.55, 1.0):
-        sample = np.full(width, probe) if width > 1 else np.asarray(probe)
+        sample = probe_value(values, textured, probe)
         arguments = [sample if name == textured else others[name] for name in mapping.sources]
         with np.errstate(all="ignore"):
             produced = np.asarray(mapping.formula(*arguments), dtype=np.float64)

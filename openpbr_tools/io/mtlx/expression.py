@@ -107,16 +107,17 @@ class _Builder:
     def offset(self, y: str, offset: np.ndarray, t: str) -> str:
         if np.all(offset == 0.0):
             return y
-        value = (float(offset[0]), "float") if t == "float" else (tuple(float(v) for v in offset), "color3")
-        return self.node("add", t, in1=y, in2=value)
+        return self.node("add", t, in1=y, in2=_constant(offset, t))
 
     def horner(self, x: str, coefficients: np.ndarray, t: str) -> str:
         """Horner's scheme, ((c0 x + c1) x + c2) x + c3 for a cubic, channel by channel."""
-        def constant(row):
-            return (float(row[0]), "float") if t == "float" else (tuple(float(v) for v in row), "color3")
-
-        y = self.node("multiply", t, in1=x, in2=constant(coefficients[0]))
+        y = self.node("multiply", t, in1=x, in2=_constant(coefficients[0], t))
         for row in coefficients[1:-1]:
-            y = self.node("add", t, in1=y, in2=constant(row))
+            y = self.node("add", t, in1=y, in2=_constant(row, t))
             y = self.node("multiply", t, in1=y, in2=x)
-        return self.node("add", t, in1=y, in2=constant(coefficients[-1]))
+        return self.node("add", t, in1=y, in2=_constant(coefficients[-1], t))
+
+
+def _constant(components: np.ndarray, t: str) -> tuple:
+    """(value, type) of a constant operand of type ``t`` from its per-channel ``components``."""
+    return (float(components[0]), "float") if t == "float" else (tuple(float(v) for v in components), "color3")

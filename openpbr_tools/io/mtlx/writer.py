@@ -15,8 +15,8 @@ import MaterialX as mx
 
 from ... import colorspaces, gltf_state, tables
 from ...atomic import write_text
-from ...model import Connection, Constant, Material, Texture
-from ...values import format_value
+from ...model import Connection, Constant, Material, Texture, normal_map_decode
+from ...values import COMPONENTS, format_value
 
 COLOUR_TYPES = ("color3", "color4")
 
@@ -112,18 +112,12 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
         node.setAttribute(gltf_state.MTLX_ATTRIBUTE, gltf_state.encode(state))
 
 
-def _normal_decode(strength: float) -> tuple[tuple, tuple]:
-    """The scale and bias that take a normal map's texels to a tangent-space vector of ``strength``
-    (x, y scaled, as MaterialX's normalmap and glTF's normalTexture.scale do)."""
-    return (2.0 * strength, 2.0 * strength, 2.0), (-strength, -strength, -1.0)
-
-
 def _is_decode(texture: Texture) -> bool:
     """Whether the texture's scale and bias are the plain decode of a normal map of its strength (a
     UsdUVTexture's 2, -1): a ``normalmap`` node does that decode itself."""
     if texture.normal_map is None or texture.scale is None or texture.bias is None:
         return False
-    scale, bias = _normal_decode(float(texture.normal_map))
+    scale, bias = normal_map_decode(float(texture.normal_map))
     return tuple(_components(texture.scale, 3)) == scale and tuple(_components(texture.bias, 3)) == bias
 
 
@@ -168,9 +162,9 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
         upstream = extract.getName()
     scale, bias = texture.scale, texture.bias
     if texture.normal_map is not None and (_is_decode(texture) or (scale is None and bias is None)):
-        scale, bias = _normal_decode(float(texture.normal_map)) if tangent_vector else (None, None)
+        scale, bias = normal_map_decode(float(texture.normal_map)) if tangent_vector else (None, None)
     delivered = document.getNode(upstream).getType()
-    width = {"float": 1, "color3": 3, "vector3": 3, "color4": 4, "vector4": 4, "vector2": 2}.get(delivered, 1)
+    width = COMPONENTS.get(delivered, 1)
     for category, value, identity in (("multiply", scale, 1.0), ("add", bias, 0.0)):
         if value is None or all(v == identity for v in _components(value, width)):
             continue

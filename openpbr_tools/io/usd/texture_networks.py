@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from ...model import Texture, UVTransform
+from ...model import Texture, UVTransform, normal_map_decode
 from ...rules.translation import CONVERTED
 from ...values import COMPONENTS
 from .types import ADDRESS_MODE_TO_WRAP, MATERIALX_TO_USD, WRAP_TO_ADDRESS_MODE
@@ -123,8 +123,8 @@ class TextureNetworkWriter:
         if texture.normal_map is not None and scale is None and bias is None:
             # A tangent-space normal map decoded by a MaterialX normalmap node: UsdUVTexture decodes it
             # with scale 2 and bias -1 (UsdPreviewSurface spec, "normal"); the node's strength scales x, y.
-            strength = float(texture.normal_map)
-            scale, bias = (2.0 * strength, 2.0 * strength, 2.0, 1.0), (-strength, -strength, -1.0, 0.0)
+            scale, bias = normal_map_decode(float(texture.normal_map))
+            scale, bias = scale + (1.0,), bias + (0.0,)  # alpha untouched
             if not source:
                 reader.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("raw")
         for name, value in (("scale", scale), ("bias", bias), ("fallback", texture.fallback)):
