@@ -211,6 +211,8 @@ def stack_key(model: str, values: dict) -> tuple:
     whether each of :data:`STACK_SWITCHES` is zero (for an unbounded length: finite)."""
     key = [model, tuple(values)]
     for name, value in values.items():
+        if isinstance(value, float):
+            continue  # (most values: a quick way past them)
         array = np.asarray(value)
         if array.dtype.kind in "biu":
             key.append((name, array.shape, array.tobytes()))
@@ -221,28 +223,35 @@ def stack_key(model: str, values: dict) -> tuple:
     return tuple(key)
 
 
-def shade_sphere_many(model: str, parameter_sets: list[dict], rig: Rig = Rig()) -> list[np.ndarray] | None:
+def shade_sphere_many(model: str, parameter_sets: list[dict], rig: Rig = Rig(),
+                      grouped: bool = False) -> list[np.ndarray] | None:
     """Render several constant parameter sets of one shading ``model`` (``ResolvedParameters.values``
     of each) on the preview sphere in one evaluation: the spheres are stacked into one tall image
     whose per-pixel parameters are each set's values, and cut apart again. The same pixels as
     :func:`shade_sphere` (background included) for a fraction of the cost when the sets are many
     (the evaluator's cost is mostly per call, not per pixel). ``None`` when the sets differ in a
     uniform switch (:func:`stack_key`: a boolean such as thin-walled, or a lobe one has and another
-    has not), which cannot vary per pixel."""
+    has not), which cannot vary per pixel; ``grouped``: the caller has grouped the sets by that key."""
     from . import model_class  # lazy: the package imports this module
 
     geo = _shared_sphere(rig)
     count, pixels = len(parameter_sets), int(geo.mask.sum())
     stacked = {}
-    first = stack_key(model, parameter_sets[0])
-    if any(stack_key(model, values) != first for values in parameter_sets[1:]):
-        return None  # a uniform switch differs (or a parameter without a default is set in one only)
+    if not grouped:
+        first = stack_key(model, parameter_sets[0])
+        if any(stack_key(model, values) != first for values in parameter_sets[1:]):
+            return None  # a uniform switch differs (or a parameter without a default is set in one only)
     for name in parameter_sets[0]:
-        values = [np.asarray(values[name]) for values in parameter_sets]
-        if values[0].dtype.kind in "biu":
+        values = [values[name] for values in parameter_sets]
+        if np.asarray(values[0]).dtype.kind in "biu":
             stacked[name] = parameter_sets[0][name]
             continue
-        stacked[name] = np.concatenate([np.broadcast_to(v.astype(float), (pixels,) + v.shape) for v in values])
+        try:  # each set's value repeated for its pixels, set after set
+            stacked[name] = np.repeat(np.asarray(values, dtype=float), pixels, axis=0)
+        except ValueError:  # (shapes differ: a scalar beside a colour) broadcast one by one
+            arrays = [np.asarray(v, dtype=float) for v in values]
+            shape = max((a.shape for a in arrays), key=len)
+            stacked[name] = np.concatenate([np.broadcast_to(a, (pixels,) + shape) for a in arrays])
     tall = Geometry(np.tile(geo.mask, (count, 1)), np.tile(geo.normal, (count, 1)), np.tile(geo.tangent, (count, 1)),
                     np.tile(geo.bitangent, (count, 1)), (count * rig.size, rig.size))
     image, _ = shade(model_class(model)(stacked), tall, rig)

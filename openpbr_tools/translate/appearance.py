@@ -15,10 +15,11 @@ Two steps, both on the evaluator's lit sphere in linear Rec.709 (where the targe
    opaque it stays a glass: the sample bottle 13.7 -> 4.4 mean ΔE at 0.5). Each value of a
    grid is rendered (one stacked evaluation), the base colour of each rescaled per channel by the
    ratio of the source's mean radiance to its own, rendered again, and the closest kept.
-2. **A colour fit** of the base colour (:data:`KNOB`): Newton steps on each channel's mean radiance
-   over the sphere (the candidate and a copy with the colour perturbed rendered together, the
-   slope of each channel's mean taken from the pair, the component moved to the value that matches
-   the source's mean, within the input's range).
+2. **A colour fit** of the base colour (:data:`KNOB`): steps on each channel's mean radiance over the
+   sphere, each component moved to the value that matches the source's mean, within the input's range.
+   The first step's slope comes from the candidate and a copy with the colour perturbed (its render
+   taken from the search's where it has one), the next one's from the two colours so far (a secant:
+   one render a step).
 
 Not where the judges disagree (:func:`untrusted`): an interface of relative IOR below 1 (a specular or
 coat IOR under 1) totally reflects beyond its critical angle in the evaluator, as physics has it,
@@ -47,15 +48,16 @@ import numpy as np
 from .. import tables
 from ..colorspaces import from_lin_rec709, to_lin_rec709
 from ..model import Constant, Input, Material
-from .judging import CLAMPED_IN_FILE, as_written, constant_values, render_many, scores_many
+from .judging import CLAMPED_IN_FILE, as_written, constant_values, figures_many, render_many
 from .target import inside
 
 #: the colour each target's fit adjusts: the one that carries the base's diffuse and metal colour
 KNOB = {"standard_surface": "base_color", "gltf_pbr": "base_color", "UsdPreviewSurface": "diffuseColor",
         "open_pbr_surface": "base_color"}
 FIT_FROM = 1.0  # mean CIEDE2000 below which the candidate is left as it is (the fit costs renders)
-STEPS = 2  # Newton steps; each renders the candidate and its perturbed copy together
-PERTURBATION = 0.05  # of the colour component (absolute), for the slope
+STEPS = 2  # colour steps: the first renders the candidate and its perturbed copy, the next the candidate
+PERTURBATION = 0.05  # of the colour component (absolute), for the first slope
+SECANT_FROM = 1e-3  # a channel that moved less than this keeps its last slope
 FLAT = 1e-4  # a channel whose mean moves less than this per unit of colour does not depend on it
 
 
@@ -162,9 +164,11 @@ class _Job:
     material: Material
     values: dict
     changed: dict
+    mean: np.ndarray | None = None  # the mean radiance of ``values``' render, when it has been rendered
+    last: tuple | None = None  # the colour fit's previous (colour, mean radiance, slope)
 
 
-def _job(source: Material, candidate: Material, judge) -> _Job | None:
+def _job(source: Material, candidate: Material, judge, mean: np.ndarray | None = None) -> _Job | None:
     knob = KNOB.get(candidate.model)
     if knob is None or constant_values(candidate) is None or untrusted(source) is not None:
         return None
@@ -174,7 +178,7 @@ def _job(source: Material, candidate: Material, judge) -> _Job | None:
     entry = candidate.inputs.get(knob)
     clip = _in_range((entry.colorspace if entry is not None else None) or candidate.colorspace,
                      knob in CLAMPED_IN_FILE.get(candidate.model, ()))
-    return _Job(source, judge, knob, clip, candidate, values, {})
+    return _Job(source, judge, knob, clip, candidate, values, {}, mean)
 
 
 def _means(jobs_sets: list[tuple[_Job, str, dict]]) -> list[np.ndarray]:
@@ -186,17 +190,18 @@ def _means(jobs_sets: list[tuple[_Job, str, dict]]) -> list[np.ndarray]:
     return [image[job.judge.mask].mean(axis=0) for (job, _, _), image in zip(jobs_sets, images)]
 
 
-def fit_many(items: list[tuple[Material, Material, object]]) -> list[Fitted | None]:
-    """For each (source, candidate, judge) of ``items``: ``candidate`` (constant-valued, of a model in
-    :data:`KNOB`) adjusted to look like ``source`` (module docstring), or None. ``judge`` is the
+def fit_many(items: list[tuple]) -> list[Fitted | None]:
+    """For each (source, candidate, judge[, mean]) of ``items``: ``candidate`` (constant-valued, of a model
+    in :data:`KNOB`) adjusted to look like ``source`` (module docstring), or None. ``judge`` is the
     candidate search's :class:`~.judging.Judge` (the source's render: its mask, ``goal``, ``scores``);
-    the shape search keeps the value it scores best. Every step's renders of all of them are stacked
-    together (a file's materials are fitted at once, as the candidate search weighs them)."""
+    ``mean``, when given, the candidate's mean radiance on it (from the search's render, not rendered
+    again); the shape search keeps the value it scores best. Every step's renders of all of them are
+    stacked together (a file's materials are fitted at once, as the candidate search weighs them)."""
     jobs = [_job(*item) for item in items]
     active = [job for job in jobs if job is not None]
     _shape_search(active)
-    for _ in range(STEPS):
-        active = _newton_step(active)
+    for step in range(STEPS):
+        active = _colour_step(active, step)
     out: list[Fitted | None] = []
     for job in jobs:
         out.append(Fitted(job.material, job.changed) if job is not None and job.changed else None)
@@ -227,43 +232,58 @@ def _shape_search(jobs: list[_Job]) -> None:
         written = [_written(job.material, trial, (search.target_input, job.knob)) for trial in recoloured]
         kept = [i for i, w in enumerate(written) if w is not None]
         scored.append((job, search, recoloured, written, kept))
-    scores = scores_many([job.judge for job, *_ in scored],
-                         [[job.material] + [written[i] for i in kept] for job, _, _, written, kept in scored])
-    for (job, search, recoloured, written, kept), figures in zip(scored, scores):
-        best = int(np.argmin(figures))
+    judged = figures_many([job.judge for job, *_ in scored],
+                          [[job.material] + [written[i] for i in kept] for job, _, _, written, kept in scored])
+    for (job, search, recoloured, written, kept), figures in zip(scored, judged):
+        best = int(np.argmin([figure.score for figure in figures]))
+        job.mean = figures[best].mean  # (the trial as written: its render is the colour fit's start)
         if best > 0:
             chosen = kept[best - 1]
-            job.material, job.values = written[chosen], recoloured[chosen]
+            job.material, job.values = written[chosen], as_written(written[chosen])
             job.changed[search.target_input] = search.source_input
             job.changed[job.knob] = KNOB.get(job.source.model, "base_color")
 
 
-def _newton_step(jobs: list[_Job]) -> list[_Job]:
-    """One Newton step of every job's colour fit on its channels' mean radiance (module docstring, step
-    2), the colours and their perturbed copies rendered together; returns the jobs still moving."""
-    steps = []
+def _colour_step(jobs: list[_Job], step: int) -> list[_Job]:
+    """One step of every job's colour fit on its channels' mean radiance (module docstring, step 2), all
+    renders stacked together; returns the jobs still moving. The first step takes each channel's slope
+    from the colour and a perturbed copy (Newton); later ones from the last two colours where a channel
+    moved (a secant, so one render a step), else keep the last slope."""
+    flat = []
     for job in jobs:
         colour = np.asarray(job.values[job.knob], dtype=float)
-        step = np.where(job.clip(colour + PERTURBATION)[...] > colour + PERTURBATION / 2, PERTURBATION, -PERTURBATION)
-        steps.append((colour, step))
-    flat = []
-    for job, (colour, step) in zip(jobs, steps):
-        flat += [(job, job.material.model, dict(job.values, **{job.knob: colour})),
-                 (job, job.material.model, dict(job.values, **{job.knob: colour + step}))]
-    means = _means(flat)
+        if job.mean is None:
+            flat.append((job, job.material.model, job.values))
+        if step == 0:
+            flat.append((job, job.material.model, dict(job.values, **{job.knob: colour + _perturbation(job, colour)})))
+    means = iter(_means(flat))
     moving = []
-    for index, (job, (colour, step)) in enumerate(zip(jobs, steps)):
-        now, moved = means[2 * index], means[2 * index + 1]
-        slope = (moved - now) / step
+    for job in jobs:
+        colour = np.asarray(job.values[job.knob], dtype=float)
+        now = job.mean = next(means) if job.mean is None else job.mean
+        if step == 0:
+            perturbation = _perturbation(job, colour)
+            slope = (next(means) - now) / perturbation
+        else:
+            before, then, slope = job.last
+            moved = np.abs(colour - before) > SECANT_FROM
+            slope = np.where(moved, (now - then) / np.where(moved, colour - before, 1.0), slope)
         usable = np.abs(slope) > FLAT
         if not usable.any():
             continue  # the colour does not move the render: left as it is
+        job.last = (colour, now, slope)
         colour = job.clip(np.where(usable, colour + (job.judge.goal - now) / np.where(usable, slope, 1.0), colour))
         job.values = dict(job.values, **{job.knob: colour})
         job.material = _written(job.material, job.values, (job.knob,)) or job.material
+        job.mean = None
         job.changed[job.knob] = KNOB.get(job.source.model, "base_color")
         moving.append(job)
     return moving
+
+
+def _perturbation(job: _Job, colour: np.ndarray) -> np.ndarray:
+    """Per channel, the colour's step for the first slope: up, or down where the input's range ends."""
+    return np.where(job.clip(colour + PERTURBATION)[...] > colour + PERTURBATION / 2, PERTURBATION, -PERTURBATION)
 
 
 def _written(candidate: Material, values: dict, names: tuple[str, ...]) -> Material | None:

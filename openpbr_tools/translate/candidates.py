@@ -43,7 +43,7 @@ from ..values import is_finite
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import appearance, materialx_graphs
-from .judging import RIG_SIZE, Judge, constant_values, scores_many
+from .judging import RIG_SIZE, Figure, Judge, constant_values, figures_many, scores_many
 from .common import Settings, Translation, differs
 from .target import inside
 
@@ -168,36 +168,38 @@ def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> lis
         return out
     try:
         judges = Judge.many([items[index][0] for index, _ in work])
-        scores = scores_many(judges, [[out[index].material] + ([c] if c is not None else []) for index, c in work])
+        figures = figures_many(judges, [[out[index].material] + ([c] if c is not None else []) for index, c in work])
     except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
         for index, candidate in work:  # one by one: a material the evaluator cannot take loses only its own search
             source, _, target, settings = items[index]
             out[index] = _choose_one(source, out[index], target, settings, candidate)
         return out
     decided = _decide_many([(items[index][0], out[index], items[index][2], items[index][3], candidate, judge, score)
-                            for (index, candidate), judge, score in zip(work, judges, scores)])
+                            for (index, candidate), judge, score in zip(work, judges, figures)])
     for (index, _), translation in zip(work, decided):
         out[index] = translation
     return out
 
 
 def _decide_many(cases: list[tuple]) -> list[Translation]:
-    """:func:`_decide` for each (source, translation, target, settings, candidate, judge, scores), the
-    appearance fits of all of them run together (:func:`.appearance.fit_many`): first the mappings',
-    then the graphs' where one can change the choice."""
+    """:func:`_decide` for each (source, translation, target, settings, candidate, judge, figures: the
+    :class:`~.judging.Figure` of the mapping's result and of the candidate's), the appearance fits of all of
+    them run together (:func:`.appearance.fit_many`): first the mappings', then the graphs' where one can
+    change the choice."""
     ours = _fitted_many([(c[0], c[1].material, c[6][0], c[5]) for c in cases])
     wanted = []
     for case, ours_fit in zip(cases, ours):
-        source, _, _, _, candidate, judge, scores = case
+        source, _, _, _, candidate, judge, figures = case
+        scores = [figure.score for figure in figures]
         best_ours = ours_fit[1] if ours_fit else scores[0]
         # the graphs' result is fitted where it can change the choice or is kept: it already wins, or the
         # mapping, fitted, still renders visibly off (below FIT_FROM a fitted graph result could only tie)
         if candidate is not None and (scores[1] < best_ours - MARGIN or best_ours > appearance.FIT_FROM):
-            wanted.append((source, candidate, scores[1], judge))
+            wanted.append((source, candidate, figures[1], judge))
         else:
             wanted.append(None)
     theirs = iter(_fitted_many([w for w in wanted if w is not None]))
-    return [_decide(*case, ours_fit, next(theirs) if want is not None else None)
+    return [_decide(*case[:6], [figure.score for figure in case[6]], ours_fit, next(theirs) if want is not None else None)
             for case, ours_fit, want in zip(cases, ours, wanted)]
 
 
@@ -205,10 +207,10 @@ def _choose_one(source, translation, target, settings, candidate) -> Translation
     """One material's choice with its own renders (when a stacked evaluation of several failed)."""
     try:
         judge = Judge(source)
-        score = judge.scores([translation.material] + ([candidate] if candidate is not None else []))
+        figures, = figures_many([judge], [[translation.material] + ([candidate] if candidate is not None else [])])
     except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
         return translation
-    return _decide_many([(source, translation, target, settings, candidate, judge, score)])[0]
+    return _decide_many([(source, translation, target, settings, candidate, judge, figures)])[0]
 
 
 def _decide(source, translation, target, settings, candidate, judge, scores, ours_fit, theirs_fit) -> Translation:
@@ -239,17 +241,18 @@ def _decide(source, translation, target, settings, candidate, judge, scores, our
     return _with_fit(source, Translation(candidate, notes, translation.source), theirs, theirs_fit, settings)
 
 
-def _fitted_many(cases: list[tuple[Material, Material, float, Judge]]) -> list:
-    """For each (source, material, score, judge): (:class:`.appearance.Fitted`, its figure) when
+def _fitted_many(cases: list[tuple[Material, Material, Figure, Judge]]) -> list:
+    """For each (source, material, its :class:`~.judging.Figure`, judge): (:class:`.appearance.Fitted`,
+    its score) when
     ``material`` renders more than :data:`.appearance.FIT_FROM` off and the adjusted one
     (:mod:`.appearance`) wins by more than :data:`MARGIN`, else None; all fitted and scored together
     (one by one where that fails, so a material the evaluator cannot take loses only its own fit)."""
     out: list = [None] * len(cases)
-    due = [i for i, (_, _, score, _) in enumerate(cases) if score > appearance.FIT_FROM]
+    due = [i for i, (_, _, figure, _) in enumerate(cases) if figure.score > appearance.FIT_FROM]
     if not due:
         return out
     try:
-        fits = appearance.fit_many([(cases[i][0], cases[i][1], cases[i][3]) for i in due])
+        fits = appearance.fit_many([(cases[i][0], cases[i][1], cases[i][3], cases[i][2].mean) for i in due])
         kept = [(i, f) for i, f in zip(due, fits) if f is not None]
         figures = scores_many([cases[i][3] for i, _ in kept], [[f.material] for _, f in kept])
     except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
@@ -259,7 +262,7 @@ def _fitted_many(cases: list[tuple[Material, Material, float, Judge]]) -> list:
             out[i] = _fitted_many([cases[i]])[0]
         return out
     for (i, fitted), (after,) in zip(kept, figures):
-        out[i] = (fitted, after) if after < cases[i][2] - MARGIN else None
+        out[i] = (fitted, after) if after < cases[i][2].score - MARGIN else None
     return out
 
 

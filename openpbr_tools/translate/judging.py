@@ -7,6 +7,8 @@ table), so that a file's materials are weighed together.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..model import Constant, Material
@@ -109,7 +111,8 @@ def render_many(sets: list[tuple[str, dict]], rig) -> list[np.ndarray]:
     with coarse_films():
         for key, indices in groups.items():
             model = key[0]
-            stacked = shade_sphere_many(model, [sets[i][1] for i in indices], rig) if len(indices) > 1 else None
+            stacked = shade_sphere_many(model, [sets[i][1] for i in indices], rig, grouped=True) \
+                if len(indices) > 1 else None
             for position, index in enumerate(indices):
                 images[index] = stacked[position] if stacked is not None else \
                     shade_sphere(build_model(model, sets[index][1]), rig)[0]
@@ -119,6 +122,18 @@ def render_many(sets: list[tuple[str, dict]], rig) -> list[np.ndarray]:
 def scores_many(judges: list[Judge], materials: list[list[Material]]) -> list[list[float]]:
     """Mean CIEDE2000 of each material of ``materials[i]`` against ``judges[i]``'s source, all
     rendered in as few stacked evaluations as their switches allow and compared in one call."""
+    return [[figure.score for figure in group] for group in figures_many(judges, materials)]
+
+
+class Figure(NamedTuple):
+    """A material's render judged: its mean CIEDE2000 against the source, and its mean linear Rec.709
+    radiance over the sphere (what :mod:`.appearance` fits)."""
+    score: float
+    mean: np.ndarray
+
+
+def figures_many(judges: list[Judge], materials: list[list[Material]]) -> list[list[Figure]]:
+    """:func:`scores_many` with each render's mean radiance (:class:`Figure`), from the same renders."""
     from ..evaluate.difference import delta_e_2000  # lazy: as in Judge
 
     if not judges:
@@ -128,9 +143,10 @@ def scores_many(judges: list[Judge], materials: list[list[Material]]) -> list[li
     images = render_many([(m.model, as_written(m)) for _, m in flat], rig)
     delta = delta_e_2000(np.concatenate([image[mask] for image in images]),
                          np.concatenate([judge.reference[mask] for judge, _ in flat]), rig.white())
-    means = [float(block.mean()) for block in np.split(delta, len(flat))]
+    figures = [Figure(float(block.mean()), image[mask].mean(axis=0))
+               for block, image in zip(np.split(delta, len(flat)), images)]
     out, start = [], 0
     for group in materials:
-        out.append(means[start:start + len(group)])
+        out.append(figures[start:start + len(group)])
         start += len(group)
     return out
