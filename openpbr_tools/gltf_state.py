@@ -12,7 +12,9 @@ carry (KHR_materials_diffuse_transmission, KHR_materials_unlit, unknown ones), a
 source (``Material.extra["gltf"]``). Where: a JSON string in the ``openpbr_gltf`` attribute of the
 ``surfacematerial`` element (MaterialX keeps unknown attributes and renderers ignore them), and in
 the ``openpbr:gltf`` customData of the USD ``Material`` prim. Extensions that reference the source's
-textures do not travel (their indices mean nothing elsewhere) and are reported.
+textures do not travel (their indices mean nothing elsewhere) and are reported. An unlit material,
+read as emission of its base colour, also carries the constant factors that reading replaced
+(``unlit``), so that the glTF written back is the source's.
 """
 
 from __future__ import annotations
@@ -25,7 +27,9 @@ from .rules.translation import CONVERTED, NOT_CARRIED
 MTLX_ATTRIBUTE = "openpbr_gltf"
 USD_CUSTOM_DATA_KEY = "openpbr:gltf"
 KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff", "name", "renamed_to", "variants",
-        "thickness")
+        "thickness", "unlit")
+#: What an unlit material's reading as emission replaced (translate/gltf.py), restored for a glTF output.
+UNLIT_FACTORS = {"metallic": 1, "emissive": 3, "emissive_strength": 1}
 MAX_TEXT = 1 << 20  # a side channel larger than this is not read (a hostile file)
 
 
@@ -65,10 +69,21 @@ def decode(text) -> dict:
     if value.get("alphaMode") == "MASK" and isinstance(value.get("alphaCutoff"), (int, float)) \
             and not isinstance(value.get("alphaCutoff"), bool) and 0.0 <= value["alphaCutoff"]:
         state["alphaMode"], state["alphaCutoff"] = "MASK", float(value["alphaCutoff"])
+    unlit = value.get("unlit")
+    if isinstance(unlit, dict):
+        state["unlit"] = {"as_emission": True} | {key: unlit[key] for key, width in UNLIT_FACTORS.items()
+                                                  if _numbers(unlit.get(key), width)}
     extensions = value.get("extensions")
     if isinstance(extensions, dict) and all(isinstance(k, str) and isinstance(v, dict) for k, v in extensions.items()):
         state["extensions"] = extensions
     return state
+
+
+def _numbers(value, width: int) -> bool:
+    """A finite number (``width`` 1) or a list of ``width`` of them."""
+    items = [value] if width == 1 else value if isinstance(value, list) and len(value) == width else None
+    return items is not None and all(isinstance(v, (int, float)) and not isinstance(v, bool) and abs(v) < float("inf")
+                                     for v in items)
 
 
 def notes(source, kind: str, context, state: dict | None = None) -> list:
@@ -99,6 +114,13 @@ def notes(source, kind: str, context, state: dict | None = None) -> list:
     kept += [f"KHR_materials_variants names ({', '.join(variants)})"] if variants else []
     kept += [f"KHR_materials_volume thicknessFactor {state['thickness']:g}"] if state.get("thickness") else []
     where = "attribute openpbr_gltf of its surfacematerial" if kind == "mtlx" else "customData openpbr:gltf of its Material"
+    direction = state.get("anisotropy_direction")
+    if direction is not None:
+        lost.append(context.diagnostic(
+            NOT_CARRIED, f"{source.name}: the anisotropy direction of KHR_materials_anisotropy's texture (its red and "
+                         f"green channels, {getattr(direction, 'file', 'a texture')!r}) is not carried: MaterialX and "
+                         "USD orient anisotropy by the tangent, so the output's runs along the mesh's tangent",
+            replace(source.location, path=f"{source.location.path}/extensions/KHR_materials_anisotropy/anisotropyTexture")))
     return lost + [context.diagnostic(CONVERTED, f"{source.name}: {what} (glTF material state OpenPBR has no parameter "
                                                  f"for) is kept in the {where} and restored when converted back to glTF",
                                       source.location) for what in kept]

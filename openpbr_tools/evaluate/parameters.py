@@ -222,6 +222,7 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
             resolved.not_evaluated.append(name)
     if material.model == "gltf_pbr":
         _gltf_diffuse_transmission(material, resolved)
+        _gltf_unlit(material, resolved)
     if sampler is not None and uvs is not None and material.model == "gltf_pbr":
         _gltf_anisotropy_direction(material, resolved, sampler, uvs)
     return resolved
@@ -259,6 +260,28 @@ def _gltf_diffuse_transmission(material: Material, resolved: ResolvedParameters)
     for key in ("diffuseTransmissionTexture", "diffuseTransmissionColorTexture"):
         if key in found:
             resolved.approximated.append(("diffuse_transmission", f"{key} not read; its factor applies"))
+
+
+UNLIT = "KHR_materials_unlit"
+
+
+def _gltf_unlit(material: Material, resolved: ResolvedParameters) -> None:
+    """A glTF file's KHR_materials_unlit material shows its base colour whatever the lighting (the
+    extension's README: the colour is the output): rendered as that colour emitted (glTF's emissive 1)
+    by a black base that does not reflect. Only for a material read from a glTF file: a .mtlx
+    ``gltf_pbr`` node keeps the extension as data only, and MaterialX renders the node lit."""
+    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    extensions = state.get("extensions") if isinstance(state.get("extensions"), dict) else {}
+    if UNLIT not in extensions or not str(material.location.file).lower().endswith((".gltf", ".glb")):
+        return
+    values = resolved.values
+    values["emissive"] = values.get("base_color", np.ones(3))
+    values["emissive_strength"] = np.asarray(1.0)
+    values["base_color"] = np.zeros(3)
+    values["metallic"] = np.asarray(0.0)
+    values["specular"] = np.asarray(0.0)
+    resolved.approximated.append(("base_color", "KHR_materials_unlit: rendered as its colour emitted by a black base "
+                                                "that does not reflect"))
 
 
 def _gltf_anisotropy_direction(material: Material, resolved: ResolvedParameters, sampler, uvs) -> None:

@@ -95,7 +95,8 @@ NOT_CONVERTED = Rule(
     "A material uses KHR_materials_unlit or KHR_materials_pbrSpecularGlossiness, which the gltf_pbr node does not carry.",
     "Unlit materials (no lighting at all) and the archived specular-glossiness workflow have no "
     "gltf_pbr parameters. The extension is kept as data for a translator (Material.extra) and the "
-    "material is checked as its metallic-roughness fallback, which is what conversions use.",
+    "material is checked as its metallic-roughness fallback, which is what conversions use (an unlit "
+    "material is converted as emission of its base colour over a black base that does not reflect).",
     passing=_gltf('"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0]}}]'),
     failing=_gltf('"extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"]',
                   '"materials": [{"name": "M", "extensions": {"KHR_materials_pbrSpecularGlossiness": '

@@ -192,8 +192,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     result = Material(
         name=material.name, model=target_model, location=material.location, version=target_table.version,
         version_basis="written by openpbr convert", material_name=material.material_name,
-        material_location=material.material_location, colorspace=material.colorspace,
-    )
+        material_location=material.material_location, colorspace=material.colorspace)
     if isinstance(material.extra.get("gltf"), dict):  # glTF state travels with the material (gltf_state)
         result.extra["gltf"] = copy.deepcopy(material.extra["gltf"])
     report: list[Diagnostic] = []
@@ -302,12 +301,14 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 handled.add(source_name)
                 failed.update((name, mapping.target) for name in textured[1:])
                 continue
+            handled.update(textured)
             if isinstance(baked.input.value, Constant):  # every texel gave the same value
                 baked.input.value.value, clamped = inside(baked.input.value.value, parameter)
                 if clamped:
                     say(APPROXIMATED, f"{mapping.target}: {clamped}", source_name)
+                elif not baked.clipped and _equal(as_value(baked.input.value.value, parameter.type), parameter.default):
+                    continue  # the target's default already says it (as for constants above)
             result.inputs[mapping.target] = baked.input
-            handled.update(textured)
             say(APPROXIMATED if baked.clipped else CONVERTED, baked.message, source_name)
             if not mapping.exact and _matters_on_average(mapping, values, baked.averages):
                 say(APPROXIMATED, f"{mapping.target}: {mapping.note}", source_name)

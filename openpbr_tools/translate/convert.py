@@ -11,8 +11,9 @@ import dataclasses
 
 from .. import tables
 from ..model import Material
+from ..rules.translation import CONVERTED
 from .common import Settings, Translation
-from .gltf import gltf_to_openpbr, openpbr_to_gltf
+from .gltf import gltf_to_openpbr, openpbr_to_gltf, unlit_restored, unlit_state
 from .standard_surface import openpbr_to_standard_surface, standard_surface_to_openpbr
 from .upgrade import upgrade
 from .usd_preview import openpbr_to_usd_preview, usd_preview_to_openpbr
@@ -38,6 +39,15 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         # comes back with them: they reference the source's textures, so they cannot be copied as JSON
         step = gltf_to_openpbr(material, settings)
         back = openpbr_to_gltf(step.material, dataclasses.replace(settings, gltf_drafts=True))
+        return Translation(back.material, step.diagnostics + back.diagnostics, material)
+    if material.model == target == "gltf_pbr" and settings.gltf_file and (restored := unlit_restored(material)):
+        return Translation(restored, [settings.context.diagnostic(
+            CONVERTED, f"{material.name}: the unlit reading (emission over a black base) is KHR_materials_unlit again",
+            material.location)], material)
+    if material.model == target == "gltf_pbr" and unlit_state(state) and not settings.gltf_file:
+        # MaterialX's gltf_pbr has no unlit mode: the unlit reading (emission over a black base) renders as one
+        step = gltf_to_openpbr(material, settings)
+        back = openpbr_to_gltf(step.material, settings)
         return Translation(back.material, step.diagnostics + back.diagnostics, material)
     if current.model == "open_pbr_surface":
         if current.version and current.version != tables.latest("open_pbr_surface"):

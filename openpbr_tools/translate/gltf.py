@@ -79,12 +79,14 @@ metal F0, the specular weight under a coat, the coat's roughening, the sheen fit
 from __future__ import annotations
 
 import copy
+import dataclasses
 
 import numpy as np
 
 from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_emission_factor, coat_roughened
 from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
 from ..evaluate.volume import absorption_coefficient, with_channel_axis
+from .. import gltf_state
 from ..io.gltf import drafts
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
@@ -147,17 +149,108 @@ def gltf_specular(specular_weight, specular_ior, coat_ior, coat_weight, film_wei
     return fit.specular_weight_under_coat(specular_weight, scale, metalness)
 
 
+def gltf_relative_base(specular_weight, specular_ior, coat_ior, coat_weight, film_weight, metalness, transmission,
+                       coat_darkening):
+    """Where the glTF output writes the base's IOR relative to the coat as ``ior`` and OpenPBR's weight as
+    ``specular`` (the reflection the coat leaves the base, as glTF's base has it against air), instead of
+    the base's own IOR with the weight scaled (:func:`gltf_specular`): exactly where the reader
+    (:func:`_coated_base`) reads that output back so, and back to this base IOR. Equal at normal
+    incidence either way; a glTF clearcoat material of the default specular converted to OpenPBR and
+    back is its own again (so is any with the scaled form: both read back to the same OpenPBR material,
+    so one glTF of the pair cannot be told from the other; the relative form is taken for a whole weight)."""
+    with np.errstate(all="ignore"):
+        eta = gltf_ior(fit.base_ior_under_coat(specular_ior, coat_ior, coat_weight))
+        plain = (np.abs(np.asarray(coat_ior, dtype=float) - GLTF_CLEARCOAT_IOR) < 1e-9) & \
+            (np.asarray(coat_darkening, dtype=float) <= 0)
+        read = _coated_base(specular_weight, metalness, eta, coat_weight, film_weight, GLTF_CLEARCOAT_IOR, transmission,
+                            which=True)
+        back = fit.specular_ior_for_relative_ior(eta, GLTF_CLEARCOAT_IOR, coat_weight)
+        # both forms read back to this material; the relative one is glTF's own where the weight is whole (the
+        # default specular, which a glTF clearcoat material has), the scaled one where it is not
+        whole = np.abs(np.asarray(specular_weight, dtype=float) - 1.0) < 1e-9
+        return np.broadcast_to(np.all(plain & whole & read & (np.abs(back - specular_ior) < 1e-6)), np.shape(eta))
+
+
+RELATIVE_SOURCES = ("specular_weight", "specular_ior", "coat_ior", "coat_weight", "thin_film_weight", "base_metalness",
+                    "transmission_weight", "coat_darkening")
+
+
+def gltf_base_ior(specular_ior, *relative):
+    """glTF's ``ior``: OpenPBR's (:func:`gltf_ior`), or its IOR relative to the coat (:func:`gltf_relative_base`)."""
+    eta = fit.base_ior_under_coat(specular_ior, relative[1], relative[2])
+    return np.where(gltf_relative_base(relative[0], specular_ior, *relative[1:]), gltf_ior(eta), gltf_ior(specular_ior))
+
+
+def _relative_specular(specular):
+    """:func:`gltf_specular` (as ``specular``, on SPECULAR_SOURCES) where the base IOR is written as it is,
+    OpenPBR's weight where it is written relative to the coat (:func:`gltf_relative_base`), over
+    SPECULAR_SOURCES + ("transmission_weight",)."""
+    def formula(*v):
+        relative = gltf_relative_base(v[0], v[1], v[2], v[3], v[4], v[6], v[10], v[9])
+        return np.where(relative, fit.specular_weight_under_coat(v[0], 1.0, v[6]), specular(*v[:10]))
+    return formula
+
+
 ROUGHNESS_SOURCES = ("specular_roughness", "specular_roughness_anisotropy", "coat_weight", "coat_roughness")
 
 SPECULAR_SOURCES = ("specular_weight", "specular_ior", "coat_ior", "coat_weight", "thin_film_weight", "base_color",
                     "base_metalness", "subsurface_weight", "subsurface_color", "coat_darkening")
 
 
-def openpbr_specular_weight(specular, metallic, ior, clearcoat, iridescence, coat_ior=GLTF_CLEARCOAT_IOR):
+def openpbr_specular_weight(specular, metallic, ior, clearcoat, iridescence, coat_ior=GLTF_CLEARCOAT_IOR,
+                            transmission=0.0):
     """Inverse of :func:`gltf_specular` (glTF's clearcoat has IOR 1.5, KHR_materials_coat's its
-    ``coatIor``; neither darkens here: the ratified reading sets no darkening)."""
+    ``coatIor``; neither darkens here: the ratified reading sets no darkening); where that needs a
+    weight above OpenPBR's 1 (:func:`_coated_base`), glTF's ``specular`` as it is."""
+    weight, _ = _coated_base(specular, metallic, ior, clearcoat, iridescence, coat_ior, transmission)
+    return weight
+
+
+def openpbr_specular_ior(specular, metallic, ior, clearcoat, iridescence, transmission, coat_ior=GLTF_CLEARCOAT_IOR):
+    """OpenPBR's ``specular_ior``: glTF's ``ior``, except under a clearcoat that would leave an opaque
+    base too little reflection to restore by the weight (:func:`_coated_base`)."""
+    _, specular_ior = _coated_base(specular, metallic, ior, clearcoat, iridescence, coat_ior, transmission)
+    return specular_ior
+
+
+def relative_base(specular, metallic, ior, clearcoat, iridescence, transmission, coat_ior=GLTF_CLEARCOAT_IOR):
+    """Where :func:`_coated_base` sets the base IOR from glTF's as its IOR relative to the coat."""
+    return _coated_base(specular, metallic, ior, clearcoat, iridescence, coat_ior, transmission, which=True)
+
+
+def _coated_base(specular, metallic, ior, clearcoat, iridescence, coat_ior, transmission=0.0, which=False):
+    """(OpenPBR ``specular_weight``, ``specular_ior``) for glTF's base reflection under its clearcoat.
+
+    glTF's base reflects as against air under a clearcoat (F0 from ``ior``, times ``specular``:
+    KHR_materials_clearcoat layers the coat on the unchanged base BRDF); OpenPBR's base reflects
+    against the coat (the relative IOR n_b / n_c, mixed with n_b by the coat weight). The inverse of
+    the forward mapping keeps n_b = ``ior`` and restores F0 by the weight, 1 / (F0(eta) / F0(n_b));
+    that needs a weight above 1 where the coat takes most of the base's reflection, and is impossible
+    where the IORs match (glTF's default ``ior`` 1.5 under its 1.5 clearcoat: OpenPBR's base would not
+    reflect at all). There the base IOR is chosen instead so that its IOR relative to the coat is glTF's
+    ``ior`` (:func:`.fit.specular_ior_for_relative_ior`), and the weight is glTF's ``specular``: the
+    base's Fresnel curve is glTF's, at normal incidence exactly. Only on an opaque base (a transmitting
+    one refracts by its IOR) of the default, whole ``specular`` (what glTF clearcoat materials have; a
+    weaker one is scaled as before and clipped at 1, reported: so each OpenPBR material reads back from
+    one glTF form, :func:`gltf_relative_base`). ``which``: whether that is done."""
     scale = fit.dielectric_specular_scale(ior, coat_ior, clearcoat, iridescence)
-    return fit.specular_weight_from_coated(specular, scale, metallic)
+    weight = fit.specular_weight_from_coated(specular, scale, metallic)
+    with np.errstate(all="ignore"):
+        lost = (np.asarray(clearcoat, dtype=float) > 0) & (np.asarray(metallic, dtype=float) < 1) & \
+            (np.asarray(transmission, dtype=float) <= 0) & \
+            ((weight > 1.0 + 1e-9) | ((scale + np.asarray(metallic, dtype=float) * (1.0 - scale) <= 1e-9)
+                                      & (np.asarray(specular, dtype=float) > 0)))
+    relative = fit.specular_ior_for_relative_ior(gltf_ior(ior), coat_ior, clearcoat)
+    with np.errstate(all="ignore"):  # (a relative IOR no base reaches under a thin coat: not this way)
+        reached = np.abs(fit.base_ior_under_coat(relative, coat_ior, clearcoat) - gltf_ior(ior)) < 1e-6
+    whole = np.all(np.abs(np.asarray(specular, dtype=float) - 1.0) < 1e-9)  # (gltf_relative_base: one form each)
+    lost = np.broadcast_to(np.any(lost) & np.all(reached) & whole, np.shape(lost))  # one choice for the material
+    if which:
+        return lost
+    if not np.any(lost):
+        return weight, ior
+    return np.where(lost, fit.specular_weight_from_coated(specular, 1.0, metallic), weight), \
+        np.where(lost, relative, ior)
 
 
 SPECULAR_WEIGHT_SOURCES = ("specular", "metallic", "ior", "clearcoat", "iridescence")
@@ -200,7 +293,8 @@ def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_st
     """Inverse of :func:`gltf_base_color`'s metal fit and transmission mix: OpenPBR's base colour (F0
     under an F82 edge tint of ``specular_color``) whose fitted Schlick metal, mixed with the transmitting
     dielectric, is glTF's base colour."""
-    specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior)
+    specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior,
+                                              transmission=transmission)
     target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness)
     return fit.openpbr_metal_from_schlick(target, metalness, specular_color, specular_weight,
                                           average_alpha_gltf(roughness, anisotropy_strength))
@@ -208,7 +302,8 @@ def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_st
 
 def _metal_inverse_clips(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
                          coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0):
-    specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior)
+    specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior,
+                                              transmission=transmission)
     target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness)
     return fit.metal_from_schlick_clips(target, metalness, specular_color, specular_weight,
                                         average_alpha_gltf(roughness, anisotropy_strength))
@@ -340,9 +435,12 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
                     exact=False, matters=lambda *v: _base_color_matters(*v[:10], 0.0, v[11], WHITE, *v[13:]),
                     note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed"),
             # the coat's IOR as KHR_materials_coat holds it (at least 1), which is what a reader inverts with
-            Mapping("specular", SPECULAR_SOURCES, lambda *v: gltf_specular(v[0], v[1], np.maximum(v[2], 1.0), *v[3:9], 0.0),
+            Mapping("specular", SPECULAR_SOURCES + ("transmission_weight",),
+                    _relative_specular(lambda *v: gltf_specular(v[0], v[1], np.maximum(v[2], 1.0), *v[3:9], 0.0)),
                     exact=False,
-                    matters=lambda *v: v[6] < 1 and differs(gltf_specular(v[0], v[1], np.maximum(v[2], 1.0), *v[3:9], 0.0), 1.0),
+                    matters=lambda *v: v[6] < 1 and differs(
+                        _relative_specular(lambda *u: gltf_specular(u[0], u[1], np.maximum(u[2], 1.0), *u[3:9], 0.0))(*v),
+                        1.0),
                     note="KHR_materials_specular scales F0 and F90 where OpenPBR's specular_weight and a coat (the base's "
                          f"IOR relative to the coat's) change F0 only: equal at normal incidence ({COAT_RESIDUAL})"),
             Mapping("specular_color", ("specular_color",)),
@@ -354,8 +452,8 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
                          "the coat's colour (glTF's clearcoat is colourless) is folded into it, which misses the "
                          f"tint of the dielectric reflection under the coat; a metal's F82 edge tint and specular "
                          f"weight are fitted into its F0 ({METAL_RESIDUAL})"),
-            Mapping("specular", SPECULAR_SOURCES, gltf_specular,
-                    exact=False, matters=lambda *v: v[6] < 1 and differs(gltf_specular(*v), 1.0),
+            Mapping("specular", SPECULAR_SOURCES + ("transmission_weight",), _relative_specular(gltf_specular),
+                    exact=False, matters=lambda *v: v[6] < 1 and differs(_relative_specular(gltf_specular)(*v), 1.0),
                     note="KHR_materials_specular scales F0 and F90 where OpenPBR's specular_weight and a coat (the base's "
                          f"IOR relative to the coat's) change F0 only: equal at normal incidence ({COAT_RESIDUAL})"),
             Mapping("specular_color", ("specular_color", "base_metalness"), lambda c, m: c, exact=False,
@@ -374,10 +472,14 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
                 matters=lambda r, a, c, rc: bool(np.any(openpbr_alphas(coat_roughened(r, c, rc), a)[0] > 1.0 + 1e-9)),
                 note="OpenPBR's alpha_t along the tangent exceeds 1, glTF's cap (alpha_t = mix(alpha, 1, s^2)): the "
                      "highlight is stretched less"),
-        Mapping("ior", ("specular_ior",), gltf_ior, exact=False, matters=lambda n: n < 1.0,
+        Mapping("ior", ("specular_ior",) + RELATIVE_SOURCES[:1] + RELATIVE_SOURCES[2:], gltf_base_ior,
+                exact=False, matters=lambda n, *r: n < 1.0 or bool(np.any(gltf_relative_base(r[0], n, *r[1:]))),
                 note="an IOR below 1 (a medium optically denser outside, e.g. a bubble) is written as its reciprocal, "
                      "glTF's ior being at least 1: the same reflectance at normal incidence, without OpenPBR's total "
-                     "internal reflection towards grazing angles, and refraction bends the other way"),
+                     "internal reflection towards grazing angles, and refraction bends the other way; under a "
+                     "clearcoat it may be the base's IOR relative to the coat, with OpenPBR's specular weight as "
+                     "glTF's specular (glTF's base reflects as against air under its clearcoat, OpenPBR's against the "
+                     "coat): the same reflection at normal incidence"),
         Mapping("transmission", ("transmission_weight",)),
         Mapping("attenuation_color", ("transmission_color", "transmission_depth", "transmission_scatter"),
                 attenuation_color),
@@ -445,7 +547,8 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
     nits = settings.nits_per_unit
     overridden = {target for name in found for target in DRAFT_TARGETS.get(name, ())}
     if drafts.SPECULAR_OPENPBR in found:  # OpenPBR's specular: the base colour is a metal's F0 as is
-        base_and_specular = (Mapping("base_color", ("base_color",)), Mapping("specular_weight", ("specular",)))
+        base_and_specular = (Mapping("base_color", ("base_color",)), Mapping("specular_weight", ("specular",)),
+                             Mapping("specular_ior", ("ior",)))
     else:
         base_and_specular = (
             Mapping("base_color", ("base_color", "metallic", "specular_color", "roughness", "anisotropy_strength")
@@ -458,11 +561,18 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
                     note="a metal's base colour solved for OpenPBR's F82 edge tint and specular weight (glTF's metals "
                          "ignore KHR_materials_specular, OpenPBR's do not) leaves [0, 1] and is clipped: the metal "
                          "renders darker or differently tinted"),
-            Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES,
-                    lambda *v: openpbr_specular_weight(*v, coat_ior=coat_ior), exact=False,
-                    matters=lambda s, m, n, w, f: m < 1 and (s != 1.0 or w > 0),
+            Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES + ("transmission",),
+                    lambda *v: openpbr_specular_weight(*v[:-1], coat_ior=coat_ior, transmission=v[-1]), exact=False,
+                    matters=lambda s, m, n, w, f, t: m < 1 and (s != 1.0 or w > 0),
                     note="KHR_materials_specular scales F0 and F90, OpenPBR's specular_weight F0 only (under a coat, of "
                          "the base relative to the coat): equal at normal incidence"),
+            Mapping("specular_ior", ("ior", "specular", "metallic", "clearcoat", "iridescence", "transmission"),
+                    lambda n, s, m, c, f, t: openpbr_specular_ior(s, m, n, c, f, t, coat_ior=coat_ior), exact=False,
+                    matters=lambda n, s, m, c, f, t: bool(np.any(relative_base(s, m, n, c, f, t, coat_ior=coat_ior))),
+                    note="glTF's base reflects as against air under its clearcoat, OpenPBR's against the coat: the "
+                         "base IOR is set so that its IOR relative to the coat is glTF's ior, the specular weight "
+                         "to glTF's specular (the same reflection at normal incidence; converted back to glTF, the "
+                         "ior is this base IOR and the specular is scaled to match)"),
         )
     if drafts.ANISOTROPY_OPENPBR in found:  # roughnessFactor and anisotropyStrength are OpenPBR's
         roughness = (
@@ -488,7 +598,6 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
     mappings = base_and_specular + roughness + (
         Mapping("base_metalness", ("metallic",)),
         Mapping("specular_color", ("specular_color",)),
-        Mapping("specular_ior", ("ior",)),
         Mapping("transmission_weight", ("transmission",)),
         # a volume (thickness > 0) absorbs by its attenuation; a thin wall (thickness 0, where glTF ignores
         # attenuation) is tinted by the base colour only
@@ -610,6 +719,8 @@ def openpbr_to_gltf(material: Material, settings: Settings | None = None) -> Tra
     thickness = state.get("thickness") if isinstance(state.get("thickness"), float) else None
     translation = translate(material, "gltf_pbr", to_gltf_mappings(settings, specular_openpbr, thickness), dropped,
                             settings, "OpenPBR -> glTF")
+    if settings.gltf_file and unlit_state(state):
+        _unlit_back(translation, material, state)
     if settings.gltf_drafts:
         record, notes = draft_record(material, settings, specular_openpbr)
         if record:
@@ -639,14 +750,123 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
         source, coat_ior = with_draft_coat(material, found[drafts.COAT])
     else:
         source, coat_ior = with_draft_coat(material, found.get(drafts.CLEARCOAT_IOR), ior_only=True)
-    translation = translate(source, "open_pbr_surface", from_gltf_mappings(settings, found, coat_ior), DROPPED_FROM_GLTF,
-                            settings, "glTF -> OpenPBR")
+    unlit = _unlit_as_emission(source, state)
+    translation = translate(unlit or source, "open_pbr_surface", from_gltf_mappings(settings, found, coat_ior),
+                            DROPPED_FROM_GLTF, settings, "glTF -> OpenPBR")
     translation.source = material
+    if unlit is not None:
+        translation.diagnostics += _unlit_emission(translation.material, material, settings)
     if found:
         translation.diagnostics += apply_drafts(translation.material, material, found, settings)
     translation.diagnostics += _volume_of_diffuse_transmission(material, state, settings)
     translation.diagnostics += _diffuse_transmission_in(translation.material, material, state, settings)
     return translation
+
+
+UNLIT = "KHR_materials_unlit"
+UNLIT_RECORD = "unlit"  # key of the glTF state: what the unlit reading replaced, restored for a glTF written back
+UNLIT_FACTORS = gltf_state.UNLIT_FACTORS
+
+
+def unlit_state(state: dict) -> bool:
+    """Whether a glTF state (``extra["gltf"]``) holds KHR_materials_unlit."""
+    return isinstance(state.get("extensions"), dict) and UNLIT in state["extensions"]
+
+
+def _unlit_as_emission(material: Material, state: dict) -> Material | None:
+    """A KHR_materials_unlit material read as what it renders: a black base that does not reflect
+    (``base_color`` 0, ``metallic`` 0, ``specular`` 0, no ``emissive``), to which :func:`_unlit_emission`
+    adds the base colour as emission. None for a lit material."""
+    if not unlit_state(state):
+        return None
+    source = copy.copy(material)
+    source.inputs = dict(material.inputs)
+    source.inputs.pop("emissive", None)
+    for name, kind, value in (("base_color", "color3", (0.0, 0.0, 0.0)), ("metallic", "float", 0.0),
+                              ("specular", "float", 0.0)):
+        source.inputs[name] = Input(name, kind, Constant(value), material.location,
+                                    colorspace="lin_rec709" if kind == "color3" else None)
+    return source
+
+
+def _unlit_emission(result: Material, material: Material, settings: Settings) -> list:
+    """An unlit surface shows its base colour whatever the lighting, as an emitter with nothing to
+    reflect does: OpenPBR's ``emission_color`` is the base colour as it is (factor, texture, colour
+    space), at the luminance of glTF's emissive 1 (``Settings.nits_per_unit``). The extension stays in
+    the glTF state with the constant metallic factor the reading replaced, so that a glTF written back
+    is unlit again (:func:`_unlit_back`)."""
+    base = material.inputs.get("base_color")
+    if base is not None:
+        emission = copy.deepcopy(base)
+        emission.name = "emission_color"
+    else:  # glTF's default base colour, white
+        emission = Input("emission_color", "color3", Constant((1.0, 1.0, 1.0)), material.location,
+                         colorspace="lin_rec709")
+    result.inputs["emission_color"] = emission
+    result.inputs["emission_luminance"] = Input("emission_luminance", "float", Constant(float(settings.nits_per_unit)),
+                                                material.location)
+    replaced = {"as_emission": True}  # (the record's presence marks the reading, factors or not)
+    for name in UNLIT_FACTORS:
+        entry = material.inputs.get(name)
+        if entry is not None and isinstance(entry.value, Constant):
+            value = entry.value.value
+            replaced[name] = [float(v) for v in value] if isinstance(value, (tuple, list)) else float(value)
+    state = result.extra.get("gltf")
+    if isinstance(state, dict):
+        result.extra["gltf"] = dict(state, **{UNLIT_RECORD: replaced})
+    return [settings.context.diagnostic(
+        CONVERTED, f"{material.name} (glTF -> OpenPBR): KHR_materials_unlit read as emission of the base colour "
+                   f"({settings.nits_per_unit:g} nit(s), glTF's emissive 1) over a black base that does not reflect "
+                   "(base_color 0, specular_weight 0): it shows its colour whatever the lighting; converted back to "
+                   "glTF it is unlit again", (base.location if base is not None else material.location))]
+
+
+def _unlit_back(translation: Translation, material: Material, state: dict) -> None:
+    """The inverse of :func:`_unlit_emission` for a glTF output: the emission colour (at glTF's emissive 1)
+    is the unlit base colour again; the emissive, the specular weight and the black base the reading
+    wrote are not (the writer restores the extension from the state)."""
+    result = translation.material
+    emission = material.inputs.get("emission_color")
+    if emission is not None:
+        base = copy.deepcopy(emission)
+        base.name = "base_color"
+        result.inputs["base_color"] = base
+    else:
+        result.inputs.pop("base_color", None)
+    for name in ("emissive", "emissive_strength", "specular", "specular_color", "metallic"):
+        result.inputs.pop(name, None)
+    record = state.get(UNLIT_RECORD) if isinstance(state.get(UNLIT_RECORD), dict) else {}
+    for name, width in UNLIT_FACTORS.items():
+        value = record.get(name)
+        if value is not None:
+            result.inputs[name] = Input(name, "color3" if width == 3 else "float",
+                                        Constant(tuple(value) if width == 3 else value), material.location,
+                                        colorspace="lin_rec709" if width == 3 else None)
+    translation.diagnostics = [d for d in translation.diagnostics
+                               if d.location.input not in ("emission_color", "emission_luminance", "specular_weight",
+                                                           "base_color")]
+
+
+def unlit_restored(material: Material) -> Material | None:
+    """A ``gltf_pbr`` material that holds the unlit reading (:func:`_unlit_emission` through
+    :func:`openpbr_to_gltf` for a .mtlx output: emission over a black base, the replaced factors in the
+    state) as the unlit glTF material it came from, for a glTF output; None for any other."""
+    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    if not unlit_state(state) or not isinstance(state.get(UNLIT_RECORD), dict):
+        return None
+    restored = copy.copy(material)
+    restored.inputs = {name: entry for name, entry in material.inputs.items()
+                       if name not in ("base_color", "emissive", "emissive_strength", "metallic", "specular")}
+    emission = material.inputs.get("emissive")
+    if emission is not None:
+        restored.inputs["base_color"] = dataclasses.replace(copy.deepcopy(emission), name="base_color")
+    for name, width in UNLIT_FACTORS.items():
+        value = state[UNLIT_RECORD].get(name)
+        if value is not None:
+            restored.inputs[name] = Input(name, "color3" if width == 3 else "float",
+                                          Constant(tuple(value) if width == 3 else value), material.location,
+                                          colorspace="lin_rec709" if width == 3 else None)
+    return restored
 
 
 def _diffuse_transmission_in(result: Material, material: Material, state: dict, settings: Settings) -> list:

@@ -14,9 +14,24 @@ from ..rules.translation import CONVERTED, NOT_CARRIED
 
 def probe_value(values, name: str, level: float):
     """``level`` in every component of ``name``'s value (a colour or vector three, else one)."""
-    parameter = values.table.get(name)
-    width = 3 if parameter is not None and parameter.type in ("color3", "vector3") else 1
+    width = _width(values, name)
     return np.full(width, level) if width > 1 else np.asarray(level)
+
+
+#: Unequal components, probed besides the greys for a colour or vector: a formula can treat a grey
+#: specially (a glTF emissive normalised by its largest component is white for every grey).
+UNEQUAL = ((0.2, 0.5, 0.9), (0.9, 0.1, 0.4))
+
+
+def probe_values(values, name: str, levels: tuple[float, ...]) -> list[np.ndarray]:
+    """:func:`probe_value` at each of ``levels``, and for a colour or vector the :data:`UNEQUAL` ones."""
+    greys = [probe_value(values, name, level) for level in levels]
+    return greys + ([np.asarray(u) for u in UNEQUAL] if _width(values, name) == 3 else [])
+
+
+def _width(values, name: str) -> int:
+    parameter = values.table.get(name)
+    return 3 if parameter is not None and parameter.type in ("color3", "vector3") else 1
 
 
 def ignored_probe(mapping, textured: str, values):
@@ -33,8 +48,8 @@ def ignored_probe(mapping, textured: str, values):
     for held in ((0.3,), (0.3, 0.8))[bool(varying)]:
         fixed = dict(others, **{name: probe_value(values, name, held) for name in varying})
         results = []
-        for probe in (0.0, 0.3, 0.55, 1.0):
-            arguments = [probe_value(values, textured, probe) if name == textured else fixed[name] for name in mapping.sources]
+        for probe in probe_values(values, textured, (0.0, 0.3, 0.55, 1.0)):
+            arguments = [probe if name == textured else fixed[name] for name in mapping.sources]
             with np.errstate(all="ignore"):
                 results.append(np.asarray(mapping.formula(*arguments), dtype=np.float64))
         if not all(r.shape == results[0].shape and np.allclose(r, results[0], atol=1e-12) for r in results[1:]):
@@ -68,8 +83,7 @@ def is_identity(mapping, textured: str, values) -> bool:
     others = {name: values.constant(name) for name in mapping.sources if name != textured}
     if any(v is None for v in others.values()):
         return False
-    for probe in (0.0, 0.2, 0.55, 1.0):
-        sample = probe_value(values, textured, probe)
+    for sample in probe_values(values, textured, (0.0, 0.2, 0.55, 1.0)):
         arguments = [sample if name == textured else others[name] for name in mapping.sources]
         with np.errstate(all="ignore"):
             produced = np.asarray(mapping.formula(*arguments), dtype=np.float64)
