@@ -22,7 +22,7 @@ from __future__ import annotations
 import json
 from dataclasses import replace
 
-from .rules.translation import CONVERTED, NOT_CARRIED
+from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 
 MTLX_ATTRIBUTE = "openpbr_gltf"
 USD_CUSTOM_DATA_KEY = "openpbr:gltf"
@@ -30,6 +30,9 @@ KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff", "name
         "thickness", "unlit")
 #: What an unlit material's reading as emission replaced (translate/gltf.py), restored for a glTF output.
 UNLIT_FACTORS = {"metallic": 1, "emissive": 3, "emissive_strength": 1}
+#: Extensions whose look a .mtlx or USD output loses when they stay in the state (a diffuse transmission
+#: OpenPBR's thin-walled subsurface cannot take: textured, or into a volume; the specular-glossiness model).
+UNRENDERED = ("KHR_materials_diffuse_transmission", "KHR_materials_pbrSpecularGlossiness")
 MAX_TEXT = 1 << 20  # a side channel larger than this is not read (a hostile file)
 
 
@@ -110,7 +113,8 @@ def notes(source, kind: str, context, state: dict | None = None) -> list:
     kept = [f"doubleSided {str(state['doubleSided']).lower()}" for _ in [0] if state.get("doubleSided")]
     kept += ["extras"] if state.get("extras") else []
     kept += [f"alphaMode MASK with alphaCutoff {state.get('alphaCutoff', 0.5):g}"] if state.get("alphaMode") == "MASK" else []
-    kept += sorted(state.get("extensions") or {})
+    unrendered = [name for name in sorted(state.get("extensions") or {}) if name in UNRENDERED]
+    kept += [name for name in sorted(state.get("extensions") or {}) if name not in UNRENDERED]
     kept += [f"KHR_materials_variants names ({', '.join(variants)})"] if variants else []
     kept += [f"KHR_materials_volume thicknessFactor {state['thickness']:g}"] if state.get("thickness") else []
     where = "attribute openpbr_gltf of its surfacematerial" if kind == "mtlx" else "customData openpbr:gltf of its Material"
@@ -121,6 +125,10 @@ def notes(source, kind: str, context, state: dict | None = None) -> list:
                          f"green channels, {getattr(direction, 'file', 'a texture')!r}) is not carried: MaterialX and "
                          "USD orient anisotropy by the tangent, so the output's runs along the mesh's tangent",
             replace(source.location, path=f"{source.location.path}/extensions/KHR_materials_anisotropy/anisotropyTexture")))
+    lost += [context.diagnostic(APPROXIMATED, f"{source.name}: {name} changes how the material looks and the output "
+                                              f"does not render it (OpenPBR has no parameter for it); it is kept in the "
+                                              f"{where} and restored when converted back to glTF",
+                                source.location) for name in unrendered]
     return lost + [context.diagnostic(CONVERTED, f"{source.name}: {what} (glTF material state OpenPBR has no parameter "
                                                  f"for) is kept in the {where} and restored when converted back to glTF",
                                       source.location) for what in kept]

@@ -180,3 +180,50 @@ def test_an_anisotropy_direction_texture_is_reported_where_it_is_not_carried(tmp
         assert any("anisotropyTexture" in json.dumps(m) for m in written["materials"])
     else:
         assert [d.location.path.endswith("KHR_materials_anisotropy/anisotropyTexture") for d in notes] == [True]
+
+
+@pytest.mark.parametrize("target", ("open_pbr_surface", "standard_surface"))
+def test_a_volume_that_absorbs_nothing_keeps_the_base_colours_tint(tmp_path, judge, target):
+    """KHR_materials_volume with an attenuation distance but the default white attenuation colour
+    absorbs nothing; glTF's transmission is still tinted by the base colour. Read as a volume, OpenPBR's
+    transmission colour became the white attenuation colour and the tint was lost (CompareIor: 2.98
+    mean CIEDE2000)."""
+    renderer, delta = judge
+    colour = (0.2, 0.4, 0.9)
+    source = _gltf(tmp_path, {"name": "Glass", "pbrMetallicRoughness": {"baseColorFactor": list(colour) + [1.0],
+                                                                        "metallicFactor": 0.0, "roughnessFactor": 0.2},
+                              "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                                             "KHR_materials_volume": {"thicknessFactor": 0.5,
+                                                                      "attenuationDistance": 2.0}}},
+                   ("KHR_materials_transmission", "KHR_materials_volume"))
+    reference = renderer.render("gltf_pbr", dict(base_color=colour, metallic=0.0, roughness=0.2, transmission=1.0,
+                                                 thickness=0.5, attenuation_distance=2.0))
+    untinted = renderer.render("gltf_pbr", dict(base_color=(1.0, 1.0, 1.0), metallic=0.0, roughness=0.2,
+                                                transmission=1.0, thickness=0.5, attenuation_distance=2.0))
+    assert delta(untinted, reference) > 2.0
+    converted = renderer.render_document(str(_converted(source, target, tmp_path)))
+    assert delta(converted, reference) < 1.0
+
+
+def test_the_khronos_diffuse_transmission_test_warns_only_where_the_look_is_lost(tmp_path):
+    """DiffuseTransmissionTest (Khronos): the ten materials whose diffuse transmission is textured keep it
+    only as data in a .mtlx output, which renders them without it: a warning at each (it was an info
+    line). Its unlit materials (read as emission) and its factor-only ones (OpenPBR's thin-walled
+    subsurface) raise none: the unlit reading's own black base once drew a specular-weight warning."""
+    import shutil
+
+    from openpbr_tools.rules.translation import APPROXIMATED
+
+    folder = tmp_path / "asset"
+    shutil.copytree(Path(__file__).parent / "data" / "published" / "gltf" / "DiffuseTransmissionTest", folder)
+    source = next(folder.glob("*.gltf"))
+    document = json.loads(source.read_text())
+    textured = {f"/materials/{i}" for i, m in enumerate(document["materials"])
+                if any(k.endswith("Texture") for k in m.get("extensions", {}).get("KHR_materials_diffuse_transmission", {}))}
+    assert len(textured) == 10
+    result = convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings())
+    from openpbr_tools.diagnostics import Severity
+
+    warned = {d.location.path for d in result.diagnostics if d.severity >= Severity.WARNING}
+    assert warned == textured
+    assert all(d.code == APPROXIMATED.code for d in result.diagnostics if d.severity >= Severity.WARNING)

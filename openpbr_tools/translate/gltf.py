@@ -168,7 +168,7 @@ def gltf_relative_base(specular_weight, specular_ior, coat_ior, coat_weight, fil
         # both forms read back to this material; the relative one is glTF's own where the weight is whole (the
         # default specular, which a glTF clearcoat material has), the scaled one where it is not
         whole = np.abs(np.asarray(specular_weight, dtype=float) - 1.0) < 1e-9
-        return np.broadcast_to(np.all(plain & whole & read & (np.abs(back - specular_ior) < 1e-6)), np.shape(eta))
+        return plain & whole & read & (np.abs(back - specular_ior) < 1e-6)
 
 
 RELATIVE_SOURCES = ("specular_weight", "specular_ior", "coat_ior", "coat_weight", "thin_film_weight", "base_metalness",
@@ -231,8 +231,8 @@ def _coated_base(specular, metallic, ior, clearcoat, iridescence, coat_ior, tran
     ``ior`` (:func:`.fit.specular_ior_for_relative_ior`), and the weight is glTF's ``specular``: the
     base's Fresnel curve is glTF's, at normal incidence exactly. Only on an opaque base (a transmitting
     one refracts by its IOR) of the default, whole ``specular`` (what glTF clearcoat materials have; a
-    weaker one is scaled as before and clipped at 1, reported: so each OpenPBR material reads back from
-    one glTF form, :func:`gltf_relative_base`). ``which``: whether that is done."""
+    weaker one keeps the scaled weight, above OpenPBR's soft maximum 1: so each OpenPBR material reads
+    back from one glTF form, :func:`gltf_relative_base`). Texel by texel. ``which``: where that is done."""
     scale = fit.dielectric_specular_scale(ior, coat_ior, clearcoat, iridescence)
     weight = fit.specular_weight_from_coated(specular, scale, metallic)
     with np.errstate(all="ignore"):
@@ -243,8 +243,8 @@ def _coated_base(specular, metallic, ior, clearcoat, iridescence, coat_ior, tran
     relative = fit.specular_ior_for_relative_ior(gltf_ior(ior), coat_ior, clearcoat)
     with np.errstate(all="ignore"):  # (a relative IOR no base reaches under a thin coat: not this way)
         reached = np.abs(fit.base_ior_under_coat(relative, coat_ior, clearcoat) - gltf_ior(ior)) < 1e-6
-    whole = np.all(np.abs(np.asarray(specular, dtype=float) - 1.0) < 1e-9)  # (gltf_relative_base: one form each)
-    lost = np.broadcast_to(np.any(lost) & np.all(reached) & whole, np.shape(lost))  # one choice for the material
+    whole = np.abs(np.asarray(specular, dtype=float) - 1.0) < 1e-9  # (gltf_relative_base: one form each)
+    lost = lost & reached & whole
     if which:
         return lost
     if not np.any(lost):
@@ -273,38 +273,47 @@ def attenuation_color(color, depth, scatter):
     return np.where(depth > 0, np.where(scatters, absorbing, color), WHITE)
 
 
-TRANSMISSION_MIX_SOURCES = ("transmission", "attenuation_distance", "thickness")
+TRANSMISSION_MIX_SOURCES = ("transmission", "attenuation_distance", "thickness", "attenuation_color")
 
 
-def _unmixed(color, metallic, transmission, attenuation_distance, thickness):
+def _absorbs(attenuation_color):
+    """Whether KHR_materials_volume's attenuation colour absorbs (is not white), per texel."""
+    colour = np.asarray(attenuation_color, dtype=float)
+    return np.any(np.abs(colour - 1.0) > 1e-9, axis=-1, keepdims=colour.ndim > 1)  # (texels: (H, W, 1))
+
+
+def _unmixed(color, metallic, transmission, attenuation_distance, thickness, attenuation_color=WHITE):
     """(target, effective metalness) of the metal-fit inverse once the transmission is taken out of
     :func:`gltf_base_color`'s mix: with k = 1 - (1 - m) t, (1 - m)(1 - t) D + m fit(D) equals k B for a
     thin wall (tinted by the base colour, OpenPBR's transmission colour coming back) and B - (1 - m) t
-    for a volume (tinted white): a mix of D and fit(D) by m / k reaching B, or (B - (1 - m) t) / k."""
+    for a volume (tinted white): a mix of D and fit(D) by m / k reaching B, or (B - (1 - m) t) / k. A volume
+    of white attenuation absorbs nothing and is read as tinted by the base colour (the depth left 0)."""
     k = 1.0 - (1.0 - metallic) * transmission
     safe = np.where(k > 0, k, 1.0)
-    volume = np.isfinite(attenuation_distance) & (attenuation_distance > 0) & (thickness > 0)
+    volume = np.isfinite(attenuation_distance) & (attenuation_distance > 0) & (thickness > 0) & _absorbs(attenuation_color)
     target = np.where(volume & (k > 0), (color - (1.0 - metallic) * transmission) / safe, color)
     return np.clip(target, 0.0, 1.0), np.where(k > 0, metallic / safe, metallic)
 
 
 def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
-                       coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0):
+                       coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0,
+                       attenuation_color=WHITE):
     """Inverse of :func:`gltf_base_color`'s metal fit and transmission mix: OpenPBR's base colour (F0
     under an F82 edge tint of ``specular_color``) whose fitted Schlick metal, mixed with the transmitting
     dielectric, is glTF's base colour."""
     specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior,
                                               transmission=transmission)
-    target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness)
+    target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness, attenuation_color)
     return fit.openpbr_metal_from_schlick(target, metalness, specular_color, specular_weight,
                                           average_alpha_gltf(roughness, anisotropy_strength))
 
 
 def _metal_inverse_clips(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
-                         coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0):
+                         coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0,
+                         attenuation_color=WHITE):
     specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior,
                                               transmission=transmission)
-    target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness)
+    target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness, attenuation_color)
     return fit.metal_from_schlick_clips(target, metalness, specular_color, specular_weight,
                                         average_alpha_gltf(roughness, anisotropy_strength))
 
@@ -553,11 +562,12 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
         base_and_specular = (
             Mapping("base_color", ("base_color", "metallic", "specular_color", "roughness", "anisotropy_strength")
                     + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:] + TRANSMISSION_MIX_SOURCES,
-                    lambda *v: openpbr_base_color(*v[:-3], coat_ior=coat_ior, transmission=v[-3],
-                                                  attenuation_distance=v[-2], thickness=v[-1]),
+                    lambda *v: openpbr_base_color(*v[:-4], coat_ior=coat_ior, transmission=v[-4],
+                                                  attenuation_distance=v[-3], thickness=v[-2], attenuation_color=v[-1]),
                     converted="a metal's base colour solved for OpenPBR's F82 edge tint (specular_color)", exact=False,
-                    matters=lambda *v: _metal_inverse_clips(*v[:-3], coat_ior=coat_ior, transmission=v[-3],
-                                                            attenuation_distance=v[-2], thickness=v[-1]),
+                    matters=lambda *v: _metal_inverse_clips(*v[:-4], coat_ior=coat_ior, transmission=v[-4],
+                                                            attenuation_distance=v[-3], thickness=v[-2],
+                                                            attenuation_color=v[-1]),
                     note="a metal's base colour solved for OpenPBR's F82 edge tint and specular weight (glTF's metals "
                          "ignore KHR_materials_specular, OpenPBR's do not) leaves [0, 1] and is clipped: the metal "
                          "renders darker or differently tinted"),
@@ -603,14 +613,19 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
         # attenuation) is tinted by the base colour only
         Mapping("transmission_color", ("base_color", "attenuation_color", "attenuation_distance", "transmission",
                                        "thickness"),
-                lambda c, a, d, t, h: np.where(np.isfinite(d) & (d > 0) & (h > 0), a, c), exact=False,
+                lambda c, a, d, t, h: np.where(np.isfinite(d) & (d > 0) & (h > 0) & _absorbs(a), a, c), exact=False,
                 when=lambda c, a, d, t, h: t > 0,
-                matters=lambda c, a, d, t, h: bool(0 < t < 1 or (np.isfinite(d) and d > 0 and h > 0 and differs(c, WHITE))),
+                matters=lambda c, a, d, t, h: bool(0 < t < 1 or (np.isfinite(d) and d > 0 and h > 0 and _absorbs(a)
+                                                                  and differs(c, WHITE))),
                 note="glTF tints transmission with the base colour (shared with the diffuse part, and on top of "
                      "a volume's attenuation); OpenPBR keeps one transmission colour"),
-        Mapping("transmission_depth", ("attenuation_distance", "thickness"),
-                lambda d, h: np.where(np.isfinite(d) & (h > 0), d / mpu, 0.0),
-                converted=f"metres to scene units at {mpu:g} m per unit"),
+        Mapping("transmission_depth", ("attenuation_distance", "thickness", "attenuation_color"),
+                lambda d, h, a: np.where(np.isfinite(d) & (h > 0) & _absorbs(a), d / mpu, 0.0),
+                converted=f"metres to scene units at {mpu:g} m per unit", exact=False,
+                matters=lambda d, h, a: bool(np.isfinite(d) and d > 0 and h > 0 and not np.any(_absorbs(a))),
+                note="a white attenuation colour absorbs nothing at any distance: the depth is left 0, so that the "
+                     "transmission keeps glTF's base-colour tint (OpenPBR's transmission colour is the volume's "
+                     "where a depth is set)"),
         Mapping("geometry_thin_walled", ("transmission", "thickness"), lambda t, d: np.where((t > 0) & (d <= 0), 1.0, 0.0),
                 converted="glTF transmission without a volume is thin-walled"),
         Mapping("transmission_dispersion_scale", ("dispersion",), lambda v: np.where(v > 0, 1.0, 0.0)),
@@ -774,16 +789,16 @@ def unlit_state(state: dict) -> bool:
 
 
 def _unlit_as_emission(material: Material, state: dict) -> Material | None:
-    """A KHR_materials_unlit material read as what it renders: a black base that does not reflect
-    (``base_color`` 0, ``metallic`` 0, ``specular`` 0, no ``emissive``), to which :func:`_unlit_emission`
-    adds the base colour as emission. None for a lit material."""
+    """A KHR_materials_unlit material read as what it renders: a black base (``base_color`` 0,
+    ``metallic`` 0, no ``emissive`` or specular), to which :func:`_unlit_emission` adds the base colour as
+    emission and a specular weight of 0. None for a lit material."""
     if not unlit_state(state):
         return None
     source = copy.copy(material)
     source.inputs = dict(material.inputs)
-    source.inputs.pop("emissive", None)
-    for name, kind, value in (("base_color", "color3", (0.0, 0.0, 0.0)), ("metallic", "float", 0.0),
-                              ("specular", "float", 0.0)):
+    for name in ("emissive", "specular", "specular_color"):  # (the weight is set on the result: no note)
+        source.inputs.pop(name, None)
+    for name, kind, value in (("base_color", "color3", (0.0, 0.0, 0.0)), ("metallic", "float", 0.0)):
         source.inputs[name] = Input(name, kind, Constant(value), material.location,
                                     colorspace="lin_rec709" if kind == "color3" else None)
     return source
@@ -803,6 +818,7 @@ def _unlit_emission(result: Material, material: Material, settings: Settings) ->
         emission = Input("emission_color", "color3", Constant((1.0, 1.0, 1.0)), material.location,
                          colorspace="lin_rec709")
     result.inputs["emission_color"] = emission
+    result.inputs["specular_weight"] = Input("specular_weight", "float", Constant(0.0), material.location)
     result.inputs["emission_luminance"] = Input("emission_luminance", "float", Constant(float(settings.nits_per_unit)),
                                                 material.location)
     replaced = {"as_emission": True}  # (the record's presence marks the reading, factors or not)
