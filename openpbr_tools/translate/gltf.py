@@ -158,6 +158,8 @@ def gltf_relative_base(specular_weight, specular_ior, coat_ior, coat_weight, fil
     incidence either way; a glTF clearcoat material of the default specular converted to OpenPBR and
     back is its own again (so is any with the scaled form: both read back to the same OpenPBR material,
     so one glTF of the pair cannot be told from the other; the relative form is taken for a whole weight)."""
+    if not np.any(np.asarray(coat_weight, dtype=float) > 0):  # (most materials: no coat, nothing to decide)
+        return np.zeros(np.shape(specular_ior), dtype=bool)
     with np.errstate(all="ignore"):
         eta = gltf_ior(fit.base_ior_under_coat(specular_ior, coat_ior, coat_weight))
         plain = (np.abs(np.asarray(coat_ior, dtype=float) - GLTF_CLEARCOAT_IOR) < 1e-9) & \
@@ -235,6 +237,8 @@ def _coated_base(specular, metallic, ior, clearcoat, iridescence, coat_ior, tran
     back from one glTF form, :func:`gltf_relative_base`). Texel by texel. ``which``: where that is done."""
     scale = fit.dielectric_specular_scale(ior, coat_ior, clearcoat, iridescence)
     weight = fit.specular_weight_from_coated(specular, scale, metallic)
+    if not np.any(np.asarray(clearcoat, dtype=float) > 0):  # (most materials: no clearcoat)
+        return np.zeros(np.shape(weight), dtype=bool) if which else (weight, ior)
     with np.errstate(all="ignore"):
         lost = (np.asarray(clearcoat, dtype=float) > 0) & (np.asarray(metallic, dtype=float) < 1) & \
             (np.asarray(transmission, dtype=float) <= 0) & \
