@@ -227,3 +227,24 @@ def test_the_khronos_diffuse_transmission_test_warns_only_where_the_look_is_lost
     warned = {d.location.path for d in result.diagnostics if d.severity >= Severity.WARNING}
     assert warned == textured
     assert all(d.code == APPROXIMATED.code for d in result.diagnostics if d.severity >= Severity.WARNING)
+
+
+def test_a_gltf_glass_gets_the_previews_appearance_fit(tmp_path, judge):
+    """A constant glTF glass to UsdPreviewSurface (which has no transmission) gets the appearance fit an
+    OpenPBR glass gets (a half-transparent surface coloured like the glass). glTF sources were left out
+    of the search, which exists for OpenPBR and Standard Surface sources, and the fit's opacity search
+    looked for OpenPBR's transmission_weight only: TransmissionTest's YellowTrans 21.6 -> 11.3 mean
+    CIEDE2000 in GLSL."""
+    renderer, delta = judge
+    colour = (0.85, 0.87, 0.09)
+    source = _gltf(tmp_path, {"name": "Yellow", "pbrMetallicRoughness": {"baseColorFactor": list(colour) + [1.0],
+                                                                         "metallicFactor": 0.0, "roughnessFactor": 0.0},
+                              "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}},
+                   ("KHR_materials_transmission",))
+    reference = renderer.render("gltf_pbr", dict(base_color=colour, metallic=0.0, roughness=0.0, transmission=1.0))
+    plain = tmp_path / "plain.mtlx"
+    convert_file(str(source), str(plain), "UsdPreviewSurface", Settings(candidates=False))
+    fitted = _converted(source, "UsdPreviewSurface", tmp_path)
+    before, after = delta(renderer.render_document(str(plain)), reference), \
+        delta(renderer.render_document(str(fitted)), reference)
+    assert after < before - 5.0, (before, after)

@@ -75,9 +75,14 @@ def _positive(name: str) -> Callable[[dict, dict], bool]:
     return lambda source, candidate: float(source.get(name, 0.0)) > 0.0
 
 
+#: The transmission weight's name in each source model (a glTF or Standard Surface glass is fitted too).
+TRANSMISSION = {"open_pbr_surface": "transmission_weight", "standard_surface": "transmission", "gltf_pbr": "transmission"}
+
+
 def _transparent_transmitter(source: dict, candidate: dict) -> bool:
     """A transmitting source written as the preview's transparency (opacityMode 0, "transparent")."""
-    return float(source.get("transmission_weight", 0.0)) > 0.0 and candidate.get("opacityMode", 0) in (0, "transparent") \
+    weight = max(float(source.get(name, 0.0)) for name in set(TRANSMISSION.values()))
+    return weight > 0.0 and candidate.get("opacityMode", 0) in (0, "transparent") \
         and float(candidate.get("opacity", 1.0)) < 1.0
 
 
@@ -240,7 +245,8 @@ def _shape_search(jobs: list[_Job]) -> None:
         if best > 0:
             chosen = kept[best - 1]
             job.material, job.values = written[chosen], as_written(written[chosen])
-            job.changed[search.target_input] = search.source_input
+            job.changed[search.target_input] = TRANSMISSION.get(job.source.model, search.source_input) \
+                if search.source_input == TRANSMISSION["open_pbr_surface"] else search.source_input
             job.changed[job.knob] = KNOB.get(job.source.model, "base_color")
 
 

@@ -142,10 +142,12 @@ def choose(source: Material, translation: Translation, target: str, settings: Se
     return choose_many([(source, translation, target, settings)])[0]
 
 
-def _searched(source: Material, translation: Translation, settings: Settings) -> bool:
-    return settings.candidates and not settings.gltf_drafts and not isinstance(source.extra.get("gltf"), dict) and \
-        any(d.code in (APPROXIMATED.code, NOT_CARRIED.code) for d in translation.diagnostics) and \
-        constant_values(source) is not None  # (drafts, glTF sources: the mapping's exact inverses are the point)
+def _searched(source: Material, translation: Translation, target: str, settings: Settings) -> bool:
+    # a glTF source (or one that came from glTF) to OpenPBR or glTF: the mapping's exact inverses are the point
+    exact_inverse = settings.gltf_drafts or (isinstance(source.extra.get("gltf"), dict) and
+                                             target in ("open_pbr_surface", "gltf_pbr"))
+    return settings.candidates and not exact_inverse and constant_values(source) is not None and \
+        any(d.code in (APPROXIMATED.code, NOT_CARRIED.code) for d in translation.diagnostics)
 
 
 def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> list[Translation]:
@@ -155,7 +157,7 @@ def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> lis
     out = [translation for _, translation, _, _ in items]
     work = []
     for index, (source, translation, target, settings) in enumerate(items):
-        if not _searched(source, translation, settings):
+        if not _searched(source, translation, target, settings):
             continue
         if settings.fit_films:
             translation = out[index] = refine_thin_film(source, translation, target, settings)
