@@ -41,6 +41,7 @@ class Parameter:
     doc: str | None = None
     range_note: str | None = None
     default_geomprop: str | None = None
+    switches: str | None = None  # the prefix of the inputs this weight switches on (no effect while it is 0)
 
 
 @dataclass(frozen=True, slots=True)
@@ -111,6 +112,7 @@ def table(model: str, version: str | None = None) -> ParameterTable:
             doc=entry.get("doc"),
             range_note=entry.get("range_note"),
             default_geomprop=entry.get("default_geomprop"),
+            switches=entry.get("switches"),
         )
         for name, entry in raw["parameters"].items()
     }

@@ -321,19 +321,10 @@ def read_back_notes(source: Material, written: Material, where, context) -> list
     return notes
 
 
-#: Per source model, the weight that switches each group of inputs (by prefix) on.
-LOBE_WEIGHTS = {
-    "open_pbr_surface": {"fuzz_": "fuzz_weight", "thin_film_": "thin_film_weight", "coat_": "coat_weight",
-                         "transmission_": "transmission_weight", "subsurface_": "subsurface_weight",
-                         "emission_": "emission_luminance"},
-    "standard_surface": {"sheen_": "sheen", "thin_film_": "thin_film_thickness", "coat_": "coat",
-                         "transmission_": "transmission", "subsurface_": "subsurface", "emission_": "emission"},
-}
-
-
 def _lobe_off(source: Material, table, name: str) -> bool:
-    for prefix, weight in LOBE_WEIGHTS.get(source.model, {}).items():
-        if name.startswith(prefix) and name != weight:
+    """Whether ``name`` belongs to a lobe whose weight (the table's ``switches``) is 0 in ``source``."""
+    for weight, parameter in table.parameters.items():
+        if parameter.switches and name.startswith(parameter.switches) and name != weight:
             entry = source.inputs.get(weight)
             value = entry.value.value if entry is not None and isinstance(entry.value, Constant) else table[weight].default
             try:
