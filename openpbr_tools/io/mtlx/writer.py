@@ -17,6 +17,7 @@ from ... import colorspaces, gltf_state, tables
 from ...atomic import write_text
 from ...model import Connection, Constant, Material, Texture, normal_map_decode
 from ...values import COMPONENTS, format_value
+from ..usd.types import MATERIALX_ADDRESS_MODES, WRAP_TO_ADDRESS_MODE
 
 COLOUR_TYPES = ("color3", "color4")
 
@@ -146,9 +147,10 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
         file_input.setColorSpace(colorspaces.materialx_name(texture.colorspace))
     if texture.fallback is not None:
         image.addInput("default", image_type).setValueString(format_value(texture.fallback, image_type))
-    if texture.wrap:
-        image.addInput("uaddressmode", "string").setValueString(texture.wrap[0])
-        image.addInput("vaddressmode", "string").setValueString(texture.wrap[1])
+    for name, mode in zip(("uaddressmode", "vaddressmode"), texture.wrap or ()):
+        mode = WRAP_TO_ADDRESS_MODE.get(mode, mode)  # a UsdUVTexture's wrap token in MaterialX's words
+        if mode in MATERIALX_ADDRESS_MODES:  # (useMetadata: the image node's default, periodic, as the evaluator reads it)
+            image.addInput(name, "string").setValueString(mode)
     if image.getCategory() == "tiledimage":
         image.addInput("uvtiling", "vector2").setValueString(format_value(texture.uv.scale, "vector2"))
         image.addInput("uvoffset", "vector2").setValueString(format_value(texture.uv.offset, "vector2"))

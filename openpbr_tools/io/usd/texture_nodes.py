@@ -17,7 +17,7 @@ import math
 from ...model import Connection, Input, Texture, UVTransform
 from .attributes import constant_of, shortest_float32, unconnected
 from .sdr import materialx_nodedef
-from .types import PRIMVAR_READER_PREFIX, TRANSFORM_2D_ID, UV_TEXTURE_ID, UV_TEXTURE_OUTPUTS
+from .types import PRIMVAR_READER_PREFIX, TRANSFORM_2D_ID, UV_TEXTURE_ID, UV_TEXTURE_OUTPUTS, is_eight_bit
 
 DEFAULT_UV_PRIMVAR = "st"  # the conventional UV primvar: read as the default UV set (texcoord None)
 _CHANNEL_OUTPUTS = {"outr": 0, "outg": 1, "outb": 2, "outa": 3, "outx": 0, "outy": 1, "outz": 2, "outw": 3}
@@ -140,6 +140,8 @@ class TextureNodeReader:
         if file_attribute:
             metadata = self.attribute_colorspace(file_attribute, "usd")
             colorspace = colorspace or metadata
+        if colorspace is None and file and is_eight_bit(file):
+            colorspace = "auto"  # the sourceColorSpace default, which decodes 8-bit RGB(A) as sRGB (spec, UsdUVTexture)
         model, _, parameter = consumer
         wants = entry.type if entry.type in ("color3", "vector3") else "color3"
         texture = Texture(
