@@ -300,3 +300,19 @@ def comparison_mask(rig, radius: float = 0.96) -> np.ndarray:
     c = -rig.extent + (np.arange(n) + 0.5) * (2.0 * rig.extent / n)
     x, y = np.meshgrid(c, -c)
     return x * x + y * y < radius * radius
+
+
+@lru_cache(maxsize=1)
+def shader_generator():
+    """``(library, generator, context)``: MaterialX's standard libraries and a GLSL shader generator with
+    its context, for tests that check an output generates a shader (no GL context needed)."""
+    import MaterialX as mx  # lazy: only the tests that generate shaders need the generator modules
+    import MaterialX.PyMaterialXGenGlsl as gg  # lazy: as above
+    import MaterialX.PyMaterialXGenShader as gs  # lazy: as above
+
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    glsl = gg.GlslShaderGenerator.create()
+    context = gs.GenContext(glsl)
+    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
+    return library, glsl, context

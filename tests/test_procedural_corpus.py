@@ -14,11 +14,11 @@ from __future__ import annotations
 import random
 
 import MaterialX as mx
-import MaterialX.PyMaterialXGenGlsl as gg
 import MaterialX.PyMaterialXGenShader as gs
 import pytest
 
 from generated_materials import COLORSPACES, document
+from glsupport import shader_generator
 from openpbr_tools import tables
 from openpbr_tools.convert import convert_file
 from openpbr_tools.io import read_asset
@@ -79,12 +79,7 @@ def procedural_document(model: str, colorspace: str, seed: int) -> tuple[str, di
 
 @pytest.fixture(scope="module")
 def generator():
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
-    glsl = gg.GlslShaderGenerator.create()
-    context = gs.GenContext(glsl)
-    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
-    return library, glsl, context
+    return shader_generator()
 
 
 @pytest.mark.parametrize("colorspace", COLORSPACES)

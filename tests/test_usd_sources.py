@@ -12,10 +12,10 @@ import shutil
 from pathlib import Path
 
 import MaterialX as mx
-import MaterialX.PyMaterialXGenGlsl as gg
 import MaterialX.PyMaterialXGenShader as gs
 import pytest
 
+from glsupport import shader_generator
 from openpbr_tools.convert import convert_file
 from openpbr_tools.io import read_asset
 from openpbr_tools.translate.common import Settings
@@ -29,12 +29,7 @@ ASSETS = sorted(PREVIEW_TESTS.glob("*.usda")) + [PUBLISHED / "usd-wg" / "test_as
 
 @pytest.fixture(scope="module")
 def generator():
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
-    glsl = gg.GlslShaderGenerator.create()
-    context = gs.GenContext(glsl)
-    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
-    return library, glsl, context
+    return shader_generator()
 
 
 def _copy(asset: Path, tmp_path: Path) -> Path:
