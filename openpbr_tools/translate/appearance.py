@@ -15,11 +15,12 @@ Two steps, both on the evaluator's lit sphere in linear Rec.709 (where the targe
    opaque it stays a glass: the sample bottle 13.7 -> 4.4 mean ΔE at 0.5). Each value of a
    grid is rendered (one stacked evaluation), the base colour of each rescaled per channel by the
    ratio of the source's mean radiance to its own, rendered again, and the closest kept.
-2. **A colour fit** of the base colour (:data:`KNOB`): steps on each channel's mean radiance over the
-   sphere, each component moved to the value that matches the source's mean, within the input's range.
-   The first step's slope comes from the candidate and a copy with the colour perturbed (its render
-   taken from the search's where it has one), the next one's from the two colours so far (a secant:
-   one render a step).
+2. **A colour fit** of the base colour (:data:`KNOB`): Newton steps on each channel's mean radiance
+   over the sphere (the candidate and a copy with the colour perturbed rendered together, the
+   slope of each channel's mean taken from the pair, the component moved to the value that matches
+   the source's mean, within the input's range). The first step's candidate render is the search's
+   own. (A secant second step, one render fewer, cost 4% less on the archetypes but fitted two
+   Standard Surface materials that MaterialX's GLSL renders worse by more than 0.5.)
 
 Not where the judges disagree (:func:`untrusted`): an interface of relative IOR below 1 (a specular or
 coat IOR under 1) totally reflects beyond its critical angle in the evaluator, as physics has it,
@@ -55,9 +56,8 @@ from .target import inside
 KNOB = {"standard_surface": "base_color", "gltf_pbr": "base_color", "UsdPreviewSurface": "diffuseColor",
         "open_pbr_surface": "base_color"}
 FIT_FROM = 1.0  # mean CIEDE2000 below which the candidate is left as it is (the fit costs renders)
-STEPS = 2  # colour steps: the first renders the candidate and its perturbed copy, the next the candidate
-PERTURBATION = 0.05  # of the colour component (absolute), for the first slope
-SECANT_FROM = 1e-3  # a channel that moved less than this keeps its last slope
+STEPS = 2  # Newton steps; each renders the candidate and its perturbed copy together
+PERTURBATION = 0.05  # of the colour component (absolute), for the slope
 FLAT = 1e-4  # a channel whose mean moves less than this per unit of colour does not depend on it
 
 
@@ -170,7 +170,6 @@ class _Job:
     values: dict
     changed: dict
     mean: np.ndarray | None = None  # the mean radiance of ``values``' render, when it has been rendered
-    last: tuple | None = None  # the colour fit's previous (colour, mean radiance, slope)
 
 
 def _job(source: Material, candidate: Material, judge, mean: np.ndarray | None = None) -> _Job | None:
@@ -205,8 +204,8 @@ def fit_many(items: list[tuple]) -> list[Fitted | None]:
     jobs = [_job(*item) for item in items]
     active = [job for job in jobs if job is not None]
     _shape_search(active)
-    for step in range(STEPS):
-        active = _colour_step(active, step)
+    for _ in range(STEPS):
+        active = _colour_step(active)
     out: list[Fitted | None] = []
     for job in jobs:
         out.append(Fitted(job.material, job.changed) if job is not None and job.changed else None)
@@ -250,34 +249,25 @@ def _shape_search(jobs: list[_Job]) -> None:
             job.changed[job.knob] = KNOB.get(job.source.model, "base_color")
 
 
-def _colour_step(jobs: list[_Job], step: int) -> list[_Job]:
-    """One step of every job's colour fit on its channels' mean radiance (module docstring, step 2), all
-    renders stacked together; returns the jobs still moving. The first step takes each channel's slope
-    from the colour and a perturbed copy (Newton); later ones from the last two colours where a channel
-    moved (a secant, so one render a step), else keep the last slope."""
+def _colour_step(jobs: list[_Job]) -> list[_Job]:
+    """One Newton step of every job's colour fit on its channels' mean radiance (module docstring, step
+    2): each channel's slope from the colour and a copy with it perturbed, all rendered together (the
+    colour's own render is the search's where it has one); returns the jobs still moving."""
     flat = []
     for job in jobs:
         colour = np.asarray(job.values[job.knob], dtype=float)
         if job.mean is None:
             flat.append((job, job.material.model, job.values))
-        if step == 0:
-            flat.append((job, job.material.model, dict(job.values, **{job.knob: colour + _perturbation(job, colour)})))
+        flat.append((job, job.material.model, dict(job.values, **{job.knob: colour + _perturbation(job, colour)})))
     means = iter(_means(flat))
     moving = []
     for job in jobs:
         colour = np.asarray(job.values[job.knob], dtype=float)
-        now = job.mean = next(means) if job.mean is None else job.mean
-        if step == 0:
-            perturbation = _perturbation(job, colour)
-            slope = (next(means) - now) / perturbation
-        else:
-            before, then, slope = job.last
-            moved = np.abs(colour - before) > SECANT_FROM
-            slope = np.where(moved, (now - then) / np.where(moved, colour - before, 1.0), slope)
+        now = job.mean if job.mean is not None else next(means)
+        slope = (next(means) - now) / _perturbation(job, colour)
         usable = np.abs(slope) > FLAT
         if not usable.any():
             continue  # the colour does not move the render: left as it is
-        job.last = (colour, now, slope)
         colour = job.clip(np.where(usable, colour + (job.judge.goal - now) / np.where(usable, slope, 1.0), colour))
         job.values = dict(job.values, **{job.knob: colour})
         job.material = _written(job.material, job.values, (job.knob,)) or job.material
