@@ -22,6 +22,7 @@ from __future__ import annotations
 import json
 from dataclasses import replace
 
+from .io.gltf import slots
 from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 
 MTLX_ATTRIBUTE = "openpbr_gltf"
@@ -32,7 +33,7 @@ KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff", "name
 UNLIT_FACTORS = {"metallic": 1, "emissive": 3, "emissive_strength": 1}
 #: Extensions whose look a .mtlx or USD output loses when they stay in the state (a diffuse transmission
 #: OpenPBR's thin-walled subsurface cannot take: textured, or into a volume; the specular-glossiness model).
-UNRENDERED = ("KHR_materials_diffuse_transmission", "KHR_materials_pbrSpecularGlossiness")
+UNRENDERED = (slots.DIFFUSE_TRANSMISSION, slots.SPECULAR_GLOSSINESS)
 MAX_TEXT = 1 << 20  # a side channel larger than this is not read (a hostile file)
 
 

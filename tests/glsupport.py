@@ -316,3 +316,26 @@ def shader_generator():
     context = gs.GenContext(glsl)
     context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
     return library, glsl, context
+
+
+def single_material(path: str, name: str, out_path: str) -> str:
+    """Write the MaterialX document at ``path`` with only the surfacematerial ``name`` left (for
+    ``render_document``, which renders a document's first), beside it so texture paths still resolve."""
+    import MaterialX as mx  # lazy: as in shader_generator
+
+    doc = mx.createDocument()
+    mx.readFromXmlFile(doc, path)
+    for material in doc.getMaterialNodes():
+        if material.getName() != name:
+            doc.removeNode(material.getName())
+    mx.writeToXmlFile(doc, out_path)
+    return out_path
+
+
+def mean_delta_e(image: np.ndarray, reference: np.ndarray, mask: np.ndarray, white: float) -> float:
+    """Mean CIEDE2000 over ``mask`` between two renders; NaN where either is not finite there."""
+    from openpbr_tools.evaluate.difference import delta_e_2000  # lazy: the GL helpers above do not need it
+
+    if not (np.isfinite(image[mask]).all() and np.isfinite(reference[mask]).all()):
+        return float("nan")
+    return float(delta_e_2000(image[mask], reference[mask], white).mean())

@@ -29,6 +29,7 @@ import numpy as np
 
 from .. import tables
 from ..colorspaces import to_lin_rec709
+from ..io.gltf.slots import DIFFUSE_TRANSMISSION, UNLIT
 from ..model import Connection, Constant, Material, Texture
 from . import procedural
 
@@ -120,7 +121,6 @@ def colour_to_lin_rec709(rgb: np.ndarray, colorspace: str | None) -> np.ndarray:
 #: KHR_materials_diffuse_transmission (the gltf_pbr node has none; a glTF material carries it in
 #: ``extra``, see :func:`_gltf_diffuse_transmission`).
 EVALUATOR_EXTRAS = {"gltf_pbr": {"diffuse_transmission": 0.0, "diffuse_transmission_color": (1.0, 1.0, 1.0)}}
-DIFFUSE_TRANSMISSION = "KHR_materials_diffuse_transmission"
 
 
 def defaults(model: str) -> ResolvedParameters:
@@ -260,9 +260,6 @@ def _gltf_diffuse_transmission(material: Material, resolved: ResolvedParameters)
     for key in ("diffuseTransmissionTexture", "diffuseTransmissionColorTexture"):
         if key in found:
             resolved.approximated.append(("diffuse_transmission", f"{key} not read; its factor applies"))
-
-
-UNLIT = "KHR_materials_unlit"
 
 
 def _gltf_unlit(material: Material, resolved: ResolvedParameters) -> None:

@@ -88,6 +88,7 @@ from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
 from ..evaluate.volume import absorption_coefficient, with_channel_axis
 from .. import gltf_state
 from ..io.gltf import drafts
+from ..io.gltf.slots import DIFFUSE_TRANSMISSION, UNLIT
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import fit
@@ -677,7 +678,6 @@ DROPPED_FROM_GLTF = (
 DRAFT_DROPPED = ("coat_ior", "coat_roughness_anisotropy", "base_diffuse_roughness")  # carried by the drafts
 
 
-DIFFUSE_TRANSMISSION = "KHR_materials_diffuse_transmission"
 
 
 def _thin_subsurface_as_diffuse_transmission(material: Material):
@@ -782,9 +782,10 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     return translation
 
 
-UNLIT = "KHR_materials_unlit"
 UNLIT_RECORD = "unlit"  # key of the glTF state: what the unlit reading replaced, restored for a glTF written back
 UNLIT_FACTORS = gltf_state.UNLIT_FACTORS
+#: glTF inputs the unlit reading writes (through OpenPBR and back), which undoing it drops
+UNLIT_WRITTEN = ("base_color", "emissive", "emissive_strength", "specular", "specular_color", "metallic")
 
 
 def unlit_state(state: dict) -> bool:
@@ -842,26 +843,11 @@ def _unlit_emission(result: Material, material: Material, settings: Settings) ->
 
 
 def _unlit_back(translation: Translation, material: Material, state: dict) -> None:
-    """The inverse of :func:`_unlit_emission` for a glTF output: the emission colour (at glTF's emissive 1)
-    is the unlit base colour again; the emissive, the specular weight and the black base the reading
-    wrote are not (the writer restores the extension from the state)."""
-    result = translation.material
-    emission = material.inputs.get("emission_color")
-    if emission is not None:
-        base = copy.deepcopy(emission)
-        base.name = "base_color"
-        result.inputs["base_color"] = base
-    else:
-        result.inputs.pop("base_color", None)
-    for name in ("emissive", "emissive_strength", "specular", "specular_color", "metallic"):
-        result.inputs.pop(name, None)
+    """The inverse of :func:`_unlit_emission` for a glTF output (:func:`_as_unlit`, the emission colour
+    at glTF's emissive 1 the base colour again; the writer restores the extension from the state)."""
     record = state.get(UNLIT_RECORD) if isinstance(state.get(UNLIT_RECORD), dict) else {}
-    for name, width in UNLIT_FACTORS.items():
-        value = record.get(name)
-        if value is not None:
-            result.inputs[name] = Input(name, "color3" if width == 3 else "float",
-                                        Constant(tuple(value) if width == 3 else value), material.location,
-                                        colorspace="lin_rec709" if width == 3 else None)
+    translation.material.inputs = _as_unlit(translation.material.inputs, material.inputs.get("emission_color"),
+                                            record, material.location)
     translation.diagnostics = [d for d in translation.diagnostics
                                if d.location.input not in ("emission_color", "emission_luminance", "specular_weight",
                                                            "base_color")]
@@ -875,18 +861,23 @@ def unlit_restored(material: Material) -> Material | None:
     if not unlit_state(state) or not isinstance(state.get(UNLIT_RECORD), dict):
         return None
     restored = copy.copy(material)
-    restored.inputs = {name: entry for name, entry in material.inputs.items()
-                       if name not in ("base_color", "emissive", "emissive_strength", "metallic", "specular")}
-    emission = material.inputs.get("emissive")
-    if emission is not None:
-        restored.inputs["base_color"] = dataclasses.replace(copy.deepcopy(emission), name="base_color")
-    for name, width in UNLIT_FACTORS.items():
-        value = state[UNLIT_RECORD].get(name)
-        if value is not None:
-            restored.inputs[name] = Input(name, "color3" if width == 3 else "float",
-                                          Constant(tuple(value) if width == 3 else value), material.location,
-                                          colorspace="lin_rec709" if width == 3 else None)
+    restored.inputs = _as_unlit(material.inputs, material.inputs.get("emissive"), state[UNLIT_RECORD], material.location)
     return restored
+
+
+def _as_unlit(inputs: dict, colour: Input | None, record: dict, location) -> dict:
+    """glTF inputs with the unlit reading undone: ``colour`` (the emission it wrote) the base colour
+    again; the emissive, the specular and the black, non-metallic base it wrote dropped; the constant
+    factors it replaced (``record``, :data:`UNLIT_FACTORS`) restored."""
+    out = {name: entry for name, entry in inputs.items() if name not in UNLIT_WRITTEN}
+    if colour is not None:
+        out["base_color"] = dataclasses.replace(copy.deepcopy(colour), name="base_color")
+    for name, width in UNLIT_FACTORS.items():
+        value = record.get(name)
+        if value is not None:
+            out[name] = Input(name, "color3" if width == 3 else "float", Constant(tuple(value) if width == 3 else value),
+                              location, colorspace="lin_rec709" if width == 3 else None)
+    return out
 
 
 def _diffuse_transmission_in(result: Material, material: Material, state: dict, settings: Settings) -> list:
@@ -943,4 +934,4 @@ def _volume_of_diffuse_transmission(material: Material, state: dict, settings: S
 
 def _has_diffuse_transmission(state: dict) -> bool:
     extensions = state.get("extensions") if isinstance(state.get("extensions"), dict) else {}
-    return "KHR_materials_diffuse_transmission" in extensions
+    return DIFFUSE_TRANSMISSION in extensions

@@ -40,27 +40,14 @@ sys.path.insert(0, os.path.join(HERE, ".."))
 sys.path.insert(0, HERE)
 
 from gltf_reference import GltfReference  # noqa: E402
-from glsupport import comparison_mask, materialx_renderer  # noqa: E402
+from glsupport import comparison_mask, materialx_renderer, mean_delta_e, single_material  # noqa: E402
 from openpbr_tools.convert import convert_file  # noqa: E402
-from openpbr_tools.evaluate.difference import delta_e_2000  # noqa: E402
 from openpbr_tools.evaluate.preview import Rig  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
 
 SAMPLES = os.path.join(HERE, "..", "data", "published", "gltf")
 TARGETS = ("open_pbr_surface", "standard_surface", "UsdPreviewSurface", "gltf_pbr")
 LIMIT = 2.3
-
-
-def single_material(path: str, name: str, out_path: str) -> str:
-    """Write the MaterialX document at ``path`` with only the surfacematerial ``name`` left (for
-    render_document, which renders a document's first), beside it so texture paths still resolve."""
-    doc = mx.createDocument()
-    mx.readFromXmlFile(doc, path)
-    for material in doc.getMaterialNodes():
-        if material.getName() != name:
-            doc.removeNode(material.getName())
-    mx.writeToXmlFile(doc, out_path)
-    return out_path
 
 
 def main() -> None:
@@ -79,9 +66,7 @@ def main() -> None:
     mask = comparison_mask(rig)
 
     def mean_delta(image: np.ndarray, reference: np.ndarray) -> float:
-        if not (np.isfinite(image[mask]).all() and np.isfinite(reference[mask]).all()):
-            return float("nan")
-        return float(delta_e_2000(image[mask], reference[mask], rig.white()).mean())
+        return mean_delta_e(image, reference, mask, rig.white())
 
     rows = []
     with tempfile.TemporaryDirectory(prefix="openpbr-gltf-samples-") as scratch:
