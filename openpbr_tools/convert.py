@@ -189,10 +189,12 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 preview.material.material_name = translated.material_name
                 result.materials.append(preview.material)
             result.diagnostics += _at_material(notes, material)
+        looks, look_notes = _looks(asset, result, kind, context)
+        result.diagnostics += look_notes
         written = _write_baked(baker, result.materials)
         try:
             allowed = tuple(allow_outside) + ((staging,) if staging else ())
-            notes = _write(kind, result, output_path, mesh, allowed)
+            notes = _write(kind, result, output_path, mesh, allowed, looks)
         except BaseException:
             for path in written:  # a failed conversion leaves no partial output behind
                 if os.path.exists(path):
@@ -320,7 +322,43 @@ def _tag_length_units(materials: list[Material], asset: Asset) -> None:
                 entry.unit, entry.unittype = names[0], "distance"
 
 
-def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside) -> list[Diagnostic]:
+def _looks(asset: Asset, result: Conversion, kind: str, context) -> tuple[list, list[Diagnostic]]:
+    """The MaterialX looks (and look groups) of a .mtlx source a .mtlx output carries, as
+    :func:`~openpbr_tools.io.mtlx.writer.to_mtlx_string` takes them (their material assignments renamed as
+    the materials were), and a note (OPBR1104) for each assignment, look or included material the output does
+    not hold: an assignment of a material not written, every look of a USD or glTF output (they bind
+    materials otherwise), the materials of XIncluded files (each converts as its own file)."""
+    notes = []
+    included = asset.extra.get("included_material_names") or {}
+    if included:
+        notes.append(context.diagnostic(
+            NOT_CARRIED, f"{len(included)} material(s) ({', '.join(included)}) come from XIncluded file(s) "
+                         f"({', '.join(sorted(set(included.values())))}), which convert as their own files: this "
+                         "output does not hold them", asset.colorspace_location or result.asset.colorspace_location))
+    renames = {source.material_name: translated.material_name for source, translated in result.pairs
+               if source.material_name}
+    carried = []
+    for look in asset.extra.get("looks") or ():
+        what = f"{look['category']} {look['name']}"
+        if kind != "mtlx":
+            notes.append(context.diagnostic(
+                NOT_CARRIED, f"{what} is not written: {'USD' if kind == 'usd' else 'glTF'} outputs bind materials to "
+                             f"geometry, not with MaterialX looks ({len(look['assigns'])} material assignment(s) lost)",
+                look["location"]))
+            continue
+        left_out = set()
+        for name, material, location in look["assigns"]:
+            if material and material not in renames:
+                left_out.add(name)
+                why = f"comes from the XIncluded {included[material]}" if material in included else "is not in the output"
+                notes.append(context.diagnostic(
+                    NOT_CARRIED, f"{what}: materialassign {name} assigns {material}, which {why}; the assignment is "
+                                 "left out", location))
+        carried.append((look["text"], renames, left_out))
+    return carried, notes
+
+
+def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside, looks=()) -> list[Diagnostic]:
     """Write with the format's writer; returns its notes. Writers are imported here, when a
     conversion writes that format: USD's pulls in pxr (~0.3 s), glTF's Pillow."""
     asset = result.asset
@@ -331,7 +369,7 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside)
 
         _rebase_textures(result.materials, asset.path, output_path)
         _tag_length_units(result.materials, asset)
-        write_mtlx(result.materials, output_path, colorspace=asset.colorspace or "lin_rec709")
+        write_mtlx(result.materials, output_path, colorspace=asset.colorspace or "lin_rec709", looks=looks)
         return []
     if kind == "usd":
         from .io.usd.writer import write_usd  # lazy: see the docstring

@@ -22,6 +22,11 @@ notes are replaced by one naming the graph and one at every authored input the g
 not carry exactly (:func:`read_back_notes`). ``Settings.fit_films`` (``--verify``) also fits a thin
 film's thickness (:func:`refine_thin_film`), which costs a render of 26 thicknesses.
 
+Where the toolkit has two readings of a source (a specular-workflow UsdPreviewSurface: split into metal
+and dielectric shares, or its F0 colour's luminance with a tint; :func:`alternative_reading`), both are
+rendered in the same evaluation and the second kept only when it wins by more than :data:`MARGIN`, reported
+with both figures, before the graphs' candidate is weighed.
+
 The search also runs where the mapping only dropped inputs (OPBR1104: a fuzz to UsdPreviewSurface),
 and, whichever candidate is kept, the appearance fit (:mod:`.appearance`) adjusts its base colour (a
 diffuse roughness, a preview's opacity) where it still renders more than
@@ -35,6 +40,7 @@ whether MaterialX's GLSL agrees.
 from __future__ import annotations
 
 import copy
+import dataclasses
 
 import numpy as np
 
@@ -165,22 +171,65 @@ def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> lis
             candidate = graph_candidate(source, target) if materialx_graphs.graphs(source.model, target) else None
         except (ValueError, KeyError, TypeError, IndexError):  # a malformed constant (reported by the mapping)
             candidate = None
-        work.append((index, candidate))
+        alternative = alternative_reading(source, target, settings)
+        work.append((index, candidate, alternative))
     if not work:
         return out
     try:
-        judges = Judge.many([items[index][0] for index, _ in work])
-        figures = figures_many(judges, [[out[index].material] + ([c] if c is not None else []) for index, c in work])
+        judges = Judge.many([items[index][0] for index, *_ in work])
+        figures = figures_many(judges, [[out[index].material] + ([a.material] if a is not None else [])
+                                        + ([c] if c is not None else []) for index, c, a in work])
     except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
-        for index, candidate in work:  # one by one: a material the evaluator cannot take loses only its own search
+        for index, candidate, _ in work:  # one by one: a material the evaluator cannot take loses only its own search
             source, _, target, settings = items[index]
             out[index] = _choose_one(source, out[index], target, settings, candidate)
         return out
+    for position, (index, candidate, alternative) in enumerate(work):
+        if alternative is not None:
+            out[index], figures[position] = _reading(items[index][0], out[index], alternative, figures[position],
+                                                     items[index][3])
+        work[position] = (index, candidate)
     decided = _decide_many([(items[index][0], out[index], items[index][2], items[index][3], candidate, judge, score)
                             for (index, candidate), judge, score in zip(work, judges, figures)])
     for (index, _), translation in zip(work, decided):
         out[index] = translation
     return out
+
+
+def alternative_reading(source: Material, target: str, settings: Settings) -> Translation | None:
+    """The toolkit's second reading of ``source`` where it has one: a specular-workflow UsdPreviewSurface read
+    with the F0 colour's luminance and a tint (``Settings.specular_split`` off) beside the default split into
+    metal and dielectric shares (:mod:`.specular_workflow`), which a source that is not energy-conserving can
+    defeat (a red F0 of 1 over a red diffuse)."""
+    from .convert import convert  # lazy: translate.convert imports the translators, which this module serves
+
+    entry = source.inputs.get("useSpecularWorkflow") if source.model == "UsdPreviewSurface" else None
+    if entry is None or not isinstance(entry.value, Constant) or not settings.specular_split:
+        return None
+    try:
+        if not float(entry.value.value) >= 1:
+            return None
+        return convert(source, target, dataclasses.replace(settings, specular_split=False, candidates=False))
+    except (ValueError, KeyError, TypeError, IndexError):
+        return None
+
+
+def _reading(source: Material, translation: Translation, alternative: Translation, figures: list, settings: Settings):
+    """(the kept translation, its figures followed by the graphs'): the default reading, or ``alternative``
+    where it renders closer by more than :data:`MARGIN`; reported with both figures."""
+    ours, theirs = figures[0].score, figures[1].score
+    where = next((d.location for d in translation.diagnostics if d.code in (APPROXIMATED.code, NOT_CARRIED.code)),
+                 source.location)
+    both = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: split into metal and dielectric shares "
+            f"{ours:.2f}, the F0 colour's luminance with a tint {theirs:.2f}")
+    if theirs < ours - MARGIN:
+        alternative.diagnostics.append(settings.context.diagnostic(
+            APPROXIMATED, f"{source.name}: the specular workflow read by its F0 colour's luminance with a tint, which "
+                          f"renders closer than the split ({both})", where))
+        return alternative, [figures[1]] + figures[2:]
+    translation.diagnostics.append(settings.context.diagnostic(
+        CONVERTED, f"{source.name}: specular workflow: {both}; kept the split", where))
+    return translation, [figures[0]] + figures[2:]
 
 
 def _decide_many(cases: list[tuple]) -> list[Translation]:

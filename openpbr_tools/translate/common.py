@@ -97,10 +97,9 @@ class Settings:
     cannot (KHR_materials_coat, _fuzz, _diffuse_roughness, EXT_materials_specular_openpbr; see
     :mod:`openpbr_tools.io.gltf.drafts`), beside the ratified fallbacks. ``gltf_file``: the result is
     written to a glTF file (not a gltf_pbr node), so a translation may use glTF extensions the node
-    has no input for (KHR_materials_diffuse_transmission for a thin-walled subsurface). ``node_graphs``:
-    the output holds MaterialX node graphs (a .mtlx file, or a translation kept in memory), so a mapping
-    of a procedural input is written as nodes after its graph (:mod:`.expressed`); USD and glTF writers
-    write no procedural graph.
+    has no input for (KHR_materials_diffuse_transmission for a thin-walled subsurface). ``node_graphs``: the
+    output holds MaterialX node graphs (a .mtlx file, or a translation kept in memory), so a mapping of a
+    procedural input is written as nodes after its graph (:mod:`.expressed`); USD and glTF writers do not.
     """
 
     nits_per_unit: float = 1.0
@@ -112,6 +111,7 @@ class Settings:
     candidates: bool = True  # weigh MaterialX's translation graphs against the mapping (translate.candidates)
     fit_films: bool = False  # also fit a thin film's thickness by rendering (translate.candidates; --verify)
     node_graphs: bool = True  # the output holds MaterialX node graphs (.mtlx): a mapping of a procedural input is written as nodes
+    specular_split: bool = True  # a specular-workflow preview as metal + dielectric (translate.specular_workflow), else by luminance
 
 
 class Values:

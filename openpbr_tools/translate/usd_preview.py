@@ -38,8 +38,11 @@ Not carried (reported): fuzz, thin film, dispersion, diffuse roughness, volume c
 Reading the preview's opacity: in its default "transparent" mode a glass keeps its reflections, so
 ``1 - opacity`` becomes ``transmission_weight`` (geometry_opacity 1); "presence" mode and a cut-out
 threshold become ``geometry_opacity``.
-Reading a specular-workflow preview: ``specularColor`` is the F0 colour; it becomes an IOR with the
-same F0 luminance and a ``specular_color`` tint (approximate for coloured F0).
+Reading a specular-workflow preview: ``specularColor`` is the F0 colour (white edge) over ``diffuseColor``;
+the two become OpenPBR's mix of a metal and a dielectric (:mod:`.specular_workflow`: exact for a grey F0,
+a copper-coloured F0 over a dark diffuse is the metal). ``Settings.specular_split`` off gives the earlier
+reading, an IOR of the F0 colour's luminance and ``specular_color`` S / max(S), which the candidate search
+(:func:`.candidates.alternative_reading`) weighs beside the split for constant materials.
 """
 
 from __future__ import annotations
@@ -50,7 +53,7 @@ from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_emissio
 from ..evaluate.microfacet import openpbr_alphas
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED
-from . import fit
+from . import fit, specular_workflow
 from .common import COAT_EMISSION_NOTE, COAT_EMISSION_UNDONE, EMISSION_UNDER_COAT, Dropped, Mapping, Settings, Translation, differs, translate
 
 WHITE = np.ones(3)
@@ -108,6 +111,24 @@ def preview_specular_ior(specular_ior, specular_weight, coat_ior, coat_weight, m
     dielectric = fit.preview_ior(specular_weight, specular_ior, coat_ior, coat_weight)
     metal = np.where(coat_weight > 0, coat_ior, specular_ior)
     return dielectric + metalness * (metal - dielectric)
+
+
+#: How a specular-workflow preview's lobe takes light from its diffuse (:mod:`.specular_workflow`).
+SPECULAR_STRENGTH = specular_workflow.STRENGTH["UsdPreviewSurface"]
+SPLIT_NOTE = ("the specular workflow's F0 colour and diffuse colour become a metal share and a dielectric one "
+              "(one base colour, one metalness: the spec-gloss -> metal-rough solve of Babylon.js and glTF-Toolkit, "
+              "dielectric F0 the specular colour's smallest channel; exact for a grey specular colour)")
+
+
+def _metalness(metallic, workflow, diffuse, specular):
+    """OpenPBR's metalness: the preview's in the metallic workflow, the split's in the specular one."""
+    split_metalness, _, _ = specular_workflow.split(diffuse, specular, SPECULAR_STRENGTH)
+    return np.where(workflow >= 1, split_metalness, metallic)
+
+
+def _coloured(colour) -> bool:
+    colour = np.asarray(colour, dtype=np.float64)
+    return bool(np.ptp(colour) > 1e-6) if colour.shape[-1:] == (3,) else False
 
 
 PRESENCE_CAVEAT = "UsdPreviewSurface 2.6; a reader older than 2.6 shows it as a see-through glass that keeps its reflections"
@@ -168,20 +189,30 @@ DROPPED_TO_USD = (
 def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
     nits = settings.nits_per_unit
 
-    def specular_ior(workflow, specular, ior, clearcoat):
-        # The base's F0 (specular workflow: the specular colour's luminance; metallic: from ior) is the
-        # F0 of OpenPBR's base relative to its coat, whose IOR is the preview's ior.
-        luminance = np.sum(specular * REC709_LUMINANCE, axis=-1, keepdims=True)
-        relative = np.where(workflow >= 1, ior_from_f0(luminance), ior)
+    split = settings.specular_split
+
+    def specular_ior(workflow, specular, diffuse, ior, clearcoat):
+        # The base's F0 (specular workflow: the dielectric share's, :mod:`.specular_workflow`, or in the
+        # luminance reading the specular colour's luminance; metallic: from ior) is the F0 of OpenPBR's base
+        # relative to its coat, whose IOR is the preview's ior.
+        dielectric_f0 = specular_workflow.split(diffuse, specular, SPECULAR_STRENGTH)[2] if split else \
+            np.sum(specular * REC709_LUMINANCE, axis=-1, keepdims=True)
+        relative = np.where(workflow >= 1, ior_from_f0(dielectric_f0), ior)
         return fit.specular_ior_for_relative_ior(relative, ior, clearcoat)
 
-    def specular_tint(workflow, specular):
+    def base_color(diffuse, metallic, workflow, roughness, specular):
+        metalness = np.where(workflow >= 1, 0.0, metallic)
+        metallic_workflow = fit.openpbr_metal_from_constant(diffuse, metalness, WHITE, 1.0, roughness ** 2)
+        if not split:
+            return metallic_workflow
+        return np.where(workflow >= 1, specular_workflow.split(diffuse, specular, SPECULAR_STRENGTH)[1], metallic_workflow)
+
+    def metalness(specular, diffuse, metallic, workflow):
+        return _metalness(metallic, workflow, diffuse, specular) if split else np.where(workflow >= 1, 0.0, metallic)
+
+    def specular_tint(workflow, specular):  # the luminance reading's: S / max(S), which also tints the edge
         peak = np.max(specular, axis=-1, keepdims=True)
         return np.where(workflow >= 1, np.where(peak > 0, specular / np.where(peak > 0, peak, 1.0), WHITE), WHITE)
-
-    def base_color(diffuse, metallic, workflow, roughness):
-        metalness = np.where(workflow >= 1, 0.0, metallic)
-        return fit.openpbr_metal_from_constant(diffuse, metalness, WHITE, 1.0, roughness ** 2)
 
     def emission_color(color):
         peak = np.max(color, axis=-1, keepdims=True)
@@ -191,31 +222,34 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
     # the preview's transparency covers the metal too: a transparency 1 - opacity of a metal m takes
     # transmission (1 - opacity) / (1 - m) where that is at most 1; beyond, transmission 1 and the rest as
     # geometry_opacity (opacity / m). to_usd_mappings' opacity is the inverse.
-    def _transparent(opacity, threshold, mode, metallic, workflow):
-        metalness = np.where(workflow >= 1, 0.0, metallic)
+    def _transparent(opacity, threshold, mode, metallic, workflow, diffuse, specular):
         seen = (threshold <= 0) & (mode < 1)
-        return seen, np.where(seen, 1.0 - opacity, 0.0), 1.0 - metalness
+        return seen, np.where(seen, 1.0 - opacity, 0.0), 1.0 - metalness(specular, diffuse, metallic, workflow)
 
-    def presence(opacity, threshold, mode, metallic, workflow):
-        seen, wanted, room = _transparent(opacity, threshold, mode, metallic, workflow)
+    def presence(opacity, threshold, mode, metallic, workflow, diffuse, specular):
+        seen, wanted, room = _transparent(opacity, threshold, mode, metallic, workflow, diffuse, specular)
         plain = np.where(threshold > 0, np.where(opacity >= threshold, 1.0, 0.0), np.where(mode >= 1, opacity, 1.0))
         beyond = seen & (wanted > room + 1e-12)
         return np.where(beyond, opacity / np.where(room < 1.0, 1.0 - room, 1.0), plain)
 
-    def transparency(opacity, threshold, mode, metallic, workflow):
-        seen, wanted, room = _transparent(opacity, threshold, mode, metallic, workflow)
+    def transparency(opacity, threshold, mode, metallic, workflow, diffuse, specular):
+        seen, wanted, room = _transparent(opacity, threshold, mode, metallic, workflow, diffuse, specular)
         return np.where(seen & (room > 0), np.minimum(wanted / np.where(room > 0, room, 1.0), 1.0), 0.0)
 
     return (
-        Mapping("base_color", ("diffuseColor", "metallic", "useSpecularWorkflow", "roughness"), base_color,
-                converted="a metal's constant reflectance (F0 = F90) fitted by OpenPBR's F82 metal"),
-        Mapping("base_metalness", ("metallic", "useSpecularWorkflow"), lambda m, w: np.where(w >= 1, 0.0, m)),
+        Mapping("base_color", ("diffuseColor", "metallic", "useSpecularWorkflow", "roughness", "specularColor"),
+                base_color, exact=False, matters=lambda d, m, w, r, s: split and w >= 1 and _coloured(s),
+                note=SPLIT_NOTE, converted="a metal's constant reflectance (F0 = F90) fitted by OpenPBR's F82 metal"),
+        Mapping("base_metalness", ("specularColor", "diffuseColor", "metallic", "useSpecularWorkflow"), metalness,
+                exact=False, matters=lambda s, d, m, w: split and w >= 1 and _coloured(s), note=SPLIT_NOTE),
         Mapping("specular_roughness", ("roughness",)),
-        Mapping("specular_ior", ("useSpecularWorkflow", "specularColor", "ior", "clearcoat"), specular_ior, exact=False,
-                matters=lambda w, s, i, c: w >= 1 or c > 0,
-                note="the base's F0 (specular workflow: the F0 colour's luminance, with a tint) is OpenPBR's base "
-                     "relative to the clear coat, whose IOR is the preview's ior"),
-        Mapping("specular_color", ("useSpecularWorkflow", "specularColor"), specular_tint),
+        Mapping("specular_ior", ("useSpecularWorkflow", "specularColor", "diffuseColor", "ior", "clearcoat"), specular_ior,
+                exact=False, matters=lambda w, s, d, i, c: w >= 1 or c > 0,
+                note="the base's F0 (specular workflow: " + ("the F0 of the dielectric share, the specular colour's "
+                     "smallest channel; the dielectric's Fresnel curve is not quite Schlick's" if split else
+                     "the F0 colour's luminance, with a tint") + ") is OpenPBR's base relative to the clear coat, whose "
+                     "IOR is the preview's ior"),
+        *(() if split else (Mapping("specular_color", ("useSpecularWorkflow", "specularColor"), specular_tint),)),
         Mapping("coat_weight", ("clearcoat",)),
         Mapping("coat_roughness", ("clearcoatRoughness",)),
         Mapping("coat_ior", ("ior", "clearcoat"), lambda n, c: n, when=lambda n, c: c > 0,
@@ -242,7 +276,8 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
 #: transparent object still receives lighting as, for example, perfectly clear glass still has a
 #: specular response"), so 1 - opacity is OpenPBR transmission; "presence" (1) is OpenPBR's
 #: geometry_opacity; a non-zero opacityThreshold cuts out in either mode.
-OPACITY_SOURCES = ("opacity", "opacityThreshold", "opacityMode", "metallic", "useSpecularWorkflow")
+OPACITY_SOURCES = ("opacity", "opacityThreshold", "opacityMode", "metallic", "useSpecularWorkflow", "diffuseColor",
+                   "specularColor")
 
 DROPPED_FROM_USD = (
     Dropped("occlusion", "OpenPBR has no ambient occlusion input", matters=lambda v: v != 1.0),

@@ -35,6 +35,7 @@ from .. import ReadError, read_bytes
 from ..paths import PathGuard
 from . import library
 from .graph import GraphFollower
+from .looks import record_looks
 from .xmlscan import XmlScan, XmlSyntaxError, parse_suppression, scan
 
 SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
@@ -264,9 +265,8 @@ class _Reader(GraphFollower):
             for assign in look.getMaterialAssigns():
                 target = assign.getMaterial()
                 if target and self.document.getChild(target) is None:
-                    self.asset.observe(
-                        "dangling_reference", self.location(assign), attribute="material", target=target
-                    )
+                    self.asset.observe("dangling_reference", self.location(assign), attribute="material", target=target)
+        record_looks(self.asset, self.document, self.location)
 
     def _doc_suppression(self, path: str, text: str) -> None:
         found = parse_suppression(text)

@@ -18,11 +18,14 @@ from ...atomic import write_text
 from ...model import Connection, Constant, Material, Texture, normal_map_decode
 from ...values import COMPONENTS, format_value
 from ..usd.types import MATERIALX_ADDRESS_MODES, WRAP_TO_ADDRESS_MODE
+from .looks import add_look
 
 COLOUR_TYPES = ("color3", "color4")
 
 
-def to_mtlx_string(materials: list[Material], colorspace: str | None = "lin_rec709") -> str:
+def to_mtlx_string(materials: list[Material], colorspace: str | None = "lin_rec709", looks=()) -> str:
+    """``materials`` as a MaterialX document; ``looks``: (MaterialX text of a look or look group, {source material
+    name: written name}, names of its material assignments to leave out), added after the materials."""
     document = mx.createDocument()
     if colorspace:
         document.setColorSpace(colorspace)
@@ -34,6 +37,8 @@ def to_mtlx_string(materials: list[Material], colorspace: str | None = "lin_rec7
     used = set(taken)
     for material, name in zip(materials, names):
         _write_material(document, material, colorspace, used, name)
+    for text, renames, left_out in looks:
+        add_look(document, text, renames, left_out)
     return document_text(document)
 
 
@@ -46,8 +51,9 @@ def document_text(document) -> str:
     return text.replace("<UDIM>", "&lt;UDIM&gt;").replace("<UVTILE>", "&lt;UVTILE&gt;")
 
 
-def write_mtlx(materials: list[Material], path: str | os.PathLike, colorspace: str | None = "lin_rec709") -> None:
-    write_text(path, to_mtlx_string(materials, colorspace))
+def write_mtlx(materials: list[Material], path: str | os.PathLike, colorspace: str | None = "lin_rec709",
+               looks=()) -> None:
+    write_text(path, to_mtlx_string(materials, colorspace, looks))
 
 
 def _unique(name: str, used: set[str]) -> str:
