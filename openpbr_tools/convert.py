@@ -123,7 +123,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
         # First every material's mapping, then the candidate search of all of them at once (their renders
         # stacked: candidates.choose_many), then the rest in the file's order.
         pending = []  # (material, its notes so far, (notes, settings, unique, name, translation, judged) or None)
-        for material in asset.materials:
+        for material in asset.materials + _included_materials(asset, tuple(allow_outside)):
             if material.model not in MODELS:
                 continue
             before: list[Diagnostic] = []
@@ -327,16 +327,21 @@ def _looks(asset: Asset, result: Conversion, kind: str, context) -> tuple[list, 
     :func:`~openpbr_tools.io.mtlx.writer.to_mtlx_string` takes them (their material assignments renamed as
     the materials were), and a note (OPBR1104) for each assignment, look or included material the output does
     not hold: an assignment of a material not written, every look of a USD or glTF output (they bind
-    materials otherwise), the materials of XIncluded files (each converts as its own file)."""
+    materials otherwise), the materials of XIncluded files outside the document's folder (each converts as
+    its own file; those in its folder are converted into the output: :func:`_included_materials`)."""
     notes = []
-    included = asset.extra.get("included_material_names") or {}
-    if included:
-        notes.append(context.diagnostic(
-            NOT_CARRIED, f"{len(included)} material(s) ({', '.join(included)}) come from XIncluded file(s) "
-                         f"({', '.join(sorted(set(included.values())))}), which convert as their own files: this "
-                         "output does not hold them", asset.colorspace_location or result.asset.colorspace_location))
     renames = {source.material_name: translated.material_name for source, translated in result.pairs
                if source.material_name}
+    included = asset.extra.get("included_material_names") or {}
+    for converted, names in ((True, [n for n in included if n in renames]), (False, [n for n in included if n not in renames])):
+        if names:
+            files = ", ".join(sorted({os.path.basename(included[n]) for n in names}))
+            notes.append(context.diagnostic(CONVERTED, f"{len(names)} material(s) ({', '.join(names)}) of XIncluded file(s) "
+                                                       f"({files}) converted into this output", asset.colorspace_location)
+                         if converted else context.diagnostic(
+                NOT_CARRIED, f"{len(names)} material(s) ({', '.join(names)}) come from XIncluded file(s) ({files}) "
+                             "outside the document's folder, which convert as their own files: this output does not "
+                             "hold them", asset.colorspace_location))
     carried = []
     for look in asset.extra.get("looks") or ():
         what = f"{look['category']} {look['name']}"
@@ -350,12 +355,25 @@ def _looks(asset: Asset, result: Conversion, kind: str, context) -> tuple[list, 
         for name, material, location in look["assigns"]:
             if material and material not in renames:
                 left_out.add(name)
-                why = f"comes from the XIncluded {included[material]}" if material in included else "is not in the output"
+                why = f"comes from the XIncluded {os.path.basename(included[material])}" if material in included else \
+                    "is not in the output"
                 notes.append(context.diagnostic(
                     NOT_CARRIED, f"{what}: materialassign {name} assigns {material}, which {why}; the assignment is "
                                  "left out", location))
         carried.append((look["text"], renames, left_out))
     return carried, notes
+
+
+def _included_materials(asset: Asset, allow_outside: tuple[str, ...]) -> list[Material]:
+    """The materials of a .mtlx source's XIncluded files in its own folder (a look file's: MaterialX's
+    examples keep a look and its materials apart), read as their own documents, so that the output holds
+    what the document's looks assign; the reader followed only includes the path guard allows."""
+    included = asset.extra.get("included_material_names") or {}
+    folder = os.path.dirname(os.path.abspath(asset.path))
+    found = []
+    for path in sorted({p for p in included.values() if os.path.dirname(p) == folder}):
+        found += [m for m in read_asset(path, allow_outside).materials if m.material_name in included]
+    return found
 
 
 def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside, looks=()) -> list[Diagnostic]:

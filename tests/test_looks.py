@@ -1,8 +1,9 @@
 """MaterialX looks (material assignments to geometry) in a conversion: a .mtlx output carries the source's
 looks and look groups, their assignments following the materials' written names; what an output cannot
 hold is a note at its element (OPBR1104): an assignment of a material that is not written, every look of a
-USD or glTF output, the materials of XIncluded files (MaterialX's example library's look files), which
-before session 11 converted to an empty document without a word."""
+USD or glTF output, the materials of XIncluded files outside the document's folder. A look file's includes
+beside it (MaterialX's example library's) are converted into the output: before session 11 such a file
+converted to an empty document without a word."""
 
 from __future__ import annotations
 
@@ -75,16 +76,38 @@ def test_a_usd_or_gltf_output_says_each_look_is_not_written(tmp_path):
         assert "2 material assignment(s) lost" in notes["Hero"]
 
 
-def test_a_look_file_of_included_materials_says_they_are_not_in_the_output(tmp_path):
-    """MaterialX's standard_surface_look_brass_tiled.mtlx: two XIncludes and a look. Its materials convert
-    with their own files; the output keeps the look, without the assignments, and says why at each."""
+def test_a_look_file_converts_the_materials_of_its_includes_into_the_output(tmp_path):
+    """MaterialX's standard_surface_look_brass_tiled.mtlx: two XIncludes beside it and a look. The output
+    holds both materials converted and the look assigning them; a note says where they came from."""
     folder = tmp_path / "StandardSurface"
     shutil.copytree(EXAMPLES / "StandardSurface", folder)
     out = tmp_path / "out.mtlx"
     result = convert_file(str(folder / "standard_surface_look_brass_tiled.mtlx"), str(out), "open_pbr_surface", Settings())
-    messages = [d.message for d in result.diagnostics if d.code == "OPBR1104"]
-    assert any("Greysphere_Calibration, Tiled_Brass" in m and "XIncluded" in m for m in messages), messages
-    assert sum("materialassign" in m and "comes from the XIncluded" in m for m in messages) == 2
+    assert any(d.code == "OPBR1102" and "Greysphere_Calibration, Tiled_Brass" in d.message and "XIncluded" in d.message
+               for d in result.diagnostics)
+    assert not [d for d in result.diagnostics if d.code == "OPBR1104" and "materialassign" in d.message]
     document = mx.createDocument()
     mx.readFromXmlFile(document, str(out))
-    assert document.getLook("Brass_Look") is not None and not document.getLook("Brass_Look").getMaterialAssigns()
+    assigned = {a.getMaterial() for a in document.getLook("Brass_Look").getMaterialAssigns()}
+    assert assigned == {"Tiled_Brass", "Greysphere_Calibration"}
+    for name in assigned:
+        assert document.getNode(name).getInput("surfaceshader").getConnectedNode().getCategory() == "open_pbr_surface"
+    valid, message = document.validate()
+    assert valid, message
+
+
+def test_an_include_outside_the_folder_is_not_flattened_and_says_so(tmp_path):
+    """An XInclude from another folder (followed only where allowed) converts as its own file: its
+    materials are not in this output, and the look's assignment of one is left out, with notes."""
+    (tmp_path / "shared").mkdir()
+    (tmp_path / "shared" / "red.mtlx").write_text(DOCUMENT.split("  <surface_unlit")[0] + "</materialx>\n")
+    (tmp_path / "look").mkdir()
+    (tmp_path / "look" / "look.mtlx").write_text(
+        '<?xml version="1.0"?>\n<materialx version="1.39" xmlns:xi="http://www.w3.org/2001/XInclude">\n'
+        '  <xi:include href="../shared/red.mtlx" />\n  <look name="L">\n'
+        '    <materialassign name="a" geom="/x" material="M_red" />\n  </look>\n</materialx>\n')
+    result = convert_file(str(tmp_path / "look" / "look.mtlx"), str(tmp_path / "out.mtlx"), "open_pbr_surface",
+                          Settings(), allow_outside=(str(tmp_path),))
+    messages = [d.message for d in result.diagnostics if d.code == "OPBR1104"]
+    assert any("M_red" in m and "outside the document's folder" in m for m in messages), messages
+    assert any("materialassign a assigns M_red" in m for m in messages), messages

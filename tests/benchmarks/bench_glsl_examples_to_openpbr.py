@@ -49,14 +49,10 @@ def _chain(source: str, out: str, library) -> bool:
         gs.ShaderTranslator.create().translateAllMaterials(document, "open_pbr_surface")
     except Exception:  # no graph for the model, or the translation fails: no chain figure
         return False
-    mx.writeToXmlFile(document, out, _no_library())
+    options = mx.XmlWriteOptions()  # the document's own elements and the translator's, not the library's
+    options.elementPredicate = lambda element: element.getActiveSourceUri() in ("", document.getSourceUri())
+    mx.writeToXmlFile(document, out, options)
     return True
-
-
-def _no_library():
-    options = mx.XmlWriteOptions()
-    options.elementPredicate = lambda element: not element.hasSourceUri()
-    return options
 
 
 def main() -> None:

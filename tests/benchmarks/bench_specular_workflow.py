@@ -13,7 +13,7 @@ gold), mixed (any diffuse colour under any coloured F0 up to 0.6) and extremes (
 colours, OpenUSD's testPreviewSurfaceSpecular's kind); roughness 0.05-0.95; a clear coat on a fifth.
 Judged by the evaluator (``openpbr_tools.verification.measure``: the output read back, mean CIEDE2000
 over the lit sphere) and, with ``--glsl``, by MaterialX's GLSL renderer (Xvfb + Mesa): the converted
-.mtlx against MaterialX's own ``UsdPreviewSurface`` with the source's values.
+.mtlx (for glTF, a gltf_pbr .mtlx) against MaterialX's own ``UsdPreviewSurface`` with the source's values.
 Prints per target and reading the median, p95, share under 2.3 and worst, per kind.
 """
 
@@ -99,7 +99,10 @@ def main() -> None:
             conversion = convert_file(source, out, None if target == "gltf_pbr" else target, settings)
             rows = {source_material.material_name: delta.mean for source_material, delta in measure(conversion)}
             _print(target, reading, "evaluator", rows, kind_of)
-            if glsl is not None and suffix == "mtlx":
+            if glsl is not None:  # a glTF target is judged as MaterialX's gltf_pbr node
+                if suffix != "mtlx":
+                    out = os.path.join(folder, f"{target}_{reading}.mtlx")
+                    convert_file(source, out, target, settings)
                 _print(target, reading, "GLSL", glsl.judge(out), kind_of)
 
 

@@ -5,15 +5,13 @@ pipeline (``openpbr_tools.convert._looks``)."""
 
 from __future__ import annotations
 
-import os
-
 
 def record_looks(asset, document, location) -> None:
     """The document's own looks and look groups, as data a conversion carries to a .mtlx output
     (``asset.extra["looks"]``: each one's category, name, location, its MaterialX text, and its material
     assignments as (assign name, material, location)), and the names of the materials that come from
-    XIncludes with their files (``asset.extra["included_material_names"]``), which a conversion does not
-    translate. ``location``: the reader's element -> :class:`~openpbr_tools.model.Location`."""
+    XIncludes with their files (``asset.extra["included_material_names"]``: name -> the included file, as the
+    path guard resolved it). ``location``: the reader's element -> :class:`~openpbr_tools.model.Location`."""
     import MaterialX as mx  # lazy: the reader imports MaterialX when it reads a document
 
     looks = []
@@ -31,8 +29,7 @@ def record_looks(asset, document, location) -> None:
         asset.extra["looks"] = looks
     included = sorted({m.getName() for m in document.getMaterialNodes() if m.getActiveSourceUri()})
     if included:
-        asset.extra["included_material_names"] = {
-            name: os.path.basename(document.getChild(name).getActiveSourceUri()) for name in included}
+        asset.extra["included_material_names"] = {name: document.getChild(name).getActiveSourceUri() for name in included}
 
 
 def add_look(document, text: str, renames: dict, left_out) -> None:
