@@ -37,14 +37,15 @@ def describe(asset: Asset) -> dict:
 
 def _extensions(material) -> list[dict]:
     """The glTF material extensions ``material`` uses (nested ones as ``parent/name``), each with how
-    the toolkit treats it: ``ratified`` (read), ``draft`` (read, see io.gltf.drafts) or ``not converted``."""
+    the toolkit treats it: ``ratified`` (read), ``draft`` (read, see io.gltf.drafts), ``read as emission``
+    (KHR_materials_unlit: its base colour emitted over a black base, translate/gltf.py) or ``not converted``."""
     from .io.gltf import drafts, slots  # lazy: info on a .mtlx file does not need the glTF tables
 
     state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
     found = []
     for name in state.get("material_extensions") or ():
         status = "ratified" if name in slots.INTERPRETED_MATERIAL_EXTENSIONS else \
-            "draft" if name in drafts.MATERIAL_DRAFTS else "not converted"
+            "draft" if name in drafts.MATERIAL_DRAFTS else "read as emission" if name == slots.UNLIT else "not converted"
         found.append({"name": name, "status": status})
     for parent, name, read in state.get("nested_extensions") or ():
         found.append({"name": f"{parent}/{name}", "status": "draft" if read else "not converted"})

@@ -17,6 +17,7 @@ import struct
 import pytest
 from PIL import Image
 
+from openpbr_tools.inventory import describe
 from openpbr_tools.io import ReadError, available_suffixes, read_asset
 from openpbr_tools.model import Connection, Constant, Texture
 from openpbr_tools.validate import validate_paths
@@ -346,13 +347,23 @@ def test_unknown_extensions_extras_and_double_sided_are_kept_raw(tmp_path):
     assert found.inputs["ior"].constant == 1.3
 
 
-def test_unlit_and_specular_glossiness_are_recorded_and_reported(tmp_path):
+def test_unlit_and_specular_glossiness_are_recorded_and_only_specular_glossiness_reported(tmp_path):
+    """Both are kept as data; specular-glossiness, which no conversion renders, is a warning; an unlit
+    material, which conversions read as emission of its base colour (and Khronos' samples use), is not
+    reported, nor is KHR_materials_unlit in extensionsRequired (OPBR1202)."""
     materials = [{"name": "U", "extensions": {"KHR_materials_unlit": {}}},
                  {"name": "SG", "extensions": {"KHR_materials_pbrSpecularGlossiness": {"glossinessFactor": 0.2}}}]
-    path = write(tmp_path, gltf(materials, extensionsUsed=["KHR_materials_unlit", "KHR_materials_pbrSpecularGlossiness"]))
+    path = write(tmp_path, gltf(materials, extensionsUsed=["KHR_materials_unlit", "KHR_materials_pbrSpecularGlossiness"],
+                                extensionsRequired=["KHR_materials_unlit"]))
     asset = read_asset(path)
+    assert asset.materials[0].extra["gltf"]["extensions"]["KHR_materials_unlit"] == {}
     assert asset.materials[1].extra["gltf"]["extensions"]["KHR_materials_pbrSpecularGlossiness"] == {"glossinessFactor": 0.2}
-    assert codes(path).count("OPBR1204") == 2
+    found = [d for d in validate_paths([str(path)]).diagnostics
+             if d.code in ("OPBR1204", "OPBR1202", "OPBR1212")]
+    assert [(d.code, d.location.path) for d in found] == [("OPBR1204", "/materials/1/extensions/KHR_materials_pbrSpecularGlossiness")]
+    statuses = [m["extensions"] for m in describe(asset)["materials"]]  # what `openpbr info` lists
+    assert statuses == [[{"name": "KHR_materials_unlit", "status": "read as emission"}],
+                        [{"name": "KHR_materials_pbrSpecularGlossiness", "status": "not converted"}]]
 
 
 # -- the generic rules see glTF values -------------------------------------------------------------

@@ -92,11 +92,11 @@ EXCLUSIVE_EXTENSIONS = Rule(
 )
 NOT_CONVERTED = Rule(
     "OPBR1204", "gltf-material-model-not-converted", Severity.WARNING,
-    "A material uses KHR_materials_unlit or KHR_materials_pbrSpecularGlossiness, which the gltf_pbr node does not carry.",
-    "Unlit materials (no lighting at all) and the archived specular-glossiness workflow have no "
-    "gltf_pbr parameters. The extension is kept as data for a translator (Material.extra) and the "
-    "material is checked as its metallic-roughness fallback, which is what conversions use (an unlit "
-    "material is converted as emission of its base colour over a black base that does not reflect).",
+    "A material uses KHR_materials_pbrSpecularGlossiness, which the toolkit does not convert.",
+    "The archived specular-glossiness workflow has no gltf_pbr parameters. The extension is kept as data "
+    "(Material.extra, restored on glTF output) and the material is checked and converted as its "
+    "metallic-roughness fallback, so a conversion loses the look. (KHR_materials_unlit is not reported: "
+    "it is converted as what it renders, emission of its base colour over a black base that does not reflect.)",
     passing=_gltf('"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0]}}]'),
     failing=_gltf('"extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"]',
                   '"materials": [{"name": "M", "extensions": {"KHR_materials_pbrSpecularGlossiness": '
@@ -251,7 +251,7 @@ def _observations(asset, context):
         elif observation.kind == "gltf_invalid":
             yield context.diagnostic(INVALID_PROPERTY, detail["message"], observation.location)
         elif observation.kind == "gltf_not_converted":
-            rule = NOT_CONVERTED if detail["extension"] in (slots.UNLIT, slots.SPECULAR_GLOSSINESS) else EXTENSION_NOT_CONVERTED
+            rule = NOT_CONVERTED if detail["extension"] == slots.SPECULAR_GLOSSINESS else EXTENSION_NOT_CONVERTED
             yield context.diagnostic(
                 rule, f"material {detail['material']!r} uses {detail['extension']}, which the toolkit does not convert",
                 observation.location, hint="findings and conversions describe the material without it (one directly on the "

@@ -252,9 +252,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "cannot check what that extension does.", GLTF),
     "OPBR1203": ("The glTF specification forbids combining these extensions (pbrSpecularGlossiness with the PBR "
                  "extensions, unlit with others): loaders pick one.", f"{GLTF}; {khr('KHR_materials_pbrSpecularGlossiness')}"),
-    "OPBR1204": ("The material's look is defined by an extension gltf_pbr (and OpenPBR) cannot carry: it is "
-                 "lost in MaterialX's gltf_pbr; converted to the other models, an unlit material becomes emission of its "
-                 "base colour, a specular-glossiness one its metallic-roughness fallback.", f"{khr('KHR_materials_unlit')}; {_MX}libraries/bxdf/gltf_pbr.mtlx"),
+    "OPBR1204": ("The material's look is defined by the archived specular-glossiness extension, which gltf_pbr (and "
+                 "OpenPBR) cannot carry: converted, it becomes its metallic-roughness fallback.",
+                 f"{khr('KHR_materials_pbrSpecularGlossiness')}; {_MX}libraries/bxdf/gltf_pbr.mtlx"),
     "OPBR1205": ("A texture reading a UV set the mesh does not have samples nothing (or set 0) in loaders: the "
                  "texture renders wrong or as its factor.", GLTF),
     "OPBR1206": ("WebGL 1 cannot mipmap or wrap non-power-of-two images; older loaders resample (info).", GLTF),

@@ -23,7 +23,8 @@ Texture files are the image URI, percent-decoded, relative to the asset; an imag
 (data URI, GLB buffer view) is ``"#/images/<index>"`` with ``packaged=True``. What gltf_pbr cannot
 hold goes to ``Material.extra["gltf"]`` as raw JSON for a translator: ``doubleSided``, ``extras``,
 and the extensions the node does not carry (``KHR_materials_diffuse_transmission``,
-``KHR_materials_unlit``, ``KHR_materials_pbrSpecularGlossiness`` (reported, not converted), unknown
+``KHR_materials_unlit`` (converted as emission by the translation), ``KHR_materials_pbrSpecularGlossiness``
+(reported, not converted), unknown
 ones). Every value's :class:`Location` is the file, a JSON pointer to the object holding the property
 and the glTF property name.
 
@@ -192,6 +193,8 @@ class _Reader(TextureReading, ExtensionReading):
         for recorded in sorted(kept):
             if recorded == slots.DIFFUSE_TRANSMISSION and thin_diffuse_transmission(extensions):
                 continue  # read as OpenPBR's thin-walled subsurface by the translation
+            if recorded == slots.UNLIT:
+                continue  # read as emission of the base colour over a black base by the translation
             if recorded not in slots.NEUTRAL_EXTENSIONS:  # e.g. KHR_materials_variants lives elsewhere
                 self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{recorded}"),
                                    extension=recorded, material=name)

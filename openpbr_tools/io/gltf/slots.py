@@ -47,8 +47,10 @@ NEUTRAL_EXTENSIONS = ("KHR_draco_mesh_compression", "KHR_mesh_quantization", "EX
                       "KHR_materials_variants", "KHR_xmp_json_ld", "KHR_node_visibility")
 # Everything the toolkit reads correctly when a file lists it in extensionsRequired.
 # (EXT_texture_webp: the reader follows its image source, and WebP decodes; KTX2 from
-# KHR_texture_basisu does not, so that one is not understood.)
-UNDERSTOOD_EXTENSIONS = frozenset(INTERPRETED_MATERIAL_EXTENSIONS + (TEXTURE_TRANSFORM, "EXT_texture_webp") + NEUTRAL_EXTENSIONS)
+# KHR_texture_basisu does not, so that one is not understood. KHR_materials_unlit: a conversion reads
+# it as what it renders, emission of the base colour over a black base: translate/gltf.py.)
+UNDERSTOOD_EXTENSIONS = frozenset(INTERPRETED_MATERIAL_EXTENSIONS + (TEXTURE_TRANSFORM, "EXT_texture_webp", UNLIT)
+                                  + NEUTRAL_EXTENSIONS)
 
 # KHR_materials_unlit and KHR_materials_pbrSpecularGlossiness each state that the other material
 # extensions "must not be used on a material that also uses" them (the Exclusions section of every

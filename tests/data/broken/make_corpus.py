@@ -490,8 +490,6 @@ case("OPBR1203_unlit_with_clearcoat.gltf", "OPBR1203", "KHR_materials_unlit comb
      json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_unlit": {}, "KHR_materials_clearcoat": {"clearcoatFactor": 1.0}}}], ["KHR_materials_unlit", "KHR_materials_clearcoat"]), indent=2))
 case("OPBR1204_spec_gloss.gltf", "OPBR1204", "A legacy KHR_materials_pbrSpecularGlossiness material.",
      json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_pbrSpecularGlossiness": {"diffuseFactor": [0.8, 0.8, 0.8, 1.0], "glossinessFactor": 0.5}}}], ["KHR_materials_pbrSpecularGlossiness"]), indent=2))
-case("OPBR1204_unlit.glb", "OPBR1204", "A GLB with a KHR_materials_unlit material.",
-     glb(gltf([{"name": "M", "extensions": {"KHR_materials_unlit": {}}}], ["KHR_materials_unlit"])))
 case("OPBR1205_texcoord_1_missing.gltf", "OPBR1205", "The base colour texture reads TEXCOORD_1 but the mesh only has TEXCOORD_0.",
      json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": 1}}}],
                      images=[{"uri": "textures/albedo.png"}], textures=[{"source": 0}],
