@@ -33,9 +33,9 @@ from .. import tables
 from ..diagnostics import Diagnostic
 from ..io.gltf.slots import SLOT_BY_PARAMETER
 from ..model import Connection, Constant, Input, Material, Texture
-from ..rules import Context
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import expressed as expressed_module, probes
+from .settings import Settings
 from .target import WorkingSpace, inside
 
 
@@ -57,14 +57,7 @@ class Mapping:
     converted: str = ""  # for exact conversions worth reporting (units, folded parameters)
     when: Callable[..., bool] | None = None  # given the source values: does the target need this at all?
     converted_to_default: bool = False  # say ``converted`` also where the value lands on the target's default
-
-
-#: The sources of an emission a coat covers, and the note where a target's clear coat leaves emission
-#: alone (glTF, UsdPreviewSurface) so the coat's effect is folded into it (evaluate.coat.coat_emission_factor).
-EMISSION_UNDER_COAT = ("emission_color", "emission_luminance", "coat_weight", "coat_color", "coat_ior")
-COAT_EMISSION_NOTE = ("the coat's tint and Fresnel transmission over the emission are folded into it, averaged over "
-                      "view angles (the target's clear coat leaves emission alone)")
-COAT_EMISSION_UNDONE = "divided by what OpenPBR's coat does to emission (the source's clear coat leaves it alone)"
+    keep: str | None = None  # where the formula cannot be applied per texel: this source's texture or graph, as is
 
 
 @dataclass(frozen=True, slots=True)
@@ -83,35 +76,6 @@ class Translation:
     material: Material
     diagnostics: list[Diagnostic] = field(default_factory=list)
     source: Material | None = None
-
-
-@dataclass(slots=True)
-class Settings:
-    """Conventions a translation needs that no file states.
-
-    ``nits_per_unit``: how many nits one unit of a unitless emission weight stands for. The default,
-    1, is MaterialX's reference implementation (``emission_luminance`` 1 renders as radiance 1).
-    ``meters_per_unit``: the scene unit of lengths in the source (MaterialX ``unit`` attributes
-    override it per input; USD's ``metersPerUnit``); glTF is always metres.
-    ``gltf_drafts``: a glTF output also gets the draft extensions that carry what the ratified ones
-    cannot (KHR_materials_coat, _fuzz, _diffuse_roughness, EXT_materials_specular_openpbr; see
-    :mod:`openpbr_tools.io.gltf.drafts`), beside the ratified fallbacks. ``gltf_file``: the result is
-    written to a glTF file (not a gltf_pbr node), so a translation may use glTF extensions the node
-    has no input for (KHR_materials_diffuse_transmission for a thin-walled subsurface). ``node_graphs``: the
-    output holds MaterialX node graphs (a .mtlx file, or a translation kept in memory), so a mapping of a
-    procedural input is written as nodes after its graph (:mod:`.expressed`); USD and glTF writers do not.
-    """
-
-    nits_per_unit: float = 1.0
-    meters_per_unit: float | None = None
-    context: Context = field(default_factory=Context)
-    baker: Any = None  # an openpbr_tools.bake.Baker: textures a formula transforms are baked per texel
-    gltf_drafts: bool = False
-    gltf_file: bool = False  # the result goes to a glTF file, which holds extensions the gltf_pbr node cannot
-    candidates: bool = True  # weigh MaterialX's translation graphs against the mapping (translate.candidates)
-    fit_films: bool = False  # also fit a thin film's thickness by rendering (translate.candidates; --verify)
-    node_graphs: bool = True  # the output holds MaterialX node graphs (.mtlx): a mapping of a procedural input is written as nodes
-    specular_split: bool = True  # a specular-workflow preview as metal + dielectric (translate.specular_workflow), else by luminance
 
 
 class Values:
@@ -211,6 +175,17 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         if not values.fits(name):
             say(NOT_CARRIED, f"{name} holds a value of another shape than its type "
                              f"({source_table[name].type}) and is not carried", name)
+    def keep_as_is(mapping: Mapping, parameter, textured: list, why: str) -> bool:
+        """``mapping.keep``'s texture or graph carried as is where the formula cannot be applied (``why``)."""
+        entry = material.inputs.get(mapping.keep) if mapping.keep else None
+        if not _carriable(entry):
+            return False
+        result.inputs[mapping.target] = _carried(entry, mapping.target, parameter.type)
+        handled.update(textured)
+        say(APPROXIMATED, f"{mapping.target}: {why}; {mapping.keep} is kept as it is ({mapping.note or mapping.converted})",
+            mapping.keep)
+        return True
+
     handled: set[str] = set()  # textured sources carried, baked, expressed, or reported at their own input
     failed: dict[str, str] = {}  # textured source -> a target that could not take it (reported at another input)
     for mapping in mappings:
@@ -264,13 +239,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             continue  # not needed whatever the textures hold (an emission colour without luminance)
         source_name = textured[0]
         entry = material.inputs[source_name]
-        carriable = isinstance(entry.value, Texture) or (isinstance(entry.value, Connection) and entry.value.graph_xml)
-        if carriable and len(textured) == 1 and probes.is_identity(mapping, source_name, values):
-            # a texture, or a procedural graph the reader captured (a .mtlx writer rebuilds it), rewired as is
-            carried = copy.deepcopy(entry)
-            carried.name, carried.type = mapping.target, parameter.type
-            carried.location = entry.location
-            result.inputs[mapping.target] = carried
+        if _carriable(entry) and len(textured) == 1 and probes.is_identity(mapping, source_name, values):
+            result.inputs[mapping.target] = _carried(entry, mapping.target, parameter.type)  # rewired as is
             handled.add(source_name)
             continue
         if settings.node_graphs and mapping.formula is not None and expressed_module.one_graph(material, textured):
@@ -297,6 +267,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                                    "(exact: an affine map per channel)", source_name)
                     say_note(mapping, source_name)
                     continue
+                if keep_as_is(mapping, parameter, textured, f"cannot be baked ({error})"):
+                    continue
                 say(NOT_CARRIED, f"{mapping.target} cannot be baked: {error}; the target keeps its default", source_name)
                 handled.add(source_name)
                 failed.update((name, mapping.target) for name in textured[1:])
@@ -312,6 +284,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             say(APPROXIMATED if baked.clipped else CONVERTED, baked.message, source_name)
             if not mapping.exact and _matters_on_average(mapping, values, baked.averages):
                 say(APPROXIMATED, f"{mapping.target}: {mapping.note}", source_name)
+            continue
+        if keep_as_is(mapping, parameter, textured, "nothing to bake the formula into"):
             continue
         what = f"texture {entry.value.file!r}" if isinstance(entry.value, Texture) else \
             f"procedural input ({getattr(entry.value, 'category', None) or 'graph'})"
@@ -371,6 +345,18 @@ def _changed(source, value) -> bool:
     return not np.allclose(source, value, rtol=1e-9, atol=1e-12, equal_nan=True)
 
 
+def _carriable(entry) -> bool:
+    """A texture, or a procedural graph the reader captured (a .mtlx writer rebuilds it): carried as is."""
+    return entry is not None and (isinstance(entry.value, Texture) or
+                                  (isinstance(entry.value, Connection) and bool(entry.value.graph_xml)))
+
+
+def _carried(entry: Input, name: str, type_name: str) -> Input:
+    carried = copy.deepcopy(entry)
+    carried.name, carried.type = name, type_name
+    return carried
+
+
 def _texturable(model: str, name: str) -> bool:
     """Whether the target model can take a texture on ``name`` (glTF has factor-only parameters)."""
     if model != "gltf_pbr":
@@ -388,11 +374,6 @@ def _constant_input(material: Material, mapping: Mapping, value, type_name: str)
         unit=source.unit if source is not None and source.unit else None,
         unittype=source.unittype if source is not None and source.unittype else None,
     )
-
-
-#: The OpenPBR inputs besides base_color that evaluate.coat.coat_darkening_factor reads, in its order.
-DARKENING_SOURCES = ("base_metalness", "specular_weight", "subsurface_weight", "subsurface_color", "coat_weight",
-                     "coat_darkening", "coat_ior")
 
 
 def differs(value, reference) -> bool:

@@ -249,6 +249,14 @@ def coat_unroughened(roughened, coat_weight, coat_roughness, iterations: int = 4
                     solved, roughened + 0.0 * low)
 
 
+def coat_unroughened_closest(roughened, coat_weight, coat_roughness):
+    """:func:`coat_unroughened`, except that a roughness below what the coat alone gives becomes 0: the base
+    whose roughened lobe comes closest (a Standard Surface base as smooth as its rough coat, MaterialX's
+    tiled brass: 3.7 -> 2.3 mean CIEDE2000 on the evaluator where keeping the roughness roughens it further)."""
+    return np.where(smoother_than_the_coat_allows(roughened, coat_weight, coat_roughness), 0.0,
+                    coat_unroughened(roughened, coat_weight, coat_roughness))
+
+
 def smoother_than_the_coat_allows(roughened, coat_weight, coat_roughness):
     """Whether a base roughness is below the least OpenPBR's coat leaves (that of a mirror base
     under it): no OpenPBR base roughness reproduces it."""

@@ -92,7 +92,8 @@ from ..io.gltf.slots import DIFFUSE_TRANSMISSION, UNLIT
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import fit
-from .common import COAT_EMISSION_NOTE, COAT_EMISSION_UNDONE, EMISSION_UNDER_COAT, Dropped, Mapping, Settings, Translation, differs, translate
+from .coat_facts import COAT_EMISSION_NOTE, COAT_EMISSION_UNDONE, EMISSION_UNDER_COAT
+from .common import Dropped, Mapping, Settings, Translation, differs, translate
 from .gltf_anisotropy import gltf_anisotropy_strength, gltf_roughness, openpbr_anisotropy, openpbr_roughness
 from .gltf_drafts import (DRAFT_TARGETS, GLTF_CLEARCOAT_IOR, apply_drafts, draft_record, needs_specular_openpbr,
                           with_draft_coat)

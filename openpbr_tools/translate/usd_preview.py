@@ -54,7 +54,8 @@ from ..evaluate.microfacet import openpbr_alphas
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED
 from . import fit, specular_workflow
-from .common import COAT_EMISSION_NOTE, COAT_EMISSION_UNDONE, EMISSION_UNDER_COAT, Dropped, Mapping, Settings, Translation, differs, translate
+from .coat_facts import COAT_EMISSION_NOTE, COAT_EMISSION_UNDONE, EMISSION_UNDER_COAT
+from .common import Dropped, Mapping, Settings, Translation, differs, translate
 
 WHITE = np.ones(3)
 REC709_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
