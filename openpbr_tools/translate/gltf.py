@@ -597,7 +597,8 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
                     converted="roughness less the roughening OpenPBR's coat adds", exact=False,
                     matters=lambda r, c, rc: bool(np.any(fit.smoother_than_the_coat_allows(r, c, rc))),
                     note="the base is smoother than OpenPBR's coat lets a base be (the coat roughens it, glTF's does "
-                         "not): its roughness is kept, and OpenPBR renders it rougher"),
+                         "not): it is made as smooth as OpenPBR's gets (0; kept where any base renders alike under that coat), "
+                         "and still renders rougher"),
             Mapping("specular_roughness_anisotropy", ("anisotropy_strength",)),
         )
     else:
@@ -607,7 +608,8 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
                     converted="roughness from glTF's anisotropic alphas, less the roughening OpenPBR's coat adds",
                     exact=False, matters=_smoother_than_the_coat,
                     note="the base is smoother than OpenPBR's coat lets a base be (the coat roughens it, glTF's does "
-                         "not): its roughness is kept, and OpenPBR renders it rougher"),
+                         "not): it is made as smooth as OpenPBR's gets (0; kept where any base renders alike under that coat), "
+                         "and still renders rougher"),
             Mapping("specular_roughness_anisotropy", ("roughness", "anisotropy_strength"), openpbr_anisotropy,
                     converted="anisotropy from glTF's alpha_t / alpha_b"),
         )

@@ -104,8 +104,8 @@ def ss_base_roughness(r, a, coat, coat_roughness, coat_anisotropy, affect):
     mix(r, 1, coat_affect_roughness coat coat_roughness) (MaterialX's standard_surface graph); OpenPBR's coat
     roughens the base it covers (:func:`~openpbr_tools.evaluate.coat.coat_roughened`, with OpenPBR's coat
     roughness). The result is the roughness OpenPBR roughens into Standard Surface's (the anisotropic alpha
-    products kept), 0 where that is smoother than OpenPBR's coat allows (:func:`.fit.coat_unroughened_closest`)."""
-    return fit.coat_unroughened_closest(ss_roughness_to_openpbr(_ss_under_coat(r, coat, coat_roughness, affect), a),
+    products kept), 0 where that is smoother than OpenPBR's coat allows (:func:`.fit.coat_unroughened`)."""
+    return fit.coat_unroughened(ss_roughness_to_openpbr(_ss_under_coat(r, coat, coat_roughness, affect), a),
                                         coat, ss_roughness_to_openpbr(coat_roughness, coat_anisotropy))
 
 
@@ -420,7 +420,8 @@ FROM_SS = (
             keep="specular_roughness", matters=lambda r, a, c, rc, ca, k: bool(np.any(fit.smoother_than_the_coat_allows(
                 ss_roughness_to_openpbr(_ss_under_coat(r, c, rc, k), a), c, ss_roughness_to_openpbr(rc, ca)))),
             note="OpenPBR's coat roughens the base it covers, Standard Surface's only by coat_affect_roughness: a "
-                 "base smoother than OpenPBR's coat allows is made as smooth as it gets (0) and still renders rougher",
+                 "base smoother than OpenPBR's coat allows is made as smooth as it gets (0; kept where any base renders "
+                 "alike under that coat) and still renders rougher",
             converted="roughness rescaled to keep the anisotropic alpha_x * alpha_y, less the roughening OpenPBR's "
                       "coat adds (Standard Surface's coat leaves its base as smooth as authored, but by "
                       "coat_affect_roughness)"),
