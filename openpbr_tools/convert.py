@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from . import gltf_state, tables
 from .atomic import write_bytes
 from .diagnostics import Diagnostic
-from .io import read_asset
+from .io import ReadError, read_asset
 from .io.gltf.document import load_document
 from .io.paths import Kind, PathGuard, classify
 from .model import Asset, Connection, Material, Texture
@@ -323,12 +323,9 @@ def _tag_length_units(materials: list[Material], asset: Asset) -> None:
 
 
 def _looks(asset: Asset, result: Conversion, kind: str, context) -> tuple[list, list[Diagnostic]]:
-    """The MaterialX looks (and look groups) of a .mtlx source a .mtlx output carries, as
-    :func:`~openpbr_tools.io.mtlx.writer.to_mtlx_string` takes them (their material assignments renamed as
-    the materials were), and a note (OPBR1104) for each assignment, look or included material the output does
-    not hold: an assignment of a material not written, every look of a USD or glTF output (they bind
-    materials otherwise), the materials of XIncluded files outside the document's folder (each converts as
-    its own file; those in its folder are converted into the output: :func:`_included_materials`)."""
+    """A .mtlx source's looks for a .mtlx output (:func:`~openpbr_tools.io.mtlx.writer.to_mtlx_string`'s, their
+    assignments following renamed materials), and a note (OPBR1104) at each assignment of a material not
+    written, each look of a USD or glTF output, and the XIncluded materials not converted here."""
     notes = []
     renames = {source.material_name: translated.material_name for source, translated in result.pairs
                if source.material_name}
@@ -340,8 +337,8 @@ def _looks(asset: Asset, result: Conversion, kind: str, context) -> tuple[list, 
                                                        f"({files}) converted into this output", asset.colorspace_location)
                          if converted else context.diagnostic(
                 NOT_CARRIED, f"{len(names)} material(s) ({', '.join(names)}) come from XIncluded file(s) ({files}) "
-                             "outside the document's folder, which convert as their own files: this output does not "
-                             "hold them", asset.colorspace_location))
+                             "outside the document's folder (or unreadable on their own), which convert as their own "
+                             "files: this output does not hold them", asset.colorspace_location))
     carried = []
     for look in asset.extra.get("looks") or ():
         what = f"{look['category']} {look['name']}"
@@ -372,7 +369,10 @@ def _included_materials(asset: Asset, allow_outside: tuple[str, ...]) -> list[Ma
     folder = os.path.dirname(os.path.abspath(asset.path))
     found = []
     for path in sorted({p for p in included.values() if os.path.dirname(p) == folder}):
-        found += [m for m in read_asset(path, allow_outside).materials if m.material_name in included]
+        try:
+            found += [m for m in read_asset(path, allow_outside).materials if m.material_name in included]
+        except ReadError:  # unreadable on its own: its materials stay out, and say so (:func:`_looks`)
+            continue
     return found
 
 
