@@ -128,8 +128,9 @@ def _metalness(metallic, workflow, diffuse, specular):
 
 
 def _coloured(colour) -> bool:
+    """Whether any texel of ``colour`` (..., 3) has unequal channels (a grey F0 splits exactly)."""
     colour = np.asarray(colour, dtype=np.float64)
-    return bool(np.ptp(colour) > 1e-6) if colour.shape[-1:] == (3,) else False
+    return bool(np.any(np.ptp(colour, axis=-1) > 1e-6)) if colour.shape[-1:] == (3,) else False
 
 
 PRESENCE_CAVEAT = "UsdPreviewSurface 2.6; a reader older than 2.6 shows it as a see-through glass that keeps its reflections"
