@@ -28,24 +28,35 @@ def describe(asset: Asset) -> dict:
                     for name, t in m.textures()
                 ],
                 "procedural_inputs": sorted(n for n, i in m.inputs.items() if isinstance(i.value, Connection)),
-                "extensions": _extensions(m) if asset.format == "gltf" else [],
+                "extensions": _extensions(m, _not_converted(asset)) if asset.format == "gltf" else [],
             }
             for m in asset.materials
         ],
     }
 
 
-def _extensions(material) -> list[dict]:
+def _not_converted(asset: Asset) -> set:
+    """(material name, extension) for each extension the glTF reader reported as not converted."""
+    return {(o.detail.get("material"), o.detail.get("extension")) for o in asset.observations
+            if o.kind == "gltf_not_converted"}
+
+
+def _extensions(material, not_converted: set) -> list[dict]:
     """The glTF material extensions ``material`` uses (nested ones as ``parent/name``), each with how
     the toolkit treats it: ``ratified`` (read), ``draft`` (read, see io.gltf.drafts), ``read as emission``
-    (KHR_materials_unlit: its base colour emitted over a black base, translate/gltf.py) or ``not converted``."""
+    (KHR_materials_unlit: its base colour emitted over a black base, translate/gltf.py), ``read as thin-walled
+    subsurface`` (KHR_materials_diffuse_transmission with factors only, no volume) or ``not converted`` (as
+    the reader reported it: ``not_converted``, from :func:`_not_converted`)."""
     from .io.gltf import drafts, slots  # lazy: info on a .mtlx file does not need the glTF tables
 
     state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    read_as = {slots.UNLIT: "read as emission", slots.DIFFUSE_TRANSMISSION: "read as thin-walled subsurface"}
     found = []
     for name in state.get("material_extensions") or ():
         status = "ratified" if name in slots.INTERPRETED_MATERIAL_EXTENSIONS else \
-            "draft" if name in drafts.MATERIAL_DRAFTS else "read as emission" if name == slots.UNLIT else "not converted"
+            "draft" if name in drafts.MATERIAL_DRAFTS else \
+            read_as[name] if name in read_as and (material.material_name or material.name, name) not in not_converted \
+            else "not converted"
         found.append({"name": name, "status": status})
     for parent, name, read in state.get("nested_extensions") or ():
         found.append({"name": f"{parent}/{name}", "status": "draft" if read else "not converted"})

@@ -521,3 +521,16 @@ def test_corrupted_glb_bytes_never_raise_anything_but_read_errors(tmp_path):
         validate_paths([str(path)])
 
     check()
+
+
+def test_info_says_how_each_diffuse_transmission_is_read(tmp_path):
+    """`openpbr info`: KHR_materials_diffuse_transmission with factors only on a material without a volume
+    is read as OpenPBR's thin-walled subsurface; with a texture it is kept as data (the reader reports it)."""
+    (tmp_path / "a.png").write_bytes(png())
+    materials = [{"name": "F", "extensions": {"KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 0.5}}},
+                 {"name": "T", "extensions": {"KHR_materials_diffuse_transmission": {
+                     "diffuseTransmissionFactor": 0.5, "diffuseTransmissionTexture": {"index": 0}}}}]
+    path = write(tmp_path, gltf(materials, extensionsUsed=["KHR_materials_diffuse_transmission"],
+                                images=[{"uri": "a.png"}], textures=[{"source": 0}]))
+    statuses = {m["name"]: m["extensions"][0]["status"] for m in describe(read_asset(path))["materials"]}
+    assert statuses == {"F": "read as thin-walled subsurface", "T": "not converted"}
