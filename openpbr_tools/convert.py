@@ -330,15 +330,15 @@ def _looks(asset: Asset, result: Conversion, kind: str, context) -> tuple[list, 
     renames = {source.material_name: translated.material_name for source, translated in result.pairs
                if source.material_name}
     included = asset.extra.get("included_material_names") or {}
-    for converted, names in ((True, [n for n in included if n in renames]), (False, [n for n in included if n not in renames])):
+    for names, rule, sentence in (
+            ([n for n in included if n in renames], CONVERTED, "{what} of {where} converted into this output"),
+            ([n for n in included if n not in renames], NOT_CARRIED,
+             "{what} come from {where} outside the document's folder (or unreadable on their own), which convert as "
+             "their own files: this output does not hold them")):
         if names:
-            files = ", ".join(sorted({os.path.basename(included[n]) for n in names}))
-            notes.append(context.diagnostic(CONVERTED, f"{len(names)} material(s) ({', '.join(names)}) of XIncluded file(s) "
-                                                       f"({files}) converted into this output", asset.colorspace_location)
-                         if converted else context.diagnostic(
-                NOT_CARRIED, f"{len(names)} material(s) ({', '.join(names)}) come from XIncluded file(s) ({files}) "
-                             "outside the document's folder (or unreadable on their own), which convert as their own "
-                             "files: this output does not hold them", asset.colorspace_location))
+            where = f"XIncluded file(s) ({', '.join(sorted({os.path.basename(included[n]) for n in names}))})"
+            notes.append(context.diagnostic(rule, sentence.format(what=f"{len(names)} material(s) ({', '.join(names)})",
+                                                                  where=where), asset.colorspace_location))
     carried = []
     for look in asset.extra.get("looks") or ():
         what = f"{look['category']} {look['name']}"

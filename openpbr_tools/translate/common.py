@@ -175,6 +175,9 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         if not values.fits(name):
             say(NOT_CARRIED, f"{name} holds a value of another shape than its type "
                              f"({source_table[name].type}) and is not carried", name)
+    handled: set[str] = set()  # textured sources carried, baked, expressed, or reported at their own input
+    failed: dict[str, str] = {}  # textured source -> a target that could not take it (reported at another input)
+
     def keep_as_is(mapping: Mapping, parameter, textured: list, why: str) -> bool:
         """``mapping.keep``'s texture or graph carried as is where the formula cannot be applied (``why``)."""
         entry = material.inputs.get(mapping.keep) if mapping.keep else None
@@ -186,8 +189,6 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             mapping.keep)
         return True
 
-    handled: set[str] = set()  # textured sources carried, baked, expressed, or reported at their own input
-    failed: dict[str, str] = {}  # textured source -> a target that could not take it (reported at another input)
     for mapping in mappings:
         parameter = target_table[mapping.target]
         authored = any(values.authored(s) for s in mapping.sources)

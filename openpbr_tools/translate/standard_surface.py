@@ -106,7 +106,7 @@ def ss_base_roughness(r, a, coat, coat_roughness, coat_anisotropy, affect):
     roughness). The result is the roughness OpenPBR roughens into Standard Surface's (the anisotropic alpha
     products kept), 0 where that is smoother than OpenPBR's coat allows (:func:`.fit.coat_unroughened`)."""
     return fit.coat_unroughened(ss_roughness_to_openpbr(_ss_under_coat(r, coat, coat_roughness, affect), a),
-                                        coat, ss_roughness_to_openpbr(coat_roughness, coat_anisotropy))
+                                coat, ss_roughness_to_openpbr(coat_roughness, coat_anisotropy))
 
 
 def _ss_under_coat(r, coat, coat_roughness, affect):
@@ -120,27 +120,28 @@ COAT_ROUGHENING = ("coat_weight", "coat_roughness", "coat_roughness_anisotropy")
 def ss_specular_roughness(r, a, coat, coat_roughness, coat_anisotropy):
     """Standard Surface's ``specular_roughness`` for OpenPBR's: the same anisotropic alpha product; where
     OpenPBR's coat roughens the base more than ``coat_affect_roughness`` 1 can (:func:`coat_affect_roughness`
-    past 1), raised so that mix(r_s, 1, coat r_cs) is OpenPBR's roughened base."""
+    would pass 1), raised so that mix(r_s, 1, coat r_cs) is OpenPBR's roughened base. That raised roughness
+    exceeds the plain one exactly where k would pass 1, so the result is the larger of the two."""
     plain = openpbr_roughness_to_ss(r, a)
     coat_s = coat * openpbr_roughness_to_ss(coat_roughness, coat_anisotropy)
     target = openpbr_roughness_to_ss(coat_roughened(r, coat, coat_roughness), a)
     with np.errstate(divide="ignore", invalid="ignore"):
         raised = np.clip((target - coat_s) / np.where(coat_s < 1.0, 1.0 - coat_s, 1.0), 0.0, 1.0)
-    return np.where(coat_affect_roughness(r, a, coat, coat_roughness, coat_anisotropy, clip=False) > 1.0, raised, plain)
+    return np.maximum(plain, raised)
 
 
-def coat_affect_roughness(r, a, coat, coat_roughness, coat_anisotropy, clip: bool = True):
+def coat_affect_roughness(r, a, coat, coat_roughness, coat_anisotropy):
     """The Standard Surface ``coat_affect_roughness`` that roughens the base as OpenPBR's coat does:
     OpenPBR r_b = mix(r, min(1, (r^4 + 2 r_c^4)^(1/4)), coat), then its anisotropy ``a``; Standard Surface
     r_b = mix(r_s, 1, k coat r_cs) on its own roughnesses r_s, r_cs (MaterialX's standard_surface graph), then
     its anisotropy: solved for k where both give the same alphas (:func:`openpbr_roughness_to_ss` of each),
-    within [0, 1] unless ``clip`` is off."""
+    within [0, 1] (past 1, :func:`ss_specular_roughness` raises the base instead)."""
     ss_r = openpbr_roughness_to_ss(r, a)
     roughened = openpbr_roughness_to_ss(coat_roughened(r, coat, coat_roughness), a)
     denominator = coat * openpbr_roughness_to_ss(coat_roughness, coat_anisotropy) * (1.0 - ss_r)
     with np.errstate(divide="ignore", invalid="ignore"):
         k = np.where(denominator > 1e-9, (roughened - ss_r) / np.where(denominator > 1e-9, denominator, 1.0), 0.0)
-    return np.clip(k, 0.0, 1.0) if clip else k
+    return np.clip(k, 0.0, 1.0)
 
 
 # -- the base under a coat, metals ----------------------------------------------------------------
@@ -347,8 +348,9 @@ TO_SS = (
                  f"OpenPBR's F82-tint metal at 82 degrees; it reaches 90 degrees at 1 ({METAL_RESIDUAL})",
             matters=lambda c, bw, b, m, sw, *rest: m > 0 and (differs(c, WHITE) or sw != 1.0)),
     Mapping("specular_roughness", ("specular_roughness", "specular_roughness_anisotropy") + COAT_ROUGHENING,
-            ss_specular_roughness, keep="specular_roughness", converted="roughness rescaled to keep OpenPBR's anisotropic alpha_t * alpha_b (under "
-                                             "a coat that roughens more than coat_affect_roughness 1 does, raised to match)"),
+            ss_specular_roughness, keep="specular_roughness",
+            converted="roughness rescaled to keep OpenPBR's anisotropic alpha_t * alpha_b (under a coat that roughens "
+                      "more than coat_affect_roughness 1 does, raised to match)"),
     Mapping("specular_anisotropy", ("specular_roughness_anisotropy",), exact=True),
     Mapping("specular_IOR", ("specular_ior",)),
     Mapping("transmission", ("transmission_weight",)),
