@@ -15,6 +15,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -23,7 +24,7 @@ from openpbr_tools.evaluate.verify import compare_materials
 from openpbr_tools.evaluate.volume import absorption_coefficient
 from openpbr_tools.model import Constant, Input, Location, Material
 from openpbr_tools.translate.common import Settings
-from openpbr_tools.translate import candidates
+from openpbr_tools.translate import anchor, candidates
 from openpbr_tools.translate.appearance import untrusted
 from openpbr_tools.translate.convert import convert
 
@@ -324,7 +325,7 @@ def test_both_candidates_are_fitted_before_the_choice():
     assert [d for d in result.diagnostics if "fitted), MaterialX's translation graphs" in d.message
             and "kept the toolkit's" in d.message]
     judge = candidates.Judge(glass)
-    unfitted_graph, = judge.scores([candidates.graph_candidate(glass, "UsdPreviewSurface")])
+    unfitted_graph, = judge.scores([anchor.graph_candidate(glass, "UsdPreviewSurface")])
     assert judge.scores([result.material])[0] < unfitted_graph - 0.3
 
 
@@ -355,3 +356,29 @@ def test_a_thin_wall_with_a_textured_metalness_still_bakes_its_base_colour(tmp_p
     assert [d for d in conversion.diagnostics if d.message.startswith("S (OpenPBR -> Standard Surface): base_color: baked")]
     (_, delta), = measure(conversion)
     assert delta.mean < 8.0  # 14.7 unbaked; the metal share and the thin wall's reflection share one colour
+
+
+@pytest.mark.parametrize("target", ["gltf_pbr", "standard_surface", "UsdPreviewSurface"])
+def test_the_fitted_figure_is_the_written_materials_own(tmp_path, target):
+    """Every figure a fit reports ("... -> X") is the written material's own on the judge's sphere: a fit
+    that converged in one step (its mean within appearance.CONVERGED of the source's) reports the render
+    that showed it, which is of the material as written, not of unrounded values; the others are scored
+    again. Generated archetypes (saturated colours, metals, coats, fuzz) to each target."""
+    import re
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from generated_materials import archetype_document
+    from openpbr_tools.io import read_asset
+
+    path = tmp_path / "archetypes.mtlx"
+    path.write_text(archetype_document("acescg", 21, 40)[0])
+    settings = Settings()
+    items = [(s, convert(s, target, settings), target, settings) for s in read_asset(str(path)).materials]
+    checked = 0
+    for (source, *_), result in zip(items, candidates.choose_many(items)):
+        for note in (d.message for d in result.diagnostics if "adjusted to" in d.message):
+            reported = float(re.search(r"-> ([0-9.]+)$", note).group(1))
+            assert candidates.Judge(source).scores([result.material])[0] == pytest.approx(reported, abs=0.006), note
+            checked += 1
+    assert checked >= 5, checked

@@ -190,32 +190,51 @@ def test_models_evaluate_from_a_material():
     assert model.evaluate(np.array([[0.0, 0.6, 0.8]]), np.array([[0.0, -0.6, 0.8]])).shape == (1, 3)
 
 
+#: Per model, lobe weights that are no longer stacking switches (preview.STACK_SWITCHES): materials with
+#: and without the lobe are stacked together, so the test must see both in one stack.
+STACKED_ACROSS = {"gltf_pbr": ("transmission",),
+                  "open_pbr_surface": ("transmission_weight", "transmission_depth", "subsurface_weight"),
+                  "standard_surface": ("transmission", "transmission_depth", "subsurface"),
+                  "UsdPreviewSurface": ("opacity",)}
+
+
 def test_stacked_spheres_are_the_spheres_rendered_one_by_one(tmp_path):
     """preview.shade_sphere_many (the candidate search's one evaluation for several materials) gives
     each material's own shade_sphere image, for every model and generated parameter sets that share
-    their switches (preview.stack_key: films, coats, metals, glass, fuzz, emission among them); sets
-    whose switches differ are refused (None), not mixed. judging.render_many, which groups any
-    materials by those switches, gives every material's own image: glTF's thickness (thin-walled or a
-    volume for the whole render) and OpenPBR's transmission (the reflection's energy compensation)
-    made a material stacked with others differ by up to 0.02 mean ΔE before they were switches."""
+    their switches (preview.stack_key: films, coats, metals, glass, fuzz, emission among them), among
+    them sets with and without a transmission, a volume, a subsurface or a preview's opacity (exact
+    no-ops at weight 0, stacked together: STACKED_ACROSS, seen both ways in one stack); sets whose
+    switches differ are refused (None), not mixed. judging.render_many, which groups any materials by
+    those switches, gives every material's own image: glTF's thickness (thin-walled or a volume for the
+    whole render) made a material stacked with others differ by up to 0.02 mean ΔE before it was a
+    switch, and an OpenPBR film's transmission rescaling does where the film is off."""
     import sys
 
     sys.path.insert(0, str(Path(__file__).parent))
-    from generated_materials import document
+    from generated_materials import archetype_document, document
     from openpbr_tools.evaluate import model_for_material, resolve
     from openpbr_tools.evaluate.preview import Rig, shade_sphere, shade_sphere_many, stack_key
     from openpbr_tools.evaluate.thinfilm import coarse_films
     from openpbr_tools.io import read_asset
+    from openpbr_tools.translate.common import Settings
+    from openpbr_tools.translate.convert import convert
     from openpbr_tools.translate.judging import render_many
 
     rig = Rig(size=12)
+    archetypes = tmp_path / "archetypes.mtlx"  # the kinds artists author: many lobes exactly off
+    archetypes.write_text(archetype_document("acescg", 3, 60)[0])
     for model in ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface"):
         path = tmp_path / f"{model}.mtlx"
         path.write_text(document(model, "acescg", 3, 40))
-        materials = read_asset(str(path)).materials
+        materials = read_asset(str(path)).materials + [
+            convert(m, model, Settings(candidates=False)).material if model != m.model else m
+            for m in read_asset(str(archetypes)).materials]
         groups = {}
         for material in materials:
             groups.setdefault(stack_key(model, resolve(material).values), []).append(material)
+        for name in STACKED_ACROSS[model]:  # a stack holds the lobe both on and off
+            assert any(len({bool(np.any(resolve(m).values[name] != 0)) for m in members}) == 2
+                       for members in groups.values()), (model, name)
         group = max(groups.values(), key=len)
         assert len(group) >= 2, model
         stacked = shade_sphere_many(model, [resolve(m).values for m in group], rig)
@@ -229,3 +248,21 @@ def test_stacked_spheres_are_the_spheres_rendered_one_by_one(tmp_path):
         with coarse_films():
             for material, image in zip(materials, everything):
                 np.testing.assert_allclose(image, shade_sphere(model_for_material(material)[0], rig)[0], atol=1e-9)
+
+
+def test_a_gltf_volume_stacked_with_a_length_that_is_not_one_is_each_alone():
+    """A glTF attenuation distance that is not a positive length (0, negative: an invalid file read as
+    it is) means no attenuation; stacked with a real volume it stays none, pixel by pixel."""
+    from openpbr_tools.evaluate import build_model
+    from openpbr_tools.evaluate.parameters import with_values
+    from openpbr_tools.evaluate.preview import Rig, shade_sphere, shade_sphere_many
+
+    rig = Rig(size=12)
+    volume = {"metallic": 0.0, "transmission": 1.0, "thickness": 1.0, "attenuation_color": (0.8, 0.3, 0.2),
+              "attenuation_distance": 0.5}
+    sets = [volume] + [dict(volume, attenuation_distance=d) for d in (0.0, -1.0, float("inf"))]
+    stacked = shade_sphere_many("gltf_pbr", [with_values("gltf_pbr", values).values for values in sets], rig)
+    for values, image in zip(sets, stacked):
+        np.testing.assert_allclose(image, shade_sphere(build_model("gltf_pbr", values), rig)[0], atol=1e-9)
+    assert not np.allclose(stacked[0], stacked[1], atol=1e-3)  # (the volume did attenuate)
+    np.testing.assert_allclose(stacked[1], stacked[3], atol=1e-12)

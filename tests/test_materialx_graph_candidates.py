@@ -11,6 +11,7 @@ import random
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
@@ -208,3 +209,38 @@ def test_where_the_appearance_fit_is_kept_materialx_glsl_agrees(tmp_path, folder
     chosen, errors = _plain_and_searched(tmp_path, source_path, target, "fitted")
     assert [d for d in chosen.diagnostics if "adjusted to" in d.message]
     assert errors["fitted"] < errors["plain"] + 0.05, errors
+
+
+def test_the_graphs_evaluated_for_a_file_at_once_give_each_materials_own_values(tmp_path):
+    """materialx_graphs.chain_many (every node once for a file's materials, as the candidate search
+    calls it) gives, bit for bit, what chain gives each material alone, for generated OpenPBR and
+    Standard Surface materials through every graph; and a material the graphs cannot take (a value of
+    another type) loses only its own candidate (candidates.graph_candidates)."""
+    from generated_materials import COLORSPACES, document
+    from openpbr_tools.io import read_asset
+    from openpbr_tools.model import Constant, Input
+    from openpbr_tools.translate import anchor
+    from openpbr_tools.translate.judging import constant_values
+
+    compared = 0
+    for model in ("open_pbr_surface", "standard_surface"):
+        path = tmp_path / f"{model}.mtlx"
+        path.write_text(document(model, COLORSPACES[len(model) % 3], 5, 60))
+        materials = read_asset(str(path)).materials
+        values = [constant_values(m) for m in materials]
+        for target in ("standard_surface", "gltf_pbr", "UsdPreviewSurface", "open_pbr_surface"):
+            if not materialx_graphs.graphs(model, target):
+                continue
+            together = materialx_graphs.chain_many(target, values, model)
+            for one, alone in zip(together, (materialx_graphs.chain(target, v, model) for v in values)):
+                assert one.keys() == alone.keys()
+                assert all(np.array_equal(np.asarray(one[k]), np.asarray(alone[k])) and type(one[k]) is type(alone[k])
+                           for k in one)
+                compared += len(one)
+        broken = materials[1]
+        broken.inputs["base_color"] = Input("base_color", "color3", Constant((0.5, 0.5)), broken.location)
+        found = anchor.graph_candidates(materials, "gltf_pbr")
+        assert found[1] is None and all(c is not None for i, c in enumerate(found) if i != 1)
+        alone = anchor.graph_candidate(materials[2], "gltf_pbr")
+        assert {k: v.value.value for k, v in found[2].inputs.items()} == {k: v.value.value for k, v in alone.inputs.items()}
+    assert compared > 2000

@@ -15,7 +15,7 @@ from openpbr_tools.evaluate.preview import Rig
 from openpbr_tools.evaluate.verify import compare_materials
 from openpbr_tools.io import read_asset
 from openpbr_tools.rules import Context
-from openpbr_tools.translate import candidates
+from openpbr_tools.translate import anchor, candidates
 from openpbr_tools.translate.common import Settings
 from openpbr_tools.translate.convert import convert
 
@@ -32,7 +32,7 @@ def _against_the_graphs(materials, targets):
         for target in targets:
             settings = Settings(context=Context())
             ours = candidates.choose(material, convert(material, target, settings), target, settings).material
-            graph = candidates.graph_candidate(material, target)
+            graph = anchor.graph_candidate(material, target)
             assert graph is not None and graph.model == target, (material.name, target)
             delta_ours = compare_materials(material, ours, RIG).preview.mean
             delta_graph = compare_materials(material, graph, RIG).preview.mean

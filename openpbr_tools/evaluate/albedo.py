@@ -215,7 +215,7 @@ def save_tables(path: Path = DATA_FILE) -> Path:
 
 
 def _coords(value, n):
-    t = np.clip(value, 0.0, 1.0) * (n - 1)
+    t = np.minimum(np.maximum(value, 0.0), 1.0) * (n - 1)  # (np.clip's arithmetic; its wrapper costs more)
     i0 = np.minimum(t.astype(np.int64), n - 2)
     return i0, t - i0
 
@@ -241,8 +241,10 @@ def _lookup2(table, mu, r):
     mu, r = np.broadcast_arrays(np.asarray(mu, dtype=float), r)
     i, fi = _coords(mu, table.shape[0])
     j, fj = _coords(r, table.shape[1])
-    t00, t01 = table[i, j], table[i, j + 1]
-    t10, t11 = table[i + 1, j], table[i + 1, j + 1]
+    flat, row = table.reshape(-1), table.shape[1]  # (one flat index: cheaper than a pair of index arrays)
+    at = i * row + j
+    t00, t01 = flat[at], flat[at + 1]
+    t10, t11 = flat[at + row], flat[at + row + 1]
     top = t00 + (t01 - t00) * fj
     bottom = t10 + (t11 - t10) * fj
     return top + (bottom - top) * fi

@@ -83,8 +83,10 @@ class GltfPbr(BSDFModel):
         self.f90 = f["specular"]
         self.thin_walled = not np.any(f["thickness"] > 0.0)
         distance = f.get("attenuation_distance")
-        if distance is not None and np.any(np.isfinite(distance) & (distance > 0.0)):
-            self.volume_absorption = -np.log(np.maximum(f["attenuation_color"], 1e-6)) / as_colour(distance)
+        attenuating = None if distance is None else np.isfinite(distance) & (distance > 0.0)
+        if attenuating is not None and np.any(attenuating):  # per pixel: none where the distance is not a length
+            self.volume_absorption = np.where(as_colour(attenuating), -np.log(np.maximum(f["attenuation_color"], 1e-6))
+                                              / as_colour(np.where(attenuating, distance, 1.0)), 0.0)
         self.volume_path_length = f["thickness"]
         mode = int(np.asarray(f["alpha_mode"]).reshape(-1)[0])
         if mode == 0:

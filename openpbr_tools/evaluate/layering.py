@@ -120,7 +120,7 @@ def layer(top: Scatter, base: Scatter) -> Scatter:
 
 def any_nonzero(x) -> bool:
     """True when any element of ``x`` is non-zero (used to skip absent lobes)."""
-    return bool(np.any(np.asarray(x) != 0.0))
+    return bool((np.asarray(x) != 0.0).any())
 
 
 def mirror_frame(wi, wo):

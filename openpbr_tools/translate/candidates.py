@@ -42,50 +42,14 @@ from __future__ import annotations
 import copy
 import dataclasses
 
-import numpy as np
-
-from .. import tables
-from ..values import is_finite
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
-from . import appearance, materialx_graphs
+from . import appearance
+from .anchor import graph_candidates_of, read_back_notes
 from .judging import RIG_SIZE, Figure, Judge, constant_values, figures_many, scores_many
-from .common import Settings, Translation, differs
-from .target import inside
+from .common import Settings, Translation
 
 MARGIN = 0.25  # mean CIEDE2000: a smaller win does not pay for what the graphs drop (thin-walled, subsurface)
-
-
-def graph_candidate(source: Material, target: str) -> Material | None:
-    """The target material MaterialX's graphs make of ``source`` (constant OpenPBR or Standard Surface),
-    or None."""
-    values = constant_values(source)
-    if values is None or not materialx_graphs.graphs(source.model, target):
-        return None
-    try:
-        produced = materialx_graphs.chain(target, values, source.model)
-    except (materialx_graphs.GraphError, TypeError, ValueError, KeyError, IndexError):
-        return None
-    table = tables.table(target)
-    candidate = Material(name=source.name, model=target, location=source.location, version=table.version,
-                         version_basis="written by openpbr convert", material_name=source.material_name,
-                         material_location=source.material_location, colorspace=source.colorspace)
-    for name, value in produced.items():
-        parameter = table.get(name)
-        if parameter is None or parameter.role in ("normal", "tangent"):
-            continue
-        if parameter.type == "integer":
-            value = int(round(float(value)))
-        if parameter.default is None and isinstance(value, float) and value <= 0:
-            continue  # an unbounded length (attenuation_distance) of 0: the graphs' "none", the default
-        value, moved = inside(value, parameter)
-        if moved and not is_finite(value):
-            return None
-        entry = source.inputs.get(name)
-        candidate.inputs[name] = Input(name, parameter.type, Constant(value),
-                                       entry.location if entry is not None else source.location.with_input(name),
-                                       colorspace=source.colorspace if parameter.role == "color" else None)
-    return candidate
 
 
 #: the thickness parameter of each target's thin film, in nanometres
@@ -161,18 +125,16 @@ def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> lis
     references and the candidates rendered together (:func:`render_many`, :func:`scores_many`): the
     same choices as one by one, for a fraction of the cost (a file's materials are weighed at once)."""
     out = [translation for _, translation, _, _ in items]
-    work = []
+    searched = []
     for index, (source, translation, target, settings) in enumerate(items):
         if not _searched(source, translation, target, settings):
             continue
         if settings.fit_films:
             translation = out[index] = refine_thin_film(source, translation, target, settings)
-        try:
-            candidate = graph_candidate(source, target) if materialx_graphs.graphs(source.model, target) else None
-        except (ValueError, KeyError, TypeError, IndexError):  # a malformed constant (reported by the mapping)
-            candidate = None
-        alternative = alternative_reading(source, target, settings)
-        work.append((index, candidate, alternative))
+        searched.append(index)
+    graphs = graph_candidates_of([items[index] for index in searched])
+    work = [(index, candidate, alternative_reading(items[index][0], items[index][2], items[index][3]))
+            for index, candidate in zip(searched, graphs)]
     if not work:
         return out
     try:
@@ -305,7 +267,9 @@ def _fitted_many(cases: list[tuple[Material, Material, Figure, Judge]]) -> list:
     try:
         fits = appearance.fit_many([(cases[i][0], cases[i][1], cases[i][3], cases[i][2].mean) for i in due])
         kept = [(i, f) for i, f in zip(due, fits) if f is not None]
-        figures = scores_many([cases[i][3] for i, _ in kept], [[f.material] for _, f in kept])
+        unscored = [(i, f) for i, f in kept if f.figure is None]  # (a fit that converged was rendered as written)
+        scored = iter(scores_many([cases[i][3] for i, _ in unscored], [[f.material] for _, f in unscored]))
+        figures = [(f.figure.score,) if f.figure is not None else next(scored) for _, f in kept]
     except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
         if len(due) == 1:
             return out
@@ -333,65 +297,3 @@ def _with_fit(source: Material, translation: Translation, score: float, fit, set
                           f"like the source's (what the target cannot hold of {source_name} and the rest): mean "
                           f"CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere {score:.2f} -> {after:.2f}", where))
     return translation
-
-
-def read_back_notes(source: Material, written: Material, where, context) -> list:
-    """A note at every input of ``source`` (authored, or left at a default the result changes: a glTF
-    clear coat does not darken) that ``written`` (the graphs' result) does not carry exactly: the written material is converted back to the source's model with the toolkit's
-    inverse mapping, and each authored constant compared with what comes back (1e-5). The graphs'
-    arithmetic is their own, so no input can be assumed to survive; this says which did not."""
-    from .convert import convert  # lazy: translate.convert imports the translators, which this module serves
-
-    try:
-        back = convert(written, source.model, Settings(context=context, candidates=False)).material
-    except (ValueError, KeyError, TypeError):
-        return [context.diagnostic(APPROXIMATED, f"{source.name}: the graphs' result could not be read back to "
-                                                 f"{source.model}; every input may differ", where)]
-    notes = []
-    table = tables.table(source.model)
-    for name, parameter in table.parameters.items():
-        entry = source.inputs.get(name)
-        if parameter.role in ("normal", "tangent") or (entry is not None and not isinstance(entry.value, Constant)):
-            continue
-        if entry is None and _lobe_off(source, table, name):
-            continue  # a default of a lobe the material does not have (a fuzz roughness without fuzz)
-        authored = entry.value.value if entry is not None else parameter.default  # a default the result changes too
-        if authored is None:
-            continue
-        returned = back.inputs.get(name)
-        value = returned.value.value if returned is not None and isinstance(returned.value, Constant) \
-            else parameter.default
-        if _changed(authored, value):
-            what = _shown(authored) if entry is not None else f"(default {_shown(authored)})"
-            notes.append(context.diagnostic(
-                APPROXIMATED, f"{source.name}: {name} {what} is not carried exactly by MaterialX's "
-                              f"translation graphs' result (reads back as {_shown(value)})",
-                entry.location if entry is not None else source.location.with_input(name)))
-    return notes
-
-
-def _lobe_off(source: Material, table, name: str) -> bool:
-    """Whether ``name`` belongs to a lobe whose weight (the table's ``switches``) is 0 in ``source``."""
-    for weight, parameter in table.parameters.items():
-        if parameter.switches and name.startswith(parameter.switches) and name != weight:
-            entry = source.inputs.get(weight)
-            value = entry.value.value if entry is not None and isinstance(entry.value, Constant) else table[weight].default
-            try:
-                return not float(value) > 0
-            except (TypeError, ValueError):
-                return False
-    return False
-
-
-def _changed(authored, returned) -> bool:
-    """:func:`.common.differs`, the translators' own test of a changed value, for values of any type."""
-    try:
-        return np.shape(authored) != np.shape(returned) or differs(returned, np.asarray(authored, dtype=float))
-    except (TypeError, ValueError):
-        return authored != returned
-
-
-def _shown(value) -> str:
-    if isinstance(value, (tuple, list)):
-        return "(" + ", ".join(f"{float(v):.4g}" for v in value) + ")"
-    return f"{value:.4g}" if isinstance(value, float) else str(value)

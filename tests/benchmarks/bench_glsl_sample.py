@@ -38,7 +38,7 @@ from openpbr_tools.evaluate.difference import compare_images  # noqa: E402
 from openpbr_tools.evaluate.preview import Rig  # noqa: E402
 from openpbr_tools.io import read_asset  # noqa: E402
 from openpbr_tools.rules import Context  # noqa: E402
-from openpbr_tools.translate import appearance, candidates  # noqa: E402
+from openpbr_tools.translate import anchor, appearance, candidates  # noqa: E402
 from openpbr_tools.translate.judging import as_written  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
 from openpbr_tools.translate.convert import convert  # noqa: E402
@@ -94,7 +94,7 @@ def main() -> None:
                 unfitted = candidates.choose(material, convert(material, target, settings), target, settings).material
             finally:
                 appearance.FIT_FROM = fit_from
-            chain = candidates.graph_candidate(material, target)
+            chain = anchor.graph_candidate(material, target)
             if chain is None:
                 continue
             deltas = [compare_images(reference, renderer.render(target, _values(m)), mask, rig.white()).mean

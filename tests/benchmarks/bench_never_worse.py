@@ -30,7 +30,7 @@ from openpbr_tools.evaluate.preview import Rig  # noqa: E402
 from openpbr_tools.evaluate.verify import compare_materials  # noqa: E402
 from openpbr_tools.io import read_asset  # noqa: E402
 from openpbr_tools.rules import Context  # noqa: E402
-from openpbr_tools.translate import candidates  # noqa: E402
+from openpbr_tools.translate import anchor, candidates  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
 from openpbr_tools.translate.convert import convert  # noqa: E402
 
@@ -52,7 +52,7 @@ def main() -> None:
             handle.write(document(args.source, space, args.seed, args.count))
         for material in read_asset(path).materials:
             for target in TARGETS[args.source]:
-                chain = candidates.graph_candidate(material, target)
+                chain = anchor.graph_candidate(material, target)
                 if chain is None:
                     continue
                 plain = convert(material, target, Settings(context=Context())).material  # the mapping alone
