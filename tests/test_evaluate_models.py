@@ -266,3 +266,43 @@ def test_a_gltf_volume_stacked_with_a_length_that_is_not_one_is_each_alone():
         np.testing.assert_allclose(image, shade_sphere(build_model("gltf_pbr", values), rig)[0], atol=1e-9)
     assert not np.allclose(stacked[0], stacked[1], atol=1e-3)  # (the volume did attenuate)
     np.testing.assert_allclose(stacked[1], stacked[3], atol=1e-12)
+
+
+def test_one_pass_gives_the_values_and_albedos_of_the_two_calls(tmp_path):
+    """BSDFModel.evaluate_and_albedo (what a render lit by one light calls) gives what evaluate and
+    albedo give apart, for generated materials of every model, seen from above and below the surface,
+    with and without a coat frame of its own."""
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from generated_materials import document
+    from openpbr_tools.evaluate import model_for_material
+    from openpbr_tools.io import read_asset
+
+    rng = np.random.default_rng(5)
+    wi = rng.normal(size=(64, 3))
+    wo = rng.normal(size=(64, 3))
+    wi /= np.linalg.norm(wi, axis=1, keepdims=True)
+    wo /= np.linalg.norm(wo, axis=1, keepdims=True)
+    coat_wi, coat_wo = wi[:, [1, 0, 2]], wo[:, [1, 0, 2]]
+    checked = 0
+    for model in ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface"):
+        path = tmp_path / f"{model}.mtlx"
+        path.write_text(document(model, "acescg", 8, 25))
+        for material in read_asset(str(path)).materials:
+            bsdf = model_for_material(material)[0]
+            for frame in (False, True):
+                if frame:
+                    with bsdf.coat_frame(coat_wi, coat_wo):
+                        value, albedo = bsdf.evaluate_and_albedo(wi, wo)
+                        apart = bsdf.evaluate(wi, wo)
+                    with bsdf.coat_frame(None, coat_wo):
+                        alone = bsdf.albedo(wo)
+                else:
+                    value, albedo = bsdf.evaluate_and_albedo(wi, wo)
+                    apart, alone = bsdf.evaluate(wi, wo), bsdf.albedo(wo)
+                np.testing.assert_allclose(value, apart, rtol=0, atol=1e-12)
+                np.testing.assert_allclose(albedo.reflect, alone.reflect, rtol=0, atol=1e-12)
+                np.testing.assert_allclose(albedo.transmit, alone.transmit, rtol=0, atol=1e-12)
+                checked += 1
+    assert checked == 200

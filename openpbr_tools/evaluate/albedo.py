@@ -252,22 +252,40 @@ def _lookup2(table, mu, r):
 
 def _lookup3(table, x, mu, r):
     """Trilinear interpolation of an [x, mu, r] table; ``x`` on a uniform 0..1 grid."""
+    return _lookup3_tables((table,), x, mu, r)[0]
+
+
+def _lookup3_tables(tables_, x, mu, r):
+    """:func:`_lookup3` of several tables of one shape at the same points (the coordinates and weights
+    computed once)."""
+    table = tables_[0]
     x = np.asarray(x, dtype=float)
     r = np.asarray(r, dtype=float)
     if x.size == 1 and r.size == 1:
         k, fk = _coords(np.asarray(float(x.reshape(-1)[0])), table.shape[0])
-        plane = table[k] + (table[k + 1] - table[k]) * fk
-        return _lookup1(_slice_last(plane, r.reshape(-1)[0]), mu) * np.ones(np.broadcast_shapes(x.shape, r.shape))
+        shape = np.broadcast_shapes(x.shape, r.shape)
+        out = []
+        for t in tables_:
+            plane = t[k] + (t[k + 1] - t[k]) * fk
+            out.append(_lookup1(_slice_last(plane, r.reshape(-1)[0]), mu) * np.ones(shape))
+        return out
     x, mu, r = np.broadcast_arrays(x, np.asarray(mu, dtype=float), r)
     k, fk = _coords(x, table.shape[0])
     i, fi = _coords(mu, table.shape[1])
     j, fj = _coords(r, table.shape[2])
-    acc = 0.0
-    for dk, wk in ((0, 1.0 - fk), (1, fk)):
-        for di, wi in ((0, 1.0 - fi), (1, fi)):
-            for dj, wj in ((0, 1.0 - fj), (1, fj)):
-                acc = acc + table[k + dk, i + di, j + dj] * (wk * wi * wj)
-    return acc
+    plane, row = table.shape[1] * table.shape[2], table.shape[2]  # (one flat index: cheaper than three)
+    at = k * plane + i * row + j
+    corners = [(dk * plane + di * row + dj, wk * wi * wj)
+               for dk, wk in ((0, 1.0 - fk), (1, fk)) for di, wi in ((0, 1.0 - fi), (1, fi))
+               for dj, wj in ((0, 1.0 - fj), (1, fj))]
+    out = []
+    for t in tables_:
+        flat = t.reshape(-1)
+        acc = 0.0
+        for offset, weight in corners:
+            acc = acc + flat[at + offset] * weight
+        out.append(acc)
+    return out
 
 
 def average_alpha(alpha_x, alpha_y):
@@ -316,8 +334,8 @@ def dielectric_albedo(cos_o, alpha, eta):
     x = _eta_coordinate(eta)
     r = np.sqrt(np.asarray(alpha, dtype=float))
     smooth = fresnel.fresnel_dielectric(np.maximum(cos_o, MU_FLOOR), eta)
-    reflect = _lookup3(t.dielectric_r, x, cos_o, r) * smooth
-    loss = _lookup3(t.dielectric_loss, x, cos_o, r)
+    reflect, loss = _lookup3_tables((t.dielectric_r, t.dielectric_loss), x, cos_o, r)
+    reflect = reflect * smooth
     return reflect, np.maximum(1.0 - loss - reflect, 0.0)
 
 

@@ -239,6 +239,22 @@ class BSDFModel:
             return np.zeros(shape)
         return np.broadcast_to(s.value, np.broadcast_shapes(s.value.shape, shape))
 
+    def evaluate_and_albedo(self, wi, wo) -> tuple[np.ndarray, Albedo]:
+        """:meth:`evaluate` and :meth:`albedo` of ``wo`` from one pass over the lobes (a lobe's albedo
+        depends on ``wo`` alone, and its value on neither the albedos nor their tracking: the same
+        numbers as the two calls, for about two thirds of their cost). Where :meth:`evaluate` would
+        work in chunks, the two calls."""
+        wi = np.asarray(wi, dtype=float)
+        wo = np.asarray(wo, dtype=float)
+        shape = np.broadcast_shapes(wi.shape, wo.shape)[:-1] + (3,)
+        if int(np.prod(shape[:-1])) > self.chunk_size:
+            return self.evaluate(wi, wo), self.albedo(wo)
+        wi, wo, inside = mirror_frame(wi, wo)
+        s = self._scatter(wi, wo, inside)
+        value = np.zeros(shape) if s.value is None else np.broadcast_to(s.value, np.broadcast_shapes(s.value.shape, shape))
+        albedo_shape = np.broadcast_shapes(s.reflect.shape, wo.shape[:-1] + (3,))
+        return value, Albedo(np.broadcast_to(s.reflect, albedo_shape), np.broadcast_to(s.transmit, albedo_shape))
+
     def albedo(self, wo) -> Albedo:
         """Tabulated directional albedo of the whole material for view directions ``wo``."""
         wo = np.asarray(wo, dtype=float)

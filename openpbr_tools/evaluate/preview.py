@@ -278,6 +278,7 @@ def shade(model: BSDFModel, geo: Geometry, rig: Rig = Rig(), background: bool = 
     ambient = rig.environment_radiance if environment is None else environment.mean
     lights = [(rig.key, rig.key_irradiance)] if environment is None else environment.lights
     direct = 0.0
+    albedo = None
     for direction, irradiance in lights:
         wi = _to_local(direction, geo)
         cos_i = wi[:, 2]
@@ -285,10 +286,14 @@ def shade(model: BSDFModel, geo: Geometry, rig: Rig = Rig(), background: bool = 
         if not np.any(lit):
             continue
         with coat_frame(direction):
-            f = model.evaluate(wi, wo)
+            if len(lights) == 1:  # the one light's pass over the lobes gives the albedos too
+                f, albedo = model.evaluate_and_albedo(wi, wo)
+            else:
+                f = model.evaluate(wi, wo)
         direct = direct + f * lit[:, None] * np.asarray(irradiance, dtype=float)
-    with coat_frame(None):
-        albedo = model.albedo(wo)
+    if albedo is None:
+        with coat_frame(None):
+            albedo = model.albedo(wo)
     transmit = np.asarray(albedo.transmit)
     if model.volume_absorption is not None and np.any(transmit):
         path = getattr(model, "volume_path_length", None)
