@@ -22,10 +22,10 @@ import shutil
 import tempfile
 from dataclasses import dataclass, field
 
-from . import gltf_state, tables
+from . import convert_looks, gltf_state, tables
 from .atomic import write_bytes
 from .diagnostics import Diagnostic
-from .io import ReadError, read_asset
+from .io import read_asset
 from .io.gltf.document import load_document
 from .io.paths import Kind, PathGuard, classify
 from .model import Asset, Connection, Material, Texture
@@ -123,7 +123,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
         # First every material's mapping, then the candidate search of all of them at once (their renders
         # stacked: candidates.choose_many), then the rest in the file's order.
         pending = []  # (material, its notes so far, (notes, settings, unique, name, translation, judged) or None)
-        for material in asset.materials + _included_materials(asset, tuple(allow_outside)):
+        for material in asset.materials + convert_looks.included_materials(asset, tuple(allow_outside)):
             if material.model not in MODELS:
                 continue
             before: list[Diagnostic] = []
@@ -164,9 +164,10 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             pending.append((material, before, (notes, step_settings, unique, name, translation, judged)))
         chosen = iter(candidates.choose_many([(state[5], state[4], target, state[1])
                                               for _, _, state in pending if state is not None]))
+        done = []  # (material, notes before, (notes, settings, translated) or None)
         for material, before, state in pending:
-            result.diagnostics += before
             if state is None:
+                done.append((material, before, None))
                 continue
             notes, step_settings, unique, name, _, _ = state
             translation = next(chosen)
@@ -179,17 +180,26 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             if unique != name and asset.format == "gltf" and isinstance(translated.extra.get("gltf"), dict):
                 # restored on glTF output while the material still bears the name it was written as
                 translated.extra["gltf"]["name"], translated.extra["gltf"]["renamed_to"] = name, unique
+            done.append((material, before, (notes, step_settings, translated)))
+        # a USD output's UsdPreviewSurface fallbacks: their searches at once too
+        previews = iter(candidates.choose_many([
+            (state[2], convert(state[2], "UsdPreviewSurface", state[1]), "UsdPreviewSurface", state[1])
+            for _, _, state in done if state is not None]) if kind == "usd" else [])
+        for material, before, state in done:
+            result.diagnostics += before
+            if state is None:
+                continue
+            notes, _, translated = state
             result.materials.append(translated)
             result.pairs.append((material, translated))
             if kind == "usd":
-                preview = candidates.choose(translated, convert(translated, "UsdPreviewSurface", step_settings),
-                                            "UsdPreviewSurface", step_settings)
+                preview = next(previews)
                 notes += preview.diagnostics
                 preview.material.name = f"{translated.name}_preview"
                 preview.material.material_name = translated.material_name
                 result.materials.append(preview.material)
             result.diagnostics += _at_material(notes, material)
-        looks, look_notes = _looks(asset, result, kind, context)
+        looks, look_notes = convert_looks.looks(asset, result.pairs, kind, context)
         result.diagnostics += look_notes
         written = _write_baked(baker, result.materials)
         try:
@@ -320,60 +330,6 @@ def _tag_length_units(materials: list[Material], asset: Asset) -> None:
             parameter = table.get(name)
             if parameter is not None and parameter.unit == "scene_length" and not entry.unit:
                 entry.unit, entry.unittype = names[0], "distance"
-
-
-def _looks(asset: Asset, result: Conversion, kind: str, context) -> tuple[list, list[Diagnostic]]:
-    """A .mtlx source's looks for a .mtlx output (:func:`~openpbr_tools.io.mtlx.writer.to_mtlx_string`'s, their
-    assignments following renamed materials), and a note (OPBR1104) at each assignment of a material not
-    written, each look of a USD or glTF output, and the XIncluded materials not converted here."""
-    notes = []
-    renames = {source.material_name: translated.material_name for source, translated in result.pairs
-               if source.material_name}
-    included = asset.extra.get("included_material_names") or {}
-    for names, rule, sentence in (
-            ([n for n in included if n in renames], CONVERTED, "{what} of {where} converted into this output"),
-            ([n for n in included if n not in renames], NOT_CARRIED,
-             "{what} come from {where} outside the document's folder (or unreadable on their own), which convert as "
-             "their own files: this output does not hold them")):
-        if names:
-            where = f"XIncluded file(s) ({', '.join(sorted({os.path.basename(included[n]) for n in names}))})"
-            notes.append(context.diagnostic(rule, sentence.format(what=f"{len(names)} material(s) ({', '.join(names)})",
-                                                                  where=where), asset.colorspace_location))
-    carried = []
-    for look in asset.extra.get("looks") or ():
-        what = f"{look['category']} {look['name']}"
-        if kind != "mtlx":
-            notes.append(context.diagnostic(
-                NOT_CARRIED, f"{what} is not written: {'USD' if kind == 'usd' else 'glTF'} outputs bind materials to "
-                             f"geometry, not with MaterialX looks ({len(look['assigns'])} material assignment(s) lost)",
-                look["location"]))
-            continue
-        left_out = set()
-        for name, material, location in look["assigns"]:
-            if material and material not in renames:
-                left_out.add(name)
-                why = f"comes from the XIncluded {os.path.basename(included[material])}" if material in included else \
-                    "is not in the output"
-                notes.append(context.diagnostic(
-                    NOT_CARRIED, f"{what}: materialassign {name} assigns {material}, which {why}; the assignment is "
-                                 "left out", location))
-        carried.append((look["text"], renames, left_out))
-    return carried, notes
-
-
-def _included_materials(asset: Asset, allow_outside: tuple[str, ...]) -> list[Material]:
-    """The materials of a .mtlx source's XIncluded files in its own folder (a look file's: MaterialX's
-    examples keep a look and its materials apart), read as their own documents, so that the output holds
-    what the document's looks assign; the reader followed only includes the path guard allows."""
-    included = asset.extra.get("included_material_names") or {}
-    folder = os.path.dirname(os.path.abspath(asset.path))
-    found = []
-    for path in sorted({p for p in included.values() if os.path.dirname(p) == folder}):
-        try:
-            found += [m for m in read_asset(path, allow_outside).materials if m.material_name in included]
-        except ReadError:  # unreadable on its own: its materials stay out, and say so (:func:`_looks`)
-            continue
-    return found
 
 
 def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside, looks=()) -> list[Diagnostic]:
