@@ -32,8 +32,9 @@ KEYS = ("doubleSided", "extras", "extensions", "alphaMode", "alphaCutoff", "name
 #: What an unlit material's reading as emission replaced (translate/gltf.py), restored for a glTF output.
 UNLIT_FACTORS = {"metallic": 1, "emissive": 3, "emissive_strength": 1}
 #: Extensions whose look a .mtlx or USD output loses when they stay in the state (a diffuse transmission
-#: OpenPBR's thin-walled subsurface cannot take: textured, or into a volume; the specular-glossiness model).
-UNRENDERED = (slots.DIFFUSE_TRANSMISSION, slots.SPECULAR_GLOSSINESS)
+#: OpenPBR's thin-walled subsurface cannot take: textured, or into a volume). The specular-glossiness model
+#: is rendered: the translation reads it (translate/spec_gloss.py), the state keeps it for a glTF written back.
+UNRENDERED = (slots.DIFFUSE_TRANSMISSION,)
 MAX_TEXT = 1 << 20  # a side channel larger than this is not read (a hostile file)
 
 

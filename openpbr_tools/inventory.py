@@ -45,12 +45,14 @@ def _extensions(material, not_converted: set) -> list[dict]:
     """The glTF material extensions ``material`` uses (nested ones as ``parent/name``), each with how
     the toolkit treats it: ``ratified`` (read), ``draft`` (read, see io.gltf.drafts), ``read as emission``
     (KHR_materials_unlit: its base colour emitted over a black base, translate/gltf.py), ``read as thin-walled
-    subsurface`` (KHR_materials_diffuse_transmission with factors only, no volume) or ``not converted`` (as
+    subsurface`` (KHR_materials_diffuse_transmission with factors only, no volume), ``read as metal-rough
+    (spec-gloss solve)`` (KHR_materials_pbrSpecularGlossiness, translate/spec_gloss.py) or ``not converted`` (as
     the reader reported it: ``not_converted``, from :func:`_not_converted`)."""
     from .io.gltf import drafts, slots  # lazy: info on a .mtlx file does not need the glTF tables
 
     state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
-    read_as = {slots.UNLIT: "read as emission", slots.DIFFUSE_TRANSMISSION: "read as thin-walled subsurface"}
+    read_as = {slots.UNLIT: "read as emission", slots.DIFFUSE_TRANSMISSION: "read as thin-walled subsurface",
+               slots.SPECULAR_GLOSSINESS: "read as metal-rough (spec-gloss solve)"}
     found = []
     for name in state.get("material_extensions") or ():
         status = "ratified" if name in slots.INTERPRETED_MATERIAL_EXTENSIONS else \

@@ -348,9 +348,10 @@ def test_unknown_extensions_extras_and_double_sided_are_kept_raw(tmp_path):
 
 
 def test_unlit_and_specular_glossiness_are_recorded_and_only_specular_glossiness_reported(tmp_path):
-    """Both are kept as data; specular-glossiness, which no conversion renders, is a warning; an unlit
-    material, which conversions read as emission of its base colour (and Khronos' samples use), is not
-    reported, nor is KHR_materials_unlit in extensionsRequired (OPBR1202)."""
+    """Both are kept as data; specular-glossiness, which Khronos archived (viewers that dropped it show the
+    fallback), is a warning, and `openpbr info` says how conversions read it; an unlit material, which
+    conversions read as emission of its base colour (and Khronos' samples use), is not reported, nor is
+    KHR_materials_unlit in extensionsRequired (OPBR1202)."""
     materials = [{"name": "U", "extensions": {"KHR_materials_unlit": {}}},
                  {"name": "SG", "extensions": {"KHR_materials_pbrSpecularGlossiness": {"glossinessFactor": 0.2}}}]
     path = write(tmp_path, gltf(materials, extensionsUsed=["KHR_materials_unlit", "KHR_materials_pbrSpecularGlossiness"],
@@ -363,7 +364,7 @@ def test_unlit_and_specular_glossiness_are_recorded_and_only_specular_glossiness
     assert [(d.code, d.location.path) for d in found] == [("OPBR1204", "/materials/1/extensions/KHR_materials_pbrSpecularGlossiness")]
     statuses = [m["extensions"] for m in describe(asset)["materials"]]  # what `openpbr info` lists
     assert statuses == [[{"name": "KHR_materials_unlit", "status": "read as emission"}],
-                        [{"name": "KHR_materials_pbrSpecularGlossiness", "status": "not converted"}]]
+                        [{"name": "KHR_materials_pbrSpecularGlossiness", "status": "read as metal-rough (spec-gloss solve)"}]]
 
 
 # -- the generic rules see glTF values -------------------------------------------------------------

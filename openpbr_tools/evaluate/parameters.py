@@ -223,6 +223,7 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
     if material.model == "gltf_pbr":
         _gltf_diffuse_transmission(material, resolved)
         _gltf_unlit(material, resolved)
+        _gltf_specular_glossiness(material, resolved, sampler, uvs)
     if sampler is not None and uvs is not None and material.model == "gltf_pbr":
         _gltf_anisotropy_direction(material, resolved, sampler, uvs)
     return resolved
@@ -279,6 +280,53 @@ def _gltf_unlit(material: Material, resolved: ResolvedParameters) -> None:
     values["specular"] = np.asarray(0.0)
     resolved.approximated.append(("base_color", "KHR_materials_unlit: rendered as its colour emitted by a black base "
                                                 "that does not reflect"))
+
+
+#: ior 1.5's normal-incidence reflectance, by which the specular colour that gives F0 = S is S / 0.04
+_F0_OF_1_5 = ((1.5 - 1.0) / (1.5 + 1.0)) ** 2
+
+
+def _gltf_specular_glossiness(material: Material, resolved: ResolvedParameters, sampler, uvs) -> None:
+    """A glTF file's KHR_materials_pbrSpecularGlossiness material (the reader's
+    ``extra["gltf"]["spec_gloss"]``) is rendered as the extension defines its BRDF inputs, ``c_diff = D (1 -
+    max(S))``, ``F0 = S``, ``alpha = (1 - g)^2``, not as its metallic-roughness fallback, which a viewer of
+    the extension does not show: in gltf_pbr's terms a dielectric (metallic 0) of base colour c_diff, of F0
+    S (ior 1.5 with KHR_materials_specular's colour S / 0.04, F90 1), roughness 1 - g, alpha the diffuse
+    alpha. Textures are read with ``sampler``; without one their factors apply (listed as textured)."""
+    from .textures import TextureUnavailable  # lazy: as in resolve
+
+    found = (material.extra.get("gltf") or {}).get("spec_gloss")
+    if not isinstance(found, dict) or not str(material.location.file).lower().endswith((".gltf", ".glb")):
+        return
+    values = resolved.values
+
+    def read(name: str, kind: str, default):
+        entry = found.get(name)
+        value = entry.value if entry is not None else None
+        if isinstance(value, Constant):
+            return np.asarray(value.value, dtype=float)
+        if isinstance(value, Texture) and sampler is not None and uvs is not None:
+            try:
+                sampled = sampler.sample(value, kind, uvs, f"{material.name}.{name}")
+            except TextureUnavailable as error:
+                resolved.why_not[name] = str(error)
+            else:
+                resolved.sampled.append(name)
+                return sampled if kind == "color3" else (sampled if sampled.ndim == 1 else sampled[:, 0])
+        if isinstance(value, Texture):
+            resolved.textured.append(name)
+            return np.asarray(value.scale if value.scale is not None else default, dtype=float)
+        return np.asarray(default, dtype=float)
+
+    diffuse, specular = read("diffuseColor", "color3", (1.0, 1.0, 1.0)), read("specularColor", "color3", (1.0, 1.0, 1.0))
+    values["base_color"] = diffuse * (1.0 - np.max(specular, axis=-1, keepdims=True))
+    values["specular_color"] = specular / _F0_OF_1_5
+    values["metallic"], values["ior"], values["specular"] = np.asarray(0.0), np.asarray(1.5), np.asarray(1.0)
+    values["roughness"] = 1.0 - read("glossiness", "float", 1.0)
+    if "opacity" in found:
+        values["alpha"] = read("opacity", "float", 1.0)
+    resolved.approximated.append(("base_color", "KHR_materials_pbrSpecularGlossiness: rendered by the extension's "
+                                                "BRDF inputs, not the metallic-roughness fallback"))
 
 
 def _gltf_anisotropy_direction(material: Material, resolved: ResolvedParameters, sampler, uvs) -> None:

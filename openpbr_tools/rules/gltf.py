@@ -92,11 +92,13 @@ EXCLUSIVE_EXTENSIONS = Rule(
 )
 NOT_CONVERTED = Rule(
     "OPBR1204", "gltf-material-model-not-converted", Severity.WARNING,
-    "A material uses KHR_materials_pbrSpecularGlossiness, which the toolkit does not convert.",
-    "The archived specular-glossiness workflow has no gltf_pbr parameters. The extension is kept as data "
-    "(Material.extra, restored on glTF output) and the material is checked and converted as its "
-    "metallic-roughness fallback, so a conversion loses the look. (KHR_materials_unlit is not reported: "
-    "it is converted as what it renders, emission of its base colour over a black base that does not reflect.)",
+    "A material uses KHR_materials_pbrSpecularGlossiness, which Khronos archived.",
+    "Superseded by KHR_materials_specular (with KHR_materials_ior): a viewer that no longer reads it shows "
+    "the metallic-roughness fallback (glTF's default, a white rough metal, where the file authors none). "
+    "Conversions read it as a viewer that supports it renders it: roughness 1 - glossiness, base colour, "
+    "metalness and IOR by the spec-gloss -> metal-rough solve (Babylon.js, glTF-Toolkit), approximate for a "
+    "coloured specular colour and said so. A malformed one (not an object) is not read. (KHR_materials_unlit "
+    "is converted as what it renders, emission of its base colour over a black base: not reported.)",
     passing=_gltf('"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0]}}]'),
     failing=_gltf('"extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"]',
                   '"materials": [{"name": "M", "extensions": {"KHR_materials_pbrSpecularGlossiness": '
@@ -250,6 +252,12 @@ def _observations(asset, context):
             yield context.diagnostic(BROKEN_RESOURCE, detail["message"], observation.location)
         elif observation.kind == "gltf_invalid":
             yield context.diagnostic(INVALID_PROPERTY, detail["message"], observation.location)
+        elif observation.kind == "gltf_archived":
+            yield context.diagnostic(NOT_CONVERTED, f"material {detail['material']!r} uses {detail['extension']}, which "
+                                     "Khronos archived (superseded by KHR_materials_specular); viewers that no longer "
+                                     "read it show the metallic-roughness fallback", observation.location,
+                                     hint="conversions read it by the spec-gloss -> metal-rough solve (approximate for a "
+                                          "coloured specular colour); re-export as metallic-roughness")
         elif observation.kind == "gltf_not_converted":
             rule = NOT_CONVERTED if detail["extension"] == slots.SPECULAR_GLOSSINESS else EXTENSION_NOT_CONVERTED
             yield context.diagnostic(

@@ -44,7 +44,7 @@ import dataclasses
 
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
-from . import appearance
+from . import appearance, spec_gloss
 from .anchor import graph_candidates_of, read_back_notes
 from .judging import RIG_SIZE, Figure, Judge, constant_values, figures_many, scores_many
 from .common import Settings, Translation
@@ -113,9 +113,11 @@ def choose(source: Material, translation: Translation, target: str, settings: Se
 
 
 def _searched(source: Material, translation: Translation, target: str, settings: Settings) -> bool:
-    # a glTF source (or one that came from glTF) to OpenPBR or glTF: the mapping's exact inverses are the point
+    # a glTF source (or one that came from glTF) to OpenPBR or glTF: the mapping's exact inverses are the point;
+    # not for a specular-glossiness material of constants, which the solve only approximates (spec_gloss.py)
     exact_inverse = settings.gltf_drafts or (isinstance(source.extra.get("gltf"), dict) and
-                                             target in ("open_pbr_surface", "gltf_pbr"))
+                                             target in ("open_pbr_surface", "gltf_pbr") and
+                                             not spec_gloss.constant(source))
     return settings.candidates and not exact_inverse and constant_values(source) is not None and \
         any(d.code in (APPROXIMATED.code, NOT_CARRIED.code) for d in translation.diagnostics)
 
@@ -162,18 +164,27 @@ def alternative_reading(source: Material, target: str, settings: Settings) -> Tr
     """The toolkit's second reading of ``source`` where it has one: a specular-workflow UsdPreviewSurface read
     with the F0 colour's luminance and a tint (``Settings.specular_split`` off) beside the default split into
     metal and dielectric shares (:mod:`.specular_workflow`), which a source that is not energy-conserving can
-    defeat (a red F0 of 1 over a red diffuse)."""
+    defeat (a red F0 of 1 over a red diffuse); a glTF KHR_materials_pbrSpecularGlossiness material of
+    constants read as a dielectric of its F0 colour's largest channel tinted by the colour (:mod:`.spec_gloss`)."""
     from .convert import convert  # lazy: translate.convert imports the translators, which this module serves
 
     entry = source.inputs.get("useSpecularWorkflow") if source.model == "UsdPreviewSurface" else None
-    if entry is None or not isinstance(entry.value, Constant) or not settings.specular_split:
+    glossy = spec_gloss.constant(source)  # glTF's KHR_materials_pbrSpecularGlossiness
+    if not settings.specular_split or (not glossy and (entry is None or not isinstance(entry.value, Constant))):
         return None
     try:
-        if not float(entry.value.value) >= 1:
+        if not glossy and not float(entry.value.value) >= 1:
             return None
         return convert(source, target, dataclasses.replace(settings, specular_split=False, candidates=False))
     except (ValueError, KeyError, TypeError, IndexError):
         return None
+
+
+#: Per source model, the second reading of a specular workflow (:func:`alternative_reading`).
+SECOND_READING = {"UsdPreviewSurface": ("the F0 colour's luminance with a tint",
+                                        "read by its F0 colour's luminance with a tint"),
+                  "gltf_pbr": ("a dielectric of the F0 colour's largest channel tinted by the colour",
+                               "read as a dielectric of its F0 colour's largest channel tinted by the colour")}
 
 
 def _reading(source: Material, translation: Translation, alternative: Translation, figures: list, settings: Settings):
@@ -182,12 +193,13 @@ def _reading(source: Material, translation: Translation, alternative: Translatio
     ours, theirs = figures[0].score, figures[1].score
     where = next((d.location for d in translation.diagnostics if d.code in (APPROXIMATED.code, NOT_CARRIED.code)),
                  source.location)
+    second, read = SECOND_READING.get(source.model, SECOND_READING["UsdPreviewSurface"])
     both = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: split into metal and dielectric shares "
-            f"{ours:.2f}, the F0 colour's luminance with a tint {theirs:.2f}")
+            f"{ours:.2f}, {second} {theirs:.2f}")
     if theirs < ours - MARGIN:
         alternative.diagnostics.append(settings.context.diagnostic(
-            APPROXIMATED, f"{source.name}: the specular workflow read by its F0 colour's luminance with a tint, which "
-                          f"renders closer than the split ({both})", where))
+            APPROXIMATED, f"{source.name}: the specular workflow {read}, which renders closer than the split ({both})",
+            where))
         return alternative, [figures[1]] + figures[2:]
     translation.diagnostics.append(settings.context.diagnostic(
         CONVERTED, f"{source.name}: specular workflow: {both}; kept the split", where))

@@ -12,6 +12,7 @@ import dataclasses
 from .. import tables
 from ..model import Material
 from ..rules.translation import CONVERTED
+from . import spec_gloss
 from .common import Settings, Translation
 from .gltf import gltf_to_openpbr, openpbr_to_gltf, unlit_restored, unlit_state
 from .standard_surface import openpbr_to_standard_surface, standard_surface_to_openpbr
@@ -44,6 +45,11 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         return Translation(restored, [settings.context.diagnostic(
             CONVERTED, f"{material.name}: the unlit reading (emission over a black base) is KHR_materials_unlit again",
             material.location)], material)
+    if material.model == target == "gltf_pbr" and spec_gloss.state_of(material) is not None and not settings.gltf_file:
+        # MaterialX's gltf_pbr has no specular-glossiness mode: the extension read as OpenPBR, as metal-rough
+        step = gltf_to_openpbr(material, settings)
+        back = openpbr_to_gltf(step.material, settings)
+        return Translation(back.material, step.diagnostics + back.diagnostics, material)
     if material.model == target == "gltf_pbr" and unlit_state(state) and not settings.gltf_file:
         # MaterialX's gltf_pbr has no unlit mode: the unlit reading (emission over a black base) renders as one
         step = gltf_to_openpbr(material, settings)

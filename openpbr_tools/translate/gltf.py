@@ -91,7 +91,7 @@ from ..io.gltf import drafts
 from ..io.gltf.slots import DIFFUSE_TRANSMISSION, UNLIT
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
-from . import fit
+from . import fit, spec_gloss
 from .coat_facts import COAT_EMISSION_NOTE, COAT_EMISSION_UNDONE, EMISSION_UNDER_COAT
 from .common import Dropped, Mapping, Settings, Translation, differs, translate
 from .gltf_anisotropy import gltf_anisotropy_strength, gltf_roughness, openpbr_anisotropy, openpbr_roughness
@@ -773,11 +773,16 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     else:
         source, coat_ior = with_draft_coat(material, found.get(drafts.CLEARCOAT_IOR), ior_only=True)
     unlit = _unlit_as_emission(source, state)
+    specular_glossiness = unlit is None and spec_gloss.state_of(material) is not None
+    if specular_glossiness:  # read as a viewer of the extension does: not its metallic-roughness fallback
+        source = spec_gloss.without_fallback(source)
     translation = translate(unlit or source, "open_pbr_surface", from_gltf_mappings(settings, found, coat_ior),
                             DROPPED_FROM_GLTF, settings, "glTF -> OpenPBR")
     translation.source = material
     if unlit is not None:
         translation.diagnostics += _unlit_emission(translation.material, material, settings)
+    if specular_glossiness:
+        spec_gloss.read(translation, material, settings)
     if found:
         translation.diagnostics += apply_drafts(translation.material, material, found, settings)
     translation.diagnostics += _volume_of_diffuse_transmission(material, state, settings)

@@ -24,8 +24,8 @@ Texture files are the image URI, percent-decoded, relative to the asset; an imag
 hold goes to ``Material.extra["gltf"]`` as raw JSON for a translator: ``doubleSided``, ``extras``,
 and the extensions the node does not carry (``KHR_materials_diffuse_transmission``,
 ``KHR_materials_unlit`` (converted as emission by the translation), ``KHR_materials_pbrSpecularGlossiness``
-(reported, not converted), unknown
-ones). Every value's :class:`Location` is the file, a JSON pointer to the object holding the property
+(its factors and textures also read, by specular-workflow names, into ``extra["gltf"]["spec_gloss"]`` for
+the translation; reported as archived), unknown ones). Every value's :class:`Location` is the file, a JSON pointer to the object holding the property
 and the glTF property name.
 
 Facts for the glTF rules (declared and used extensions, images, texture coordinates each primitive
@@ -195,6 +195,11 @@ class _Reader(TextureReading, ExtensionReading):
                 continue  # read as OpenPBR's thin-walled subsurface by the translation
             if recorded == slots.UNLIT:
                 continue  # read as emission of the base colour over a black base by the translation
+            if recorded == slots.SPECULAR_GLOSSINESS and isinstance(kept[recorded], dict):
+                # read by the spec-gloss -> metal-rough solve (translate/spec_gloss.py); archived: reported
+                self.asset.observe("gltf_archived", self.location(f"{pointer}/extensions/{recorded}"),
+                                   extension=recorded, material=name)
+                continue
             if recorded not in slots.NEUTRAL_EXTENSIONS:  # e.g. KHR_materials_variants lives elsewhere
                 self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{recorded}"),
                                    extension=recorded, material=name)
@@ -208,6 +213,9 @@ class _Reader(TextureReading, ExtensionReading):
             if container is not None:
                 self.read_slot(material, slot, container, container_pointer)
         self.read_drafts(material, extensions, pointer)
+        if isinstance(extensions.get(slots.SPECULAR_GLOSSINESS), dict):
+            self.read_specular_glossiness(material, extensions[slots.SPECULAR_GLOSSINESS],
+                                          f"{pointer}/extensions/{slots.SPECULAR_GLOSSINESS}")
         versioning.settle(material)
         if material.version == VERSION and material.version_basis.startswith("default"):
             material.version_basis = "glTF 2.0 material"
@@ -268,6 +276,20 @@ class _Reader(TextureReading, ExtensionReading):
                 texcoord=strength.texcoord, wrap=strength.wrap, node=strength.node, node_category=strength.node_category,
                 location=strength.location, packaged=strength.packaged)
 
+    def read_specular_glossiness(self, material: Material, container: dict, pointer: str) -> None:
+        """KHR_materials_pbrSpecularGlossiness's factors and textures, checked and read as the gltf_pbr slots
+        of the same kind are, into the glTF state by their specular-workflow names
+        (:data:`~.slots.SPECULAR_GLOSSINESS_SLOTS`); the material's own inputs stay the metal-rough fallback's."""
+        scratch = Material(name=material.name, model=MODEL, location=material.location)
+        found = {}
+        for name, slot in slots.SPECULAR_GLOSSINESS_SLOTS:
+            self.read_slot(scratch, slot, container, pointer)
+            entry = scratch.inputs.pop(slot.parameter, None)
+            if entry is not None:
+                entry.name = name
+                found[name] = entry
+        material.extra["gltf"]["spec_gloss"] = found
+
     def factor(self, slot: slots.Slot, container: dict):
         """(value, error): the authored factor converted to gltf_pbr's value, or its default."""
         if slot.factor is None or slot.factor not in container:
@@ -279,7 +301,7 @@ class _Reader(TextureReading, ExtensionReading):
             return None, f"alphaMode must be one of {', '.join(slots.ALPHA_MODES)}, not {json_text(raw)}"
         if slot.factor_components is not None:  # baseColorFactor: RGB for base_color, A for alpha
             if not json_numbers(raw, 4):
-                return None, f"baseColorFactor must be an array of 4 numbers, not {json_text(raw)}"
+                return None, f"{slot.factor} must be an array of 4 numbers, not {json_text(raw)}"
             part = tuple(json_float(v) for v in raw[slot.factor_components])
             return (part if len(part) > 1 else part[0]), None
         width = len(slot.default) if isinstance(slot.default, tuple) else 1

@@ -129,6 +129,18 @@ SLOTS: tuple[Slot, ...] = (
     Slot("dispersion", DISPERSION, "dispersion", 0.0),
 )
 
+#: KHR_materials_pbrSpecularGlossiness, read into the glTF state (``extra["gltf"]["spec_gloss"]``, by the name
+#: of the UsdPreviewSurface specular-workflow input each is read as: translate/spec_gloss.py). Each slot's
+#: ``parameter`` is the gltf_pbr parameter of the same kind whose table entry the reader checks it by.
+SPECULAR_GLOSSINESS_SLOTS = (
+    ("diffuseColor", Slot("base_color", SPECULAR_GLOSSINESS, "diffuseFactor", (1.0, 1.0, 1.0), "diffuseTexture",
+                          (0, 1, 2), True, slice(0, 3))),
+    ("opacity", Slot("alpha", SPECULAR_GLOSSINESS, "diffuseFactor", 1.0, "diffuseTexture", (3,), False, slice(3, 4))),
+    ("specularColor", Slot("base_color", SPECULAR_GLOSSINESS, "specularFactor", (1.0, 1.0, 1.0),
+                           "specularGlossinessTexture", (0, 1, 2), True)),
+    ("glossiness", Slot("roughness", SPECULAR_GLOSSINESS, "glossinessFactor", 1.0, "specularGlossinessTexture", (3,))),
+)
+
 SLOT_BY_PARAMETER = {slot.parameter: slot for slot in SLOTS}
 
 IRIDESCENCE_THICKNESS_MINIMUM = ("iridescenceThicknessMinimum", 100.0)
