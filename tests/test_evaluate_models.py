@@ -271,7 +271,7 @@ def test_a_gltf_volume_stacked_with_a_length_that_is_not_one_is_each_alone():
 def test_one_pass_gives_the_values_and_albedos_of_the_two_calls(tmp_path):
     """BSDFModel.evaluate_and_albedo (what a render lit by one light calls) gives what evaluate and
     albedo give apart, for generated materials of every model, seen from above and below the surface,
-    with and without a coat frame of its own."""
+    with and without a coat frame of its own, and for more directions than evaluate takes in one chunk."""
     import sys
 
     sys.path.insert(0, str(Path(__file__).parent))
@@ -305,4 +305,11 @@ def test_one_pass_gives_the_values_and_albedos_of_the_two_calls(tmp_path):
                 np.testing.assert_allclose(albedo.reflect, alone.reflect, rtol=0, atol=1e-12)
                 np.testing.assert_allclose(albedo.transmit, alone.transmit, rtol=0, atol=1e-12)
                 checked += 1
+        # more directions than a chunk (evaluate works in chunks there): the same
+        bsdf = model_for_material(read_asset(str(path)).materials[0])[0]
+        many_wi, many_wo = np.tile(wi, (700, 1)), np.roll(np.tile(wo, (700, 1)), 3, axis=0)
+        assert len(many_wi) > bsdf.chunk_size
+        value, albedo = bsdf.evaluate_and_albedo(many_wi, many_wo)
+        np.testing.assert_allclose(value, bsdf.evaluate(many_wi, many_wo), rtol=0, atol=1e-12)
+        np.testing.assert_allclose(albedo.reflect, bsdf.albedo(many_wo).reflect, rtol=0, atol=1e-12)
     assert checked == 200

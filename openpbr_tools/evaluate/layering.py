@@ -242,13 +242,25 @@ class BSDFModel:
     def evaluate_and_albedo(self, wi, wo) -> tuple[np.ndarray, Albedo]:
         """:meth:`evaluate` and :meth:`albedo` of ``wo`` from one pass over the lobes (a lobe's albedo
         depends on ``wo`` alone, and its value on neither the albedos nor their tracking: the same
-        numbers as the two calls, for about two thirds of their cost). Where :meth:`evaluate` would
-        work in chunks, the two calls."""
+        numbers as the two calls, for about two thirds of their cost), in chunks where :meth:`evaluate`
+        would work in chunks."""
         wi = np.asarray(wi, dtype=float)
         wo = np.asarray(wo, dtype=float)
         shape = np.broadcast_shapes(wi.shape, wo.shape)[:-1] + (3,)
-        if int(np.prod(shape[:-1])) > self.chunk_size:
-            return self.evaluate(wi, wo), self.albedo(wo)
+        count = int(np.prod(shape[:-1]))
+        if count > self.chunk_size and self._scalar_parameters() and self.coat_directions is None:
+            wi_flat = np.broadcast_to(wi, shape).reshape(-1, 3)
+            wo_flat = np.broadcast_to(wo, shape).reshape(-1, 3)
+            value, reflect, transmit = np.empty((count, 3)), np.empty((count, 3)), np.empty((count, 3))
+            for start in range(0, count, self.chunk_size):
+                stop = min(start + self.chunk_size, count)
+                value[start:stop], albedo = self._one_pass(wi_flat[start:stop], wo_flat[start:stop])
+                reflect[start:stop], transmit[start:stop] = albedo.reflect, albedo.transmit
+            return value.reshape(shape), Albedo(reflect.reshape(shape), transmit.reshape(shape))
+        return self._one_pass(wi, wo)
+
+    def _one_pass(self, wi, wo) -> tuple[np.ndarray, Albedo]:
+        shape = np.broadcast_shapes(wi.shape, wo.shape)[:-1] + (3,)
         wi, wo, inside = mirror_frame(wi, wo)
         s = self._scatter(wi, wo, inside)
         value = np.zeros(shape) if s.value is None else np.broadcast_to(s.value, np.broadcast_shapes(s.value.shape, shape))
