@@ -239,3 +239,23 @@ def test_the_evaluator_renders_the_extension_not_its_fallback(tmp_path):
     for name, value in expected.items():
         np.testing.assert_allclose(values[name], value, atol=1e-12, err_msg=name)
     assert float(values["alpha"]) == pytest.approx(0.7)
+
+
+def test_out_of_range_factors_are_errors_wherever_the_khronos_validator_finds_them(tmp_path):
+    """The extension's schema keeps every factor component in [0, 1]; the Khronos glTF-Validator reports each
+    one outside (VALUE_NOT_IN_RANGE, at the component); the toolkit reports each such factor (OPBR301), never
+    weaker than the anchor."""
+    from gltf_support import validate_with_khronos
+
+    source = _gltf(tmp_path / "sg.gltf", [
+        _spec_gloss("A", [2.0, 0.0, -0.5, 1.0], [1.5, 0.5, 0.5], 1.5),
+        _spec_gloss("B", [0.5, 0.5, 0.5, 1.2], [0.04, 0.04, 0.04], 0.5),
+        _spec_gloss("C", [0.5, 0.5, 0.5, 1.0], [0.04, 0.04, 0.04], 0.5)])
+    theirs = {m["pointer"].rsplit("/", 1)[0] if m["pointer"].rsplit("/", 1)[-1].isdigit() else m["pointer"]
+              for m in validate_with_khronos(source, tmp_path)["issues"]["messages"] if m["code"] == "VALUE_NOT_IN_RANGE"}
+    ours = {f"{d.location.path}/{d.location.input}" for d in validate_paths([str(source)]).diagnostics
+            if d.code == "OPBR301"}
+    pointer = "/materials/{}/extensions/" + EXTENSION + "/{}"
+    assert theirs == {pointer.format(0, "diffuseFactor"), pointer.format(0, "specularFactor"),
+                      pointer.format(0, "glossinessFactor"), pointer.format(1, "diffuseFactor")}
+    assert ours == theirs

@@ -92,7 +92,12 @@ def _fmt(value) -> str:
     return f"{value:g}"
 
 
+#: The part of the glTF property each KHR_materials_pbrSpecularGlossiness input the reader found is read from.
+SPECULAR_GLOSSINESS_PARTS = {"diffuseColor": "RGB", "opacity": "A", "specularColor": "RGB", "glossiness": ""}
+
+
 def check(asset, context):
+    yield from _specular_glossiness(asset, context)
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)
         value = entry.constant
@@ -148,6 +153,24 @@ def check(asset, context):
                 f"{entry.name} = {_fmt(value)} is outside the recommended range {_range(soft_low, soft_high)}{note}",
                 entry.location,
             )
+
+
+def _specular_glossiness(asset, context):
+    """A glTF material's KHR_materials_pbrSpecularGlossiness factors (the reader's ``extra["gltf"]["spec_gloss"]``)
+    against the extension's schema: every component in [0, 1] (as the Khronos glTF-Validator checks it)."""
+    for material in asset.materials:
+        state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+        found = state.get("spec_gloss") if isinstance(state.get("spec_gloss"), dict) else {}
+        for name, entry in found.items():
+            value = entry.constant
+            if value is None or isinstance(value, (bool, str)) or not is_finite(value):
+                continue
+            if any(v < 0.0 or v > 1.0 for v in _components(value)):
+                part = SPECULAR_GLOSSINESS_PARTS.get(name, "")
+                yield context.diagnostic(
+                    HARD_RANGE, f"{entry.location.input}{f' ({part})' if part else ''} = {_fmt(value)} is outside its "
+                                "valid range [0, 1] (KHR_materials_pbrSpecularGlossiness)", entry.location,
+                    hint="the extension's schema: every component in [0, 1]")
 
 
 def _reflectance(parameter) -> bool:

@@ -488,6 +488,9 @@ case("OPBR1202_vendor_required.gltf", "OPBR1202", "A vendor extension listed as 
      json.dumps(gltf([{"name": "M", "extensions": {"VENDOR_materials_magic": {"sparkle": 1}}}], ["VENDOR_materials_magic"], extensionsRequired=["VENDOR_materials_magic"]), indent=2))
 case("OPBR1203_unlit_with_clearcoat.gltf", "OPBR1203", "KHR_materials_unlit combined with KHR_materials_clearcoat, which the specification forbids.",
      json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_unlit": {}, "KHR_materials_clearcoat": {"clearcoatFactor": 1.0}}}], ["KHR_materials_unlit", "KHR_materials_clearcoat"]), indent=2))
+case("OPBR301_spec_gloss_glossiness_over_one.gltf", "OPBR301",
+     "A KHR_materials_pbrSpecularGlossiness glossinessFactor of 1.2 (the extension's schema: [0, 1]).",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_pbrSpecularGlossiness": {"diffuseFactor": [0.8, 0.8, 0.8, 1.0], "glossinessFactor": 1.2}}}], ["KHR_materials_pbrSpecularGlossiness"]), indent=2))
 case("OPBR1204_spec_gloss.gltf", "OPBR1204", "A legacy KHR_materials_pbrSpecularGlossiness material.",
      json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_pbrSpecularGlossiness": {"diffuseFactor": [0.8, 0.8, 0.8, 1.0], "glossinessFactor": 0.5}}}], ["KHR_materials_pbrSpecularGlossiness"]), indent=2))
 case("OPBR1205_texcoord_1_missing.gltf", "OPBR1205", "The base colour texture reads TEXCOORD_1 but the mesh only has TEXCOORD_0.",
