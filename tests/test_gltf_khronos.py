@@ -110,3 +110,55 @@ def test_a_missing_validator_skips_with_the_reason(monkeypatch, tmp_path):
     with pytest.raises(pytest.skip.Exception) as skipped:
         require_validator()
     assert "not installed" in str(skipped.value) or "node is not on PATH" in str(skipped.value)
+
+
+#: A material property of each family out of its schema range (every component of a colour too); the
+#: families the validator (2.0.0-dev.3.10) checks.
+OUT_OF_RANGE = {
+    "pbrMetallicRoughness": {"baseColorFactor": [1.5, 0, 0, 1], "metallicFactor": -0.1, "roughnessFactor": 1.2},
+    "KHR_materials_clearcoat": {"clearcoatFactor": 1.5, "clearcoatRoughnessFactor": -1},
+    "KHR_materials_sheen": {"sheenColorFactor": [2, 0, 0], "sheenRoughnessFactor": 1.5},
+    "KHR_materials_transmission": {"transmissionFactor": 1.5},
+    "KHR_materials_volume": {"thicknessFactor": -1, "attenuationDistance": -2, "attenuationColor": [2, 0, 0]},
+    "KHR_materials_ior": {"ior": 0.5},
+    "KHR_materials_specular": {"specularFactor": 1.5, "specularColorFactor": [-1, 0, 0]},
+    "KHR_materials_iridescence": {"iridescenceFactor": 1.5, "iridescenceIor": 0.5, "iridescenceThicknessMinimum": -5,
+                                  "iridescenceThicknessMaximum": -1},
+    "KHR_materials_anisotropy": {"anisotropyStrength": 1.5},
+    "KHR_materials_emissive_strength": {"emissiveStrength": -1},
+    "KHR_materials_dispersion": {"dispersion": -1},
+    "KHR_materials_pbrSpecularGlossiness": {"diffuseFactor": [2, 0, 0, 1], "specularFactor": [1.5, 0, 0],
+                                            "glossinessFactor": 1.5},
+}
+
+
+@pytest.mark.parametrize("family", sorted(OUT_OF_RANGE))
+def test_every_property_the_khronos_validator_finds_out_of_range_is_an_error_here(tmp_path, family):
+    """Never weaker than the anchor: each material property the Khronos glTF-Validator reports as an error
+    (VALUE_NOT_IN_RANGE, at the property or one of its components) is an error of the toolkit's at that
+    property, and the toolkit reports no error the validator does not. A base colour over 1 is an error in
+    glTF, whose colours are linear Rec.709 (not the wide-gamut warning of a .mtlx document, OPBR304); a
+    negative iridescenceThicknessMinimum, which no gltf_pbr parameter holds, too."""
+    from openpbr_tools.validate import validate_paths
+    import json
+
+    material = {"name": "M"}
+    used = []
+    if family == "pbrMetallicRoughness":
+        material[family] = OUT_OF_RANGE[family]
+    else:
+        material["extensions"] = {family: OUT_OF_RANGE[family]}
+        used.append(family)
+    if family == "KHR_materials_volume":
+        material["extensions"]["KHR_materials_transmission"] = {"transmissionFactor": 1}
+        used.append("KHR_materials_transmission")
+    path = tmp_path / "m.gltf"
+    document = {"asset": {"version": "2.0"}, "materials": [material]}
+    if used:  # (an empty extensionsUsed is an error of its own)
+        document["extensionsUsed"] = used
+    path.write_text(json.dumps(document))
+    theirs = {m["pointer"].rsplit("/", 1)[0] if m["pointer"].rsplit("/", 1)[-1].isdigit() else m["pointer"]
+              for m in validate_with_khronos(path, tmp_path)["issues"]["messages"] if m["severity"] == 0}
+    ours = {f"{d.location.path}/{d.location.input}" for d in validate_paths([str(path)]).diagnostics
+            if d.severity.name == "ERROR"}
+    assert theirs and ours == theirs

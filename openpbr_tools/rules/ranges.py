@@ -59,7 +59,8 @@ OUT_OF_GAMUT = Rule(
     "specification calls not sensible for albedos. Author the document in ACEScg (the message gives "
     "the converted value) or accept the small gain. A value above 1 even in ACEScg is no real "
     "reflectance, and a negative component makes a path tracer's sampling weights negative: both "
-    "stay OPBR301.",
+    "stay OPBR301, as does any colour above 1 in glTF, whose colours are linear Rec.709 by definition "
+    "and whose schema stops at 1 (the Khronos glTF-Validator's VALUE_NOT_IN_RANGE).",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="0.93, 0.79, 0.37" colorspace="acescg" />\n</open_pbr_surface>',
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="1.059, 0.773, 0.307" />\n</open_pbr_surface>',
 )
@@ -123,7 +124,9 @@ def check(asset, context):
         if (low or high) and _reflectance(parameter):
             if entry.name == "specular_color" and not low and _physical_metal_edge(material, table, values):
                 continue
-            wide = None if low else _in_acescg(values, entry.colorspace or material.colorspace or asset.colorspace)
+            # (a glTF colour is linear Rec.709 and the schema's range [0, 1]: no other space to author it in)
+            wide = None if low or asset.format == "gltf" else \
+                _in_acescg(values, entry.colorspace or material.colorspace or asset.colorspace)
             if wide is not None:
                 yield context.diagnostic(
                     OUT_OF_GAMUT,

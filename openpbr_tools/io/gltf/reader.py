@@ -213,6 +213,12 @@ class _Reader(TextureReading, ExtensionReading):
             if container is not None:
                 self.read_slot(material, slot, container, container_pointer)
         self.read_drafts(material, extensions, pointer)
+        iridescence = extensions.get(slots.IRIDESCENCE)
+        low_name = slots.IRIDESCENCE_THICKNESS_MINIMUM[0]
+        if isinstance(iridescence, dict) and json_numbers([iridescence.get(low_name)], 1) and \
+                json_float(iridescence[low_name]) < 0:  # (no gltf_pbr parameter holds it: checked here)
+            self.invalid(f"{pointer}/extensions/{slots.IRIDESCENCE}",
+                         f"{low_name} must be at least 0, not {json_text(iridescence[low_name])}", low_name)
         if isinstance(extensions.get(slots.SPECULAR_GLOSSINESS), dict):
             self.read_specular_glossiness(material, extensions[slots.SPECULAR_GLOSSINESS],
                                           f"{pointer}/extensions/{slots.SPECULAR_GLOSSINESS}")
