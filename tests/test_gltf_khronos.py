@@ -162,3 +162,37 @@ def test_every_property_the_khronos_validator_finds_out_of_range_is_an_error_her
     ours = {f"{d.location.path}/{d.location.input}" for d in validate_paths([str(path)]).diagnostics
             if d.severity.name == "ERROR"}
     assert theirs and ours == theirs
+
+
+#: Material properties the validator reports as errors or warnings outside the range rules (JSON types, the
+#: occlusion strength's range, an alpha cutoff the mode ignores).
+OTHER_FINDINGS = {
+    "occlusion strength": {"occlusionTexture": {"index": 0, "strength": 2}},
+    "doubleSided of another type": {"doubleSided": "yes"},
+    "name of another type": {"name": 5},
+    "alphaCutoff without MASK": {"alphaCutoff": 0.3},
+    "negative texCoord": {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "texCoord": -1}}},
+    "texture index that points nowhere": {"pbrMetallicRoughness": {"baseColorTexture": {"index": 5}}},
+    "normal scale of another type": {"normalTexture": {"index": 0, "scale": "x"}},
+    "factor of another length": {"emissiveFactor": [1, 1]},
+}
+
+
+@pytest.mark.parametrize("case", sorted(OTHER_FINDINGS))
+def test_every_material_finding_of_the_khronos_validator_is_one_here(tmp_path, case):
+    """Each property the Khronos glTF-Validator reports (error or warning) on a material is reported here at
+    that property (a textureInfo's index at the textureInfo) with the same severity."""
+    import json
+
+    from openpbr_tools.validate import validate_paths
+
+    Image.new("RGBA", (4, 4)).save(tmp_path / "t.png")
+    material = dict({"name": "M"}, **OTHER_FINDINGS[case])
+    path = tmp_path / "m.gltf"
+    path.write_text(json.dumps({"asset": {"version": "2.0"}, "images": [{"uri": "t.png"}], "textures": [{"source": 0}],
+                                "materials": [material]}))
+    theirs = {(m["pointer"].removesuffix("/index"), ("ERROR", "WARNING")[m["severity"]])
+              for m in validate_with_khronos(path, tmp_path)["issues"]["messages"] if m["severity"] <= 1}
+    ours = {(f"{d.location.path}/{d.location.input}" if d.location.input else d.location.path, d.severity.name)
+            for d in validate_paths([str(path)]).diagnostics if d.severity.name in ("ERROR", "WARNING")}
+    assert theirs and ours == theirs

@@ -10,6 +10,9 @@ folder (with ``..`` or through a symbolic link) or is a URL OPBR704 (such an ima
 an empty URI OPBR705. A file the reader refuses (not JSON, not UTF-8, a bad GLB container, JSON
 nested more than 128 levels, above ``OPENPBR_MAX_FILE_MB``) is OPBR002 or OPBR001 and exit code 2. Colour spaces are implied by the texture slot in
 glTF (colour textures sRGB, data textures linear), so the colour-space family does not apply.
+
+One module because the family's rules read one set of facts (the glTF reader's) and their examples share
+its builders; split, each half would import the other's.
 """
 
 from __future__ import annotations
@@ -178,7 +181,8 @@ BROKEN_RESOURCE = Rule(
 INVALID_PROPERTY = Rule(
     "OPBR1210", "gltf-invalid-property", Severity.ERROR,
     "A material property has the wrong JSON type (a textureInfo without an integer index, an "
-    "extension that is not an object, a malformed KHR_texture_transform).",
+    "extension that is not an object, a malformed KHR_texture_transform) or a value out of range that no "
+    "gltf_pbr parameter holds (texCoord, occlusion strength, iridescenceThicknessMinimum).",
     "The glTF schema rejects the file; lenient loaders skip the property, so the texture or extension "
     "silently disappears. Factors of the wrong type are OPBR202. A string holding an unpaired "
     "surrogate escape (\\ud800 alone) is valid JSON but no valid text: it cannot be written as UTF-8, "
@@ -194,7 +198,7 @@ NO_EFFECT = Rule(
     "OPBR1211", "gltf-extension-no-effect", Severity.WARNING,
     "A material extension is set where the glTF extension texts say it has no effect: transmission "
     "on a fully metallic material, a volume without transmission, dispersion without a volume, "
-    "iridescence with zero thickness.",
+    "iridescence with zero thickness; or an alphaCutoff without alphaMode MASK.",
     "KHR_materials_transmission applies to the dielectric part only (metallicFactor defaults to 1, so "
     "an exporter that omits it makes glass opaque metal); KHR_materials_volume acts only through "
     "transmission or diffuse transmission, and KHR_materials_dispersion only through a volume "
@@ -299,10 +303,11 @@ def _no_effect(material, context):
     if slots.IRIDESCENCE in present and value["iridescence"] != 0.0 and value["iridescence_thickness"] == 0.0:
         found.append((slots.IRIDESCENCE, "iridescence with a film of 0 nm has no effect"))
     for extension, why in found:
-        yield context.diagnostic(
-            NO_EFFECT, f"{material.name}: {why}",
-            Location(material.location.file, None, f"{material.location.path}/extensions/{extension}"),
-        )
+        yield context.diagnostic(NO_EFFECT, f"{material.name}: {why}",
+                                 Location(material.location.file, None, f"{material.location.path}/extensions/{extension}"))
+    if "alpha_cutoff" in material.inputs and constant_or_default(material, "alpha_mode") != 1:  # (the validator's warning)
+        yield context.diagnostic(NO_EFFECT, f"{material.name}: alphaCutoff has no effect unless alphaMode is MASK",
+                                 material.inputs["alpha_cutoff"].location)
 
 
 def _emissive_strength(material, context):

@@ -177,6 +177,9 @@ class _Reader(TextureReading, ExtensionReading):
         for key in ("doubleSided", "extras"):
             if key in raw:
                 extra[key] = raw[key]
+        for key, kind, what in (("name", str, "a string"), ("doubleSided", bool, "a boolean")):
+            if key in raw and not isinstance(raw[key], kind):
+                self.invalid(pointer, f"{key} must be {what}, not {json_text(raw[key])}", key)
         if raw.get("alphaMode") == "MASK":  # OpenPBR keeps the cut-out, not the mode: gltf_state carries it
             extra["alphaMode"] = "MASK"
             cutoff = raw.get("alphaCutoff", 0.5)

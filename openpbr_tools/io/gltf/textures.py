@@ -126,6 +126,8 @@ class TextureReading:
             return
         if slot.texture_kind == "occlusionTextureInfo":
             strength = json_float(info["strength"]) if json_numbers([info.get("strength")], 1) else 1.0
+            if not 0.0 <= strength <= 1.0:  # (the schema's range; read as it is)
+                self.invalid(pointer, f"strength must be in [0, 1], not {json_text(info['strength'])}", "strength")
             if strength != 1.0:
                 texture.scale, texture.bias = strength, 1.0 - strength
             return
