@@ -259,3 +259,37 @@ def test_out_of_range_factors_are_errors_wherever_the_khronos_validator_finds_th
     assert theirs == {pointer.format(0, "diffuseFactor"), pointer.format(0, "specularFactor"),
                       pointer.format(0, "glossinessFactor"), pointer.format(1, "diffuseFactor")}
     assert ours == theirs
+
+
+def test_verify_judges_a_textured_material_against_the_extension_read_per_texel(tmp_path):
+    """`--verify` (openpbr_tools.verification.measure) renders a glTF file's textured specular-glossiness
+    material with its textures sampled per pixel (its diffuse, F0 and glossiness), so the conversion's
+    figure is the solve's, not the fallback's: a grey F0 of sRGB 56 (linear ~0.04) over a red diffuse, the
+    glossiness a ramp, measures under 1.5 mean CIEDE2000; read as the fallback (every input glTF's
+    default) the same source measures over 10."""
+    from openpbr_tools.verification import measure
+
+    diffuse = np.zeros((32, 32, 4), np.uint8)
+    diffuse[...] = (180, 60, 40, 255)
+    specular = np.zeros((32, 32, 4), np.uint8)
+    specular[..., :3] = 56
+    specular[..., 3] = np.linspace(50, 250, 32)[None, :].astype(np.uint8)
+    Image.fromarray(diffuse, "RGBA").save(tmp_path / "diffuse.png")
+    Image.fromarray(specular, "RGBA").save(tmp_path / "sg.png")
+    material = _spec_gloss("M", glossiness=0.9)
+    material["extensions"][EXTENSION].update({"diffuseTexture": {"index": 0}, "specularGlossinessTexture": {"index": 1}})
+    source = _gltf(tmp_path / "t.gltf", [material], images=[{"uri": "diffuse.png"}, {"uri": "sg.png"}],
+                   textures=[{"source": 0}, {"source": 1}])
+    (converted,) = measure(convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface"))
+    assert converted[1].mean < 1.5
+    fallback = tmp_path / "fallback.mtlx"
+    fallback.write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n'
+                        '  <open_pbr_surface name="M_shader" type="surfaceshader">\n'
+                        '    <input name="base_metalness" type="float" value="1" />\n'
+                        '    <input name="specular_roughness" type="float" value="1" />\n  </open_pbr_surface>\n'
+                        '</materialx>\n')
+    from openpbr_tools.evaluate.verify import compare_materials
+
+    (source_material,) = read_asset(str(source)).materials
+    (fallback_material,) = read_asset(str(fallback)).materials
+    assert compare_materials(source_material, fallback_material).preview.mean > 10

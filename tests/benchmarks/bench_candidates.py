@@ -15,6 +15,10 @@ whose appearance fit (translate/appearance.py) was kept.
 Documents of 50 materials each; the two settings alternate document by document (the machine's drift
 falls on both). Prints both totals, their ratio (#13's budget: <= 3x) and how many materials the search
 evaluated, changed and left.
+
+Session 12 (--count 1000, side by side with c2365b6 in one run): glTF archetypes 3.40x -> 2.51x, all-lobes
+4.14x -> 2.91x; --target mtlx 2.21x -> 1.80x / 3.08x -> 2.24x; --target usda 6.57x -> 2.83x / 5.00x -> 2.25x
+(the same materials weighed and fitted; the choices the same, bench_fidelity.py's output identical).
 """
 
 from __future__ import annotations
