@@ -535,3 +535,19 @@ def test_info_says_how_each_diffuse_transmission_is_read(tmp_path):
                                 images=[{"uri": "a.png"}], textures=[{"source": 0}]))
     statuses = {m["name"]: m["extensions"][0]["status"] for m in describe(read_asset(path))["materials"]}
     assert statuses == {"F": "read as thin-walled subsurface", "T": "not converted"}
+
+
+def test_diffuse_transmission_factors_outside_the_schema_range_are_errors(tmp_path):
+    """KHR_materials_diffuse_transmission's ratified schema (material.KHR_materials_diffuse_transmission.schema.json)
+    keeps diffuseTransmissionFactor and every diffuseTransmissionColorFactor component in [0, 1]. No gltf_pbr
+    parameter holds them (they travel as JSON), so the range rule reads them there: OPBR301 at each property
+    outside, nothing for one inside (the validator in CI, 2.0.0-dev.3.10, does not check the extension)."""
+    extension = "KHR_materials_diffuse_transmission"
+    materials = [{"name": "M", "extensions": {extension: {"diffuseTransmissionFactor": 1.5,
+                                                          "diffuseTransmissionColorFactor": [2, 0, 0.5]}}},
+                 {"name": "N", "extensions": {extension: {"diffuseTransmissionFactor": 0.5,
+                                                          "diffuseTransmissionColorFactor": [1, 0, 0.5]}}}]
+    path = write(tmp_path, gltf(materials, extensionsUsed=[extension]))
+    found = [(d.location.path, d.location.input) for d in validate_paths([str(path)]).diagnostics if d.code == "OPBR301"]
+    assert sorted(found) == [(f"/materials/0/extensions/{extension}", "diffuseTransmissionColorFactor"),
+                             (f"/materials/0/extensions/{extension}", "diffuseTransmissionFactor")]

@@ -21,6 +21,7 @@ their node definitions' UI ranges assume one scene scale, and 2 (cm) is as norma
 from __future__ import annotations
 
 from ..diagnostics import Severity
+from ..model import Location
 from ..optics import F82_COSINE
 from ..values import is_finite
 from . import Rule, for_each_input
@@ -99,6 +100,7 @@ SPECULAR_GLOSSINESS_PARTS = {"diffuseColor": "RGB", "opacity": "A", "specularCol
 
 def check(asset, context):
     yield from _specular_glossiness(asset, context)
+    yield from _diffuse_transmission(asset, context)
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)
         value = entry.constant
@@ -173,6 +175,33 @@ def _specular_glossiness(asset, context):
                 yield context.diagnostic(
                     HARD_RANGE, f"{entry.location.input}{f' ({part})' if part else ''} = {_fmt(value)} is outside its "
                                 "valid range [0, 1] (KHR_materials_pbrSpecularGlossiness)", entry.location,
+                    hint="the extension's schema: every component in [0, 1]")
+
+
+#: KHR_materials_diffuse_transmission's factors (kept as the glTF reader's raw JSON: no gltf_pbr parameter
+#: holds them) and the range its schema gives each: [0, 1], every component.
+DIFFUSE_TRANSMISSION_FACTORS = ("diffuseTransmissionFactor", "diffuseTransmissionColorFactor")
+
+
+def _diffuse_transmission(asset, context):
+    """A glTF material's KHR_materials_diffuse_transmission factors outside [0, 1] (OPBR301 at the property;
+    a conversion does not read such a factor, and says so)."""
+    from ..io.gltf.slots import DIFFUSE_TRANSMISSION  # lazy: only glTF assets carry the extension
+
+    for material in asset.materials:
+        state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+        extensions = state.get("extensions") if isinstance(state.get("extensions"), dict) else {}
+        found = extensions.get(DIFFUSE_TRANSMISSION)
+        for name in DIFFUSE_TRANSMISSION_FACTORS if isinstance(found, dict) else ():
+            value = found.get(name)
+            values = value if isinstance(value, list) else [value]
+            if all(isinstance(v, (int, float)) and not isinstance(v, bool) and is_finite(v) for v in values) and \
+                    any(not 0.0 <= v <= 1.0 for v in values):
+                shown = _fmt(tuple(float(v) for v in values) if isinstance(value, list) else float(value))
+                yield context.diagnostic(
+                    HARD_RANGE, f"{name} = {shown} is outside its valid range [0, 1] ({DIFFUSE_TRANSMISSION})",
+                    Location(material.location.file, None, f"{material.location.path}/extensions/{DIFFUSE_TRANSMISSION}",
+                             name),
                     hint="the extension's schema: every component in [0, 1]")
 
 
