@@ -303,7 +303,7 @@ def _gltf_specular_glossiness(material: Material, resolved: ResolvedParameters, 
     def read(name: str, kind: str, default):
         entry = found.get(name)
         value = entry.value if entry is not None else None
-        if isinstance(value, Constant):
+        if isinstance(value, Constant) and np.all(np.isfinite(np.asarray(value.value, dtype=float))):
             return np.asarray(value.value, dtype=float)
         if isinstance(value, Texture) and sampler is not None and uvs is not None:
             try:
@@ -323,8 +323,7 @@ def _gltf_specular_glossiness(material: Material, resolved: ResolvedParameters, 
     values["specular_color"] = specular / _F0_OF_1_5
     values["metallic"], values["ior"], values["specular"] = np.asarray(0.0), np.asarray(1.5), np.asarray(1.0)
     values["roughness"] = 1.0 - read("glossiness", "float", 1.0)
-    if "opacity" in found:
-        values["alpha"] = read("opacity", "float", 1.0)
+    values["alpha"] = read("opacity", "float", 1.0)  # (the extension's coverage, 1 unauthored; not the fallback's)
     resolved.approximated.append(("base_color", "KHR_materials_pbrSpecularGlossiness: rendered by the extension's "
                                                 "BRDF inputs, not the metallic-roughness fallback"))
 

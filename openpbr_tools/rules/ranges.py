@@ -21,7 +21,7 @@ their node definitions' UI ranges assume one scene scale, and 2 (cm) is as norma
 from __future__ import annotations
 
 from ..diagnostics import Severity
-from ..model import Location
+from ..model import Connection, Location, Texture
 from ..optics import F82_COSINE
 from ..values import is_finite
 from . import Rule, for_each_input
@@ -161,20 +161,36 @@ def check(asset, context):
 
 
 def _specular_glossiness(asset, context):
-    """A glTF material's KHR_materials_pbrSpecularGlossiness factors (the reader's ``extra["gltf"]["spec_gloss"]``)
-    against the extension's schema: every component in [0, 1] (as the Khronos glTF-Validator checks it)."""
+    """A glTF material's KHR_materials_pbrSpecularGlossiness factors (the reader's ``extra["gltf"]["spec_gloss"]``,
+    which no generic rule walks) against the extension's schema, as the Khronos glTF-Validator checks them:
+    every component in [0, 1] (OPBR301, a factor beside a texture too: the texture's scale), a value of the
+    wrong type (OPBR202), one that is not finite (OPBR203), a texture index that points nowhere (OPBR802)."""
+    from .structure import DANGLING  # lazy: sibling rule modules
+    from .values import NON_FINITE, UNPARSABLE  # lazy: as above
+
     for material in asset.materials:
         state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
         found = state.get("spec_gloss") if isinstance(state.get("spec_gloss"), dict) else {}
         for name, entry in found.items():
-            value = entry.constant
-            if value is None or isinstance(value, (bool, str)) or not is_finite(value):
+            where = entry.location
+            if entry.error is not None:
+                yield context.diagnostic(UNPARSABLE, entry.error if entry.error.startswith(str(where.input))
+                                         else f"{where.input}: {entry.error}", where)
                 continue
-            if any(v < 0.0 or v > 1.0 for v in _components(value)):
+            if isinstance(entry.value, Connection) and entry.value.dangling:
+                yield context.diagnostic(DANGLING, f"{where.input}: {entry.value.reason or 'a texture that does not exist'}",
+                                         where)
+                continue
+            value = entry.value.scale if isinstance(entry.value, Texture) else entry.constant
+            if value is None or isinstance(value, (bool, str)):
+                continue
+            if not is_finite(value):
+                yield context.diagnostic(NON_FINITE, f"{where.input} is {_fmt(value)}", where)
+            elif any(v < 0.0 or v > 1.0 for v in _components(value)):
                 part = SPECULAR_GLOSSINESS_PARTS.get(name, "")
                 yield context.diagnostic(
-                    HARD_RANGE, f"{entry.location.input}{f' ({part})' if part else ''} = {_fmt(value)} is outside its "
-                                "valid range [0, 1] (KHR_materials_pbrSpecularGlossiness)", entry.location,
+                    HARD_RANGE, f"{where.input}{f' ({part})' if part else ''} = {_fmt(value)} is outside its "
+                                "valid range [0, 1] (KHR_materials_pbrSpecularGlossiness)", where,
                     hint="the extension's schema: every component in [0, 1]")
 
 

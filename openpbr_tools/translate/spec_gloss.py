@@ -10,7 +10,11 @@ extension renders those and ignores the material's metallic-roughness fallback, 
 That is the specular workflow of :mod:`.specular_workflow` with the extension's strength, the maximum of
 S (the share of light its lobe takes from the diffuse): OpenPBR's base colour, metalness and dielectric
 IOR come from the published spec-gloss -> metal-rough solve (Babylon.js, Microsoft's glTF-Toolkit, which
-use the same ``1 - max(S)``), exact for a grey S (a dielectric of F0 S over D); ``specular_roughness`` is
+use the same ``1 - max(S)``) applied to the extension's BRDF input ``c_diff``, not to D: its diffuse is
+``c_diff`` under a Fresnel lobe that takes light again, as OpenPBR's dielectric base is under its
+specular layer (on the evaluator, a grey F0 of 0.04 / 0.25 over D (0.5, 0.4, 0.3) measured 0.77 / 4.16 with
+D, 0.28 / 0.33 with c_diff). A grey S is a dielectric of F0 S over c_diff, up to the two Fresnel curves; a
+black diffuse is the metal of F0 S. ``specular_roughness`` is
 ``1 - g`` exactly (both are alpha's square root); the diffuse alpha is the material's alpha, read with its
 alphaMode as glTF's. With textures the solve runs per texel (the baker; the diffuse and specular textures
 must share their UVs). Everything else on the material (normal, occlusion, emission, alpha mode, double
@@ -40,17 +44,29 @@ DECIDED = ("base_color", "base_metalness", "specular_ior", "specular_roughness",
 #: glTF inputs of the fallback a reader of the extension ignores (its alpha: the diffuse alpha's).
 FALLBACK = ("base_color", "alpha", "metallic", "roughness")
 NOTE = ("the extension's diffuse colour and F0 colour become a metal share and a dielectric one (one base colour, one "
-        "metalness: the spec-gloss -> metal-rough solve of Babylon.js and glTF-Toolkit with the extension's "
-        "c_diff = diffuse (1 - max(specular)), dielectric F0 the specular colour's smallest channel; exact for a grey "
-        "specular colour)")
+        "metalness: the spec-gloss -> metal-rough solve of Babylon.js and glTF-Toolkit on the extension's "
+        "c_diff = diffuse (1 - max(specular)), dielectric F0 the specular colour's smallest channel; a grey specular "
+        "colour splits exactly)")
 
 
 def state_of(material: Material) -> dict | None:
     """The extension's inputs the glTF reader found (``extra["gltf"]["spec_gloss"]``: diffuseColor, opacity,
     specularColor, glossiness), or None for a material without the extension."""
+    if material.model != "gltf_pbr":
+        return None
     state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
     found = state.get("spec_gloss")
     return found if isinstance(found, dict) else None
+
+
+def _readable(entry: Input | None) -> bool:
+    """Whether the reader could read ``entry`` (a finite constant or a texture): another (a value of the
+    wrong type, a dangling texture; reported by validation) is read as the extension's default."""
+    if entry is None:
+        return False
+    if isinstance(entry.value, Texture):
+        return True
+    return isinstance(entry.value, Constant) and bool(np.all(np.isfinite(np.asarray(entry.value.value, dtype=float))))
 
 
 def constant(material: Material) -> bool:
@@ -81,9 +97,10 @@ def read(result: Translation, material: Material, settings: Settings) -> None:
                         material_name=material.material_name, material_location=material.material_location,
                         colorspace=material.colorspace)
     for name in ("diffuseColor", "specularColor"):  # (unauthored: the extension's default, white; not the preview's)
-        workflow.inputs[name] = _renamed(found[name], name) if name in found else \
+        workflow.inputs[name] = _renamed(found[name], name) if _readable(found.get(name)) else \
             Input(name, "color3", Constant(DEFAULTS[name]), material.location, colorspace="lin_rec709")
-    workflow.inputs["roughness"] = _roughness(found.get("glossiness"), material)
+    workflow.inputs["roughness"] = _roughness(found.get("glossiness") if _readable(found.get("glossiness")) else None,
+                                              material)
     split = translate(workflow, "open_pbr_surface", _mappings() if settings.specular_split else _tinted(), (),
                       settings, "glTF KHR_materials_pbrSpecularGlossiness -> OpenPBR")
     for name in DECIDED:
@@ -91,6 +108,9 @@ def read(result: Translation, material: Material, settings: Settings) -> None:
         if name in split.material.inputs:
             result.material.inputs[name] = split.material.inputs[name]
     result.diagnostics = [d for d in result.diagnostics if d.location.input not in DECIDED + FALLBACK] + split.diagnostics
+    state = result.material.extra.get("gltf")
+    if isinstance(state, dict):  # the result is no specular-glossiness material: judged by its own values
+        state.pop("spec_gloss", None)
     where = next((entry.location for entry in found.values()), material.location)
     result.diagnostics.append(settings.context.diagnostic(
         CONVERTED, f"{material.name} (glTF -> OpenPBR): KHR_materials_pbrSpecularGlossiness read as a viewer that "
@@ -98,15 +118,25 @@ def read(result: Translation, material: Material, settings: Settings) -> None:
                    "1 - glossiness, the base colour, metalness and IOR the spec-gloss -> metal-rough solve", where))
 
 
+def c_diff(diffuse, specular):
+    """The extension's diffuse BRDF input, ``D (1 - max(S))``: what the solve splits (the dielectric's share
+    of it is under a lobe that takes its own light again, as OpenPBR's dielectric is)."""
+    return np.asarray(diffuse, dtype=np.float64) * (1.0 - np.max(np.clip(specular, 0.0, 1.0), axis=-1, keepdims=True))
+
+
 def _mappings() -> tuple[Mapping, ...]:
+    def solved(diffuse, specular):
+        return specular_workflow.split(c_diff(diffuse, specular), specular, STRENGTH)
+
     def base_color(diffuse, specular):
-        return specular_workflow.split(diffuse, specular, STRENGTH)[1]
+        return solved(diffuse, specular)[1]
 
     def metalness(diffuse, specular):
-        return specular_workflow.split(diffuse, specular, STRENGTH)[0]
+        return solved(diffuse, specular)[0]
 
-    def specular_ior(diffuse, specular):
-        return ior_from_f0(specular_workflow.split(diffuse, specular, STRENGTH)[2])
+    def specular_ior(diffuse, specular):  # (a full metal's IOR is unused: the default, not a huge number)
+        m, _, a = solved(diffuse, specular)
+        return np.where(m >= 1.0 - 1e-9, 1.5, ior_from_f0(a))
 
     def dielectric(diffuse, specular) -> bool:  # some of it is a dielectric (a black diffuse: the metal of F0 S)
         return bool(np.any(metalness(diffuse, specular) < 1.0 - 1e-9))
@@ -129,8 +159,8 @@ def _mappings() -> tuple[Mapping, ...]:
 
 def _tinted() -> tuple[Mapping, ...]:
     """The second reading (``Settings.specular_split`` off; the candidate search weighs it beside the solve
-    for constant materials): a dielectric over the diffuse colour whose F0 is the specular colour's largest
-    channel, tinted by the colour (OpenPBR's specular_color, which tints the edge as well)."""
+    for constant materials): a dielectric over ``c_diff`` whose F0 is the specular colour's largest channel,
+    tinted by the colour (OpenPBR's specular_color, which tints the edge as well)."""
     def peak(specular):
         return np.max(specular, axis=-1, keepdims=True)
 
@@ -139,7 +169,7 @@ def _tinted() -> tuple[Mapping, ...]:
         return np.where(top > 0, specular / np.where(top > 0, top, 1.0), 1.0)
 
     return (
-        Mapping("base_color", ("diffuseColor",)),
+        Mapping("base_color", ("diffuseColor", "specularColor"), c_diff),
         Mapping("specular_ior", ("specularColor",), lambda specular: ior_from_f0(peak(specular)), exact=False,
                 note="the specular colour's largest channel as a dielectric's F0 (Fresnel's curve, not Schlick's)"),
         Mapping("specular_color", ("specularColor",), tint, exact=False,
@@ -168,4 +198,4 @@ def _roughness(glossiness: Input | None, material: Material) -> Input:
         return Input("roughness", "float", texture, glossiness.location)
     if isinstance(value, Constant):
         return Input("roughness", "float", Constant(1.0 - float(value.value)), glossiness.location)
-    return _renamed(glossiness, "roughness")  # (a broken value: the translation reports it)
+    return _renamed(glossiness, "roughness")
