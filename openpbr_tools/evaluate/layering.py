@@ -201,22 +201,29 @@ class BSDFModel:
         """BSDF value f(wi, wo), RGB, for arrays of unit directions (local frame; last axis xyz).
         Viewers below the surface see the mirrored configuration (inside a closed dielectric
         the relative IOR is inverted)."""
+        wi, wo, shape, chunks = self._chunks(wi, wo)
+        if chunks is None:
+            return self._evaluate(wi, wo)
+        out = np.empty((len(wi), 3))
+        for part in chunks:
+            out[part] = self._evaluate(wi[part], wo[part])
+        return out.reshape(shape)
+
+    chunk_size = 16384
+
+    def _chunks(self, wi, wo):
+        """(wi, wo, shape of the values, slices) where the directions are evaluated in cache-sized chunks
+        (NumPy's temporaries then stay in the CPU cache: many directions, parameters without batch axes,
+        no coat frame; the directions flattened), else (wi, wo, shape, None)."""
         wi = np.asarray(wi, dtype=float)
         wo = np.asarray(wo, dtype=float)
         shape = np.broadcast_shapes(wi.shape, wo.shape)[:-1] + (3,)
         count = int(np.prod(shape[:-1]))
-        if count > self.chunk_size and self._scalar_parameters() and self.coat_directions is None:
-            # Evaluate in cache-sized chunks: NumPy's temporaries then stay in the CPU cache.
-            wi_flat = np.broadcast_to(wi, shape).reshape(-1, 3)
-            wo_flat = np.broadcast_to(wo, shape).reshape(-1, 3)
-            out = np.empty((count, 3))
-            for start in range(0, count, self.chunk_size):
-                stop = min(start + self.chunk_size, count)
-                out[start:stop] = self._evaluate(wi_flat[start:stop], wo_flat[start:stop])
-            return out.reshape(shape)
-        return self._evaluate(wi, wo)
-
-    chunk_size = 16384
+        if count <= self.chunk_size or not self._scalar_parameters() or self.coat_directions is not None:
+            return wi, wo, shape, None
+        flat = (np.broadcast_to(wi, shape).reshape(-1, 3), np.broadcast_to(wo, shape).reshape(-1, 3))
+        return (*flat, shape, [slice(start, min(start + self.chunk_size, count))
+                               for start in range(0, count, self.chunk_size)])
 
     def _scalar_parameters(self) -> bool:
         """True when no parameter carries batch axes (then directions can be split freely)."""
@@ -244,20 +251,14 @@ class BSDFModel:
         depends on ``wo`` alone, and its value on neither the albedos nor their tracking: the same
         numbers as the two calls, for about two thirds of their cost), in chunks where :meth:`evaluate`
         would work in chunks."""
-        wi = np.asarray(wi, dtype=float)
-        wo = np.asarray(wo, dtype=float)
-        shape = np.broadcast_shapes(wi.shape, wo.shape)[:-1] + (3,)
-        count = int(np.prod(shape[:-1]))
-        if count > self.chunk_size and self._scalar_parameters() and self.coat_directions is None:
-            wi_flat = np.broadcast_to(wi, shape).reshape(-1, 3)
-            wo_flat = np.broadcast_to(wo, shape).reshape(-1, 3)
-            value, reflect, transmit = np.empty((count, 3)), np.empty((count, 3)), np.empty((count, 3))
-            for start in range(0, count, self.chunk_size):
-                stop = min(start + self.chunk_size, count)
-                value[start:stop], albedo = self._one_pass(wi_flat[start:stop], wo_flat[start:stop])
-                reflect[start:stop], transmit[start:stop] = albedo.reflect, albedo.transmit
-            return value.reshape(shape), Albedo(reflect.reshape(shape), transmit.reshape(shape))
-        return self._one_pass(wi, wo)
+        wi, wo, shape, chunks = self._chunks(wi, wo)
+        if chunks is None:
+            return self._one_pass(wi, wo)
+        value, reflect, transmit = (np.empty((len(wi), 3)) for _ in range(3))
+        for part in chunks:
+            value[part], albedo = self._one_pass(wi[part], wo[part])
+            reflect[part], transmit[part] = albedo.reflect, albedo.transmit
+        return value.reshape(shape), Albedo(reflect.reshape(shape), transmit.reshape(shape))
 
     def _one_pass(self, wi, wo) -> tuple[np.ndarray, Albedo]:
         shape = np.broadcast_shapes(wi.shape, wo.shape)[:-1] + (3,)
