@@ -353,3 +353,16 @@ def test_an_openpbr_result_is_no_specular_glossiness_material(tmp_path):
     source = _gltf(tmp_path / "sg.gltf", [_spec_gloss("M", [0.8, 0.1, 0.1, 1.0], [0.9, 0.5, 0.04], 0.7)])
     result = convert_file(str(source), str(tmp_path / "out.usda"))
     assert not [d for d in result.diagnostics if "luminance with a tint" in d.message]
+
+
+def test_with_unlit_too_the_evaluator_reads_it_as_conversions_do(tmp_path):
+    """KHR_materials_unlit beside the extension is read as unlit by the translation; the evaluator, which
+    judges the conversion, reads it the same way (the fallback's base colour emitted over black)."""
+    from openpbr_tools.evaluate import resolve
+
+    material = _spec_gloss("M", [0.2, 0.5, 0.1, 1.0], [0.04, 0.04, 0.04], 0.5,
+                           pbrMetallicRoughness={"baseColorFactor": [0.3, 0.6, 0.9, 1.0]})
+    material["extensions"]["KHR_materials_unlit"] = {}
+    source = _gltf(tmp_path / "sg.gltf", [material], extensionsUsed=[EXTENSION, "KHR_materials_unlit"])
+    values = resolve(read_asset(str(source)).materials[0]).values
+    assert tuple(values["emissive"]) == pytest.approx((0.3, 0.6, 0.9)) and float(values["specular"]) == 0.0

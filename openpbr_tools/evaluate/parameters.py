@@ -295,8 +295,11 @@ def _gltf_specular_glossiness(material: Material, resolved: ResolvedParameters, 
     alpha. Textures are read with ``sampler``; without one their factors apply (listed as textured)."""
     from .textures import TextureUnavailable  # lazy: as in resolve
 
-    found = (material.extra.get("gltf") or {}).get("spec_gloss")
-    if not isinstance(found, dict) or not str(material.location.file).lower().endswith((".gltf", ".glb")):
+    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    found = state.get("spec_gloss")
+    extensions = state.get("extensions") if isinstance(state.get("extensions"), dict) else {}
+    if not isinstance(found, dict) or not str(material.location.file).lower().endswith((".gltf", ".glb")) \
+            or UNLIT in extensions:  # (the two together: read as unlit, as conversions do)
         return
     values = resolved.values
 
