@@ -366,3 +366,23 @@ def test_with_unlit_too_the_evaluator_reads_it_as_conversions_do(tmp_path):
     source = _gltf(tmp_path / "sg.gltf", [material], extensionsUsed=[EXTENSION, "KHR_materials_unlit"])
     values = resolve(read_asset(str(source)).materials[0]).values
     assert tuple(values["emissive"]) == pytest.approx((0.3, 0.6, 0.9)) and float(values["specular"]) == 0.0
+
+
+def test_the_glTF_translations_other_notes_are_kept(tmp_path):
+    """The glTF translation of the rest of the material (here an alpha MASK, which OpenPBR holds as a binary
+    opacity) reports as it does for any glTF material: only the inputs the extension decides are left to
+    spec_gloss.read, not the notes of the rest (the MASK note had been dropped with them)."""
+    from openpbr_tools.translate.common import Settings as Plain
+
+    # (no diffuseFactor: the coverage is the default, as the metal-rough twin's without a baseColorFactor)
+    materials = [_spec_gloss("S", specular=[0.04, 0.04, 0.04], glossiness=0.5, alphaMode="MASK", alphaCutoff=0.3),
+                 {"name": "M", "alphaMode": "MASK", "alphaCutoff": 0.3, "pbrMetallicRoughness": {"metallicFactor": 0.0}}]
+    source = _gltf(tmp_path / "sg.gltf", materials)
+    result = convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface", Plain(candidates=False))
+
+    def mask_notes(index):
+        return [d for d in result.diagnostics if d.location.path.startswith(f"/materials/{index}")
+                and "binary opacity" in d.message]
+
+    assert len(mask_notes(0)) == len(mask_notes(1)) == 1
+    assert _values(tmp_path / "out.mtlx")["S"].get("geometry_opacity", 1.0) == 1.0  # (1 over the cutoff 0.3)

@@ -774,10 +774,12 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
         source, coat_ior = with_draft_coat(material, found.get(drafts.CLEARCOAT_IOR), ior_only=True)
     unlit = _unlit_as_emission(source, state)
     specular_glossiness = unlit is None and spec_gloss.state_of(material) is not None
+    mappings = from_gltf_mappings(settings, found, coat_ior)
     if specular_glossiness:  # read as a viewer of the extension does: not its metallic-roughness fallback
         source = spec_gloss.without_fallback(source)
-    translation = translate(unlit or source, "open_pbr_surface", from_gltf_mappings(settings, found, coat_ior),
-                            DROPPED_FROM_GLTF, settings, "glTF -> OpenPBR")
+        mappings = tuple(m for m in mappings if m.target not in spec_gloss.DECIDED)  # (spec_gloss.read's)
+    translation = translate(unlit or source, "open_pbr_surface", mappings, DROPPED_FROM_GLTF, settings,
+                            "glTF -> OpenPBR")
     translation.source = material
     if unlit is not None:
         translation.diagnostics += _unlit_emission(translation.material, material, settings)

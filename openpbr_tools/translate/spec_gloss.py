@@ -25,6 +25,7 @@ that a glTF written back has it again.
 from __future__ import annotations
 
 import copy
+import dataclasses
 
 import numpy as np
 
@@ -84,30 +85,27 @@ def without_fallback(material: Material) -> Material:
     source.inputs = {name: entry for name, entry in material.inputs.items() if name not in FALLBACK}
     opacity = found.get("opacity")
     if opacity is not None:
-        source.inputs["alpha"] = _renamed(opacity, "alpha")
+        source.inputs["alpha"] = dataclasses.replace(opacity, name="alpha")
     return source
 
 
 def read(result: Translation, material: Material, settings: Settings) -> None:
     """Set the :data:`DECIDED` OpenPBR inputs of ``result`` (the glTF translation of
-    :func:`without_fallback`) from the extension's diffuse, specular and glossiness (module docstring),
-    replacing what the translation made of them and its notes at them."""
+    :func:`without_fallback`, without its mappings of those inputs) from the extension's diffuse, specular
+    and glossiness (module docstring), with the notes of how they were read."""
     found = state_of(material) or {}
     workflow = Material(name=material.name, model="UsdPreviewSurface", location=material.location,
                         material_name=material.material_name, material_location=material.material_location,
                         colorspace=material.colorspace)
     for name in ("diffuseColor", "specularColor"):  # (unauthored: the extension's default, white; not the preview's)
-        workflow.inputs[name] = _renamed(found[name], name) if _readable(found.get(name)) else \
+        workflow.inputs[name] = dataclasses.replace(found[name], name=name) if _readable(found.get(name)) else \
             Input(name, "color3", Constant(DEFAULTS[name]), material.location, colorspace="lin_rec709")
     workflow.inputs["roughness"] = _roughness(found.get("glossiness") if _readable(found.get("glossiness")) else None,
                                               material)
     split = translate(workflow, "open_pbr_surface", _mappings() if settings.specular_split else _tinted(), (),
                       settings, "glTF KHR_materials_pbrSpecularGlossiness -> OpenPBR")
-    for name in DECIDED:
-        result.material.inputs.pop(name, None)
-        if name in split.material.inputs:
-            result.material.inputs[name] = split.material.inputs[name]
-    result.diagnostics = [d for d in result.diagnostics if d.location.input not in DECIDED + FALLBACK] + split.diagnostics
+    result.material.inputs.update({name: entry for name, entry in split.material.inputs.items() if name in DECIDED})
+    result.diagnostics += split.diagnostics
     state = result.material.extra.get("gltf")
     if isinstance(state, dict):  # the result is no specular-glossiness material: judged by its own values
         state.pop("spec_gloss", None)
@@ -179,14 +177,8 @@ def _tinted() -> tuple[Mapping, ...]:
     )
 
 
-def _renamed(entry: Input, name: str) -> Input:
-    out = copy.copy(entry)
-    out.name = name
-    return out
-
-
 def _roughness(glossiness: Input | None, material: Material) -> Input:
-    """``1 - glossiness`` (the factor, or the texture's alpha times it): roughness."""
+    """``1 - glossiness`` (a readable factor, or the texture's alpha times it): roughness."""
     if glossiness is None:
         return Input("roughness", "float", Constant(0.0), material.location)  # glossiness 1 by default
     value = glossiness.value
@@ -196,6 +188,4 @@ def _roughness(glossiness: Input | None, material: Material) -> Input:
         bias = 0.0 if value.bias is None else float(np.reshape(value.bias, -1)[0])
         texture.scale, texture.bias = -scale, 1.0 - bias
         return Input("roughness", "float", texture, glossiness.location)
-    if isinstance(value, Constant):
-        return Input("roughness", "float", Constant(1.0 - float(value.value)), glossiness.location)
-    return _renamed(glossiness, "roughness")
+    return Input("roughness", "float", Constant(1.0 - float(value.value)), glossiness.location)
