@@ -98,10 +98,10 @@ def _fallback_for(texture: Texture, ptype: str):
     return fallback
 
 
-def _sampled(values: np.ndarray, p) -> np.ndarray:
+def _sampled(values: np.ndarray, kind: str) -> np.ndarray:
     """A sampler's values shaped for the evaluator: (N,) for floats, (N, 3) for colours (a single
-    channel read for a colour is grey)."""
-    if p.type in ("color3", "color4", "vector3"):
+    channel read for a colour is grey); ``kind`` the parameter's type."""
+    if kind in ("color3", "color4", "vector3"):
         return values if values.ndim == 2 else np.repeat(values[:, None], 3, axis=1)
     return values if values.ndim == 1 else values[:, 0]
 
@@ -196,7 +196,7 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
                 elif p.role == "normal":
                     resolved.normal = sampled
                 else:
-                    resolved.values[name] = _sampled(sampled, p)
+                    resolved.values[name] = _sampled(sampled, p.type)
                 continue
         if p.role in _GEOMETRIC_ROLES:
             if isinstance(value, Texture):
@@ -315,7 +315,7 @@ def _gltf_specular_glossiness(material: Material, resolved: ResolvedParameters, 
                 resolved.why_not[name] = str(error)
             else:
                 resolved.sampled.append(name)
-                return sampled if kind == "color3" else (sampled if sampled.ndim == 1 else sampled[:, 0])
+                return _sampled(sampled, kind)
         if isinstance(value, Texture):
             resolved.textured.append(name)
             return np.asarray(value.scale if value.scale is not None else default, dtype=float)

@@ -83,17 +83,8 @@ def graph_candidates_of(items: list[tuple]) -> list[Material | None]:
     for position, (source, _, target, _) in enumerate(items):
         if materialx_graphs.graphs(source.model, target):
             groups.setdefault((source.model, target), []).append(position)
-    for (_, target), positions in groups.items():
-        try:
-            found = graph_candidates([items[p][0] for p in positions], target)
-        except (ValueError, KeyError, TypeError, IndexError):  # a malformed constant (reported by the mapping)
-            found = []
-            for p in positions:
-                try:
-                    found.append(graph_candidate(items[p][0], target))
-                except (ValueError, KeyError, TypeError, IndexError):
-                    found.append(None)
-        for p, candidate in zip(positions, found):
+    for (_, target), positions in groups.items():  # (graph_candidates falls back one by one itself)
+        for p, candidate in zip(positions, graph_candidates([items[p][0] for p in positions], target)):
             out[p] = candidate
     return out
 

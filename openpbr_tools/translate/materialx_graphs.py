@@ -281,18 +281,6 @@ def _row(value: _Value, row: int):
     return tuple(float(v) for v in value.array[row])
 
 
-def evaluate(name: str, values: dict) -> dict:
-    """The outputs of translation graph ``name`` for interface ``values`` (others: defaults), by
-    output name without its ``_out`` suffix (the target's parameter names)."""
-    return evaluate_many(name, [values])[0]
-
-
-def evaluate_many(name: str, value_sets: list[dict]) -> list[dict]:
-    """:func:`evaluate` for each of ``value_sets``, every node evaluated once for all of them (the same
-    numbers as one by one); raises :class:`GraphError` (or the arithmetic's error) for the whole batch."""
-    return _rows(_evaluate_columns(name, _Interface(value_sets)), len(value_sets))
-
-
 def _evaluate_columns(name: str, interface: _Interface) -> dict[str, _Value]:
     """Graph ``name``'s outputs (by parameter name) for the batch of ``interface``."""
     nodes, graph_outputs = _compiled(name)
