@@ -279,7 +279,7 @@ def _rebase_textures(materials: list[Material], source_path: str, output_path: s
             value = entry.value
             if isinstance(value, Connection) and value.graph_xml:
                 # lazy: MaterialX is loaded for a .mtlx output anyway (this runs only for one)
-                from .io.mtlx.graph import rewrite_files
+                from .io.mtlx.capture import rewrite_files
 
                 moved = copy.copy(value)
                 moved.graph_xml = rewrite_files(value.graph_xml, rebased)

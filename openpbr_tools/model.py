@@ -83,6 +83,26 @@ def normal_map_decode(strength: float) -> tuple[tuple[float, float, float], tupl
     return (2.0 * strength, 2.0 * strength, 2.0), (-strength, -strength, -1.0)
 
 
+def normal_strength(scale) -> float | None:
+    """The strength of a ``normalmap`` node's ``scale`` as authored: a float (``ND_normalmap_float``),
+    or a vector2 whose x and y are equal (``ND_normalmap_vector2`` scales x and y by its components);
+    ``None`` for a vector2 with different components, which one strength cannot hold, and for
+    anything else. An unauthored scale is 1 (both nodedefs' default)."""
+    if scale is None:
+        return 1.0
+    if isinstance(scale, bool):
+        return None
+    if isinstance(scale, (int, float)):
+        return float(scale)
+    try:
+        components = tuple(float(component) for component in scale)
+    except (TypeError, ValueError):
+        return None
+    if len(components) == 2 and components[0] == components[1]:
+        return components[0]
+    return None
+
+
 @dataclass(slots=True)
 class Texture:
     """A reference to an image file feeding a parameter.

@@ -175,6 +175,8 @@ OTHER_FINDINGS = {
     "texture index that points nowhere": {"pbrMetallicRoughness": {"baseColorTexture": {"index": 5}}},
     "normal scale of another type": {"normalTexture": {"index": 0, "scale": "x"}},
     "factor of another length": {"emissiveFactor": [1, 1]},
+    "misspelt property": {"pbrMetallicRoughness": {"baseColourFactor": [1, 0, 0, 1]}},
+    "misspelt textureInfo property": {"normalTexture": {"index": 0, "sacle": 2}},
 }
 
 
@@ -196,3 +198,31 @@ def test_every_material_finding_of_the_khronos_validator_is_one_here(tmp_path, c
     ours = {(f"{d.location.path}/{d.location.input}" if d.location.input else d.location.path, d.severity.name)
             for d in validate_paths([str(path)]).diagnostics if d.severity.name in ("ERROR", "WARNING")}
     assert theirs and ours == theirs
+
+
+def test_a_misspelt_property_of_a_material_extension_is_a_warning_as_the_validators(tmp_path):
+    """The older IridescenceSuzanne sample (tests/data/published/gltf_samples) spells iridescenceIOR: the
+    validator's UNEXPECTED_PROPERTY, a warning here too (OPBR1213), with the property most likely meant."""
+    import json
+
+    from openpbr_tools.validate import validate_paths
+
+    require_validator()
+    Image.new("RGBA", (4, 4)).save(tmp_path / "t.png")
+    path = tmp_path / "m.gltf"
+    path.write_text(json.dumps({
+        "asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_iridescence", "KHR_texture_transform"],
+        "images": [{"uri": "t.png"}], "textures": [{"source": 0}],
+        "materials": [{"name": "M", "extensions": {"KHR_materials_iridescence": {
+            "iridescenceFactor": 1, "iridescenceIOR": 1.8, "iridescenceTexture": {
+                "index": 0, "extensions": {"KHR_texture_transform": {"rotate": 1.0}}}}}}]}))
+    theirs = {(m["code"], m["pointer"]) for m in validate_with_khronos(path, tmp_path)["issues"]["messages"]
+              if m["severity"] <= 1}
+    ours = {(d.code, f"{d.location.path}/{d.location.input}"): d for d in validate_paths([str(path)]).diagnostics
+            if d.severity.name in ("ERROR", "WARNING")}
+    iridescence = "/materials/0/extensions/KHR_materials_iridescence"
+    expected = {f"{iridescence}/iridescenceIOR", f"{iridescence}/iridescenceTexture/extensions/KHR_texture_transform/rotate"}
+    assert theirs == {("UNEXPECTED_PROPERTY", pointer) for pointer in expected}
+    assert set(ours) == {("OPBR1213", pointer) for pointer in expected}
+    assert {d.severity.name for d in ours.values()} == {"WARNING"}
+    assert ours[("OPBR1213", f"{iridescence}/iridescenceIOR")].hint == "did you mean 'iridescenceIor'?"

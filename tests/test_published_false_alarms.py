@@ -192,3 +192,174 @@ def Material "M"
 ''', encoding="utf-8")
     found = [d for d in validate_paths([str(tmp_path / "m.usda")]).diagnostics if d.code == "OPBR507"]
     assert len(found) == 1
+
+
+def test_a_document_without_colour_space_warns_only_for_openpbr_colours(write_mtlx, codes_of):
+    # MaterialX's TestSuite: Standard Surface documents without a colorspace. Only OpenPBR's specification
+    # names another default (ACEScg) than MaterialX's lin_rec709.
+    standard = write_mtlx('''<?xml version="1.0"?>
+<materialx version="1.39">
+  <standard_surface name="S" type="surfaceshader">
+    <input name="base_color" type="color3" value="0.8, 0.2, 0.1" />
+  </standard_surface>
+</materialx>
+''', name="standard.mtlx")
+    openpbr = write_mtlx('''<?xml version="1.0"?>
+<materialx version="1.39">
+  <open_pbr_surface name="S" type="surfaceshader">
+    <input name="base_color" type="color3" value="0.8, 0.2, 0.1" />
+  </open_pbr_surface>
+</materialx>
+''', name="openpbr.mtlx")
+    assert "OPBR501" not in codes_of(standard) and "OPBR501" in codes_of(openpbr)
+
+
+def _gltf(tmp_path, document: dict) -> str:
+    import json
+
+    path = tmp_path / "m.gltf"
+    path.write_text(json.dumps(dict({"asset": {"version": "2.0"}}, **document)), encoding="utf-8")
+    return str(path)
+
+
+def test_a_volume_beside_transmission_switched_off_is_not_a_volume_without_transmission(tmp_path, codes_of):
+    # Khronos' IORTestGrid: its T0 materials keep KHR_materials_transmission at 0 beside a volume (as the
+    # Khronos validator, which warns only where the transmission extension is missing)
+    off = {"KHR_materials_transmission": {"transmissionFactor": 0.0}, "KHR_materials_volume": {"thicknessFactor": 0.1}}
+    path = _gltf(tmp_path, {"extensionsUsed": sorted(off), "materials": [{"name": "M", "extensions": off}]})
+    assert "OPBR1211" not in codes_of(path)
+    missing = {"KHR_materials_volume": {"thicknessFactor": 0.1}}
+    path = _gltf(tmp_path, {"extensionsUsed": sorted(missing), "materials": [{"name": "M", "extensions": missing}]})
+    assert "OPBR1211" in codes_of(path)
+
+
+def test_a_required_spec_gloss_extension_is_one_the_toolkit_interprets(tmp_path, codes_of):
+    # Khronos' Avocado_SpecGloss requires KHR_materials_pbrSpecularGlossiness, which conversions read by the
+    # spec-gloss -> metal-rough solve (translate/spec_gloss.py): not OPBR1202, still OPBR1204 (archived)
+    name = "KHR_materials_pbrSpecularGlossiness"
+    path = _gltf(tmp_path, {"extensionsUsed": [name], "extensionsRequired": [name],
+                            "materials": [{"name": "M", "extensions": {name: {"glossinessFactor": 0.5}}}]})
+    codes = codes_of(path)
+    assert "OPBR1202" not in codes and "OPBR1204" in codes
+
+
+def _stage(tmp_path, body: str) -> str:
+    path = tmp_path / "m.usda"
+    path.write_text("#usda 1.0\n(\n    metersPerUnit = 1\n    upAxis = \"Y\"\n    defaultPrim = \"M\"\n)\n" + body,
+                    encoding="utf-8")
+    return str(path)
+
+
+def test_a_surface_connected_to_another_declared_output_of_the_preview_shader_is_read(tmp_path):
+    # OpenUSD testUsdImagingGLInstancingWithMaterials/ni_ni_material_binding_resolution.usda connects
+    # outputs:surface to the UsdPreviewSurface's outputs:out, and Storm renders it
+    path = _stage(tmp_path, '''def Material "M"
+{
+    token outputs:surface.connect = </M/Surface.outputs:out>
+    def Shader "Surface"
+    {
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor = (0.0, 1.0, 0.0)
+        token outputs:out
+    }
+}
+''')
+    asset = read_asset(path)
+    assert [m.inputs["diffuseColor"].constant for m in asset.materials] == [(0.0, 1.0, 0.0)]
+    assert not [o for o in asset.observations if o.kind == "dangling_reference"]
+
+
+def test_a_time_sampled_texture_file_is_read_as_its_first_sample(tmp_path):
+    # OpenUSD testUsdImagingGLPreviewSurface/testPreviewSurfaceAnimated.usda: an animated UsdUVTexture file
+    from openpbr_tools.validate import validate_paths
+
+    (tmp_path / "grid.png").write_bytes(b"")
+    path = _stage(tmp_path, '''def Material "M"
+{
+    token outputs:surface.connect = </M/Surface.outputs:surface>
+    def Shader "Surface"
+    {
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor.connect = </M/Texture.outputs:rgb>
+        token outputs:surface
+    }
+    def Shader "Texture"
+    {
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file.timeSamples = {
+            1: @grid.png@,
+            2: @grid_1.png@,
+        }
+        float3 outputs:rgb
+    }
+}
+''')
+    (material,) = read_asset(path).materials
+    assert material.inputs["diffuseColor"].texture.file == "grid.png"
+    assert "OPBR705" not in {d.code for d in validate_paths([path]).diagnostics}
+
+
+def _mtlx_accepts(path) -> bool:
+    import MaterialX as mx
+
+    from glsupport import shader_generator
+
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    document.setDataLibrary(shader_generator()[0])
+    return document.validate()[0]
+
+
+def test_a_uv_texture_fallback_is_written_with_the_images_width(tmp_path):
+    # OpenUSD testPreviewSurfaceTextureFallback.usda: UsdUVTexture's fallback is a float4 (0, 0, 1, 1) while the
+    # image it becomes reads rgb: written as a color3 default "0, 0, 1, 1", MaterialX rejected the document
+    from openpbr_tools.convert import convert_file
+    from openpbr_tools.translate.common import Settings
+
+    (tmp_path / "missing_on_purpose.png").write_bytes(b"")
+    path = _stage(tmp_path, '''def Material "M"
+{
+    token outputs:surface.connect = </M/Surface.outputs:surface>
+    def Shader "Surface"
+    {
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor.connect = </M/Texture.outputs:rgb>
+        token outputs:surface
+    }
+    def Shader "Texture"
+    {
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @missing_on_purpose.png@
+        float4 inputs:fallback = (0, 0, 1, 1)
+        float3 outputs:rgb
+    }
+}
+''')
+    for target in ("open_pbr_surface", "UsdPreviewSurface"):
+        out = tmp_path / f"{target}.mtlx"
+        convert_file(path, str(out), target, Settings())
+        assert _mtlx_accepts(out) and 'value="0, 0, 1"' in out.read_text()
+
+
+def test_an_input_the_model_does_not_define_is_left_out_with_a_note(tmp_path):
+    # OpenUSD testPreviewSurfaceTextureWithToken.usda authors inputs:test on its UsdPreviewSurface: carried as
+    # is into a .mtlx, MaterialX rejected the document ("Node interface error")
+    from openpbr_tools.convert import convert_file
+    from openpbr_tools.translate.common import Settings
+
+    path = _stage(tmp_path, '''def Material "M"
+{
+    token outputs:surface.connect = </M/Surface.outputs:surface>
+    def Shader "Surface"
+    {
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor = (0.5, 0.2, 0.1)
+        string inputs:test = "test"
+        token outputs:surface
+    }
+}
+''')
+    out = tmp_path / "o.mtlx"
+    conversion = convert_file(path, str(out), "UsdPreviewSurface", Settings())
+    assert _mtlx_accepts(out) and 'name="test"' not in out.read_text()
+    assert [(d.code, d.location.input) for d in conversion.diagnostics] == [("OPBR1104", "test")]

@@ -20,7 +20,7 @@ from . import Rule, for_each_input
 
 NO_DOCUMENT_COLORSPACE = Rule(
     "OPBR501", "no-document-colorspace", Severity.WARNING,
-    "Colour values are authored but the document states no colour space.",
+    "OpenPBR colour values are authored but the document states no colour space.",
     "The OpenPBR specification says unspecified colours are ACEScg; MaterialX and most of its "
     "examples assume lin_rec709. The same file therefore renders with different colours depending on "
     "the reader. Set colorspace on the <materialx> element.",
@@ -117,7 +117,9 @@ def check(asset, context):
                 texture.location or entry.location, hint="set colorspace=\"none\" on the image's file input",
             )
         if parameter.role == "color":
-            if ambiguous is None and asset.colorspace is None and (
+            # only OpenPBR's specification names another default (ACEScg) than MaterialX's lin_rec709:
+            # Standard Surface, glTF PBR and UsdPreviewSurface colours are lin_rec709 in MaterialX as elsewhere
+            if ambiguous is None and asset.colorspace is None and material.model == "open_pbr_surface" and (
                 (texture is None and entry.colorspace is None and entry.constant is not None)
                 or (texture is not None and texture.colorspace is None)
             ):

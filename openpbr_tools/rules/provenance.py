@@ -253,7 +253,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1203": ("The glTF specification forbids combining these extensions (pbrSpecularGlossiness with the PBR "
                  "extensions, unlit with others): loaders pick one.", f"{GLTF}; {khr('KHR_materials_pbrSpecularGlossiness')}"),
     "OPBR1204": ("The material's look is defined by the archived specular-glossiness extension, which gltf_pbr (and "
-                 "OpenPBR) cannot carry: converted, it becomes its metallic-roughness fallback.",
+                 "OpenPBR) cannot hold: viewers that dropped it show the fallback, and a conversion approximates it "
+                 "by the spec-gloss -> metal-rough solve.",
                  f"{khr('KHR_materials_pbrSpecularGlossiness')}; {_MX}libraries/bxdf/gltf_pbr.mtlx"),
     "OPBR1205": ("A texture reading a UV set the mesh does not have samples nothing (or set 0) in loaders: the "
                  "texture renders wrong or as its factor.", GLTF),
@@ -269,6 +270,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1211": ("The extension texts say these settings do nothing (transmission on a metal, a volume without "
                  "transmission, dispersion without a volume): intent lost, and viewers differ.",
                  f"{khr('KHR_materials_volume')}; {khr('KHR_materials_dispersion')}; {khr('KHR_materials_iridescence')}"),
+    "OPBR1213": ("A property the schema does not define is ignored by every viewer: a misspelt factor renders as its "
+                 "default, silently. The Khronos glTF-Validator warns (UNEXPECTED_PROPERTY).",
+                 f"{GLTF_MATERIAL_SCHEMA}; {khr('KHR_materials_iridescence')}; https://github.com/KhronosGroup/glTF-Validator"),
     "OPBR1212": ("Nothing renders wrong (info: Khronos' own samples use these); checks and conversions see the "
                  "material without the extension, and a conversion reports what it keeps or loses.",
                  f"{khr('KHR_materials_diffuse_transmission')}; {GLTF}"),

@@ -11,7 +11,7 @@ import dataclasses
 
 from .. import tables
 from ..model import Material
-from ..rules.translation import CONVERTED
+from ..rules.translation import CONVERTED, NOT_CARRIED
 from . import spec_gloss
 from .common import Settings, Translation
 from .gltf import gltf_to_openpbr, openpbr_to_gltf, unlit_restored, unlit_state
@@ -72,4 +72,18 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         current = copy.copy(material)  # rebased beside the output, say) never reaches the source
         current.inputs = dict(material.inputs)
         current.extra = {k: dict(v) if isinstance(v, dict) else v for k, v in material.extra.items()}  # written into
+        diagnostics += _without_unknown_inputs(current, settings)
     return Translation(current, diagnostics, material)
+
+
+def _without_unknown_inputs(material: Material, settings: Settings) -> list:
+    """Inputs the model does not define (a typo, OPBR101 on the source) are left out of a material carried
+    as is, each with a note: written back, MaterialX rejects the whole document ("Node interface error")."""
+    table = tables.table(material.model, material.version if material.version in tables.versions(material.model) else None)
+    notes = []
+    for name in [n for n in material.inputs if table.get(n) is None]:
+        entry = material.inputs.pop(name)
+        notes.append(settings.context.diagnostic(
+            NOT_CARRIED, f"{material.name}: {name} is no input of {material.model}, so it is not written",
+            entry.location or material.location.with_input(name)))
+    return notes

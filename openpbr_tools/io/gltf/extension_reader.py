@@ -39,6 +39,37 @@ class ExtensionReading:
         if nested:
             extra["nested_extensions"] = nested
 
+    def unexpected_properties(self, raw: dict, extensions: dict, pointer: str) -> None:
+        """Properties the schemas of the material's objects do not define (:func:`.slots.object_properties`):
+        in the material, its pbrMetallicRoughness, each known material extension, their textureInfos and
+        those's KHR_texture_transform. Observed as ``gltf_unexpected_property``, as the Khronos
+        glTF-Validator's UNEXPECTED_PROPERTY."""
+        known = slots.object_properties()
+        objects = [(slots.CORE, raw, pointer), (slots.PBR, raw.get(slots.PBR), f"{pointer}/{slots.PBR}")]
+        objects += [(name, extensions.get(name), f"{pointer}/extensions/{name}") for name in known
+                    if name not in (slots.CORE, slots.PBR)]
+        for container, found, where in objects:
+            if not isinstance(found, dict):
+                continue
+            names, textures = known[container]
+            self.unexpected(found, names, where, container or "material")
+            for name, kind in textures.items():
+                info = found.get(name)
+                if not isinstance(info, dict):
+                    continue
+                self.unexpected(info, slots.TEXTURE_INFO_PROPERTIES[kind] + slots.COMMON_PROPERTIES, f"{where}/{name}", kind)
+                inner = info.get("extensions")
+                transform = inner.get(slots.TEXTURE_TRANSFORM) if isinstance(inner, dict) else None
+                if isinstance(transform, dict):
+                    self.unexpected(transform, slots.TEXTURE_TRANSFORM_PROPERTIES + slots.COMMON_PROPERTIES,
+                                    f"{where}/{name}/extensions/{slots.TEXTURE_TRANSFORM}", slots.TEXTURE_TRANSFORM)
+
+    def unexpected(self, found: dict, names, where: str, what: str) -> None:
+        for key in found:
+            if key not in names:
+                self.asset.observe("gltf_unexpected_property", self.location(where, key), property=key, object=what,
+                                   expected=sorted(names))
+
     def read_drafts(self, material: Material, extensions: dict, pointer: str) -> None:
         """The draft extensions (:mod:`.drafts`) into ``extra["gltf"]["drafts"]``: per extension, its
         properties as :class:`Input` s keyed by the draft record's names (OpenPBR's where one to one)."""

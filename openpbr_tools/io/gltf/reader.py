@@ -207,6 +207,7 @@ class _Reader(TextureReading, ExtensionReading):
                 self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{recorded}"),
                                    extension=recorded, material=name)
         self.unknown_sub_extensions(extensions, pointer, name, extra)
+        self.unexpected_properties(raw, extensions, pointer)
         self.index, self.reported = index, set()
         # glTF ignores alpha in OPAQUE mode (specification 3.9.4): only MASK and BLEND read the
         # base colour texture's A channel, so only they get an alpha texture input.

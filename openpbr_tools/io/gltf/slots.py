@@ -18,6 +18,7 @@ without ``emissiveFactor`` is multiplied by (0, 0, 0), a ``clearcoatTexture`` wi
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 CORE = ""
@@ -48,8 +49,10 @@ NEUTRAL_EXTENSIONS = ("KHR_draco_mesh_compression", "KHR_mesh_quantization", "EX
 # Everything the toolkit reads correctly when a file lists it in extensionsRequired.
 # (EXT_texture_webp: the reader follows its image source, and WebP decodes; KTX2 from
 # KHR_texture_basisu does not, so that one is not understood. KHR_materials_unlit: a conversion reads
-# it as what it renders, emission of the base colour over a black base: translate/gltf.py.)
-UNDERSTOOD_EXTENSIONS = frozenset(INTERPRETED_MATERIAL_EXTENSIONS + (TEXTURE_TRANSFORM, "EXT_texture_webp", UNLIT)
+# it as what it renders, emission of the base colour over a black base: translate/gltf.py;
+# KHR_materials_pbrSpecularGlossiness: by the published spec-gloss -> metal-rough solve, translate/spec_gloss.py.)
+UNDERSTOOD_EXTENSIONS = frozenset(INTERPRETED_MATERIAL_EXTENSIONS + (TEXTURE_TRANSFORM, "EXT_texture_webp", UNLIT,
+                                                                   SPECULAR_GLOSSINESS)
                                   + NEUTRAL_EXTENSIONS)
 
 # KHR_materials_unlit and KHR_materials_pbrSpecularGlossiness each state that the other material
@@ -144,6 +147,38 @@ SPECULAR_GLOSSINESS_SLOTS = (
 SLOT_BY_PARAMETER = {slot.parameter: slot for slot in SLOTS}
 
 IRIDESCENCE_THICKNESS_MINIMUM = ("iridescenceThicknessMinimum", 100.0)
+
+#: The properties each material JSON object may hold besides its slots' factors and textures (glTF 2.0's
+#: material.schema.json, material.pbrMetallicRoughness.schema.json and textureInfo schemas, and each
+#: extension's schema): the Khronos glTF-Validator reports any other as UNEXPECTED_PROPERTY.
+COMMON_PROPERTIES = ("extensions", "extras")
+OTHER_PROPERTIES = {
+    CORE: ("name", "pbrMetallicRoughness", "doubleSided"),
+    IRIDESCENCE: (IRIDESCENCE_THICKNESS_MINIMUM[0],),
+    DIFFUSE_TRANSMISSION: ("diffuseTransmissionFactor", "diffuseTransmissionTexture",
+                           "diffuseTransmissionColorFactor", "diffuseTransmissionColorTexture"),
+    UNLIT: (),
+}
+TEXTURE_INFO_PROPERTIES = {"textureInfo": ("index", "texCoord"), "normalTextureInfo": ("index", "texCoord", "scale"),
+                           "occlusionTextureInfo": ("index", "texCoord", "strength")}
+TEXTURE_TRANSFORM_PROPERTIES = ("offset", "rotation", "scale", "texCoord")
+
+
+@functools.cache
+def object_properties() -> dict[str, tuple[frozenset, dict[str, str]]]:
+    """Per material JSON object (a :class:`Slot` container name), the properties its schema defines and,
+    for each textureInfo property among them, its kind (``textureInfo``, ``normalTextureInfo``...)."""
+    found: dict[str, tuple[set, dict]] = {}
+    for slot in SLOTS + tuple(slot for _, slot in SPECULAR_GLOSSINESS_SLOTS):
+        names, textures = found.setdefault(slot.container, (set(COMMON_PROPERTIES), {}))
+        names.update(name for name in (slot.factor, slot.texture) if name)
+        if slot.texture:
+            textures[slot.texture] = slot.texture_kind
+    for container, names in OTHER_PROPERTIES.items():
+        known, textures = found.setdefault(container, (set(COMMON_PROPERTIES), {}))
+        known.update(names)
+        textures.update({name: "textureInfo" for name in names if name.endswith("Texture")})
+    return {container: (frozenset(names), textures) for container, (names, textures) in found.items()}
 ANISOTROPY_DIRECTION_DEFAULT = (1.0, 0.5)  # RG encoding of the direction (1, 0): (d + 1) / 2
 
 # Image formats a texture extension adds to glTF's core PNG and JPEG (specification 3.8.2).

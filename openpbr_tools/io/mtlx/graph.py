@@ -11,8 +11,9 @@ MaterialX document so a read-write round trip keeps it. The reader reads documen
 
 from __future__ import annotations
 
-from ...model import Connection, Constant, Location, Texture, UVTransform
+from ...model import Connection, Constant, Location, Texture, UVTransform, normal_strength
 from ...values import ValueSyntaxError, parse_value
+from .capture import capture_graph
 
 IMAGE_CATEGORIES = ("image", "tiledimage", "gltf_image", "gltf_colorimage", "UsdUVTexture")
 PASS_THROUGH = ("convert", "dot")
@@ -31,8 +32,10 @@ class GraphFollower:
                 return self.upstream_node(graph_input)
             return None
         output = port.getConnectedOutput()
-        if output is not None:
-            return output.getConnectedNode()
+        if output is not None and output.getParent().getCategory() in ("nodegraph", "materialx"):
+            return output.getConnectedNode()  # a node graph's (or the document's) output
+        # a multi-output node's own output (an <output> child of the node or of its nodedef): the node
+        # itself feeds the port
         return port.getConnectedNode()
 
     def follow_shader_input(self, port):
@@ -72,7 +75,7 @@ class GraphFollower:
             return texture
         return Connection(
             node.getNamePath(), node.getCategory(), f"{node.getCategory()} node is not a texture lookup",
-            graph_xml=_capture_graph(node), output=node.getName(),
+            graph_xml=capture_graph(node, binding=self.binding), output=node.getName(),
         )
 
     def texture_chain(self, node, output_name: str = "") -> Texture | None:
@@ -101,12 +104,18 @@ class GraphFollower:
             elif category == "normalmap":
                 if arithmetic.seen:  # arithmetic after the decode: not a texture's scale and bias
                     return None
-                scale_input = node.getInput("scale")
-                normal_scale = float(scale_input.getValue()) if scale_input is not None and scale_input.hasAttribute("value") else 1.0
+                normal_scale = _normal_scale(node.getInput("scale"))
+                if normal_scale is None:  # a connected scale, or a vector2 one with different x and y
+                    return None
             elif category not in PASS_THROUGH:
                 return None
+            elif category == "convert" and node.getType().startswith("color") and \
+                    (node.getInput("in") is not None and node.getInput("in").getType().startswith("vector")):
+                return None  # a vector image read as a colour: no Texture holds that (nor its colour management)
             upstream = node.getInput("in1" if category in ("multiply", "add") else "in")
             node = self.upstream_node(upstream) if upstream is not None else None
+            # which output of the next node this step reads (a multi-output UsdUVTexture's rgb, say)
+            output_name = upstream.getOutputString() if upstream is not None and not upstream.getNodeGraphString() else ""
         else:
             return None
         image_type = None
@@ -114,12 +123,37 @@ class GraphFollower:
             image_type, channel = _multioutput_type(node, output_name)
             if channel is not None and channels is None:
                 channels = (channel,)
+        if not self.plain_coordinates(node):
+            return None  # coordinates a Texture cannot hold: the graph is kept whole, not read without them
         texture = self.image(node, channels, normal_scale, image_type)
         texture.scale, texture.bias = arithmetic.values()
         return texture
 
+    #: (instance, nodedef) while a custom shader node's implementation graph is read for that instance
+    binding = None
+
+    def bound_file(self, file_input):
+        """The element holding an image's file name: its ``file`` input or, where that is bound to an
+        interface input (``interfacename``), the input it is bound to, whose value, file prefix and
+        colour space the file then takes: the node graph's own input, or in a graph implementing a
+        nodedef, the instance's input being read (:attr:`binding`), else the nodedef's default."""
+        if file_input is None or not file_input.hasAttribute("interfacename"):
+            return file_input
+        graph = file_input.getParent().getParent()
+        if graph is not None and graph.getCategory() == "nodegraph" and graph.getNodeDefString():
+            if self.binding is None:
+                return file_input
+            instance, nodedef = self.binding
+            name = file_input.getInterfaceName()
+            bound = instance.getInput(name) or nodedef.getActiveInput(name)
+        else:
+            bound = file_input.getInterfaceInput()
+        if bound is None or not bound.hasAttribute("value"):
+            return file_input
+        return bound
+
     def image(self, node, channels, normal_scale, image_type: str | None = None) -> Texture:
-        file_input = node.getInput("file")
+        file_input = self.bound_file(node.getInput("file"))
         file_value = file_input.getValueString() if file_input is not None else ""
         prefix = file_input.getActiveFilePrefix() if file_input is not None else ""
         texture = Texture(
@@ -148,12 +182,34 @@ class GraphFollower:
         texture.constant_uv = self.constant_placement(node)
         return texture
 
+    def plain_coordinates(self, node) -> bool:
+        """Whether the image reads coordinates a :class:`Texture` holds: the default UVs, a ``texcoord``
+        node (its set), a ``place2d`` of constants on one (its transform) or on nothing (a constant
+        placement, OPBR706). Anything else -- UVs multiplied by a tiling, a constant or procedural
+        coordinate -- would be dropped by reading the image alone."""
+        port = _coordinates(node)
+        if port is None:
+            return True
+        place = self.upstream_node(port)
+        if place is None:
+            return not port.hasAttribute("value") and not _connected(port)
+        if place.getCategory() == "place2d":
+            if any(_connected(p) for p in place.getInputs() if p.getName() != "texcoord"):
+                return False
+            inner = place.getInput("texcoord")
+            if inner is None:
+                return True
+            place = self.upstream_node(inner)
+            if place is None:
+                return not _connected(inner)
+        return place.getCategory() == "texcoord" and not any(_connected(p) for p in place.getInputs())
+
     def constant_placement(self, node) -> bool:
         """Whether the image's coordinates come from a ``place2d`` whose own ``texcoord`` is not
         connected: MaterialX 1.39's ``ND_place2d_vector2`` gives that input no default geometric
         property (unlike ``image``'s, which defaults to UV0), so its renderers read one texel, at
         (0, 0) or the authored value, everywhere."""
-        texcoord = node.getInput("texcoord")
+        texcoord = _coordinates(node)
         place = self.upstream_node(texcoord) if texcoord is not None else None
         if place is None or place.getCategory() != "place2d":
             return False
@@ -172,7 +228,7 @@ class GraphFollower:
                 transform.scale = tiling
             if offset:
                 transform.offset = offset
-        texcoord = node.getInput("texcoord")
+        texcoord = _coordinates(node)
         place = self.upstream_node(texcoord) if texcoord is not None else None
         if place is not None and place.getCategory() == "place2d":
             transform.scale = _vector2(place.getInput("scale")) or transform.scale
@@ -188,6 +244,40 @@ class GraphFollower:
             if index is not None and index.hasAttribute("value") and int(index.getValue()) != 0:
                 uv_set = int(index.getValue())
         return (None if transform.is_identity else transform), uv_set
+
+
+def in_definition(element) -> bool:
+    """Whether ``element`` lies in a node graph that implements a node definition."""
+    parent = element.getParent()
+    while parent is not None and parent.getCategory() != "materialx":
+        if parent.getCategory() == "nodegraph" and parent.getAttribute("nodedef"):
+            return True
+        parent = parent.getParent()
+    return False
+
+
+def _coordinates(node):
+    """An image node's coordinates input: UsdUVTexture's ``st``, the others' ``texcoord``."""
+    return node.getInput("st" if node.getCategory() == "UsdUVTexture" else "texcoord")
+
+
+def _connected(port) -> bool:
+    return any(port.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename", "output"))
+
+
+def _normal_scale(port) -> float | None:
+    """A ``normalmap`` node's strength (:func:`normal_strength`), or None where it is connected or
+    unreadable: a texture chain through it is then not one the model can hold."""
+    if port is None:
+        return 1.0
+    if _connected(port):
+        return None
+    if not port.hasAttribute("value"):
+        return 1.0
+    try:
+        return normal_strength(parse_value(port.getValueString(), port.getType()))
+    except ValueSyntaxError:
+        return None
 
 
 class _ScaleBias:
@@ -270,85 +360,6 @@ def _vector2(port) -> tuple[float, float] | None:
     return (float(value[0]), float(value[1]))
 
 
-def _capture_graph(node, limit: int = 256) -> str | None:
-    """The nodes upstream of ``node`` in its own scope (itself included) as a MaterialX document,
-    so a procedural input survives a read-write round trip. ``None`` past ``limit`` nodes."""
-    # lazy: the rules import the reader (so this module) at every start-up; MaterialX (~10 ms) waits for a .mtlx
-    import MaterialX as mx
-
-    captured = mx.createDocument()
-    pending, seen = [node], set()
-    while pending:
-        current = pending.pop()
-        if current.getName() in seen:
-            continue
-        seen.add(current.getName())
-        if len(seen) > limit:
-            return None
-        copy = captured.addNode(current.getCategory(), current.getName(), current.getType())
-        copy.copyContentFrom(current)
-        _bind_interface(copy, current.getParent())
-        _resolve_files(copy, current)
-        for port in current.getInputs():
-            upstream = port.getConnectedNode()
-            if upstream is not None and upstream.getParent() == current.getParent():
-                pending.append(upstream)
-    from .writer import document_text  # lazy: the writer imports MaterialX at load (see above)
-
-    return document_text(captured)
-
-
-def rewrite_files(graph_xml: str, rewrite) -> str:
-    """``graph_xml`` with each filename input's value replaced by ``rewrite(value)`` (None keeps it)."""
-    # lazy: as in _capture_graph
-    import MaterialX as mx
-
-    from .writer import document_text  # lazy: as in _capture_graph
-
-    document = mx.createDocument()
-    mx.readFromXmlString(document, graph_xml)
-    changed = False
-    for node in document.getNodes():
-        for port in node.getInputs():
-            if port.getType() == "filename" and port.hasAttribute("value"):
-                new = rewrite(port.getValueString())
-                if new is not None and new != port.getValueString():
-                    port.setValueString(new)
-                    changed = True
-    return document_text(document) if changed else graph_xml
-
-
-def _resolve_files(copy, original) -> None:
-    """Filename inputs of a captured node as they resolve where the node stood: the enclosing
-    elements' ``fileprefix`` applied (MaterialX's examples put ``../../../Images/`` on the document or
-    the node graph; without it a kept marble's or brick's images would be looked up beside the output),
-    and the colour space an enclosing element gives them written on the input itself."""
-    root = original.getDocument()
-    for port in original.getInputs():
-        if port.getType() != "filename" or not port.hasAttribute("value"):
-            continue
-        target = copy.getInput(port.getName())
-        target.setValueString(port.getResolvedValueString())
-        space = port.getActiveColorSpace()
-        if not port.getColorSpace() and space and space != root.getColorSpace():
-            target.setColorSpace(space)
-
-
-def _bind_interface(copy, scope) -> None:
-    """Inputs of a captured node that read the enclosing node graph's interface (``interfacename``)
-    take the interface input's value: the captured graph stands outside that interface, and MaterialX
-    rejects an interfacename its new parent does not declare. The value renders the same."""
-    for port in copy.getInputs():
-        name = port.getInterfaceName()
-        interface = scope.getInput(name) if name and hasattr(scope, "getInput") else None
-        if interface is not None and interface.hasAttribute("value"):
-            port.removeAttribute("interfacename")
-            port.setValueString(interface.getValueString())
-            for attribute in ("colorspace", "unit", "unittype"):
-                if interface.hasAttribute(attribute) and not port.hasAttribute(attribute):
-                    port.setAttribute(attribute, interface.getAttribute(attribute))
-
-
 def _multioutput_type(node, output_name: str) -> tuple[str, int | None]:
     """The type of output ``output_name`` of a multi-output image node, from its node definition,
     and the image channel it reads when it is one channel (``outa``: alpha). A connection without
@@ -358,5 +369,6 @@ def _multioutput_type(node, output_name: str) -> tuple[str, int | None]:
     chosen = next((o for o in outputs if o.getName() == output_name), outputs[0] if outputs else None)
     if chosen is None:
         return "multioutput", None
-    channel = 3 if chosen.getType() == "float" and chosen.getName() == "outa" else None
+    # a one-channel output: gltf_colorimage's outa, UsdUVTexture's r, g, b and a
+    channel = {"outa": 3, "r": 0, "g": 1, "b": 2, "a": 3}.get(chosen.getName()) if chosen.getType() == "float" else None
     return chosen.getType(), channel

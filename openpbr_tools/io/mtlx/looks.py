@@ -19,6 +19,7 @@ def record_looks(asset, document, location) -> None:
         if element.getActiveSourceUri():
             continue  # an XIncluded file's: it converts with that file
         alone = mx.createDocument()
+        _add_collections(alone, document, element)
         copy = (alone.addLookGroup if element.getCategory() == "lookgroup" else alone.addLook)(element.getName())
         copy.copyContentFrom(element)
         assigns = [(a.getName(), a.getMaterial(), location(a)) for a in
@@ -32,6 +33,20 @@ def record_looks(asset, document, location) -> None:
         asset.extra["included_material_names"] = {name: document.getChild(name).getActiveSourceUri() for name in included}
 
 
+def _add_collections(alone, document, look) -> None:
+    """The collections ``look``'s assignments name (``collection`` on a materialassign or visibility) and
+    those they include, copied into ``alone``: without them MaterialX rejects the look ("Invalid collection
+    string")."""
+    pending = [child.getAttribute("collection") for child in look.getChildren() if child.hasAttribute("collection")]
+    while pending:
+        name = pending.pop()
+        found = document.getCollection(name) if name else None
+        if found is None or alone.getCollection(name) is not None:
+            continue
+        alone.addCollection(name).copyContentFrom(found)
+        pending += [n.strip() for n in found.getIncludeCollectionString().split(",") if n.strip()]
+
+
 def add_look(document, text: str, renames: dict, left_out) -> None:
     """Add the look (or look group) of ``text`` to ``document``: its material assignments renamed as the
     materials were (``renames``: source material name -> written name), those named in ``left_out`` removed."""
@@ -40,6 +55,10 @@ def add_look(document, text: str, renames: dict, left_out) -> None:
     alone = mx.createDocument()
     mx.readFromXmlString(alone, text)
     for element in alone.getChildren():
+        if element.getCategory() == "collection":  # one a look assigns to (shared by looks: added once)
+            if document.getCollection(element.getName()) is None:
+                document.addCollection(element.getName()).copyContentFrom(element)
+            continue
         add = document.addLookGroup if element.getCategory() == "lookgroup" else document.addLook
         copy = add(element.getName())
         copy.copyContentFrom(element)

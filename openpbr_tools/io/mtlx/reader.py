@@ -34,7 +34,7 @@ from ...values import ValueSyntaxError, parse_value
 from .. import ReadError, read_bytes
 from ..paths import PathGuard
 from . import library
-from .graph import GraphFollower
+from .graph import GraphFollower, in_definition
 from .looks import record_looks
 from .xmlscan import XmlScan, XmlSyntaxError, parse_suppression, scan
 
@@ -182,16 +182,6 @@ def _include(document, path: str, xincludes, guard: PathGuard, seen: set[str], d
     return not_followed
 
 
-def _in_definition(element) -> bool:
-    """Whether ``element`` lies in a node graph that implements a node definition."""
-    parent = element.getParent()
-    while parent is not None and parent.getCategory() != "materialx":
-        if parent.getCategory() == "nodegraph" and parent.getAttribute("nodedef"):
-            return True
-        parent = parent.getParent()
-    return False
-
-
 def _scan_with_materialx(text: str):
     """A scan without line numbers from a document only MaterialX can parse, or ``None``."""
     import MaterialX as mx  # lazy: as in standard_library
@@ -238,7 +228,7 @@ class _Reader(GraphFollower):
             if not element.isA(mx.Node):
                 continue
             category = element.getCategory()
-            if category in SHADER_CATEGORIES and _in_definition(element):
+            if category in SHADER_CATEGORIES and in_definition(element):
                 continue  # part of a nodedef's implementation graph: a definition, not a material
             if category in SHADER_CATEGORIES:
                 material = self.read_shader(element)
@@ -280,7 +270,11 @@ class _Reader(GraphFollower):
         surface = node.getInput("surfaceshader")
         location = self.location(node)
         if surface is None:
-            if not any(i.getType().endswith("shader") for i in node.getInputs()):  # a light or volume material is whole
+            if node.getCategory() not in MATERIAL_CATEGORIES and node.getNodeDef() is not None:
+                # a material node of its own definition (MaterialX 1.39's material nodedefs): its shader is in
+                # the implementation, which the toolkit does not read as a material
+                self.asset.observe("unsupported_shader", location, material=node.getName(), category=node.getCategory())
+            elif not any(i.getType().endswith("shader") for i in node.getInputs()):  # a light or volume material is whole
                 self.asset.observe("material_without_shader", location, material=node.getName())
             return
         shader = self.upstream_node(surface)
@@ -321,7 +315,9 @@ class _Reader(GraphFollower):
         inner = graph.getOutputs()[0].getConnectedNode()
         if inner is None or inner.getCategory() not in SHADER_CATEGORIES:
             return None
+        self.binding = (instance, nodedef)  # (an exception ends the whole read: no finally needed)
         material = self.read_shader(inner)
+        self.binding = None
         for port in inner.getInputs():
             name = port.getInterfaceName()
             bound = (instance.getInput(name) or nodedef.getActiveInput(name)) if name else None

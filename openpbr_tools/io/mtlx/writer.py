@@ -142,6 +142,8 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
     decode (scale 2, bias -1, x and y by its strength) rather than through a ``normalmap`` node."""
     prefix = f"{shader_name}_{input_name}"
     image_type = texture.image_type or input_type
+    if texture.normal_map is not None and texture.channels is None and image_type == "color3":
+        image_type = "vector3"  # (a UsdUVTexture's rgb read as a normal map): what a normalmap decode takes
     if texture.channels is not None and len(texture.channels) == 1 and image_type in ("float", "integer", "boolean"):
         # one channel extracted from the image (a glTF colour image's outa): the image must have it
         image_type = "color4" if texture.channels[0] == 3 else "color3"
@@ -152,7 +154,12 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
     if texture.colorspace:  # a USD name or UsdUVTexture token from a USD source, in MaterialX's words
         file_input.setColorSpace(colorspaces.materialx_name(texture.colorspace))
     if texture.fallback is not None:
-        image.addInput("default", image_type).setValueString(format_value(texture.fallback, image_type))
+        fallback = texture.fallback
+        if isinstance(fallback, (tuple, list)):  # a UsdUVTexture's is a float4 whatever it feeds: the image's width
+            width = COMPONENTS.get(image_type, 1)
+            padded = [float(v) for v in fallback] + [1.0] * 4
+            fallback = padded[0] if width == 1 else tuple(padded[:width])
+        image.addInput("default", image_type).setValueString(format_value(fallback, image_type))
     for name, mode in zip(("uaddressmode", "vaddressmode"), texture.wrap or ()):
         mode = WRAP_TO_ADDRESS_MODE.get(mode, mode)  # a UsdUVTexture's wrap token in MaterialX's words
         if mode in MATERIALX_ADDRESS_MODES:  # (useMetadata: the image node's default, periodic, as the evaluator reads it)
@@ -222,6 +229,9 @@ def _write_connection(document, shader_name: str, input_name: str, connection: C
         return None
     source = mx.createDocument()
     mx.readFromXmlString(source, connection.graph_xml)
+    for definition in list(source.getNodeDefs()) + list(source.getNodeGraphs()):  # custom nodes' (capture.py)
+        if document.getChild(definition.getName()) is None:
+            document.addChildOfCategory(definition.getCategory(), definition.getName()).copyContentFrom(definition)
     renamed = {}
     for node in source.getNodes():
         renamed[node.getName()] = _unique(f"{shader_name}_{input_name}_{node.getName()}", used)

@@ -169,6 +169,10 @@ class NetworkReader(TextureNodeReader):
         if not attribute:
             return "", False
         value = attribute.Get()
+        if value is None and attribute.GetNumTimeSamples():  # an animated texture: its first file
+            from pxr import Usd  # lazy: pxr only once the reader has required it and opened a stage
+
+            value = attribute.Get(Usd.TimeCode.EarliestTime())
         authored = getattr(value, "path", None) if value is not None else None
         if not authored:
             return "", False
@@ -176,7 +180,7 @@ class NetworkReader(TextureNodeReader):
         authored = authored.replace("\0", "\ufffd")
         layer = self.root_layer
         for spec in attribute.GetPropertyStack():
-            if spec.HasDefaultValue():
+            if spec.HasDefaultValue() or spec.HasInfo("timeSamples"):
                 layer = spec.layer
                 break
         packaged = ".usdz" in layer.identifier.lower()

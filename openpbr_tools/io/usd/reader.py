@@ -223,7 +223,10 @@ class _Reader(NetworkReader):
             return
         model, id_version, flavour = known
         accepted = ("surface",) if flavour == "usd" else ("out", "surface")
-        if output_name not in accepted:
+        # a connection to another output the shader prim declares (Pixar's own test stages connect a
+        # UsdPreviewSurface's outputs:out) still names the shader: UsdShade's ComputeSurfaceSource and Storm
+        # render it
+        if output_name not in accepted and not shader_prim.GetAttribute(f"outputs:{output_name}"):
             self.asset.observe(
                 "dangling_reference", where, attribute=where.input,
                 target=f"{shader_prim.GetPath()}.outputs:{output_name}",

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 
-from ...model import Connection, Input, Texture, UVTransform
+from ...model import Connection, Input, Texture, UVTransform, normal_strength
 from .attributes import constant_of, shortest_float32, unconnected
 from .sdr import materialx_nodedef
 from .types import PRIMVAR_READER_PREFIX, TRANSFORM_2D_ID, UV_TEXTURE_ID, UV_TEXTURE_OUTPUTS, is_eight_bit
@@ -48,10 +48,18 @@ class TextureNodeReader:
                 channels = (int(index) if isinstance(index, (int, float)) else 0,)
                 step = "in"
             elif category == "normalmap":
-                strength = constant_of(prim, "scale")
-                normal_scale = float(strength) if isinstance(strength, (int, float)) else 1.0
+                scale_attribute = prim.GetAttribute("inputs:scale")
+                if scale_attribute and not unconnected(scale_attribute):
+                    break
+                normal_scale = normal_strength(constant_of(prim, "scale"))
+                if normal_scale is None:  # a vector2 scale with different x and y
+                    break
                 step = "in"
             elif category in ("convert", "dot"):
+                source = nodedef.getInput("in")
+                if category == "convert" and nodedef.getType().startswith("color") and source is not None \
+                        and source.getType().startswith("vector"):
+                    break  # a vector image read as a colour: no Texture holds that (nor its colour management)
                 step = "in"
             elif category in ("multiply", "add") and unconnected(prim.GetAttribute("inputs:in2")):
                 factor = constant_of(prim, "in2")

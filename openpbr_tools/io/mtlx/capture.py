@@ -1,0 +1,172 @@
+"""A procedural graph kept whole: the nodes upstream of a shader input the reader cannot interpret,
+captured as one flat MaterialX document (:func:`capture_graph`, ``Connection.graph_xml``) so that a
+.mtlx output rewires it instead of dropping it, and the file names in such a capture rewritten for an
+output's folder (:func:`rewrite_files`). The walk follows connections wherever MaterialX does: within a
+graph, through its interface (values, connections to other graphs, a nodedef instance's inputs, default
+geometric properties) and into other graphs' outputs, so the capture validates on its own.
+"""
+
+from __future__ import annotations
+
+
+def capture_graph(node, limit: int = 256, binding=None) -> str | None:
+    """The nodes upstream of ``node`` (itself included) as one flat MaterialX document, so a procedural
+    input survives a read-write round trip. Connections are followed wherever they lead: to a node of
+    the same scope, through the enclosing graph's interface (an input bound to a value takes the value,
+    one connected upstream -- a graph fed by another graph or a node outside -- brings that node along),
+    and to another node graph's output; a nodedef's implementation graph reads the instance's inputs
+    (``binding``: (instance, nodedef)). Names that repeat across scopes are made unique. ``None`` past
+    ``limit`` nodes."""
+    # lazy: the rules import the reader (so this module) at every start-up; MaterialX (~10 ms) waits for a .mtlx
+    import MaterialX as mx
+
+    captured = mx.createDocument()
+    names: dict[str, str] = {}  # original node path -> name in the captured document
+    pending = []
+
+    def enqueue(upstream) -> str:
+        path = upstream.getNamePath()
+        if path not in names:
+            name = upstream.getName()
+            while captured.getChild(name) is not None or name in names.values():
+                name = captured.createValidChildName(name + "_")
+            names[path] = name
+            pending.append(upstream)
+        return names[path]
+
+    enqueue(node)
+    while pending:
+        current = pending.pop()
+        if len(names) > limit:
+            return None
+        copy = captured.addNode(current.getCategory(), names[current.getNamePath()], current.getType())
+        copy.copyContentFrom(current)
+        _resolve_files(copy, current)
+        for port in current.getInputs():
+            target = copy.getInput(port.getName())
+            feed = _feed(port, binding)
+            if feed is None:
+                continue  # a value of its own
+            for attribute in ("nodename", "nodegraph", "output", "interfacename"):
+                target.removeAttribute(attribute)
+            kind, found, output = feed
+            if kind == "value":  # an interface input's value, with what it says of its colour space or unit
+                target.setValueString(found.getValueString())
+                for attribute in ("colorspace", "unit", "unittype"):
+                    if found.hasAttribute(attribute) and not target.hasAttribute(attribute):
+                        target.setAttribute(attribute, found.getAttribute(attribute))
+            elif kind == "node":
+                target.setNodeName(enqueue(found))
+                if output:
+                    target.setOutputString(output)
+            elif kind == "geomprop":  # the interface's default geometric property: a node that reads it
+                reader = captured.addNode(found.getGeomProp(), captured.createValidChildName(f"{found.getName()}_geomprop"),
+                                          found.getType())
+                if found.getSpace():
+                    reader.setInputValue("space", found.getSpace(), "string")
+                if found.getIndex():
+                    reader.setInputValue("index", int(found.getIndex()), "integer")
+                target.setNodeName(reader.getName())
+            else:  # an interface input with neither value nor connection: the node's own default
+                copy.removeInput(port.getName())
+    _add_definitions(captured, [node.getDocument().getDescendant(path) for path in names])
+    from .writer import document_text  # lazy: the writer imports MaterialX at load (see above)
+
+    return document_text(captured)
+
+
+def _add_definitions(captured, originals) -> None:
+    """The document's own node definitions the captured nodes instantiate (custom nodes, not the data
+    library's), each with its implementation graph, and those that graph's nodes need in turn: without
+    them the capture names categories no nodedef declares (OPBR104) and does not generate."""
+    from .library import known_categories  # lazy: as MaterialX above
+
+    standard = known_categories(complete=True)
+    pending = [node for node in originals if node is not None and node.getCategory() not in standard]
+    while pending:
+        node = pending.pop()
+        nodedef = node.getNodeDef()
+        document = node.getDocument()
+        if nodedef is None or document.getChild(nodedef.getName()) is None or captured.getChild(nodedef.getName()):
+            continue  # a library node, or one already carried
+        captured.addChildOfCategory("nodedef", nodedef.getName()).copyContentFrom(nodedef)
+        implementation = nodedef.getImplementation()
+        if implementation is not None and implementation.getCategory() == "nodegraph" \
+                and document.getChild(implementation.getName()) is not None and not captured.getChild(implementation.getName()):
+            captured.addChildOfCategory("nodegraph", implementation.getName()).copyContentFrom(implementation)
+            pending += [inner for inner in implementation.getNodes() if inner.getCategory() not in standard]
+
+
+def _feed(port, binding, depth: int = 0):
+    """What feeds a port of a node being captured: ``None`` for its own value; else ``("value", element,
+    None)`` (an interface input's value), ``("node", node, output)`` (the node and, for a multi-output
+    one, which output), ``("geomprop", geompropdef, None)`` (an interface input's default geometric
+    property, UV0 say) or ``("default", None, None)``."""
+    if depth > 16:
+        return ("default", None, None)
+    if port.hasAttribute("interfacename"):
+        scope = port.getParent().getParent()
+        name = port.getInterfaceName()
+        if scope is not None and scope.getCategory() == "nodegraph" and scope.getNodeDefString():
+            if binding is None:
+                return ("default", None, None)
+            instance, nodedef = binding
+            interface = instance.getInput(name) or nodedef.getActiveInput(name)
+            binding = None  # the instance's own inputs belong to its scope, outside the definition
+        else:
+            interface = scope.getInput(name) if scope is not None and hasattr(scope, "getInput") else None
+        if interface is None:
+            return ("default", None, None)
+        if any(interface.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename")):
+            return _feed(interface, binding, depth + 1)
+        if interface.hasAttribute("value"):
+            return ("value", interface, None)
+        geomprop = interface.getDocument().getGeomPropDef(interface.getDefaultGeomPropString()) \
+            if interface.hasAttribute("defaultgeomprop") else None
+        return ("geomprop", geomprop, None) if geomprop is not None else ("default", None, None)
+    if not (port.hasAttribute("nodename") or port.hasAttribute("nodegraph")):
+        return None
+    output = port.getConnectedOutput()
+    if output is not None and output.getParent().getCategory() in ("nodegraph", "materialx"):
+        upstream = output.getConnectedNode()  # a graph's output: the node behind it
+        return ("node", upstream, output.getOutputString()) if upstream is not None else ("default", None, None)
+    upstream = port.getConnectedNode()
+    if upstream is None:
+        return ("default", None, None)
+    return ("node", upstream, port.getOutputString())
+
+
+def rewrite_files(graph_xml: str, rewrite) -> str:
+    """``graph_xml`` with each filename input's value replaced by ``rewrite(value)`` (None keeps it)."""
+    # lazy: as in capture_graph
+    import MaterialX as mx
+
+    from .writer import document_text  # lazy: as in capture_graph
+
+    document = mx.createDocument()
+    mx.readFromXmlString(document, graph_xml)
+    changed = False
+    for node in document.getNodes():
+        for port in node.getInputs():
+            if port.getType() == "filename" and port.hasAttribute("value"):
+                new = rewrite(port.getValueString())
+                if new is not None and new != port.getValueString():
+                    port.setValueString(new)
+                    changed = True
+    return document_text(document) if changed else graph_xml
+
+
+def _resolve_files(copy, original) -> None:
+    """Filename inputs of a captured node as they resolve where the node stood: the enclosing
+    elements' ``fileprefix`` applied (MaterialX's examples put ``../../../Images/`` on the document or
+    the node graph; without it a kept marble's or brick's images would be looked up beside the output),
+    and the colour space an enclosing element gives them written on the input itself."""
+    root = original.getDocument()
+    for port in original.getInputs():
+        if port.getType() != "filename" or not port.hasAttribute("value"):
+            continue
+        target = copy.getInput(port.getName())
+        target.setValueString(port.getResolvedValueString())
+        space = port.getActiveColorSpace()
+        if not port.getColorSpace() and space and space != root.getColorSpace():
+            target.setColorSpace(space)

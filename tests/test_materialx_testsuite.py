@@ -1,0 +1,150 @@
+"""MaterialX's own unit-test documents (tests/data/published/materialx/resources/Materials/TestSuite, verbatim;
+SOURCES.md) read as MaterialX reads them, and converted to documents MaterialX accepts: each holds a construct
+the example library does not (a vector2 normalmap scale, multi-output nodes, graph-to-graph connections,
+nodedef-wrapped shaders whose file is an interface input, UsdUVTexture on tiled coordinates, definitions
+built of definitions, a default geometric property on an interface, looks on collections). Before these
+were handled the reader raised on one, reported existing nodes as missing on three, read image files as
+empty on three, dropped a UV tiling without a word, and five converted outputs failed MaterialX's own
+Document.validate()."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import MaterialX as mx
+import pytest
+
+from glsupport import shader_generator
+from openpbr_tools.convert import convert_file
+from openpbr_tools.io import read_asset
+from openpbr_tools.model import Connection, Texture
+from openpbr_tools.translate.common import Settings
+from openpbr_tools.validate import Options, validate_paths
+
+SUITE = Path(__file__).resolve().parent / "data" / "published" / "materialx" / "resources" / "Materials" / "TestSuite"
+FILES = sorted(p.relative_to(SUITE).as_posix() for p in SUITE.rglob("*.mtlx"))
+TARGETS = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
+
+
+def _codes(path) -> list[str]:
+    return sorted(d.code for d in validate_paths([str(path)], options=Options(use_config=False, jobs=1)).diagnostics)
+
+
+def test_the_suite_is_vendored():
+    assert len(FILES) == 11
+
+
+@pytest.mark.parametrize("name", FILES)
+@pytest.mark.parametrize("target", TARGETS)
+def test_every_conversion_validates_and_generates_a_shader_in_materialx(tmp_path, name, target):
+    out = tmp_path / "out.mtlx"
+    convert_file(str(SUITE / name), str(out), target, Settings())
+    library, generator, context = shader_generator()
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(out))
+    document.setDataLibrary(library)
+    valid, message = document.validate()
+    assert valid, message
+    import MaterialX.PyMaterialXGenShader as gs  # lazy: as glsupport.shader_generator
+
+    renderable = gs.findRenderableElements(document)
+    # (definition_reduced_interface.mtlx's one shader is of a category no nodedef declares: nothing to convert)
+    assert renderable or name.endswith("definition_reduced_interface.mtlx")
+    for element in renderable:
+        assert generator.generate("check", element, context).getSourceCode(gs.PIXEL_STAGE)
+
+
+def test_a_vector2_normalmap_scale_is_read_as_its_strength():
+    # normalmapped_surfaceshader.mtlx: ND_normalmap_vector2's scale "1.1, 1.1" (it raised a TypeError)
+    materials = read_asset(str(SUITE / "pbrlib/surfaceshader/normalmapped_surfaceshader.mtlx")).materials
+    strengths = sorted(m.inputs["normal"].texture.normal_map for m in materials)
+    assert strengths == [1.1, 1.1]
+
+
+def test_a_non_uniform_vector2_normalmap_scale_keeps_the_graph(write_mtlx):
+    path = write_mtlx('''<image name="n" type="vector3">
+  <input name="file" type="filename" value="n.png" colorspace="none" />
+</image>
+<normalmap name="d" type="vector3">
+  <input name="in" type="vector3" nodename="n" />
+  <input name="scale" type="vector2" value="1, 0.5" />
+</normalmap>
+<open_pbr_surface name="S" type="surfaceshader">
+  <input name="geometry_normal" type="vector3" nodename="d" />
+</open_pbr_surface>''', files=("n.png",))
+    entry = read_asset(str(path)).materials[0].inputs["geometry_normal"]
+    assert isinstance(entry.value, Connection) and entry.value.graph_xml  # not read as one strength
+
+
+@pytest.mark.parametrize("name", ["stdlib/procedural/flake.mtlx", "pbrlib/surfaceshader/flake_surfaceshader.mtlx",
+                                  "stdlib/nodegraphs/nodegraph_nodegraph.mtlx"])
+def test_a_connection_to_a_multi_output_nodes_own_output_is_not_dangling(name):
+    # <input nodename="flake2d" output="flakenormal"/>: the output is the node's child, not a graph's
+    assert "OPBR802" not in _codes(SUITE / name)
+
+
+def test_an_image_file_bound_to_a_graph_input_is_read_from_it():
+    # nodegraph_nodegraph.mtlx: <input name="file" interfacename="file"/> inside upstream_graph
+    materials = read_asset(str(SUITE / "stdlib/nodegraphs/nodegraph_nodegraph.mtlx")).materials
+    files = sorted({m.inputs["base_color"].texture.file for m in materials
+                    if isinstance(m.inputs.get("base_color") and m.inputs["base_color"].value, Texture)})
+    assert files == ["resources/Images/cloth.png", "resources/Images/grid.png"]
+    assert "OPBR705" not in _codes(SUITE / "stdlib/nodegraphs/nodegraph_nodegraph.mtlx")
+
+
+def test_an_image_file_bound_to_a_nodedef_input_is_read_from_the_instance():
+    # network_surfaceshader.mtlx: the instance sets base_color_filename (and its colour space)
+    (material,) = read_asset(str(SUITE / "pbrlib/surfaceshader/network_surfaceshader.mtlx")).materials
+    texture = material.inputs["base_color"].texture
+    assert (texture.file, texture.colorspace) == ("resources/Images/grid.png", "srgb_texture")
+
+
+def test_tiled_coordinates_keep_the_graph_rather_than_drop_the_tiling():
+    # usd_normal_map.mtlx: UsdUVTexture's st is texcoord * 16; read as a plain texture the tiling was lost
+    (material,) = read_asset(str(SUITE / "pbrlib/surfaceshader/usd_normal_map.mtlx")).materials
+    entry = material.inputs["normal"]
+    assert isinstance(entry.value, Connection) and "UsdUVTexture" in entry.value.graph_xml
+    assert "16, 16" in entry.value.graph_xml
+
+
+def test_a_usd_uv_texture_rgb_normal_map_is_written_as_a_vector3_image(write_mtlx, tmp_path):
+    path = write_mtlx('''<UsdUVTexture name="T" type="multioutput">
+  <input name="file" type="filename" value="n.png" colorspace="none" />
+</UsdUVTexture>
+<convert name="C" type="vector3">
+  <input name="in" type="color3" nodename="T" output="rgb" />
+</convert>
+<normalmap name="D" type="vector3">
+  <input name="in" type="vector3" nodename="C" />
+</normalmap>
+<standard_surface name="S" type="surfaceshader">
+  <input name="normal" type="vector3" nodename="D" />
+</standard_surface>''', files=("n.png",))
+    texture = read_asset(str(path)).materials[0].inputs["normal"].texture
+    assert texture.image_type == "color3" and texture.channels is None  # the rgb output, not the first (r)
+    out = tmp_path / "o.mtlx"
+    convert_file(str(path), str(out), "open_pbr_surface", Settings())
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(out))
+    document.setDataLibrary(shader_generator()[0])
+    assert document.validate()[0]
+    assert [n.getType() for n in document.getNodes() if n.getCategory() == "image"] == ["vector3"]
+
+
+def test_a_material_node_of_its_own_definition_is_not_a_material_without_shader():
+    # material_node_discovery.mtlx: <material_def type="material"/>, a nodedef implemented by a graph
+    codes = _codes(SUITE / "stdlib/materials/material_node_discovery.mtlx")
+    assert "OPBR801" not in codes and codes.count("OPBR805") == 2
+
+
+def test_a_nodedef_that_declares_no_node_is_reported():
+    # definition_reduced_interface.mtlx's nodedef says nodename="pattern_shader" where node= is meant
+    assert "OPBR104" in _codes(SUITE / "stdlib/definition/definition_reduced_interface.mtlx")
+
+
+def test_looks_carry_the_collections_they_assign_to(tmp_path):
+    out = tmp_path / "o.mtlx"
+    convert_file(str(SUITE / "stdlib/materials/material_node_discovery.mtlx"), str(out), "open_pbr_surface", Settings())
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(out))
+    assert document.getCollection("collection1") is not None and document.validate()[0]
