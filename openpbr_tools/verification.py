@@ -6,6 +6,8 @@ the report's OPBR1108 / OPBR1109 notes.
 
 from __future__ import annotations
 
+import collections
+
 import os
 import tempfile
 
@@ -46,8 +48,12 @@ def compare(conversion: Conversion, keep_images: bool = False) -> list[tuple[Mat
     # the in-memory result's textures: the conversion's baker (the source's folder, the images it baked), the output's
     in_memory = TextureSampler([r for r in (conversion.baker, output_reader) if r is not None])
     found = []
+    repeated = collections.Counter(display_name(result) for _, result in conversion.pairs)
+    seen: collections.Counter = collections.Counter()
     for source, result in conversion.pairs:
         targets = written.get(display_name(result), []) if written is not None else []
+        targets = _own(targets, repeated[display_name(result)], seen[display_name(result)])
+        seen[display_name(result)] += 1
         if not targets:
             comparison = compare_materials(source, result, sampler=source_sampler, keep_images=keep_images,
                                            sampler_b=in_memory)
@@ -62,6 +68,20 @@ def compare(conversion: Conversion, keep_images: bool = False) -> list[tuple[Mat
                 comparison.name_b = f"{display_name(target)} ({target.model})"
             found.append((source, comparison))
     return found
+
+
+def _own(targets: list[Material], repeats: int, occurrence: int) -> list[Material]:
+    """Of the written materials sharing a result's name, those written for it: where ``repeats`` results
+    share the name (glTF allows that: Khronos' IridescenceSuzanne names all three "Material"), the
+    ``occurrence``-th of each model written, in order; otherwise all of them (a USD output's OpenPBR shader
+    and its preview fallback)."""
+    if repeats < 2:
+        return targets
+    by_model: dict[str, list[Material]] = {}
+    for target in targets:
+        by_model.setdefault(target.model, []).append(target)
+    own = [found[occurrence] for found in by_model.values() if len(found) == repeats]
+    return own or targets
 
 
 def _output_reader(conversion: Conversion) -> Baker | None:

@@ -53,7 +53,7 @@ DRAFT_PARAMETERS = {
     "coat_darkening": ("coatDarkeningFactor",), "coat_roughness": ("coatRoughnessFactor", "coatAnisotropyStrength"),
     "coat_roughness_anisotropy": ("coatRoughnessFactor", "coatAnisotropyStrength"), "fuzz_weight": ("fuzzFactor",),
     "fuzz_color": ("fuzzColorFactor",), "fuzz_roughness": ("fuzzRoughnessFactor",),
-    "base_diffuse_roughness": ("diffuseRoughnessFactor",), "specular_weight": ("specularFactor",),
+    "base_diffuse_roughness": ("diffuseRoughnessFactor",), "specular_weight": ("specularFactor", "specular", "specularColorFactor"),
     "specular_color": ("specularColorFactor",),
 }
 

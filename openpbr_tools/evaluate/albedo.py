@@ -330,8 +330,10 @@ def dielectric_albedo(cos_o, alpha, eta):
     interface for light arriving along a direction with cosine ``cos_o``; ``eta`` is the index
     on the far side over the index on the near side (may be < 1)."""
     t = tables()
-    eta = np.clip(np.asarray(eta, dtype=float), 1.0 / 3.0, 3.0)
-    x = _eta_coordinate(eta)
+    eta = np.asarray(eta, dtype=float)
+    # the tables span eta 1/3..3; beyond, their rough-to-smooth ratios at the edge, on the exact smooth
+    # Fresnel (an IOR of 25, or OpenPBR's specular_weight raising F0 towards 1, reflects nearly all)
+    x = _eta_coordinate(np.clip(eta, 1.0 / 3.0, 3.0))
     r = np.sqrt(np.asarray(alpha, dtype=float))
     smooth = fresnel.fresnel_dielectric(np.maximum(cos_o, MU_FLOOR), eta)
     reflect, loss = _lookup3_tables((t.dielectric_r, t.dielectric_loss), x, cos_o, r)

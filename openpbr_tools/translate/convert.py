@@ -45,8 +45,10 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         return Translation(restored, [settings.context.diagnostic(
             CONVERTED, f"{material.name}: the unlit reading (emission over a black base) is KHR_materials_unlit again",
             material.location)], material)
-    if material.model == target == "gltf_pbr" and spec_gloss.state_of(material) is not None and not settings.gltf_file:
-        # MaterialX's gltf_pbr has no specular-glossiness mode: the extension read as OpenPBR, as metal-rough
+    if material.model == target == "gltf_pbr" and spec_gloss.state_of(material) is not None and \
+            (not settings.gltf_file or spec_gloss.textured(material)):
+        # MaterialX's gltf_pbr has no specular-glossiness mode, and a glTF output cannot copy an extension that
+        # references the source's textures: the extension read as OpenPBR, as metal-rough (textures per texel)
         step = gltf_to_openpbr(material, settings)
         back = openpbr_to_gltf(step.material, settings)
         return Translation(back.material, step.diagnostics + back.diagnostics, material)

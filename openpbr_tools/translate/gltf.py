@@ -260,6 +260,18 @@ def _coated_base(specular, metallic, ior, clearcoat, iridescence, coat_ior, tran
 
 
 SPECULAR_WEIGHT_SOURCES = ("specular", "metallic", "ior", "clearcoat", "iridescence")
+
+
+def hdr_specular_scale(specular_color, metallic):
+    """The factor a dielectric's KHR_materials_specular colour exceeds 1 by (its largest component; 1 for a
+    colour within [0, 1] and for a full metal, whose specular colour is OpenPBR's F82 tint), texel by texel.
+    glTF's F0 is min(F0(ior) * colour, 1) * specular; OpenPBR's specular_color is at most 1, and its
+    specular_weight scales F0 (through the IOR, MaterialX's open_pbr_surface.mtlx ``scaled_specular_F0``,
+    clamped below 1): the colour divided by this factor, and the weight multiplied by it, give glTF's F0
+    (exactly for a grey colour; a coloured one keeps its hue, where glTF clamps each channel at 1)."""
+    colour = np.asarray(specular_color, dtype=float)  # (3,), or (H, W, 3) beside floats (H, W, 1) when baked
+    largest = np.max(colour, axis=-1, keepdims=colour.ndim > 1) if colour.ndim else colour
+    return np.where((np.asarray(metallic, dtype=float) < 1) & (largest > 1), largest, 1.0)
 def gltf_ior(specular_ior):
     """KHR_materials_ior's ``ior`` (at least 1) for OpenPBR's: as it is from 1 up; below 1, its reciprocal,
     which has the same normal-incidence reflectance ((n - 1)/(n + 1))^2."""
@@ -577,11 +589,13 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
                     note="a metal's base colour solved for OpenPBR's F82 edge tint and specular weight (glTF's metals "
                          "ignore KHR_materials_specular, OpenPBR's do not) leaves [0, 1] and is clipped: the metal "
                          "renders darker or differently tinted"),
-            Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES + ("transmission",),
-                    lambda *v: openpbr_specular_weight(*v[:-1], coat_ior=coat_ior, transmission=v[-1]), exact=False,
-                    matters=lambda s, m, n, w, f, t: m < 1 and (s != 1.0 or w > 0),
+            Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES + ("transmission", "specular_color"),
+                    lambda *v: openpbr_specular_weight(*v[:-2], coat_ior=coat_ior, transmission=v[-2])
+                    * hdr_specular_scale(v[-1], v[1]), exact=False,
+                    matters=lambda s, m, n, w, f, t, c: m < 1 and (s != 1.0 or w > 0 or hdr_specular_scale(c, m) > 1),
                     note="KHR_materials_specular scales F0 and F90, OpenPBR's specular_weight F0 only (under a coat, of "
-                         "the base relative to the coat): equal at normal incidence"),
+                         "the base relative to the coat): equal at normal incidence; a specular colour above 1 raises "
+                         "the weight by its largest component"),
             Mapping("specular_ior", ("ior", "specular", "metallic", "clearcoat", "iridescence", "transmission"),
                     lambda n, s, m, c, f, t: openpbr_specular_ior(s, m, n, c, f, t, coat_ior=coat_ior), exact=False,
                     matters=lambda n, s, m, c, f, t: bool(np.any(relative_base(s, m, n, c, f, t, coat_ior=coat_ior))),
@@ -615,7 +629,13 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
         )
     mappings = base_and_specular + roughness + (
         Mapping("base_metalness", ("metallic",)),
-        Mapping("specular_color", ("specular_color",)),
+        Mapping("specular_color", ("specular_color",)) if drafts.SPECULAR_OPENPBR in found else  # (OpenPBR's own)
+        Mapping("specular_color", ("specular_color", "metallic"),
+                lambda c, m: np.asarray(c, dtype=float) / hdr_specular_scale(c, m), exact=False,
+                matters=lambda c, m: bool(np.any(hdr_specular_scale(c, m) > 1)),
+                note="a colour above 1 (KHR_materials_specular allows one; OpenPBR's stops at 1) is divided by its "
+                     "largest component, which multiplies specular_weight: OpenPBR raises F0 by the weight as glTF "
+                     "by the colour, the same at normal incidence; the grazing tint is the divided colour"),
         Mapping("transmission_weight", ("transmission",)),
         # a volume (thickness > 0) absorbs by its attenuation; a thin wall (thickness 0, where glTF ignores
         # attenuation) is tinted by the base colour only

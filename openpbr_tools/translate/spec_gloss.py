@@ -29,7 +29,7 @@ import dataclasses
 
 import numpy as np
 
-from ..io.gltf.slots import SPECULAR_GLOSSINESS_SLOTS
+from ..io.gltf.slots import SPECULAR_GLOSSINESS, SPECULAR_GLOSSINESS_SLOTS
 from ..model import Constant, Input, Material, Texture
 from ..rules.translation import CONVERTED
 from . import specular_workflow
@@ -58,6 +58,11 @@ def state_of(material: Material) -> dict | None:
     state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
     found = state.get("spec_gloss")
     return found if isinstance(found, dict) else None
+
+
+def textured(material: Material) -> bool:
+    """Whether the extension reads a texture (then a glTF output cannot copy it as it was)."""
+    return any(isinstance(entry, Input) and isinstance(entry.value, Texture) for entry in (state_of(material) or {}).values())
 
 
 def _readable(entry: Input | None) -> bool:
@@ -108,7 +113,12 @@ def read(result: Translation, material: Material, settings: Settings) -> None:
     result.diagnostics += split.diagnostics
     state = result.material.extra.get("gltf")
     if isinstance(state, dict):  # the result is no specular-glossiness material: judged by its own values
-        state.pop("spec_gloss", None)
+        state.pop("spec_gloss", None)  # and the extension is not kept to be written back beside them
+        kept = {k: v for k, v in (state.get("extensions") or {}).items() if k != SPECULAR_GLOSSINESS}
+        if kept:
+            state["extensions"] = kept
+        else:
+            state.pop("extensions", None)
     where = next((entry.location for entry in found.values()), material.location)
     result.diagnostics.append(settings.context.diagnostic(
         CONVERTED, f"{material.name} (glTF -> OpenPBR): KHR_materials_pbrSpecularGlossiness read as a viewer that "

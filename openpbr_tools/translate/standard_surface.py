@@ -70,6 +70,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..evaluate import fresnel
 from ..evaluate.coat import coat_darkening_factor, coat_roughened
 from ..model import Material
 from . import fit
@@ -170,6 +171,19 @@ def ss_specular(specular_weight, specular_ior, film_weight, color, metalness, su
     scale = fit.dielectric_specular_scale(specular_ior, coat_ior, coat_weight, film_weight,
                                           np.max(darkening, axis=-1, keepdims=True))
     return fit.specular_weight_under_coat(specular_weight, scale, metalness)
+
+
+def ss_specular_ior(specular_weight, specular_ior, *rest):
+    """Standard Surface's ``specular_IOR``: OpenPBR's, except where the weight it needs (:func:`ss_specular`)
+    exceeds Standard Surface's 1 (an HDR specular colour from glTF, say). OpenPBR raises F0 by its weight through
+    the IOR (F0' = min(w F0, 1), MaterialX's open_pbr_surface.mtlx ``modulated_eta_s``, for reflection and
+    refraction alike): there the IOR of F0' is written, with ``specular`` 1."""
+    weight = np.asarray(ss_specular(specular_weight, specular_ior, *rest))
+    if weight.ndim > np.ndim(specular_ior):  # (a constant's weight comes back as a 1-vector: the IOR's shape)
+        weight = weight.reshape(weight.shape[:-1])
+    ior = fit.positive_ior(specular_ior)
+    raised = np.minimum(weight * fresnel.ior_to_f0(ior), 0.99999)
+    return np.where(weight > 1.0 + 1e-9, fit.ior_from_f0(raised), specular_ior)
 
 
 def ss_specular_color(specular_color, base_weight, color, metalness, specular_weight, subsurface, subsurface_color,
@@ -338,7 +352,8 @@ TO_SS = (
                  "qualitative Oren-Nayar, darker at the same roughness: a dielectric base's colour is brightened so "
                  "the two reflect the same hemispherical albedo; the angular shapes still differ"),
     Mapping("metalness", ("base_metalness",)),
-    Mapping("specular", SPECULAR_SOURCES, ss_specular, exact=False, matters=lambda *v: differs(ss_specular(*v), v[0]),
+    Mapping("specular", SPECULAR_SOURCES, lambda *v: np.minimum(ss_specular(*v), 1.0), exact=False,
+            matters=lambda *v: differs(ss_specular(*v), v[0]),
             note="OpenPBR's base reflects with its IOR relative to the coat's, and darkened, under a coat: "
                  f"Standard Surface's specular weight scales its bare reflection to the same F0 ({COAT_RESIDUAL})"),
     Mapping("specular_color", ("specular_color", "base_weight") + BASE_SOURCES + ("specular_ior", "thin_film_weight",
@@ -352,7 +367,10 @@ TO_SS = (
             converted="roughness rescaled to keep OpenPBR's anisotropic alpha_t * alpha_b (under a coat that roughens "
                       "more than coat_affect_roughness 1 does, raised to match)"),
     Mapping("specular_anisotropy", ("specular_roughness_anisotropy",), exact=True),
-    Mapping("specular_IOR", ("specular_ior",)),
+    Mapping("specular_IOR", ("specular_ior", "specular_weight") + SPECULAR_SOURCES[2:],
+            lambda n, w, *rest: ss_specular_ior(w, n, *rest), exact=False,
+            converted="a specular weight above Standard Surface's 1 folded into the IOR, as OpenPBR raises F0 by it",
+            matters=lambda *v: False),
     Mapping("transmission", ("transmission_weight",)),
     Mapping("transmission_color", ("transmission_color",)),
     Mapping("transmission_depth", ("transmission_depth",)),

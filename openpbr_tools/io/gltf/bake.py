@@ -31,6 +31,8 @@ class ChannelSource:
     decode: str | None = None
     encode_srgb: bool = False
     rgb_channels: tuple[int, int, int] | None = None  # the image's RGB, when decode needs a triple
+    scale: float = 1.0  # value * scale + bias, after decoding (a data texture's affine map, which no glTF
+    bias: float = 0.0   # factor holds where there is a bias: 1 - glossiness as a roughness, say)
 
 
 def pack(channels: list[ChannelSource | float], note: Callable[[str], None] | None = None, label: str = "") -> bytes:
@@ -77,9 +79,9 @@ def _channel(pixels, source: ChannelSource):
 
     channel = source.channel  # load_pixels expands greyscale, so R, G and B always exist
     if channel >= pixels.shape[2]:
-        return np.ones(pixels.shape[:2])  # no alpha channel: opaque
+        return np.ones(pixels.shape[:2]) * source.scale + source.bias  # no alpha channel: opaque
     if source.decode is None and not source.encode_srgb or channel == 3:
-        return pixels[:, :, channel]
+        return pixels[:, :, channel] * source.scale + source.bias
     rgb = pixels[:, :, :3]
     linear = colorspaces.to_lin_rec709(rgb, source.decode) if source.decode else rgb
     if source.encode_srgb:

@@ -78,6 +78,8 @@ class TextureWriting:
             return
         if slot.factor is None:
             return
+        if _affine(slot, texture) is not None:
+            return  # baked into the texels (bake_plan): the factor's default, 1
         if texture.bias not in (None, 0.0, (0.0, 0.0, 0.0)) and slot.texture_kind == "textureInfo":
             self.note(NOT_CARRIED, f"{slot.parameter}: texture bias {texture.bias} has no glTF equivalent; dropped", slot.parameter)
         scale = texture.scale
@@ -171,7 +173,10 @@ class TextureWriting:
         return (space, False) if _encoded(space) else (None, False)
 
     def fits(self, slot: slots.Slot, texture: Texture, source) -> bool:
-        """Does the texture read ``slot``'s channels of its image, in the encoding glTF expects?"""
+        """Does the texture read ``slot``'s channels of its image, in the encoding glTF expects (and
+        without a scale and bias that only baking carries)?"""
+        if _affine(slot, texture) is not None:
+            return False
         space = texture.colorspace
         if slot.colour:
             if space not in (None, slots.SRGB):
@@ -213,7 +218,8 @@ class TextureWriting:
             else:
                 picked = index if slot.channels in (None, (0, 1, 2)) else 0
             decode, encode = self.conversion(slot, texture.colorspace)
-            return ChannelSource(source.image, picked, decode=decode, encode_srgb=encode)
+            scale, bias = _affine(slot, texture) or (1.0, 0.0)
+            return ChannelSource(source.image, picked, decode=decode, encode_srgb=encode, scale=scale, bias=bias)
 
         by_name = {s.parameter: s for s in members}
         if prop == "baseColorTexture":
@@ -241,6 +247,19 @@ class TextureWriting:
         if slot.channels == (3,):
             return [1.0, channel(slot, 0)]  # grey + alpha: the value in A
         return [channel(slot, 0)]  # grey: R = G = B = the value
+
+
+def _affine(slot: slots.Slot, texture: Texture) -> tuple[float, float] | None:
+    """(scale, bias) of a one-channel data texture with a bias (a glossiness read as roughness: 1 - g), which
+    glTF's factor cannot hold and the baked texels do; None for the others (a colour's bias stays a note)."""
+    bias = texture.bias[0] if isinstance(texture.bias, tuple) and len(set(texture.bias)) == 1 else texture.bias
+    if slot.colour or slot.texture_kind != "textureInfo" or slot.parameter == "iridescence_thickness" \
+            or not isinstance(bias, (int, float)) or bias == 0.0:
+        return None
+    scale = texture.scale[0] if isinstance(texture.scale, tuple) and len(set(texture.scale)) == 1 else texture.scale
+    if scale is not None and not isinstance(scale, (int, float)):
+        return None
+    return (1.0 if scale is None else float(scale)), float(bias)
 
 
 def _encoded(space: str) -> bool:
