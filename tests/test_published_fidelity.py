@@ -128,3 +128,17 @@ def test_a_colour_slightly_above_one_is_folded_with_a_note_not_clamped(tmp_path)
     assert abs(weight - 1.1466) < 1e-9 and abs(colour[2] - 1.0) < 1e-12 and abs(colour[0] * weight - 0.3697) < 1e-12
     noted = {d.message.split(": ")[1] for d in conversion.diagnostics if d.code == "OPBR1103"}
     assert {"specular_weight", "specular_color"} <= noted
+
+
+def test_a_textured_hdr_specular_colour_is_kept_as_nodes_not_folded(tmp_path):
+    # CompareSpecular: specularColorFactor 10 times a texture. Folding per texel while the texture was kept with
+    # its factor counted the 10 twice (22.4 in MaterialX's GLSL); OpenPBR renders the texture times 10 as glTF
+    Image.fromarray(np.full((4, 4, 3), 128, dtype=np.uint8), "RGB").save(tmp_path / "s.png")
+    materials = [{"name": "S", "pbrMetallicRoughness": {"metallicFactor": 0},
+                  "extensions": {"KHR_materials_specular": {"specularColorFactor": [10, 10, 10],
+                                                            "specularColorTexture": {"index": 0}}}}]
+    path = _gltf(tmp_path, materials, extensionsUsed=["KHR_materials_specular"], images=[{"uri": "s.png"}],
+                 textures=[{"source": 0}])
+    result = convert_file(path, str(tmp_path / "o.mtlx"), "open_pbr_surface", Settings()).pairs[0][1]
+    assert "specular_weight" not in result.inputs
+    assert result.inputs["specular_color"].value.scale in (10.0, (10.0, 10.0, 10.0))

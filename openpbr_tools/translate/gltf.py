@@ -566,10 +566,13 @@ DROPPED_TO_GLTF = (
 
 
 def from_gltf_mappings(settings: Settings, found: dict | None = None,
-                       coat_ior: float = GLTF_CLEARCOAT_IOR) -> tuple[Mapping, ...]:
+                       coat_ior: float = GLTF_CLEARCOAT_IOR, hdr: bool = True) -> tuple[Mapping, ...]:
     """The glTF -> OpenPBR mappings; ``found``: the material's draft extensions (see
     :func:`gltf_to_openpbr`), ``coat_ior``: KHR_materials_coat's IOR where it replaces clearcoat's."""
     found = found or {}
+    # ``hdr``: a constant specular colour above 1 folds its excess into the weight (hdr_specular_scale); a
+    # textured one is kept as MaterialX nodes (texture times factor), which OpenPBR renders above 1 as glTF does
+    scale = hdr_specular_scale if hdr and drafts.SPECULAR_OPENPBR not in found else (lambda c, m: 1.0)
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
     overridden = {target for name in found for target in DRAFT_TARGETS.get(name, ())}
@@ -591,8 +594,8 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
                          "renders darker or differently tinted"),
             Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES + ("transmission", "specular_color"),
                     lambda *v: openpbr_specular_weight(*v[:-2], coat_ior=coat_ior, transmission=v[-2])
-                    * hdr_specular_scale(v[-1], v[1]), exact=False,
-                    matters=lambda s, m, n, w, f, t, c: m < 1 and (s != 1.0 or w > 0 or hdr_specular_scale(c, m) > 1),
+                    * scale(v[-1], v[1]), exact=False,
+                    matters=lambda s, m, n, w, f, t, c: m < 1 and (s != 1.0 or w > 0 or np.any(scale(c, m) > 1)),
                     note="KHR_materials_specular scales F0 and F90, OpenPBR's specular_weight F0 only (under a coat, of "
                          "the base relative to the coat): equal at normal incidence; a specular colour above 1 raises "
                          "the weight by its largest component"),
@@ -629,7 +632,7 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
         )
     mappings = base_and_specular + roughness + (
         Mapping("base_metalness", ("metallic",)),
-        Mapping("specular_color", ("specular_color",)) if drafts.SPECULAR_OPENPBR in found else  # (OpenPBR's own)
+        Mapping("specular_color", ("specular_color",)) if scale is not hdr_specular_scale else
         Mapping("specular_color", ("specular_color", "metallic"),
                 lambda c, m: np.asarray(c, dtype=float) / hdr_specular_scale(c, m), exact=False,
                 matters=lambda c, m: bool(np.any(hdr_specular_scale(c, m) > 1)),
@@ -794,7 +797,8 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
         source, coat_ior = with_draft_coat(material, found.get(drafts.CLEARCOAT_IOR), ior_only=True)
     unlit = _unlit_as_emission(source, state)
     specular_glossiness = unlit is None and spec_gloss.state_of(material) is not None
-    mappings = from_gltf_mappings(settings, found, coat_ior)
+    colour = material.inputs.get("specular_color")
+    mappings = from_gltf_mappings(settings, found, coat_ior, hdr=colour is None or isinstance(colour.value, Constant))
     if specular_glossiness:  # read as a viewer of the extension does: not its metallic-roughness fallback
         source = spec_gloss.without_fallback(source)
         mappings = tuple(m for m in mappings if m.target not in spec_gloss.DECIDED)  # (spec_gloss.read's)

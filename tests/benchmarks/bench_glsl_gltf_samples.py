@@ -53,10 +53,12 @@ LIMIT = 2.3
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--only", metavar="FOLDER", help="one sample folder, e.g. ClearCoatTest")
+    parser.add_argument("--samples", default=SAMPLES,
+                        help="the folder of sample folders (tests/data/published/gltf_samples: 60 more models)")
     parser.add_argument("--targets", nargs="+", choices=TARGETS, default=list(TARGETS))
     parser.add_argument("--size", type=int, default=64, help="rig pixels")
     arguments = parser.parse_args()
-    folders = sorted(os.path.basename(p) for p in glob.glob(os.path.join(SAMPLES, "*")) if os.path.isdir(p))
+    folders = sorted(os.path.basename(p) for p in glob.glob(os.path.join(arguments.samples, "*")) if os.path.isdir(p))
     if arguments.only:
         if arguments.only not in folders:
             parser.error(f"--only: no sample folder {arguments.only!r} (have {', '.join(folders)})")
@@ -74,7 +76,7 @@ def main() -> None:
             os.makedirs(os.path.join(scratch, target))
         os.makedirs(os.path.join(scratch, "reference"))
         for folder in folders:
-            shutil.copytree(os.path.join(SAMPLES, folder), os.path.join(scratch, "samples", folder))
+            shutil.copytree(os.path.join(arguments.samples, folder), os.path.join(scratch, "samples", folder))
             for source in sorted(glob.glob(os.path.join(scratch, "samples", folder, "*.gltf"))):
                 stem = os.path.splitext(os.path.basename(source))[0]
                 gltf = GltfReference(source)
