@@ -83,7 +83,10 @@ def _node(document, node, depth: int, colorspace: str | None) -> np.ndarray | No
             except ValueSyntaxError:
                 return _stand_in(type_name)
             if port.getType() in ("color3", "color4"):  # a colour: converted into the working space
-                rgb = to_lin_rec709(parsed[:3], port.getColorSpace() or colorspace)
+                try:
+                    rgb = to_lin_rec709(parsed[:3], port.getColorSpace() or colorspace)
+                except KeyError:  # a name MaterialX does not know (OCIO's gamma18, say; OPBR502): none applied
+                    rgb = parsed[:3]
                 parsed = np.concatenate([rgb, parsed[3:]])
             operands[name] = parsed
         else:

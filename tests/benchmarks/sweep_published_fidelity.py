@@ -21,6 +21,8 @@ from pathlib import Path
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", ".."))
 
 from openpbr_tools.convert import convert_file  # noqa: E402
+from openpbr_tools.io import ReadError  # noqa: E402
+from openpbr_tools.io.gltf.images import GltfWriteError  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
 from openpbr_tools.verification import measure  # noqa: E402
 
@@ -41,7 +43,12 @@ def main() -> None:
     with tempfile.TemporaryDirectory() as folder:
         for path in files:
             for suffix, model in TARGETS:
-                conversion = convert_file(str(path), os.path.join(folder, f"out.{suffix}"), model, Settings())
+                try:
+                    conversion = convert_file(str(path), os.path.join(folder, f"out.{suffix}"), model, Settings(),
+                                              allow_outside=(str(Path(args.root).resolve()),))
+                except (ReadError, GltfWriteError) as error:  # unreadable, or a texture outside --root
+                    print(f"skipped {path.relative_to(args.root)} -> {model}: {error}")
+                    continue
                 rows += [(delta.mean, model, str(path.relative_to(args.root)), source.name)
                          for source, delta in measure(conversion)]
     for _, model in TARGETS:
