@@ -161,3 +161,25 @@ def test_verify_takes_a_colour_space_materialx_does_not_know(tmp_path):
                                       "-o", str(tmp_path / "o.gltf"), "--verify"])
     assert result.exception is None or isinstance(result.exception, SystemExit), result.output
     assert "Traceback" not in result.output and (tmp_path / "o.gltf").is_file()
+
+
+def test_a_constant_nodes_colour_is_read_in_its_own_colour_space(write_mtlx, tmp_path):
+    # color_management.mtlx feeds shaders from <constant> nodes whose value carries its colour space; the value
+    # was read in the shader input's (a glTF output got 0.5 for an sRGB 0.5, not 0.214)
+    import json
+
+    import colour
+
+    path = write_mtlx('''<constant name="k" type="color3">
+  <input name="value" type="color3" value="0.5, 0.2, 0.1" colorspace="srgb_texture" />
+</constant>
+<open_pbr_surface name="S" type="surfaceshader">
+  <input name="base_color" type="color3" nodename="k" />
+</open_pbr_surface>''')
+    entry = read_asset(str(path)).materials[0].inputs["base_color"]
+    assert (entry.value.value, entry.colorspace) == ((0.5, 0.2, 0.1), "srgb_texture")
+    out = tmp_path / "o.gltf"
+    convert_file(str(path), str(out), "gltf_pbr", Settings())
+    factor = json.loads(out.read_text())["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"][:3]
+    expected = colour.cctf_decoding([0.5, 0.2, 0.1], function="sRGB")
+    assert max(abs(a - b) for a, b in zip(factor, expected)) < 1e-6

@@ -51,6 +51,7 @@ class GraphFollower:
     def follow(self, port):
         """Interpret what feeds ``port``: a :class:`Texture` for an image chain, else a
         :class:`Connection` (dangling when the reference does not resolve)."""
+        self.followed_space = None
         if port.hasAttribute("interfacename"):
             graph_input = port.getInterfaceInput()
             if graph_input is None:
@@ -58,6 +59,7 @@ class GraphFollower:
             if not (graph_input.hasAttribute("nodename") or graph_input.hasAttribute("nodegraph")):
                 if graph_input.hasAttribute("value"):
                     try:
+                        self.followed_space = graph_input.getActiveColorSpace() or None
                         return Constant(parse_value(graph_input.getValueString(), graph_input.getType()))
                     except ValueSyntaxError as error:
                         return Connection(graph_input.getNamePath(), None, str(error))
@@ -69,6 +71,8 @@ class GraphFollower:
             return Connection(target or port.getOutputString(), None, "connection target not found", dangling=True)
         constant = _constant_value(self, node, port.getType())
         if constant is not None:
+            constant, held = constant
+            self.followed_space = held.getActiveColorSpace() or None  # the colour space the value is in
             return constant
         texture = self.texture_chain(node, port.getOutputString() if not port.getNodeGraphString() else "")
         if texture is not None:
@@ -131,6 +135,9 @@ class GraphFollower:
 
     #: (instance, nodedef) while a custom shader node's implementation graph is read for that instance
     binding = None
+    #: the colour space of the constant :meth:`follow` last returned (a constant node's or an interface
+    #: input's value is in its own, which may not be the shader input's)
+    followed_space = None
 
     def bound_file(self, file_input):
         """The element holding an image's file name: its ``file`` input or, where that is bound to an
@@ -325,8 +332,9 @@ def _combine(a: list[float], b: list[float], operation) -> list[float]:
 
 def _constant_value(follower, node, type_name: str):
     """A ``constant`` node (through ``dot`` nodes) with an authored value of the port's type: its
-    value, as :class:`Constant` (MaterialX renders the same; UsdMtlx keeps such networks). A
-    constant fed by a connection, or of another type, stays a connection."""
+    value, as :class:`Constant` (MaterialX renders the same; UsdMtlx keeps such networks), and the port
+    holding it (whose colour space the value is in). A constant fed by a connection, or of another type,
+    stays a connection."""
     for _ in range(8):
         if node is None:
             return None
@@ -344,7 +352,7 @@ def _constant_value(follower, node, type_name: str):
         if not port.hasAttribute("value") or port.getType() != type_name:
             return None
         try:
-            return Constant(parse_value(port.getValueString(), type_name))
+            return Constant(parse_value(port.getValueString(), type_name)), port
         except ValueSyntaxError:
             return None
     return None

@@ -383,6 +383,8 @@ class _Reader(GraphFollower):
         if port.hasAttribute("nodename") or port.hasAttribute("nodegraph") or port.hasAttribute("interfacename") \
                 or port.hasAttribute("output"):
             entry.value = self.follow_shader_input(port)
+            if isinstance(entry.value, Constant) and self.followed_space and self.followed_space != entry.colorspace:
+                entry.colorspace = entry.authored_colorspace = self.followed_space
             return entry
         text = port.getValueString()
         entry.raw = text
