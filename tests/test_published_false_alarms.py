@@ -269,31 +269,34 @@ def test_a_surface_connected_to_another_declared_output_of_the_preview_shader_is
     assert not [o for o in asset.observations if o.kind == "dangling_reference"]
 
 
+def _textured_stage(tmp_path, texture_lines: str) -> str:
+    """A UsdPreviewSurface whose diffuseColor reads a UsdUVTexture with ``texture_lines``."""
+    return _stage(tmp_path, f'''def Material "M"
+{{
+    token outputs:surface.connect = </M/Surface.outputs:surface>
+    def Shader "Surface"
+    {{
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor.connect = </M/Texture.outputs:rgb>
+        token outputs:surface
+    }}
+    def Shader "Texture"
+    {{
+        uniform token info:id = "UsdUVTexture"
+        {texture_lines}
+        float3 outputs:rgb
+    }}
+}}
+''')
+
+
 def test_a_time_sampled_texture_file_is_read_as_its_first_sample(tmp_path):
     # OpenUSD testUsdImagingGLPreviewSurface/testPreviewSurfaceAnimated.usda: an animated UsdUVTexture file
     from openpbr_tools.validate import validate_paths
 
     (tmp_path / "grid.png").write_bytes(b"")
-    path = _stage(tmp_path, '''def Material "M"
-{
-    token outputs:surface.connect = </M/Surface.outputs:surface>
-    def Shader "Surface"
-    {
-        uniform token info:id = "UsdPreviewSurface"
-        color3f inputs:diffuseColor.connect = </M/Texture.outputs:rgb>
-        token outputs:surface
-    }
-    def Shader "Texture"
-    {
-        uniform token info:id = "UsdUVTexture"
-        asset inputs:file.timeSamples = {
-            1: @grid.png@,
-            2: @grid_1.png@,
-        }
-        float3 outputs:rgb
-    }
-}
-''')
+    path = _textured_stage(tmp_path, "asset inputs:file.timeSamples = {\n            1: @grid.png@,\n"
+                                     "            2: @grid_1.png@,\n        }")
     (material,) = read_asset(path).materials
     assert material.inputs["diffuseColor"].texture.file == "grid.png"
     assert "OPBR705" not in {d.code for d in validate_paths([path]).diagnostics}
@@ -317,24 +320,8 @@ def test_a_uv_texture_fallback_is_written_with_the_images_width(tmp_path):
     from openpbr_tools.translate.common import Settings
 
     (tmp_path / "missing_on_purpose.png").write_bytes(b"")
-    path = _stage(tmp_path, '''def Material "M"
-{
-    token outputs:surface.connect = </M/Surface.outputs:surface>
-    def Shader "Surface"
-    {
-        uniform token info:id = "UsdPreviewSurface"
-        color3f inputs:diffuseColor.connect = </M/Texture.outputs:rgb>
-        token outputs:surface
-    }
-    def Shader "Texture"
-    {
-        uniform token info:id = "UsdUVTexture"
-        asset inputs:file = @missing_on_purpose.png@
-        float4 inputs:fallback = (0, 0, 1, 1)
-        float3 outputs:rgb
-    }
-}
-''')
+    path = _textured_stage(tmp_path, "asset inputs:file = @missing_on_purpose.png@\n"
+                                     "        float4 inputs:fallback = (0, 0, 1, 1)")
     for target in ("open_pbr_surface", "UsdPreviewSurface"):
         out = tmp_path / f"{target}.mtlx"
         convert_file(path, str(out), target, Settings())
