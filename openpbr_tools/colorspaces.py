@@ -146,6 +146,17 @@ def to_lin_rec709(rgb, colorspace: str | None):
     return values @ _matrix(spec["space"], "sRGB").T
 
 
+def to_lin_rec709_as_materialx(rgb, colorspace: str | None):
+    """:func:`to_lin_rec709`, except that a name MaterialX does not know (a vendor or OCIO name: the validator
+    reports it, OPBR502) converts nothing, as MaterialX's colour management applies no transform for it."""
+    try:
+        return to_lin_rec709(rgb, colorspace)
+    except KeyError:
+        import numpy as np  # lazy: as in to_lin_rec709
+
+        return np.asarray(rgb, dtype=np.float64)
+
+
 def levels_to_lin_rec709(levels, colorspace: str | None, dtype=None):
     """:func:`to_lin_rec709` of ``levels / 255`` for 8-bit ``levels`` (uint8 ``(..., 3)``, what an
     8-bit image stores): the transfer function tabulated over the 256 levels (the same numbers as

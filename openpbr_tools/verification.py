@@ -7,7 +7,6 @@ the report's OPBR1108 / OPBR1109 notes.
 from __future__ import annotations
 
 import collections
-
 import os
 import tempfile
 
@@ -51,9 +50,9 @@ def compare(conversion: Conversion, keep_images: bool = False) -> list[tuple[Mat
     repeated = collections.Counter(display_name(result) for _, result in conversion.pairs)
     seen: collections.Counter = collections.Counter()
     for source, result in conversion.pairs:
-        targets = written.get(display_name(result), []) if written is not None else []
-        targets = _own(targets, repeated[display_name(result)], seen[display_name(result)])
-        seen[display_name(result)] += 1
+        name = display_name(result)
+        targets = _own(written.get(name, []) if written is not None else [], repeated[name], seen[name])
+        seen[name] += 1
         if not targets:
             comparison = compare_materials(source, result, sampler=source_sampler, keep_images=keep_images,
                                            sampler_b=in_memory)

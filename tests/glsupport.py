@@ -318,6 +318,19 @@ def shader_generator():
     return library, glsl, context
 
 
+def validated(path):
+    """The MaterialX document at ``path`` with MaterialX's standard libraries, asserted valid by its own
+    ``Document.validate()`` (the message on failure)."""
+    import MaterialX as mx  # lazy: as in shader_generator
+
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    document.setDataLibrary(shader_generator()[0])
+    valid, message = document.validate()
+    assert valid, message
+    return document
+
+
 def single_material(path: str, name: str, out_path: str) -> str:
     """Write the MaterialX document at ``path`` with only the surfacematerial ``name`` left (for
     ``render_document``, which renders a document's first), beside it so texture paths still resolve."""

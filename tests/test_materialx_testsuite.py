@@ -11,10 +11,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import MaterialX as mx
 import pytest
 
-from glsupport import shader_generator
+from glsupport import shader_generator, validated
 from openpbr_tools.convert import convert_file
 from openpbr_tools.io import read_asset
 from openpbr_tools.model import Connection, Texture
@@ -30,16 +29,6 @@ def _codes(path) -> list[str]:
     return sorted(d.code for d in validate_paths([str(path)], options=Options(use_config=False, jobs=1)).diagnostics)
 
 
-def _validated(path):
-    """The MaterialX document at ``path``, asserted valid by MaterialX's Document.validate()."""
-    document = mx.createDocument()
-    mx.readFromXmlFile(document, str(path))
-    document.setDataLibrary(shader_generator()[0])
-    valid, message = document.validate()
-    assert valid, message
-    return document
-
-
 def test_the_suite_is_vendored():
     assert len(FILES) == 12
 
@@ -50,7 +39,7 @@ def test_every_conversion_validates_and_generates_a_shader_in_materialx(tmp_path
     out = tmp_path / "out.mtlx"
     convert_file(str(SUITE / name), str(out), target, Settings())
     _, generator, context = shader_generator()
-    document = _validated(out)
+    document = validated(out)
     import MaterialX.PyMaterialXGenShader as gs  # lazy: as glsupport.shader_generator
 
     renderable = gs.findRenderableElements(document)
@@ -130,7 +119,7 @@ def test_a_usd_uv_texture_rgb_normal_map_is_written_as_a_vector3_image(write_mtl
     assert texture.image_type == "color3" and texture.channels is None  # the rgb output, not the first (r)
     out = tmp_path / "o.mtlx"
     convert_file(str(path), str(out), "open_pbr_surface", Settings())
-    assert [n.getType() for n in _validated(out).getNodes() if n.getCategory() == "image"] == ["vector3"]
+    assert [n.getType() for n in validated(out).getNodes() if n.getCategory() == "image"] == ["vector3"]
 
 
 def test_a_material_node_of_its_own_definition_is_not_a_material_without_shader():
@@ -147,7 +136,7 @@ def test_a_nodedef_that_declares_no_node_is_reported():
 def test_looks_carry_the_collections_they_assign_to(tmp_path):
     out = tmp_path / "o.mtlx"
     convert_file(str(SUITE / "stdlib/materials/material_node_discovery.mtlx"), str(out), "open_pbr_surface", Settings())
-    assert _validated(out).getCollection("collection1") is not None
+    assert validated(out).getCollection("collection1") is not None
 
 
 def test_verify_takes_a_colour_space_materialx_does_not_know(tmp_path):

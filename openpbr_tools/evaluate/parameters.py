@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import tables
-from ..colorspaces import to_lin_rec709
+from ..colorspaces import to_lin_rec709_as_materialx
 from ..io.gltf.slots import DIFFUSE_TRANSMISSION, UNLIT
 from ..model import Connection, Constant, Material, Texture
 from . import procedural
@@ -80,7 +80,7 @@ def _convert(value, ptype: str, role: str, colorspace: str | None):
     if ptype in ("color3", "color4") and array.ndim == 0:
         array = np.full(3, float(array))
     if ptype in ("color3", "color4") and role == "color":
-        array = colour_to_lin_rec709(array[..., :3], colorspace)
+        array = to_lin_rec709_as_materialx(array[..., :3], colorspace)
     return array
 
 
@@ -104,17 +104,6 @@ def _sampled(values: np.ndarray, kind: str) -> np.ndarray:
     if kind in ("color3", "color4", "vector3"):
         return values if values.ndim == 2 else np.repeat(values[:, None], 3, axis=1)
     return values if values.ndim == 1 else values[:, 0]
-
-
-def colour_to_lin_rec709(rgb: np.ndarray, colorspace: str | None) -> np.ndarray:
-    """Convert a constant colour to linear Rec.709 (see :func:`openpbr_tools.colorspaces.to_lin_rec709`);
-    unknown names are left unconverted (the validator reports them)."""
-    if colorspace in (None, "lin_rec709", "none"):
-        return np.asarray(rgb, dtype=float)
-    try:
-        return np.asarray(to_lin_rec709(rgb, colorspace), dtype=float)
-    except KeyError:
-        return np.asarray(rgb, dtype=float)
 
 
 #: Evaluator inputs a model's MaterialX node has no parameter for, with their defaults: glTF's
@@ -242,7 +231,7 @@ def _gltf_diffuse_transmission(material: Material, resolved: ResolvedParameters)
             if entry is not None and isinstance(entry.value, Constant):
                 value = np.asarray(entry.value.value, dtype=float)
                 resolved.values[name] = value if value.ndim == 0 else \
-                    colour_to_lin_rec709(value, entry.colorspace or material.colorspace)
+                    to_lin_rec709_as_materialx(value, entry.colorspace or material.colorspace)
         return
     found = ((material.extra.get("gltf") or {}).get("extensions") or {}).get(DIFFUSE_TRANSMISSION)
     if not isinstance(found, dict):

@@ -18,7 +18,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..colorspaces import to_lin_rec709
+from ..colorspaces import to_lin_rec709_as_materialx
 from ..values import COMPONENTS, ValueSyntaxError, parse_value
 
 STAND_IN = 0.5  # each component of an upstream node this module does not evaluate
@@ -83,10 +83,7 @@ def _node(document, node, depth: int, colorspace: str | None) -> np.ndarray | No
             except ValueSyntaxError:
                 return _stand_in(type_name)
             if port.getType() in ("color3", "color4"):  # a colour: converted into the working space
-                try:
-                    rgb = to_lin_rec709(parsed[:3], port.getColorSpace() or colorspace)
-                except KeyError:  # a name MaterialX does not know (OCIO's gamma18, say; OPBR502): none applied
-                    rgb = parsed[:3]
+                rgb = to_lin_rec709_as_materialx(parsed[:3], port.getColorSpace() or colorspace)
                 parsed = np.concatenate([rgb, parsed[3:]])
             operands[name] = parsed
         else:

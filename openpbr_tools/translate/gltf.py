@@ -272,6 +272,8 @@ def hdr_specular_scale(specular_color, metallic):
     colour = np.asarray(specular_color, dtype=float)  # (3,), or (H, W, 3) beside floats (H, W, 1) when baked
     largest = np.max(colour, axis=-1, keepdims=colour.ndim > 1) if colour.ndim else colour
     return np.where((np.asarray(metallic, dtype=float) < 1) & (largest > 1), largest, 1.0)
+
+
 def gltf_ior(specular_ior):
     """KHR_materials_ior's ``ior`` (at least 1) for OpenPBR's: as it is from 1 up; below 1, its reciprocal,
     which has the same normal-incidence reflectance ((n - 1)/(n + 1))^2."""
@@ -571,8 +573,12 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
     :func:`gltf_to_openpbr`), ``coat_ior``: KHR_materials_coat's IOR where it replaces clearcoat's."""
     found = found or {}
     # ``hdr``: a constant specular colour above 1 folds its excess into the weight (hdr_specular_scale); a
-    # textured one is kept as MaterialX nodes (texture times factor), which OpenPBR renders above 1 as glTF does
-    scale = hdr_specular_scale if hdr and drafts.SPECULAR_OPENPBR not in found else (lambda c, m: 1.0)
+    # textured one is kept as MaterialX nodes (texture times factor), which OpenPBR renders above 1 as glTF does;
+    # a draft's colour is OpenPBR's own
+    fold = hdr and drafts.SPECULAR_OPENPBR not in found
+
+    def scale(colour, metallic):
+        return hdr_specular_scale(colour, metallic) if fold else 1.0
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
     overridden = {target for name in found for target in DRAFT_TARGETS.get(name, ())}
@@ -632,7 +638,7 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
         )
     mappings = base_and_specular + roughness + (
         Mapping("base_metalness", ("metallic",)),
-        Mapping("specular_color", ("specular_color",)) if scale is not hdr_specular_scale else
+        Mapping("specular_color", ("specular_color",)) if not fold else
         Mapping("specular_color", ("specular_color", "metallic"),
                 lambda c, m: np.asarray(c, dtype=float) / hdr_specular_scale(c, m), exact=False,
                 matters=lambda c, m: bool(np.any(hdr_specular_scale(c, m) > 1)),

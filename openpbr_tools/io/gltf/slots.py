@@ -179,6 +179,8 @@ def object_properties() -> dict[str, tuple[frozenset, dict[str, str]]]:
         known.update(names)
         textures.update({name: "textureInfo" for name in names if name.endswith("Texture")})
     return {container: (frozenset(names), textures) for container, (names, textures) in found.items()}
+
+
 ANISOTROPY_DIRECTION_DEFAULT = (1.0, 0.5)  # RG encoding of the direction (1, 0): (d + 1) / 2
 
 # Image formats a texture extension adds to glTF's core PNG and JPEG (specification 3.8.2).

@@ -252,11 +252,13 @@ class TextureWriting:
 def _affine(slot: slots.Slot, texture: Texture) -> tuple[float, float] | None:
     """(scale, bias) of a one-channel data texture with a bias (a glossiness read as roughness: 1 - g), which
     glTF's factor cannot hold and the baked texels do; None for the others (a colour's bias stays a note)."""
-    bias = texture.bias[0] if isinstance(texture.bias, tuple) and len(set(texture.bias)) == 1 else texture.bias
+    def single(value):  # (a one-channel value, or the same in every channel)
+        return value[0] if isinstance(value, tuple) and len(set(value)) == 1 else value
+
+    bias, scale = single(texture.bias), single(texture.scale)
     if slot.colour or slot.texture_kind != "textureInfo" or slot.parameter == "iridescence_thickness" \
             or not isinstance(bias, (int, float)) or bias == 0.0:
         return None
-    scale = texture.scale[0] if isinstance(texture.scale, tuple) and len(set(texture.scale)) == 1 else texture.scale
     if scale is not None and not isinstance(scale, (int, float)):
         return None
     return (1.0 if scale is None else float(scale)), float(bias)

@@ -97,6 +97,22 @@ def _add_definitions(captured, originals) -> None:
             pending += [inner for inner in implementation.getNodes() if inner.getCategory() not in standard]
 
 
+def interface_input(port, binding):
+    """(the element a port bound by ``interfacename`` reads, the binding what that element is connected to
+    is read with). In a node graph, its input (its own connections read with ``binding`` still); in a graph
+    implementing a nodedef, the input of the instance being read (``binding``: (instance, nodedef)), else the
+    nodedef's default, whose connections belong to the instance's scope, outside the definition (binding
+    None); ``None`` there when no instance is being read."""
+    scope = port.getParent().getParent()
+    if scope is None or scope.getCategory() != "nodegraph" or not scope.getNodeDefString():
+        return port.getInterfaceInput(), binding
+    if binding is None:
+        return None, None
+    instance, nodedef = binding
+    name = port.getInterfaceName()
+    return instance.getInput(name) or nodedef.getActiveInput(name), None
+
+
 def _feed(port, binding, depth: int = 0):
     """What feeds a port of a node being captured: ``None`` for its own value; else ``("value", element,
     None)`` (an interface input's value), ``("node", node, output)`` (the node and, for a multi-output
@@ -105,16 +121,7 @@ def _feed(port, binding, depth: int = 0):
     if depth > 16:
         return ("default", None, None)
     if port.hasAttribute("interfacename"):
-        scope = port.getParent().getParent()
-        name = port.getInterfaceName()
-        if scope is not None and scope.getCategory() == "nodegraph" and scope.getNodeDefString():
-            if binding is None:
-                return ("default", None, None)
-            instance, nodedef = binding
-            interface = instance.getInput(name) or nodedef.getActiveInput(name)
-            binding = None  # the instance's own inputs belong to its scope, outside the definition
-        else:
-            interface = scope.getInput(name) if scope is not None and hasattr(scope, "getInput") else None
+        interface, binding = interface_input(port, binding)
         if interface is None:
             return ("default", None, None)
         if any(interface.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename")):

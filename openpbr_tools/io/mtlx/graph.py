@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from ...model import Connection, Constant, Location, Texture, UVTransform, normal_strength
 from ...values import ValueSyntaxError, parse_value
-from .capture import capture_graph
+from .capture import capture_graph, interface_input
 
 IMAGE_CATEGORIES = ("image", "tiledimage", "gltf_image", "gltf_colorimage", "UsdUVTexture")
 PASS_THROUGH = ("convert", "dot")
@@ -114,7 +114,7 @@ class GraphFollower:
             elif category not in PASS_THROUGH:
                 return None
             elif category == "convert" and node.getType().startswith("color") and \
-                    (node.getInput("in") is not None and node.getInput("in").getType().startswith("vector")):
+                    (source := node.getInput("in")) is not None and source.getType().startswith("vector"):
                 return None  # a vector image read as a colour: no Texture holds that (nor its colour management)
             upstream = node.getInput("in1" if category in ("multiply", "add") else "in")
             node = self.upstream_node(upstream) if upstream is not None else None
@@ -146,15 +146,7 @@ class GraphFollower:
         nodedef, the instance's input being read (:attr:`binding`), else the nodedef's default."""
         if file_input is None or not file_input.hasAttribute("interfacename"):
             return file_input
-        graph = file_input.getParent().getParent()
-        if graph is not None and graph.getCategory() == "nodegraph" and graph.getNodeDefString():
-            if self.binding is None:
-                return file_input
-            instance, nodedef = self.binding
-            name = file_input.getInterfaceName()
-            bound = instance.getInput(name) or nodedef.getActiveInput(name)
-        else:
-            bound = file_input.getInterfaceInput()
+        bound, _ = interface_input(file_input, self.binding)
         if bound is None or not bound.hasAttribute("value"):
             return file_input
         return bound
@@ -297,8 +289,7 @@ class _ScaleBias:
 
     def take(self, node, channels) -> bool:
         first, second = node.getInput("in1"), node.getInput("in2")
-        if first is None or second is None or not second.hasAttribute("value") or \
-                any(second.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename", "output")):
+        if first is None or second is None or not second.hasAttribute("value") or _connected(second):
             return False
         try:
             value = parse_value(second.getValueString(), second.getType())
@@ -344,7 +335,7 @@ def _constant_value(follower, node, type_name: str):
         port = node.getInput("in" if category == "dot" else "value")
         if port is None:
             return None
-        if any(port.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename", "output")):
+        if _connected(port):
             if category == "constant":
                 return None
             node = follower.upstream_node(port)
