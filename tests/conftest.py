@@ -34,11 +34,35 @@ def document(fragment: str) -> str:
     return DOCUMENT.format(body=body)
 
 
+def example_image(name: str) -> bytes:
+    """A 4 x 4 RGB image in the format ``name``'s suffix names (Pillow; OpenImageIO for EXR and HDR)."""
+    import io
+
+    from PIL import Image
+
+    suffix = os.path.splitext(name)[1].lower()
+    if suffix in (".exr", ".hdr"):
+        import OpenImageIO as oiio
+
+        folder = tempfile.mkdtemp(prefix="openpbr-example-image-")
+        path = os.path.join(folder, "image" + suffix)
+        buffer = oiio.ImageBuf(oiio.ImageSpec(4, 4, 3, oiio.HALF if suffix == ".exr" else oiio.FLOAT))
+        oiio.ImageBufAlgo.fill(buffer, (0.5, 0.25, 0.125))
+        assert buffer.write(path), oiio.geterror()
+        with open(path, "rb") as handle:
+            return handle.read()
+    buffer = io.BytesIO()
+    Image.new("RGB", (4, 4), (200, 120, 40)).save(buffer, format=Image.registered_extensions().get(suffix, "PNG"))
+    return buffer.getvalue()
+
+
 @pytest.fixture
 def write_mtlx(tmp_path: Path):
-    """write_mtlx(fragment, name="doc.mtlx", files=()) -> path; creates the listed texture files."""
+    """write_mtlx(fragment, name="doc.mtlx", files=(), config="", contents=()) -> path; creates the listed
+    texture files as small valid images of their suffix's format (:func:`example_image`), or with the
+    bytes ``contents`` gives for their name."""
 
-    def write(fragment: str | bytes, name: str = "doc.mtlx", files=(), config: str = "") -> Path:
+    def write(fragment: str | bytes, name: str = "doc.mtlx", files=(), config: str = "", contents=()) -> Path:
         path = tmp_path / name
         if config:
             (tmp_path / ".openpbr.toml").write_text(config, encoding="utf-8")
@@ -52,7 +76,8 @@ def write_mtlx(tmp_path: Path):
         for file in files:
             target = tmp_path / file
             target.parent.mkdir(parents=True, exist_ok=True)
-            target.write_bytes(b"")
+            data = dict(contents).get(file)
+            target.write_bytes(example_image(file) if data is None else data)
         return path
 
     return write

@@ -8,6 +8,9 @@ and say why. Warnings and infos are listed in the assertion message.
 
 from __future__ import annotations
 
+import base64
+import io
+
 import numpy as np
 import pytest
 from PIL import Image
@@ -226,3 +229,57 @@ def test_a_misspelt_property_of_a_material_extension_is_a_warning_as_the_validat
     assert set(ours) == {("OPBR1213", pointer) for pointer in expected}
     assert {d.severity.name for d in ours.values()} == {"WARNING"}
     assert ours[("OPBR1213", f"{iridescence}/iridescenceIOR")].hint == "did you mean 'iridescenceIor'?"
+
+
+def _buffer(data: bytes) -> dict:
+    padded = data + b"\0" * (-len(data) % 4)
+    return {"uri": "data:application/octet-stream;base64," + base64.b64encode(padded).decode(), "byteLength": len(padded)}
+
+
+def _image_bytes(fmt: str) -> bytes:
+    buffer = io.BytesIO()
+    Image.new("RGB", (4, 4), (9, 99, 200)).save(buffer, fmt)
+    return buffer.getvalue()
+
+
+#: Images and declarations the validator reports (error or warning) outside the material objects.
+IMAGE_FINDINGS = {
+    "data URI declaring another format": lambda png, jpeg: {"images": [{"uri": "data:image/png;base64," + base64.b64encode(jpeg).decode()}]},
+    "file declared as another format": lambda png, jpeg: {"images": [{"uri": "t.png", "mimeType": "image/jpeg"}]},
+    "bufferView declared as another format": lambda png, jpeg: {
+        "buffers": [_buffer(jpeg)], "bufferViews": [{"buffer": 0, "byteLength": len(jpeg)}],
+        "images": [{"bufferView": 0, "mimeType": "image/png"}]},
+    "uri and bufferView": lambda png, jpeg: {
+        "buffers": [_buffer(png)], "bufferViews": [{"buffer": 0, "byteLength": len(png)}],
+        "images": [{"uri": "t.png", "bufferView": 0, "mimeType": "image/png"}]},
+    "bufferView without mimeType": lambda png, jpeg: {
+        "buffers": [_buffer(png)], "bufferViews": [{"buffer": 0, "byteLength": len(png)}], "images": [{"bufferView": 0}]},
+    "extension declared twice": lambda png, jpeg: {"images": [{"uri": "t.png"}],
+                                                   "extensionsUsed": ["KHR_materials_ior", "KHR_materials_ior"]},
+    "file named for another format": lambda png, jpeg: {"images": [{"uri": "t.jpg"}]},  # no finding: no type declared
+}
+
+
+@pytest.mark.parametrize("case", sorted(IMAGE_FINDINGS))
+def test_every_image_finding_of_the_khronos_validator_is_one_here(tmp_path, case):
+    """Each error or warning the validator reports at an image or an extension list is reported here at the same
+    pointer with the same severity, and nothing else is."""
+    import json
+
+    from openpbr_tools.validate import validate_paths
+
+    png, jpeg = _image_bytes("PNG"), _image_bytes("JPEG")
+    (tmp_path / "t.png").write_bytes(png)
+    (tmp_path / "t.jpg").write_bytes(png)
+    document = {"asset": {"version": "2.0"}, "textures": [{"source": 0}],
+                "materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
+                               "extensions": {"KHR_materials_ior": {"ior": 1.4}}}],
+                "extensionsUsed": ["KHR_materials_ior"], **IMAGE_FINDINGS[case](png, jpeg)}
+    path = tmp_path / "m.gltf"
+    path.write_text(json.dumps(document))
+    theirs = {(m["pointer"], ("ERROR", "WARNING")[m["severity"]])
+              for m in validate_with_khronos(path, tmp_path)["issues"]["messages"] if m["severity"] <= 1}
+    ours = {(f"{d.location.path}/{d.location.input}" if d.location.input else d.location.path, d.severity.name)
+            for d in validate_paths([str(path)]).diagnostics if d.severity.name in ("ERROR", "WARNING")}
+    assert ours == theirs
+    assert bool(theirs) == (case != "file named for another format")

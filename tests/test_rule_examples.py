@@ -15,7 +15,8 @@ REPORT_ONLY = [r for r in all_rules().values() if not r.formats]
 @pytest.mark.parametrize("rule", RULES, ids=[r.code for r in RULES])
 def test_failing_example_triggers_rule(rule, write_mtlx, codes_of):
     config = rule.example_config if rule.failing_config is None else rule.failing_config
-    path = write_mtlx(rule.failing, name=rule.failing_name, files=rule.example_files, config=config)
+    path = write_mtlx(rule.failing, name=rule.failing_name, files=rule.example_files, config=config,
+                      contents=rule.failing_files)
     assert rule.code in codes_of(path)
 
 
@@ -28,8 +29,8 @@ def test_passing_example_does_not_trigger_rule(rule, write_mtlx, codes_of):
 def test_every_rule_has_documentation_and_distinct_examples():
     for rule in RULES:
         assert rule.summary and rule.doc, rule.code
-        failing = (rule.failing, rule.failing_name, rule.failing_config)
-        assert failing != (rule.passing, rule.passing_name, None), rule.code
+        failing = (rule.failing, rule.failing_name, rule.failing_config, rule.failing_files)
+        assert failing != (rule.passing, rule.passing_name, None, ()), rule.code
 
 
 def test_rules_without_validation_examples_are_translation_notes_with_a_command():

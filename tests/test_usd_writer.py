@@ -7,6 +7,7 @@ import os
 import zipfile
 
 import pytest
+from PIL import Image
 
 from openpbr_tools.io import read_asset
 from openpbr_tools.io.usd.writer import write_usd
@@ -176,7 +177,7 @@ STAGE = HEADER + '''def Scope "Looks"
 def wood(tmp_path):
     (tmp_path / "src" / "tex").mkdir(parents=True)
     for name in ("albedo.png", "orm.png", "normal.png"):
-        (tmp_path / "src" / "tex" / name).write_bytes(b"\x89PNG\r\n\x1a\n")
+        Image.new("RGB", (4, 4), (90, 60, 30)).save(tmp_path / "src" / "tex" / name)
     path = tmp_path / "src" / "wood.usda"
     path.write_text(STAGE)
     return path

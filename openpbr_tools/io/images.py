@@ -8,7 +8,7 @@ allowed folder are ever read and URLs are never fetched, or an image packaged in
 (a glTF's ``#/images/N``, read through :func:`openpbr_tools.io.packaged_image`). It raises
 :class:`ImageRefused` for a texture that must not be read at all (the caller refuses the whole
 output) and :class:`ImageUnavailable` for one that cannot be (empty path, missing file, unreadable
-package entry: the caller reports it and goes on).
+package entry, a file that is no readable image, :func:`.image_files.damage`: the caller reports it and goes on).
 
 Every reader of texels (the glTF writer's channel packing, the baker) decodes here: Pillow for PNG,
 JPEG, TIFF, TGA, WebP and BMP, OpenImageIO for what Pillow cannot open (EXR, HDR). Both are imported on first use (Pillow ~15 ms, OpenImageIO ~30 ms), so a
@@ -22,6 +22,7 @@ import io
 import os
 
 from . import ReadError, packaged_image
+from .image_files import damage
 from ..model import Texture
 from .paths import Kind, PathGuard, classify
 
@@ -109,6 +110,9 @@ class ImageLocator:
         real = resolved.real
         if not os.path.isfile(real):
             raise ImageUnavailable(f"{owner}: texture {file!r} does not exist, not written")
+        found = damage(real)
+        if found is not None:
+            raise ImageUnavailable(f"{owner}: texture {file!r} is {found.detail}, not written")
         name = resolved.relative if resolved.root == guard.own_root else f"textures/{os.path.basename(real)}"
         return ImageSource(key=("file", real), image=real, name=name, mime=_mime_of_file(real))
 
@@ -121,6 +125,9 @@ class ImageLocator:
                 raise ImageUnavailable(f"{owner}: {texture.file!r} is inside a package that cannot be opened here, "
                                        "not read") from None
             raise ImageUnavailable(f"{owner}: {texture.file!r} cannot be loaded ({error.message}), not written") from None
+        found = damage(data)
+        if found is not None:
+            raise ImageUnavailable(f"{owner}: {texture.file!r} is {found.detail}, not written")
         stem = os.path.splitext(os.path.basename(container))[0]
         extension = {"image/png": ".png", "image/jpeg": ".jpg"}.get(sniff(data) or mime or "", ".png")
         if texture.file.startswith("#/images/"):  # a glTF's image N

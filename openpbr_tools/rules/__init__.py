@@ -47,7 +47,9 @@ class Rule:
     ``failing_name``: for ``.mtlx`` names, a MaterialX fragment is placed in a document with
     ``colorspace="lin_rec709"`` and a ``surfacematerial`` named ``M`` bound to a shader named ``S``
     (a whole document is used as is); other formats are written verbatim. The test suite runs
-    every example. ``example_files`` are files the examples expect to exist beside the document;
+    every example. ``example_files`` are files the examples expect to exist beside the document
+    (written as small valid images of their suffix's format; ``failing_files`` gives, by name, the
+    bytes a file has beside the failing example instead);
     ``example_config`` is a ``.openpbr.toml`` written beside both examples (``failing_config``, when
     set, replaces it for the failing one). A translation note (OPBR11xx) is not found by
     validating a file but by running a command on it: ``example_command`` holds its words after
@@ -63,6 +65,7 @@ class Rule:
     failing: str | bytes
     family: str = ""
     example_files: tuple[str, ...] = ()
+    failing_files: tuple[tuple[str, bytes], ...] = ()
     passing_name: str = "example.mtlx"
     failing_name: str = "example.mtlx"
     example_config: str = ""

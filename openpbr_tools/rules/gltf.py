@@ -25,7 +25,7 @@ from ..io.gltf import slots
 from ..model import Location, Texture
 from . import Rule, constant_or_default
 from .ranges import HARD_RANGE
-from .textures import UNSAFE_PATH
+from .textures import UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, UNSAFE_PATH
 
 _PNG_3X3 = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAMAAAADCAIAAADZSiLoAAAAF0lEQVR42mM8kWLEwMDAwMDAxAADCBYA"
             "J1YBZLcOOO0AAAAASUVORK5CYII=")
@@ -184,7 +184,9 @@ INVALID_PROPERTY = Rule(
     "OPBR1210", "gltf-invalid-property", Severity.ERROR,
     "A material property has the wrong JSON type (a textureInfo without an integer index, an "
     "extension that is not an object, a malformed KHR_texture_transform) or a value out of range that no "
-    "gltf_pbr parameter holds (texCoord, occlusion strength, iridescenceThicknessMinimum).",
+    "gltf_pbr parameter holds (texCoord, occlusion strength, iridescenceThicknessMinimum); an image with both "
+    "a uri and a bufferView, or in a bufferView without a mimeType; a name listed twice in extensionsUsed or "
+    "extensionsRequired.",
     "The glTF schema rejects the file; lenient loaders skip the property, so the texture or extension "
     "silently disappears. Factors of the wrong type are OPBR202. A string holding an unpaired "
     "surrogate escape (\\ud800 alone) is valid JSON but no valid text: it cannot be written as UTF-8, "
@@ -229,10 +231,23 @@ UNEXPECTED_PROPERTY = Rule(
                   '"materials": [{"name": "M", "extensions": {"KHR_materials_ior": {"IOR": 1.4}}}]'),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
+MIME_MISMATCH = Rule(
+    "OPBR1214", "gltf-image-mime-mismatch", Severity.ERROR,
+    "An image's declared MIME type (its mimeType, or its data URI's type) is not the format of its bytes.",
+    "Loaders that choose the decoder by the declared type, rather than by the bytes, fail on the image and "
+    "show the material without its texture; browsers that sniff the bytes show it, so the file seems fine "
+    "where it was checked. The Khronos glTF-Validator reports it as an error (IMAGE_MIME_TYPE_INVALID; "
+    "INVALID_URI for a data URI).",
+    passing=_gltf(f'"images": [{{"uri": "{_PNG_4X4}"}}]', '"textures": [{"source": 0}]',
+                  '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]'),
+    failing=_gltf(f'"images": [{{"uri": "{_PNG_4X4.replace("image/png", "image/jpeg")}"}}]', '"textures": [{"source": 0}]',
+                  '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
 
 RULES = (UNDECLARED_EXTENSION, REQUIRED_UNSUPPORTED, EXCLUSIVE_EXTENSIONS, NOT_CONVERTED, MISSING_TEXCOORD,
          NOT_POWER_OF_TWO, UNSUPPORTED_IMAGE, STRENGTH_WITHOUT_EMISSIVE, BROKEN_RESOURCE, INVALID_PROPERTY, NO_EFFECT,
-         EXTENSION_NOT_CONVERTED, UNEXPECTED_PROPERTY)
+         EXTENSION_NOT_CONVERTED, UNEXPECTED_PROPERTY, MIME_MISMATCH)
 
 
 def check(asset, context):
@@ -418,6 +433,19 @@ def _images(asset, facts, context):
         if width and height and (width & (width - 1) or height & (height - 1)):
             yield context.diagnostic(NOT_POWER_OF_TWO, f"image {image['index']} is {width} x {height}, not a power of two",
                                      where, hint="resize to a power of two for WebGL 1 and mipmapping")
+        found = image.get("damage")
+        if found is not None:  # every image, used or not, as the Khronos validator judges them
+            rule = UNRECOGNISED_TEXTURE if found.kind == "unrecognised" else UNREADABLE_TEXTURE
+            yield context.diagnostic(rule, f"image {image['index']} ({image['file']}) is {found.detail}", where,
+                                     hint="re-export or re-embed the image" if found.kind != "text" else
+                                     "fetch or re-export the real image (for a Git LFS pointer: git lfs pull)")
+            continue
+        declared = image.get("declared")
+        if declared is not None:
+            yield context.diagnostic(MIME_MISMATCH, f"image {image['index']} ({image['file']}) is declared "
+                                     f"{declared['type']} but its bytes are {declared['found']}",
+                                     Location(asset.path, None, image["pointer"], declared["property"]),
+                                     hint=f"declare {declared['found']}, or re-encode the image as {declared['type']}")
         mime = image.get("detected_mime") or image.get("mime")
         if mime is None or image["index"] not in used:
             continue

@@ -164,6 +164,17 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "read one texel everywhere and the texture shows as a flat colour (the node definition gives "
                 "texcoord no default geometric property, where image's defaults to UV0).",
                 _MX + "libraries/stdlib/stdlib_defs.mtlx"),
+    "OPBR707": ("A texture that is empty, a Git LFS pointer, an HTML page or a PNG/JPEG cut short renders black, "
+                "magenta or half grey (libjpeg fills a truncated JPEG with grey), or is skipped with only a log "
+                "line: the asset renders wrong without failing.",
+                "https://www.w3.org/TR/png-3/; https://www.w3.org/Graphics/JPEG/itu-t81.pdf; git-lfs/git-lfs:docs/spec.md; "
+                "KhronosGroup/glTF-Validator:lib/src/data_access/image_decoder.dart"),
+    "OPBR708": ("Bytes in no known image format are skipped by renderers and viewers: the texture is missing "
+                "where the asset is shown (the Khronos glTF-Validator's IMAGE_UNRECOGNIZED_FORMAT).",
+                "KhronosGroup/glTF-Validator:lib/src/errors.dart; " + MX_NODES),
+    "OPBR709": ("A greyscale image read as a normal map gives every texel the same direction: the surface "
+                "detail is lost or the whole surface tilts (a height map belongs in heighttonormal or bump).",
+                f"{MX_NODES}; {GLTF}"),
     # -- structure -----------------------------------------------------------------------------
     "OPBR801": ("A material without a surface shader renders black or with the renderer's fallback shader.",
                 f"{MX_SPEC}; {USD_SHADER}"),
@@ -273,6 +284,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1213": ("A property the schema does not define is ignored by every viewer: a misspelt factor renders as its "
                  "default, silently. The Khronos glTF-Validator warns (UNEXPECTED_PROPERTY).",
                  f"{GLTF_MATERIAL_SCHEMA}; {khr('KHR_materials_iridescence')}; https://github.com/KhronosGroup/glTF-Validator"),
+    "OPBR1214": ("A loader that picks the image decoder by the declared MIME type fails on bytes of another "
+                 "format: the material shows without its texture (the glTF-Validator's IMAGE_MIME_TYPE_INVALID).",
+                 f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
     "OPBR1212": ("Nothing renders wrong (info: Khronos' own samples use these); checks and conversions see the "
                  "material without the extension, and a conversion reports what it keeps or loses.",
                  f"{khr('KHR_materials_diffuse_transmission')}; {GLTF}"),

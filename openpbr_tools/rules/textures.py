@@ -1,4 +1,4 @@
-"""Textures: do referenced images exist, and do they fit the input they feed.
+"""Textures: do referenced images exist, can they be read, and do they fit the input they feed.
 
 Paths are resolved as MaterialX resolves them: the ``fileprefix`` in effect, then relative to the
 document's folder. ``<UDIM>`` (and ``<UVTILE>``) paths need at least one matching tile on disk.
@@ -12,6 +12,9 @@ import os
 import re
 
 from ..diagnostics import Severity
+from ..io import ReadError, packaged_image
+from ..io.image_files import damage
+from ..io.images import channel_count
 from ..io.paths import Kind, classify, climbs
 from . import Rule, for_each_input
 
@@ -71,7 +74,47 @@ PLACE2D_WITHOUT_TEXCOORD = Rule(
     example_files=("albedo.png",),
 )
 
-RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, EMPTY_PATH, PLACE2D_WITHOUT_TEXCOORD)
+_LFS_POINTER = (b"version https://git-lfs.github.com/spec/v1\n"
+                b"oid sha256:4d7a214614ab2935c943f9e0ff69d22eadbb8f32b1258daaa5e2ca24d17e2393\nsize 1048576\n")
+UNREADABLE_TEXTURE = Rule(
+    "OPBR707", "texture-unreadable", Severity.ERROR,
+    "A texture file exists but is no readable image: empty, text (a Git LFS pointer, an HTML page), or a "
+    "PNG or JPEG cut short or with damaged data.",
+    "Renderers show such a texture as black, magenta or a half-grey image, or skip it with a log line, so "
+    "the asset renders wrong without failing. A Git LFS pointer is a checkout made without `git lfs pull`; "
+    "an HTML page a download that failed. A PNG's chunks and CRCs are checked and a JPEG is decoded at 1/8 "
+    "scale (Pillow), so a file cut short is found without decoding it at full size; other formats are "
+    "judged by their header. (The Khronos glTF-Validator reads images' headers only: it finds what the "
+    "header shows, not a file cut short after it.)",
+    passing=MISSING_TEXTURE.passing, failing=MISSING_TEXTURE.passing,
+    example_files=("albedo.png",), failing_files=(("albedo.png", _LFS_POINTER),),
+)
+UNRECOGNISED_TEXTURE = Rule(
+    "OPBR708", "texture-format-unrecognised", Severity.WARNING,
+    "A texture file is in no image format this machine recognises.",
+    "The bytes match no image format Pillow opens nor the signature of OpenEXR, Radiance HDR, KTX, Ptex, "
+    "JPEG 2000, JPEG XL, AVIF/HEIF, DPX, Cineon or Basis: most likely a damaged or mislabelled file, "
+    "which renderers skip. A warning rather than an error because a renderer may know a format this "
+    "machine does not (the Khronos glTF-Validator's IMAGE_UNRECOGNIZED_FORMAT is a warning too).",
+    passing=MISSING_TEXTURE.passing, failing=MISSING_TEXTURE.passing,
+    example_files=("albedo.png",), failing_files=(("albedo.png", bytes(range(7, 256, 3)) * 4),),
+)
+GREY_NORMAL_MAP = Rule(
+    "OPBR709", "normal-map-greyscale", Severity.WARNING,
+    "A normal map's image has one channel (greyscale, or greyscale and alpha): most likely a height or bump "
+    "map in the normal slot.",
+    "A tangent-space normal map stores a direction in three channels (X, Y and Z as red, green and blue); a "
+    "greyscale image read as one gives every texel the same tilted or flat normal, so the surface detail is "
+    "wrong or gone. Use the normal map itself, or feed a height map through a bump node (MaterialX "
+    "heighttonormal) instead.",
+    passing=NORMAL_WITHOUT_DECODE.passing, failing=NORMAL_WITHOUT_DECODE.passing,
+    example_files=("normal.png",), failing_files=(("normal.png", bytes.fromhex(
+        "89504e470d0a1a0a0000000d49484452000000040000000408000000008c9ac1a2000000104944415478da636c60606060624021"
+        "0009e40088ba17e1d00000000049454e44ae426082")),),
+)
+
+RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, EMPTY_PATH, PLACE2D_WITHOUT_TEXCOORD,
+         UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, GREY_NORMAL_MAP)
 
 _TILE_TOKENS = re.compile(r"<UDIM>|<UVTILE>", re.IGNORECASE)
 # Not portable whatever they resolve to: a URL, or a path not relative to the asset (io.paths).
@@ -89,13 +132,18 @@ def resolve(asset_path: str, file: str) -> str:
 def exists(path: str, context) -> bool:
     if not _TILE_TOKENS.search(path):
         return context.file_exists(path)
+    return bool(tiles(path, context))
+
+
+def tiles(path: str, context) -> list[str]:
+    """The files a ``<UDIM>``/``<UVTILE>`` path names on disk, in name order."""
     folder, pattern = os.path.split(path)
     regex = re.compile("^" + _TILE_TOKENS.sub(lambda m: r"\d{4}" if m.group(0).upper() == "<UDIM>" else r"u\d+_v\d+",
                                                re.escape(pattern).replace(r"\<", "<").replace(r"\>", ">")) + "$")
     try:
-        return any(regex.match(name) for name in context.list_dir(folder or "."))
+        return [os.path.join(folder, name) for name in sorted(context.list_dir(folder or ".")) if regex.match(name)]
     except OSError:
-        return False
+        return []
 
 
 def output_type(texture) -> str:
@@ -108,6 +156,7 @@ def output_type(texture) -> str:
 
 def check(asset, context):
     checked_files: set[str] = set()
+    containers: dict = {}  # packaged_image's cache of loaded packages
     for material, table, entry in for_each_input(asset):
         texture = entry.texture
         if texture is None:
@@ -135,6 +184,13 @@ def check(asset, context):
                 NORMAL_WITHOUT_DECODE, f"{entry.name} reads {texture.file!r} without a normalmap decode",
                 entry.location, hint="insert a normalmap node between the image and the input",
             )
+        if texture.normal_map is not None or (parameter is not None and parameter.role == "normal"):
+            channels = _channels(asset, texture, context, containers)
+            if channels in (1, 2):
+                yield context.diagnostic(
+                    GREY_NORMAL_MAP, f"{entry.name}: the normal map {texture.file!r} is a greyscale image "
+                    f"({channels} channel{'s' if channels > 1 else ''}), not a normal map", where,
+                    hint="use the normal map, or turn a height map into normals with a heighttonormal node")
 
 
 def _check_path(asset, texture, where, context, checked_files):
@@ -146,6 +202,8 @@ def _check_path(asset, texture, where, context, checked_files):
     if texture.packaged:  # inside the asset's own package (USDZ): look there, not on disk
         if file not in asset.extra.get("package_files", ()):
             yield context.diagnostic(MISSING_TEXTURE, f"texture not found in the package: {file!r}", where)
+        elif not _gltf(texture):
+            yield from _damaged(_packaged(asset, file, {}), file, where, context)
         return
     kind = classify(file)
     if kind is Kind.NUL:
@@ -170,3 +228,62 @@ def _check_path(asset, texture, where, context, checked_files):
     if resolved.path is None or not exists(resolve(asset.path, file), context):
         what = "no UDIM tile matches" if _TILE_TOKENS.search(file) else "texture not found"
         yield context.diagnostic(MISSING_TEXTURE, f"{what}: {file!r}", where)
+    elif resolved.inside and not _gltf(texture):  # a glTF's images are judged by the glTF family, used or not
+        tiled = bool(_TILE_TOKENS.search(file))
+        for path in _files(asset, file, context):
+            yield from _damaged(path, f"{file} (tile {os.path.basename(path)})" if tiled else file, where, context)
+
+
+def _gltf(texture) -> bool:
+    return texture.node_category == "gltf_texture"
+
+
+def _files(asset, file: str, context) -> list[str]:
+    """The file(s) ``file`` names beside ``asset``: every tile of a UDIM path."""
+    path = resolve(asset.path, file)
+    return tiles(path, context) if _TILE_TOKENS.search(file) else [path]
+
+
+def _packaged(asset, file: str, containers: dict) -> bytes | None:
+    try:
+        return packaged_image(asset.path, file, containers)[0]
+    except ReadError:
+        return None  # the package itself is reported by the reader
+
+
+def _damaged(image, file: str, where, context):
+    found = damage(image) if image is not None else None
+    if found is None:
+        return
+    if found.kind == "unrecognised":
+        yield context.diagnostic(UNRECOGNISED_TEXTURE, f"texture {file!r} is {found.detail}", where,
+                                 hint="re-export the image as PNG, JPEG or OpenEXR")
+    else:
+        yield context.diagnostic(UNREADABLE_TEXTURE, f"texture {file!r} is {found.detail}", where,
+                                 hint=_REMEDY.get(found.kind, "re-export the image"))
+
+
+_REMEDY = {"text": "fetch or re-export the real image (for a Git LFS pointer: git lfs pull)",
+           "empty": "re-export the image", "corrupt": "re-export or re-download the image"}
+
+
+def _channels(asset, texture, context, containers: dict) -> int | None:
+    """How many channels the image ``texture`` reads has (the first tile of a UDIM path), or ``None``
+    when it cannot be told (not inside the asset's folder, missing, or no format Pillow opens)."""
+    file = texture.file
+    if not file.strip():
+        return None
+    if texture.packaged:
+        image = _packaged(asset, file, containers) if file in asset.extra.get("package_files", ()) else None
+    else:
+        if classify(file) is not Kind.RELATIVE and classify(file) is not Kind.ABSOLUTE:
+            return None
+        resolved = context.guard(asset.path).resolve(file)
+        found = _files(asset, file, context) if resolved.inside and resolved.path else []
+        image = found[0] if found and context.file_exists(found[0]) else None
+    if image is None:
+        return None
+    try:
+        return channel_count(image)
+    except Exception:  # noqa: BLE001 - not an image Pillow opens: OPBR707/OPBR708 say so where it matters
+        return None

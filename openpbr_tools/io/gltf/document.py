@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import base64
 import binascii
-import io
 import json
 import os
 import re
@@ -212,41 +211,6 @@ class GltfDocument:
         if isinstance(found, ResourceError):
             raise self.error(found.message, pointer)
         return found
-
-
-class ResourceFile(io.RawIOBase):
-    """A read-only, seekable file over a resource's bytes or view that copies only what is read:
-    Pillow reads an image's header, so measuring an image inside a large buffer costs the header."""
-
-    def __init__(self, data) -> None:
-        super().__init__()
-        self.data, self.position = memoryview(data), 0
-
-    def readable(self) -> bool:
-        return True
-
-    def seekable(self) -> bool:
-        return True
-
-    def tell(self) -> int:
-        return self.position
-
-    def seek(self, offset: int, whence: int = io.SEEK_SET) -> int:
-        base = {io.SEEK_SET: 0, io.SEEK_CUR: self.position, io.SEEK_END: len(self.data)}[whence]
-        self.position = max(0, base + offset)
-        return self.position
-
-    def readinto(self, buffer) -> int:
-        chunk = self.data[self.position:self.position + len(buffer)]
-        buffer[:len(chunk)] = chunk
-        self.position += len(chunk)
-        return len(chunk)
-
-    def read(self, size: int = -1) -> bytes:
-        end = len(self.data) if size is None or size < 0 else self.position + size
-        chunk = bytes(self.data[self.position:end])
-        self.position += len(chunk)
-        return chunk
 
 
 def data_uri_mime(uri: str) -> str | None:

@@ -109,6 +109,11 @@ class _Reader(TextureReading, ExtensionReading):
         for pointer, message in self.document.repairs:
             self.invalid(pointer, message)
         _extension_uses(self.document.json, self.facts["extension_uses"])
+        for key in ("extensionsUsed", "extensionsRequired"):
+            names = self.document.json.get(key)
+            for index, name in enumerate(names if isinstance(names, list) else ()):
+                if name in names[:index]:
+                    self.invalid(f"/{key}/{index}", f"{name!r} is listed twice in {key} (its items must be unique)")
         self.images = [self.read_image(i) for i in range(len(self.document.array("images")))]
         self.facts["images"] = self.images
         self.asset.extra["package_files"] = frozenset(self.package_files)

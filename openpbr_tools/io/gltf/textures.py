@@ -1,8 +1,8 @@
 """The texture half of the glTF reader: images, textures, samplers, texture transforms.
 
 :class:`TextureReading` (a base of the reader's ``_Reader``) records each image (its file or
-``#/images/N`` inside the asset, MIME type, and width and height measured from the header, never
-decoding the pixels), and turns a ``textureInfo`` into a :class:`~openpbr_tools.model.Texture`: the
+``#/images/N`` inside the asset, MIME type, width and height measured from the header, and whether
+its data is damaged, :func:`openpbr_tools.io.image_files.damage`), and turns a ``textureInfo`` into a :class:`~openpbr_tools.model.Texture`: the
 image it reads (through ``EXT_texture_webp``/``KHR_texture_basisu`` sources too), the sampler's wrap
 modes as MaterialX address modes, ``KHR_texture_transform`` as ``place2d`` parameters, the UV set,
 and the factor, normal scale, occlusion strength or iridescence thickness range folded into
@@ -19,8 +19,9 @@ import warnings
 from urllib.parse import unquote
 
 from ...model import Connection, Texture
+from ..image_files import ResourceFile, damage
 from . import slots
-from .document import ResourceError, ResourceFile, data_uri_mime
+from .document import ResourceError, data_uri_mime
 from .uv import from_texture_transform
 
 SNIFF = ((b"\x89PNG\r\n\x1a\n", "image/png"), (b"\xff\xd8\xff", "image/jpeg"),
@@ -41,7 +42,11 @@ class TextureReading:
         uri = image.get("uri")
         declared = image.get("mimeType")
         info = {"index": index, "pointer": pointer, "file": f"#/images/{index}", "packaged": True,
-                "mime": declared if isinstance(declared, str) else None, "width": None, "height": None, "readable": False}
+                "mime": declared if isinstance(declared, str) else None, "width": None, "height": None}
+        if "bufferView" in image and "uri" in image:  # the schema's oneOf; loaders differ on which they read
+            self.invalid(pointer, "an image has a uri or a bufferView, not both")
+        elif "bufferView" in image and not isinstance(declared, str):
+            self.invalid(pointer, "an image stored in a bufferView needs a mimeType", "bufferView")
         if isinstance(uri, str) and not uri.startswith("data:"):
             info["file"], info["packaged"] = unquote(uri), False
             if "\x00" in info["file"]:  # no file system takes it; path functions raise ValueError on it
@@ -54,8 +59,10 @@ class TextureReading:
                 if error.outside:
                     info["outside"] = error.message  # never opened; the rules report it
                 return info
-            if os.path.isfile(local):  # only the header is read
+            if os.path.isfile(local):  # the header is read, and the data checked (io.image_files.damage)
                 _measure(local, info)
+                info["damage"] = damage(local)
+                _declared_type(info, declared if isinstance(declared, str) else None, "uri")
             return info
         try:
             data, mime = self.document.image_view(index)
@@ -65,8 +72,9 @@ class TextureReading:
         info["mime"] = info["mime"] or (mime if isinstance(mime, str) else None) or data_uri_mime(uri or "")
         self.package_files.add(info["file"])
         _measure(ResourceFile(data), info, bytes(data[:16]))
-        if not info["readable"] and info["mime"] in slots.core_mime_types():
-            self.observe_once("gltf_resource", pointer, f"embedded image ({len(data)} bytes) is not a decodable {info['mime']}")
+        info["damage"] = damage(data)
+        where = "bufferView" if "bufferView" in image else "uri"  # where the bytes are, as the Khronos validator points
+        _declared_type(info, declared if isinstance(declared, str) else data_uri_mime(uri or ""), where)
         return info
 
     def texture(self, slot: slots.Slot, info, pointer: str, factor, container: dict):
@@ -182,8 +190,15 @@ def _uv(transform: dict):
     return None if (offset, rotation, scale) == ([0.0, 0.0], 0.0, [1.0, 1.0]) else uv
 
 
+def _declared_type(info: dict, declared: str | None, where: str) -> None:
+    """Record in ``info["declared"]`` a declared MIME type that is not the format of the image's bytes."""
+    found = info.get("detected_mime")
+    if declared and found and declared != found and info.get("damage") is None:
+        info["declared"] = {"type": declared, "found": found, "property": where}
+
+
 def _measure(source, info: dict, head: bytes | None = None) -> None:
-    """Fill ``width``, ``height``, ``readable`` and (when undeclared) ``mime`` from the image header."""
+    """Fill ``width``, ``height`` and (when undeclared) ``mime`` from the image header."""
     if head is not None and not info["mime"]:
         info["mime"] = next((mime for magic, mime in SNIFF if head.startswith(magic)), None)
         if head[:4] == b"RIFF" and head[8:12] == b"WEBP":
@@ -195,12 +210,11 @@ def _measure(source, info: dict, head: bytes | None = None) -> None:
             warnings.simplefilter("ignore")
             with Image.open(source) as image:
                 info["width"], info["height"] = image.size
-                info["readable"] = True
                 detected = Image.MIME.get(image.format or "")
                 info["detected_mime"] = detected
                 info["mime"] = info["mime"] or detected
     except Exception:  # noqa: BLE001 - Pillow raises many exception types for images it cannot identify
-        info["readable"] = False
+        pass  # (io.images.damage says why)
 
 
 def json_numbers(value, count: int) -> bool:

@@ -36,6 +36,7 @@ from ...diagnostics import Diagnostic
 from ...model import Asset, Connection, Constant, Location, Material, Texture
 from ...resources import load_json
 from ...rules.translation import NOT_CARRIED
+from ..image_files import damage
 from ..paths import Kind, PathGuard, classify
 from .reader import CUSTOM_DATA_VERSION_KEY
 from .errors import quiet, require_pxr
@@ -329,6 +330,10 @@ class _Writer(TextureNetworkWriter):
         real = resolved.real
         if not os.path.isfile(real):
             self.note(NOT_CARRIED, f"{owner}: {file!r} does not exist and is not packaged")
+            return file
+        found = damage(real)
+        if found is not None:
+            self.note(NOT_CARRIED, f"{owner}: {file!r} is {found.detail} and is not packaged")
             return file
         inside = resolved.relative if resolved.root == self.guard.own_root else f"textures/{os.path.basename(real)}"
         stem, suffix = os.path.splitext(inside)

@@ -119,6 +119,23 @@ def png(mode: str, size=(4, 4), value=128) -> bytes:
     return buffer.getvalue()
 
 
+def jpeg_whole() -> bytes:
+    """A 64 x 64 JPEG of noise (so its scan data is long)."""
+    import random
+
+    from PIL import Image  # Pillow only when writing the corpus
+    generator = random.Random(7)
+    buffer = io.BytesIO()
+    Image.frombytes("RGB", (64, 64), bytes(generator.randrange(256) for _ in range(64 * 64 * 3))).save(buffer, "JPEG", quality=90)
+    return buffer.getvalue()
+
+
+def jpeg_cut_short() -> bytes:
+    """:func:`jpeg_whole` with its second half cut off."""
+    data = jpeg_whole()
+    return data[:len(data) // 2]
+
+
 TEXTURES = {
     "textures/albedo.png": png("RGB"),
     "textures/rough.png": png("L"),
@@ -348,6 +365,19 @@ case("OPBR701_usd_missing_texture.usda", "OPBR701", "A USD image node whose file
      usda('color3f inputs:base_color.connect = </M/albedo.outputs:out>', mximage("albedo", "textures/gone.png")))
 case("OPBR701_gltf_missing_image.gltf", "OPBR701", "A glTF image URI pointing to a file that was not shipped.",
      json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri="textures/missing_basecolor.png"), indent=2))
+case("OPBR707_lfs_pointer_texture.mtlx", "OPBR707", "The repository was cloned without `git lfs pull`: the base colour texture is a Git LFS pointer (text), not the PNG.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "textures/lfs_albedo.png")))
+case("OPBR707_truncated_jpeg.gltf", "OPBR707", "An upload cut the base colour JPEG short: its header is whole, its scan data ends half-way.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri="textures/cut.jpg"), indent=2))
+case("OPBR707_usd_empty_texture.usda", "OPBR707", "The texture export failed and left a file of 0 bytes behind.",
+     preview('color3f inputs:diffuseColor.connect = </M/albedo.outputs:rgb>', uvtex("albedo", "textures/empty.png")))
+case("OPBR708_unknown_bytes_texture.mtlx", "OPBR708", "A roughness file whose bytes are in no image format (a mislabelled or scrambled file).",
+     opbr('<input name="specular_roughness" type="float" nodename="rough" />', before=image("rough", "textures/scrambled.png", "float", "none")))
+case("OPBR1214_gltf_jpeg_declared_png.gltf", "OPBR1214", "An exporter re-encoded the base colour image as JPEG but kept mimeType image/png.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+                     images=[{"uri": "textures/photo.jpg", "mimeType": "image/png"}], textures=[{"source": 0}]), indent=2))
+case("OPBR709_height_map_as_normal.gltf", "OPBR709", "A greyscale height map was plugged into the normal texture slot.",
+     json.dumps(textured({"name": "M", "normalTexture": {"index": 0}}, uri="textures/rough.png"), indent=2))
 case("OPBR702_color_image_into_metalness.mtlx", "OPBR702", "A color3 image fed straight into the float base_metalness.",
      opbr('<input name="base_metalness" type="float" nodename="metal" />', before=image("metal", "textures/rough.png", "color3", "none")),
      also={"OPBR004": "Document.validate() rejects the same mismatched connection"})
@@ -528,6 +558,12 @@ case("OPBR1210_extension_not_object.gltf", "OPBR1210", "KHR_materials_clearcoat 
 EXTRA_FILES = {
     "OPBR1013_look.mtlx": opbr('<input name="base_weight" type="float" value="1" />'),
     "textures/albedo.exr": b"v/1\x01" + b"\0" * 60,  # an OpenEXR magic number, enough to be an EXR by signature
+    "textures/lfs_albedo.png": (b"version https://git-lfs.github.com/spec/v1\n"
+                                b"oid sha256:9b2f5c1d0e4a7b3c6d8e9f0a1b2c3d4e5f60718293a4b5c6d7e8f9012a3b4c5d\nsize 2097152\n"),
+    "textures/cut.jpg": jpeg_cut_short(),
+    "textures/photo.jpg": jpeg_whole(),
+    "textures/empty.png": b"",
+    "textures/scrambled.png": bytes((i * 73 + 41) % 256 for i in range(600)),
 }
 
 

@@ -1,0 +1,165 @@
+"""Image files as bytes: whether a file (or the bytes of an embedded image) is a readable image at
+all (:func:`damage`), and :class:`ResourceFile`, a file over bytes or a view that copies only what
+is read.
+
+Pillow reads PNG and JPEG (their data checked, not only their header); formats Pillow does not open
+are known by their signature. Which files may be read at all is :mod:`openpbr_tools.io.paths`'s
+decision; decoding pixels is :mod:`openpbr_tools.io.images`'.
+"""
+
+from __future__ import annotations
+
+import functools
+import io
+import os
+import warnings
+from typing import NamedTuple
+
+
+class ResourceFile(io.RawIOBase):
+    """A read-only, seekable file over bytes or a view that copies only what is read: Pillow reads an
+    image's header, so measuring an image inside a large glTF buffer costs the header."""
+
+    def __init__(self, data) -> None:
+        super().__init__()
+        self.data, self.position = memoryview(data), 0
+
+    def readable(self) -> bool:
+        return True
+
+    def seekable(self) -> bool:
+        return True
+
+    def tell(self) -> int:
+        return self.position
+
+    def seek(self, offset: int, whence: int = io.SEEK_SET) -> int:
+        base = {io.SEEK_SET: 0, io.SEEK_CUR: self.position, io.SEEK_END: len(self.data)}[whence]
+        self.position = max(0, base + offset)
+        return self.position
+
+    def readinto(self, buffer) -> int:
+        chunk = self.data[self.position:self.position + len(buffer)]
+        buffer[:len(chunk)] = chunk
+        self.position += len(chunk)
+        return len(chunk)
+
+    def read(self, size: int = -1) -> bytes:
+        end = len(self.data) if size is None or size < 0 else self.position + size
+        chunk = bytes(self.data[self.position:end])
+        self.position += len(chunk)
+        return chunk
+
+
+class Damage(NamedTuple):
+    """Why a file is not a readable image. ``kind``: ``"empty"``, ``"text"`` (a Git LFS pointer, an
+    HTML page...), ``"corrupt"`` (a PNG or JPEG cut short or with damaged data) or ``"unrecognised"``
+    (bytes in no image format this machine knows); ``detail`` says what was found."""
+
+    kind: str
+    detail: str
+
+
+#: Signatures of image formats Pillow does not open (checked by signature only): OpenEXR, Radiance,
+#: KTX 1 and 2, Ptex, JPEG 2000 (codestream and box), JPEG XL (codestream and box), DPX, Cineon,
+#: Softimage PIC, Basis Universal.
+OTHER_SIGNATURES = (b"v/1\x01", b"#?RADIANCE", b"#?RGBE", b"\xabKTX 20\xbb", b"\xabKTX 11\xbb", b"Ptex",
+                    b"\xffO\xffQ", b"\x00\x00\x00\x0cjP  ", b"\xff\x0a", b"\x00\x00\x00\x0cJXL ",
+                    b"SDPX", b"XPDS", b"\x80\x2a\x5f\xd7", b"\x53\x80\xf6\x34", b"sB")
+_ISO_MEDIA_BRANDS = (b"avif", b"avis", b"heic", b"heix", b"mif1", b"msf1")  # AVIF / HEIF: "ftyp" at byte 4
+_SIGNATURES = ((b"\x89PNG", "PNG"), (b"\xff\xd8\xff", "JPEG"))  # enough of each to know a file cut short
+
+
+def damage(image: str | bytes) -> Damage | None:
+    """Why ``image`` (a path or the bytes of an image) cannot be read as an image, or ``None``.
+
+    A PNG's chunks are walked and their CRCs checked (Pillow's ``verify``; a file failing that is
+    decoded before it is called corrupt, so one that only lacks its closing ``IEND`` passes, as
+    decoders show it whole), and a JPEG's entropy-coded data decoded at 1/8 scale (Pillow's
+    ``draft``), so a file cut short is found without decoding its pixels at full size. Another
+    format Pillow identifies is trusted from its header, and one Pillow does not open
+    (:data:`OTHER_SIGNATURES`) from its signature. ``None`` too for a path that cannot be opened:
+    whether it exists is OPBR701's question."""
+    if isinstance(image, (bytes, bytearray, memoryview)):
+        return _damage(memoryview(image))
+    try:
+        status = os.stat(image)
+    except (OSError, ValueError):
+        return None
+    return _damage_of_file(image, status.st_size, status.st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=1024)
+def _damage_of_file(path: str, size: int, mtime_ns: int) -> Damage | None:  # size and time: the cache key
+    return _damage(path)
+
+
+def _open(image: str | memoryview):
+    return ResourceFile(image) if isinstance(image, memoryview) else open(image, "rb")
+
+
+def _damage(image: str | memoryview) -> Damage | None:
+    try:
+        if isinstance(image, memoryview):
+            head, size = bytes(image[:512]), len(image)
+        else:
+            with open(image, "rb") as handle:
+                head = handle.read(512)
+            size = os.path.getsize(image)
+    except (OSError, ValueError):
+        return None
+    if size == 0:
+        return Damage("empty", "empty (0 bytes)")
+    from PIL import Image  # lazy: as in load_pixels
+
+    with warnings.catch_warnings():  # DecompressionBombWarning, truncation warnings: the library never prints
+        warnings.simplefilter("ignore")
+        try:
+            with Image.open(_open(image)) as opened:
+                kind = opened.format
+        except Image.DecompressionBombError:
+            return None  # identified, and larger than Pillow decodes: trusted from its header
+        except Exception:  # noqa: BLE001 - Pillow raises many exception types for data it cannot identify
+            kind = None
+        if kind in ("PNG", "JPEG"):
+            return _decoded(image, kind)
+    if kind is not None or head.startswith(OTHER_SIGNATURES) or (head[4:8] == b"ftyp" and head[8:12] in _ISO_MEDIA_BRANDS):
+        return None
+    known = next((name for signature, name in _SIGNATURES if head.startswith(signature)), None)
+    if known:
+        return Damage("corrupt", f"a {known} file cut short or damaged in its header ({size} bytes)")
+    if b"\x00" not in head:
+        text = head.decode("utf-8", "replace").lstrip("\ufeff \t\r\n")
+        if text.startswith("version https://git-lfs"):
+            return Damage("text", "a Git LFS pointer, not the image: the file was never fetched (git lfs pull)")
+        if text[:15].lower().startswith(("<!doctype html", "<html")):
+            return Damage("text", "an HTML page, not an image (a failed download?)")
+        if "\ufffd" not in text:
+            return Damage("text", f"text, not an image ({text.splitlines()[0][:40]!r}...)" if text.strip()
+                          else "blank text, not an image")
+    return Damage("unrecognised", f"not in any image format this machine recognises (begins {head[:8].hex(' ')})")
+
+
+def _decoded(image: str | memoryview, kind: str) -> Damage | None:
+    from PIL import Image  # lazy: as in load_pixels
+
+    def source():
+        return Image.open(_open(image))
+
+    if kind == "PNG":
+        try:
+            with source() as opened:
+                opened.verify()
+            return None
+        except Exception:  # noqa: BLE001 - a CRC, a chunk or a truncation error: decoding decides
+            pass
+    try:
+        with source() as opened:
+            if kind == "JPEG":
+                opened.draft("RGB", (max(1, opened.size[0] // 8), max(1, opened.size[1] // 8)))
+            opened.load()
+    except Image.DecompressionBombError:
+        return None
+    except Exception as error:  # noqa: BLE001 - Pillow raises many exception types for damaged data
+        return Damage("corrupt", f"a {kind} cut short or with damaged data ({error})")
+    return None

@@ -1,0 +1,279 @@
+"""Texture files that exist but are no readable image (OPBR707/OPBR708) and greyscale images in a
+normal slot (OPBR709), in every input format, and what `convert` does with them.
+
+The expected verdicts come from outside the code under test: OpenImageIO (the image library
+MaterialX's renderers and most VFX pipelines load textures with) fails to read each damaged PNG,
+and the Khronos glTF-Validator's image findings (IMAGE_UNRECOGNIZED_FORMAT, IMAGE_UNEXPECTED_EOS)
+are each matched here at the same image with at least the same severity.
+"""
+
+from __future__ import annotations
+
+import io
+import json
+import random
+import struct
+
+import pytest
+from PIL import Image
+
+from openpbr_tools.convert import convert_file
+from openpbr_tools.diagnostics import Severity
+from openpbr_tools.io.image_files import damage
+from openpbr_tools.translate.common import Settings
+from openpbr_tools.validate import Options, validate_paths
+
+from gltf_support import describe_issues, validate_with_khronos
+
+
+def _noise_png() -> bytes:
+    generator = random.Random(3)
+    buffer = io.BytesIO()
+    Image.frombytes("RGB", (64, 64), bytes(generator.randrange(256) for _ in range(64 * 64 * 3))).save(buffer, "PNG")
+    return buffer.getvalue()
+
+
+def _noise_jpeg() -> bytes:
+    buffer = io.BytesIO()
+    Image.open(io.BytesIO(_noise_png())).save(buffer, "JPEG", quality=90)
+    return buffer.getvalue()
+
+
+def _flip_in_idat(png: bytes) -> bytes:
+    """One bit flipped inside the IDAT data, its CRC left as it was (what a bad disk or transfer does)."""
+    at = png.index(b"IDAT") + 20
+    return png[:at] + bytes([png[at] ^ 0x10]) + png[at + 1:]
+
+
+PNG, JPEG = _noise_png(), _noise_jpeg()
+LFS = b"version https://git-lfs.github.com/spec/v1\noid sha256:" + b"0" * 64 + b"\nsize 4096\n"
+
+#: name -> (bytes, the expected Damage kind or None)
+VARIANTS = {
+    "png": (PNG, None),
+    "jpeg": (JPEG, None),
+    "jpeg with bytes after its end": (JPEG + b"\0" * 64, None),
+    "png without IEND": (PNG[:-12], None),  # decoders show it whole (libpng, Pillow, OpenImageIO)
+    "png cut in its signature": (PNG[:6], "corrupt"),
+    "png cut in IHDR": (PNG[:30], "corrupt"),
+    "png cut in IDAT": (PNG[:len(PNG) // 2], "corrupt"),
+    "png with a flipped bit": (_flip_in_idat(PNG), "corrupt"),
+    "jpeg cut in its scan": (JPEG[:len(JPEG) // 2], "corrupt"),
+    "empty": (b"", "empty"),
+    "git lfs pointer": (LFS, "text"),
+    "html page": (b"<!DOCTYPE html>\n<html><body>404 Not Found</body></html>\n", "text"),
+    "random bytes": (bytes(random.Random(5).randrange(256) for _ in range(900)), "unrecognised"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(VARIANTS))
+def test_damage_of_each_variant_from_a_file_and_from_bytes(tmp_path, name):
+    data, expected = VARIANTS[name]
+    path = tmp_path / "image.bin"
+    path.write_bytes(data)
+    found = damage(str(path))
+    assert (found.kind if found else None) == expected, found
+    assert damage(data) == found and damage(memoryview(data)) == found
+
+
+def test_openimageio_fails_on_every_png_reported_corrupt_and_reads_every_png_passed(tmp_path):
+    """The anchor: OpenImageIO reads the whole image (pixels included); where it fails, the PNG is corrupt."""
+    oiio = pytest.importorskip("OpenImageIO")
+    checked = 0
+    for name, (data, expected) in VARIANTS.items():
+        if not name.startswith("png"):
+            continue
+        path = tmp_path / f"{name.replace(' ', '_')}.png"
+        path.write_bytes(data)
+        buffer = oiio.ImageBuf(str(path))
+        readable = not buffer.has_error and buffer.get_pixels(oiio.FLOAT) is not None and not buffer.has_error
+        assert readable == (expected is None), name
+        checked += 1
+    assert checked == 6
+
+
+def test_other_formats_are_judged_by_their_header(tmp_path):
+    oiio = pytest.importorskip("OpenImageIO")
+    path = str(tmp_path / "a.exr")
+    buffer = oiio.ImageBuf(oiio.ImageSpec(4, 4, 3, oiio.HALF))
+    assert buffer.write(path)
+    assert damage(path) is None
+    with open(path, "rb") as handle:
+        exr = handle.read()
+    assert damage(exr[:40]) is None  # an EXR signature is trusted: OpenEXR is not decoded here
+    for signature in (b"\xabKTX 20\xbb\r\n\x1a\n", b"#?RADIANCE\n", b"\x00\x00\x00\x1cftypavif"):
+        assert damage(signature + b"\x01" * 64) is None, signature
+
+
+KHRONOS_CODES = {"IMAGE_UNRECOGNIZED_FORMAT", "IMAGE_UNEXPECTED_EOS", "IMAGE_DATA_INVALID", "IMAGE_MIME_TYPE_INVALID"}
+
+
+@pytest.mark.parametrize("name", sorted(VARIANTS))
+def test_every_image_finding_of_the_khronos_validator_is_one_here(tmp_path, name):
+    """Never weaker than the anchor: an image the validator reports (error or warning) is reported
+    here at /images/0 at least as severely. The validator reads headers only, so the files cut after
+    their header are reported here alone."""
+    data, expected = VARIANTS[name]
+    suffix = ".jpg" if name.startswith("jpeg") else ".png"
+    (tmp_path / f"t{suffix}").write_bytes(data)
+    path = tmp_path / "m.gltf"
+    path.write_text(json.dumps({"asset": {"version": "2.0"}, "images": [{"uri": f"t{suffix}"}], "textures": [{"source": 0}],
+                                "materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]}))
+    report = validate_with_khronos(path, tmp_path)
+    theirs = [m for m in report["issues"]["messages"] if m["code"] in KHRONOS_CODES]
+    ours = [d for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics
+            if d.code in ("OPBR707", "OPBR708")]
+    assert bool(ours) == (expected is not None), [d.message for d in ours]
+    for message in theirs:
+        assert any(d.location.path == message["pointer"] and d.severity >= (Severity.ERROR if message["severity"] == 0 else Severity.WARNING) for d in ours), \
+            describe_issues(report)
+    if ours:
+        [finding] = ours
+        assert finding.location.path == "/images/0"
+        assert finding.code == ("OPBR708" if expected == "unrecognised" else "OPBR707")
+
+
+def _codes(path) -> list[str]:
+    return [d.code for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics]
+
+
+MTLX = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <image name="albedo" type="color3"><input name="file" type="filename" value="{file}" colorspace="srgb_texture" /></image>
+  <open_pbr_surface name="S" type="surfaceshader"><input name="base_color" type="color3" nodename="albedo" /></open_pbr_surface>
+  <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+</materialx>
+"""
+
+
+def test_a_damaged_udim_tile_is_found_among_good_ones(tmp_path):
+    for tile in (1001, 1002, 1003):
+        (tmp_path / f"paint.{tile}.png").write_bytes(PNG if tile != 1002 else PNG[:len(PNG) // 3])
+    path = tmp_path / "m.mtlx"
+    path.write_text(MTLX.format(file="paint.<UDIM>.png"))
+    [finding] = [d for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics if d.code == "OPBR707"]
+    assert "paint.1002.png" in finding.message
+
+
+def test_a_file_outside_the_asset_is_never_opened_to_be_judged(tmp_path):
+    (tmp_path / "shared").mkdir()
+    (tmp_path / "shared" / "a.png").write_bytes(LFS)
+    (tmp_path / "asset").mkdir()
+    path = tmp_path / "asset" / "m.mtlx"
+    path.write_text(MTLX.format(file="../shared/a.png"))
+    codes = _codes(path)
+    assert "OPBR704" in codes and "OPBR707" not in codes
+
+
+USDA = """#usda 1.0
+(
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+
+def Material "M"
+{{
+    token outputs:surface.connect = </M/S.outputs:surface>
+
+    def Shader "S"
+    {{
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor.connect = </M/albedo.outputs:rgb>
+        normal3f inputs:normal.connect = </M/bump.outputs:rgb>
+        token outputs:surface
+    }}
+
+    def Shader "albedo"
+    {{
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @{albedo}@
+        token inputs:sourceColorSpace = "sRGB"
+        float3 outputs:rgb
+    }}
+
+    def Shader "bump"
+    {{
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @{normal}@
+        token inputs:sourceColorSpace = "raw"
+        float4 inputs:scale = (2, 2, 2, 1)
+        float4 inputs:bias = (-1, -1, -1, 0)
+        float3 outputs:rgb
+    }}
+}}
+"""
+
+
+def _grey_png() -> bytes:
+    buffer = io.BytesIO()
+    Image.new("L", (4, 4), 128).save(buffer, "PNG")
+    return buffer.getvalue()
+
+
+def test_usd_and_usdz_textures_are_judged_inside_the_package_too(tmp_path):
+    from pxr import UsdUtils
+
+    (tmp_path / "albedo.png").write_bytes(PNG[:100])
+    (tmp_path / "height.png").write_bytes(_grey_png())
+    layer = tmp_path / "m.usda"
+    layer.write_text(USDA.format(albedo="albedo.png", normal="height.png"))
+    assert sorted(c for c in _codes(layer) if c.startswith("OPBR70")) == ["OPBR707", "OPBR709"]
+    package = tmp_path / "m.usdz"
+    assert UsdUtils.CreateNewUsdzPackage(str(layer), str(package))
+    (tmp_path / "albedo.png").unlink()
+    (tmp_path / "height.png").unlink()
+    assert sorted(c for c in _codes(package) if c.startswith("OPBR70")) == ["OPBR707", "OPBR709"]
+
+
+def test_a_greyscale_normal_map_is_reported_in_materialx_and_an_rgb_one_is_not(tmp_path):
+    body = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <image name="n" type="vector3"><input name="file" type="filename" value="{file}" /></image>
+  <normalmap name="decode" type="vector3"><input name="in" type="vector3" nodename="n" /></normalmap>
+  <open_pbr_surface name="S" type="surfaceshader"><input name="geometry_normal" type="vector3" nodename="decode" /></open_pbr_surface>
+  <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+</materialx>
+"""
+    (tmp_path / "grey.png").write_bytes(_grey_png())
+    buffer = io.BytesIO()
+    Image.new("LA", (4, 4), (128, 255)).save(buffer, "PNG")
+    (tmp_path / "grey_alpha.png").write_bytes(buffer.getvalue())
+    (tmp_path / "rgb.png").write_bytes(PNG)
+    for file, reported in (("grey.png", True), ("grey_alpha.png", True), ("rgb.png", False)):
+        path = tmp_path / f"{file}.mtlx"
+        path.write_text(body.format(file=file))
+        assert ("OPBR709" in _codes(path)) == reported, file
+
+
+def test_damaged_embedded_images_used_or_not_are_reported_at_the_image(tmp_path):
+    binary = JPEG[:len(JPEG) // 2] + b"\0" * (-len(JPEG) // 2 % 4)
+    half = len(JPEG) // 2
+    document = {"asset": {"version": "2.0"}, "buffers": [{"byteLength": len(binary) + len(PNG) + (-len(PNG) % 4)}],
+                "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": half},
+                                {"buffer": 0, "byteOffset": len(binary), "byteLength": len(PNG)}],
+                "images": [{"bufferView": 0, "mimeType": "image/jpeg"}, {"bufferView": 1, "mimeType": "image/png"}],
+                "textures": [{"source": 1}],
+                "materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]}
+    binary += PNG + b"\0" * (-len(PNG) % 4)
+
+    text = json.dumps(document).encode()
+    text += b" " * (-len(text) % 4)
+    chunks = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(binary), 0x004E4942) + binary
+    path = tmp_path / "m.glb"
+    path.write_bytes(struct.pack("<III", 0x46546C67, 2, 12 + len(chunks)) + chunks)
+    found = [(d.code, d.location.path) for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics
+             if d.code in ("OPBR707", "OPBR708", "OPBR1209")]
+    assert found == [("OPBR707", "/images/0")]  # unused, cut short; the PNG material image is whole
+
+
+@pytest.mark.parametrize("target", ["out.gltf", "out.glb", "out.usdz"])
+def test_convert_leaves_a_damaged_texture_out_with_a_note_and_goes_on(tmp_path, target):
+    (tmp_path / "albedo.png").write_bytes(LFS)
+    source = tmp_path / "m.mtlx"
+    source.write_text(MTLX.format(file="albedo.png"))
+    conversion = convert_file(str(source), str(tmp_path / target), None, Settings())
+    notes = [d for d in conversion.diagnostics if d.code == "OPBR1104"]
+    assert notes and all("Git LFS pointer" in d.message for d in notes), [d.message for d in conversion.diagnostics]
+    assert all(d.location.input == "base_color" for d in notes)
+    written = (tmp_path / target).read_bytes()
+    assert LFS not in written  # neither embedded nor packaged
