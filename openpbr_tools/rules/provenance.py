@@ -238,6 +238,11 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1014": ("hdMtlx passes a Gf colour-space name to MaterialX unchanged; MaterialX 1.39.4+ maps it to its "
                  "own, older versions do not (no conversion there).", f"{HD_MTLX}; {MX_CMS}; {GF_COLOR}"),
     # -- translation ---------------------------------------------------------------------------
+    "OPBR1015": ("A primvar reader whose primvar the mesh lacks returns (0, 0): the texture renders as one flat "
+                 "colour on that mesh (Storm, and every renderer that follows the preview specification).",
+                 f"{USD_PREVIEW}; {HD_ST}; " + _USD + "pxr/usd/usdShade/materialBindingAPI.h"),
+    "OPBR1016": ("A UsdUVTexture whose st is unconnected samples (0, 0) everywhere: the texture renders as one "
+                 "flat colour.", f"{USD_PREVIEW}; {HD_ST}"),
     "OPBR1101": ("Nothing is lost; a rename recorded so a reviewer can follow a value across models and "
                  "versions.", f"{OPENPBR}; {MX_OPENPBR}"),
     "OPBR1102": ("Nothing is lost; the value changed form exactly (units, folded parameters) and the report says "

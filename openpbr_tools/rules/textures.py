@@ -267,20 +267,24 @@ _REMEDY = {"text": "fetch or re-export the real image (for a Git LFS pointer: gi
            "empty": "re-export the image", "corrupt": "re-export or re-download the image"}
 
 
-def _channels(asset, texture, context, containers: dict) -> int | None:
-    """How many channels the image ``texture`` reads has (the first tile of a UDIM path), or ``None``
-    when it cannot be told (not inside the asset's folder, missing, or no format Pillow opens)."""
+def image_of(asset, texture, context, containers: dict) -> str | bytes | None:
+    """The image ``texture`` reads (the first tile of a UDIM path) as a path or bytes, or ``None`` when
+    it may not or cannot be read (outside the asset's folder, a URL, missing, not in the package)."""
     file = texture.file
     if not file.strip():
         return None
     if texture.packaged:
-        image = _packaged(asset, file, containers) if file in asset.extra.get("package_files", ()) else None
-    else:
-        if classify(file) is not Kind.RELATIVE and classify(file) is not Kind.ABSOLUTE:
-            return None
-        resolved = context.guard(asset.path).resolve(file)
-        found = _files(asset, file, context) if resolved.inside and resolved.path else []
-        image = found[0] if found and context.file_exists(found[0]) else None
+        return _packaged(asset, file, containers) if file in asset.extra.get("package_files", ()) else None
+    if classify(file) not in (Kind.RELATIVE, Kind.ABSOLUTE):
+        return None
+    resolved = context.guard(asset.path).resolve(file)
+    found = _files(asset, file, context) if resolved.inside and resolved.path else []
+    return found[0] if found and context.file_exists(found[0]) else None
+
+
+def _channels(asset, texture, context, containers: dict) -> int | None:
+    """How many channels the image ``texture`` reads has, or ``None`` when it cannot be told."""
+    image = image_of(asset, texture, context, containers)
     if image is None:
         return None
     try:

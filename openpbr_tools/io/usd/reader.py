@@ -121,7 +121,7 @@ class _Reader(NetworkReader):
             asset.colorspace = self.inherited_colorspace(default_prim)
             if asset.colorspace:
                 asset.colorspace_location = self.location(default_prim.GetPath(), "colorSpace:name")
-        shader_prims = []
+        shader_prims, meshes = [], []
         for prim in stage.Traverse():
             if prim.HasAPI(self.Usd.ColorSpaceAPI):
                 name = self.authored_prim_colorspace(prim)
@@ -132,8 +132,36 @@ class _Reader(NetworkReader):
                 self.read_material(prim)
             elif prim.IsA(self.UsdShade.Shader):
                 shader_prims.append(prim)
+            elif prim.IsA(self.UsdGeom.Mesh):
+                meshes.append(prim)
         for prim in shader_prims:
             self.observe_shader_id(prim)
+        self.bound_primvars(meshes)
+
+    def bound_primvars(self, meshes) -> None:
+        """For each Material whose textures read a named primvar: the meshes bound to it (in any purpose,
+        as usd-core resolves bindings) and the primvars each has (its own and those inherited), in
+        ``asset.extra["usd_bound_primvars"]``. Nothing is computed for a stage whose textures read none."""
+        reads = self.asset.extra.get("usd_uv_reads", {})
+        if not meshes or not any(read.get("primvar") for read in reads.values()):
+            return
+        Tokens, Binding = self.UsdShade.Tokens, self.UsdShade.MaterialBindingAPI
+        bound: dict[str, set] = {}
+        for purpose in (Tokens.allPurpose, Tokens.full, Tokens.preview):
+            materials, _ = Binding.ComputeBoundMaterials(meshes, purpose)
+            for mesh, material in zip(meshes, materials):
+                if material:
+                    bound.setdefault(str(material.GetPath()), set()).add(mesh)
+        found = {}
+        for material_path, bound_meshes in bound.items():
+            entries = []
+            for mesh in sorted(bound_meshes, key=lambda prim: str(prim.GetPath())):
+                api = self.UsdGeom.PrimvarsAPI(mesh)
+                names = {p.GetPrimvarName() for p in api.GetPrimvarsWithValues()}
+                names |= {p.GetPrimvarName() for p in api.FindInheritablePrimvars() if p.HasValue()}
+                entries.append((str(mesh.GetPath()), tuple(sorted(str(n) for n in names))))
+            found[material_path] = entries
+        self.asset.extra["usd_bound_primvars"] = found
 
     def observe_shader_id(self, prim) -> None:
         shader = self.UsdShade.Shader(prim)

@@ -164,6 +164,10 @@ class TextureNodeReader:
         if wrap_s is not None or wrap_t is not None:
             texture.wrap = (wrap_s or "useMetadata", wrap_t or "useMetadata")
         kind, *found = self.upstream(prim, "st")
+        reads = self.asset.extra.setdefault("usd_uv_reads", {})  # UsdUVTexture path -> how its st is fed
+        st = prim.GetAttribute("inputs:st")
+        if kind == "value" and not (st and st.HasAuthoredValue()):
+            reads.setdefault(path, {"st": "unconnected"})
         for _ in range(4):
             if kind != "shader":
                 break
@@ -174,10 +178,19 @@ class TextureNodeReader:
                 kind, *found = self.upstream(node, "in")
                 continue
             if node_id.startswith(PRIMVAR_READER_PREFIX):
-                varname = constant_of(node, "varname")
-                texture.texcoord = None if varname == DEFAULT_UV_PRIMVAR else varname
+                varname = self.varname(node)
+                texture.texcoord = None if varname in (None, DEFAULT_UV_PRIMVAR) else varname
+                reads.setdefault(path, {"st": "primvar", "reader": str(node.GetPath()), "primvar": varname})
             break
         return texture
+
+    def varname(self, reader) -> str | None:
+        """The primvar a UsdPrimvarReader reads: its ``varname``, or the value of the Material
+        interface input it is connected to (Pixar's ``inputs:frame:stPrimvarName`` pattern)."""
+        found = self.UsdShade.Shader(reader).GetInput("varname")
+        attributes = found.GetValueProducingAttributes() if found else []
+        value = attributes[0].Get() if attributes else None
+        return str(value) if isinstance(value, str) and value else None
 
 
 def _transform2d_as_place2d(prim) -> UVTransform:

@@ -136,6 +136,16 @@ def jpeg_cut_short() -> bytes:
     return data[:len(data) // 2]
 
 
+def checker() -> bytes:
+    """A 4 x 4 black and white checker: an image whose texels differ."""
+    from PIL import Image  # Pillow only when writing the corpus
+    image = Image.new("RGB", (4, 4))
+    image.putdata([(255, 255, 255) if (i + i // 4) % 2 else (0, 0, 0) for i in range(16)])
+    buffer = io.BytesIO()
+    image.save(buffer, "PNG")
+    return buffer.getvalue()
+
+
 TEXTURES = {
     "textures/albedo.png": png("RGB"),
     "textures/rough.png": png("L"),
@@ -143,6 +153,7 @@ TEXTURES = {
     "textures/normal.png": png("RGB", value=200),
     "textures/mask.png": png("L", value=255),
     "textures/odd.png": png("RGB", size=(3, 5)),
+    "textures/checker.png": checker(),
 }
 
 
@@ -376,6 +387,19 @@ case("OPBR708_unknown_bytes_texture.mtlx", "OPBR708", "A roughness file whose by
 case("OPBR1214_gltf_jpeg_declared_png.gltf", "OPBR1214", "An exporter re-encoded the base colour image as JPEG but kept mimeType image/png.",
      json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
                      images=[{"uri": "textures/photo.jpg", "mimeType": "image/png"}], textures=[{"source": 0}]), indent=2))
+UV_MESH = ('def Mesh "Plane" (\n    prepend apiSchemas = ["MaterialBindingAPI"]\n)\n{\n'
+           '    int[] faceVertexCounts = [4]\n    int[] faceVertexIndices = [0, 1, 2, 3]\n'
+           '    point3f[] points = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1)]\n'
+           '    texCoord2f[] primvars:UVMap = [(0, 0), (1, 0), (1, 1), (0, 1)] (\n        interpolation = "vertex"\n    )\n'
+           '    rel material:binding = </M>\n}\n')
+UV_READER = ('def Shader "uv"\n{\n    uniform token info:id = "UsdPrimvarReader_float2"\n'
+             '    string inputs:varname = "st"\n    float2 outputs:result\n}\n')
+case("OPBR1015_usd_uvmap_read_as_st.usda", "OPBR1015", "A Blender export named the mesh's UVs UVMap while the material's primvar reader reads st.",
+     preview('color3f inputs:diffuseColor.connect = </M/albedo.outputs:rgb>',
+             uvtex("albedo", "textures/checker.png", extra='    float2 inputs:st.connect = </M/uv.outputs:result>\n') + "\n" + UV_READER)
+     + "\n" + UV_MESH)
+case("OPBR1016_usd_st_unconnected.usda", "OPBR1016", "The UsdUVTexture's st was never connected to a primvar reader.",
+     preview('color3f inputs:diffuseColor.connect = </M/albedo.outputs:rgb>', uvtex("albedo", "textures/checker.png")))
 case("OPBR709_height_map_as_normal.gltf", "OPBR709", "A greyscale height map was plugged into the normal texture slot.",
      json.dumps(textured({"name": "M", "normalTexture": {"index": 0}}, uri="textures/rough.png"), indent=2))
 case("OPBR702_color_image_into_metalness.mtlx", "OPBR702", "A color3 image fed straight into the float base_metalness.",

@@ -1,0 +1,132 @@
+"""USD texture coordinates: does a texture read UVs that the meshes it is bound to have.
+
+A UsdUVTexture is placed by its ``st`` input, usually connected (through a UsdTransform2d or not) to a
+UsdPrimvarReader_float2 whose ``varname`` names a primvar of the mesh, ``st`` by convention, and often
+set through the Material's interface (``inputs:frame:stPrimvarName``). A reader whose primvar a bound
+mesh does not have returns its fallback, (0, 0), and so does an ``st`` left unconnected (the
+UsdPreviewSurface specification gives both that fallback): the texture shows as the one colour of
+its corner texel, the USD counterpart of a glTF texCoord the mesh lacks (OPBR1205). Which meshes a
+Material is bound to is usd-core's answer (``UsdShade.MaterialBindingAPI.ComputeBoundMaterials``, in
+every purpose, inherited bindings and collections included); a Material bound to no mesh is not
+judged. Only a texture whose image is read and varies is judged: one flat colour (every texel within
+2/255 of the others) looks the same at any coordinate (usd-wg's USD_Mini_Car_Kit colours its parts
+with such images and no st), and an image that cannot be read shows nothing either way.
+"""
+
+from __future__ import annotations
+
+from ..diagnostics import Severity
+from ..io.images import load_pixels
+from ..io.usd.types import UV_TEXTURE_ID
+from ..model import Location
+from . import Rule, for_each_input
+from .textures import image_of
+from .usd_examples import stage_example
+
+
+def _stage(reader: str, primvar: str) -> str:
+    return stage_example(
+        'def Mesh "Plane" (\n    prepend apiSchemas = ["MaterialBindingAPI"]\n)\n{\n'
+        "    int[] faceVertexCounts = [4]\n    int[] faceVertexIndices = [0, 1, 2, 3]\n"
+        "    point3f[] points = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1)]\n"
+        f'    texCoord2f[] primvars:{primvar} = [(0, 0), (1, 0), (1, 1), (0, 1)] (\n        interpolation = "vertex"\n    )\n'
+        "    rel material:binding = </M>\n}\n\n"
+        'def Material "M"\n{\n    token outputs:surface.connect = </M/P.outputs:surface>\n\n'
+        '    def Shader "P"\n    {\n        uniform token info:id = "UsdPreviewSurface"\n'
+        "        color3f inputs:diffuseColor.connect = </M/albedo.outputs:rgb>\n        token outputs:surface\n    }\n\n"
+        '    def Shader "albedo"\n    {\n        uniform token info:id = "UsdUVTexture"\n'
+        '        asset inputs:file = @albedo.png@\n        token inputs:sourceColorSpace = "sRGB"\n'
+        f"{reader}        float3 outputs:rgb\n    }}\n\n"
+        '    def Shader "uv"\n    {\n        uniform token info:id = "UsdPrimvarReader_float2"\n'
+        '        string inputs:varname = "st"\n        float2 outputs:result\n    }\n}',
+        metadata='defaultPrim = "M"\n    metersPerUnit = 1\n    upAxis = "Y"')
+
+
+_READS = "        float2 inputs:st.connect = </M/uv.outputs:result>\n"
+_CHECKER = (("albedo.png", bytes.fromhex(  # a 2 x 2 black and white checker: an image whose texels differ
+    "89504e470d0a1a0a0000000d4948445200000002000000020802000000fdd49a73000000124"
+    "944415478da63f8ffff3f0304fcffff1f0029e405fba0d855520000000049454e44ae426082")),)
+
+PRIMVAR_MISSING = Rule(
+    "OPBR1015", "usd-primvar-missing", Severity.ERROR,
+    "A primvar reader feeding a texture's coordinates reads a primvar that a mesh bound to its Material does not have.",
+    "The reader returns its fallback, (0, 0), on that mesh, so the texture shows as the one colour of its "
+    "corner texel. Typical of a mesh exported with its UVs named after the tool (UVMap, map1) while the "
+    "material reads st. Bindings are resolved as usd-core resolves them (inherited, collections, every "
+    "purpose); the primvar may be the mesh's own or inherited from an ancestor.",
+    passing=_stage(_READS, "st"), failing=_stage(_READS, "UVMap"),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
+    failing_files=_CHECKER,
+)
+ST_UNCONNECTED = Rule(
+    "OPBR1016", "usd-uvtexture-without-st", Severity.WARNING,
+    "A UsdUVTexture's st input is neither connected nor set, so every point reads the texel at (0, 0).",
+    "UsdUVTexture's st defaults to (0, 0) (UsdPreviewSurface specification); it does not fall back to the "
+    "mesh's UVs, so the texture renders as one flat colour. Connect st to a UsdPrimvarReader_float2 "
+    "reading the mesh's UV primvar (st).",
+    passing=_stage(_READS, "st"), failing=_stage("", "st"),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
+    failing_files=_CHECKER,
+)
+
+RULES = (PRIMVAR_MISSING, ST_UNCONNECTED)
+
+_SHOWN = 3  # meshes named in a message
+
+
+def check(asset, context):
+    """Runs on USD assets only (rules.FAMILY_FORMATS)."""
+    reads = asset.extra.get("usd_uv_reads", {})
+    if not reads:
+        return
+    bound = asset.extra.get("usd_bound_primvars", {})
+    judged: set[tuple[str, str]] = set()
+    containers: dict = {}
+    for material, _table, entry in for_each_input(asset):
+        texture = entry.texture
+        if texture is None or texture.node_category != UV_TEXTURE_ID or texture.node not in reads:
+            continue
+        read = reads[texture.node]
+        material_path = material.material_location.path if material.material_location else None
+        key = (texture.node, material_path or "")
+        if key in judged:
+            continue
+        judged.add(key)
+        if read["st"] == "unconnected":
+            if not _varies(asset, texture, context, containers):
+                continue
+            yield context.diagnostic(
+                ST_UNCONNECTED, f"{entry.name}: {texture.node} has no st connection, so it reads the texel at (0, 0) "
+                "everywhere", Location(asset.path, None, texture.node, "st"),
+                hint="connect st to a UsdPrimvarReader_float2 whose varname is the mesh's UV primvar (st)")
+            continue
+        name = read.get("primvar")
+        lacking = [(mesh, names) for mesh, names in bound.get(material_path, ()) if name and name not in names]
+        if not lacking or not _varies(asset, texture, context, containers):
+            continue
+        shown = ", ".join(mesh for mesh, _ in lacking[:_SHOWN]) + (f" and {len(lacking) - _SHOWN} more" if len(lacking) > _SHOWN else "")
+        has = sorted({n for _, names in lacking for n in names if not n.startswith(("displayColor", "displayOpacity"))})
+        yield context.diagnostic(
+            PRIMVAR_MISSING, f"{entry.name}: {texture.node} reads primvar {name!r} through {read['reader']}, which "
+            f"{'mesh' if len(lacking) == 1 else 'meshes'} {shown} bound to {material_path} "
+            f"{'does' if len(lacking) == 1 else 'do'} not have, so it reads the texel at (0, 0) there"
+            + (f" (primvars there: {', '.join(has)})" if has else ""),
+            Location(asset.path, None, read["reader"], "varname"),
+            hint=f"set varname to the mesh's UV primvar{' (' + has[0] + ')' if len(has) == 1 else ''}, or rename the primvar to {name!r}")
+
+
+_FLAT = 2.0 / 255.0
+
+
+def _varies(asset, texture, context, containers: dict) -> bool:
+    """Whether the image ``texture`` reads is more than one flat colour; ``False`` when it cannot be read
+    (outside the asset's folder, missing, undecodable: other rules report those), as nothing then shows
+    that the coordinates matter."""
+    image = image_of(asset, texture, context, containers)
+    if image is None:
+        return False
+    try:
+        pixels = load_pixels(image)
+    except Exception:  # noqa: BLE001 - undecodable: OPBR707/OPBR708 report it
+        return False
+    return bool((pixels.max(axis=(0, 1)) - pixels.min(axis=(0, 1)) > _FLAT).any())
