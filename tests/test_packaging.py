@@ -27,14 +27,22 @@ def test_every_python_package_folder_is_listed():
     assert found <= listed, f"add to [tool.setuptools] packages: {sorted(found - listed)}"
 
 
-def test_data_folders_are_mapped_into_the_package():
+def test_every_data_file_is_in_a_listed_package_and_matches_its_package_data():
+    """setuptools installs a data file when its folder is a listed package (a folder of data only is a
+    namespace package, named too) and its name matches that package's package-data patterns."""
     config = _pyproject()["tool"]["setuptools"]
     assert config["package-dir"] == {"openpbr_tools.schemas": "schemas", "openpbr_tools.libraries": "libraries"}
-    data = config["package-data"]
-    for pattern_owner, folder, suffix in (("openpbr_tools.schemas", "schemas", ".json"),
-                                          ("openpbr_tools.libraries", "libraries", ".mtlx"),
-                                          ("openpbr_tools.samples", "openpbr_tools/samples", ".mtlx")):
-        patterns = data[pattern_owner]
-        for file in (ROOT / folder).rglob(f"*{suffix}"):
-            relative = file.relative_to(ROOT / folder)
-            assert any(relative.match(p) for p in patterns), f"{file} is not in package-data {patterns}"
+    listed, data = set(config["packages"]), config["package-data"]
+    roots = {"schemas": "openpbr_tools.schemas", "libraries": "openpbr_tools.libraries",
+             "openpbr_tools/samples": "openpbr_tools.samples", "openpbr_tools/evaluate/data": "openpbr_tools.evaluate.data"}
+    checked = 0
+    for folder, package in roots.items():
+        for file in (ROOT / folder).rglob("*"):
+            if not file.is_file() or file.suffix in (".py", ".pyc") or "__pycache__" in file.parts:
+                continue
+            owner = ".".join((package, *file.parent.relative_to(ROOT / folder).parts))
+            assert owner in listed, f"{file}: add {owner!r} to [tool.setuptools] packages"
+            assert any(file.match(pattern) for pattern in data.get(owner, ())), \
+                f"{file} matches no package-data pattern of {owner}: {data.get(owner)}"
+            checked += 1
+    assert checked >= 28

@@ -277,3 +277,23 @@ def test_convert_leaves_a_damaged_texture_out_with_a_note_and_goes_on(tmp_path, 
     assert all(d.location.input == "base_color" for d in notes)
     written = (tmp_path / target).read_bytes()
     assert LFS not in written  # neither embedded nor packaged
+
+
+def test_convert_leaves_out_an_openexr_cut_short_with_a_note_and_prints_nothing(tmp_path, capfd):
+    """OpenImageIO reads an OpenEXR cut short with its missing chunks as garbage and, left unasked, prints its
+    error to stderr when the buffer is destroyed: the texture is left out with a note instead."""
+    oiio = pytest.importorskip("OpenImageIO")
+    buffer = oiio.ImageBuf(oiio.ImageSpec(64, 64, 3, oiio.HALF))
+    oiio.ImageBufAlgo.fill(buffer, (0.5, 0.2, 0.1))
+    assert buffer.write(str(tmp_path / "whole.exr"))
+    data = (tmp_path / "whole.exr").read_bytes()
+    (tmp_path / "albedo.exr").write_bytes(data[:len(data) // 2])
+    source = tmp_path / "m.mtlx"
+    source.write_text(MTLX.format(file="albedo.exr"))
+    conversion = convert_file(str(source), str(tmp_path / "out.gltf"), None, Settings())
+    [note] = [d for d in conversion.diagnostics if d.code == "OPBR1104"]
+    assert note.location.input == "base_color" and "\n" not in note.message and "albedo.exr" in note.message
+    document = json.loads((tmp_path / "out.gltf").read_text())
+    assert "images" not in document and "baseColorTexture" not in json.dumps(document)
+    captured = capfd.readouterr()
+    assert captured.err == "" and captured.out == ""

@@ -122,3 +122,9 @@ def test_a_texture_that_cannot_be_read_is_not_judged(tmp_path):
     (tmp_path / "albedo.png").unlink()
     codes = [d.code for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics]
     assert "OPBR701" in codes and "OPBR1016" not in codes
+
+
+def test_a_stage_composed_without_some_of_its_layers_is_not_judged(tmp_path):
+    """Its primvars may live in the layer that is missing (or that the path guard kept out)."""
+    meshes = _mesh("A", primvar="UVMap") + '    def Xform "Extra" (\n        prepend references = @missing.usda@\n    )\n    {\n    }\n\n'
+    assert _findings(_stage(tmp_path, meshes, _material("st")), "OPBR1015") == []

@@ -77,7 +77,8 @@ def damage(image: str | bytes) -> Damage | None:
     decoded before it is called corrupt, so one that only lacks its closing ``IEND`` passes, as
     decoders show it whole), and a JPEG's entropy-coded data decoded at 1/8 scale (Pillow's
     ``draft``), so a file cut short is found without decoding its pixels at full size. Another
-    format Pillow identifies is trusted from its header, and one Pillow does not open
+    format Pillow identifies is trusted from its header (so is an image above Pillow's decompression-bomb
+    limit, about 179 million pixels, which Pillow refuses to open), and one Pillow does not open
     (:data:`OTHER_SIGNATURES`) from its signature. ``None`` too for a path that cannot be opened:
     whether it exists is OPBR701's question."""
     if isinstance(image, (bytes, bytearray, memoryview)):
@@ -140,19 +141,28 @@ def _damage(image: str | memoryview) -> Damage | None:
     return Damage("unrecognised", f"not in any image format this machine recognises (begins {head[:8].hex(' ')})")
 
 
+#: A PNG whose chunks fail the check is decoded to tell a file cut short from one that only lacks its
+#: closing IEND, up to this many pixels (8192 x 8192); a larger one is judged by its chunks alone, so a
+#: header claiming a huge image never makes the check allocate it.
+MAX_DECODED_PIXELS = 8192 * 8192
+
+
 def _decoded(image: str | memoryview, kind: str) -> Damage | None:
     from PIL import Image  # lazy: as in load_pixels
 
     def source():
         return Image.open(_open(image))
 
+    size = (0, 0)
     if kind == "PNG":
         try:
             with source() as opened:
+                size = opened.size
                 opened.verify()
             return None
-        except Exception:  # noqa: BLE001 - a CRC, a chunk or a truncation error: decoding decides
-            pass
+        except Exception as error:  # noqa: BLE001 - a CRC, a chunk or a truncation error: decoding decides
+            if size[0] * size[1] > MAX_DECODED_PIXELS:  # not decoded: the chunks alone decide
+                return Damage("corrupt", f"a PNG cut short or with damaged data ({error})")
     try:
         with source() as opened:
             if kind == "JPEG":

@@ -192,8 +192,19 @@ def _load_with_openimageio(image: str | bytes):
 
     buffer = oiio.ImageBuf(image)
     if buffer.has_error:
-        raise ValueError(f"cannot read {image!r}: {buffer.geterror()}")
-    return np.asarray(buffer.get_pixels(oiio.FLOAT), dtype=np.float64)
+        raise ValueError(f"cannot read {image!r}: {_one_line(buffer.geterror())}")
+    pixels = buffer.get_pixels(oiio.FLOAT)
+    if buffer.has_error:  # read, but with chunks missing (a file cut short); retrieving the error also keeps
+        raise ValueError(f"cannot read {image!r}: {_one_line(buffer.geterror())}")  # OpenImageIO from printing it
+    values = np.asarray(pixels, dtype=np.float64)
+    if not np.isfinite(values).all():
+        raise ValueError(f"{image!r} holds texels that are not finite numbers (NaN or infinity)")
+    return values
+
+
+def _one_line(message: str) -> str:
+    """OpenImageIO's error text (one line per error, often repeated) as one line."""
+    return "; ".join(dict.fromkeys(line.strip() for line in message.splitlines() if line.strip()))
 
 
 def channel_count(image: str | bytes) -> int:

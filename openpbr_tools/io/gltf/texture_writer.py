@@ -47,7 +47,12 @@ class TextureWriting:
             if (other.uv, other.texcoord, other.wrap) != (first.uv, first.texcoord, first.wrap):
                 self.note(APPROXIMATED, f"{slot.parameter} shares {prop} with {members[0].parameter} but has another UV "
                                         f"transform, UV set or wrap; {members[0].parameter}'s is used", slot.parameter)
-        image_index = self.image_for(prop, members, textures, sources)
+        try:
+            image_index = self.image_for(prop, members, textures, sources)
+        except ValueError as error:  # an image that cannot be decoded (an EXR cut short, NaN texels): left out
+            for slot in members:
+                self.note(NOT_CARRIED, f"{slot.parameter}: {error}; texture not written", slot.parameter)
+            return
         info = {"index": self.builder.add_texture(image_index, self.sampler(first, members[0].parameter))}
         self.uv(info, first, members[0].parameter)
         slot = members[0]

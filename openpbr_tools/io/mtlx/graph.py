@@ -68,7 +68,9 @@ class GraphFollower:
         target = port.getNodeName() or port.getNodeGraphString()
         node = self.upstream_node(port)
         if node is None:
-            return Connection(target or port.getOutputString(), None, "connection target not found", dangling=True)
+            output = port.getOutputString()
+            named = f"{target}.{output}" if target and output else target or output  # a graph's missing output too
+            return Connection(named, None, "connection target not found", dangling=True)
         constant = _constant_value(self, node, port.getType())
         if constant is not None:
             constant, held = constant

@@ -141,10 +141,15 @@ class _Reader(NetworkReader):
     def bound_primvars(self, meshes) -> None:
         """For each Material whose textures read a named primvar: the meshes bound to it (in any purpose,
         as usd-core resolves bindings) and the primvars each has (its own and those inherited), in
-        ``asset.extra["usd_bound_primvars"]``. Nothing is computed for a stage whose textures read none."""
+        ``asset.extra["usd_bound_primvars"]``. Nothing is computed for a stage whose textures read none,
+        nor for one composed without some of its layers (an arc the guard removed, a MaterialX reference, a
+        layer that cannot be opened)."""
         reads = self.asset.extra.get("usd_uv_reads", {})
         if not meshes or not any(read.get("primvar") for read in reads.values()):
             return
+        if self.stage.GetCompositionErrors() or any(
+                o.kind in ("usd_arc_outside", "usd_mtlx_reference") for o in self.asset.observations):
+            return  # a stage composed without some of its layers may lack the primvars they carry: not judged
         Tokens, Binding = self.UsdShade.Tokens, self.UsdShade.MaterialBindingAPI
         bound: dict[str, set] = {}
         for purpose in (Tokens.allPurpose, Tokens.full, Tokens.preview):
