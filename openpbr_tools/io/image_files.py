@@ -75,8 +75,9 @@ def damage(image: str | bytes) -> Damage | None:
 
     A PNG's chunks are walked and their CRCs checked (Pillow's ``verify``; a file failing that is
     decoded before it is called corrupt, so one that only lacks its closing ``IEND`` passes, as
-    decoders show it whole), and a JPEG's entropy-coded data decoded at 1/8 scale (Pillow's
-    ``draft``), so a file cut short is found without decoding its pixels at full size. Another
+    decoders show it whole); a JPEG that does not end with its end-of-image marker has its
+    entropy-coded data decoded at 1/8 scale (Pillow's ``draft``), so a file cut short is found without
+    decoding its pixels at full size, and a whole one costs a look at its last bytes. Another
     format Pillow identifies is trusted from its header (so is an image above Pillow's decompression-bomb
     limit, about 179 million pixels, which Pillow refuses to open), and one Pillow does not open
     (:data:`OTHER_SIGNATURES`) from its signature. ``None`` too for a path that cannot be opened:
@@ -163,6 +164,8 @@ def _decoded(image: str | memoryview, kind: str) -> Damage | None:
         except Exception as error:  # noqa: BLE001 - a CRC, a chunk or a truncation error: decoding decides
             if size[0] * size[1] > MAX_DECODED_PIXELS:  # not decoded: the chunks alone decide
                 return Damage("corrupt", f"a PNG cut short or with damaged data ({error})")
+    if kind == "JPEG" and _ends_with_eoi(image):
+        return None  # whole to its end-of-image marker: not decoded (libjpeg shows damage inside as blocks, no error)
     try:
         with source() as opened:
             if kind == "JPEG":
@@ -173,3 +176,20 @@ def _decoded(image: str | memoryview, kind: str) -> Damage | None:
     except Exception as error:  # noqa: BLE001 - Pillow raises many exception types for damaged data
         return Damage("corrupt", f"a {kind} cut short or with damaged data ({error})")
     return None
+
+
+def _ends_with_eoi(image: str | memoryview) -> bool:
+    """Whether a JPEG's last bytes (trailing NUL padding aside) are its end-of-image marker, FF D9
+    (ITU T.81, B.2.1): a file cut short cannot end with it, as 0xFF inside the entropy-coded data is
+    always followed by a stuffed 0x00 or a restart marker."""
+    try:
+        if isinstance(image, memoryview):
+            tail = bytes(image[-64:])
+        else:
+            with open(image, "rb") as handle:
+                handle.seek(0, os.SEEK_END)
+                handle.seek(max(0, handle.tell() - 64))
+                tail = handle.read()
+    except OSError:
+        return False
+    return tail.rstrip(b"\0").endswith(b"\xff\xd9")
