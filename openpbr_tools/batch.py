@@ -26,7 +26,7 @@ from dataclasses import dataclass, field
 from .diagnostics import Diagnostic, Severity
 from .io.paths import PathGuard
 from .model import Location
-from .rules.document import UNREADABLE
+from .rules.document import UNREADABLE, internal_error
 from .selection import SelectionError, changed_since, shard
 from .validate import FileResult, Options, Report, discover, run_chunks, unreadable
 
@@ -161,9 +161,15 @@ def _convert(job: Job) -> FileResult:
         return unreadable(job.source, error)
     except (ValueError, OSError) as error:  # a refused texture, an unwritable folder
         return FileResult(job.source, [_problem(f"not converted: {error}", job.source)], unreadable=True)
+    except Exception as error:  # noqa: BLE001 - a defect of the toolkit on this file: reported, the batch goes on
+        return FileResult(job.source, [internal_error(job.source, "converting", error)], unreadable=True)
     diagnostics = result.diagnostics
     if job.verify:
-        diagnostics = sorted(diagnostics + verify(result, job.threshold), key=Diagnostic.sort_key)
+        try:
+            diagnostics = sorted(diagnostics + verify(result, job.threshold), key=Diagnostic.sort_key)
+        except Exception as error:  # noqa: BLE001 - as above; the output is written, its verification is not
+            return FileResult(job.source, diagnostics + [internal_error(job.source, "verifying", error)],
+                              materials=len(result.pairs), unreadable=True)
     return FileResult(job.source, diagnostics, materials=len(result.pairs))
 
 

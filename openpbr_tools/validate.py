@@ -18,7 +18,7 @@ from .diagnostics import Diagnostic, Severity
 from .distributed import run_on_cluster
 from .model import Asset, Location
 from .rules import Context, check_asset
-from .rules.document import INVALID_CONFIG, READ_ERROR_RULES, UNREADABLE
+from .rules.document import INTERNAL_ERROR, INVALID_CONFIG, READ_ERROR_RULES, UNREADABLE, internal_error
 from .selection import SelectionError, changed_since, shard
 
 
@@ -125,13 +125,19 @@ def unreadable(path: str, error: readers.ReadError | OSError) -> FileResult:
 
 
 def validate_file(path: str, context: Context | None = None, keep_asset: bool = False) -> FileResult:
+    """The findings of one file. A defect of the toolkit on it (an exception other than a
+    :class:`~openpbr_tools.io.ReadError`) is OPBR011 at the file, and the file counts as not checked
+    (exit code 2), so one file never stops a folder's report."""
     try:
         asset = readers.read_asset(path, context.allow_outside if context is not None else ())
     except readers.ReadError as error:
         return unreadable(path, error)
+    except Exception as error:  # noqa: BLE001 - a defect of a reader: reported at the file, the batch goes on
+        return FileResult(path, [internal_error(path, "reading", error)], unreadable=True)
     diagnostics = check_asset(asset, context)
     count = sum(1 for m in asset.materials if not m.extra.get("fallback_of"))  # a USD preview fallback is not another material
-    return FileResult(path, diagnostics, count, asset=asset if keep_asset else None)
+    failed = any(d.code == INTERNAL_ERROR.code for d in diagnostics)
+    return FileResult(path, diagnostics, count, unreadable=failed, asset=asset if keep_asset else None)
 
 
 @dataclass(slots=True)

@@ -152,11 +152,17 @@ def check_asset(asset: Asset, context: Context | None = None) -> list[Diagnostic
     for family in FAMILIES:
         if family in FAMILY_FORMATS and FAMILY_FORMATS[family] != asset.format:
             continue  # a family for another format (translation: notes of convert and upgrade, never found here)
-        for diagnostic in _family_module(family).check(asset, context):
-            if diagnostic.code not in context.disabled and not (suppressions and _suppressed(diagnostic, suppressions)):
-                found.append(diagnostic)
+        try:
+            for diagnostic in _family_module(family).check(asset, context):
+                if diagnostic.code not in context.disabled and not (suppressions and _suppressed(diagnostic, suppressions)):
+                    found.append(diagnostic)
+        except Exception as error:  # noqa: BLE001 - a defect of a check: reported at the file, the other families run
+            from .document import internal_error  # lazy: the rules package's own family module (a cycle at import)
+
+            found.append(internal_error(asset.path, f"the {family} checks", error))
     found.sort(key=Diagnostic.sort_key)
     return found
+
 
 
 def _suppressed(diagnostic: Diagnostic, suppressions: dict[str, frozenset[str]]) -> bool:

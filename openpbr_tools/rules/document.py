@@ -6,7 +6,7 @@ exit with code 2 (unreadable input), whatever ``--fail-on`` says.
 
 from __future__ import annotations
 
-from ..diagnostics import Severity
+from ..diagnostics import Diagnostic, Severity
 from ..model import Connection, Location
 from . import Rule
 
@@ -111,8 +111,29 @@ XINCLUDE_BROKEN = Rule(
     failing='<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n  <xi:include href="missing_defs.mtlx" />\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
 )
 
+INTERNAL_ERROR = Rule(
+    "OPBR011", "internal-error", Severity.ERROR,
+    "The toolkit failed while reading or checking this file: a defect of the toolkit, reported at the file "
+    "so that the other files, and the other checks of this one, still run.",
+    "The message names the step that failed (reading, or a family of checks) and the exception. The file "
+    "was not fully checked, so the exit code is 2, as for a file that cannot be read. No file is meant to "
+    "trigger it: each one found is a defect, fixed with a test. Please report it with the file.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing="(no document triggers it on purpose; the test suite makes a check fail to prove the report)",
+    formats=(),
+)
+
 RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED, MALFORMED_XML,
-         INVALID_CONFIG, XINCLUDE, XINCLUDE_BROKEN)
+         INVALID_CONFIG, XINCLUDE, XINCLUDE_BROKEN, INTERNAL_ERROR)
+
+def internal_error(path: str, step: str, error: Exception) -> Diagnostic:
+    """OPBR011 at ``path``: ``step`` failed with ``error`` (not subject to selection or suppression: it
+    says the file was not fully checked)."""
+    detail = str(error).strip().splitlines()[0][:200] if str(error).strip() else ""
+    return Diagnostic(INTERNAL_ERROR.code, INTERNAL_ERROR.severity,
+                      f"{step} failed on this file ({type(error).__name__}{': ' + detail if detail else ''}); "
+                      "the file is not fully checked", Location(path), "a defect of the toolkit: please report it with the file")
+
 
 READ_ERROR_RULES = {
     "unreadable": UNREADABLE,

@@ -76,6 +76,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR010": ("MaterialX cannot follow a missing, unreadable or circular XInclude: readXIncludes fails, and the "
                 "document loads without the definitions it relies on.", MX_XML),
     # -- names ---------------------------------------------------------------------------------
+    "OPBR011": ("Without it, one file that trips a defect of the toolkit would stop a folder's whole report (or "
+                "pass unchecked): every other file is still checked, and the exit code says this one was not.",
+                "https://docs.python.org/3/tutorial/errors.html"),
     "OPBR101": ("MaterialX shader generation ignores an input that matches no nodedef input (Document.validate "
                 "flags it): the value silently renders as the default.", f"{MX_NODE}; {MX_OPENPBR}"),
     "OPBR102": ("An input of another OpenPBR version matches no input of the installed nodedef: renderers drop it "
