@@ -34,6 +34,24 @@ def document(fragment: str) -> str:
     return DOCUMENT.format(body=body)
 
 
+@pytest.fixture(autouse=True)
+def internal_errors_raise(request, monkeypatch):
+    """In the test suite a defect of the toolkit fails the test that meets it: the OPBR011 safety net (which
+    turns an exception on one file into a finding, so users keep the rest of their report) re-raises here,
+    or fuzzing and every other test would pass over a defect. Tests of the net itself are marked
+    ``internal_errors_reported``."""
+    if request.node.get_closest_marker("internal_errors_reported"):
+        return
+    from openpbr_tools import batch, validate
+    from openpbr_tools.rules import document as document_rules
+
+    def reraise(path, step, error):
+        raise error
+
+    for module in (document_rules, validate, batch):
+        monkeypatch.setattr(module, "internal_error", reraise)
+
+
 def example_image(name: str) -> bytes:
     """A 4 x 4 RGB image in the format ``name``'s suffix names (Pillow; OpenImageIO for EXR and HDR)."""
     import io

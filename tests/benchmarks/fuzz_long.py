@@ -128,6 +128,19 @@ def structured_batches(harness: Harness, kind: str, strategy, count: int, seed: 
         run += 1
 
 
+def raise_internal_errors() -> None:
+    """Make the OPBR011 safety net re-raise in this process: it turns an exception on one file into a
+    finding, which would hide every defect a fuzz run exists to find (tests/conftest.py does the same)."""
+    from openpbr_tools import batch, validate
+    from openpbr_tools.rules import document
+
+    def reraise(path, step, error):
+        raise error
+
+    for module in (document, validate, batch):
+        module.internal_error = reraise
+
+
 def memoise_rule_pages() -> None:
     """Every SARIF report embeds each rule's documentation page, which depends on the rule alone;
     formatting all of them for every input is most of a run's time, so it is done once per process."""
@@ -191,6 +204,7 @@ def mtlx_exercise():
 
     context = Context(file_exists=lambda path: False, list_dir=lambda path: [])  # never touch the disk for textures
     memoise_rule_pages()
+    raise_internal_errors()
 
     def exercise(path: str) -> None:
         result = validate_file(path, context)

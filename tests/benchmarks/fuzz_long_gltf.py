@@ -26,6 +26,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 from fuzz_long import (
     Harness,
     memoise_rule_pages,
+    raise_internal_errors,
     run_workers,
     structured_batches,
     summarise,
@@ -40,6 +41,7 @@ def gltf_exercise():
     from openpbr_tools.validate import Report, validate_file
 
     memoise_rule_pages()
+    raise_internal_errors()
 
     def exercise(path: str) -> None:
         result = validate_file(path, keep_asset=True)

@@ -89,6 +89,9 @@ def worker(job: int, quota: dict, seed: int, shared: Shared, folder: str, failur
     from openpbr_tools.validate import Report, validate_file
 
     context = Context(file_exists=lambda path: False, list_dir=lambda path: [])
+    from fuzz_long import raise_internal_errors  # the fuzz harnesses' shared helpers
+
+    raise_internal_errors()
     # a runaway allocation fails instead of exhausting the machine; one that is touched is caught below
     resource.setrlimit(resource.RLIMIT_AS, (ADDRESS_SPACE_LIMIT, ADDRESS_SPACE_LIMIT))
     seen: dict[str, int] = {}
