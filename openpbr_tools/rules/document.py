@@ -149,8 +149,11 @@ def check(asset, context):
         yield context.diagnostic(NO_MATERIAL, "no supported surface shader found", Location(asset.path))
     message = asset.extra.get("materialx_validate")
     if message:
+        sites = asset.extra.get("materialx_validate_sites", {})
         for line in _not_covered(asset, message):
-            yield context.diagnostic(MATERIALX_INVALID, f"MaterialX: {line}", Location(asset.path))
+            path, name = sites.get(line, (None, None))  # the element the message names, where it is in the document
+            line_number = asset.line_of.get(f"{path}/{name}" if name else path) if path else None
+            yield context.diagnostic(MATERIALX_INVALID, f"MaterialX: {line}", Location(asset.path, line_number, path, name))
     for observation in asset.observations:
         if observation.kind == "xinclude":
             yield context.diagnostic(XINCLUDE, f"includes {observation.detail['href']!r}, which "

@@ -36,7 +36,7 @@ from ..paths import PathGuard
 from . import library
 from .graph import GraphFollower, in_definition
 from .looks import record_looks
-from .xmlscan import XmlScan, XmlSyntaxError, parse_suppression, scan
+from .xmlscan import XmlScan, XmlSyntaxError, message_sites, parse_suppression, scan
 
 SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
 MATERIAL_CATEGORIES = ("surfacematerial",)
@@ -216,6 +216,7 @@ class _Reader(GraphFollower):
         valid, message = self.document.validate()
         if not valid:
             self.asset.extra["materialx_validate"] = message.strip()
+            self.asset.extra["materialx_validate_sites"] = message_sites(self.document, message)
         shaders: dict[str, Material] = {}
         root_doc = self.document.getDocString()
         if root_doc:

@@ -137,3 +137,21 @@ def _escape_tile_tokens(data: bytes) -> bytes:
     if b"<UDIM>" not in data and b"<UVTILE>" not in data:
         return data
     return data.replace(b"<UDIM>", b"&lt;UDIM&gt;").replace(b"<UVTILE>", b"&lt;UVTILE&gt;")
+
+
+def message_sites(document, message: str) -> dict[str, tuple[str, str | None]]:
+    """Where each line of MaterialX's ``Document.validate()`` message points: a line ends with the
+    offending element as ``Element.asString()`` prints it (``Cycle in upstream path: <output name="out"
+    ...>``), given as (name path, ``None``), or for an input (its node's name path, its name); the first
+    element printed so wins. Lines naming no element are left out."""
+    printed: dict[str, tuple[str, str | None]] = {}
+    for element in document.traverseTree():
+        site = (element.getParent().getNamePath(), element.getName()) if element.getCategory() == "input" \
+            else (element.getNamePath(), None)
+        printed.setdefault(element.asString(), site)
+    sites = {}
+    for line in message.strip().splitlines():
+        at = line.find(": <")
+        if at >= 0 and line[at + 2:] in printed:
+            sites[line] = printed[line[at + 2:]]
+    return sites
