@@ -38,18 +38,14 @@ def document(fragment: str) -> str:
 def internal_errors_raise(request, monkeypatch):
     """In the test suite a defect of the toolkit fails the test that meets it: the OPBR011 safety net (which
     turns an exception on one file into a finding, so users keep the rest of their report) re-raises here,
-    or fuzzing and every other test would pass over a defect. Tests of the net itself are marked
-    ``internal_errors_reported``."""
+    in worker processes too (an environment variable), or fuzzing and every other test would pass over a
+    defect. Tests of the net itself are marked ``internal_errors_reported``."""
+    from openpbr_tools.rules.document import RAISE_INTERNAL_ERRORS
+
     if request.node.get_closest_marker("internal_errors_reported"):
-        return
-    from openpbr_tools import batch, validate
-    from openpbr_tools.rules import document as document_rules
-
-    def reraise(path, step, error):
-        raise error
-
-    for module in (document_rules, validate, batch):
-        monkeypatch.setattr(module, "internal_error", reraise)
+        monkeypatch.delenv(RAISE_INTERNAL_ERRORS, raising=False)
+    else:
+        monkeypatch.setenv(RAISE_INTERNAL_ERRORS, "1")
 
 
 def example_image(name: str) -> bytes:

@@ -16,7 +16,8 @@ def test_materialx_names_are_exactly_those_cmlib_converts_plus_lin_rec709_and_no
     import MaterialX as mx
 
     folder = os.path.join(os.path.dirname(mx.__file__), "libraries", "cmlib", "cmlib_defs.mtlx")
-    text = open(folder, encoding="utf-8").read()
+    with open(folder, encoding="utf-8") as handle:
+        text = handle.read()
     converted = set(re.findall(r'name="ND_([a-z0-9_]+)_to_lin_rec709_color3"', text))
     assert colorspaces.materialx_names() == frozenset(converted | {"lin_rec709", "none"})
 

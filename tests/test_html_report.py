@@ -45,9 +45,9 @@ def test_report_is_self_contained_without_scripts(tmp_path):
     strips = sorted(p.name for p in (tmp_path / "images").iterdir())
     assert strips == ["VarnishedWood_material_sphere.png", "VarnishedWood_material_sphere_delta_e.png",
                       "VarnishedWood_material_swatch.png", "VarnishedWood_material_swatch_delta_e.png"]
-    side = Image.open(tmp_path / "images" / "VarnishedWood_material_sphere.png")
-    heat = Image.open(tmp_path / "images" / "VarnishedWood_material_sphere_delta_e.png")
-    assert side.size == (2 * heat.size[0] + 4, heat.size[1])
+    with Image.open(tmp_path / "images" / "VarnishedWood_material_sphere.png") as side, \
+            Image.open(tmp_path / "images" / "VarnishedWood_material_sphere_delta_e.png") as heat:
+        assert side.size == (2 * heat.size[0] + 4, heat.size[1])
 
 
 def test_report_is_deterministic(tmp_path):

@@ -60,3 +60,27 @@ def _standard_libraries():
     libraries = mx.createDocument()
     mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), libraries)
     return libraries
+
+
+def test_a_message_whose_element_prints_like_another_gets_no_place_rather_than_a_wrong_one(tmp_path):
+    """Two graphs with the same 'a.in1 interfacename=tint' print alike; only g2's is broken (no tint input)."""
+    text = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <nodegraph name="g1">
+    <input name="tint" type="color3" value="1, 0, 0" />
+    <multiply name="a" type="color3"><input name="in1" type="color3" interfacename="tint" /><input name="in2" type="color3" value="0.5, 0.5, 0.5" /></multiply>
+    <output name="out" type="color3" nodename="a" />
+  </nodegraph>
+  <nodegraph name="g2">
+    <multiply name="a" type="color3"><input name="in1" type="color3" interfacename="tint" /><input name="in2" type="color3" value="0.5, 0.5, 0.5" /></multiply>
+    <output name="out" type="color3" nodename="a" />
+  </nodegraph>
+  <open_pbr_surface name="s" type="surfaceshader"><input name="base_color" type="color3" nodegraph="g2" output="out" /></open_pbr_surface>
+  <surfacematerial name="m" type="material"><input name="surfaceshader" type="surfaceshader" nodename="s" /></surfacematerial>
+</materialx>
+"""
+    path = tmp_path / "doc.mtlx"
+    path.write_text(text, encoding="utf-8")
+    [finding] = [d for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics if d.code == "OPBR004"]
+    assert "Interface name not found" in finding.message
+    assert (finding.location.line, finding.location.path, finding.location.input) == (None, None, None)

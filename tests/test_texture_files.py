@@ -13,6 +13,7 @@ import io
 import json
 import random
 import struct
+import zlib
 
 import pytest
 from PIL import Image
@@ -297,3 +298,96 @@ def test_convert_leaves_out_an_openexr_cut_short_with_a_note_and_prints_nothing(
     assert "images" not in document and "baseColorTexture" not in json.dumps(document)
     captured = capfd.readouterr()
     assert captured.err == "" and captured.out == ""
+
+
+# -- found in review: the path guard, special files, and files renderers read that Pillow does not ----------
+
+def _codes_of(path) -> list[str]:
+    return [d.code for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics]
+
+
+def test_a_udim_tile_linked_outside_the_asset_is_reported_and_never_opened(tmp_path):
+    (tmp_path / "outside").mkdir()
+    (tmp_path / "outside" / "secret.png").write_bytes(LFS)  # read, it would be OPBR707
+    (tmp_path / "asset").mkdir()
+    (tmp_path / "asset" / "paint.1001.png").write_bytes(PNG)
+    (tmp_path / "asset" / "paint.1002.png").symlink_to(tmp_path / "outside" / "secret.png")
+    path = tmp_path / "asset" / "m.mtlx"
+    path.write_text(MTLX.format(file="paint.<UDIM>.png"))
+    findings = [d for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics]
+    assert "OPBR707" not in [d.code for d in findings]
+    [outside] = [d for d in findings if d.code == "OPBR704"]
+    assert "paint.1002.png" in outside.message
+
+
+def test_dot_dot_after_a_symbolic_link_is_resolved_as_the_system_opens_it(tmp_path):
+    """``link/../../x.png`` with link -> a/b names asset/x.png to the operating system (links first), but
+    ../x.png to a path joined as text: the file outside is never opened."""
+    (tmp_path / "x.png").write_bytes(LFS)
+    (tmp_path / "asset" / "a" / "b").mkdir(parents=True)
+    (tmp_path / "asset" / "link").symlink_to(tmp_path / "asset" / "a" / "b")
+    path = tmp_path / "asset" / "m.mtlx"
+    path.write_text(MTLX.format(file="link/../../x.png"))
+    assert "OPBR707" not in _codes_of(path)
+
+
+def test_a_named_pipe_as_texture_is_never_read(tmp_path):
+    import os
+    import signal
+
+    os.mkfifo(tmp_path / "albedo.png")
+    path = tmp_path / "m.mtlx"
+    path.write_text(MTLX.format(file="albedo.png"))
+
+    def expire(signum, frame):
+        raise TimeoutError("validate blocked reading a FIFO")
+
+    previous = signal.signal(signal.SIGALRM, expire)
+    signal.alarm(20)
+    try:
+        codes = _codes_of(path)
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+    assert "OPBR707" not in codes and damage(str(tmp_path / "albedo.png")) is None
+
+
+def test_a_multi_picture_jpeg_from_a_camera_is_a_jpeg(tmp_path):
+    """Pillow calls a JPEG with an MPF second picture 'MPO'; glTF viewers and MaterialX read it as the JPEG it is."""
+    first, second = Image.open(io.BytesIO(JPEG)).convert("RGB"), Image.new("RGB", (64, 64), (9, 9, 9))
+    first.save(tmp_path / "t.jpg", "MPO", save_all=True, append_images=[second])
+    with Image.open(tmp_path / "t.jpg") as written:
+        assert written.format == "MPO"
+    path = tmp_path / "m.gltf"
+    path.write_text(json.dumps({"asset": {"version": "2.0"}, "images": [{"uri": "t.jpg", "mimeType": "image/jpeg"}],
+                                "textures": [{"source": 0}],
+                                "materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]}))
+    assert not {"OPBR707", "OPBR708", "OPBR1207", "OPBR1214"} & set(_codes_of(path))
+
+
+def _chunk(kind: bytes, data: bytes, crc_delta: int = 0) -> bytes:
+    crc = (zlib.crc32(kind + data) + crc_delta) & 0xFFFFFFFF
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", crc)
+
+
+def test_png_crcs_are_judged_as_libpng_judges_them(tmp_path):
+    """libpng (through OpenImageIO, as renderers read PNGs) drops an ancillary chunk whose CRC fails and
+    refuses image data whose CRC fails; Pillow refuses the first and decodes the second."""
+    pytest.importorskip("OpenImageIO")
+    at = PNG.index(b"IDAT") - 4
+    text_bad = PNG[:at] + _chunk(b"tEXt", b"Comment\x00made here", crc_delta=1) + PNG[at:]
+    crc_at = at + 8 + struct.unpack(">I", PNG[at:at + 4])[0]
+    idat_bad = PNG[:crc_at] + bytes([PNG[crc_at] ^ 0x01]) + PNG[crc_at + 1:]
+    for data, expected in ((text_bad, None), (idat_bad, "corrupt")):
+        (tmp_path / "t.png").write_bytes(data)
+        for found in (damage(str(tmp_path / "t.png")), damage(data)):
+            assert (found.kind if found else None) == expected
+
+
+@pytest.mark.parametrize("name", ["t.iff", "t.pfm"])
+def test_formats_openimageio_reads_are_not_unrecognised(tmp_path, name):
+    oiio = pytest.importorskip("OpenImageIO")
+    buffer = oiio.ImageBuf(oiio.ImageSpec(4, 4, 3, oiio.FLOAT if name.endswith(".pfm") else oiio.UINT8))
+    oiio.ImageBufAlgo.fill(buffer, (0.5, 0.25, 0.125))
+    assert buffer.write(str(tmp_path / name)), oiio.geterror()
+    assert damage(str(tmp_path / name)) is None

@@ -15,7 +15,8 @@ def test_distance_units_match_materialx_stdlib():
     import MaterialX as mx
 
     path = os.path.join(os.path.dirname(mx.__file__), "libraries", "stdlib", "stdlib_defs.mtlx")
-    text = open(path, encoding="utf-8").read()
+    with open(path, encoding="utf-8") as handle:
+        text = handle.read()
     block = text[text.index('unittype="distance"'):text.index("</unitdef>", text.index('unittype="distance"'))]
     stdlib = {name: float(scale) for name, scale in re.findall(r'<unit name="(\w+)" scale="([0-9.e-]+)"', block)}
     assert load_json("units.json")["distance"] == pytest.approx(stdlib)

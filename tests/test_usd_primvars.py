@@ -128,3 +128,11 @@ def test_a_stage_composed_without_some_of_its_layers_is_not_judged(tmp_path):
     """Its primvars may live in the layer that is missing (or that the path guard kept out)."""
     meshes = _mesh("A", primvar="UVMap") + '    def Xform "Extra" (\n        prepend references = @missing.usda@\n    )\n    {\n    }\n\n'
     assert _findings(_stage(tmp_path, meshes, _material("st")), "OPBR1015") == []
+
+
+def test_st_connected_to_a_material_interface_value_is_not_unconnected(tmp_path):
+    material = _material(st=False).replace(
+        '            float3 outputs:rgb\n',
+        '            float2 inputs:st.connect = </World/M.inputs:coords>\n            float3 outputs:rgb\n', 1)
+    material = material.replace('    def Material "M"\n    {\n', '    def Material "M"\n    {\n        float2 inputs:coords = (0.5, 0.5)\n', 1)
+    assert _findings(_stage(tmp_path, _mesh("A", primvar="st"), material), "OPBR1016") == []

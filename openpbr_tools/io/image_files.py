@@ -12,6 +12,8 @@ from __future__ import annotations
 import functools
 import io
 import os
+import stat
+import tempfile
 import warnings
 from typing import NamedTuple
 
@@ -62,10 +64,12 @@ class Damage(NamedTuple):
 
 #: Signatures of image formats Pillow does not open (checked by signature only): OpenEXR, Radiance,
 #: KTX 1 and 2, Ptex, JPEG 2000 (codestream and box), JPEG XL (codestream and box), DPX, Cineon,
-#: Softimage PIC, Basis Universal.
+#: Softimage PIC, Basis Universal, Maya IFF, PFM. A file matching none is also asked of OpenImageIO,
+#: when installed, before it is called unrecognised.
 OTHER_SIGNATURES = (b"v/1\x01", b"#?RADIANCE", b"#?RGBE", b"\xabKTX 20\xbb", b"\xabKTX 11\xbb", b"Ptex",
                     b"\xffO\xffQ", b"\x00\x00\x00\x0cjP  ", b"\xff\x0a", b"\x00\x00\x00\x0cJXL ",
-                    b"SDPX", b"XPDS", b"\x80\x2a\x5f\xd7", b"\x53\x80\xf6\x34", b"sB")
+                    b"SDPX", b"XPDS", b"\x80\x2a\x5f\xd7", b"\x53\x80\xf6\x34", b"sB", b"FOR4", b"FORM",
+                    b"PF\n", b"Pf\n", b"PF\r", b"Pf\r")
 _ISO_MEDIA_BRANDS = (b"avif", b"avis", b"heic", b"heix", b"mif1", b"msf1")  # AVIF / HEIF: "ftyp" at byte 4
 _SIGNATURES = ((b"\x89PNG", "PNG"), (b"\xff\xd8\xff", "JPEG"))  # enough of each to know a file cut short
 
@@ -80,14 +84,18 @@ def damage(image: str | bytes) -> Damage | None:
     decoding its pixels at full size, and a whole one costs a look at its last bytes. Another
     format Pillow identifies is trusted from its header (so is an image above Pillow's decompression-bomb
     limit, about 179 million pixels, which Pillow refuses to open), and one Pillow does not open
-    (:data:`OTHER_SIGNATURES`) from its signature. ``None`` too for a path that cannot be opened:
-    whether it exists is OPBR701's question."""
+    (:data:`OTHER_SIGNATURES`, or OpenImageIO's header reader for a file) from its signature. A PNG Pillow
+    rejects is asked of libpng through OpenImageIO, when installed, as renderers read it: a bad CRC in
+    an ancillary chunk passes (libpng drops the chunk), one in the image data fails. ``None`` too for a
+    path that cannot be opened or is not a regular file: whether it exists is OPBR701's question."""
     if isinstance(image, (bytes, bytearray, memoryview)):
         return _damage(memoryview(image))
     try:
         status = os.stat(image)
     except (OSError, ValueError):
         return None
+    if not stat.S_ISREG(status.st_mode):
+        return None  # a FIFO or a device is never opened (reading one blocks); a folder is no texture
     return _damage_of_file(image, status.st_size, status.st_mtime_ns)
 
 
@@ -117,8 +125,8 @@ def _damage(image: str | memoryview) -> Damage | None:
     with warnings.catch_warnings():  # DecompressionBombWarning, truncation warnings: the library never prints
         warnings.simplefilter("ignore")
         try:
-            with Image.open(_open(image)) as opened:
-                kind = opened.format
+            with _open(image) as handle, Image.open(handle) as opened:
+                kind = {"MPO": "JPEG"}.get(opened.format, opened.format)  # a multi-picture JPEG (cameras) is a JPEG
         except Image.DecompressionBombError:
             return None  # identified, and larger than Pillow decodes: trusted from its header
         except Exception:  # noqa: BLE001 - Pillow raises many exception types for data it cannot identify
@@ -129,6 +137,8 @@ def _damage(image: str | memoryview) -> Damage | None:
         return None
     known = next((name for signature, name in _SIGNATURES if head.startswith(signature)), None)
     if known:
+        if _libpng_reads(image):  # Pillow refuses a PNG whose ancillary chunk fails its CRC; libpng drops the chunk
+            return None
         return Damage("corrupt", f"a {known} file cut short or damaged in its header ({size} bytes)")
     if b"\x00" not in head:
         text = head.decode("utf-8", "replace").lstrip("\ufeff \t\r\n")
@@ -139,6 +149,8 @@ def _damage(image: str | memoryview) -> Damage | None:
         if "\ufffd" not in text:
             return Damage("text", f"text, not an image ({text.splitlines()[0][:40]!r}...)" if text.strip()
                           else "blank text, not an image")
+    if _openimageio_opens(image):
+        return None
     return Damage("unrecognised", f"not in any image format this machine recognises (begins {head[:8].hex(' ')})")
 
 
@@ -151,23 +163,23 @@ MAX_DECODED_PIXELS = 8192 * 8192
 def _decoded(image: str | memoryview, kind: str) -> Damage | None:
     from PIL import Image  # lazy: as in load_pixels
 
-    def source():
-        return Image.open(_open(image))
-
     size = (0, 0)
     if kind == "PNG":
         try:
-            with source() as opened:
+            with _open(image) as handle, Image.open(handle) as opened:
                 size = opened.size
                 opened.verify()
             return None
-        except Exception as error:  # noqa: BLE001 - a CRC, a chunk or a truncation error: decoding decides
+        except Exception as error:  # noqa: BLE001 - a CRC, a chunk or a truncation error: a decoder decides
             if size[0] * size[1] > MAX_DECODED_PIXELS:  # not decoded: the chunks alone decide
                 return Damage("corrupt", f"a PNG cut short or with damaged data ({error})")
+            verdict = _libpng_reads(image)  # libpng, as renderers read PNGs: an IDAT CRC error fails there
+            if verdict is not None:
+                return None if verdict else Damage("corrupt", f"a PNG cut short or with damaged data ({error})")
     if kind == "JPEG" and _ends_with_eoi(image):
         return None  # whole to its end-of-image marker: not decoded (libjpeg shows damage inside as blocks, no error)
     try:
-        with source() as opened:
+        with _open(image) as handle, Image.open(handle) as opened:
             if kind == "JPEG":
                 opened.draft("RGB", (max(1, opened.size[0] // 8), max(1, opened.size[1] // 8)))
             opened.load()
@@ -176,6 +188,48 @@ def _decoded(image: str | memoryview, kind: str) -> Damage | None:
     except Exception as error:  # noqa: BLE001 - Pillow raises many exception types for damaged data
         return Damage("corrupt", f"a {kind} cut short or with damaged data ({error})")
     return None
+
+
+def _openimageio():
+    try:
+        import OpenImageIO  # lazy: optional (the images extra), ~30 ms; asked only about files Pillow fails on
+
+        return OpenImageIO
+    except ImportError:
+        return None
+
+
+def _libpng_reads(image: str | memoryview) -> bool | None:
+    """Whether OpenImageIO (libpng, for a PNG) reads the whole image; ``None`` when it is not installed.
+    Bytes are written to a temporary file first (OpenImageIO's Python API reads files), so a PNG inside
+    a glTF is judged as the same PNG on disk."""
+    oiio = _openimageio()
+    if oiio is None:
+        return None
+    if isinstance(image, memoryview):
+        with tempfile.TemporaryDirectory(prefix="openpbr-image-") as folder:
+            path = os.path.join(folder, "image.png")
+            with open(path, "wb") as handle:
+                handle.write(image)
+            return _libpng_reads(path)
+    buffer = oiio.ImageBuf(image)
+    ok = not buffer.has_error and buffer.spec().width * buffer.spec().height <= MAX_DECODED_PIXELS
+    ok = ok and buffer.get_pixels(oiio.UINT8) is not None and not buffer.has_error
+    buffer.geterror()  # retrieved, so OpenImageIO does not print it when the buffer is destroyed
+    return ok
+
+
+def _openimageio_opens(image: str | memoryview) -> bool:
+    """Whether OpenImageIO, when installed, recognises the file at ``image`` by its header."""
+    oiio = _openimageio()
+    if oiio is None or not isinstance(image, str):
+        return False
+    found = oiio.ImageInput.open(image)
+    if found is None:
+        oiio.geterror()
+        return False
+    found.close()
+    return True
 
 
 def _ends_with_eoi(image: str | memoryview) -> bool:

@@ -35,6 +35,11 @@ class ImageUnavailable(ValueError):
     """A texture that cannot be read: an empty path, a missing file, an unreadable package entry."""
 
 
+class ImageUndecodable(ValueError):
+    """An image whose pixels cannot be decoded (an OpenEXR cut short, texels that are not finite, a format
+    no decoder here reads): the caller leaves the texture out, with a note."""
+
+
 class ImageSource:
     """One located image: ``key`` identifies it (a real path, or container and member), ``image`` is
     its path or bytes, ``name`` the file name to give a copy, ``mime`` its type when known."""
@@ -187,18 +192,18 @@ def _load_with_openimageio(image: str | bytes):
     import numpy as np  # lazy: as in load_pixels
 
     if isinstance(image, bytes):
-        raise ValueError("image format not recognised")
+        raise ImageUndecodable("image format not recognised")
     import OpenImageIO as oiio  # lazy: ~30 ms, and optional (the images extra); only EXR, HDR... need it
 
     buffer = oiio.ImageBuf(image)
     if buffer.has_error:
-        raise ValueError(f"cannot read {image!r}: {_one_line(buffer.geterror())}")
+        raise ImageUndecodable(f"cannot read {image!r}: {_one_line(buffer.geterror())}")
     pixels = buffer.get_pixels(oiio.FLOAT)
     if buffer.has_error:  # read, but with chunks missing (a file cut short); retrieving the error also keeps
-        raise ValueError(f"cannot read {image!r}: {_one_line(buffer.geterror())}")  # OpenImageIO from printing it
+        raise ImageUndecodable(f"cannot read {image!r}: {_one_line(buffer.geterror())}")  # OpenImageIO from printing it
     values = np.asarray(pixels, dtype=np.float64)
     if not np.isfinite(values).all():
-        raise ValueError(f"{image!r} holds texels that are not finite numbers (NaN or infinity)")
+        raise ImageUndecodable(f"{image!r} holds texels that are not finite numbers (NaN or infinity)")
     return values
 
 

@@ -6,6 +6,8 @@ exit with code 2 (unreadable input), whatever ``--fail-on`` says.
 
 from __future__ import annotations
 
+import os
+
 from ..diagnostics import Diagnostic, Severity
 from ..model import Connection, Location
 from . import Rule
@@ -126,9 +128,16 @@ INTERNAL_ERROR = Rule(
 RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED, MALFORMED_XML,
          INVALID_CONFIG, XINCLUDE, XINCLUDE_BROKEN, INTERNAL_ERROR)
 
+#: Set (to anything) to make the OPBR011 safety net re-raise instead of reporting: the test suite and the
+#: fuzz runs set it, so a defect fails the test or the input that meets it (worker processes inherit it).
+RAISE_INTERNAL_ERRORS = "OPENPBR_RAISE_INTERNAL_ERRORS"
+
+
 def internal_error(path: str, step: str, error: Exception) -> Diagnostic:
     """OPBR011 at ``path``: ``step`` failed with ``error`` (not subject to selection or suppression: it
-    says the file was not fully checked)."""
+    says the file was not fully checked). Re-raises ``error`` when :data:`RAISE_INTERNAL_ERRORS` is set."""
+    if os.environ.get(RAISE_INTERNAL_ERRORS):
+        raise error
     detail = str(error).strip().splitlines()[0][:200] if str(error).strip() else ""
     return Diagnostic(INTERNAL_ERROR.code, INTERNAL_ERROR.severity,
                       f"{step} failed on this file ({type(error).__name__}{': ' + detail if detail else ''}); "

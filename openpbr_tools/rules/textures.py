@@ -229,19 +229,38 @@ def _check_path(asset, texture, where, context, checked_files):
         what = "no UDIM tile matches" if _TILE_TOKENS.search(file) else "texture not found"
         yield context.diagnostic(MISSING_TEXTURE, f"{what}: {file!r}", where)
     elif resolved.inside and not _gltf(texture):  # a glTF's images are judged by the glTF family, used or not
-        tiled = bool(_TILE_TOKENS.search(file))
-        for path in _files(asset, file, context):
-            yield from _damaged(path, f"{file} (tile {os.path.basename(path)})" if tiled else file, where, context)
+        readable, outside = _files(asset, file, context)
+        for name, real in outside:
+            yield context.diagnostic(
+                UNSAFE_PATH, f"texture tile {name!r} leads through a symbolic link to {real}, outside the asset's folder",
+                where, hint="copy the tile into the asset's folder instead of linking it")
+        for name, real in readable:
+            yield from _damaged(real, name, where, context)
 
 
 def _gltf(texture) -> bool:
     return texture.node_category == "gltf_texture"
 
 
-def _files(asset, file: str, context) -> list[str]:
-    """The file(s) ``file`` names beside ``asset``: every tile of a UDIM path."""
-    path = resolve(asset.path, file)
-    return tiles(path, context) if _TILE_TOKENS.search(file) else [path]
+def _files(asset, file: str, context) -> tuple[list[tuple[str, str]], list[tuple[str, str]]]:
+    """(readable, outside): the files ``file`` names as (name, real path) -- every tile of a UDIM path --
+    split by the path guard. Only a readable one may be opened: its real path (symbolic links resolved
+    before "..", as the system opens it) is a regular file inside the asset's folder or an allowed one."""
+    guard = context.guard(asset.path)
+    if _TILE_TOKENS.search(file):
+        folder = os.path.dirname(file)
+        names = [(f"{file} (tile {os.path.basename(tile)})", os.path.join(folder, os.path.basename(tile)))
+                 for tile in tiles(resolve(asset.path, file), context)]
+    else:
+        names = [(file, file)]
+    readable, outside = [], []
+    for name, reference in names:
+        resolved = guard.resolve(reference)
+        if not resolved.inside:
+            outside.append((name, resolved.real or reference))
+        elif resolved.real and os.path.isfile(resolved.real):  # not a folder, a FIFO or a device
+            readable.append((name, resolved.real))
+    return readable, outside
 
 
 def _packaged(asset, file: str, containers: dict) -> bytes | None:
@@ -277,9 +296,8 @@ def image_of(asset, texture, context, containers: dict) -> str | bytes | None:
         return _packaged(asset, file, containers) if file in asset.extra.get("package_files", ()) else None
     if classify(file) not in (Kind.RELATIVE, Kind.ABSOLUTE):
         return None
-    resolved = context.guard(asset.path).resolve(file)
-    found = _files(asset, file, context) if resolved.inside and resolved.path else []
-    return found[0] if found and context.file_exists(found[0]) else None
+    readable, _ = _files(asset, file, context)
+    return readable[0][1] if readable and context.file_exists(readable[0][1]) else None
 
 
 def _channels(asset, texture, context, containers: dict) -> int | None:

@@ -15,8 +15,10 @@ with such images and no st), and an image that cannot be read shows nothing eith
 
 from __future__ import annotations
 
+import io
+
 from ..diagnostics import Severity
-from ..io.images import load_pixels
+from ..io.image_files import MAX_DECODED_PIXELS
 from ..io.usd.types import UV_TEXTURE_ID
 from ..model import Location
 from . import Rule, for_each_input
@@ -115,18 +117,31 @@ def check(asset, context):
             hint=f"set varname to the mesh's UV primvar{' (' + has[0] + ')' if len(has) == 1 else ''}, or rename the primvar to {name!r}")
 
 
-_FLAT = 2.0 / 255.0
+_FLAT_LEVELS = 2  # 8-bit levels: "one flat colour" allows JPEG noise
 
 
 def _varies(asset, texture, context, containers: dict) -> bool:
-    """Whether the image ``texture`` reads is more than one flat colour; ``False`` when it cannot be read
-    (outside the asset's folder, missing, undecodable: other rules report those), as nothing then shows
-    that the coordinates matter."""
+    """Whether the image ``texture`` reads is more than one flat colour (every texel within 2/255 of the
+    others); ``False`` when it cannot be read (outside the asset's folder, missing, undecodable, a format
+    Pillow does not open, larger than 8192 x 8192: nothing then shows that the coordinates matter). Pillow's
+    extrema of the image in its own mode (a JPEG decoded at 1/8 scale), never a float copy of it."""
+    from PIL import Image  # lazy: Pillow (~15 ms) only for a texture whose coordinates are in doubt
+
     image = image_of(asset, texture, context, containers)
     if image is None:
         return False
     try:
-        pixels = load_pixels(image)
+        with Image.open(io.BytesIO(image) if isinstance(image, bytes) else image) as opened:
+            width, height = opened.size
+            if width * height > MAX_DECODED_PIXELS:
+                return False
+            if opened.format in ("JPEG", "MPO"):
+                opened.draft("RGB", (max(1, width // 8), max(1, height // 8)))
+            plane = opened.convert("RGBA") if opened.mode in ("P", "PA", "1") else opened
+            extrema = plane.getextrema()
+            mode = plane.mode
     except Exception:  # noqa: BLE001 - undecodable: OPBR707/OPBR708 report it
         return False
-    return bool((pixels.max(axis=(0, 1)) - pixels.min(axis=(0, 1)) > _FLAT).any())
+    bands = extrema if isinstance(extrema[0], tuple) else (extrema,)
+    limit = _FLAT_LEVELS * 257 if mode.startswith("I;16") else _FLAT_LEVELS / 255.0 if mode == "F" else _FLAT_LEVELS
+    return any(high - low > limit for low, high in bands)

@@ -131,14 +131,9 @@ def structured_batches(harness: Harness, kind: str, strategy, count: int, seed: 
 def raise_internal_errors() -> None:
     """Make the OPBR011 safety net re-raise in this process: it turns an exception on one file into a
     finding, which would hide every defect a fuzz run exists to find (tests/conftest.py does the same)."""
-    from openpbr_tools import batch, validate
-    from openpbr_tools.rules import document
+    from openpbr_tools.rules.document import RAISE_INTERNAL_ERRORS
 
-    def reraise(path, step, error):
-        raise error
-
-    for module in (document, validate, batch):
-        module.internal_error = reraise
+    os.environ[RAISE_INTERNAL_ERRORS] = "1"
 
 
 def memoise_rule_pages() -> None:

@@ -110,10 +110,11 @@ class _Reader(TextureReading, ExtensionReading):
             self.invalid(pointer, message)
         _extension_uses(self.document.json, self.facts["extension_uses"])
         for key in ("extensionsUsed", "extensionsRequired"):
-            names = self.document.json.get(key)
+            names, seen = self.document.json.get(key), set()
             for index, name in enumerate(names if isinstance(names, list) else ()):
-                if name in names[:index]:
+                if isinstance(name, str) and name in seen:
                     self.invalid(f"/{key}/{index}", f"{name!r} is listed twice in {key} (its items must be unique)")
+                seen.add(name if isinstance(name, str) else None)
         self.images = [self.read_image(i) for i in range(len(self.document.array("images")))]
         self.facts["images"] = self.images
         self.asset.extra["package_files"] = frozenset(self.package_files)

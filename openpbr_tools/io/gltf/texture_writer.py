@@ -19,6 +19,7 @@ from ... import colorspaces
 from ...model import Texture
 from ...resources import load_json
 from ...rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
+from ..images import ImageUndecodable
 from . import slots
 from .bake import ChannelSource, pack
 from .uv import to_texture_transform
@@ -49,7 +50,7 @@ class TextureWriting:
                                         f"transform, UV set or wrap; {members[0].parameter}'s is used", slot.parameter)
         try:
             image_index = self.image_for(prop, members, textures, sources)
-        except ValueError as error:  # an image that cannot be decoded (an EXR cut short, NaN texels): left out
+        except ImageUndecodable as error:  # an EXR cut short, NaN texels: left out (a defect still raises)
             for slot in members:
                 self.note(NOT_CARRIED, f"{slot.parameter}: {error}; texture not written", slot.parameter)
             return

@@ -210,7 +210,7 @@ def _measure(source, info: dict, head: bytes | None = None) -> None:
             warnings.simplefilter("ignore")
             with Image.open(source) as image:
                 info["width"], info["height"] = image.size
-                detected = Image.MIME.get(image.format or "")
+                detected = Image.MIME.get({"MPO": "JPEG"}.get(image.format, image.format or ""))  # MPO: a camera JPEG
                 info["detected_mime"] = detected
                 info["mime"] = info["mime"] or detected
     except Exception:  # noqa: BLE001 - Pillow raises many exception types for images it cannot identify

@@ -142,16 +142,18 @@ def _escape_tile_tokens(data: bytes) -> bytes:
 def message_sites(document, message: str) -> dict[str, tuple[str, str | None]]:
     """Where each line of MaterialX's ``Document.validate()`` message points: a line ends with the
     offending element as ``Element.asString()`` prints it (``Cycle in upstream path: <output name="out"
-    ...>``), given as (name path, ``None``), or for an input (its node's name path, its name); the first
-    element printed so wins. Lines naming no element are left out."""
-    printed: dict[str, tuple[str, str | None]] = {}
+    ...>``), given as (name path, ``None``), or for an input (its node's name path, its name). Lines
+    naming no element, or an element printed the same as another (two graphs' ``in1`` inputs), are left
+    out: a place is given only when it is certain."""
+    printed: dict[str, tuple[str, str | None] | None] = {}
     for element in document.traverseTree():
         site = (element.getParent().getNamePath(), element.getName()) if element.getCategory() == "input" \
             else (element.getNamePath(), None)
-        printed.setdefault(element.asString(), site)
+        text = element.asString()
+        printed[text] = None if text in printed else site
     sites = {}
     for line in message.strip().splitlines():
         at = line.find(": <")
-        if at >= 0 and line[at + 2:] in printed:
+        if at >= 0 and printed.get(line[at + 2:]) is not None:
             sites[line] = printed[line[at + 2:]]
     return sites

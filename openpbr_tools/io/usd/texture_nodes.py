@@ -166,7 +166,7 @@ class TextureNodeReader:
         kind, *found = self.upstream(prim, "st")
         reads = self.asset.extra.setdefault("usd_uv_reads", {})  # UsdUVTexture path -> how its st is fed
         st = prim.GetAttribute("inputs:st")
-        if kind == "value" and not (st and st.HasAuthoredValue()):
+        if kind == "value" and not (st and (st.HasAuthoredValue() or st.HasAuthoredConnections())):
             reads.setdefault(path, {"st": "unconnected"})
         for _ in range(4):
             if kind != "shader":
