@@ -136,3 +136,24 @@ def test_st_connected_to_a_material_interface_value_is_not_unconnected(tmp_path)
         '            float2 inputs:st.connect = </World/M.inputs:coords>\n            float3 outputs:rgb\n', 1)
     material = material.replace('    def Material "M"\n    {\n', '    def Material "M"\n    {\n        float2 inputs:coords = (0.5, 0.5)\n', 1)
     assert _findings(_stage(tmp_path, _mesh("A", primvar="st"), material), "OPBR1016") == []
+
+
+def _materialx_material(geomprop: str) -> str:
+    return ('    def Material "M"\n    {\n'
+            '        token outputs:mtlx:surface.connect = </World/M/S.outputs:surface>\n\n'
+            '        def Shader "S"\n        {\n            uniform token info:id = "ND_open_pbr_surface_surfaceshader"\n'
+            '            color3f inputs:base_color.connect = </World/M/albedo.outputs:out>\n'
+            '            token outputs:surface\n        }\n\n'
+            '        def Shader "albedo"\n        {\n            uniform token info:id = "ND_image_color3"\n'
+            '            asset inputs:file = @albedo.png@ (\n                colorSpace = "srgb_texture"\n            )\n'
+            '            float2 inputs:texcoord.connect = </World/M/uv.outputs:out>\n'
+            '            color3f outputs:out\n        }\n\n'
+            '        def Shader "uv"\n        {\n            uniform token info:id = "ND_geompropvalue_vector2"\n'
+            f'            string inputs:geomprop = "{geomprop}"\n            float2 outputs:out\n        }}\n    }}\n')
+
+
+def test_a_materialx_geompropvalue_naming_a_primvar_the_mesh_lacks_is_reported_too(tmp_path):
+    [finding] = _findings(_stage(tmp_path, _mesh("A", primvar="st"), _materialx_material("UVMap")), "OPBR1015")
+    assert (finding.location.path, finding.location.input) == ("/World/M/uv", "geomprop")
+    assert _findings(_stage(tmp_path, _mesh("A", primvar="UVMap"), _materialx_material("UVMap"), name="b.usda"),
+                     "OPBR1015") == []

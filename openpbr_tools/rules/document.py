@@ -117,7 +117,8 @@ INTERNAL_ERROR = Rule(
     "OPBR011", "internal-error", Severity.ERROR,
     "The toolkit failed while reading or checking this file: a defect of the toolkit, reported at the file "
     "so that the other files, and the other checks of this one, still run.",
-    "The message names the step that failed (reading, or a family of checks) and the exception. The file "
+    "The message names the step that failed (reading, a family of checks, converting or verifying) and the "
+    "exception. The file "
     "was not fully checked, so the exit code is 2, as for a file that cannot be read. No file is meant to "
     "trigger it: each one found is a defect, fixed with a test. Please report it with the file.",
     passing='<open_pbr_surface name="S" type="surfaceshader" />',

@@ -2,7 +2,9 @@
 
 A UsdUVTexture is placed by its ``st`` input, usually connected (through a UsdTransform2d or not) to a
 UsdPrimvarReader_float2 whose ``varname`` names a primvar of the mesh, ``st`` by convention, and often
-set through the Material's interface (``inputs:frame:stPrimvarName``). A reader whose primvar a bound
+set through the Material's interface (``inputs:frame:stPrimvarName``); a MaterialX image is placed by a
+``geompropvalue`` naming the primvar (Hydra reads that primvar; a ``texcoord`` node's primvar is the
+renderer's choice, USDMTLX_PRIMARY_UV_NAME, and is not judged). A reader whose primvar a bound
 mesh does not have returns its fallback, (0, 0), and so does an ``st`` left unconnected (the
 UsdPreviewSurface specification gives both that fallback): the texture shows as the one colour of
 its corner texel, the USD counterpart of a glTF texCoord the mesh lacks (OPBR1205). Which meshes a
@@ -19,7 +21,6 @@ import io
 
 from ..diagnostics import Severity
 from ..io.image_files import MAX_DECODED_PIXELS
-from ..io.usd.types import UV_TEXTURE_ID
 from ..model import Location
 from . import Rule, for_each_input
 from .textures import image_of
@@ -51,7 +52,8 @@ _CHECKER = (("albedo.png", bytes.fromhex(  # a 2 x 2 black and white checker: an
 
 PRIMVAR_MISSING = Rule(
     "OPBR1015", "usd-primvar-missing", Severity.ERROR,
-    "A primvar reader feeding a texture's coordinates reads a primvar that a mesh bound to its Material does not have.",
+    "A primvar reader (or a MaterialX geompropvalue) feeding a texture's coordinates reads a primvar that a mesh "
+    "bound to its Material does not have.",
     "The reader returns its fallback, (0, 0), on that mesh, so the texture shows as the one colour of its "
     "corner texel. Typical of a mesh exported with its UVs named after the tool (UVMap, map1) while the "
     "material reads st. Bindings are resolved as usd-core resolves them (inherited, collections, every "
@@ -86,7 +88,7 @@ def check(asset, context):
     containers: dict = {}
     for material, _table, entry in for_each_input(asset):
         texture = entry.texture
-        if texture is None or texture.node_category != UV_TEXTURE_ID or texture.node not in reads:
+        if texture is None or texture.node not in reads:  # a UsdUVTexture, or a MaterialX image read through geompropvalue
             continue
         read = reads[texture.node]
         material_path = material.material_location.path if material.material_location else None
@@ -113,8 +115,8 @@ def check(asset, context):
             f"{'mesh' if len(lacking) == 1 else 'meshes'} {shown} bound to {material_path} "
             f"{'does' if len(lacking) == 1 else 'do'} not have, so it reads the texel at (0, 0) there"
             + (f" (primvars there: {', '.join(has)})" if has else ""),
-            Location(asset.path, None, read["reader"], "varname"),
-            hint=f"set varname to the mesh's UV primvar{' (' + has[0] + ')' if len(has) == 1 else ''}, or rename the primvar to {name!r}")
+            Location(asset.path, None, read["reader"], read.get("input", "varname")),
+            hint=f"set {read.get('input', 'varname')} to the mesh's UV primvar{' (' + has[0] + ')' if len(has) == 1 else ''}, or rename the primvar to {name!r}")
 
 
 _FLAT_LEVELS = 2  # 8-bit levels: "one flat colour" allows JPEG noise

@@ -127,6 +127,9 @@ class TextureNodeReader:
                     texture.texcoord = index
             elif category == "geompropvalue":
                 texture.texcoord = constant_of(node, "geomprop")
+                if isinstance(texture.texcoord, str) and texture.texcoord:  # Hydra reads that primvar (hdMtlx)
+                    self.asset.extra.setdefault("usd_uv_reads", {}).setdefault(str(prim.GetPath()), {
+                        "st": "primvar", "reader": str(node.GetPath()), "primvar": texture.texcoord, "input": "geomprop"})
             break
         texture.uv = None if transform.is_identity and transform.pivot == (0.0, 0.0) else transform
         return texture
@@ -180,7 +183,7 @@ class TextureNodeReader:
             if node_id.startswith(PRIMVAR_READER_PREFIX):
                 varname = self.varname(node)
                 texture.texcoord = None if varname in (None, DEFAULT_UV_PRIMVAR) else varname
-                reads.setdefault(path, {"st": "primvar", "reader": str(node.GetPath()), "primvar": varname})
+                reads.setdefault(path, {"st": "primvar", "reader": str(node.GetPath()), "primvar": varname, "input": "varname"})
             break
         return texture
 
