@@ -391,3 +391,54 @@ def test_formats_openimageio_reads_are_not_unrecognised(tmp_path, name):
     oiio.ImageBufAlgo.fill(buffer, (0.5, 0.25, 0.125))
     assert buffer.write(str(tmp_path / name)), oiio.geterror()
     assert damage(str(tmp_path / name)) is None
+
+
+def test_a_png_cut_between_its_data_chunks_is_corrupt_and_one_lacking_only_iend_is_not(tmp_path):
+    at = PNG.index(b"IDAT") - 4
+    length = struct.unpack(">I", PNG[at:at + 4])[0]
+    data = PNG[at + 8:at + 8 + length]
+    split = PNG[:at] + _chunk(b"IDAT", data[:len(data) // 2]) + _chunk(b"IDAT", data[len(data) // 2:])
+    assert damage(split + _chunk(b"IEND", b"")) is None
+    assert damage(split) is None  # every data chunk there, only IEND missing: decoders show it whole
+    assert damage(PNG[:at] + _chunk(b"IDAT", data[:len(data) // 2])).kind == "corrupt"  # cut at a chunk boundary
+
+
+def test_checking_damaged_pngs_prints_nothing(tmp_path, capfd):
+    """The library never prints: libpng (through OpenImageIO) writes its errors to the C stderr."""
+    crc_at = PNG.index(b"IDAT") + 4 + struct.unpack(">I", PNG[PNG.index(b"IDAT") - 4:PNG.index(b"IDAT")])[0]
+    for name, data in (("crc.png", PNG[:crc_at] + bytes([PNG[crc_at] ^ 1]) + PNG[crc_at + 1:]),
+                       ("cut.png", PNG[:len(PNG) // 2]), ("head.png", PNG[:30])):
+        (tmp_path / name).write_bytes(data)
+        path = tmp_path / f"{name}.mtlx"
+        path.write_text(MTLX.format(file=name))
+        assert "OPBR707" in _codes_of(path), name
+    captured = capfd.readouterr()
+    assert captured.err == "" and captured.out == ""
+
+
+def test_a_folder_name_that_is_not_utf8_is_judged_like_any_other(tmp_path):
+    import os
+
+    folder = os.path.join(os.fsencode(str(tmp_path)), b"bad\xffdir")
+    os.mkdir(folder)
+    with open(os.path.join(folder, b"a.png"), "wb") as handle:
+        handle.write(bytes(random.Random(9).randrange(256) for _ in range(300)))
+    with open(os.path.join(folder, b"b.png"), "wb") as handle:
+        handle.write(PNG[:len(PNG) // 2])
+    document = os.path.join(folder, b"m.mtlx")
+    for file, code in (("a.png", "OPBR708"), ("b.png", "OPBR707")):
+        with open(document, "w", encoding="utf-8") as handle:
+            handle.write(MTLX.format(file=file))
+        assert code in _codes_of(os.fsdecode(document)), file
+
+
+def test_the_tiles_of_a_udim_path_are_listed_where_the_system_finds_them(tmp_path):
+    """link/../../paint.<UDIM>.png with link -> a/b names the asset's own folder (links before '..')."""
+    (tmp_path / "paint.1001.png").write_bytes(PNG)  # beside the asset: text joining would list here
+    (tmp_path / "asset" / "a" / "b").mkdir(parents=True)
+    (tmp_path / "asset" / "link").symlink_to(tmp_path / "asset" / "a" / "b")
+    (tmp_path / "asset" / "paint.1002.png").write_bytes(LFS)
+    path = tmp_path / "asset" / "m.mtlx"
+    path.write_text(MTLX.format(file="link/../../paint.<UDIM>.png"))
+    [finding] = [d for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics if d.code == "OPBR707"]
+    assert "paint.1002.png" in finding.message

@@ -157,3 +157,15 @@ def test_a_materialx_geompropvalue_naming_a_primvar_the_mesh_lacks_is_reported_t
     assert (finding.location.path, finding.location.input) == ("/World/M/uv", "geomprop")
     assert _findings(_stage(tmp_path, _mesh("A", primvar="UVMap"), _materialx_material("UVMap"), name="b.usda"),
                      "OPBR1015") == []
+
+
+def test_an_openexr_texture_is_judged_through_openimageio(tmp_path):
+    oiio = pytest.importorskip("OpenImageIO")
+    path = _stage(tmp_path, _mesh("A", primvar="st"), _material(st=False).replace("albedo.png", "albedo.exr"))
+    buffer = oiio.ImageBuf(oiio.ImageSpec(8, 8, 3, oiio.HALF))
+    oiio.ImageBufAlgo.fill(buffer, (0.5, 0.2, 0.1))
+    assert buffer.write(str(tmp_path / "albedo.exr"))
+    assert _findings(path, "OPBR1016") == []  # one flat colour
+    buffer.setpixel(3, 3, (0.9, 0.9, 0.9))
+    assert buffer.write(str(tmp_path / "albedo.exr"))
+    assert len(_findings(path, "OPBR1016")) == 1

@@ -13,8 +13,8 @@ import functools
 import io
 import os
 import stat
-import tempfile
 import warnings
+import zlib
 from typing import NamedTuple
 
 
@@ -77,17 +77,16 @@ _SIGNATURES = ((b"\x89PNG", "PNG"), (b"\xff\xd8\xff", "JPEG"))  # enough of each
 def damage(image: str | bytes) -> Damage | None:
     """Why ``image`` (a path or the bytes of an image) cannot be read as an image, or ``None``.
 
-    A PNG's chunks are walked and their CRCs checked (Pillow's ``verify``; a file failing that is
-    decoded before it is called corrupt, so one that only lacks its closing ``IEND`` passes, as
-    decoders show it whole); a JPEG that does not end with its end-of-image marker has its
+    A PNG's chunks are walked and their CRCs checked as libpng checks them (:func:`_png_chunks`: a bad
+    CRC in an ancillary chunk passes, as libpng drops the chunk; one in a critical chunk fails); one
+    without its closing ``IEND`` is decoded, so a file that only lacks it passes (decoders show it whole)
+    and one cut between its data chunks does not; a JPEG that does not end with its end-of-image marker has its
     entropy-coded data decoded at 1/8 scale (Pillow's ``draft``), so a file cut short is found without
     decoding its pixels at full size, and a whole one costs a look at its last bytes. Another
     format Pillow identifies is trusted from its header (so is an image above Pillow's decompression-bomb
     limit, about 179 million pixels, which Pillow refuses to open), and one Pillow does not open
-    (:data:`OTHER_SIGNATURES`, or OpenImageIO's header reader for a file) from its signature. A PNG Pillow
-    rejects is asked of libpng through OpenImageIO, when installed, as renderers read it: a bad CRC in
-    an ancillary chunk passes (libpng drops the chunk), one in the image data fails. ``None`` too for a
-    path that cannot be opened or is not a regular file: whether it exists is OPBR701's question."""
+    (:data:`OTHER_SIGNATURES`, or OpenImageIO's header reader for a file) from its signature. ``None``
+    too for a path that cannot be opened or is not a regular file: whether it exists is OPBR701's question."""
     if isinstance(image, (bytes, bytearray, memoryview)):
         return _damage(memoryview(image))
     try:
@@ -136,9 +135,11 @@ def _damage(image: str | memoryview) -> Damage | None:
     if kind is not None or head.startswith(OTHER_SIGNATURES) or (head[4:8] == b"ftyp" and head[8:12] in _ISO_MEDIA_BRANDS):
         return None
     known = next((name for signature, name in _SIGNATURES if head.startswith(signature)), None)
-    if known:
-        if _libpng_reads(image):  # Pillow refuses a PNG whose ancillary chunk fails its CRC; libpng drops the chunk
+    if known == "PNG":  # Pillow refuses a PNG whose ancillary chunk before the data fails its CRC; libpng drops it
+        problem, _ = _png_chunks(image)
+        if problem is None and size > 8:
             return None
+    if known:
         return Damage("corrupt", f"a {known} file cut short or damaged in its header ({size} bytes)")
     if b"\x00" not in head:
         text = head.decode("utf-8", "replace").lstrip("\ufeff \t\r\n")
@@ -163,19 +164,16 @@ MAX_DECODED_PIXELS = 8192 * 8192
 def _decoded(image: str | memoryview, kind: str) -> Damage | None:
     from PIL import Image  # lazy: as in load_pixels
 
-    size = (0, 0)
     if kind == "PNG":
-        try:
-            with _open(image) as handle, Image.open(handle) as opened:
-                size = opened.size
-                opened.verify()
-            return None
-        except Exception as error:  # noqa: BLE001 - a CRC, a chunk or a truncation error: a decoder decides
-            if size[0] * size[1] > MAX_DECODED_PIXELS:  # not decoded: the chunks alone decide
-                return Damage("corrupt", f"a PNG cut short or with damaged data ({error})")
-            verdict = _libpng_reads(image)  # libpng, as renderers read PNGs: an IDAT CRC error fails there
-            if verdict is not None:
-                return None if verdict else Damage("corrupt", f"a PNG cut short or with damaged data ({error})")
+        problem, ended = _png_chunks(image)
+        if problem is not None:
+            return Damage("corrupt", f"a PNG {problem}")
+        if ended:
+            return None  # every chunk whole and its CRC right, to IEND: not decoded
+        # no IEND: decoders show a file that only lacks it whole, and one cut between IDAT chunks short
+        with _open(image) as handle, Image.open(handle) as opened:
+            if opened.size[0] * opened.size[1] > MAX_DECODED_PIXELS:
+                return None  # not decoded: judged by its chunks alone
     if kind == "JPEG" and _ends_with_eoi(image):
         return None  # whole to its end-of-image marker: not decoded (libjpeg shows damage inside as blocks, no error)
     try:
@@ -190,6 +188,38 @@ def _decoded(image: str | memoryview, kind: str) -> Damage | None:
     return None
 
 
+def _png_chunks(image: str | memoryview) -> tuple[str | None, bool]:
+    """(problem, whether IEND was reached) of a PNG's chunk stream, judged as libpng judges it (PNG
+    specification, 5.3 and 13.2): a chunk cut short, or a CRC error in a critical chunk (IHDR, PLTE,
+    IDAT, IEND: an upper-case first letter), is damage; a CRC error in an ancillary chunk (tEXt,
+    gAMA...) is not, as libpng drops the chunk with a warning. Read in pieces, never whole."""
+    with _open(image) as handle:
+        handle.read(8)  # the signature, already identified
+        while True:
+            header = handle.read(8)
+            if not header:
+                return None, False
+            if len(header) < 8:
+                return "cut short inside a chunk header", False
+            length, kind = int.from_bytes(header[:4], "big"), header[4:8]
+            name = kind.decode("latin-1")
+            if length > 0x7FFFFFFF:
+                return f"with a {name} chunk of impossible length {length}", False
+            crc, left = zlib.crc32(kind), length
+            while left:
+                piece = handle.read(min(left, 1 << 20))
+                if not piece:
+                    return f"cut short inside its {name} chunk", False
+                crc, left = zlib.crc32(piece, crc), left - len(piece)
+            stored = handle.read(4)
+            if len(stored) < 4:
+                return f"cut short inside its {name} chunk", False
+            if int.from_bytes(stored, "big") != crc and kind[:1].isupper():
+                return f"with a CRC error in its {name} chunk (damaged data)", False
+            if kind == b"IEND":
+                return None, True
+
+
 def _openimageio():
     try:
         import OpenImageIO  # lazy: optional (the images extra), ~30 ms; asked only about files Pillow fails on
@@ -199,37 +229,30 @@ def _openimageio():
         return None
 
 
-def _libpng_reads(image: str | memoryview) -> bool | None:
-    """Whether OpenImageIO (libpng, for a PNG) reads the whole image; ``None`` when it is not installed.
-    Bytes are written to a temporary file first (OpenImageIO's Python API reads files), so a PNG inside
-    a glTF is judged as the same PNG on disk."""
-    oiio = _openimageio()
-    if oiio is None:
-        return None
-    if isinstance(image, memoryview):
-        with tempfile.TemporaryDirectory(prefix="openpbr-image-") as folder:
-            path = os.path.join(folder, "image.png")
-            with open(path, "wb") as handle:
-                handle.write(image)
-            return _libpng_reads(path)
-    buffer = oiio.ImageBuf(image)
-    ok = not buffer.has_error and buffer.spec().width * buffer.spec().height <= MAX_DECODED_PIXELS
-    ok = ok and buffer.get_pixels(oiio.UINT8) is not None and not buffer.has_error
-    buffer.geterror()  # retrieved, so OpenImageIO does not print it when the buffer is destroyed
-    return ok
-
-
 def _openimageio_opens(image: str | memoryview) -> bool:
     """Whether OpenImageIO, when installed, recognises the file at ``image`` by its header."""
     oiio = _openimageio()
-    if oiio is None or not isinstance(image, str):
+    if oiio is None or not isinstance(image, str) or not _utf8(image):
         return False
-    found = oiio.ImageInput.open(image)
+    try:
+        found = oiio.ImageInput.open(image)
+    except (TypeError, ValueError, RuntimeError):
+        return False
     if found is None:
-        oiio.geterror()
+        oiio.geterror()  # retrieved, so OpenImageIO does not print it
         return False
     found.close()
     return True
+
+
+def _utf8(path: str) -> bool:
+    """Whether OpenImageIO's Python API can take ``path`` (it wants UTF-8; a name from another encoding
+    is held as surrogate escapes)."""
+    try:
+        path.encode("utf-8")
+        return True
+    except UnicodeEncodeError:
+        return False
 
 
 def _ends_with_eoi(image: str | memoryview) -> bool:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import io
 import os
+import warnings
 
 from . import ReadError, packaged_image
 from .image_files import damage
@@ -216,8 +217,10 @@ def channel_count(image: str | bytes) -> int:
     """How many channels the image has (greyscale 1, greyscale+alpha 2, RGB 3, RGBA 4)."""
     from PIL import Image  # lazy: as in load_pixels
 
-    with Image.open(io.BytesIO(image) if isinstance(image, bytes) else image) as opened:
-        return len(opened.getbands()) if opened.mode != "P" else (4 if "transparency" in opened.info else 3)
+    with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
+        warnings.simplefilter("ignore")
+        with Image.open(io.BytesIO(image) if isinstance(image, bytes) else image) as opened:
+            return len(opened.getbands()) if opened.mode != "P" else (4 if "transparency" in opened.info else 3)
 
 
 PNG_CHANNELS = {0: 1, 2: 3, 3: 3, 4: 2, 6: 4}  # PNG colour type -> channels (ISO/IEC 15948, 11.2.2 IHDR)

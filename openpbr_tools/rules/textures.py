@@ -224,8 +224,9 @@ def _check_path(asset, texture, where, context, checked_files):
         )
     if kind is Kind.URL:
         return
-    # A drive or UNC path names no file on this system (resolved.path is None): not found.
-    if resolved.path is None or not exists(resolve(asset.path, file), context):
+    # A drive or UNC path names no file on this system (resolved.path is None): not found. Where it is
+    # looked for is where the system opens it: symbolic links resolved before ".." (the guard's real path).
+    if resolved.path is None or not exists(resolved.real or resolve(asset.path, file), context):
         what = "no UDIM tile matches" if _TILE_TOKENS.search(file) else "texture not found"
         yield context.diagnostic(MISSING_TEXTURE, f"{what}: {file!r}", where)
     elif resolved.inside and not _gltf(texture):  # a glTF's images are judged by the glTF family, used or not
@@ -248,9 +249,9 @@ def _files(asset, file: str, context) -> tuple[list[tuple[str, str]], list[tuple
     before "..", as the system opens it) is a regular file inside the asset's folder or an allowed one."""
     guard = context.guard(asset.path)
     if _TILE_TOKENS.search(file):
-        folder = os.path.dirname(file)
+        folder, pattern = os.path.dirname(file), guard.resolve(file)
         names = [(f"{file} (tile {os.path.basename(tile)})", os.path.join(folder, os.path.basename(tile)))
-                 for tile in tiles(resolve(asset.path, file), context)]
+                 for tile in tiles(pattern.real or resolve(asset.path, file), context)]
     else:
         names = [(file, file)]
     readable, outside = [], []

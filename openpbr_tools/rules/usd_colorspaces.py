@@ -12,6 +12,8 @@ equivalents. A texture's bit depth is judged from its file's suffix; the image i
 
 from __future__ import annotations
 
+import os
+
 import difflib
 
 from .. import colorspaces
@@ -193,7 +195,8 @@ def _auto_decodes_srgb(texture: Texture, asset, context) -> bool:
     the file cannot be opened here (packaged, outside the folder, missing), its suffix decides."""
     if not texture.packaged and texture.file:
         resolved = context.guard(asset.path).resolve(texture.file)
-        layout = image_layout(resolved.path) if resolved.inside and resolved.path else None
+        real = resolved.real if resolved.inside else None  # the file the system opens (links before "..")
+        layout = image_layout(real) if real and os.path.isfile(real) else None
         if layout is not None:
             channels, _, gamma = layout
             if gamma is not None and abs(gamma - 0.45455) < 0.1:
