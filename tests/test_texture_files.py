@@ -16,6 +16,8 @@ import struct
 import zlib
 
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 from PIL import Image
 
 from openpbr_tools.convert import convert_file
@@ -442,3 +444,26 @@ def test_the_tiles_of_a_udim_path_are_listed_where_the_system_finds_them(tmp_pat
     path.write_text(MTLX.format(file="link/../../paint.<UDIM>.png"))
     [finding] = [d for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics if d.code == "OPBR707"]
     assert "paint.1002.png" in finding.message
+
+
+@settings(max_examples=300, deadline=None, database=None, derandomize=True, suppress_health_check=list(HealthCheck))
+@given(base=st.sampled_from([PNG, JPEG]), edits=st.lists(st.tuples(st.integers(0, 10**6), st.integers(0, 2), st.binary(max_size=16)),
+                                                           min_size=1, max_size=6))
+def test_a_damaged_image_never_makes_the_check_raise(tmp_path_factory, base, edits):
+    """Byte flips, deletions and insertions anywhere in a PNG or a JPEG: the verdict is a Damage of a known
+    kind or None, from a file and from the same bytes, and never an exception."""
+    data = bytearray(base)
+    for at, operation, payload in edits:
+        at %= len(data)
+        if operation == 0:
+            data[at] ^= (payload[:1] or b"\x01")[0] or 1
+        elif operation == 1:
+            del data[at:at + 1 + len(payload)]
+        else:
+            data[at:at] = payload
+        if not data:
+            data = bytearray(b"\x00")
+    path = tmp_path_factory.mktemp("fuzz") / "image.bin"
+    path.write_bytes(bytes(data))
+    for found in (damage(str(path)), damage(bytes(data))):
+        assert found is None or found.kind in ("empty", "text", "corrupt", "unrecognised")
