@@ -318,15 +318,22 @@ def shader_generator():
     return library, glsl, context
 
 
-def validated(path):
-    """The MaterialX document at ``path`` with MaterialX's standard libraries, asserted valid by its own
-    ``Document.validate()`` (the message on failure)."""
+def validation(path):
+    """(document, valid, message): the MaterialX document at ``path`` with MaterialX's standard libraries,
+    and its own ``Document.validate()`` verdict."""
     import MaterialX as mx  # lazy: as in shader_generator
 
     document = mx.createDocument()
     mx.readFromXmlFile(document, str(path))
     document.setDataLibrary(shader_generator()[0])
     valid, message = document.validate()
+    return document, valid, message
+
+
+def validated(path):
+    """The MaterialX document at ``path`` with MaterialX's standard libraries, asserted valid by its own
+    ``Document.validate()`` (the message on failure)."""
+    document, valid, message = validation(path)
     assert valid, message
     return document
 

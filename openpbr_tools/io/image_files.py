@@ -1,6 +1,6 @@
 """Image files as bytes: whether a file (or the bytes of an embedded image) is a readable image at
-all (:func:`damage`), and :class:`ResourceFile`, a file over bytes or a view that copies only what
-is read.
+all (:func:`damage`), whether it is more than one flat colour (:func:`varies`), and
+:class:`ResourceFile`, a file over bytes or a view that copies only what is read.
 
 Pillow reads PNG and JPEG (their data checked, not only their header); formats Pillow does not open
 are known by their signature. Which files may be read at all is :mod:`openpbr_tools.io.paths`'s
@@ -74,6 +74,11 @@ _ISO_MEDIA_BRANDS = (b"avif", b"avis", b"heic", b"heix", b"mif1", b"msf1")  # AV
 _SIGNATURES = ((b"\x89PNG", "PNG"), (b"\xff\xd8\xff", "JPEG"))  # enough of each to know a file cut short
 
 
+def pillow_format(opened) -> str | None:
+    """The format of an image Pillow opened, a camera's multi-picture JPEG ("MPO") being the JPEG it is."""
+    return {"MPO": "JPEG"}.get(opened.format, opened.format)
+
+
 def damage(image: str | bytes) -> Damage | None:
     """Why ``image`` (a path or the bytes of an image) cannot be read as an image, or ``None``.
 
@@ -125,7 +130,7 @@ def _damage(image: str | memoryview) -> Damage | None:
         warnings.simplefilter("ignore")
         try:
             with _open(image) as handle, Image.open(handle) as opened:
-                kind = {"MPO": "JPEG"}.get(opened.format, opened.format)  # a multi-picture JPEG (cameras) is a JPEG
+                kind = pillow_format(opened)
         except Image.DecompressionBombError:
             return None  # identified, and larger than Pillow decodes: trusted from its header
         except Exception:  # noqa: BLE001 - Pillow raises many exception types for data it cannot identify
@@ -155,9 +160,10 @@ def _damage(image: str | memoryview) -> Damage | None:
     return Damage("unrecognised", f"not in any image format this machine recognises (begins {head[:8].hex(' ')})")
 
 
-#: A PNG whose chunks fail the check is decoded to tell a file cut short from one that only lacks its
-#: closing IEND, up to this many pixels (8192 x 8192); a larger one is judged by its chunks alone, so a
-#: header claiming a huge image never makes the check allocate it.
+#: A PNG without its closing IEND is decoded to tell a file cut short from one that only lacks IEND, and
+#: an image is decoded to tell whether it is one flat colour (:func:`varies`), up to this many pixels
+#: (8192 x 8192); a larger one is judged by its chunks alone, or not at all, so a header claiming a huge
+#: image never makes a check allocate it.
 MAX_DECODED_PIXELS = 8192 * 8192
 
 
@@ -170,14 +176,13 @@ def _decoded(image: str | memoryview, kind: str) -> Damage | None:
             return Damage("corrupt", f"a PNG {problem}")
         if ended:
             return None  # every chunk whole and its CRC right, to IEND: not decoded
-        # no IEND: decoders show a file that only lacks it whole, and one cut between IDAT chunks short
-        with _open(image) as handle, Image.open(handle) as opened:
-            if opened.size[0] * opened.size[1] > MAX_DECODED_PIXELS:
-                return None  # not decoded: judged by its chunks alone
+        # no IEND: decoded below, as decoders show a file that only lacks it whole, and one cut between IDAT chunks short
     if kind == "JPEG" and _ends_with_eoi(image):
         return None  # whole to its end-of-image marker: not decoded (libjpeg shows damage inside as blocks, no error)
     try:
         with _open(image) as handle, Image.open(handle) as opened:
+            if kind == "PNG" and opened.size[0] * opened.size[1] > MAX_DECODED_PIXELS:
+                return None  # not decoded: judged by its chunks alone
             if kind == "JPEG":
                 opened.draft("RGB", (max(1, opened.size[0] // 8), max(1, opened.size[1] // 8)))
             opened.load()
@@ -222,7 +227,7 @@ def _png_chunks(image: str | memoryview) -> tuple[str | None, bool]:
 
 def _openimageio():
     try:
-        import OpenImageIO  # lazy: optional (the images extra), ~30 ms; asked only about files Pillow fails on
+        import OpenImageIO  # lazy: optional (the images extra), ~30 ms; asked only about files Pillow does not open
 
         return OpenImageIO
     except ImportError:
@@ -270,3 +275,54 @@ def _ends_with_eoi(image: str | memoryview) -> bool:
     except OSError:
         return False
     return tail.rstrip(b"\0").endswith(b"\xff\xd9")
+
+
+_FLAT_LEVELS = 2  # 8-bit levels: "one flat colour" allows JPEG noise
+
+
+def varies(image: str | bytes) -> bool:
+    """Whether ``image`` (a path or bytes) is more than one flat colour (every texel within 2/255 of the
+    others); ``False`` when that cannot be told (undecodable, larger than :data:`MAX_DECODED_PIXELS`).
+    Pillow's extrema of the image in its own mode (a JPEG decoded at 1/8 scale), never a float copy of
+    it; OpenImageIO's ``isConstantColor`` for a file Pillow does not open (OpenEXR, Radiance HDR), when
+    it is installed."""
+    from PIL import Image  # lazy: as in load_pixels
+
+    try:
+        with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
+            warnings.simplefilter("ignore")
+            opened = Image.open(io.BytesIO(image) if isinstance(image, bytes) else image)
+        with opened:
+            width, height = opened.size
+            if width * height > MAX_DECODED_PIXELS:
+                return False
+            if pillow_format(opened) == "JPEG":
+                opened.draft("RGB", (max(1, width // 8), max(1, height // 8)))
+            plane = opened.convert("RGBA") if opened.mode in ("P", "PA", "1") else opened
+            extrema = plane.getextrema()
+            mode = plane.mode
+    except Exception:  # noqa: BLE001 - not an image Pillow opens (EXR, HDR...): OpenImageIO, else not told
+        return isinstance(image, str) and _varies_openimageio(image)
+    bands = extrema if isinstance(extrema[0], tuple) else (extrema,)
+    limit = _FLAT_LEVELS * 257 if mode.startswith("I;16") else _FLAT_LEVELS / 255.0 if mode == "F" else _FLAT_LEVELS
+    return any(high - low > limit for low, high in bands)
+
+
+def _varies_openimageio(path: str) -> bool:
+    """:func:`varies` for a file only OpenImageIO reads, when it is installed: ``ImageBufAlgo.isConstantColor``
+    at the same 2/255, up to the same size; ``False`` when it cannot tell."""
+    oiio = _openimageio()
+    if oiio is None or not _utf8(path):
+        return False
+    try:
+        buffer = oiio.ImageBuf(path)
+        spec = buffer.spec()
+        if buffer.has_error or not buffer.initialized or not 0 < spec.width * spec.height <= MAX_DECODED_PIXELS:
+            buffer.geterror()  # retrieved, so OpenImageIO does not print it
+            return False
+        constant = oiio.ImageBufAlgo.isConstantColor(buffer, _FLAT_LEVELS / 255.0)
+        failed = buffer.has_error
+        buffer.geterror()
+        return not failed and constant is None
+    except (TypeError, ValueError, RuntimeError):
+        return False

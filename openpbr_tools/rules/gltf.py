@@ -25,7 +25,7 @@ from ..io.gltf import slots
 from ..model import Location, Texture
 from . import Rule, constant_or_default
 from .ranges import HARD_RANGE
-from .textures import UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, UNSAFE_PATH
+from .textures import EMBEDDED_REMEDY, UNSAFE_PATH, damage_diagnostic
 
 _PNG_3X3 = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAMAAAADCAIAAADZSiLoAAAAF0lEQVR42mM8kWLEwMDAwMDAxAADCBYA"
             "J1YBZLcOOO0AAAAASUVORK5CYII=")
@@ -435,10 +435,7 @@ def _images(asset, facts, context):
                                      where, hint="resize to a power of two for WebGL 1 and mipmapping")
         found = image.get("damage")
         if found is not None:  # every image, used or not, as the Khronos validator judges them
-            rule = UNRECOGNISED_TEXTURE if found.kind == "unrecognised" else UNREADABLE_TEXTURE
-            yield context.diagnostic(rule, f"image {image['index']} ({image['file']}) is {found.detail}", where,
-                                     hint="re-export or re-embed the image" if found.kind != "text" else
-                                     "fetch or re-export the real image (for a Git LFS pointer: git lfs pull)")
+            yield damage_diagnostic(context, found, f"image {image['index']} ({image['file']})", where, EMBEDDED_REMEDY)
             continue
         declared = image.get("declared")
         if declared is not None:

@@ -259,8 +259,8 @@ def _files(asset, file: str, context) -> tuple[list[tuple[str, str]], list[tuple
         resolved = guard.resolve(reference)
         if not resolved.inside:
             outside.append((name, resolved.real or reference))
-        elif resolved.real and os.path.isfile(resolved.real):  # not a folder, a FIFO or a device
-            readable.append((name, resolved.real))
+        elif resolved.real and context.file_exists(resolved.real) and os.path.isfile(resolved.real):
+            readable.append((name, resolved.real))  # (isfile: not a folder, a FIFO or a device)
     return readable, outside
 
 
@@ -273,18 +273,22 @@ def _packaged(asset, file: str, containers: dict) -> bytes | None:
 
 def _damaged(image, file: str, where, context):
     found = damage(image) if image is not None else None
-    if found is None:
-        return
-    if found.kind == "unrecognised":
-        yield context.diagnostic(UNRECOGNISED_TEXTURE, f"texture {file!r} is {found.detail}", where,
-                                 hint="re-export the image as PNG, JPEG or OpenEXR")
-    else:
-        yield context.diagnostic(UNREADABLE_TEXTURE, f"texture {file!r} is {found.detail}", where,
-                                 hint=_REMEDY.get(found.kind, "re-export the image"))
+    if found is not None:
+        yield damage_diagnostic(context, found, f"texture {file!r}", where, REMEDY)
 
 
-_REMEDY = {"text": "fetch or re-export the real image (for a Git LFS pointer: git lfs pull)",
-           "empty": "re-export the image", "corrupt": "re-export or re-download the image"}
+def damage_diagnostic(context, found, subject: str, where, remedy: dict):
+    """The finding for an image that is no readable image (:func:`~openpbr_tools.io.image_files.damage`):
+    OPBR708 for bytes in no known format, else OPBR707; ``remedy`` gives the hint per kind (key ``None``:
+    the default)."""
+    rule = UNRECOGNISED_TEXTURE if found.kind == "unrecognised" else UNREADABLE_TEXTURE
+    return context.diagnostic(rule, f"{subject} is {found.detail}", where, hint=remedy.get(found.kind, remedy[None]))
+
+
+_LFS_REMEDY = "fetch or re-export the real image (for a Git LFS pointer: git lfs pull)"
+REMEDY = {"text": _LFS_REMEDY, "empty": "re-export the image", "corrupt": "re-export or re-download the image",
+          "unrecognised": "re-export the image as PNG, JPEG or OpenEXR", None: "re-export the image"}
+EMBEDDED_REMEDY = {"text": _LFS_REMEDY, None: "re-export or re-embed the image"}  # a glTF's images
 
 
 def image_of(asset, texture, context, containers: dict) -> str | bytes | None:
@@ -295,10 +299,8 @@ def image_of(asset, texture, context, containers: dict) -> str | bytes | None:
         return None
     if texture.packaged:
         return _packaged(asset, file, containers) if file in asset.extra.get("package_files", ()) else None
-    if classify(file) not in (Kind.RELATIVE, Kind.ABSOLUTE):
-        return None
-    readable, _ = _files(asset, file, context)
-    return readable[0][1] if readable and context.file_exists(readable[0][1]) else None
+    readable, _ = _files(asset, file, context)  # a URL, a drive or UNC path: outside, never readable
+    return readable[0][1] if readable else None
 
 
 def _channels(asset, texture, context, containers: dict) -> int | None:

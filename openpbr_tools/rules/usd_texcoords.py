@@ -17,11 +17,8 @@ with such images and no st), and an image that cannot be read shows nothing eith
 
 from __future__ import annotations
 
-import io
-import warnings
-
 from ..diagnostics import Severity
-from ..io.image_files import MAX_DECODED_PIXELS
+from ..io.image_files import varies
 from ..model import Location
 from . import Rule, for_each_input
 from .textures import image_of
@@ -120,57 +117,8 @@ def check(asset, context):
             hint=f"set {read.get('input', 'varname')} to the mesh's UV primvar{' (' + has[0] + ')' if len(has) == 1 else ''}, or rename the primvar to {name!r}")
 
 
-_FLAT_LEVELS = 2  # 8-bit levels: "one flat colour" allows JPEG noise
-
-
 def _varies(asset, texture, context, containers: dict) -> bool:
-    """Whether the image ``texture`` reads is more than one flat colour (every texel within 2/255 of the
-    others); ``False`` when it cannot be read (outside the asset's folder, missing, undecodable, larger
-    than 8192 x 8192: nothing then shows that the coordinates matter). Pillow's extrema of the image in its
-    own mode (a JPEG decoded at 1/8 scale), never a float copy of it; OpenImageIO's for a format Pillow
-    does not open (OpenEXR, Radiance HDR), when it is installed."""
-    from PIL import Image  # lazy: Pillow (~15 ms) only for a texture whose coordinates are in doubt
-
+    """Whether the image ``texture`` reads is more than one flat colour; ``False`` when it cannot be read
+    (outside the asset's folder, missing, undecodable: nothing then shows that the coordinates matter)."""
     image = image_of(asset, texture, context, containers)
-    if image is None:
-        return False
-    try:
-        with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
-            warnings.simplefilter("ignore")
-            opened = Image.open(io.BytesIO(image) if isinstance(image, bytes) else image)
-        with opened:
-            width, height = opened.size
-            if width * height > MAX_DECODED_PIXELS:
-                return False
-            if opened.format in ("JPEG", "MPO"):
-                opened.draft("RGB", (max(1, width // 8), max(1, height // 8)))
-            plane = opened.convert("RGBA") if opened.mode in ("P", "PA", "1") else opened
-            extrema = plane.getextrema()
-            mode = plane.mode
-    except Exception:  # noqa: BLE001 - not an image Pillow opens (EXR, HDR...): OpenImageIO, else not judged
-        return isinstance(image, str) and _varies_openimageio(image)
-    bands = extrema if isinstance(extrema[0], tuple) else (extrema,)
-    limit = _FLAT_LEVELS * 257 if mode.startswith("I;16") else _FLAT_LEVELS / 255.0 if mode == "F" else _FLAT_LEVELS
-    return any(high - low > limit for low, high in bands)
-
-
-def _varies_openimageio(path: str) -> bool:
-    """:func:`_varies` for an image only OpenImageIO reads (OpenEXR, Radiance HDR), when it is installed:
-    ``ImageBufAlgo.isConstantColor`` at the same 2/255, up to the same size; ``False`` when it cannot tell."""
-    try:
-        import OpenImageIO as oiio  # lazy: optional (the images extra), and only for a texture in doubt
-    except ImportError:
-        return False
-    try:
-        path.encode("utf-8")  # OpenImageIO's Python API takes UTF-8 names only
-        buffer = oiio.ImageBuf(path)
-        spec = buffer.spec()
-        if buffer.has_error or not buffer.initialized or not 0 < spec.width * spec.height <= MAX_DECODED_PIXELS:
-            buffer.geterror()  # retrieved, so OpenImageIO does not print it
-            return False
-        constant = oiio.ImageBufAlgo.isConstantColor(buffer, _FLAT_LEVELS / 255.0)
-        failed = buffer.has_error
-        buffer.geterror()
-        return not failed and constant is None
-    except (UnicodeEncodeError, TypeError, ValueError, RuntimeError):
-        return False
+    return image is not None and varies(image)

@@ -19,7 +19,7 @@ import warnings
 from urllib.parse import unquote
 
 from ...model import Connection, Texture
-from ..image_files import ResourceFile, damage
+from ..image_files import ResourceFile, damage, pillow_format
 from . import slots
 from .document import ResourceError, data_uri_mime
 from .uv import from_texture_transform
@@ -210,7 +210,7 @@ def _measure(source, info: dict, head: bytes | None = None) -> None:
             warnings.simplefilter("ignore")
             with Image.open(source) as image:
                 info["width"], info["height"] = image.size
-                detected = Image.MIME.get({"MPO": "JPEG"}.get(image.format, image.format or ""))  # MPO: a camera JPEG
+                detected = Image.MIME.get(pillow_format(image) or "")
                 info["detected_mime"] = detected
                 info["mime"] = info["mime"] or detected
     except Exception:  # noqa: BLE001 - Pillow raises many exception types for images it cannot identify
