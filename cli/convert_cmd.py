@@ -113,6 +113,8 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
     except OSError as error:  # the output's folder cannot be made or written
         click.echo(f"openpbr: cannot write {output}: {error.strerror or error}", err=True)
         sys.exit(2)
+    except Exception as error:  # noqa: BLE001 - a defect of the toolkit on this file: OPBR011, exit 2
+        _internal_error(input_path, "converting", error, [], 0, output_format)
     too_far = []
     if verify:
         # lazy: `openpbr --help` loads every command module; the library loads when this command runs
@@ -120,10 +122,13 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
         from openpbr_tools.verification import compare
         from openpbr_tools.verification import verify as verify_conversion
 
-        measured = compare(result, keep_images=bool(delta_e_images or html_report))
         limit = threshold if max_delta_e is None else min(threshold, max_delta_e)
-        result.diagnostics = sorted(result.diagnostics + verify_conversion(result, limit, measured=measured),
-                                    key=Diagnostic.sort_key)
+        try:
+            measured = compare(result, keep_images=bool(delta_e_images or html_report))
+            result.diagnostics = sorted(result.diagnostics + verify_conversion(result, limit, measured=measured),
+                                        key=Diagnostic.sort_key)
+        except Exception as error:  # noqa: BLE001 - as above; the output is written, its verification is not
+            _internal_error(input_path, "verifying", error, result.diagnostics, len(result.pairs), output_format)
         if max_delta_e is not None:
             too_far = sorted({display_name(source) for source, c in measured if c.worst.exceeds(max_delta_e)})
         if delta_e_images:
@@ -234,3 +239,16 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
     written = sum(1 for result in report.files if not result.unreadable)
     click.echo(f"wrote {written} file(s) under {outdir}; {len(planned.skipped)} up to date, skipped", err=True)
     sys.exit(report.exit_code(fail_on))
+
+
+def _internal_error(path, step, error, diagnostics, materials, output_format):
+    """Report OPBR011 (re-raised under OPENPBR_RAISE_INTERNAL_ERRORS) beside what is known, and exit 2."""
+    # lazy: as the library imports above
+    from openpbr_tools.reports import render
+    from openpbr_tools.rules.document import internal_error
+    from openpbr_tools.validate import FileResult, Report
+
+    report = Report(files=[FileResult(path, diagnostics + [internal_error(path, step, error)], materials=materials,
+                                      unreadable=True)])
+    click.echo(render(report, output_format), nl=False)
+    sys.exit(2)

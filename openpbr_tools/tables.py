@@ -32,6 +32,7 @@ class Parameter:
     hard_min: Any = None
     hard_max: Any = None
     hard_min_exclusive: bool = False  # the bound itself is invalid: (0, inf) for an IOR
+    special_value: float | None = None  # one value outside the range with a defined meaning (glTF's ior 0)
     soft_min: Any = None
     soft_max: Any = None
     unit: str | None = None
@@ -103,6 +104,7 @@ def table(model: str, version: str | None = None) -> ParameterTable:
             hard_min=_freeze(entry.get("hard_min")),
             hard_max=_freeze(entry.get("hard_max")),
             hard_min_exclusive=entry.get("hard_min_exclusive", False),
+            special_value=entry.get("special_value"),
             soft_min=_freeze(entry.get("soft_min")),
             soft_max=_freeze(entry.get("soft_max")),
             unit=entry.get("unit"),

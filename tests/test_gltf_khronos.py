@@ -140,7 +140,7 @@ def test_every_property_the_khronos_validator_finds_out_of_range_is_an_error_her
     """Never weaker than the anchor: each material property the Khronos glTF-Validator reports as an error
     (VALUE_NOT_IN_RANGE, at the property or one of its components) is an error of the toolkit's at that
     property, and the toolkit reports no error the validator does not. A base colour over 1 is an error in
-    glTF, whose colours are linear Rec.709 (not the wide-gamut warning of a .mtlx document, OPBR304); a
+    glTF, whose colours are linear Rec.709 (not the wide-gamut info of a .mtlx document, OPBR304); a
     negative iridescenceThicknessMinimum, which no gltf_pbr parameter holds, too."""
     from openpbr_tools.validate import validate_paths
     import json

@@ -209,6 +209,7 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
                 resolved.not_evaluated.append(name)
         except (TypeError, ValueError):
             resolved.not_evaluated.append(name)
+    _open_bounds(table, resolved)
     if material.model == "gltf_pbr":
         _gltf_diffuse_transmission(material, resolved)
         _gltf_unlit(material, resolved)
@@ -216,6 +217,19 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
     if sampler is not None and uvs is not None and material.model == "gltf_pbr":
         _gltf_anisotropy_direction(material, resolved, sampler, uvs)
     return resolved
+
+
+def _open_bounds(table: dict, resolved: ResolvedParameters) -> None:
+    """A value on or below an open lower bound (an IOR of 0 or less, which the validator reports as OPBR301)
+    evaluated just inside it, as the translation's target clamp writes one (the formulas divide by it)."""
+    for name, value in list(resolved.values.items()):
+        p = table.get(name)
+        if p is None or not p.hard_min_exclusive or not isinstance(p.hard_min, (int, float)):
+            continue
+        inside = p.hard_min + 1e-6 * max(1.0, abs(p.hard_min))
+        if np.any(np.asarray(value, dtype=float) < inside):
+            resolved.values[name] = np.maximum(value, inside)
+            resolved.approximated.append((name, f"outside its valid range: evaluated as {inside:g} where below it"))
 
 
 def _gltf_diffuse_transmission(material: Material, resolved: ResolvedParameters) -> None:

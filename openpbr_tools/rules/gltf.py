@@ -183,7 +183,9 @@ BROKEN_RESOURCE = Rule(
 INVALID_PROPERTY = Rule(
     "OPBR1210", "gltf-invalid-property", Severity.ERROR,
     "A material property has the wrong JSON type (a textureInfo without an integer index, an "
-    "extension that is not an object, a malformed KHR_texture_transform) or a value out of range that no "
+    "extension that is not an object, a malformed KHR_texture_transform), a material extension on another "
+    "object (KHR_materials_emissive_strength inside pbrMetallicRoughness, KHR_texture_transform on a "
+    "material), a sampler filter or wrap outside the schema's list, or a value out of range that no "
     "gltf_pbr parameter holds (texCoord, occlusion strength, iridescenceThicknessMinimum); an image with both "
     "a uri and a bufferView, or in a bufferView without a mimeType; a name listed twice in extensionsUsed or "
     "extensionsRequired.",
@@ -202,12 +204,14 @@ NO_EFFECT = Rule(
     "OPBR1211", "gltf-extension-no-effect", Severity.WARNING,
     "A material extension is set where the glTF extension texts say it has no effect: transmission "
     "on a fully metallic material, a volume without a transmission extension, dispersion without a volume, "
-    "iridescence with zero thickness; or an alphaCutoff without alphaMode MASK.",
+    "iridescence with zero thickness; a texture whose factor is left at its default 0 (emissiveTexture without "
+    "emissiveFactor); or an alphaCutoff without alphaMode MASK.",
     "KHR_materials_transmission applies to the dielectric part only (metallicFactor defaults to 1, so "
     "an exporter that omits it makes glass opaque metal); KHR_materials_volume acts only through "
     "transmission or diffuse transmission, and KHR_materials_dispersion only through a volume "
     "(the Khronos validator's VOLUME_NO_TRANSMISSION / DISPERSION_NO_VOLUME); iridescence needs a film "
-    "thicker than 0 nm. Usually half of a set-up lost in export.",
+    "thicker than 0 nm; a factor multiplies its texture, so an emissive, clearcoat, transmission or sheen "
+    "texture without its factor (default 0) shows nothing. Usually half of a set-up lost in export.",
     passing=_gltf('"extensionsUsed": ["KHR_materials_transmission"]',
                   '"materials": [{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 0.0}, '
                   '"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}]'),
@@ -344,6 +348,19 @@ def _no_effect(material, context):
     for extension, why in found:
         yield context.diagnostic(NO_EFFECT, f"{material.name}: {why}",
                                  Location(material.location.file, None, f"{material.location.path}/extensions/{extension}"))
+    for name, texture in material.textures():
+        slot = slots.SLOT_BY_PARAMETER.get(name)
+        scale = texture.scale if isinstance(texture.scale, tuple) else (texture.scale,)
+        if slot is None or slot.factor is None or texture.scale is None or any(scale):
+            continue  # (a texture whose factor is left at its default 0: emissiveTexture without emissiveFactor)
+        default = slot.default if isinstance(slot.default, tuple) else (slot.default,)
+        if any(default):  # (a factor of 0 beside a packed texture is common: metallicFactor 0 with the roughness in G)
+            continue
+        yield context.diagnostic(
+            NO_EFFECT, f"{material.name}: {slot.texture} is multiplied by {slot.factor} 0 (its default when absent), "
+                       "so it has no effect",
+            Location(material.location.file, None, material.inputs[name].location.path, slot.factor),
+            hint=f"set {slot.factor} (1 lets the texture through as it is)")
     if "alpha_cutoff" in material.inputs and constant_or_default(material, "alpha_mode") != 1:  # (the validator's warning)
         yield context.diagnostic(NO_EFFECT, f"{material.name}: alphaCutoff has no effect unless alphaMode is MASK",
                                  material.inputs["alpha_cutoff"].location)

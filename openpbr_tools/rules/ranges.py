@@ -11,7 +11,8 @@ published materials need them: a metal's ``specular_color`` above 1 is accepted 
 reflectivity it asks for stays at most 1 at every angle (OpenPBR's own example metals, cesium at
 1.39 in blue, are authored so), and a colour outside [0, 1] in the document's colour space that lies
 inside [0, 1] in ACEScg is a real colour that space cannot hold (measured gold in ``lin_rec709``):
-a warning (OPBR304), not an error. Negative components stay errors even when the colour is real:
+an info (OPBR304), not an error: published measured data (gold, copper) is authored so and renders as
+meant, so a warning would be a false alarm on every such library. Negative components stay errors even when the colour is real:
 a negative reflectance makes path tracers' sampling weights negative.
 
 Lengths in scene units (``transmission_depth``, ``subsurface_radius``) get no soft-range warning:
@@ -51,7 +52,7 @@ ENUM_VALUE = Rule(
 )
 
 OUT_OF_GAMUT = Rule(
-    "OPBR304", "colour-outside-document-gamut", Severity.WARNING,
+    "OPBR304", "colour-outside-document-gamut", Severity.INFO,
     "A reflectance colour outside [0, 1] in the document's colour space but inside it in ACEScg.",
     "Measured and spectrally derived colours are often outside the Rec.709 gamut: gold's normal-"
     "incidence reflectance is about (1.06, 0.77, 0.31) in linear Rec.709 and (0.93, 0.79, 0.37) in "
@@ -120,6 +121,8 @@ def check(asset, context):
                 )
             continue
         values = _components(value)
+        if parameter.special_value is not None and values == (parameter.special_value,):
+            continue  # (glTF's ior 0: a mode of its own, read by the translation as an infinite IOR)
         note = f" ({parameter.range_note})" if parameter.range_note else ""
         low = _outside(values, parameter.hard_min, below=True, exclusive=parameter.hard_min_exclusive)
         high = _outside(values, parameter.hard_max, below=False)

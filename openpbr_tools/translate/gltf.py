@@ -84,6 +84,7 @@ import dataclasses
 import numpy as np
 
 from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_emission_factor, coat_roughened
+from ..evaluate.fresnel import ior_to_f0
 from ..evaluate.microfacet import gltf_anisotropic_alpha, openpbr_alphas
 from ..evaluate.volume import absorption_coefficient, with_channel_axis
 from .. import gltf_state
@@ -801,6 +802,7 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
         source, coat_ior = with_draft_coat(material, found[drafts.COAT])
     else:
         source, coat_ior = with_draft_coat(material, found.get(drafts.CLEARCOAT_IOR), ior_only=True)
+    source, infinite_ior = _infinite_ior(source)
     unlit = _unlit_as_emission(source, state)
     specular_glossiness = unlit is None and spec_gloss.state_of(material) is not None
     colour = material.inputs.get("specular_color")
@@ -813,6 +815,11 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     translation.source = material
     if unlit is not None:
         translation.diagnostics += _unlit_emission(translation.material, material, settings)
+    if infinite_ior:
+        translation.diagnostics.append(settings.context.diagnostic(
+            APPROXIMATED, f"{material.name} (glTF -> OpenPBR): ior: KHR_materials_ior's ior 0 (Fresnel 1 at every angle, "
+                          f"an infinite IOR) is read as specular_ior {INFINITE_IOR:g} (F0 {float(ior_to_f0(INFINITE_IOR)):.4f})",
+            material.inputs["ior"].location))
     if specular_glossiness:
         spec_gloss.read(translation, material, settings)
     if found:
@@ -820,6 +827,21 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     translation.diagnostics += _volume_of_diffuse_transmission(material, state, settings)
     translation.diagnostics += _diffuse_transmission_in(translation.material, material, state, settings)
     return translation
+
+
+#: The IOR that stands for KHR_materials_ior's ior 0, whose Fresnel term is 1 at every angle ("the effective IOR
+#: becomes positive infinity"): F0 0.996, and an evaluator, a renderer or a Standard Surface still computes with it.
+INFINITE_IOR = 1000.0
+
+
+def _infinite_ior(material: Material) -> tuple[Material, bool]:
+    """``material`` with a constant ior of 0 (KHR_materials_ior's specular-glossiness compatibility mode) as
+    :data:`INFINITE_IOR`, and whether it had one."""
+    found = material.inputs.get("ior")
+    if found is None or not isinstance(found.value, Constant) or found.constant != 0.0:
+        return material, False
+    inputs = dict(material.inputs, ior=dataclasses.replace(found, value=Constant(INFINITE_IOR)))
+    return dataclasses.replace(material, inputs=inputs), True
 
 
 UNLIT_RECORD = "unlit"  # key of the glTF state: what the unlit reading replaced, restored for a glTF written back

@@ -46,6 +46,7 @@ images, textures and samplers are :mod:`.textures`'s.
 from __future__ import annotations
 
 import os
+import re
 
 from ... import tables, versioning
 from ...model import Asset, Constant, Input, Location, Material, Texture
@@ -109,6 +110,11 @@ class _Reader(TextureReading, ExtensionReading):
         for pointer, message in self.document.repairs:
             self.invalid(pointer, message)
         _extension_uses(self.document.json, self.facts["extension_uses"])
+        for pointer, name in self.facts["extension_uses"]:
+            if not _extension_in_place(pointer, name):
+                self.invalid(pointer, f"{name} is not defined on this object (a material extension belongs in a "
+                                      "material's extensions, KHR_texture_transform in a textureInfo's); viewers "
+                                      "ignore it")
         for key in ("extensionsUsed", "extensionsRequired"):
             names, seen = self.document.json.get(key), set()
             for index, name in enumerate(names if isinstance(names, list) else ()):
@@ -341,6 +347,20 @@ def _extension_uses(document, found: list) -> None:
         nested = [(child, f"{pointer}/{_escape(key)}", key == "extensions" and isinstance(child, dict) and isinstance(value, dict))
                   for key, child in children if isinstance(child, (dict, list))]
         stack.extend(reversed(nested))
+
+
+_MATERIAL_EXTENSION = re.compile(r"/materials/\d+/extensions/[^/]+")
+_TEXTURE_TRANSFORM = re.compile(r"/materials/\d+(/[^/]+)*/[^/]*[tT]exture/extensions/KHR_texture_transform")
+
+
+def _extension_in_place(pointer: str, name: str) -> bool:
+    """Whether a KHR_materials_* extension object sits on a material and KHR_texture_transform on a textureInfo
+    (the Khronos glTF-Validator's UNEXPECTED_EXTENSION_OBJECT; other extensions are not judged here)."""
+    if name == slots.TEXTURE_TRANSFORM:
+        return _TEXTURE_TRANSFORM.fullmatch(pointer) is not None
+    if name.startswith("KHR_materials_") and name != "KHR_materials_variants":
+        return _MATERIAL_EXTENSION.fullmatch(pointer) is not None
+    return True
 
 
 def _escape(token: str) -> str:

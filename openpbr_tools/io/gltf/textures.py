@@ -169,7 +169,19 @@ class TextureReading:
                     self.invalid(f"/samplers/{index}", f"{name} must be 33071, 33648 or 10497, not {json_text(value)}", name)
                 value = 10497
             modes.append(self.wrap_modes[value])
+        for name, allowed in FILTERS.items():  # (the sampling, not the material: checked, not carried)
+            value = sampler.get(name)
+            if value is not None and (isinstance(value, bool) or value not in allowed) \
+                    and (index, name) not in self.bad_samplers:
+                self.bad_samplers.add((index, name))
+                self.invalid(f"/samplers/{index}", f"{name} must be {' or '.join(map(str, allowed))}, not "
+                                                   f"{json_text(value)}", name)
         return modes[0], modes[1]
+
+
+#: The glTF schema's sampler filters (sampler.schema.json): NEAREST and LINEAR magnify; minifying adds the four
+#: mipmap modes. An exporter's LINEAR_MIPMAP_LINEAR in magFilter is the Khronos validator's VALUE_NOT_IN_LIST.
+FILTERS = {"magFilter": (9728, 9729), "minFilter": (9728, 9729, 9984, 9985, 9986, 9987)}
 
 
 def _transform(info: dict) -> dict | None:
