@@ -244,11 +244,9 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
 def _internal_error(path, step, error, diagnostics, materials, output_format):
     """Report OPBR011 (re-raised under OPENPBR_RAISE_INTERNAL_ERRORS) beside what is known, and exit 2."""
     # lazy: as the library imports above
+    from openpbr_tools.batch import internal_failure
     from openpbr_tools.reports import render
-    from openpbr_tools.rules.document import internal_error
-    from openpbr_tools.validate import FileResult, Report
+    from openpbr_tools.validate import Report
 
-    report = Report(files=[FileResult(path, diagnostics + [internal_error(path, step, error)], materials=materials,
-                                      unreadable=True)])
-    click.echo(render(report, output_format), nl=False)
+    click.echo(render(Report(files=[internal_failure(path, step, error, diagnostics, materials)]), output_format), nl=False)
     sys.exit(2)

@@ -162,15 +162,20 @@ def _convert(job: Job) -> FileResult:
     except (ValueError, OSError) as error:  # a refused texture, an unwritable folder
         return FileResult(job.source, [_problem(f"not converted: {error}", job.source)], unreadable=True)
     except Exception as error:  # noqa: BLE001 - a defect of the toolkit on this file: reported, the batch goes on
-        return FileResult(job.source, [internal_error(job.source, "converting", error)], unreadable=True)
+        return internal_failure(job.source, "converting", error)
     diagnostics = result.diagnostics
     if job.verify:
         try:
             diagnostics = sorted(diagnostics + verify(result, job.threshold), key=Diagnostic.sort_key)
         except Exception as error:  # noqa: BLE001 - as above; the output is written, its verification is not
-            return FileResult(job.source, diagnostics + [internal_error(job.source, "verifying", error)],
-                              materials=len(result.pairs), unreadable=True)
+            return internal_failure(job.source, "verifying", error, diagnostics, len(result.pairs))
     return FileResult(job.source, diagnostics, materials=len(result.pairs))
+
+
+def internal_failure(path: str, step: str, error: Exception, diagnostics=(), materials: int = 0) -> FileResult:
+    """The result of a file whose ``step`` (converting, verifying) met a defect of the toolkit: OPBR011 beside
+    what is known (:func:`~openpbr_tools.rules.document.internal_error` re-raises under the test suite)."""
+    return FileResult(path, [*diagnostics, internal_error(path, step, error)], materials=materials, unreadable=True)
 
 
 def run(found: Plan, options: Options | None = None, progress=None, on_result=None) -> Report:

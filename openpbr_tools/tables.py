@@ -44,6 +44,11 @@ class Parameter:
     default_geomprop: str | None = None
     switches: str | None = None  # the prefix of the inputs this weight switches on (no effect while it is 0)
 
+    def inside_low(self) -> float:
+        """The nearest value inside an open lower bound (``hard_min_exclusive``): an IOR of 0 becomes 1e-6,
+        whose F0 is 0.999996."""
+        return self.hard_min + 1e-6 * max(1.0, abs(self.hard_min))
+
 
 @dataclass(frozen=True, slots=True)
 class ParameterTable:

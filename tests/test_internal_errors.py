@@ -109,3 +109,24 @@ def test_a_batch_conversion_reports_a_defect_on_one_file_and_converts_the_others
     assert (tmp_path / "out" / "a.gltf").is_file() and not (tmp_path / "out" / "b.gltf").exists()
     [internal] = [d for d in json.loads(result.stdout)["diagnostics"] if d["code"] == "OPBR011"]
     assert internal["location"]["file"].endswith("b.mtlx") and "IndexError: synthetic defect" in internal["message"]
+
+
+@pytest.mark.parametrize("step", ["converting", "verifying"])
+def test_a_single_file_conversion_reports_a_defect_as_opbr011_not_a_traceback(tmp_path, monkeypatch, step):
+    """One input and one output (not the batch path): a defect while converting, or while verifying the written
+    output, is OPBR011 naming the step, in the report, with exit 2; it printed a Python traceback before."""
+    from openpbr_tools import convert as convert_module
+    from openpbr_tools import verification
+
+    def failing(*args, **kwargs):
+        raise IndexError("synthetic defect")
+
+    monkeypatch.setattr(convert_module if step == "converting" else verification,
+                        "convert_file" if step == "converting" else "compare", failing)
+    folder = _folder(tmp_path)
+    result = CliRunner().invoke(cli, ["convert", "--format", "json", "--verify", str(folder / "a.mtlx"),
+                                      "-o", str(tmp_path / "a.gltf")])
+    assert result.exit_code == 2, result.output
+    [internal] = [d for d in json.loads(result.stdout)["diagnostics"] if d["code"] == "OPBR011"]
+    assert internal["message"].startswith(f"{step} failed") and "IndexError: synthetic defect" in internal["message"]
+    assert internal["location"]["file"].endswith("a.mtlx")

@@ -221,12 +221,13 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
 
 def _open_bounds(table: dict, resolved: ResolvedParameters) -> None:
     """A value on or below an open lower bound (an IOR of 0 or less, which the validator reports as OPBR301)
-    evaluated just inside it, as the translation's target clamp writes one (the formulas divide by it)."""
+    evaluated just inside it (:meth:`~openpbr_tools.tables.Parameter.inside_low`), as the translation's target
+    clamp writes one (the formulas divide by it)."""
     for name, value in list(resolved.values.items()):
         p = table.get(name)
         if p is None or not p.hard_min_exclusive or not isinstance(p.hard_min, (int, float)):
             continue
-        inside = p.hard_min + 1e-6 * max(1.0, abs(p.hard_min))
+        inside = p.inside_low()
         if np.any(np.asarray(value, dtype=float) < inside):
             resolved.values[name] = np.maximum(value, inside)
             resolved.approximated.append((name, f"outside its valid range: evaluated as {inside:g} where below it"))

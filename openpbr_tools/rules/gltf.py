@@ -348,19 +348,6 @@ def _no_effect(material, context):
     for extension, why in found:
         yield context.diagnostic(NO_EFFECT, f"{material.name}: {why}",
                                  Location(material.location.file, None, f"{material.location.path}/extensions/{extension}"))
-    for name, texture in material.textures():
-        slot = slots.SLOT_BY_PARAMETER.get(name)
-        scale = texture.scale if isinstance(texture.scale, tuple) else (texture.scale,)
-        if slot is None or slot.factor is None or texture.scale is None or any(scale):
-            continue  # (a texture whose factor is left at its default 0: emissiveTexture without emissiveFactor)
-        default = slot.default if isinstance(slot.default, tuple) else (slot.default,)
-        if any(default):  # (a factor of 0 beside a packed texture is common: metallicFactor 0 with the roughness in G)
-            continue
-        yield context.diagnostic(
-            NO_EFFECT, f"{material.name}: {slot.texture} is multiplied by {slot.factor} 0 (its default when absent), "
-                       "so it has no effect",
-            Location(material.location.file, None, material.inputs[name].location.path, slot.factor),
-            hint=f"set {slot.factor} (1 lets the texture through as it is)")
     if "alpha_cutoff" in material.inputs and constant_or_default(material, "alpha_mode") != 1:  # (the validator's warning)
         yield context.diagnostic(NO_EFFECT, f"{material.name}: alphaCutoff has no effect unless alphaMode is MASK",
                                  material.inputs["alpha_cutoff"].location)
@@ -386,17 +373,23 @@ def _emissive_strength(material, context):
 
 
 def _texture_factors(material, context):
-    """OPBR301 for factors that multiply a texture (the ranges family sees only constants)."""
-    if material.version is None:
-        return
-    table = tables.table(material.model, material.version)
+    """The factors that multiply a texture (the ranges family sees only constants): OPBR301 outside the
+    parameter's range; OPBR1211 at 0 where 0 is the factor's default (emissiveTexture without emissiveFactor:
+    the texture shows nothing; a 0 beside a packed texture, metallicFactor 0 with the roughness in G, is meant)."""
+    table = tables.table(material.model, material.version) if material.version is not None else {}
     for name, texture in material.textures():
         slot = slots.SLOT_BY_PARAMETER.get(name)
-        parameter = table.get(name)
-        if slot is None or parameter is None or slot.factor is None or texture.scale is None \
-                or name == "iridescence_thickness":
+        if slot is None or slot.factor is None or texture.scale is None:
             continue
         values = texture.scale if isinstance(texture.scale, tuple) else (texture.scale,)
+        where = Location(material.location.file, None, material.inputs[name].location.path, slot.factor)
+        if not any(values) and not any(slot.default if isinstance(slot.default, tuple) else (slot.default,)):
+            yield context.diagnostic(
+                NO_EFFECT, f"{material.name}: {slot.texture} is multiplied by {slot.factor} 0 (its default when "
+                           "absent), so it has no effect", where, hint=f"set {slot.factor} (1 lets the texture through as it is)")
+        parameter = table.get(name)
+        if parameter is None or name == "iridescence_thickness":
+            continue
         low, high = parameter.hard_min, parameter.hard_max
         lows = low if isinstance(low, tuple) else (low,) * len(values)
         highs = high if isinstance(high, tuple) else (high,) * len(values)
@@ -404,8 +397,7 @@ def _texture_factors(material, context):
             shown = ", ".join(f"{v:g}" for v in values)
             yield context.diagnostic(
                 HARD_RANGE, f"{slot.factor} = {shown} (multiplying {name}'s texture) is outside its valid range "
-                            f"[{_fmt(low)}, {_fmt(high)}]",
-                Location(material.location.file, None, material.inputs[name].location.path, slot.factor),
+                            f"[{_fmt(low)}, {_fmt(high)}]", where,
             )
 
 

@@ -86,7 +86,7 @@ def inside(value, parameter):
         if low is not None and (v < low or (v == low and parameter.hard_min_exclusive)):
             # an open bound takes the nearest value inside: an IOR of 0 (Standard Surface allows it,
             # F0 = 1) becomes 1e-6, whose F0 is 0.999996
-            v = low + 1e-6 * max(1.0, abs(low)) if parameter.hard_min_exclusive else low
+            v = parameter.inside_low() if parameter.hard_min_exclusive else low
         if high is not None and v > high:
             v = high
         fixed.append(type(values[i])(v) if isinstance(values[i], float) else v)

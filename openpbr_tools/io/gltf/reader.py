@@ -81,6 +81,7 @@ class _Reader(TextureReading, ExtensionReading):
         self.asset, self.document, self.path = asset, document, asset.path
         self.table = tables.table(MODEL, VERSION)
         self.wrap_modes = slots.wrap_to_address()
+        self.filters = slots.sampler_filters()
         self.bad_samplers: set = set()
         self.observed: set = set()  # (kind, pointer, message): the same problem reached twice is reported once
         self.texture_pointers: set[str] = set()
@@ -215,7 +216,7 @@ class _Reader(TextureReading, ExtensionReading):
                 self.asset.observe("gltf_archived", self.location(f"{pointer}/extensions/{recorded}"),
                                    extension=recorded, material=name)
                 continue
-            if recorded not in slots.NEUTRAL_EXTENSIONS:  # e.g. KHR_materials_variants lives elsewhere
+            if recorded not in slots.NEUTRAL_EXTENSIONS:  # e.g. slots.VARIANTS lives elsewhere
                 self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{recorded}"),
                                    extension=recorded, material=name)
         self.unknown_sub_extensions(extensions, pointer, name, extra)
@@ -358,7 +359,7 @@ def _extension_in_place(pointer: str, name: str) -> bool:
     (the Khronos glTF-Validator's UNEXPECTED_EXTENSION_OBJECT; other extensions are not judged here)."""
     if name == slots.TEXTURE_TRANSFORM:
         return _TEXTURE_TRANSFORM.fullmatch(pointer) is not None
-    if name.startswith("KHR_materials_") and name != "KHR_materials_variants":
+    if name.startswith("KHR_materials_") and name != slots.VARIANTS:
         return _MATERIAL_EXTENSION.fullmatch(pointer) is not None
     return True
 

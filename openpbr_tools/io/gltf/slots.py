@@ -38,6 +38,7 @@ DIFFUSE_TRANSMISSION = "KHR_materials_diffuse_transmission"
 UNLIT = "KHR_materials_unlit"
 SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
 TEXTURE_TRANSFORM = "KHR_texture_transform"
+VARIANTS = "KHR_materials_variants"  # (on the root and on primitives: no material extension despite its name)
 
 # Material extensions the gltf_pbr node carries (read into inputs, written from them).
 INTERPRETED_MATERIAL_EXTENSIONS = (CLEARCOAT, SHEEN, SPECULAR, TRANSMISSION, VOLUME, IOR, IRIDESCENCE,
@@ -45,7 +46,7 @@ INTERPRETED_MATERIAL_EXTENSIONS = (CLEARCOAT, SHEEN, SPECULAR, TRANSMISSION, VOL
 # Extensions that do not change how a material or its textures look: geometry, scene, metadata.
 NEUTRAL_EXTENSIONS = ("KHR_draco_mesh_compression", "KHR_mesh_quantization", "EXT_meshopt_compression",
                       "KHR_lights_punctual", "EXT_mesh_gpu_instancing", "KHR_animation_pointer",
-                      "KHR_materials_variants", "KHR_xmp_json_ld", "KHR_node_visibility")
+                      VARIANTS, "KHR_xmp_json_ld", "KHR_node_visibility")
 # Everything the toolkit reads correctly when a file lists it in extensionsRequired.
 # (EXT_texture_webp: the reader follows its image source, and WebP decodes; KTX2 from
 # KHR_texture_basisu does not, so that one is not understood. KHR_materials_unlit: a conversion reads
@@ -192,6 +193,18 @@ def wrap_to_address() -> dict[int, str]:
     import pygltflib  # lazy: pygltflib costs ~70 ms, and the rules import this module at every start-up
 
     return {pygltflib.REPEAT: "periodic", pygltflib.CLAMP_TO_EDGE: "clamp", pygltflib.MIRRORED_REPEAT: "mirror"}
+
+
+def sampler_filters() -> dict[str, tuple[int, ...]]:
+    """The filters a sampler's magFilter and minFilter may take (sampler.schema.json): NEAREST and LINEAR
+    magnify; minifying adds the four mipmap modes (a mipmap mode as magFilter is the Khronos validator's
+    VALUE_NOT_IN_LIST)."""
+    import pygltflib  # lazy: as in wrap_to_address
+
+    magnify = (pygltflib.NEAREST, pygltflib.LINEAR)
+    return {"magFilter": magnify,
+            "minFilter": magnify + (pygltflib.NEAREST_MIPMAP_NEAREST, pygltflib.LINEAR_MIPMAP_NEAREST,
+                                    pygltflib.NEAREST_MIPMAP_LINEAR, pygltflib.LINEAR_MIPMAP_LINEAR)}
 
 
 def address_to_wrap() -> dict[str, int]:

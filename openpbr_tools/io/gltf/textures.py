@@ -33,7 +33,7 @@ SUFFIX_MIME = {".png": "image/png", ".jpg": "image/jpeg", ".jpeg": "image/jpeg",
 
 class TextureReading:
     """Images and textures for a reader with ``document``, ``asset``, ``facts``, ``images``,
-    ``package_files``, ``texture_pointers``, ``wrap_modes``, ``bad_samplers``, ``index`` and the
+    ``package_files``, ``texture_pointers``, ``wrap_modes``, ``filters``, ``bad_samplers``, ``index`` and the
     ``invalid``/``broken``/``observe_once``/``location`` reporters."""
 
     def read_image(self, index: int) -> dict:
@@ -169,7 +169,7 @@ class TextureReading:
                     self.invalid(f"/samplers/{index}", f"{name} must be 33071, 33648 or 10497, not {json_text(value)}", name)
                 value = 10497
             modes.append(self.wrap_modes[value])
-        for name, allowed in FILTERS.items():  # (the sampling, not the material: checked, not carried)
+        for name, allowed in self.filters.items():  # (the sampling, not the material: checked, not carried)
             value = sampler.get(name)
             if value is not None and (isinstance(value, bool) or value not in allowed) \
                     and (index, name) not in self.bad_samplers:
@@ -178,10 +178,6 @@ class TextureReading:
                                                    f"{json_text(value)}", name)
         return modes[0], modes[1]
 
-
-#: The glTF schema's sampler filters (sampler.schema.json): NEAREST and LINEAR magnify; minifying adds the four
-#: mipmap modes. An exporter's LINEAR_MIPMAP_LINEAR in magFilter is the Khronos validator's VALUE_NOT_IN_LIST.
-FILTERS = {"magFilter": (9728, 9729), "minFilter": (9728, 9729, 9984, 9985, 9986, 9987)}
 
 
 def _transform(info: dict) -> dict | None:
