@@ -144,7 +144,9 @@ class Texture:
 
     @property
     def is_udim(self) -> bool:
-        return "<UDIM>" in self.file or "<udim>" in self.file.lower()
+        """Whether ``file`` names a UDIM set. The token is case-sensitive, as MaterialX (``UDIM_TOKEN``)
+        and OpenUSD (``UsdShadeUdimUtils``) substitute it: ``<udim>`` is part of a file name."""
+        return "<UDIM>" in self.file
 
     def selected_channels(self, width: int) -> list[int]:
         """The image channels a parameter of ``width`` components (1 or 3) reads: ``channels`` (one

@@ -18,7 +18,7 @@ from .diagnostics import Diagnostic, Severity
 from .distributed import run_on_cluster
 from .model import Asset, Location
 from .rules import Context, check_asset
-from .rules.document import INTERNAL_ERROR, INVALID_CONFIG, READ_ERROR_RULES, UNREADABLE, internal_error
+from .rules.document import INTERNAL_ERROR, INVALID_CONFIG, NO_MATERIAL, READ_ERROR_RULES, UNREADABLE, internal_error
 from .selection import SelectionError, changed_since, shard
 
 
@@ -29,6 +29,7 @@ class FileResult:
     materials: int = 0
     unreadable: bool = False
     asset: Asset | None = None
+    documents: tuple[str, ...] = ()  # documents the file composes, whose findings are among its own
 
 
 @dataclass(slots=True)
@@ -136,8 +137,26 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
         return FileResult(path, [internal_error(path, "reading", error)], unreadable=True)
     diagnostics = check_asset(asset, context)
     count = sum(1 for m in asset.materials if not m.extra.get("fallback_of"))  # a USD preview fallback is not another material
+    documents = composed_documents(asset)
+    for document in documents:  # (a MaterialX document composes no other document: one level)
+        composed = validate_file(document, context)
+        diagnostics += composed.diagnostics
+        count += composed.materials
+    if documents and count:  # the stage's materials are in its documents
+        diagnostics = [d for d in diagnostics if not (d.code == NO_MATERIAL.code and d.location.file == path)]
     failed = any(d.code == INTERNAL_ERROR.code for d in diagnostics)
-    return FileResult(path, diagnostics, count, unreadable=failed, asset=asset if keep_asset else None)
+    return FileResult(path, diagnostics, count, unreadable=failed, asset=asset if keep_asset else None,
+                      documents=documents)
+
+
+def composed_documents(asset: Asset) -> tuple[str, ...]:
+    """The MaterialX documents a USD stage references, sublayers or loads as a payload (UsdMtlx), which
+    this usd-core cannot compose: their findings are the stage's too, since they hold its materials.
+    Only documents the stage's path guard let through (inside the asset's folder), each once."""
+    folder = os.path.dirname(asset.path)  # named as the stage is named (relative stays relative)
+    found = [os.path.normpath(os.path.join(folder, os.path.relpath(o.detail["document"], os.path.dirname(os.path.abspath(asset.path)))))
+             for o in asset.observations if o.kind == "usd_mtlx_reference" and o.detail.get("document")]
+    return tuple(dict.fromkeys(found))
 
 
 @dataclass(slots=True)
@@ -215,7 +234,17 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
             return report
         tasks = [(path, contexts[path]) for path in files]
     report.files = _run(tasks, options, progress)
+    _drop_listed_documents(report.files, files)
     return report
+
+
+def _drop_listed_documents(results: list[FileResult], files: list[str]) -> None:
+    """A composed document that is validated as a file of its own too keeps its findings there only."""
+    listed = {os.path.abspath(f) for f in files}
+    for result in results:
+        both = {os.path.abspath(d) for d in result.documents} & listed
+        if both:
+            result.diagnostics = [d for d in result.diagnostics if os.path.abspath(d.location.file) not in both]
 
 
 def _run(tasks, options: Options, progress) -> list[FileResult]:

@@ -228,9 +228,10 @@ def test_openpbr_to_gltf_with_drafts_to_openpbr_returns_every_parameter_the_draf
 @pytest.mark.parametrize("route, drafts", [("mtlx", True), ("usda", True), ("mtlx", False)],
                          ids=["mtlx-drafts", "usda-drafts", "mtlx-ratified"])
 def test_gltf_round_trips_a_generated_corpus_through_mtlx_and_usd(tmp_path, route, drafts):
-    """2,000 generated glTF materials (tests/generated_gltf_materials.py: every factor of the core
-    material, every ratified extension and every draft over its schema range, duplicate names;
-    textures with KHR_texture_transform are the next test's corpus)
+    """2,000 generated glTF materials through .mtlx with the drafts, 1,000 on the two other routes (the same
+    generator, whose every seed sweeps each factor over its range; halved to keep the suite's time:
+    tests/generated_gltf_materials.py: every factor of the core material, every ratified extension and every
+    draft over its schema range, duplicate names; textures with KHR_texture_transform are the next test's corpus)
     through ``route`` and back, with ``--gltf-drafts`` or ratified-only: material count and names come back; every
     factor and every value a draft carries (tests/gltf_round_trip.py, render-equivalences stated
     there) returns within 1e-5 or has a note (OPBR1103/1104) at its material and a related input;
@@ -239,7 +240,8 @@ def test_gltf_round_trips_a_generated_corpus_through_mtlx_and_usd(tmp_path, rout
 
     statuses = collections.Counter()
     silent = []
-    for seed in range(4):
+    seeds = 4 if (route, drafts) == ("mtlx", True) else 2
+    for seed in range(seeds):
         source = tmp_path / f"corpus{seed}.gltf"
         source.write_text(json.dumps(document(seed, 500)))  # textures: the textured test below
         there = convert_file(str(source), str(tmp_path / f"corpus{seed}.{route}"))
@@ -255,7 +257,7 @@ def test_gltf_round_trips_a_generated_corpus_through_mtlx_and_usd(tmp_path, rout
                     silent.append((seed, index, key, value, got))
         report = validate_with_khronos(back_path, tmp_path)
         assert (report["issues"]["numErrors"], report["issues"]["numWarnings"]) == (0, 0), describe_issues(report)
-    assert statuses["exact"] > 30000 and statuses["exact"] / sum(statuses.values()) > (0.9 if drafts else 0.85), statuses
+    assert statuses["exact"] > 7500 * seeds and statuses["exact"] / sum(statuses.values()) > (0.9 if drafts else 0.85), statuses
     assert silent == [], silent[:10]
 
 

@@ -228,7 +228,7 @@ class TextureSampler:
     def _tiles(self, texture: Texture, type_name: str, owner: str, tile_numbers) -> dict:
         tiles = {}
         for number in tile_numbers:
-            file = re.sub(r"<udim>", str(number), texture.file, flags=re.IGNORECASE)
+            file = texture.file.replace("<UDIM>", str(number))
             try:
                 tiles[number] = self._prepared(dataclasses.replace(texture, file=file), type_name, owner)
             except TextureUnavailable:

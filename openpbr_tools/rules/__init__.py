@@ -35,11 +35,13 @@ FAMILIES = (
     "usd_preview",
     "usd_texcoords",
     "gltf",
+    "gltf_meshes",
     "translation",
 )
 
 #: Families that check one input format only (their modules, and what they import, load only for it).
-FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "gltf": "gltf", "translation": None}
+FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "gltf": "gltf", "gltf_meshes": "gltf",
+                "translation": None}
 
 
 @dataclass(frozen=True, slots=True)

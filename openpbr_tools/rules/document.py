@@ -57,9 +57,13 @@ OLD_DOCUMENT = Rule(
     "(the first with open_pbr_surface).",
     "MaterialX upgrades older documents when it reads them (MaterialX's Document::upgradeVersion), "
     "which renames nodes and inputs; other readers do not, and a document without a version is "
-    "upgraded from 1.0. A document that holds open_pbr_surface cannot be older than 1.39. Re-save it as 1.39.",
+    "upgraded from 1.0. A document that holds open_pbr_surface cannot be older than 1.39. Re-save it as 1.39. "
+    "Where the upgrade changes nothing but the version, it is OPBR012 (info).",
     passing='<open_pbr_surface name="S" type="surfaceshader" />',
-    failing='<?xml version="1.0"?>\n<materialx version="1.38">\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
+    failing='<?xml version="1.0"?>\n<materialx version="1.38">\n  <swizzle name="sw" type="float">\n'
+            '    <input name="in" type="color3" value="1, 0, 0" />\n    <input name="channels" type="string" value="r" />\n'
+            '  </swizzle>\n  <open_pbr_surface name="S" type="surfaceshader">\n'
+            '    <input name="base_weight" type="float" nodename="sw" />\n  </open_pbr_surface>\n</materialx>\n',
 )
 UNSUPPORTED = Rule(
     "OPBR006", "unsupported-file", Severity.ERROR,
@@ -126,8 +130,20 @@ INTERNAL_ERROR = Rule(
     formats=(),
 )
 
+STALE_VERSION = Rule(
+    "OPBR012", "stale-document-version", Severity.INFO,
+    "The document holds open_pbr_surface with a version older than 1.39, but MaterialX's upgrade of it "
+    "changes nothing else.",
+    "As OPBR005, except that upgrading the document (Document::upgradeVersion, which MaterialX runs when it "
+    "reads it) leaves every element and attribute as written: the document means the same to MaterialX and "
+    "to readers that do not upgrade, and only its version header is out of date (as early 1.39 development "
+    "documents were, MaterialX's own open_pbr_carpaint among them). Re-save it as 1.39.",
+    passing='<open_pbr_surface name="S" type="surfaceshader" />',
+    failing='<?xml version="1.0"?>\n<materialx version="1.38">\n  <open_pbr_surface name="S" type="surfaceshader" />\n</materialx>\n',
+)
+
 RULES = (UNREADABLE, NOT_MATERIALX, NO_MATERIAL, MATERIALX_INVALID, OLD_DOCUMENT, UNSUPPORTED, MALFORMED_XML,
-         INVALID_CONFIG, XINCLUDE, XINCLUDE_BROKEN, INTERNAL_ERROR)
+         INVALID_CONFIG, XINCLUDE, XINCLUDE_BROKEN, INTERNAL_ERROR, STALE_VERSION)
 
 #: Set (to anything) to make the OPBR011 safety net re-raise instead of reporting: the test suite and the
 #: fuzz runs set it, so a defect fails the test or the input that meets it (worker processes inherit it).
@@ -187,7 +203,12 @@ def check(asset, context):
             old = tuple(int(p) for p in version.split(".")[:2]) < (1, 39)
         except ValueError:
             old = True
-        if old:
+        if old and asset.extra.get("upgrade_changes_nothing"):
+            yield context.diagnostic(
+                STALE_VERSION, f"MaterialX document version {version} is older than 1.39, but upgrading it changes "
+                "nothing else", Location(asset.path, 1), hint="set version=\"1.39\" on <materialx>",
+            )
+        elif old:
             yield context.diagnostic(
                 OLD_DOCUMENT, f"MaterialX document version {version} is older than 1.39",
                 Location(asset.path, 1), hint="re-save the document with MaterialX 1.39",

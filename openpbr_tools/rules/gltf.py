@@ -18,11 +18,13 @@ its builders; split, each half would import the other's.
 from __future__ import annotations
 
 import difflib
+from functools import lru_cache
 
 from .. import tables
 from ..diagnostics import Severity
-from ..io.gltf import slots
+from ..io.gltf import drafts, slots
 from ..model import Location, Texture
+from ..resources import load_json
 from . import Rule, constant_or_default
 from .ranges import HARD_RANGE
 from .textures import EMBEDDED_REMEDY, UNSAFE_PATH, damage_diagnostic
@@ -249,9 +251,38 @@ MIME_MISMATCH = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
+_SPEC_GLOSS = ('"extensionsUsed": ["KHR_materials_pbrSpecularGlossiness"]',
+               '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0], '
+               '"metallicFactor": 0.0}, "extensions": {"KHR_materials_pbrSpecularGlossiness": '
+               '{"diffuseFactor": [0.8, 0.8, 0.8, 1.0], "glossinessFactor": 0.5}}}]')
+ARCHIVED_WITH_FALLBACK = Rule(
+    "OPBR1215", "gltf-archived-extension-with-fallback", Severity.INFO,
+    "A material uses the archived KHR_materials_pbrSpecularGlossiness and authors a metallic-roughness fallback.",
+    "As OPBR1204, but the file does what the extension asks of an exporter: pbrMetallicRoughness holds the "
+    "material for viewers that no longer read spec-gloss, and the extension is not required, so every "
+    "viewer shows an authored material. Conversions read the spec-gloss values, as a viewer that supports "
+    "them renders them.",
+    passing=_gltf(_SPEC_GLOSS[1].replace(', "extensions": {"KHR_materials_pbrSpecularGlossiness": '
+                                         '{"diffuseFactor": [0.8, 0.8, 0.8, 1.0], "glossinessFactor": 0.5}}', "")),
+    failing=_gltf(*_SPEC_GLOSS),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+MISSPELT_EXTENSION = Rule(
+    "OPBR1216", "gltf-extension-name-misspelt", Severity.WARNING,
+    "An extension name that no registry defines is one or two letters away from one that it does.",
+    "KHR_material_clearcoat (without the s) is an unknown extension to every viewer, which ignore it "
+    "silently: the clear coat never renders, though extensionsUsed and the material agree with each "
+    "other. The Khronos glTF-Validator reports only that it cannot validate the extension (an info). "
+    "Known names: the Khronos registry's (schemas/gltf_extensions.json) and the drafts the toolkit reads.",
+    passing=_gltf('"extensionsUsed": ["KHR_materials_clearcoat"]', _CLEARCOAT),
+    failing=_gltf('"extensionsUsed": ["KHR_material_clearcoat"]',
+                  _CLEARCOAT.replace("KHR_materials_clearcoat", "KHR_material_clearcoat")),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
 RULES = (UNDECLARED_EXTENSION, REQUIRED_UNSUPPORTED, EXCLUSIVE_EXTENSIONS, NOT_CONVERTED, MISSING_TEXCOORD,
          NOT_POWER_OF_TWO, UNSUPPORTED_IMAGE, STRENGTH_WITHOUT_EMISSIVE, BROKEN_RESOURCE, INVALID_PROPERTY, NO_EFFECT,
-         EXTENSION_NOT_CONVERTED, UNEXPECTED_PROPERTY, MIME_MISMATCH)
+         EXTENSION_NOT_CONVERTED, UNEXPECTED_PROPERTY, MIME_MISMATCH, ARCHIVED_WITH_FALLBACK, MISSPELT_EXTENSION)
 
 
 def check(asset, context):
@@ -268,7 +299,45 @@ def check(asset, context):
     yield from _images(asset, facts, context)
 
 
+@lru_cache(maxsize=1)
+def known_extension_names() -> frozenset[str]:
+    """Every extension name the Khronos registry defines (schemas/gltf_extensions.json), the archived
+    ones and the drafts the toolkit reads: anything else is unknown to viewers."""
+    return frozenset(load_json("gltf_extensions.json")["registry"]) | slots.UNDERSTOOD_EXTENSIONS \
+        | {slots.DIFFUSE_TRANSMISSION} | frozenset(drafts.ALL_DRAFTS)
+
+
+def _misspelt(asset, facts, context):
+    known = known_extension_names()
+    for index, name in enumerate(facts.get("extensions_used", ())):
+        if name in known:
+            continue
+        meant = min(known, key=lambda k: (_edits(name, k, 3), k))
+        if _edits(name, meant, 3) <= 2:
+            yield context.diagnostic(
+                MISSPELT_EXTENSION, f"{name} is no known extension: viewers ignore it (a misspelling of {meant}?)",
+                Location(asset.path, None, f"/extensionsUsed/{index}"),
+                hint=f"rename it {meant} here and where the file uses it")
+
+
+def _edits(a: str, b: str, limit: int) -> int:
+    """The Levenshtein distance of ``a`` and ``b`` (insertions, deletions, substitutions), or ``limit``
+    when it is at least that."""
+    if abs(len(a) - len(b)) >= limit:
+        return limit
+    previous = list(range(len(b) + 1))
+    for i, x in enumerate(a, 1):
+        current = [i]
+        for j, y in enumerate(b, 1):
+            current.append(min(previous[j] + 1, current[j - 1] + 1, previous[j - 1] + (x != y)))
+        if min(current) >= limit:
+            return limit
+        previous = current
+    return min(previous[-1], limit)
+
+
 def _declarations(asset, facts, context):
+    yield from _misspelt(asset, facts, context)
     used = set(facts.get("extensions_used", ()))
     reported = set()
     for pointer, name in facts.get("extension_uses", ()):
@@ -298,6 +367,11 @@ def _observations(asset, context):
             yield context.diagnostic(
                 UNEXPECTED_PROPERTY, f"{detail['object']} has no property {detail['property']!r}: glTF viewers ignore it",
                 observation.location, hint=f"did you mean {guess[0]!r}?" if guess else f"known: {', '.join(detail['expected'])}")
+        elif observation.kind == "gltf_archived" and detail.get("fallback"):
+            yield context.diagnostic(ARCHIVED_WITH_FALLBACK, f"material {detail['material']!r} uses {detail['extension']}, "
+                                     "which Khronos archived, with a metallic-roughness fallback for viewers that no "
+                                     "longer read it", observation.location,
+                                     hint="conversions read the spec-gloss values (approximate for a coloured specular colour)")
         elif observation.kind == "gltf_archived":
             yield context.diagnostic(NOT_CONVERTED, f"material {detail['material']!r} uses {detail['extension']}, which "
                                      "Khronos archived (superseded by KHR_materials_specular); viewers that no longer "

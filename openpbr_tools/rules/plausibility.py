@@ -72,9 +72,12 @@ EMISSION_OFF = Rule(
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="emission_color" type="color3" value="1, 0.5, 0.2" />\n</open_pbr_surface>',
 )
 INVISIBLE = Rule(
-    "OPBR908", "fully-transparent", Severity.INFO,
+    "OPBR908", "fully-transparent", Severity.WARNING,
     "geometry_opacity is 0: the surface is invisible.",
-    "Sometimes intended (a holdout), often an exporter mapping a transparency value onto opacity.",
+    "The whole material renders nothing: no base, no reflection, no shadow. Usually an exporter mapping "
+    "a transparency value onto opacity (glass wants transmission_weight 1), or a holdout or ghosting "
+    "override left in the asset; a holdout belongs to the render setup, not the material. Suppress it "
+    "where the invisibility is meant.",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_opacity" type="float" value="1" />\n</open_pbr_surface>',
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_opacity" type="float" value="0" />\n</open_pbr_surface>',
 )

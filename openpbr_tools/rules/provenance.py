@@ -79,6 +79,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR011": ("Without it, one file that trips a defect of the toolkit would stop a folder's whole report (or "
                 "pass unchecked): every other file is still checked, and the exit code says this one was not.",
                 "https://docs.python.org/3/tutorial/errors.html"),
+    "OPBR012": ("A version header older than the content misleads tools that branch on it; nothing renders "
+                "differently when MaterialX's upgrade leaves the document as written (info).", MX_VERSION),
     "OPBR101": ("MaterialX shader generation ignores an input that matches no nodedef input (Document.validate "
                 "flags it): the value silently renders as the default.", f"{MX_NODE}; {MX_OPENPBR}"),
     "OPBR102": ("An input of another OpenPBR version matches no input of the installed nodedef: renderers drop it "
@@ -101,6 +103,10 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "that poison denoisers and compositing.", f"{MX_SPEC}; {GLTF}"),
     "OPBR204": ("Uniform inputs must be constant; shading languages reject a varying connection (OSL) or ignore "
                 "it (GLSL), so geometry_thin_walled from a texture renders inconsistently.", f"{MX_OPENPBR}; {OPENPBR}"),
+    "OPBR205": ("MaterialX ignores a constant on an input with a defaultgeomprop (it connects Nworld anyway), "
+                "readers that honour it shade every point as facing one direction: the asset renders differently "
+                "between them (info: it renders right in MaterialX).",
+                f"{MX_OPENPBR}; {_MX}source/MaterialXGenShader/ShaderGraph.cpp"),
     # -- ranges --------------------------------------------------------------------------------
     "OPBR301": ("Outside the physically meaningful range renderers clamp differently (or not at all): energy "
                 "gain, negative lobes, black or glowing surfaces that differ between renderers.",
@@ -152,6 +158,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "conversion happens that does not.", f"{MX_UNITS}; {MX_OPENPBR}"),
     "OPBR605": ("OpenPBR's thin_film_thickness is in micrometres: a value in nanometres (500) is a 0.5 mm film, "
                 "whose interference washes out to no iridescence.", f"{OPENPBR}; {MX_OPENPBR}"),
+    "OPBR606": ("OpenPBR's thin_film_thickness is in micrometres: a value in metres (4.5e-07) is a film of a "
+                "fraction of an atom, whose interference phase is zero: no iridescence.", f"{OPENPBR}; {MX_OPENPBR}"),
     # -- textures ------------------------------------------------------------------------------
     "OPBR701": ("A missing image renders as the image node's default (usually black or magenta) or fails the "
                 "render on a farm.", f"{MX_NODES}; {USD_PREVIEW}"),
@@ -159,6 +167,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "channel rule: the wrong channel drives the input.", f"{MX_VALIDATE}; {MX_NODES}"),
     "OPBR703": ("A tangent-space normal map read without normalmap is used as a raw vector in [0, 1]: every "
                 "normal tilts towards +X+Y+Z.", f"{MX_NODES}; {MX_OPENPBR}"),
+    "OPBR710": ("A floating-point image read straight into a world-space normal input is right only if it holds "
+                "world-space normals; a tangent-space map read so shades every point wrongly.", f"{MX_NODES}; {MX_OPENPBR}"),
     "OPBR704": ("Absolute paths, '..' and URLs break when the asset is moved, packaged (USDZ, glTF) or rendered "
                 "on a farm; a symlink out of the folder breaks on copy.", f"{USD_COMPLIANCE}; {GLTF}"),
     "OPBR705": ("An image node without a file renders its default: the texture silently vanishes.",
@@ -207,8 +217,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "anti-aliasing value painted as a constant (info).", f"{OPENPBR}; {FILAMENT}"),
     "OPBR907": ("The emission set does not render (luminance 0, or a black colour): intent lost, or a leftover "
                 "that a later edit will make glow.", f"{OPENPBR}; {khr('KHR_materials_emissive_strength')}"),
-    "OPBR908": ("A fully transparent surface renders nothing, not even reflections (info: intentional for "
-                "cut-outs).", OPENPBR),
+    "OPBR908": ("A fully transparent surface renders nothing, not even reflections (OpenPBR's geometry_opacity "
+                "mixes the whole surface with nothing); cut-outs are textured opacity, which this does not flag.",
+                OPENPBR),
     # -- usd -----------------------------------------------------------------------------------
     "OPBR1001": ("Without info:id (or a source asset/code) Sdr cannot find the shader's definition: Hydra "
                  "renders the material with its fallback.", f"{USD_SHADER}; {_USD}pxr/usd/sdr/shaderNode.h"),
@@ -237,7 +248,7 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "usd-core refuse or mis-read others, and '..' names can write outside on extraction.",
                  f"{USDZ}; {USDZ_FORMAT}"),
     "OPBR1013": ("usd-core without the usdMtlx plugin cannot open a referenced .mtlx: those materials are "
-                 "absent in builds without it (the toolkit validates the .mtlx itself).", USD_MTLX),
+                 "absent in builds without it (the toolkit validates the .mtlx with the stage).", USD_MTLX),
     "OPBR1014": ("hdMtlx passes a Gf colour-space name to MaterialX unchanged; MaterialX 1.39.4+ maps it to its "
                  "own, older versions do not (no conversion there).", f"{HD_MTLX}; {MX_CMS}; {GF_COLOR}"),
     # -- translation ---------------------------------------------------------------------------
@@ -295,6 +306,20 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1214": ("A loader that picks the image decoder by the declared MIME type fails on bytes of another "
                  "format: the material shows without its texture (the glTF-Validator's IMAGE_MIME_TYPE_INVALID).",
                  f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
+    "OPBR1215": ("Nothing renders wrong: viewers without spec-gloss show the authored metallic-roughness fallback "
+                 "(info, so a carefully exported legacy asset is not reported as at risk).",
+                 f"{_GLTF}extensions/2.0/Archived/KHR_materials_pbrSpecularGlossiness/README.md"),
+    "OPBR1216": ("Viewers ignore an extension they do not know: a misspelt name silently drops the effect it was "
+                 "meant to add (the glTF-Validator only notes it cannot validate the extension).",
+                 f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
+    "OPBR1217": ("Texture coordinates in a format glTF does not allow are rejected or misread by loaders: unsigned "
+                 "bytes without normalized read as 0-255, so every texture samples far outside [0, 1] (the "
+                 "glTF-Validator's MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT).",
+                 f"{GLTF}; {_GLTF}extensions/2.0/Khronos/KHR_mesh_quantization/README.md"),
+    "OPBR1218": ("Without a tangent space a clear-coat normal map or an anisotropy direction has no orientation: "
+                 "viewers generate different tangents or none (the glTF-Validator's MESH_PRIMITIVE_NO_TANGENT_SPACE).",
+                 f"{_GLTF}extensions/2.0/Khronos/KHR_materials_clearcoat/README.md; "
+                 f"{_GLTF}extensions/2.0/Khronos/KHR_materials_anisotropy/README.md"),
     "OPBR1212": ("Nothing renders wrong (info: Khronos' own samples use these); checks and conversions see the "
                  "material without the extension, and a conversion reports what it keeps or loses.",
                  f"{khr('KHR_materials_diffuse_transmission')}; {GLTF}"),

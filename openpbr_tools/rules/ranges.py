@@ -21,6 +21,8 @@ their node definitions' UI ranges assume one scene scale, and 2 (cm) is as norma
 
 from __future__ import annotations
 
+import difflib
+
 from ..diagnostics import Severity
 from ..model import Connection, Location, Texture
 from ..optics import F82_COSINE
@@ -100,6 +102,13 @@ SPECULAR_GLOSSINESS_PARTS = {"diffuseColor": "RGB", "opacity": "A", "specularCol
 
 
 def check(asset, context):
+    for observation in asset.observations:
+        if observation.kind == "node_enum_value":  # an input of a node in a graph (MaterialX's nodedef enum)
+            detail = observation.detail
+            guess = difflib.get_close_matches(detail["value"], detail["allowed"], n=1, cutoff=0.5)
+            yield context.diagnostic(
+                ENUM_VALUE, f"{observation.location.input} = {detail['value']!r} is not one of {list(detail['allowed'])}",
+                observation.location, hint=f"did you mean {guess[0]!r}?" if guess else None)
     yield from _specular_glossiness(asset, context)
     yield from _diffuse_transmission(asset, context)
     for material, table, entry in for_each_input(asset):

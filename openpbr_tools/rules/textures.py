@@ -16,6 +16,7 @@ from ..io import ReadError, packaged_image
 from ..io.image_files import damage
 from ..io.images import channel_count
 from ..io.paths import Kind, classify, climbs
+from ..io.usd.types import is_eight_bit
 from . import Rule, for_each_input
 
 MISSING_TEXTURE = Rule(
@@ -37,10 +38,12 @@ IMAGE_TYPE_MISMATCH = Rule(
     example_files=("metal.png",),
 )
 NORMAL_WITHOUT_DECODE = Rule(
-    "OPBR703", "normal-map-without-normalmap", Severity.WARNING,
-    "A normal input reads an image directly, without a normalmap node.",
+    "OPBR703", "normal-map-without-normalmap", Severity.ERROR,
+    "A normal input reads a PNG, JPEG or other [0, 1] image directly, without a normalmap node.",
     "geometry_normal expects a world-space unit vector; a tangent-space normal map stores (n+1)/2 in "
-    "tangent space and must be decoded by a normalmap node first.",
+    "tangent space and must be decoded by a normalmap node first. A PNG, JPEG, TGA, BMP or GIF image "
+    "holds values in [0, 1] only, so read directly it can be no unit normal in any space: every normal tilts "
+    "towards +X+Y+Z. Another format (EXR, HDR, TIFF), which may hold world-space normals, is OPBR710.",
     passing='<image name="nrm" type="vector3">\n  <input name="file" type="filename" value="normal.png" colorspace="none" />\n</image>\n<normalmap name="decode" type="vector3">\n  <input name="in" type="vector3" nodename="nrm" />\n</normalmap>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_normal" type="vector3" nodename="decode" />\n</open_pbr_surface>',
     failing='<image name="nrm" type="vector3">\n  <input name="file" type="filename" value="normal.png" colorspace="none" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_normal" type="vector3" nodename="nrm" />\n</open_pbr_surface>',
     example_files=("normal.png",),
@@ -113,10 +116,24 @@ GREY_NORMAL_MAP = Rule(
         "0009e40088ba17e1d00000000049454e44ae426082")),),
 )
 
-RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, EMPTY_PATH, PLACE2D_WITHOUT_TEXCOORD,
-         UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, GREY_NORMAL_MAP)
+FLOAT_NORMAL_WITHOUT_DECODE = Rule(
+    "OPBR710", "float-normal-map-without-normalmap", Severity.WARNING,
+    "A normal input reads an image that may hold signed values (EXR, HDR, TIFF) directly, without a normalmap node.",
+    "Unlike a PNG or JPEG, a floating-point image can store world-space unit normals with negative components, "
+    "which geometry_normal takes as they are (a baked world-space normal map). A tangent-space normal map "
+    "must be decoded by a normalmap node first: check which the image holds.",
+    passing=NORMAL_WITHOUT_DECODE.passing.replace("normal.png", "normal.exr"),
+    failing=NORMAL_WITHOUT_DECODE.failing.replace("normal.png", "normal.exr"),
+    example_files=("normal.exr",),
+)
 
-_TILE_TOKENS = re.compile(r"<UDIM>|<UVTILE>", re.IGNORECASE)
+RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, EMPTY_PATH, PLACE2D_WITHOUT_TEXCOORD,
+         UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, GREY_NORMAL_MAP, FLOAT_NORMAL_WITHOUT_DECODE)
+
+# Case-sensitive, as MaterialX (UDIM_TOKEN, UV_TILE_TOKEN) and OpenUSD (UsdShadeUdimUtils) substitute them:
+# "<udim>" is read as part of a file name, so its tiles are never found.
+_TILE_TOKENS = re.compile(r"<UDIM>|<UVTILE>")
+_MISCASED_TOKEN = re.compile(r"<(udim|uvtile)>", re.IGNORECASE)
 # Not portable whatever they resolve to: a URL, or a path not relative to the asset (io.paths).
 _NOT_RELATIVE = (Kind.URL, Kind.ABSOLUTE, Kind.DRIVE, Kind.UNC)
 
@@ -138,7 +155,7 @@ def exists(path: str, context) -> bool:
 def tiles(path: str, context) -> list[str]:
     """The files a ``<UDIM>``/``<UVTILE>`` path names on disk, in name order."""
     folder, pattern = os.path.split(path)
-    regex = re.compile("^" + _TILE_TOKENS.sub(lambda m: r"\d{4}" if m.group(0).upper() == "<UDIM>" else r"u\d+_v\d+",
+    regex = re.compile("^" + _TILE_TOKENS.sub(lambda m: r"\d{4}" if m.group(0) == "<UDIM>" else r"u\d+_v\d+",
                                                re.escape(pattern).replace(r"\<", "<").replace(r"\>", ">")) + "$")
     try:
         return [os.path.join(folder, name) for name in sorted(context.list_dir(folder or ".")) if regex.match(name)]
@@ -180,8 +197,11 @@ def check(asset, context):
                 "input, so MaterialX reads one texel everywhere", where,
                 hint="connect a texcoord node (index 0) to the place2d's texcoord input")
         if parameter is not None and parameter.role == "normal" and texture.normal_map is None:
+            eight_bit = is_eight_bit(texture.file)
             yield context.diagnostic(
-                NORMAL_WITHOUT_DECODE, f"{entry.name} reads {texture.file!r} without a normalmap decode",
+                NORMAL_WITHOUT_DECODE if eight_bit else FLOAT_NORMAL_WITHOUT_DECODE,
+                f"{entry.name} reads {texture.file!r} without a normalmap decode"
+                + (": the image format holds no unit normal (every value is in [0, 1])" if eight_bit else ""),
                 entry.location, hint="insert a normalmap node between the image and the input",
             )
         if texture.normal_map is not None or (parameter is not None and parameter.role == "normal"):
@@ -228,7 +248,10 @@ def _check_path(asset, texture, where, context, checked_files):
     # looked for is where the system opens it: symbolic links resolved before ".." (the guard's real path).
     if resolved.path is None or not exists(resolved.real or resolve(asset.path, file), context):
         what = "no UDIM tile matches" if _TILE_TOKENS.search(file) else "texture not found"
-        yield context.diagnostic(MISSING_TEXTURE, f"{what}: {file!r}", where)
+        miscased = [m.group(0) for m in _MISCASED_TOKEN.finditer(file) if not _TILE_TOKENS.fullmatch(m.group(0))]
+        hint = (f"tile tokens are case-sensitive: {miscased[0]!r} is read as part of the file name; "
+                f"write {miscased[0].upper()!r}") if miscased else None
+        yield context.diagnostic(MISSING_TEXTURE, f"{what}: {file!r}", where, hint=hint)
     elif resolved.inside and not _gltf(texture):  # a glTF's images are judged by the glTF family, used or not
         readable, outside = _files(asset, file, context)
         for name, real in outside:

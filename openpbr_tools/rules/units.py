@@ -59,12 +59,26 @@ THICKNESS_IN_NM = Rule(
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_weight" type="float" value="1" />\n  <input name="thin_film_thickness" type="float" value="400" />\n</open_pbr_surface>',
 )
 
-RULES = (WRONG_UNITTYPE, UNKNOWN_UNIT, LENGTH_WITHOUT_UNIT, UNIT_IGNORED, THICKNESS_IN_NM)
+THICKNESS_IN_METRES = Rule(
+    "OPBR606", "thin-film-thickness-metres", Severity.WARNING,
+    "A thin-film thickness that looks like metres or millimetres in a micrometre input.",
+    "A film thinner than a nanometre (0.001 µm, a few atoms) makes no interference colour at all. A value "
+    "like 4.5e-07 was almost certainly written in metres (450 nm = 0.45 µm), one like 4.5e-04 in millimetres; "
+    "either way the iridescence the author asked for does not appear.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_weight" type="float" value="1" />\n  <input name="thin_film_thickness" type="float" value="0.45" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_weight" type="float" value="1" />\n  <input name="thin_film_thickness" type="float" value="4.5e-07" />\n</open_pbr_surface>',
+)
+
+RULES = (WRONG_UNITTYPE, UNKNOWN_UNIT, LENGTH_WITHOUT_UNIT, UNIT_IGNORED, THICKNESS_IN_NM, THICKNESS_IN_METRES)
 
 # Above this many micrometres a thin-film thickness is read as nanometres (interference colours
 # vanish above a few micrometres; no coating a look-dev artist models is 10 µm thick).
 NANOMETRE_SUSPICION_UM = 10.0
 NANOMETRE_SUSPICION_KEY = "thin_film_nanometre_suspicion_um"  # the configuration threshold overriding it
+# Below this many micrometres (1 nm, a few atoms) a positive thickness is read as metres or millimetres.
+METRE_SUSPICION_UM = 1e-3
+# Thicknesses that make interference colours (µm): the range a unit guess must land in to be offered.
+FILM_RANGE_UM = (0.01, 10.0)
 
 
 def check(asset, context):
@@ -104,3 +118,18 @@ def check(asset, context):
                 f"{entry.name} = {entry.constant:g} µm looks like nanometres ({entry.constant / 1000:g} µm)",
                 entry.location, hint=f"did you mean {entry.constant / 1000:g}?",
             )
+        elif parameter.unit == "micrometer" and isinstance(entry.constant, float) and 0 < entry.constant < METRE_SUSPICION_UM:
+            yield from _thickness_in_metres(entry, context)
+
+
+def _thickness_in_metres(entry, context):
+    """OPBR606 for a positive thickness below a nanometre, with the unit it was most likely written in."""
+    guesses = [(unit, entry.constant * factor) for unit, factor in (("metres", 1e6), ("millimetres", 1e3))
+               if FILM_RANGE_UM[0] <= entry.constant * factor <= FILM_RANGE_UM[1]]
+    meant = f" (as {guesses[0][0]}: {guesses[0][1]:g} µm)" if guesses else ""
+    yield context.diagnostic(
+        THICKNESS_IN_METRES,
+        f"{entry.name} = {entry.constant:g} µm is thinner than a nanometre and makes no interference colour: it looks "
+        f"like metres or millimetres{meant}", entry.location,
+        hint=f"did you mean {guesses[0][1]:g}?" if guesses else "write the thickness in micrometres (0.1 to 1 typical)",
+    )

@@ -169,13 +169,15 @@ MTLX_REFERENCE = Rule(
     "plug-in that OpenUSD builds with MaterialX, and the usd-core wheel on PyPI is built without it. "
     "Renderers built with it (usdview, Houdini, Omniverse) compose these materials; this validator cannot, "
     "so it deletes the arc in memory, validates the rest of the stage, and says so here. The MaterialX "
-    "document is validated as MaterialX when it is given to `openpbr validate` itself (a folder "
-    "includes it). Not a defect of the file: an info, so a published UsdMtlx asset is not reported as "
-    "malformed (OPBR002), as it was before.",
+    "document (inside the asset's folder) is validated with the stage: its findings are reported under its "
+    "own name, once (a folder that holds it reports them with the document). Not a defect of the file: an "
+    "info. A document that does not exist fails the stage as a missing USD layer does (OPBR002).",
     passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
     failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace(
         'defaultPrim = "M"\n', 'defaultPrim = "M"\n    subLayers = [@./look.mtlx@]\n'),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("look.mtlx",),
+    failing_files=(("look.mtlx", b'<?xml version="1.0"?>\n<materialx version="1.39">\n  <open_pbr_surface '
+                                 b'name="S" type="surfaceshader" />\n</materialx>\n'),),
 )
 
 
@@ -202,8 +204,12 @@ def check(asset, context):
 # -- structure, ids, connections (colour-space names: usd_colorspaces.py) --------------------------
 
 def _observations(asset, context):
+    # materials whose MaterialX arc was set aside (OPBR1013): their shader is in the document
+    composed_elsewhere = {o.location.path for o in asset.observations if o.kind == "usd_mtlx_reference"}
     for observation in asset.observations:
         detail, where = observation.detail, observation.location
+        if observation.kind == "usd_material_without_surface" and detail["material"] in composed_elsewhere:
+            continue
         if observation.kind == "usd_material_without_surface":
             yield context.diagnostic(
                 NO_SHADER, f"material {detail['material']!r} has no surface shader: {detail['reason']}", where,
@@ -232,11 +238,11 @@ def _observations(asset, context):
                 if detail["arc"] != "value clip" else "value clips are never read by the validator",
             )
         elif observation.kind == "usd_mtlx_reference":
-            missing = "" if detail["exists"] else " (and the file does not exist)"
             yield context.diagnostic(
-                MTLX_REFERENCE, f"{detail['arc']} @{detail['asset']}@ is a MaterialX document{missing}: usd-core is "
+                MTLX_REFERENCE, f"{detail['arc']} @{detail['asset']}@ is a MaterialX document: usd-core is "
                 "built without the usdMtlx plugin, so its materials are not composed here", where,
-                hint="validate the .mtlx file itself: openpbr validate reads MaterialX",
+                hint="the document is validated with the stage: its findings are reported under its own name"
+                if detail.get("document") else "validate the .mtlx file itself: openpbr validate reads MaterialX",
             )
         elif observation.kind == "usd_package_entry":
             yield context.diagnostic(
@@ -347,6 +353,10 @@ def _usd_core(asset, context):
     reported_ids = {o.location.path for o in asset.observations
                     if o.kind == "usd_unknown_shader_id" and _judge_unknown_id(asset, o) is not None}
     texture_files = {t.file for m in asset.materials for _, t in m.textures()}
+    # prims whose MaterialX arc was deleted (OPBR1013): usd-core finds them empty, as it would not with usdMtlx
+    arcs = [o for o in asset.observations if o.kind == "usd_mtlx_reference"]
+    composed_elsewhere = {o.location.path for o in arcs if o.location.path}
+    sublayered = any(o.detail["arc"] == "sublayer" for o in arcs)  # its prims could be any: bindings cannot be judged
     for finding in findings:
         name, sites = finding["name"], finding["sites"]
         prims = {site.split(".", 1)[0] for site in sites}
@@ -356,6 +366,8 @@ def _usd_core(asset, context):
             continue
         if name == "MissingShaderIdInRegistry" and prims and prims <= reported_ids:
             continue
+        if name == "InvalidResourcePath" and (sublayered or any(f"<{prim}>" in finding["message"] for prim in composed_elsewhere)):
+            continue  # a binding to a material composed from a MaterialX document this usd-core cannot open
         if name in ("UnresolvableDependency", "InvalidFile") and any(
                 f"@{file}@" in finding["message"] or f"'{file}'" in finding["message"] for file in texture_files):
             continue  # OPBR701 reports missing textures

@@ -43,9 +43,12 @@ COLORSPACE_SCHEME = Rule(
     "or the reverse.",
     "Usd.ColorSpaceAPI and USD-native shaders take USD names (srgb_rec709_scene, lin_ap1_scene, raw); "
     "MaterialX shaders' inputs take MaterialX names (srgb_texture, acescg, none); UsdUVTexture's "
-    "sourceColorSpace takes raw, sRGB or auto. A name from the other scheme is stored and silently "
-    "treated as no conversion. The hint gives the equivalent name in the right scheme. A USD name that "
-    "MaterialX 1.39.4+ maps to its own on a MaterialX shader's input is OPBR1014 (info), not this.",
+    "sourceColorSpace takes raw, sRGB or auto. A name from the other scheme is stored and treated as no "
+    "conversion: MaterialX 1.39.5 prints 'Unsupported color space transform' and skips it, MaterialX's "
+    "main branch refuses to generate the shader (#2954). The hint gives the equivalent name in the right "
+    "scheme. A USD name that MaterialX 1.39.4+ maps to its own on a MaterialX shader's input is OPBR1014 "
+    "(info), not this; USD's raw on a float or vector image is no finding (MaterialX converts colour "
+    "outputs only, and no conversion is what raw asks for).",
     passing=_materialx_image_example("srgb_texture"),
     failing=openpbr_example(
         "color3f inputs:base_color.connect = </M/albedo.outputs:rgb>",
@@ -91,6 +94,8 @@ def colorspace_name(detail, where, context):
     elif scheme == "materialx":
         if name in materialx:
             return
+        if detail.get("colour_output") is False and colorspaces.is_data(name, "usd"):
+            return  # USD's "no conversion" on a float or vector image: MaterialX converts colour outputs only
         if name in usd:
             meant = colorspaces.materialx_equivalent(name) or ("none" if colorspaces.is_data(name, "usd") else None)
             if colorspaces.materialx_equivalent(name) and not colorspaces.is_data(name, "usd"):

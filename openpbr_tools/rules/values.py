@@ -45,7 +45,22 @@ UNIFORM_CONNECTED = Rule(
     failing='<image name="mask" type="boolean">\n  <input name="file" type="filename" value="mask.png" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_thin_walled" type="boolean" nodename="mask" />\n</open_pbr_surface>',
 )
 
-RULES = (TYPE_MISMATCH, UNPARSABLE, NON_FINITE, UNIFORM_CONNECTED)
+CONSTANT_NORMAL = Rule(
+    "OPBR205", "constant-normal", Severity.INFO,
+    "A world-space normal input (geometry_normal, coat_normal) is set to a constant vector.",
+    "These inputs default to the surface's own world-space normal (defaultgeomprop Nworld) and are meant to "
+    "be driven by a decoded normal map. MaterialX's shader generation ignores the constant: it connects the "
+    "geometric normal to every unconnected input that has a defaultgeomprop, value or not (ShaderGraph.cpp; "
+    "MaterialX's GLSL render of its own gltf_pbr_default example, which authors normal = (0, 0, 1), is the "
+    "same with the value, without it, and with (1, 0, 0)). A reader that honours the value instead shades "
+    "the whole object as one flat facet facing it, so the asset renders differently there. (0, 0, 1) is "
+    "usually a tangent-space 'flat' normal exported as a value. UsdPreviewSurface's normal, in tangent "
+    "space, is not concerned. Remove the value.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_roughness" type="float" value="0.3" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_normal" type="vector3" value="0, 0, 1" />\n</open_pbr_surface>',
+)
+
+RULES = (TYPE_MISMATCH, UNPARSABLE, NON_FINITE, UNIFORM_CONNECTED, CONSTANT_NORMAL)
 
 # USD and glTF readers report their own type names in Input.source_type; equal MaterialX types pass.
 
@@ -72,6 +87,14 @@ def check(asset, context):
                 f"{entry.name} is declared {shown}; {material.model} {material.version} defines it as {parameter.type}",
                 entry.location, hint=hint,
             )
+        if parameter.role == "normal" and parameter.default_geomprop and isinstance(entry.constant, tuple) \
+                and (not entry.type or entry.type == parameter.type):
+            yield context.diagnostic(
+                CONSTANT_NORMAL, f"{entry.name} = {_describe_vector(entry.constant)}: MaterialX ignores it and uses the "
+                f"geometric normal ({parameter.default_geomprop}); a reader that honours it shades every point as facing "
+                "one direction", entry.location,
+                hint="remove the value, or connect a normal map through a normalmap node",
+            )
         if parameter.uniform and isinstance(entry.value, (Texture, Connection)) and not getattr(entry.value, "dangling", False):
             yield context.diagnostic(
                 UNIFORM_CONNECTED, f"{entry.name} is uniform but is connected to {_describe(entry.value)}",
@@ -84,6 +107,10 @@ def _syntax_hint(type_name: str | None) -> str:
                 "integer": "1", "vector2": "1, 1", "color4": "1, 1, 1, 1"}
     example = examples.get(type_name or "")
     return f"a {type_name} is written like \"{example}\"" if example else "check the value syntax"
+
+
+def _describe_vector(value: tuple) -> str:
+    return "(" + ", ".join(f"{v:g}" for v in value) + ")"
 
 
 def _describe(value) -> str:

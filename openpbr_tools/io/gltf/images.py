@@ -33,7 +33,7 @@ class ImageResolver:
         at = at or (texture.location or Location(self.source_path or ""), None)
         file = texture.file
         if file.strip() and not texture.packaged and classify(file) not in (Kind.URL, Kind.NUL) and \
-                ("<UDIM>" in file.upper() or "<UVTILE>" in file.upper()):
+                ("<UDIM>" in file or "<UVTILE>" in file):
             self.notes.append(NOT_CARRIED.note(f"{owner}: UDIM texture {file!r} has no glTF equivalent, not written", *at))
             return None
         try:

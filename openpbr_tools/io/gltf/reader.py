@@ -170,14 +170,26 @@ class _Reader(TextureReading, ExtensionReading):
                 if not isinstance(primitive, dict):
                     continue
                 attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
-                sets = sorted(int(name[9:]) for name in attributes
-                              if name.startswith("TEXCOORD_") and name[9:].isascii() and name[9:].isdigit() and len(name) < 40)
+                named = {int(name[9:]): name for name in attributes
+                         if name.startswith("TEXCOORD_") and name[9:].isascii() and name[9:].isdigit() and len(name) < 40}
+                sets = sorted(named)
+                formats = {n: self.accessor_format(attributes[name]) for n, name in named.items()}
                 self.facts["primitives"].append({"pointer": f"/meshes/{mesh_index}/primitives/{index}",
-                                                 "material": primitive.get("material"), "texcoords": sets})
+                                                 "material": primitive.get("material"), "texcoords": sets,
+                                                 "tangents": "TANGENT" in attributes, "normals": "NORMAL" in attributes,
+                                                 "texcoord_formats": {n: f for n, f in formats.items() if f}})
                 material = primitive.get("material")
                 if material is not None and self.document.item("materials", material) is None:
                     self.asset.observe("dangling_reference", self.location(f"/meshes/{mesh_index}/primitives/{index}", "material"),
                                        attribute="material", target=material)
+
+    def accessor_format(self, index) -> tuple | None:
+        """``(type, componentType, normalized)`` of the accessor at ``index``, or ``None`` when there is
+        none (a dangling index is judged elsewhere)."""
+        accessor = self.document.item("accessors", index)
+        if accessor is None:
+            return None
+        return accessor.get("type"), accessor.get("componentType"), accessor.get("normalized") is True
 
     # -- materials ---------------------------------------------------------------------------
     def read_material(self, index: int, raw: dict) -> Material:
@@ -213,8 +225,10 @@ class _Reader(TextureReading, ExtensionReading):
                 continue  # read as emission of the base colour over a black base by the translation
             if recorded == slots.SPECULAR_GLOSSINESS and isinstance(kept[recorded], dict):
                 # read by the spec-gloss -> metal-rough solve (translate/spec_gloss.py); archived: reported
+                fallback = isinstance(raw.get(slots.PBR), dict) and bool(raw[slots.PBR]) and \
+                    recorded not in self.facts["extensions_required"]
                 self.asset.observe("gltf_archived", self.location(f"{pointer}/extensions/{recorded}"),
-                                   extension=recorded, material=name)
+                                   extension=recorded, material=name, fallback=fallback)
                 continue
             if recorded not in slots.NEUTRAL_EXTENSIONS:  # e.g. slots.VARIANTS lives elsewhere
                 self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{recorded}"),

@@ -178,3 +178,30 @@ def _load(files: tuple[str, ...]):
     for path in files:
         mx.loadLibrary(path, library)
     return library
+
+
+def enum_violations(node) -> list[tuple[str, str, tuple[str, ...]]]:
+    """``(input, value, allowed)`` for each input of ``node`` whose constant is outside the list its
+    node definition declares: a string input's ``enum`` (``uaddressmode``: constant, clamp, periodic,
+    mirror) or an integer input's ``enumvalues``. Other enums (a colour's presets) are suggestions, not
+    lists; connected and unset inputs have no constant to judge."""
+    nodedef = node.getNodeDef()
+    if nodedef is None:
+        return []
+    found = []
+    for port in node.getInputs():
+        value = port.getValueString()
+        if not value or port.hasInterfaceName() or port.getConnectedNode() is not None:
+            continue
+        declared = nodedef.getActiveInput(port.getName())
+        if declared is None or not declared.hasAttribute("enum"):
+            continue
+        if declared.getType() == "string" and not declared.hasAttribute("enumvalues"):
+            allowed = tuple(e.strip() for e in declared.getAttribute("enum").split(","))
+        elif declared.getType() == "integer" and declared.hasAttribute("enumvalues"):
+            allowed = tuple(e.strip() for e in declared.getAttribute("enumvalues").split(","))
+        else:
+            continue
+        if value.strip() not in allowed:
+            found.append((port.getName(), value, allowed))
+    return found

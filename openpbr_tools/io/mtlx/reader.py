@@ -36,7 +36,7 @@ from ..paths import PathGuard
 from . import library
 from .graph import GraphFollower, in_definition
 from .looks import record_looks
-from .xmlscan import XmlScan, XmlSyntaxError, message_sites, parse_suppression, scan
+from .xmlscan import XmlSyntaxError, message_sites, parse_suppression, scan, scan_with_materialx, upgrade_changes_nothing
 
 SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
 MATERIAL_CATEGORIES = ("surfacematerial",)
@@ -100,7 +100,7 @@ def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ..
             raise ReadError("not_materialx", str(error), Location(path, line=error.line)) from None
         # MaterialX's parser (pugixml) accepts some documents expat rejects; judge by MaterialX,
         # and report the malformation as a finding instead of refusing the file.
-        structure = _scan_with_materialx(text)
+        structure = scan_with_materialx(text)
         if structure is None:
             raise ReadError(
                 "not_materialx", f"not well-formed XML: {error} (line {error.line}, column {error.column})",
@@ -125,6 +125,7 @@ def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ..
 
     asset = Asset(path=path, format="mtlx", line_of=structure.lines, suppressions=dict(structure.suppressions))
     asset.format_version = structure.root_attributes.get("version")
+    asset.extra["upgrade_changes_nothing"] = lenient_error is None and upgrade_changes_nothing(data, document, asset.format_version)
     asset.colorspace = structure.root_attributes.get("colorspace") or None
     asset.colorspace_location = Location(path, line=1, path="", input=None)
     if lenient_error is not None:
@@ -182,21 +183,6 @@ def _include(document, path: str, xincludes, guard: PathGuard, seen: set[str], d
     return not_followed
 
 
-def _scan_with_materialx(text: str):
-    """A scan without line numbers from a document only MaterialX can parse, or ``None``."""
-    import MaterialX as mx  # lazy: as in standard_library
-
-    document = mx.createDocument()
-    options = mx.XmlReadOptions()
-    options.readXIncludeFunction = None
-    try:
-        mx.readFromXmlString(document, text, mx.FileSearchPath(), options)
-    except Exception:  # MaterialX raises its own exception types for parse failures
-        return None
-    attributes = {name: document.getAttribute(name) for name in document.getAttributeNames()}
-    return XmlScan(root_tag="materialx", root_attributes=attributes)
-
-
 class _Reader(GraphFollower):
     def __init__(self, asset: Asset, document, structure) -> None:
         self.asset = asset
@@ -237,9 +223,10 @@ class _Reader(GraphFollower):
                 self.asset.materials.append(material)
             elif category not in MATERIAL_CATEGORIES and not is_known_category(category):
                 if not self.document.getMatchingNodeDefs(category):
-                    self.asset.observe(
-                        "unknown_category", self.location(element), category=category, type=element.getType()
-                    )
+                    self.asset.observe("unknown_category", self.location(element), category=category, type=element.getType())
+            elif category not in MATERIAL_CATEGORIES:
+                for name, value, allowed in library.enum_violations(element):
+                    self.asset.observe("node_enum_value", self.location(element, name), value=value, allowed=allowed)
         for duplicate_path, entries in self.structure.duplicates.items():
             parent, _, child = duplicate_path.rpartition("/")
             for line, attributes in entries:
@@ -322,6 +309,9 @@ class _Reader(GraphFollower):
         for port in inner.getInputs():
             name = port.getInterfaceName()
             bound = (instance.getInput(name) or nodedef.getActiveInput(name)) if name else None
+            if bound is not None and instance.getInput(name) is None and bound.hasDefaultGeomPropString():
+                material.inputs.pop(port.getName(), None)  # MaterialX connects the geometric property, not the value
+                continue
             if bound is not None:  # the node's value, else the definition's default
                 entry = self.read_input(bound)
                 entry.name = port.getName()

@@ -157,3 +157,46 @@ def message_sites(document, message: str) -> dict[str, tuple[str, str | None]]:
         if at >= 0 and printed.get(line[at + 2:]) is not None:
             sites[line] = printed[line[at + 2:]]
     return sites
+
+
+def upgrade_changes_nothing(data: bytes, document, version: str | None) -> bool:
+    """Whether ``data``, a document of ``version`` older than 1.39, came through MaterialX's upgrade
+    (``Document::upgradeVersion``, run when it was read into ``document``) with nothing changed but the
+    version attribute: the same elements with the same attributes, in the same order. ``False`` for a
+    current (or unparsable) version and for documents with XIncludes (not compared)."""
+    try:
+        if tuple(int(p) for p in (version or "").split(".")[:2]) >= (1, 39):
+            return False
+    except ValueError:
+        return False
+    import xml.etree.ElementTree as ElementTree  # lazy: only old documents are compared
+
+    import MaterialX as mx  # lazy: as the reader's
+
+    def shape(element, root: bool = False):
+        attributes = {k: v for k, v in element.attrib.items() if not (root and k == "version")}
+        return element.tag, attributes, [shape(child) for child in element]
+
+    try:
+        before = ElementTree.fromstring(data)
+        after = ElementTree.fromstring(mx.writeToXmlString(document).encode("utf-8"))
+    except (ElementTree.ParseError, ValueError):
+        return False
+    if any(child.tag.endswith("}include") or child.tag == "xi:include" for child in before.iter()):
+        return False
+    return shape(before, root=True) == shape(after, root=True)
+
+
+def scan_with_materialx(text: str) -> XmlScan | None:
+    """A scan without line numbers from a document only MaterialX can parse, or ``None``."""
+    import MaterialX as mx  # lazy: MaterialX loads only when a document is read
+
+    document = mx.createDocument()
+    options = mx.XmlReadOptions()
+    options.readXIncludeFunction = None
+    try:
+        mx.readFromXmlString(document, text, mx.FileSearchPath(), options)
+    except Exception:  # MaterialX raises its own exception types for parse failures
+        return None
+    attributes = {name: document.getAttribute(name) for name in document.getAttributeNames()}
+    return XmlScan(root_tag="materialx", root_attributes=attributes)

@@ -251,14 +251,24 @@ class StageGuard:
 
     def mtlx_reference(self, layer, asset_path: str) -> None:
         """An arc to a MaterialX document (UsdMtlx) that this usd-core cannot open (PyPI's usd-core has
-        no usdMtlx plugin): noted (``usd_mtlx_reference``) and deleted in memory, so the rest of the
-        stage composes; the document is MaterialX and is validated as such on its own."""
+        no usdMtlx plugin): noted (``usd_mtlx_reference``, with the ``document``'s path on disk) and
+        deleted in memory, so the rest of the stage composes; the document is MaterialX, validated with
+        the stage (:func:`openpbr_tools.validate.validate_file`). A document that does not exist fails
+        the stage as a missing layer does."""
         file = self.layer_file(layer)
         target = os.path.normpath(os.path.join(os.path.dirname(file), asset_path))
         arcs = [(None, "sublayer")] if asset_path in layer.subLayerPaths else []
+        packaged = self.path.lower().endswith(".usdz")  # a document inside the package: not a file on disk
+        exists = asset_path.removeprefix("./") in self.package_files if packaged else os.path.isfile(target)
+        if not exists:
+            # as a missing .usda layer is (usd-core would fail to compose it with the usdMtlx plugin too)
+            where = ", ".join(f"{arc} of <{prim_path}>" if prim_path else arc for prim_path, arc in
+                              arcs + list(_arcs_to(layer, asset_path)))
+            raise ReadError("not_usd", f"a layer the stage needs cannot be opened: the MaterialX document "
+                            f"@{asset_path}@ ({where or 'composition arc'}) does not exist", self.where(file))
         for prim_path, arc in arcs + list(_arcs_to(layer, asset_path)):
             self.observe("usd_mtlx_reference", self.where(file, None, prim_path), arc=arc, asset=asset_path,
-                         exists=os.path.isfile(target))
+                         document=None if packaged else target)
         self.editable(layer).UpdateCompositionAssetDependency(asset_path, "")
 
     def drop_value_clips(self, layer) -> None:

@@ -55,22 +55,24 @@ class NetworkReader(TextureNodeReader):
             self.colorspace_of_prim[key] = name
         return name
 
-    def attribute_colorspace(self, attribute, scheme: str) -> str | None:
-        """The attribute's ``colorSpace`` metadata, observed for the naming-scheme check."""
+    def attribute_colorspace(self, attribute, scheme: str, colour_output: bool | None = None) -> str | None:
+        """The attribute's ``colorSpace`` metadata, observed for the naming-scheme check.
+        ``colour_output``: whether the node's output is a colour (MaterialX converts only those)."""
         if not attribute.HasColorSpace():
             return None
         name = str(attribute.GetColorSpace())
         self.observe_colorspace(self.location(attribute.GetPrim().GetPath(), input_name(attribute)), name, scheme,
-                                "colorSpace metadata")
+                                "colorSpace metadata", colour_output)
         return name
 
-    def observe_colorspace(self, where, name: str, scheme: str, owner: str) -> None:
+    def observe_colorspace(self, where, name: str, scheme: str, owner: str, colour_output: bool | None = None) -> None:
         """Record a colour-space name and the scheme its place wants, once per place (a texture
         node read by two inputs is one place)."""
         key = (where.path, where.input, name)
         if key not in self.observed_colorspaces:
             self.observed_colorspaces.add(key)
-            self.asset.observe("usd_colorspace", where, name=name, scheme=scheme, owner=owner)
+            self.asset.observe("usd_colorspace", where, name=name, scheme=scheme, owner=owner,
+                               colour_output=colour_output)
 
     # -- connections ------------------------------------------------------------------------
     def source(self, attribute):

@@ -252,6 +252,11 @@ class _Reader(NetworkReader):
         shader_id = str(shader.GetShaderId() or "")
         known = surface_shader_ids().get(shader_id)
         if known is None:
+            declared = self.declared_output_type(shader_prim, output_name)
+            if declared is not None and declared != "token":  # a surface output takes a shader's token output
+                self.asset.observe("usd_connection_type_mismatch", where, input=where.input, input_type="token",
+                                   source=f"{shader_prim.GetPath()}.outputs:{output_name}", source_type=declared)
+                return
             self.asset.observe("unsupported_shader", where, material=str(material_prim.GetPath()), category=shader_id)
             return
         model, id_version, flavour = known

@@ -87,7 +87,8 @@ class TextureNodeReader:
         file, packaged = self.file_of(file_attribute)
         colorspace = None
         if file_attribute:
-            colorspace = self.attribute_colorspace(file_attribute, "materialx") or self.inherited_colorspace(prim)
+            colorspace = self.attribute_colorspace(file_attribute, "materialx", nodedef.getType() in ("color3", "color4")) \
+                or self.inherited_colorspace(prim)
         texture = Texture(
             file=file, image_type=nodedef.getType(), channels=channels, colorspace=colorspace,
             normal_map=normal_scale, scale=scale, bias=bias, node=path,

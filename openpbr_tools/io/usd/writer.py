@@ -317,7 +317,7 @@ class _Writer(TextureNetworkWriter):
                 absolute = os.path.normpath(os.path.join(self.source_dir, file))
                 return os.path.relpath(absolute, self.target_dir).replace(os.sep, "/")
             return self.target.resolve(file).relative or file
-        if "<UDIM>" in file.upper():
+        if "<UDIM>" in file:
             self.note(NOT_CARRIED, f"{owner}: UDIM tiles of {file!r} are not packaged")
             return file
         resolved = self.guard.resolve(file)

@@ -119,6 +119,13 @@ def png(mode: str, size=(4, 4), value=128) -> bytes:
     return buffer.getvalue()
 
 
+def tiff_rgb() -> bytes:
+    from PIL import Image  # Pillow only when writing the corpus
+    buffer = io.BytesIO()
+    Image.new("RGB", (4, 4), (128, 128, 255)).save(buffer, "TIFF")
+    return buffer.getvalue()
+
+
 def jpeg_whole() -> bytes:
     """A 64 x 64 JPEG of noise (so its scan data is long)."""
     import random
@@ -154,6 +161,7 @@ TEXTURES = {
     "textures/mask.png": png("L", value=255),
     "textures/odd.png": png("RGB", size=(3, 5)),
     "textures/checker.png": checker(),
+    "textures/normal.tif": tiff_rgb(),
 }
 
 
@@ -179,8 +187,13 @@ case("OPBR003_gltf_no_materials.gltf", "OPBR003", "A glTF exported with material
 case("OPBR004_texcoord_to_nowhere.mtlx", "OPBR004", "An image's texcoord input is connected to a node the exporter did not write, which MaterialX's Document.validate() rejects.",
      opbr('<input name="base_color" type="color3" nodename="albedo" />',
           before='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n  <input name="texcoord" type="vector2" nodename="uvset1" />\n</image>'))
-case("OPBR005_materialx_138.mtlx", "OPBR005", "A document written by an older DCC plug-in with MaterialX version 1.38.",
+case("OPBR005_materialx_138.mtlx", "OPBR005", "A document written by an older DCC plug-in with MaterialX version 1.38, whose swizzle node MaterialX's upgrade rewrites.",
+     opbr('<input name="base_weight" type="float" nodename="sw" />', version="1.38",
+          before='<swizzle name="sw" type="float">\n  <input name="in" type="color3" value="1, 0, 0" />\n  <input name="channels" type="string" value="r" />\n</swizzle>'))
+case("OPBR012_stale_version_header.mtlx", "OPBR012", "(info) An OpenPBR document whose header still says 1.38, which MaterialX's upgrade leaves otherwise unchanged.",
      opbr('<input name="base_weight" type="float" value="1" />', version="1.38"))
+case("OPBR002_usd_missing_mtlx_reference.usda", "OPBR002", "A USD material referencing a MaterialX document that was not shipped with the stage.",
+     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', head='#usda 1.0\n(\n    defaultPrim = "M"\n    subLayers = [@./materials/missing_look.mtlx@]\n    metersPerUnit = 0.01\n    upAxis = "Y"\n)\n\n'))
 case("OPBR006_substance_preset.xml", "OPBR006", "A material preset saved as .xml, a kind of file no reader handles.",
      '<?xml version="1.0"?>\n<preset><param name="roughness" value="0.5"/></preset>\n')
 case("OPBR007_unescaped_lt_in_doc.mtlx", "OPBR007", "A doc string with an unescaped '<' that strict XML rejects but MaterialX's parser tolerates.",
@@ -252,6 +265,9 @@ case("OPBR204_thin_walled_from_texture.mtlx", "OPBR204", "The uniform geometry_t
           before='<image name="mask" type="boolean">\n  <input name="file" type="filename" value="textures/mask.png" />\n</image>'),
      also={"OPBR004": "MaterialX has no boolean image node, so Document.validate() rejects the same connection"})
 
+case("OPBR205_constant_geometry_normal.mtlx", "OPBR205", "(info) geometry_normal set to the constant (0, 0, 1), a tangent-space flat normal exported as a value (MaterialX ignores it; other readers may not).",
+     opbr('<input name="geometry_normal" type="vector3" value="0, 0, 1" />'))
+
 # ================================================================ ranges
 case("OPBR301_base_weight_negative.mtlx", "OPBR301", "base_weight is -0.2.",
      opbr('<input name="base_weight" type="float" value="-0.2" />'))
@@ -289,6 +305,9 @@ case("OPBR302_specular_ior_4_5.mtlx", "OPBR302", "specular_ior 4.5, valid but ab
      opbr('<input name="specular_ior" type="float" value="4.5" />'))
 case("OPBR302_specular_weight_above_one.mtlx", "OPBR302", "specular_weight 1.8, allowed (unbounded above) but outside the soft range.",
      opbr('<input name="specular_weight" type="float" value="1.8" />'))
+case("OPBR303_image_address_mode_repeat.mtlx", "OPBR303", "An image's uaddressmode 'repeat' (the OpenGL word): MaterialX's enum is constant, clamp, periodic, mirror.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />',
+          before='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n  <input name="uaddressmode" type="string" value="repeat" />\n</image>'))
 case("OPBR303_use_specular_workflow_two.mtlx", "OPBR303", "UsdPreviewSurface useSpecularWorkflow 2 (only 0 and 1 exist).",
      opbr('<input name="useSpecularWorkflow" type="integer" value="2" />', category="UsdPreviewSurface"))
 case("OPBR303_gltf_alpha_mode.gltf", "OPBR303", "alphaMode 'TRANSPARENT', not one of OPAQUE, MASK, BLEND.",
@@ -367,11 +386,16 @@ case("OPBR605_thin_film_400.mtlx", "OPBR605", "thin_film_thickness 400, nanometr
 case("OPBR605_usd_thin_film_550.usda", "OPBR605", "A USD OpenPBR shader with thin_film_thickness 550 (nanometres).",
      usda('float inputs:thin_film_weight = 1\nfloat inputs:thin_film_thickness = 550'))
 
+case("OPBR606_thin_film_in_metres.mtlx", "OPBR606", "thin_film_thickness 4.5e-07, metres written into the micrometre input.",
+     opbr('<input name="thin_film_weight" type="float" value="1" />\n<input name="thin_film_thickness" type="float" value="4.5e-07" />'))
+
 # ================================================================ textures
 case("OPBR701_missing_albedo.mtlx", "OPBR701", "The base colour texture was not copied with the document.",
      opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "textures/albedo_missing.png")))
 case("OPBR701_missing_udim.mtlx", "OPBR701", "A UDIM path whose tiles were never exported.",
      opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "textures/paint.<UDIM>.png")))
+case("OPBR701_udim_token_lowercase.mtlx", "OPBR701", "A UDIM path written with '<udim>' in lower case, which MaterialX does not substitute, so no tile is found.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "textures/albedo.&lt;udim&gt;.png")))
 case("OPBR701_usd_missing_texture.usda", "OPBR701", "A USD image node whose file does not exist.",
      usda('color3f inputs:base_color.connect = </M/albedo.outputs:out>', mximage("albedo", "textures/gone.png")))
 case("OPBR701_gltf_missing_image.gltf", "OPBR701", "A glTF image URI pointing to a file that was not shipped.",
@@ -410,6 +434,8 @@ case("OPBR702_float_image_into_color.mtlx", "OPBR702", "A float image fed into b
      also={"OPBR004": "Document.validate() rejects the same mismatched connection"})
 case("OPBR703_normal_without_normalmap.mtlx", "OPBR703", "The normal map image is connected directly to geometry_normal without a normalmap node.",
      opbr('<input name="geometry_normal" type="vector3" nodename="nrm" />', before=image("nrm", "textures/normal.png", "vector3", "none")))
+case("OPBR710_tiff_normal_without_normalmap.mtlx", "OPBR710", "A TIFF normal map connected directly to geometry_normal: it may hold world-space normals, or be a tangent-space map missing its normalmap node.",
+     opbr('<input name="geometry_normal" type="vector3" nodename="nrm" />', before=image("nrm", "textures/normal.tif", "vector3", "none")))
 case("OPBR704_absolute_texture_path.mtlx", "OPBR704", "An absolute path from the artist's machine.",
      opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", os.path.join(HERE, "textures", "albedo.png").replace(os.sep, "/").replace(HERE.replace(os.sep, "/"), "/home/artist/project/tex"))),
      also={"OPBR701": "an absolute path from another machine does not exist here either"})
@@ -474,7 +500,7 @@ case("OPBR906_half_metal.mtlx", "OPBR906", "(info) A constant base_metalness of 
      opbr('<input name="base_metalness" type="float" value="0.5" />'))
 case("OPBR907_emission_no_luminance.mtlx", "OPBR907", "(info) emission_color set with emission_luminance 0.",
      opbr('<input name="emission_color" type="color3" value="1, 0.5, 0.2" />'))
-case("OPBR908_invisible.mtlx", "OPBR908", "(info) geometry_opacity 0: the surface is invisible.",
+case("OPBR908_invisible.mtlx", "OPBR908", "geometry_opacity 0 left on a material: the surface is invisible.",
      opbr('<input name="geometry_opacity" type="float" value="0" />'))
 
 # ================================================================ usd
@@ -490,8 +516,11 @@ case("OPBR1003_surfaceshdr_typo.usda", "OPBR1003", "info:id ND_open_pbr_surface_
      usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', shader_id="ND_open_pbr_surface_surfaceshdr"))
 case("OPBR1003_usd_preview_surface_typo.usda", "OPBR1003", "info:id 'UsdPreviewSurfce' under outputs:surface.",
      usda('color3f inputs:diffuseColor = (0.5, 0.4, 0.3)', shader_id="UsdPreviewSurfce", output="surface"))
-case("OPBR1004_usd_raw_in_materialx_image.usda", "OPBR1004", "An ND_image_float node tagged with the USD data name 'raw' (MaterialX says 'none').",
-     usda('float inputs:specular_roughness.connect = </M/rough.outputs:out>', mximage("rough", "textures/rough.png", type_="float", cs="raw")))
+case("OPBR1004_usd_raw_in_materialx_image.usda", "OPBR1004", "An ND_image_color3 node tagged with the USD data name 'raw' (MaterialX says 'none', and its main branch refuses to generate a shader for an unknown name on a colour image).",
+     usda('color3f inputs:emission_color.connect = </M/glow.outputs:out>', mximage("glow", "textures/albedo.png", type_="color3", cs="raw")))
+case("OPBR1005_surface_output_to_image.usda", "OPBR1005", "The Material's MaterialX surface output connected to an image node's colour output instead of the shader.",
+     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', extra_prims=mximage("albedo", "textures/albedo.png", cs="srgb_texture")).replace(
+         "token outputs:mtlx:surface.connect = </M/S.outputs:surface>", "token outputs:mtlx:surface.connect = </M/albedo.outputs:out>"))
 case("OPBR1005_float_into_color.usda", "OPBR1005", "A float material interface input connected into color3f base_color.",
      usda('color3f inputs:base_color.connect = </M.inputs:albedo>', material_body='float inputs:albedo = 0.5'))
 case("OPBR1010_no_up_axis.usda", "OPBR1010", "A USD layer without upAxis metadata (usd-core's stage validators complain).",
@@ -578,6 +607,25 @@ case("OPBR1210_texture_transform_scale_scalar.gltf", "OPBR1210", "KHR_texture_tr
      json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"scale": 2.0}}}}}, extensionsUsed=["KHR_texture_transform"]), indent=2))
 case("OPBR1210_extension_not_object.gltf", "OPBR1210", "KHR_materials_clearcoat given as an array instead of an object.",
      json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_clearcoat": [1.0]}}], ["KHR_materials_clearcoat"]), indent=2))
+
+case("OPBR1215_spec_gloss_with_fallback.gltf", "OPBR1215", "(info) A legacy spec-gloss material that also authors its metallic-roughness fallback.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1.0], "metallicFactor": 0.0},
+                       "extensions": {"KHR_materials_pbrSpecularGlossiness": {"diffuseFactor": [0.8, 0.8, 0.8, 1.0], "glossinessFactor": 0.5}}}],
+                     ["KHR_materials_pbrSpecularGlossiness"]), indent=2))
+case("OPBR1216_extension_name_typo.gltf", "OPBR1216", "KHR_material_clearcoat (no s), consistently in extensionsUsed and on the material, so no viewer applies the coat.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_material_clearcoat": {"clearcoatFactor": 1.0}}}], ["KHR_material_clearcoat"]), indent=2),
+     also={"OPBR1212": "(info) the unknown extension is kept as data and not converted"})
+_MESH_ACCESSORS = [{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]},
+                   {"componentType": 5126, "count": 3, "type": "VEC2"}, {"componentType": 5126, "count": 3, "type": "VEC3"}]
+case("OPBR1217_texcoord_ubyte_not_normalized.gltf", "OPBR1217", "TEXCOORD_0 quantised to unsigned bytes without normalized: true (and without KHR_mesh_quantization).",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+                     images=[{"uri": "textures/albedo.png"}], textures=[{"source": 0}],
+                     accessors=[_MESH_ACCESSORS[0], {"componentType": 5121, "count": 3, "type": "VEC2"}],
+                     meshes=[{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}]), indent=2))
+case("OPBR1218_clearcoat_normal_without_tangents.gltf", "OPBR1218", "A clear-coat normal map on a primitive with no TANGENT attribute and no base normalTexture.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 0}}}}],
+                     ["KHR_materials_clearcoat"], images=[{"uri": "textures/normal.png"}], textures=[{"source": 0}], accessors=_MESH_ACCESSORS,
+                     meshes=[{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 2, "TEXCOORD_0": 1}, "material": 0}]}]), indent=2))
 
 EXTRA_FILES = {
     "OPBR1013_look.mtlx": opbr('<input name="base_weight" type="float" value="1" />'),

@@ -1,0 +1,310 @@
+"""The second round of the session-15 red-team set (files written without reading this code), each finding
+proven against the anchor that decides it: MaterialX's GLSL generator and renderer (enums, colour spaces,
+defaultgeomprop), OpenUSD's and MaterialX's UDIM token, the OpenPBR 1.1.1 specification, the glTF extension
+texts and the Khronos glTF-Validator."""
+
+from __future__ import annotations
+
+import json
+import shutil
+import textwrap
+from pathlib import Path
+
+import pytest
+from click.testing import CliRunner
+
+from cli.group import cli
+from openpbr_tools.validate import Options, validate_paths
+
+BROKEN = Path(__file__).parent / "data" / "broken"
+PUBLISHED = Path(__file__).parent / "data" / "published"
+
+
+def _codes(path, severities=("error", "warning")) -> dict[str, int]:
+    report = validate_paths([str(path)], options=Options(use_config=False))
+    found: dict[str, int] = {}
+    for d in report.diagnostics:
+        if str(d.severity) in severities:
+            found[d.code] = found.get(d.code, 0) + 1
+    return found
+
+
+def _mtlx(tmp_path, body: str, name: str = "m.mtlx", version: str = "1.39") -> Path:
+    path = tmp_path / name
+    path.write_text(f'<?xml version="1.0"?>\n<materialx version="{version}" colorspace="lin_rec709">\n'
+                    + textwrap.indent(textwrap.dedent(body).strip("\n"), "  ") + "\n</materialx>\n", encoding="utf-8")
+    return path
+
+
+def _generates(path) -> str | None:
+    """MaterialX's GLSL generator on the document's first renderable element: ``None`` or its error."""
+    import MaterialX as mx
+    import MaterialX.PyMaterialXGenGlsl as glsl
+    import MaterialX.PyMaterialXGenShader as gen
+
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    document.importLibrary(library)
+    generator = glsl.GlslShaderGenerator.create()
+    context = gen.GenContext(generator)
+    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
+    try:
+        generator.generate("s", gen.findRenderableElements(document)[0], context)
+    except Exception as error:  # noqa: BLE001 - MaterialX's own exception types
+        return str(error)
+    return None
+
+
+# -- graph nodes' enums: MaterialX's generator is the anchor ------------------------------------------
+
+_IMAGE = """
+<image name="albedo" type="color3">
+  <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />
+  <input name="{input}" type="string" value="{value}" />
+</image>
+<open_pbr_surface name="S" type="surfaceshader">
+  <input name="base_color" type="color3" nodename="albedo" />
+</open_pbr_surface>
+<surfacematerial name="M" type="material">
+  <input name="surfaceshader" type="surfaceshader" nodename="S" />
+</surfacematerial>
+"""
+
+
+@pytest.mark.parametrize("input_name, value, allowed", [
+    ("uaddressmode", "repeat", False), ("vaddressmode", "wrap", False), ("filtertype", "bilinear", False),
+    ("uaddressmode", "periodic", True), ("vaddressmode", "mirror", True), ("filtertype", "cubic", True),
+])
+def test_an_enum_outside_the_nodedefs_list_is_flagged_exactly_when_materialx_cannot_generate_it(
+        tmp_path, input_name, value, allowed):
+    path = _mtlx(tmp_path, _IMAGE.format(input=input_name, value=value))
+    shutil.copy(BROKEN / "textures" / "albedo.png", tmp_path / "albedo.png")
+    failure = _generates(path)
+    assert (failure is None) == allowed, failure
+    assert ("OPBR303" in _codes(path)) == (not allowed)
+
+
+# -- colour spaces and UDIM tokens --------------------------------------------------------------------
+
+def test_usd_raw_on_a_float_image_is_no_finding_and_on_a_colour_image_an_error(tmp_path):
+    """MaterialX converts colour outputs only (ShaderGraph::populateColorTransformMap returns for other
+    types), so USD's 'raw' on ND_image_float asks for what happens; on a colour image MaterialX 1.39.5
+    skips the unknown transform with a warning and its main branch refuses to generate (#2954)."""
+    stage = (BROKEN / "OPBR1004_usd_raw_in_materialx_image.usda").read_text(encoding="utf-8")
+    (tmp_path / "textures").mkdir()
+    shutil.copy(BROKEN / "textures" / "albedo.png", tmp_path / "textures" / "albedo.png")
+    colour = tmp_path / "colour.usda"
+    colour.write_text(stage, encoding="utf-8")
+    assert "OPBR1004" in _codes(colour)
+    scalar = tmp_path / "scalar.usda"
+    scalar.write_text(stage.replace("color3f inputs:emission_color.connect", "float inputs:specular_roughness.connect")
+                      .replace("ND_image_color3", "ND_image_float").replace("color3f outputs:out", "float outputs:out"),
+                      encoding="utf-8")
+    assert _codes(scalar) == {}
+
+
+def test_a_lower_case_udim_token_names_a_file_that_does_not_exist_with_a_hint(tmp_path):
+    """MaterialX (UDIM_TOKEN = "<UDIM>") and OpenUSD (UsdShadeUdimUtils) substitute the token
+    case-sensitively: '<udim>' is part of a file name, so the tiles on disk are never found."""
+    for tile in ("1001", "1002"):
+        shutil.copy(BROKEN / "textures" / "albedo.png", tmp_path / f"albedo.{tile}.png")
+    upper = _mtlx(tmp_path, _IMAGE.replace('value="albedo.png"', 'value="albedo.&lt;UDIM&gt;.png"').format(
+        input="filtertype", value="linear"), "upper.mtlx")
+    lower = _mtlx(tmp_path, _IMAGE.replace('value="albedo.png"', 'value="albedo.&lt;udim&gt;.png"').format(
+        input="filtertype", value="linear"), "lower.mtlx")
+    assert "OPBR701" not in _codes(upper)
+    report = validate_paths([str(lower)], options=Options(use_config=False))
+    [missing] = [d for d in report.diagnostics if d.code == "OPBR701"]
+    assert "case-sensitive" in missing.hint and "<UDIM>" in missing.hint
+
+
+# -- defaultgeomprop inputs: MaterialX's renderer is the anchor ----------------------------------------
+
+@pytest.mark.gl
+def test_materialx_renders_a_constant_world_normal_as_if_it_were_not_there(tmp_path):
+    """Why OPBR205 is an info: ShaderGraph connects the geometric normal to every unconnected input with
+    a defaultgeomprop, value or not. MaterialX's own gltf_pbr_default example (normal = (0, 0, 1)) renders
+    the same with the value, without it, and with (1, 0, 0)."""
+    from glsupport import materialx_renderer
+
+    from openpbr_tools.evaluate.preview import Rig
+
+    renderer = materialx_renderer(Rig())
+    source = (PUBLISHED / "materialx/resources/Materials/Examples/GltfPbr/gltf_pbr_default.mtlx").read_text()
+    variants = {"as published": source,
+                "without": "\n".join(line for line in source.splitlines() if '_normal"' not in line
+                                     and 'name="normal"' not in line),
+                "(1, 0, 0)": source.replace('name="normal" type="vector3" value="0, 0, 1"',
+                                            'name="normal" type="vector3" value="1, 0, 0"')}
+    images = {}
+    for label, text in variants.items():
+        path = tmp_path / f"{len(images)}.mtlx"
+        path.write_text(text, encoding="utf-8")
+        images[label] = renderer.render_document(path)
+    reference = images.pop("as published")
+    assert reference.std() > 0.05  # shaded (a constant normal honoured would light the sphere as one flat facet)
+    for label, image in images.items():
+        assert abs(image - reference).max() < 1e-4, label
+    found = validate_paths([str(PUBLISHED / "materialx/resources/Materials/Examples/GltfPbr/gltf_pbr_default.mtlx")],
+                           options=Options(use_config=False)).diagnostics
+    assert {(d.code, str(d.severity)) for d in found if d.code == "OPBR205"} == {("OPBR205", "info")}
+
+
+def test_a_custom_nodes_interface_default_with_a_defaultgeomprop_is_not_read_as_a_constant():
+    """MaterialX's definition_using_definitions: the nodedef input surface_normal has value (1, 1, 1) and
+    defaultgeomprop Nworld; an instance that leaves it unset gets the geometric normal, not (1, 1, 1)."""
+    path = PUBLISHED / "materialx/resources/Materials/TestSuite/stdlib/definition/definition_using_definitions.mtlx"
+    assert "OPBR205" not in _codes(path, ("error", "warning", "info"))
+
+
+# -- OpenPBR 1.1.1 --------------------------------------------------------------------------------------
+
+def test_an_hdr_emission_colour_is_legal_in_openpbr_1_1_1_only(tmp_path):
+    """v1.1.1's table gives emission_color [0, inf)^3 with no typical range (CHANGELOG #260); v1.1 [0, 1]^3."""
+    body = """
+    <open_pbr_surface name="S" type="surfaceshader" version="{version}">
+      <input name="emission_luminance" type="float" value="500" />
+      <input name="emission_color" type="color3" value="2, 0.6, 0.1" />
+    </open_pbr_surface>
+    """
+    assert _codes(_mtlx(tmp_path, body.format(version="1.1.1"), "new.mtlx")) == {}
+    assert "OPBR301" in _codes(_mtlx(tmp_path, body.format(version="1.1"), "old.mtlx"))
+
+
+@pytest.mark.parametrize("thickness, meant", [("4.5e-07", "0.45"), ("0.00045", "0.45"), ("3e-09", None)])
+def test_a_film_thinner_than_a_nanometre_is_read_as_metres_or_millimetres(tmp_path, thickness, meant):
+    path = _mtlx(tmp_path, f"""
+    <open_pbr_surface name="S" type="surfaceshader">
+      <input name="thin_film_weight" type="float" value="1" />
+      <input name="thin_film_thickness" type="float" value="{thickness}" />
+    </open_pbr_surface>
+    """)
+    [finding] = [d for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics
+                 if d.code == "OPBR606"]
+    assert (f"did you mean {meant}?" == finding.hint) if meant else "micrometres" in finding.hint
+    assert "OPBR606" not in _codes(_mtlx(tmp_path, """
+    <open_pbr_surface name="S" type="surfaceshader">
+      <input name="thin_film_weight" type="float" value="1" />
+      <input name="thin_film_thickness" type="float" value="0.005" />
+    </open_pbr_surface>
+    """, "five_nm.mtlx"))
+
+
+def test_a_stale_version_header_is_an_info_and_a_document_the_upgrade_rewrites_a_warning(tmp_path):
+    """MaterialX reads OPBR012's file back unchanged but for version; OPBR005's swizzle becomes a constant."""
+    assert _codes(BROKEN / "OPBR012_stale_version_header.mtlx", ("error", "warning", "info")).get("OPBR012") == 1
+    assert "OPBR005" not in _codes(BROKEN / "OPBR012_stale_version_header.mtlx")
+    assert _codes(BROKEN / "OPBR005_materialx_138.mtlx").get("OPBR005") == 1
+
+
+# -- USD stages that compose MaterialX documents ----------------------------------------------------------
+
+_STAGE = """#usda 1.0
+(
+    defaultPrim = "Asset"
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+
+def Xform "Asset"
+{
+    def Mesh "geo" (
+        prepend apiSchemas = ["MaterialBindingAPI"]
+    )
+    {
+        int[] faceVertexCounts = [3]
+        int[] faceVertexIndices = [0, 1, 2]
+        point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]
+        rel material:binding = </Asset/M>
+    }
+
+    def Material "M" (
+        prepend references = @./look.mtlx@</MaterialX/Materials/M>
+    )
+    {
+    }
+}
+"""
+
+
+def _look(roughness: str) -> str:
+    return ('<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n'
+            '  <open_pbr_surface name="S" type="surfaceshader">\n'
+            f'    <input name="specular_roughness" type="float" value="{roughness}" />\n  </open_pbr_surface>\n'
+            '  <surfacematerial name="M" type="material">\n'
+            '    <input name="surfaceshader" type="surfaceshader" nodename="S" />\n  </surfacematerial>\n</materialx>\n')
+
+
+def test_a_stage_reports_the_findings_of_the_materialx_document_it_references_once(tmp_path):
+    (tmp_path / "stage.usda").write_text(_STAGE, encoding="utf-8")
+    (tmp_path / "look.mtlx").write_text(_look("0,4"), encoding="utf-8")  # a decimal comma: OPBR202
+    alone = validate_paths([str(tmp_path / "stage.usda")], options=Options(use_config=False))
+    assert [(Path(d.location.file).name, d.code) for d in alone.diagnostics if str(d.severity) != "info"] == \
+        [("look.mtlx", "OPBR202")]  # no OPBR1010 about the binding to the prim whose arc was set aside
+    assert alone.exit_code() == 1 and alone.files[0].materials == 1
+    assert "OPBR003" not in {d.code for d in alone.diagnostics}
+    folder = validate_paths([str(tmp_path)], options=Options(use_config=False))
+    assert [d.code for d in folder.diagnostics].count("OPBR202") == 1  # under the document, not twice
+    (tmp_path / "look.mtlx").write_text(_look("0.4"), encoding="utf-8")
+    assert _codes(tmp_path / "stage.usda") == {}
+
+
+def test_a_stage_whose_materialx_document_is_missing_cannot_be_opened(tmp_path):
+    """As a missing .usda layer: usd-core with the usdMtlx plug-in could not compose it either."""
+    (tmp_path / "stage.usda").write_text(_STAGE, encoding="utf-8")
+    outcome = CliRunner().invoke(cli, ["validate", str(tmp_path / "stage.usda"), "--no-config"])
+    assert outcome.exit_code == 2, outcome.output
+    assert "OPBR002" in outcome.output and "look.mtlx" in outcome.output and "Traceback" not in outcome.output
+
+
+# -- glTF: the Khronos validator and the extension texts -------------------------------------------------
+
+@pytest.mark.parametrize("name, code", [
+    ("OPBR1217_texcoord_ubyte_not_normalized.gltf", "MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT"),
+    ("OPBR1218_clearcoat_normal_without_tangents.gltf", "MESH_PRIMITIVE_NO_TANGENT_SPACE"),
+])
+def test_mesh_errors_agree_with_the_khronos_validator(tmp_path, name, code):
+    from gltf_support import validate_with_khronos
+
+    messages = validate_with_khronos(BROKEN / name, tmp_path)["issues"]["messages"]
+    assert code in {m["code"] for m in messages if m["severity"] == 0}
+    document = json.loads((BROKEN / name).read_text(encoding="utf-8"))
+    if "1217" in name:
+        document["accessors"][1]["normalized"] = True
+    else:
+        document["meshes"][0]["primitives"][0]["attributes"]["TANGENT"] = len(document["accessors"])
+        document["accessors"].append({"componentType": 5126, "count": 3, "type": "VEC4"})
+    (tmp_path / "textures").mkdir(exist_ok=True)
+    for texture in ("albedo.png", "normal.png"):
+        shutil.copy(BROKEN / "textures" / texture, tmp_path / "textures" / texture)
+    fixed = tmp_path / "fixed.gltf"
+    fixed.write_text(json.dumps(document), encoding="utf-8")
+    assert code not in {m["code"] for m in validate_with_khronos(fixed, tmp_path)["issues"]["messages"]}
+    assert not {"OPBR1217", "OPBR1218"} & set(_codes(fixed))
+
+
+def test_untextured_anisotropy_needs_a_tangent_space_too_and_strength_zero_does_not(tmp_path):
+    """KHR_materials_anisotropy: "A mesh primitive using an anisotropy material MUST have a defined tangent
+    space" (the Khronos validator checks only the textured case)."""
+    document = json.loads((BROKEN / "OPBR1218_clearcoat_normal_without_tangents.gltf").read_text(encoding="utf-8"))
+    document["extensionsUsed"] = ["KHR_materials_anisotropy"]
+    for strength, expected in ((0.6, True), (0.0, False)):
+        document["materials"] = [{"name": "M", "extensions": {"KHR_materials_anisotropy": {"anisotropyStrength": strength}}}]
+        path = tmp_path / f"a{strength}.gltf"
+        path.write_text(json.dumps(document), encoding="utf-8")
+        assert ("OPBR1218" in _codes(path)) == expected
+
+
+def test_a_misspelt_extension_name_is_a_warning_and_a_known_one_is_not(tmp_path):
+    found = validate_paths([str(BROKEN / "OPBR1216_extension_name_typo.gltf")], options=Options(use_config=False))
+    [warning] = [d for d in found.diagnostics if d.code == "OPBR1216"]
+    assert "KHR_materials_clearcoat" in warning.message
+    document = json.loads((BROKEN / "OPBR1216_extension_name_typo.gltf").read_text(encoding="utf-8"))
+    for name in ("KHR_materials_clearcoat", "EXT_texture_webp", "VENDOR_materials_magic", "KHR_materials_coat"):
+        document["extensionsUsed"] = [name]
+        document["materials"][0]["extensions"] = {name: {}}
+        path = tmp_path / "known.gltf"
+        path.write_text(json.dumps(document), encoding="utf-8")
+        assert "OPBR1216" not in _codes(path), name
