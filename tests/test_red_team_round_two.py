@@ -308,3 +308,48 @@ def test_a_misspelt_extension_name_is_a_warning_and_a_known_one_is_not(tmp_path)
         path = tmp_path / "known.gltf"
         path.write_text(json.dumps(document), encoding="utf-8")
         assert "OPBR1216" not in _codes(path), name
+
+
+def test_bindings_into_a_referenced_materialx_document_are_no_false_alarm():
+    """The USD working group's stages bind meshes to materials a referenced .mtlx defines (below the prim
+    that holds the arc); usd-core, without usdMtlx, calls every such binding invalid (six OPBR1010 warnings
+    on these two published, working stages before)."""
+    for stage in ("MaterialXTest/basic.usda", "TextureCoordinateTest/TextureCoordinateTestMaterialX.usda"):
+        path = PUBLISHED / "usd/usd-wg/test_assets" / stage
+        assert _codes(path) == {}, stage
+        assert validate_paths([str(path)], options=Options(use_config=False)).files[0].materials > 0
+
+
+def test_a_colour_space_only_on_the_interface_input_is_what_materialx_does_not_apply(tmp_path):
+    """MaterialX's GLSL generator decodes the sRGB texture when the image's own file input is tagged, and
+    not when only the node graph's interface input is: OPBR508 fires exactly then."""
+    from openpbr_tools.rules.colorspace import INTERFACE_COLORSPACE
+
+    shutil.copy(BROKEN / "textures" / "albedo.png", tmp_path / "albedo.png")
+    for label, text in (("passing", INTERFACE_COLORSPACE.passing), ("failing", INTERFACE_COLORSPACE.failing)):
+        path = _mtlx(tmp_path, text + '\n<surfacematerial name="M" type="material">\n'
+                     '  <input name="surfaceshader" type="surfaceshader" nodename="S" />\n</surfacematerial>',
+                     f"{label}.mtlx")
+        assert ("OPBR508" in _codes(path)) == (label == "failing")
+        assert _decodes_srgb(path) == (label == "passing")
+
+
+def _decodes_srgb(path) -> bool:
+    import MaterialX as mx
+    import MaterialX.PyMaterialXGenGlsl as glsl
+    import MaterialX.PyMaterialXGenShader as gen
+
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    document.importLibrary(library)
+    generator = glsl.GlslShaderGenerator.create()
+    context = gen.GenContext(generator)
+    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
+    cms = gen.DefaultColorManagementSystem.create(generator.getTarget())
+    cms.loadLibrary(library)
+    generator.setColorManagementSystem(cms)
+    context.getOptions().targetColorSpaceOverride = "lin_rec709"
+    shader = generator.generate("s", gen.findRenderableElements(document)[0], context)
+    return "srgb_texture_to_lin_rec709" in shader.getSourceCode("pixel")

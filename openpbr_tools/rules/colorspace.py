@@ -93,8 +93,28 @@ COLORSPACE_IGNORED = Rule(
     example_files=("rough.png",),
 )
 
+_INTERFACE_GRAPH = ('<nodegraph name="NG">\n  <input name="albedo_file" type="filename" value="albedo.png"{outer} />\n'
+                    '  <image name="albedo" type="color3">\n    <input name="file" type="filename" interfacename="albedo_file"'
+                    '{inner} />\n  </image>\n  <output name="out" type="color3" nodename="albedo" />\n</nodegraph>\n'
+                    '<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" '
+                    'nodegraph="NG" output="out" />\n</open_pbr_surface>')
+INTERFACE_COLORSPACE = Rule(
+    "OPBR508", "colorspace-on-interface-only", Severity.WARNING,
+    "A colour image's file comes through a node graph's (or custom node's) interface input whose colour space "
+    "is not the one the image's own file input resolves to.",
+    "MaterialX's specification lets the input that defines a file name carry its colour space, and this "
+    "toolkit reads the texture so; MaterialX's shader generation, however, takes the colour space of the "
+    "image's own file input (its colorspace, else the enclosing scope's), so an srgb_texture tag only on "
+    "the interface input is not applied there: MaterialX renders the texture without the sRGB decode "
+    "(shown by its GLSL generator, tests/test_red_team_round_two.py). Put the colour space on the image's "
+    "file input too, so every reader agrees.",
+    passing=_INTERFACE_GRAPH.format(outer=' colorspace="srgb_texture"', inner=' colorspace="srgb_texture"'),
+    failing=_INTERFACE_GRAPH.format(outer=' colorspace="srgb_texture"', inner=""),
+    example_files=("albedo.png",),
+)
+
 RULES = (NO_DOCUMENT_COLORSPACE, UNKNOWN_COLORSPACE, COLOR_TEXTURE_RAW, DATA_TEXTURE_MANAGED,
-         REQUIRED_COLORSPACE, TEXTURE_COLORSPACE_NOT_ALLOWED, COLORSPACE_IGNORED)
+         REQUIRED_COLORSPACE, TEXTURE_COLORSPACE_NOT_ALLOWED, COLORSPACE_IGNORED, INTERFACE_COLORSPACE)
 
 COLOUR_MANAGED_IMAGE_TYPES = ("color3", "color4")
 
@@ -104,6 +124,14 @@ def check(asset, context):
         return  # USD and glTF name colour spaces differently; their rule modules reuse these codes
     yield from _unknown_names(asset, context)
     yield from _policies(asset, context)
+    for observation in asset.observations:
+        if observation.kind == "interface_colorspace":
+            detail = observation.detail
+            yield context.diagnostic(
+                INTERFACE_COLORSPACE, f"the file comes through {detail['interface']!r}, tagged {detail['colorspace']!r}, "
+                f"but MaterialX's shader generation applies the image's own file input's colour space "
+                f"({detail['applied']!r})", observation.location,
+                hint=f"add colorspace=\"{detail['colorspace']}\" to the image's file input")
     ambiguous = None
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)

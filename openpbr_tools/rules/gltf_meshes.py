@@ -142,7 +142,8 @@ def _tangent_space(asset, primitives, context):
         if isinstance(index, int) and reason:
             needs[index] = (material, reason)
     for primitive in primitives:
-        found = needs.get(primitive["material"]) if isinstance(primitive["material"], int) else None
+        material_index = primitive["material"]
+        found = needs.get(material_index) if isinstance(material_index, int) and not isinstance(material_index, bool) else None
         if found is None or (primitive.get("tangents") and primitive.get("normals")):
             continue
         material, reason = found

@@ -147,6 +147,10 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 MX_CMS),
     "OPBR507": ("MaterialX colour-manages color3/color4 images only, UsdMtlx drops the attribute, other renderers "
                 "apply it: one file, different roughness or normals per renderer.", f"{MX_CMS}; {USD_MTLX}"),
+    "OPBR508": ("MaterialX's shader generation reads an image's colour space from its own file input, not from the "
+                "interface input the file name comes through: an sRGB texture renders undecoded there, decoded "
+                "where the specification's reading is followed.",
+                f"{MX_SPEC}; {_MX}source/MaterialXGenShader/ShaderGraph.cpp"),
     # -- units ---------------------------------------------------------------------------------
     "OPBR601": ("MaterialX converts lengths through the unittype's converter; a wrong unittype converts with the "
                 "wrong table or not at all.", f"{MX_UNITS}; {MX_STDLIB}"),

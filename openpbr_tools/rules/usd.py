@@ -366,7 +366,8 @@ def _usd_core(asset, context):
             continue
         if name == "MissingShaderIdInRegistry" and prims and prims <= reported_ids:
             continue
-        if name == "InvalidResourcePath" and (sublayered or any(f"<{prim}>" in finding["message"] for prim in composed_elsewhere)):
+        if name == "InvalidResourcePath" and (sublayered or any(f"<{prim}>" in finding["message"] or f"<{prim}/" in
+                                                                finding["message"] for prim in composed_elsewhere)):
             continue  # a binding to a material composed from a MaterialX document this usd-core cannot open
         if name in ("UnresolvableDependency", "InvalidFile") and any(
                 f"@{file}@" in finding["message"] or f"'{file}'" in finding["message"] for file in texture_files):

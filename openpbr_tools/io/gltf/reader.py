@@ -189,7 +189,10 @@ class _Reader(TextureReading, ExtensionReading):
         accessor = self.document.item("accessors", index)
         if accessor is None:
             return None
-        return accessor.get("type"), accessor.get("componentType"), accessor.get("normalized") is True
+        kind, component = accessor.get("type"), accessor.get("componentType")
+        if not isinstance(kind, str) or not isinstance(component, int) or isinstance(component, bool):
+            return None  # a malformed accessor: not a texture-coordinate format to judge
+        return kind, component, accessor.get("normalized") is True
 
     # -- materials ---------------------------------------------------------------------------
     def read_material(self, index: int, raw: dict) -> Material:

@@ -373,3 +373,23 @@ def _multioutput_type(node, output_name: str) -> tuple[str, int | None]:
     # a one-channel output: gltf_colorimage's outa, UsdUVTexture's r, g, b and a
     channel = {"outa": 3, "r": 0, "g": 1, "b": 2, "a": 3}.get(chosen.getName()) if chosen.getType() == "float" else None
     return chosen.getType(), channel
+
+
+def interface_colorspace(node) -> tuple[str, str, str] | None:
+    """``(interface input, its colour space, the one MaterialX applies)`` when the colour image ``node`` (in
+    a node graph that implements no nodedef) takes its file name from an interface input tagged with a
+    colour space that its own file input does not resolve to: MaterialX's shader generation reads the
+    image's own file input's (its attribute, else the enclosing scope's), the specification the input
+    that defines the file name. ``None`` otherwise."""
+    port = node.getInput("file")
+    scope = node.getParent()
+    if port is None or not port.hasInterfaceName() or node.getType() not in ("color3", "color4") \
+            or scope is None or scope.getCategory() != "nodegraph" or scope.getNodeDefString():
+        return None
+    interface = port.getInterfaceInput()
+    if interface is None or not interface.hasColorSpace() or interface.getType() != "filename":
+        return None
+    applied = port.getActiveColorSpace() or "none"
+    if applied == interface.getColorSpace():
+        return None
+    return interface.getNamePath(), interface.getColorSpace(), applied

@@ -34,7 +34,7 @@ from ...values import ValueSyntaxError, parse_value
 from .. import ReadError, read_bytes
 from ..paths import PathGuard
 from . import library
-from .graph import GraphFollower, in_definition
+from .graph import GraphFollower, in_definition, interface_colorspace
 from .looks import record_looks
 from .xmlscan import XmlSyntaxError, message_sites, parse_suppression, scan, scan_with_materialx, upgrade_changes_nothing
 
@@ -227,6 +227,10 @@ class _Reader(GraphFollower):
             elif category not in MATERIAL_CATEGORIES:
                 for name, value, allowed in library.enum_violations(element):
                     self.asset.observe("node_enum_value", self.location(element, name), value=value, allowed=allowed)
+                tagged = interface_colorspace(element)
+                if tagged is not None:
+                    self.asset.observe("interface_colorspace", self.location(element, "file"), interface=tagged[0],
+                                       colorspace=tagged[1], applied=tagged[2])
         for duplicate_path, entries in self.structure.duplicates.items():
             parent, _, child = duplicate_path.rpartition("/")
             for line, attributes in entries:

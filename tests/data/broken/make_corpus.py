@@ -360,6 +360,12 @@ case("OPBR504_usd_preview_normal_srgb.usda", "OPBR504", "A UsdUVTexture normal m
 case("OPBR504_usd_preview_roughness_srgb.usda", "OPBR504", "A UsdUVTexture roughness map read with sourceColorSpace sRGB.",
      preview('float inputs:roughness.connect = </M/rough.outputs:r>', uvtex("rough", "textures/rough.png", out="r", out_type="float", cs="sRGB")))
 
+case("OPBR508_colorspace_on_interface_only.mtlx", "OPBR508", "srgb_texture sits only on the node graph's interface input the image's file name comes through; MaterialX's shader generation reads the image's own file input and applies no decode.",
+     mtlx('<nodegraph name="NG">\n  <input name="albedo_file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n'
+          '  <image name="albedo" type="color3">\n    <input name="file" type="filename" interfacename="albedo_file" />\n  </image>\n'
+          '  <output name="out" type="color3" nodename="albedo" />\n</nodegraph>\n'
+          '<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodegraph="NG" output="out" />\n</open_pbr_surface>'))
+
 # ================================================================ units
 case("OPBR601_depth_in_degrees.mtlx", "OPBR601", "transmission_depth carries unittype angle (unit degree).",
      opbr('<input name="transmission_depth" type="float" value="2" unittype="angle" unit="degree" />'))
