@@ -412,16 +412,19 @@ def test_thousands_of_materials_are_read_in_bounded_time(tmp_path):
     """5,000 textured materials on 20,000 primitives against a quarter of them, in one run: every step linear
     (4x the time for 4x the materials; a quadratic step, such as looking up each texture use among all uses or
     among all primitives, makes it 16x). Measured as a ratio on the same machine, not in seconds: a machine of
-    half the speed took 4.3 s where 4 s was the bound (the quarter takes the best of two runs, against noise)."""
+    half the speed took 4.3 s where 4 s was the bound. Each size takes the best of two runs, the two sizes
+    alternating, against noise: with the suite on two workers, a single run of the large file met the other
+    worker's heaviest test (8.6x once; alone, 3.0-4.6x)."""
     count = 5000
     small, path = _many_materials(tmp_path, count // 4), _many_materials(tmp_path, count)
-    quarter = min(validate(small, seconds=30).seconds for _ in range(2))
-    result = validate(path, seconds=30)
+    runs = [(validate(small, seconds=30), validate(path, seconds=30)) for _ in range(2)]
+    quarter, result = min(r[0].seconds for r in runs), min(runs, key=lambda r: r[1].seconds)[1]
     assert result.exit_code == 1 and result.seconds < 6 * quarter, (result.seconds, quarter)
     assert len(findings(result, "OPBR1205")) == count and len(findings(result, "OPBR301")) == count
     assert "and 3 more" in findings(result, "OPBR1205")[0]["message"]
-    quarter_info = min(invoke("info", "--format", "json", small, seconds=30).seconds for _ in range(2))
-    info = invoke("info", "--format", "json", path, seconds=30)
+    runs = [(invoke("info", "--format", "json", small, seconds=30), invoke("info", "--format", "json", path, seconds=30))
+            for _ in range(2)]
+    quarter_info, info = min(r[0].seconds for r in runs), min(runs, key=lambda r: r[1].seconds)[1]
     assert info.exit_code == 0 and info.seconds < 6 * quarter_info, (info.seconds, quarter_info)
     assert len(json.loads(info.stdout)[0]["materials"]) == count
 
