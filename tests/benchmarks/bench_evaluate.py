@@ -8,7 +8,7 @@ is imported)::
 
 or with pytest-benchmark (excluded from the default test run)::
 
-    OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python -m pytest tests/benchmarks/bench_evaluate.py
+    OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python -m pytest -n 0 tests/benchmarks/bench_evaluate.py
 
 Targets: at least 1 million evaluations per second, a preview under 0.5 s.
 """
