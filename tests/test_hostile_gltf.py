@@ -62,13 +62,14 @@ def invoke(*arguments, env=None, seconds: float = 5.0):
 
     previous = signal.signal(signal.SIGALRM, expire)
     signal.setitimer(signal.ITIMER_REAL, seconds)
-    start = time.perf_counter()
+    start, cpu = time.perf_counter(), time.process_time()
     try:
         result = CliRunner().invoke(cli, list(arguments), env=env)
     finally:
         signal.setitimer(signal.ITIMER_REAL, 0)
         signal.signal(signal.SIGALRM, previous)
     result.seconds = time.perf_counter() - start
+    result.cpu_seconds = time.process_time() - cpu  # this process's own work: not slowed by a busy neighbour
     assert result.exception is None or isinstance(result.exception, SystemExit), \
         f"{type(result.exception).__name__}: {result.exception}\n{result.output}"
     assert "Traceback" not in result.output
@@ -412,20 +413,20 @@ def test_thousands_of_materials_are_read_in_bounded_time(tmp_path):
     """5,000 textured materials on 20,000 primitives against a quarter of them, in one run: every step linear
     (4x the time for 4x the materials; a quadratic step, such as looking up each texture use among all uses or
     among all primitives, makes it 16x). Measured as a ratio on the same machine, not in seconds: a machine of
-    half the speed took 4.3 s where 4 s was the bound. Each size takes the best of two runs, the two sizes
-    alternating, against noise: with the suite on two workers, a single run of the large file met the other
-    worker's heaviest test (8.6x once; alone, 3.0-4.6x)."""
+    half the speed took 4.3 s where 4 s was the bound. The ratio is of CPU time, each size the best of two runs,
+    the sizes alternating: with the suite on two workers, wall-clock ratios met the other worker's heaviest
+    tests (8.0x and 8.6x; alone, 2.4-4.9x)."""
     count = 5000
     small, path = _many_materials(tmp_path, count // 4), _many_materials(tmp_path, count)
-    runs = [(validate(small, seconds=30), validate(path, seconds=30)) for _ in range(2)]
-    quarter, result = min(r[0].seconds for r in runs), min(runs, key=lambda r: r[1].seconds)[1]
-    assert result.exit_code == 1 and result.seconds < 6 * quarter, (result.seconds, quarter)
+    runs = [(validate(small, seconds=60), validate(path, seconds=60)) for _ in range(2)]
+    quarter, result = min(r[0].cpu_seconds for r in runs), min(runs, key=lambda r: r[1].cpu_seconds)[1]
+    assert result.exit_code == 1 and result.cpu_seconds < 6 * quarter, (result.cpu_seconds, quarter)
     assert len(findings(result, "OPBR1205")) == count and len(findings(result, "OPBR301")) == count
     assert "and 3 more" in findings(result, "OPBR1205")[0]["message"]
-    runs = [(invoke("info", "--format", "json", small, seconds=30), invoke("info", "--format", "json", path, seconds=30))
+    runs = [(invoke("info", "--format", "json", small, seconds=60), invoke("info", "--format", "json", path, seconds=60))
             for _ in range(2)]
-    quarter_info, info = min(r[0].seconds for r in runs), min(runs, key=lambda r: r[1].seconds)[1]
-    assert info.exit_code == 0 and info.seconds < 6 * quarter_info, (info.seconds, quarter_info)
+    quarter_info, info = min(r[0].cpu_seconds for r in runs), min(runs, key=lambda r: r[1].cpu_seconds)[1]
+    assert info.exit_code == 0 and info.cpu_seconds < 6 * quarter_info, (info.cpu_seconds, quarter_info)
     assert len(json.loads(info.stdout)[0]["materials"]) == count
 
 

@@ -353,3 +353,32 @@ def _decodes_srgb(path) -> bool:
     context.getOptions().targetColorSpaceOverride = "lin_rec709"
     shader = generator.generate("s", gen.findRenderableElements(document)[0], context)
     return "srgb_texture_to_lin_rec709" in shader.getSourceCode("pixel")
+
+
+def _material_gltf(tmp_path, name: str, material: dict, used=()) -> Path:
+    path = tmp_path / f"{name}.gltf"
+    document = {"asset": {"version": "2.0"}, "materials": [{"name": "M", **material}]}
+    if used:
+        document["extensionsUsed"] = list(used)
+    path.write_text(json.dumps(document), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("name, material, used, code", [
+    ("alpha_cutoff", {"alphaCutoff": 0.3}, (), "MATERIAL_ALPHA_CUTOFF_INVALID_MODE"),
+    ("dispersion", {"extensions": {"KHR_materials_dispersion": {"dispersion": 0.5}}}, ("KHR_materials_dispersion",),
+     "KHR_MATERIALS_DISPERSION_NO_VOLUME"),
+    ("volume", {"extensions": {"KHR_materials_volume": {"thicknessFactor": 1.0}}}, ("KHR_materials_volume",),
+     "KHR_MATERIALS_VOLUME_NO_TRANSMISSION"),
+    ("double_sided", {"doubleSided": True, "pbrMetallicRoughness": {"metallicFactor": 0.0}, "extensions": {
+        "KHR_materials_volume": {"thicknessFactor": 1.0}, "KHR_materials_transmission": {"transmissionFactor": 1.0}}},
+     ("KHR_materials_volume", "KHR_materials_transmission"), "KHR_MATERIALS_VOLUME_DOUBLE_SIDED"),
+])
+def test_every_material_warning_of_the_khronos_validator_is_a_finding_here(tmp_path, name, material, used, code):
+    """Never weaker than the anchor on materials: each of the validator's material-level warnings (ISSUES.md)
+    is OPBR1211 here (a material without them: the rule's passing examples, tests/test_rule_examples.py)."""
+    from gltf_support import validate_with_khronos
+
+    path = _material_gltf(tmp_path, name, material, used)
+    assert code in {m["code"] for m in validate_with_khronos(path, tmp_path)["issues"]["messages"]}
+    assert "OPBR1211" in _codes(path)

@@ -417,6 +417,10 @@ def _no_effect(material, context):
     if slots.DISPERSION in present and value["dispersion"] != 0.0 and (
             slots.VOLUME not in present or value["thickness"] == 0.0):
         found.append((slots.DISPERSION, "dispersion without a volume (thicknessFactor > 0) has no effect"))
+    if slots.VOLUME in present and value["thickness"] != 0.0 and (material.extra.get("gltf") or {}).get("doubleSided") is True:
+        # KHR_materials_volume: "The doubleSided property has no effect on volume boundaries" (the validator's
+        # KHR_MATERIALS_VOLUME_DOUBLE_SIDED)
+        found.append((slots.VOLUME, "doubleSided has no effect on a volume boundary (thicknessFactor > 0)"))
     if slots.IRIDESCENCE in present and value["iridescence"] != 0.0 and value["iridescence_thickness"] == 0.0:
         found.append((slots.IRIDESCENCE, "iridescence with a film of 0 nm has no effect"))
     for extension, why in found:
