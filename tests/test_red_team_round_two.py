@@ -36,8 +36,9 @@ def _mtlx(tmp_path, body: str, name: str = "m.mtlx", version: str = "1.39") -> P
     return path
 
 
-def _generates(path) -> str | None:
-    """MaterialX's GLSL generator on the document's first renderable element: ``None`` or its error."""
+def _glsl(path, colour_managed: bool = False) -> tuple[str | None, str | None]:
+    """MaterialX's GLSL generator on the document's first renderable element: ``(pixel source, None)``, or
+    ``(None, its error)``; ``colour_managed``: with MaterialX's default colour management, to lin_rec709."""
     import MaterialX as mx
     import MaterialX.PyMaterialXGenGlsl as glsl
     import MaterialX.PyMaterialXGenShader as gen
@@ -50,11 +51,16 @@ def _generates(path) -> str | None:
     generator = glsl.GlslShaderGenerator.create()
     context = gen.GenContext(generator)
     context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
+    if colour_managed:
+        cms = gen.DefaultColorManagementSystem.create(generator.getTarget())
+        cms.loadLibrary(library)
+        generator.setColorManagementSystem(cms)
+        context.getOptions().targetColorSpaceOverride = "lin_rec709"
     try:
-        generator.generate("s", gen.findRenderableElements(document)[0], context)
+        shader = generator.generate("s", gen.findRenderableElements(document)[0], context)
     except Exception as error:  # noqa: BLE001 - MaterialX's own exception types
-        return str(error)
-    return None
+        return None, str(error)
+    return shader.getSourceCode("pixel"), None
 
 
 # -- graph nodes' enums: MaterialX's generator is the anchor ------------------------------------------
@@ -81,7 +87,7 @@ def test_an_enum_outside_the_nodedefs_list_is_flagged_exactly_when_materialx_can
         tmp_path, input_name, value, allowed):
     path = _mtlx(tmp_path, _IMAGE.format(input=input_name, value=value))
     shutil.copy(BROKEN / "textures" / "albedo.png", tmp_path / "albedo.png")
-    failure = _generates(path)
+    _, failure = _glsl(path)
     assert (failure is None) == allowed, failure
     assert ("OPBR303" in _codes(path)) == (not allowed)
 
@@ -335,24 +341,9 @@ def test_a_colour_space_only_on_the_interface_input_is_what_materialx_does_not_a
 
 
 def _decodes_srgb(path) -> bool:
-    import MaterialX as mx
-    import MaterialX.PyMaterialXGenGlsl as glsl
-    import MaterialX.PyMaterialXGenShader as gen
-
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
-    document = mx.createDocument()
-    mx.readFromXmlFile(document, str(path))
-    document.importLibrary(library)
-    generator = glsl.GlslShaderGenerator.create()
-    context = gen.GenContext(generator)
-    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
-    cms = gen.DefaultColorManagementSystem.create(generator.getTarget())
-    cms.loadLibrary(library)
-    generator.setColorManagementSystem(cms)
-    context.getOptions().targetColorSpaceOverride = "lin_rec709"
-    shader = generator.generate("s", gen.findRenderableElements(document)[0], context)
-    return "srgb_texture_to_lin_rec709" in shader.getSourceCode("pixel")
+    source, failure = _glsl(path, colour_managed=True)
+    assert failure is None, failure
+    return "srgb_texture_to_lin_rec709" in source
 
 
 def _material_gltf(tmp_path, name: str, material: dict, used=()) -> Path:
