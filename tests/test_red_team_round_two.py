@@ -373,3 +373,22 @@ def test_every_material_warning_of_the_khronos_validator_is_a_finding_here(tmp_p
     path = _material_gltf(tmp_path, name, material, used)
     assert code in {m["code"] for m in validate_with_khronos(path, tmp_path)["issues"]["messages"]}
     assert "OPBR1211" in _codes(path)
+
+
+@pytest.mark.parametrize("value", ["nan", "inf", "-inf"])
+def test_a_non_finite_value_is_verified_at_its_default_not_a_crash(tmp_path, value):
+    """convert --verify of a NaN roughness (OPBR203) raised IndexError in the evaluator's albedo tables (a NaN
+    cast to an integer index): the evaluator takes the default, as the conversion writes none."""
+    path = _mtlx(tmp_path, f"""
+    <open_pbr_surface name="S" type="surfaceshader">
+      <input name="specular_roughness" type="float" value="{value}" />
+      <input name="base_color" type="color3" value="0.6, 0.5, 0.4" />
+    </open_pbr_surface>
+    <surfacematerial name="M" type="material">
+      <input name="surfaceshader" type="surfaceshader" nodename="S" />
+    </surfacematerial>
+    """)
+    outcome = CliRunner().invoke(cli, ["convert", str(path), "-o", str(tmp_path / "out.gltf"), "--verify", "--format",
+                                       "json"])
+    codes = [d["code"] for d in json.loads(outcome.stdout)["diagnostics"]]
+    assert "OPBR011" not in codes and {"OPBR1108", "OPBR1109"} & set(codes), outcome.output  # verified

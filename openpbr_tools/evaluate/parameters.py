@@ -69,6 +69,9 @@ class ResolvedParameters:
         return out
 
 
+_NUMERIC_TYPES = ("float", "integer", "color3", "color4", "vector2", "vector3", "vector4")
+
+
 def _convert(value, ptype: str, role: str, colorspace: str | None):
     if ptype == "boolean":
         if isinstance(value, str):
@@ -194,7 +197,11 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
         colorspace = entry.colorspace or material.colorspace
         try:
             if isinstance(value, Constant):
-                resolved.values[name] = _convert(value.value, p.type, p.role, colorspace)
+                converted = _convert(value.value, p.type, p.role, colorspace)
+                if p.type in _NUMERIC_TYPES and not np.all(np.isfinite(np.asarray(converted, dtype=float))):
+                    resolved.not_evaluated.append(name)  # NaN or infinity (OPBR203): the default, as a conversion writes
+                else:
+                    resolved.values[name] = converted
             elif isinstance(value, Texture):
                 resolved.textured.append(name)
                 if value.fallback is not None:
