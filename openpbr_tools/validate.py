@@ -29,7 +29,7 @@ class FileResult:
     materials: int = 0
     unreadable: bool = False
     asset: Asset | None = None
-    documents: tuple[str, ...] = ()  # documents the file composes, whose findings are among its own
+    documents: tuple[tuple[str, int], ...] = ()  # (document, its materials): composed, their findings among its own
 
 
 @dataclass(slots=True)
@@ -137,16 +137,17 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
         return FileResult(path, [internal_error(path, "reading", error)], unreadable=True)
     diagnostics = check_asset(asset, context)
     count = sum(1 for m in asset.materials if not m.extra.get("fallback_of"))  # a USD preview fallback is not another material
-    documents = composed_documents(asset)
-    for document in documents:  # (a MaterialX document composes no other document: one level)
+    documents = []
+    for document in composed_documents(asset):  # (a MaterialX document composes no other document: one level)
         composed = validate_file(document, context)
         diagnostics += composed.diagnostics
         count += composed.materials
+        documents.append((document, composed.materials))
     if documents and count:  # the stage's materials are in its documents
         diagnostics = [d for d in diagnostics if not (d.code == NO_MATERIAL.code and d.location.file == path)]
     failed = any(d.code == INTERNAL_ERROR.code for d in diagnostics)
     return FileResult(path, diagnostics, count, unreadable=failed, asset=asset if keep_asset else None,
-                      documents=documents)
+                      documents=tuple(documents))
 
 
 def composed_documents(asset: Asset) -> tuple[str, ...]:
@@ -239,12 +240,19 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
 
 
 def _drop_listed_documents(results: list[FileResult], files: list[str]) -> None:
-    """A composed document that is validated as a file of its own too keeps its findings there only."""
-    listed = {os.path.abspath(f) for f in files}
+    """Each composed document's findings and materials are reported once: with the document, when it is
+    validated as a file of its own too, else with the first file that composes it."""
+    reported = {os.path.abspath(f) for f in files}
     for result in results:
-        both = {os.path.abspath(d) for d in result.documents} & listed
-        if both:
-            result.diagnostics = [d for d in result.diagnostics if os.path.abspath(d.location.file) not in both]
+        dropped = set()
+        for document, materials in result.documents:
+            key = os.path.abspath(document)
+            if key in reported:
+                dropped.add(key)
+                result.materials -= materials
+            reported.add(key)
+        if dropped:
+            result.diagnostics = [d for d in result.diagnostics if os.path.abspath(d.location.file) not in dropped]
 
 
 def _run(tasks, options: Options, progress) -> list[FileResult]:

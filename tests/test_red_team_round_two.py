@@ -392,3 +392,101 @@ def test_a_non_finite_value_is_verified_at_its_default_not_a_crash(tmp_path, val
                                        "json"])
     codes = [d["code"] for d in json.loads(outcome.stdout)["diagnostics"]]
     assert "OPBR011" not in codes and {"OPBR1108", "OPBR1109"} & set(codes), outcome.output  # verified
+
+
+# -- review of the above: composition corners, hostile sizes --------------------------------------------
+
+_HEAD = '#usda 1.0\n(\n    defaultPrim = "World"\n    metersPerUnit = 1\n    upAxis = "Y"\n)\n'
+_BALL = 'def Sphere "Ball" (\n    prepend apiSchemas = ["MaterialBindingAPI"]\n)\n{\n    rel material:binding = <TARGET>\n}\n'
+
+
+def test_materials_composed_from_a_document_inside_a_variant_or_a_referenced_layer_are_no_false_alarm(tmp_path):
+    (tmp_path / "look.mtlx").write_text(_look("0.4"), encoding="utf-8")
+    variant = (_HEAD + 'def Xform "World" (\n    variants = {\n        string look = "a"\n    }\n'
+               '    prepend variantSets = "look"\n)\n{\n' + textwrap.indent(_BALL.replace("TARGET", "/World/M"), "    ")
+               + '    variantSet "look" = {\n        "a" {\n            def Material "M" (\n'
+               '                prepend references = @./look.mtlx@</MaterialX/Materials/M>\n            )\n'
+               '            {\n            }\n        }\n    }\n}\n')
+    (tmp_path / "variant.usda").write_text(variant, encoding="utf-8")
+    (tmp_path / "looks.usda").write_text('#usda 1.0\n(\n    defaultPrim = "Looks"\n)\ndef Scope "Looks"\n{\n'
+                                         '    def Material "M" (\n        prepend references = @./look.mtlx@'
+                                         '</MaterialX/Materials/M>\n    )\n    {\n    }\n}\n', encoding="utf-8")
+    (tmp_path / "top.usda").write_text(_HEAD + 'def Xform "World"\n{\n' + textwrap.indent(_BALL.replace("TARGET", "/World/Looks/M"), "    ")
+                                       + '    def Scope "Looks" (\n        prepend references = @./looks.usda@\n    )\n'
+                                       '    {\n    }\n}\n', encoding="utf-8")
+    for stage in ("variant.usda", "top.usda"):
+        assert _codes(tmp_path / stage) == {}, stage
+
+
+def test_a_missing_document_in_a_variant_the_stage_does_not_select_does_not_fail_it(tmp_path):
+    """usd-core composes only the selected variant; a missing .usda in another is not fatal either."""
+    (tmp_path / "v.usda").write_text(
+        _HEAD + 'def Xform "World" (\n    variants = {\n        string look = "a"\n    }\n    prepend variantSets = "look"\n)\n'
+        '{\n    variantSet "look" = {\n        "a" {\n            def Scope "Looks" {}\n        }\n        "b" {\n'
+        '            def Scope "Looks" (\n                prepend references = @./missing_b.mtlx@</MaterialX>\n'
+        '            )\n            {\n            }\n        }\n    }\n}\n', encoding="utf-8")
+    report = validate_paths([str(tmp_path / "v.usda")], options=Options(use_config=False))
+    assert not report.unreadable and "OPBR002" not in {d.code for d in report.diagnostics}
+
+
+def test_a_sublayered_document_does_not_hide_a_binding_to_nowhere(tmp_path):
+    (tmp_path / "look.mtlx").write_text(_look("0.4"), encoding="utf-8")
+    (tmp_path / "typo.usda").write_text(_HEAD.replace('defaultPrim = "World"', 'defaultPrim = "Ball"').replace(
+        ')\n', '    subLayers = [@./look.mtlx@]\n)\n', 1) + _BALL.replace("TARGET", "/Nowhere/Typo"), encoding="utf-8")
+    assert _codes(tmp_path / "typo.usda") == {"OPBR1010": 1}
+
+
+def test_a_document_two_listed_stages_compose_is_reported_once_with_its_materials_counted_once(tmp_path):
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "look.mtlx").write_text(_look("0,4"), encoding="utf-8")
+    for name in ("a.usda", "b.usda"):
+        (tmp_path / name).write_text(_STAGE.replace("./look.mtlx", "./sub/look.mtlx"), encoding="utf-8")
+    report = validate_paths([str(tmp_path / "a.usda"), str(tmp_path / "b.usda")], options=Options(use_config=False))
+    assert [d.code for d in report.diagnostics].count("OPBR202") == 1
+    assert sum(r.materials for r in report.files) == 1  # the one material, in the document both compose
+    folder = validate_paths([str(tmp_path)], options=Options(use_config=False))
+    assert [d.code for d in folder.diagnostics].count("OPBR202") == 1
+    assert sum(r.materials for r in folder.files) == 1
+
+
+def test_a_stale_header_with_a_udim_path_is_still_recognised_as_unchanged_by_the_upgrade(tmp_path):
+    body = _IMAGE.replace('value="albedo.png"', 'value="albedo.<UDIM>.png"').format(input="filtertype", value="linear")
+    path = _mtlx(tmp_path, body, version="1.38")
+    assert "OPBR012" in _codes(path, ("info",)) and "OPBR005" not in _codes(path)
+
+
+def test_an_xml_declaration_with_an_unknown_encoding_is_malformed_not_a_crash(tmp_path):
+    path = tmp_path / "enc.mtlx"
+    path.write_text('<?xml version="1.0" encoding="foo"?>\n<materialx version="1.39"/>\n', encoding="utf-8")
+    outcome = CliRunner().invoke(cli, ["validate", str(path), "--no-config"])
+    assert outcome.exit_code == 2 and "OPBR002" in outcome.output and "OPBR011" not in outcome.output
+
+
+def test_thousands_of_unknown_extension_names_are_compared_with_the_registry_a_bounded_number_of_times(tmp_path):
+    """Each comparison costs ~2 ms: 20,000 near-misses took 40 s before the cap."""
+    from openpbr_tools.rules.gltf import MISSPELLING_CHECKS
+
+    names = [f"KHR_materials_clearcoat{i:05d}"[:-3] + "x" * (i % 2) for i in range(2000)]
+    path = tmp_path / "many.gltf"
+    path.write_text(json.dumps({"asset": {"version": "2.0"}, "extensionsUsed": names,
+                                "materials": [{"name": "M"}]}), encoding="utf-8")
+    found = validate_paths([str(path)], options=Options(use_config=False)).diagnostics
+    assert 0 < sum(d.code == "OPBR1216" for d in found) <= MISSPELLING_CHECKS
+
+
+def test_a_colour_where_the_definition_wants_a_float_is_verified_at_the_default_not_a_crash(tmp_path):
+    """geometry_opacity written as the color3 of OpenPBR 0.2 on a 1.1.1 shader (OPBR201) made the evaluator
+    broadcast a (3,) value against the sphere's points."""
+    path = _mtlx(tmp_path, """
+    <open_pbr_surface name="S" type="surfaceshader">
+      <input name="transmission_weight" type="float" value="1" />
+      <input name="geometry_opacity" type="color3" value="1, 1, 1" />
+    </open_pbr_surface>
+    <surfacematerial name="M" type="material">
+      <input name="surfaceshader" type="surfaceshader" nodename="S" />
+    </surfacematerial>
+    """)
+    outcome = CliRunner().invoke(cli, ["convert", str(path), "-o", str(tmp_path / "out.mtlx"), "--verify", "--format",
+                                       "json"])
+    codes = [d["code"] for d in json.loads(outcome.stdout)["diagnostics"]]
+    assert "OPBR011" not in codes and {"OPBR1108", "OPBR1109"} & set(codes), outcome.output

@@ -69,7 +69,8 @@ class ResolvedParameters:
         return out
 
 
-_NUMERIC_TYPES = ("float", "integer", "color3", "color4", "vector2", "vector3", "vector4")
+_NUMERIC_TYPES = {"float": ((),), "integer": ((),), "color3": ((3,),), "color4": ((3,), (4,)), "vector2": ((2,),),
+                  "vector3": ((3,),), "vector4": ((4,),)}  # and the shapes their values take here (_convert)
 
 
 def _convert(value, ptype: str, role: str, colorspace: str | None):
@@ -198,8 +199,10 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
         try:
             if isinstance(value, Constant):
                 converted = _convert(value.value, p.type, p.role, colorspace)
-                if p.type in _NUMERIC_TYPES and not np.all(np.isfinite(np.asarray(converted, dtype=float))):
-                    resolved.not_evaluated.append(name)  # NaN or infinity (OPBR203): the default, as a conversion writes
+                if p.type in _NUMERIC_TYPES and (np.shape(converted) not in _NUMERIC_TYPES[p.type] or
+                                                 not np.all(np.isfinite(np.asarray(converted, dtype=float)))):
+                    # NaN or infinity (OPBR203), or a colour where a float belongs (OPBR201): the default
+                    resolved.not_evaluated.append(name)
                 else:
                     resolved.values[name] = converted
             elif isinstance(value, Texture):

@@ -307,13 +307,27 @@ def known_extension_names() -> frozenset[str]:
         | {slots.DIFFUSE_TRANSMISSION} | frozenset(drafts.ALL_DRAFTS)
 
 
+#: Unknown extension names compared with the registry per file, at most (each costs ~2 ms; a file listing
+#: thousands is hostile, not misspelt).
+MISSPELLING_CHECKS = 64
+
+
+@lru_cache(maxsize=1024)
+def _registry_name_near(name: str) -> str | None:
+    """The registry name one or two edits from ``name`` (the nearest, then the first in order), or ``None``."""
+    near = [(_edits(name, known, 3), known) for known in sorted(known_extension_names())
+            if abs(len(known) - len(name)) <= 2]
+    best = min(near, default=(3, None))
+    return best[1] if best[0] <= 2 else None
+
+
 def _misspelt(asset, facts, context):
     known = known_extension_names()
-    for index, name in enumerate(facts.get("extensions_used", ())):
-        if name in known:
-            continue
-        meant = min(known, key=lambda k: (_edits(name, k, 3), k))
-        if _edits(name, meant, 3) <= 2:
+    unknown = [(index, name) for index, name in enumerate(facts.get("extensions_used", ()))
+               if isinstance(name, str) and name not in known]
+    for index, name in unknown[:MISSPELLING_CHECKS]:
+        meant = _registry_name_near(name)
+        if meant is not None:
             yield context.diagnostic(
                 MISSPELT_EXTENSION, f"{name} is no known extension: viewers ignore it (a misspelling of {meant}?)",
                 Location(asset.path, None, f"/extensionsUsed/{index}"),

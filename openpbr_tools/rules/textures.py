@@ -197,7 +197,8 @@ def check(asset, context):
                 "input, so MaterialX reads one texel everywhere", where,
                 hint="connect a texcoord node (index 0) to the place2d's texcoord input")
         if parameter is not None and parameter.role == "normal" and texture.normal_map is None:
-            eight_bit = is_eight_bit(texture.file)
+            inner = texture.file.rsplit("[", 1)[-1].rstrip("]") if texture.file.endswith("]") else texture.file  # x.usdz[n.png]
+            eight_bit = is_eight_bit(inner) or inner.lower().endswith(".webp")
             yield context.diagnostic(
                 NORMAL_WITHOUT_DECODE if eight_bit else FLOAT_NORMAL_WITHOUT_DECODE,
                 f"{entry.name} reads {texture.file!r} without a normalmap decode"

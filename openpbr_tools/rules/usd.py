@@ -35,6 +35,7 @@ from __future__ import annotations
 
 import difflib
 import io
+import re
 
 from ..diagnostics import Severity
 from ..io.usd.types import (
@@ -203,12 +204,24 @@ def check(asset, context):
 
 # -- structure, ids, connections (colour-space names: usd_colorspaces.py) --------------------------
 
+def _set_aside(asset) -> set[str]:
+    """The prims whose MaterialX arc was set aside (OPBR1013), as their layers name them; a sublayered
+    document's prims sit under /MaterialX (UsdMtlx's root)."""
+    arcs = [o for o in asset.observations if o.kind == "usd_mtlx_reference"]
+    return {o.location.path or "/MaterialX" for o in arcs}
+
+
+def _under(path: str, prims: set[str]) -> bool:
+    """Whether ``path`` is one of ``prims`` or below one, also where the prim's layer is referenced below
+    another prim of the stage (/Looks/M in looks.usda, /World/Looks/M on the stage)."""
+    return any(f"{path}/".startswith(f"{prim}/") or f"/{prim.strip('/')}/" in f"{path}/" for prim in prims)
+
+
 def _observations(asset, context):
-    # materials whose MaterialX arc was set aside (OPBR1013): their shader is in the document
-    composed_elsewhere = {o.location.path for o in asset.observations if o.kind == "usd_mtlx_reference"}
+    composed_elsewhere = _set_aside(asset)  # materials whose shader is in a MaterialX document set aside
     for observation in asset.observations:
         detail, where = observation.detail, observation.location
-        if observation.kind == "usd_material_without_surface" and detail["material"] in composed_elsewhere:
+        if observation.kind == "usd_material_without_surface" and _under(detail["material"], composed_elsewhere):
             continue
         if observation.kind == "usd_material_without_surface":
             yield context.diagnostic(
@@ -347,6 +360,9 @@ def _tokens(asset, context):
 
 # -- usd-core -------------------------------------------------------------------------------------
 
+_BINDING_TARGET = re.compile(r"targets an invalid material <([^>]*)>")
+
+
 def _usd_core(asset, context):
     findings = asset.extra.get("usd_core_findings") or ()
     read_shaders = {m.location.path for m in asset.materials}
@@ -354,9 +370,7 @@ def _usd_core(asset, context):
                     if o.kind == "usd_unknown_shader_id" and _judge_unknown_id(asset, o) is not None}
     texture_files = {t.file for m in asset.materials for _, t in m.textures()}
     # prims whose MaterialX arc was deleted (OPBR1013): usd-core finds them empty, as it would not with usdMtlx
-    arcs = [o for o in asset.observations if o.kind == "usd_mtlx_reference"]
-    composed_elsewhere = {o.location.path for o in arcs if o.location.path}
-    sublayered = any(o.detail["arc"] == "sublayer" for o in arcs)  # its prims could be any: bindings cannot be judged
+    composed_elsewhere = _set_aside(asset)
     for finding in findings:
         name, sites = finding["name"], finding["sites"]
         prims = {site.split(".", 1)[0] for site in sites}
@@ -366,8 +380,8 @@ def _usd_core(asset, context):
             continue
         if name == "MissingShaderIdInRegistry" and prims and prims <= reported_ids:
             continue
-        if name == "InvalidResourcePath" and (sublayered or any(f"<{prim}>" in finding["message"] or f"<{prim}/" in
-                                                                finding["message"] for prim in composed_elsewhere)):
+        bound = _BINDING_TARGET.search(finding["message"]) if name == "InvalidResourcePath" else None
+        if bound and _under(bound.group(1), composed_elsewhere):
             continue  # a binding to a material composed from a MaterialX document this usd-core cannot open
         if name in ("UnresolvableDependency", "InvalidFile") and any(
                 f"@{file}@" in finding["message"] or f"'{file}'" in finding["message"] for file in texture_files):

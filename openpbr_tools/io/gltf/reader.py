@@ -170,8 +170,9 @@ class _Reader(TextureReading, ExtensionReading):
                 if not isinstance(primitive, dict):
                     continue
                 attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
-                named = {int(name[9:]): name for name in attributes
-                         if name.startswith("TEXCOORD_") and name[9:].isascii() and name[9:].isdigit() and len(name) < 40}
+                named = {int(name[9:]): name for name in attributes  # TEXCOORD_n as glTF spells it: no leading zero
+                         if name.startswith("TEXCOORD_") and name[9:].isascii() and name[9:].isdigit() and len(name) < 40
+                         and name[9:] == str(int(name[9:]))}
                 sets = sorted(named)
                 formats = {n: self.accessor_format(attributes[name]) for n, name in named.items()}
                 self.facts["primitives"].append({"pointer": f"/meshes/{mesh_index}/primitives/{index}",

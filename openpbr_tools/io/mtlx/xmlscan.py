@@ -125,6 +125,8 @@ def scan(data: bytes) -> XmlScan:
         parser.Parse(_escape_tile_tokens(data), True)
     except expat.ExpatError as error:
         raise XmlSyntaxError(expat.ErrorString(error.code), error.lineno, error.offset) from None
+    except (LookupError, ValueError) as error:  # an XML declaration naming an unknown or multi-byte encoding
+        raise XmlSyntaxError(f"unusable encoding in the XML declaration: {error}", 1, None, fatal=True) from None
     except _Refused as refused:
         message, line = refused.args
         raise XmlSyntaxError(message, line, None, fatal=True) from None
@@ -178,8 +180,8 @@ def upgrade_changes_nothing(data: bytes, document, version: str | None) -> bool:
         return element.tag, attributes, [shape(child) for child in element]
 
     try:
-        before = ElementTree.fromstring(data)
-        after = ElementTree.fromstring(mx.writeToXmlString(document).encode("utf-8"))
+        before = ElementTree.fromstring(_escape_tile_tokens(data))  # a raw <UDIM> in a value, as scan() reads it
+        after = ElementTree.fromstring(_escape_tile_tokens(mx.writeToXmlString(document).encode("utf-8")))
     except (ElementTree.ParseError, ValueError):
         return False
     if any(child.tag.endswith("}include") or child.tag == "xi:include" for child in before.iter()):

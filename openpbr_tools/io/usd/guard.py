@@ -29,6 +29,7 @@ What a reference is (URL, drive, UNC, absolute, NUL) and whether a path is insid
 from __future__ import annotations
 
 import os
+import re
 import stat
 
 from ...model import Location
@@ -257,18 +258,20 @@ class StageGuard:
         the stage as a missing layer does."""
         file = self.layer_file(layer)
         target = os.path.normpath(os.path.join(os.path.dirname(file), asset_path))
-        arcs = [(None, "sublayer")] if asset_path in layer.subLayerPaths else []
-        packaged = self.path.lower().endswith(".usdz")  # a document inside the package: not a file on disk
-        exists = asset_path.removeprefix("./") in self.package_files if packaged else os.path.isfile(target)
-        if not exists:
-            # as a missing .usda layer is (usd-core would fail to compose it with the usdMtlx plugin too)
-            where = ", ".join(f"{arc} of <{prim_path}>" if prim_path else arc for prim_path, arc in
-                              arcs + list(_arcs_to(layer, asset_path)))
+        arcs = ([(None, "sublayer")] if asset_path in layer.subLayerPaths else []) + list(_arcs_to(layer, asset_path))
+        # a document inside a package is no file on disk: neither checked nor validated here
+        packaged = "[" in layer.identifier or self.path.lower().endswith(".usdz") or file.lower().endswith(".usdz")
+        exists = packaged or os.path.isfile(target)
+        # only an arc the stage composes fails it (usd-core only warns about one inside a variant it does not select)
+        if not exists and any(path is None or "{" not in path for path, _ in arcs):
+            # as a missing .usda layer does (usd-core would fail to compose it with the usdMtlx plugin too)
+            where = ", ".join(f"{arc} of <{prim_path}>" if prim_path else arc for prim_path, arc in arcs)
             raise ReadError("not_usd", f"a layer the stage needs cannot be opened: the MaterialX document "
                             f"@{asset_path}@ ({where or 'composition arc'}) does not exist", self.where(file))
-        for prim_path, arc in arcs + list(_arcs_to(layer, asset_path)):
-            self.observe("usd_mtlx_reference", self.where(file, None, prim_path), arc=arc, asset=asset_path,
-                         document=None if packaged else target)
+        for prim_path, arc in arcs:
+            namespace = _VARIANT_SELECTION.sub("/", prim_path) if prim_path else None  # /World{look=a}M: /World/M
+            self.observe("usd_mtlx_reference", self.where(file, None, namespace), arc=arc, asset=asset_path,
+                         document=target if exists and not packaged else None)
         self.editable(layer).UpdateCompositionAssetDependency(asset_path, "")
 
     def drop_value_clips(self, layer) -> None:
@@ -343,6 +346,9 @@ def _prim_specs(layer):
         spec = layer.GetPrimAtPath(path)  # a variant's prim spec for a variant path; None for a variant set
         if spec:
             yield spec
+
+
+_VARIANT_SELECTION = re.compile(r"\{[^}]*\}")
 
 
 def _arcs_to(layer, asset_path: str):
