@@ -139,7 +139,8 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
     count = sum(1 for m in asset.materials if not m.extra.get("fallback_of"))  # a USD preview fallback is not another material
     documents = []
     for document in composed_documents(asset):  # (a MaterialX document composes no other document: one level)
-        composed = validate_file(document, context)
+        own = context.for_document(document) if context is not None and context.for_document is not None else None
+        composed = validate_file(document, own or context)
         diagnostics += composed.diagnostics
         count += composed.materials
         documents.append((document, composed.materials))
@@ -194,8 +195,21 @@ def contexts_for(files: list[str], options: Options, problems: list[Diagnostic])
         if key not in shared:
             shared[key] = context_for(path, config, options.select, options.ignore, overrides=overrides,
                                       allow_outside=options.allow_outside)
+            shared[key].for_document = DocumentContexts(options)
         contexts[path] = shared[key]
     return contexts
+
+
+@dataclass(frozen=True, slots=True)
+class DocumentContexts:
+    """The context of a document a file composes, made as a listed file's is: its own nearest
+    configuration and matching overrides, and the command's options (a value, so worker processes get it)."""
+
+    options: Options
+
+    def __call__(self, path: str) -> Context | None:
+        found = contexts_for([path], self.options, [])
+        return found[path] if found else None  # a bad configuration there: the composing file's context
 
 
 def _validate_chunk(tasks: list[tuple[str, Context]]) -> list[FileResult]:

@@ -490,3 +490,18 @@ def test_a_colour_where_the_definition_wants_a_float_is_verified_at_the_default_
                                        "json"])
     codes = [d["code"] for d in json.loads(outcome.stdout)["diagnostics"]]
     assert "OPBR011" not in codes and {"OPBR1108", "OPBR1109"} & set(codes), outcome.output
+
+
+def test_a_composed_document_is_judged_by_its_own_configuration_overrides(tmp_path):
+    """The reviewer's case: an override for **/*.mtlx that ignores OPBR301 applied when the document was
+    listed, not when the stage composing it was (it took the stage's settings)."""
+    for folder, configured in (("plain", False), ("configured", True)):
+        (tmp_path / folder / "sub").mkdir(parents=True)
+        (tmp_path / folder / "sub" / "look.mtlx").write_text(_look("1.5"), encoding="utf-8")  # roughness 1.5: OPBR301
+        (tmp_path / folder / "stage.usda").write_text(_STAGE.replace("./look.mtlx", "./sub/look.mtlx"), encoding="utf-8")
+        if configured:
+            (tmp_path / folder / ".openpbr.toml").write_text(
+                '[[overrides]]\npaths = ["**/*.mtlx"]\nignore = ["OPBR301"]\n', encoding="utf-8")
+        for listed in ("stage.usda", "sub/look.mtlx"):
+            found = {d.code for d in validate_paths([str(tmp_path / folder / listed)]).diagnostics}
+            assert ("OPBR301" in found) != configured, (folder, listed)

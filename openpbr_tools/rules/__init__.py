@@ -102,6 +102,8 @@ class Context:
     required_colorspace: str | None = None
     allowed_texture_colorspaces: frozenset[str] | None = None
     allow_outside: tuple[str, ...] = ()  # folders besides the asset's own that it may read from
+    # the context of a document the asset composes (a USD stage's .mtlx), as if it were listed itself
+    for_document: Callable[[str], "Context | None"] | None = None
 
     def diagnostic(self, rule: Rule, message: str, location: Location, hint: str | None = None,
                    output: Location | None = None) -> Diagnostic:
