@@ -236,6 +236,7 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
     try:
         if options.changed_since:
             files = changed_since(files, options.changed_since)
+        validated = files  # by this run or, under --shard, by the shard that holds it
         if options.shard:
             files = shard(files, *options.shard)
     except SelectionError as error:
@@ -249,13 +250,14 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
             return report
         tasks = [(path, contexts[path]) for path in files]
     report.files = _run(tasks, options, progress)
-    _drop_listed_documents(report.files, files)
+    _drop_listed_documents(report.files, validated)
     return report
 
 
 def _drop_listed_documents(results: list[FileResult], files: list[str]) -> None:
     """Each composed document's findings and materials are reported once: with the document, when it is
-    validated as a file of its own too, else with the first file that composes it."""
+    validated as a file of its own too (by this run or, under --shard, by another shard's), else with the
+    first file that composes it (under --shard, once per shard holding such a file)."""
     reported = {os.path.abspath(f) for f in files}
     for result in results:
         dropped = set()

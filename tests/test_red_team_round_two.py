@@ -505,3 +505,17 @@ def test_a_composed_document_is_judged_by_its_own_configuration_overrides(tmp_pa
         for listed in ("stage.usda", "sub/look.mtlx"):
             found = {d.code for d in validate_paths([str(tmp_path / folder / listed)]).diagnostics}
             assert ("OPBR301" in found) != configured, (folder, listed)
+
+
+def test_under_shards_a_listed_document_is_reported_by_its_own_shard_only(tmp_path):
+    """A stage and the .mtlx it composes, both in the folder: whichever shards they land in, the document's
+    finding is reported once over all the shards (by the document's own)."""
+    (tmp_path / "sub").mkdir()
+    (tmp_path / "sub" / "look.mtlx").write_text(_look("0,4"), encoding="utf-8")
+    for index in range(6):  # enough stages that some land in the other shard than the document
+        (tmp_path / f"stage{index}.usda").write_text(_STAGE.replace("./look.mtlx", "./sub/look.mtlx"), encoding="utf-8")
+    found = []
+    for shard_index in (1, 2):
+        report = validate_paths([str(tmp_path)], options=Options(use_config=False, shard=(shard_index, 2)))
+        found += [d.code for d in report.diagnostics]
+    assert found.count("OPBR202") == 1
