@@ -155,9 +155,8 @@ def composed_documents(asset: Asset) -> tuple[str, ...]:
     """The MaterialX documents a USD stage references, sublayers or loads as a payload (UsdMtlx), which
     this usd-core cannot compose: their findings are the stage's too, since they hold its materials.
     Only documents the stage's path guard let through (inside the asset's folder), each once."""
-    folder = os.path.dirname(asset.path)  # named as the stage is named (relative stays relative)
-    found = [os.path.normpath(os.path.join(folder, os.path.relpath(o.detail["document"], os.path.dirname(os.path.abspath(asset.path)))))
-             for o in asset.observations if o.kind == "usd_mtlx_reference" and o.detail.get("document")]
+    found = [o.detail["document"] for o in asset.observations  # named as the stage is (the guard's where())
+             if o.kind == "usd_mtlx_reference" and o.detail.get("document")]
     return tuple(dict.fromkeys(found))
 
 

@@ -22,7 +22,6 @@ NOT_CONTAINMENT = {
     ("io/usd/network.py", "relpath"): "spells an anchored asset path relative to the root layer",
     ("convert.py", "relpath"): "spells a texture path relative to the output folder",
     ("batch.py", "relpath"): "places an output below the output folder as its input sits below its argument",
-    ("validate.py", "relpath"): "spells a stage's MaterialX document as the stage's own path is spelt",
     ("io/mtlx/library.py", "realpath"): "keys the library cache by MaterialX's own library folder",
     ("io/mtlx/library.py", "relpath"): "lists MaterialX's own definition files below its library folder",
 }

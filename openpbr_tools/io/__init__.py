@@ -109,11 +109,15 @@ def packaged_image(container: str, member: str, cache: dict | None = None) -> tu
     return cache[container].image_bytes(int(match.group(1)))
 
 
+def package_member(path: str) -> str:
+    """The member a package path names (``textures/n.png`` of ``x.usdz[textures/n.png]``), or ``path``."""
+    return path.split("[", 1)[-1].rstrip("]") if path.endswith("]") else path
+
+
 def _usdz_member(container: str, member: str) -> tuple[bytes, str | None]:
     import zipfile  # lazy: only a texture packaged in a USDZ needs it
 
-    name = member.split("[", 1)[-1].rstrip("]") if member.endswith("]") else member
-    name = name.lstrip("./")
+    name = package_member(member).lstrip("./")
     try:
         with zipfile.ZipFile(container) as archive:
             data = archive.read(name)

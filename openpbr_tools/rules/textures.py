@@ -12,7 +12,7 @@ import os
 import re
 
 from ..diagnostics import Severity
-from ..io import ReadError, packaged_image
+from ..io import ReadError, package_member, packaged_image
 from ..io.image_files import damage
 from ..io.images import channel_count
 from ..io.paths import Kind, classify, climbs
@@ -197,7 +197,7 @@ def check(asset, context):
                 "input, so MaterialX reads one texel everywhere", where,
                 hint="connect a texcoord node (index 0) to the place2d's texcoord input")
         if parameter is not None and parameter.role == "normal" and texture.normal_map is None:
-            inner = texture.file.rsplit("[", 1)[-1].rstrip("]") if texture.file.endswith("]") else texture.file  # x.usdz[n.png]
+            inner = package_member(texture.file)
             eight_bit = is_eight_bit(inner) or inner.lower().endswith(".webp")
             yield context.diagnostic(
                 NORMAL_WITHOUT_DECODE if eight_bit else FLOAT_NORMAL_WITHOUT_DECODE,

@@ -221,9 +221,9 @@ def _observations(asset, context):
     composed_elsewhere = _set_aside(asset)  # materials whose shader is in a MaterialX document set aside
     for observation in asset.observations:
         detail, where = observation.detail, observation.location
-        if observation.kind == "usd_material_without_surface" and _under(detail["material"], composed_elsewhere):
-            continue
         if observation.kind == "usd_material_without_surface":
+            if _under(detail["material"], composed_elsewhere):
+                continue  # its shader is in the MaterialX document set aside
             yield context.diagnostic(
                 NO_SHADER, f"material {detail['material']!r} has no surface shader: {detail['reason']}", where,
                 hint="connect outputs:mtlx:surface to the OpenPBR shader's outputs:surface (or outputs:surface "

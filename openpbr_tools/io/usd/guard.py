@@ -252,7 +252,7 @@ class StageGuard:
 
     def mtlx_reference(self, layer, asset_path: str) -> None:
         """An arc to a MaterialX document (UsdMtlx) that this usd-core cannot open (PyPI's usd-core has
-        no usdMtlx plugin): noted (``usd_mtlx_reference``, with the ``document``'s path on disk) and
+        no usdMtlx plugin): noted (``usd_mtlx_reference``, with the ``document``'s path, named as the stage is) and
         deleted in memory, so the rest of the stage composes; the document is MaterialX, validated with
         the stage (:func:`openpbr_tools.validate.validate_file`). A document that does not exist fails
         the stage as a missing layer does."""
@@ -271,7 +271,7 @@ class StageGuard:
         for prim_path, arc in arcs:
             namespace = _VARIANT_SELECTION.sub("/", prim_path) if prim_path else None  # /World{look=a}M: /World/M
             self.observe("usd_mtlx_reference", self.where(file, None, namespace), arc=arc, asset=asset_path,
-                         document=target if exists and not packaged else None)
+                         document=self.where(target).file if exists and not packaged else None)
         self.editable(layer).UpdateCompositionAssetDependency(asset_path, "")
 
     def drop_value_clips(self, layer) -> None:
