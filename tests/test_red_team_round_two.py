@@ -379,19 +379,23 @@ def test_every_material_warning_of_the_khronos_validator_is_a_finding_here(tmp_p
 def test_a_non_finite_value_is_verified_at_its_default_not_a_crash(tmp_path, value):
     """convert --verify of a NaN roughness (OPBR203) raised IndexError in the evaluator's albedo tables (a NaN
     cast to an integer index): the evaluator takes the default, as the conversion writes none."""
-    path = _mtlx(tmp_path, f"""
-    <open_pbr_surface name="S" type="surfaceshader">
+    codes, output = _verify(tmp_path, f"""
       <input name="specular_roughness" type="float" value="{value}" />
-      <input name="base_color" type="color3" value="0.6, 0.5, 0.4" />
+      <input name="base_color" type="color3" value="0.6, 0.5, 0.4" />""", "out.gltf")
+    assert "OPBR011" not in codes and {"OPBR1108", "OPBR1109"} & set(codes), output  # verified
+
+
+def _verify(tmp_path, inputs: str, output: str) -> tuple[list[str], str]:
+    """``convert --verify`` of one OpenPBR material with ``inputs``: its diagnostics' codes and its output."""
+    path = _mtlx(tmp_path, f"""
+    <open_pbr_surface name="S" type="surfaceshader">{inputs}
     </open_pbr_surface>
     <surfacematerial name="M" type="material">
       <input name="surfaceshader" type="surfaceshader" nodename="S" />
     </surfacematerial>
     """)
-    outcome = CliRunner().invoke(cli, ["convert", str(path), "-o", str(tmp_path / "out.gltf"), "--verify", "--format",
-                                       "json"])
-    codes = [d["code"] for d in json.loads(outcome.stdout)["diagnostics"]]
-    assert "OPBR011" not in codes and {"OPBR1108", "OPBR1109"} & set(codes), outcome.output  # verified
+    outcome = CliRunner().invoke(cli, ["convert", str(path), "-o", str(tmp_path / output), "--verify", "--format", "json"])
+    return [d["code"] for d in json.loads(outcome.stdout)["diagnostics"]], outcome.output
 
 
 # -- review of the above: composition corners, hostile sizes --------------------------------------------
@@ -477,19 +481,10 @@ def test_thousands_of_unknown_extension_names_are_compared_with_the_registry_a_b
 def test_a_colour_where_the_definition_wants_a_float_is_verified_at_the_default_not_a_crash(tmp_path):
     """geometry_opacity written as the color3 of OpenPBR 0.2 on a 1.1.1 shader (OPBR201) made the evaluator
     broadcast a (3,) value against the sphere's points."""
-    path = _mtlx(tmp_path, """
-    <open_pbr_surface name="S" type="surfaceshader">
+    codes, output = _verify(tmp_path, """
       <input name="transmission_weight" type="float" value="1" />
-      <input name="geometry_opacity" type="color3" value="1, 1, 1" />
-    </open_pbr_surface>
-    <surfacematerial name="M" type="material">
-      <input name="surfaceshader" type="surfaceshader" nodename="S" />
-    </surfacematerial>
-    """)
-    outcome = CliRunner().invoke(cli, ["convert", str(path), "-o", str(tmp_path / "out.mtlx"), "--verify", "--format",
-                                       "json"])
-    codes = [d["code"] for d in json.loads(outcome.stdout)["diagnostics"]]
-    assert "OPBR011" not in codes and {"OPBR1108", "OPBR1109"} & set(codes), outcome.output
+      <input name="geometry_opacity" type="color3" value="1, 1, 1" />""", "out.mtlx")
+    assert "OPBR011" not in codes and {"OPBR1108", "OPBR1109"} & set(codes), output
 
 
 def test_a_composed_document_is_judged_by_its_own_configuration_overrides(tmp_path):
