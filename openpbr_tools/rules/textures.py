@@ -168,6 +168,8 @@ def output_type(texture) -> str:
         return "vector3"
     if texture.channels is not None and len(texture.channels) == 1:
         return "float"
+    if texture.channels is not None and len(texture.channels) == 3 and texture.image_type[-1:] == "4":
+        return texture.image_type[:-1] + "3"  # a color4 image converted to color3
     return texture.image_type
 
 

@@ -118,6 +118,9 @@ class GraphFollower:
             elif category == "convert" and node.getType().startswith("color") and \
                     (source := node.getInput("in")) is not None and source.getType().startswith("vector"):
                 return None  # a vector image read as a colour: no Texture holds that (nor its colour management)
+            elif category == "convert" and channels is None and node.getType()[-1:] == "3" and \
+                    (source := node.getInput("in")) is not None and source.getType()[-1:] == "4":
+                channels = (0, 1, 2)  # a four-channel image converted to three: its alpha is dropped
             upstream = node.getInput("in1" if category in ("multiply", "add") else "in")
             node = self.upstream_node(upstream) if upstream is not None else None
             # which output of the next node this step reads (a multi-output UsdUVTexture's rgb, say)
@@ -155,10 +158,11 @@ class GraphFollower:
 
     def image(self, node, channels, normal_scale, image_type: str | None = None) -> Texture:
         file_input = self.bound_file(node.getInput("file"))
-        file_value = file_input.getValueString() if file_input is not None else ""
-        prefix = file_input.getActiveFilePrefix() if file_input is not None else ""
+        # MaterialX's string resolver: the enclosing elements' fileprefix and [token] substitutions
+        # (<token name="resolution" value="1k"/> makes wood_[resolution].png wood_1k.png); <UDIM> stays
+        file_value = file_input.getResolvedValueString() if file_input is not None else ""
         texture = Texture(
-            file=prefix + file_value,
+            file=file_value,
             image_type=image_type or node.getType(),
             channels=channels,
             colorspace=(file_input.getActiveColorSpace() if file_input is not None else node.getActiveColorSpace()) or None,

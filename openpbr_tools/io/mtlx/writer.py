@@ -175,6 +175,10 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
         extract.addInput("in", image_type).setNodeName(upstream)
         extract.addInput("index", "integer").setValueString(str(texture.channels[0]))
         upstream = extract.getName()
+    elif texture.channels is not None and len(texture.channels) == 3 and image_type[-1:] == "4":
+        convert = document.addNode("convert", _unique(f"{prefix}_convert", used), image_type[:-1] + "3")
+        convert.addInput("in", image_type).setNodeName(upstream)  # a four-channel image read as three: alpha dropped
+        upstream = convert.getName()
     scale, bias = texture.scale, texture.bias
     if texture.normal_map is not None and (_is_decode(texture) or (scale is None and bias is None)):
         scale, bias = normal_map_decode(float(texture.normal_map)) if tangent_vector else (None, None)

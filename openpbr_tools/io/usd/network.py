@@ -12,6 +12,7 @@ chains, ``UsdUVTexture``) is :mod:`.texture_nodes`'s, and attribute values as pl
 from __future__ import annotations
 
 import os
+import posixpath
 
 from ...model import Connection, Input, Texture
 from ..paths import Kind, classify
@@ -186,6 +187,12 @@ class NetworkReader(TextureNodeReader):
                 layer = spec.layer
                 break
         packaged = ".usdz" in layer.identifier.lower()
+        if packaged and classify(authored) is Kind.RELATIVE and "[" not in authored:
+            # a member of the package: relative to the packaged layer's own folder inside it ("./a.png" of
+            # the package's first layer is the member "a.png"); one that climbs out of the package stays as authored
+            inner = layer.identifier[:-1].split("[", 1)[1] if layer.identifier.endswith("]") else ""
+            member = posixpath.normpath(posixpath.join(posixpath.dirname(inner), authored.replace("\\", "/")))
+            return (authored if member.startswith("..") else member), True
         if packaged or layer.identifier == self.root_layer.identifier or classify(authored) is not Kind.RELATIVE:
             return authored, packaged  # as authored: a URL, an absolute, drive or UNC path is not re-anchored
         if not layer.realPath:

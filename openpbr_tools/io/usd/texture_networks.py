@@ -69,6 +69,11 @@ class TextureNetworkWriter:
             node.CreateInput("in", output.GetTypeName()).ConnectToSource(output)
             self.constant_input(node, "index", "integer", int(texture.channels[0]))
             output, current = extracted, "float"
+        elif texture.channels is not None and len(texture.channels) == 3 and current[-1:] == "4":
+            three = current[:-1] + "3"  # a four-channel image read as three: alpha dropped
+            node, converted = self.node(material, f"{base}_convert", f"ND_convert_{current}_{three}", three)
+            node.CreateInput("in", output.GetTypeName()).ConnectToSource(output)
+            output, current = converted, three
         for operation, value, identity in (("multiply", texture.scale, 1.0), ("add", texture.bias, 0.0)):
             factor = _per_output(value, texture.channels, current)
             if factor is None or all(v == identity for v in _components(factor)):
