@@ -175,3 +175,186 @@ def test_a_dot_relative_texture_in_a_usdz_is_found_in_the_package(tmp_path):
     resolved = stage.GetPrimAtPath("/Asset/M/T").GetAttribute("inputs:file").Get().resolvedPath
     assert resolved.endswith("[textures/oak.png]")  # the anchor: usd-core finds the member
     assert "OPBR701" not in _codes(package)
+
+
+# -- USD shading structure: UsdShade itself is the anchor -------------------------------------------------
+
+_STAGE = """\
+#usda 1.0
+(
+    defaultPrim = "World"
+    metersPerUnit = 1
+)
+def Xform "World"
+{{
+    def Mesh "Plane" (
+        prepend apiSchemas = ["MaterialBindingAPI"]
+    )
+    {{
+        int[] faceVertexCounts = [3]
+        int[] faceVertexIndices = [0, 1, 2]
+        point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 0, 1)]
+        rel material:binding = <{target}>
+    }}
+    def Material "M" {active}
+    {{
+        token outputs:mtlx:surface.connect = </World/M/S.outputs:out>
+        def Shader "S"
+        {{
+            uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+{inputs}            token outputs:out
+        }}
+        def Shader "albedo"
+        {{
+            uniform token info:id = "ND_image_color3"
+            asset inputs:file = @albedo.png@
+            color3f outputs:out
+        }}
+    }}
+    def Shader "Outside"
+    {{
+        uniform token info:id = "ND_image_color3"
+        asset inputs:file = @albedo.png@
+        color3f outputs:out
+    }}
+}}
+"""
+
+
+def _stage(tmp_path, target="/World/M", inputs="", active=""):
+    _png(tmp_path / "albedo.png")
+    path = tmp_path / "stage.usda"
+    path.write_text(_STAGE.format(target=target, inputs=inputs, active=active), encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize("target, active, bound", [
+    ("/World/M", "", True), ("/World/M/S", "", False), ("/World/Missing", "", False),
+    ("/World/M", "(\n        active = false\n    )", False),
+])
+def test_a_binding_is_flagged_exactly_when_usd_resolves_it_to_no_material(tmp_path, target, active, bound):
+    from pxr import Usd, UsdShade
+
+    path = _stage(tmp_path, target=target, active=active)
+    stage = Usd.Stage.Open(str(path))  # held: a prim of a released stage is invalid
+    material, _ = UsdShade.MaterialBindingAPI(stage.GetPrimAtPath("/World/Plane")).ComputeBoundMaterial()
+    # the anchor: usd-core resolves it to no material, or to an inactive one, which Hydra never populates
+    assert (bool(material) and material.GetPrim().IsActive()) is bound
+    assert ("OPBR1017" in _codes(path)) is not bound
+
+
+def test_an_input_authored_as_a_relationship_is_no_input_to_usdshade(tmp_path):
+    from pxr import Usd, UsdShade
+
+    path = _stage(tmp_path, inputs="            rel inputs:base_color = </World/M/albedo.outputs:out>\n")
+    stage = Usd.Stage.Open(str(path))
+    shader = UsdShade.Shader(stage.GetPrimAtPath("/World/M/S"))
+    assert not shader.GetInput("base_color")  # the anchor: UsdShade sees no such input
+    assert _codes(path).get("OPBR1018") == 1
+
+
+@pytest.mark.parametrize("inputs, refused, reported", [
+    ('            color3f inputs:base_color (\n                connectability = "interfaceOnly"\n            )\n'
+     "            color3f inputs:base_color.connect = </World/M/albedo.outputs:out>\n", True, True),
+    # across the Material's boundary: UsdShade refuses it too, but Hydra follows it and OpenUSD's own
+    # preview-surface test stages do it (testPreviewSurfaceOpacityThreshold.usda), so it is no finding
+    ("            color3f inputs:base_color.connect = </World/Outside.outputs:out>\n", True, False),
+    ("            color3f inputs:base_color.connect = </World/M/albedo.outputs:out>\n", False, False),
+])
+def test_a_connection_usdshade_refuses_is_reported_where_renderers_do_not_follow_usd(tmp_path, inputs, refused, reported):
+    from pxr import Usd, UsdShade
+
+    path = _stage(tmp_path, inputs=inputs)
+    stage = Usd.Stage.Open(str(path))
+    port = UsdShade.Shader(stage.GetPrimAtPath("/World/M/S")).GetInput("base_color")
+    source = port.GetConnectedSources()[0][0]
+    origin = source.source.GetOutput(source.sourceName).GetAttr()
+    assert UsdShade.ConnectableAPI.CanConnect(port, origin) is not refused  # the anchor
+    assert ("OPBR1019" in _codes(path)) is reported
+
+
+def test_a_published_stage_feeding_shaders_across_material_boundaries_stays_clean():
+    published = (Path(__file__).parent / "data" / "published" / "usd" / "openusd" / "pxr" / "usdImaging" / "usdImagingGL"
+                 / "testenv" / "testUsdImagingGLPreviewSurface" / "testPreviewSurfaceOpacityThreshold.usda")
+    assert "OPBR1019" not in _codes(published)
+
+
+def test_a_source_asset_implementation_without_its_asset_has_no_definition(tmp_path):
+    from pxr import Usd, UsdShade
+
+    path = _stage(tmp_path, inputs='            uniform token info:implementationSource = "sourceAsset"\n')
+    stage = Usd.Stage.Open(str(path))
+    shader = UsdShade.Shader(stage.GetPrimAtPath("/World/M/S"))
+    assert not shader.GetShaderId() and not shader.GetSourceAsset("mtlx")  # the anchor: nothing names the node
+    report = validate_paths([str(path)], options=Options(use_config=False))
+    found = [d for d in report.diagnostics if d.code == "OPBR1001"]
+    assert found and found[0].location.input == "info:implementationSource"
+    assert not [d for d in report.diagnostics if d.code == "OPBR805"]  # no "uses a  shader" with an empty name
+
+
+def test_a_tga_texture_in_a_usdz_is_an_entry_the_package_may_not_hold(tmp_path):
+    import zipfile
+
+    layer = _STAGE.format(target="/World/M", inputs="", active="").replace("albedo.png", "albedo.tga")
+    package = tmp_path / "asset.usdz"
+    with zipfile.ZipFile(package, "w", zipfile.ZIP_STORED) as archive:
+        archive.writestr("asset.usda", layer)
+        archive.writestr("albedo.tga", bytes(18) + bytes(4 * 3))
+    assert _codes(package).get("OPBR1012") == 1
+    # usd-core's own finding of the same entry is not repeated (its misaligned entries are, as OPBR1010)
+    assert not [m for m in _messages(package, "OPBR1010") if "UnsupportedFileExtension" in m]
+
+
+@pytest.mark.parametrize("opacity, code_expected", [("0.35", True), ("0.6", True), ("1", True), (None, False)])
+def test_a_preview_threshold_over_a_constant_opacity_cuts_all_or_nothing(tmp_path, opacity, code_expected):
+    _png(tmp_path / "mask.png", "L", colour=128)
+    value = (f"            float inputs:opacity = {opacity}\n" if opacity is not None else
+             "            float inputs:opacity.connect = </M/mask.outputs:a>\n")
+    path = tmp_path / "preview.usda"
+    path.write_text(textwrap.dedent(f"""\
+        #usda 1.0
+        (
+            defaultPrim = "M"
+            metersPerUnit = 1
+        )
+        def Material "M"
+        {{
+            token outputs:surface.connect = </M/P.outputs:surface>
+            def Shader "P"
+            {{
+                uniform token info:id = "UsdPreviewSurface"
+        {value}            float inputs:opacityThreshold = 0.5
+                token outputs:surface
+            }}
+            def Shader "mask"
+            {{
+                uniform token info:id = "UsdUVTexture"
+                asset inputs:file = @mask.png@
+                float outputs:a
+            }}
+        }}
+        """), encoding="utf-8")
+    messages = _messages(path, "OPBR1007")
+    assert bool(messages) is code_expected
+    if opacity == "0.35":
+        assert "cuts the whole surface away" in messages[0]
+    elif opacity is not None:
+        assert "cuts nothing" in messages[0]
+
+
+@pytest.mark.parametrize("tiling, flagged", [("0, 0", True), ("4, 0", True), ("4, 4", False), ("1, 1", False)])
+def test_a_zero_tiling_collapses_the_texture(tmp_path, tiling, flagged):
+    _png(tmp_path / "albedo.png")
+    path = _mtlx(tmp_path, f"""
+        <tiledimage name="albedo" type="color3">
+          <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />
+          <input name="uvtiling" type="vector2" value="{tiling}" />
+        </tiledimage>
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="base_color" type="color3" nodename="albedo" />
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+    """)
+    assert ("OPBR711" in _codes(path)) is flagged

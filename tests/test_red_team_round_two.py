@@ -437,7 +437,7 @@ def test_a_sublayered_document_does_not_hide_a_binding_to_nowhere(tmp_path):
     (tmp_path / "look.mtlx").write_text(_look("0.4"), encoding="utf-8")
     (tmp_path / "typo.usda").write_text(_HEAD.replace('defaultPrim = "World"', 'defaultPrim = "Ball"').replace(
         ')\n', '    subLayers = [@./look.mtlx@]\n)\n', 1) + _BALL.replace("TARGET", "/Nowhere/Typo"), encoding="utf-8")
-    assert _codes(tmp_path / "typo.usda") == {"OPBR1010": 1}
+    assert _codes(tmp_path / "typo.usda") == {"OPBR1017": 1}  # (usd-core's own InvalidResourcePath, OPBR1010, before OPBR1017)
 
 
 def test_a_document_two_listed_stages_compose_is_reported_once_with_its_materials_counted_once(tmp_path):

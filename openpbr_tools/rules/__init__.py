@@ -34,13 +34,14 @@ FAMILIES = (
     "usd",
     "usd_preview",
     "usd_texcoords",
+    "usd_shading",
     "gltf",
     "gltf_meshes",
     "translation",
 )
 
 #: Families that check one input format only (their modules, and what they import, load only for it).
-FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "gltf": "gltf", "gltf_meshes": "gltf",
+FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "usd_shading": "usd", "gltf": "gltf", "gltf_meshes": "gltf",
                 "translation": None}
 
 

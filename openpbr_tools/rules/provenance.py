@@ -171,6 +171,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "channel rule: the wrong channel drives the input.", f"{MX_VALIDATE}; {MX_NODES}"),
     "OPBR703": ("A tangent-space normal map read without normalmap is used as a raw vector in [0, 1]: every "
                 "normal tilts towards +X+Y+Z.", f"{MX_NODES}; {MX_OPENPBR}"),
+    "OPBR711": ("tiledimage multiplies by uvtiling and place2d divides by scale (MaterialX's stdlib node "
+                "definitions): a 0 collapses the texture or divides by zero.", MX_NODES),
     "OPBR710": ("A floating-point image read straight into a world-space normal input is right only if it holds "
                 "world-space normals; a tangent-space map read so shades every point wrongly.", f"{MX_NODES}; {MX_OPENPBR}"),
     "OPBR704": ("Absolute paths, '..' and URLs break when the asset is moved, packaged (USDZ, glTF) or rendered "
@@ -261,6 +263,12 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  f"{USD_PREVIEW}; {HD_ST}; " + _USD + "pxr/usd/usdShade/materialBindingAPI.h"),
     "OPBR1016": ("A UsdUVTexture whose st is unconnected samples (0, 0) everywhere: the texture renders as one "
                  "flat colour.", f"{USD_PREVIEW}; {HD_ST}"),
+    "OPBR1017": ("A direct binding to a missing, inactive or non-Material prim resolves to no material: the "
+                 "geometry renders with the renderer's fallback.", _USD + "pxr/usd/usdShade/materialBindingAPI.h"),
+    "OPBR1018": ("A UsdShade input is an attribute: a relationship named inputs:x is no input and is never "
+                 "connected.", _USD + "pxr/usd/usdShade/input.h"),
+    "OPBR1019": ("UsdShade's connectability (interfaceOnly) and encapsulation rules, as "
+                 "UsdShadeConnectableAPI::CanConnect applies them.", _USD + "pxr/usd/usdShade/connectableAPI.h"),
     "OPBR1101": ("Nothing is lost; a rename recorded so a reviewer can follow a value across models and "
                  "versions.", f"{OPENPBR}; {MX_OPENPBR}"),
     "OPBR1102": ("Nothing is lost; the value changed form exactly (units, folded parameters) and the report says "

@@ -127,8 +127,23 @@ FLOAT_NORMAL_WITHOUT_DECODE = Rule(
     example_files=("normal.exr",),
 )
 
+_TILED = ('<tiledimage name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" '
+          'colorspace="srgb_texture" />\n  <input name="uvtiling" type="vector2" value="{tiling}" />\n</tiledimage>\n'
+          '<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n'
+          '</open_pbr_surface>')
+
+ZERO_UV_SCALE = Rule(
+    "OPBR711", "uv-scale-zero", Severity.WARNING,
+    "An image's coordinates are scaled by 0 in u or v (a tiledimage's uvtiling, a place2d's or UsdTransform2d's "
+    "scale): the texture collapses to one texel, or a line of them, across the surface.",
+    "tiledimage multiplies the coordinates by uvtiling, so a tiling of 0 maps every point to the same texel; "
+    "place2d divides by its scale, so a 0 scale divides by zero (MaterialX's stdlib node definitions). Usually "
+    "an unset tiling exported as 0. glTF's KHR_texture_transform scale of 0 is OPBR1210.",
+    passing=_TILED.format(tiling="4, 4"), failing=_TILED.format(tiling="0, 0"), example_files=("albedo.png",),
+)
+
 RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, EMPTY_PATH, PLACE2D_WITHOUT_TEXCOORD,
-         UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, GREY_NORMAL_MAP, FLOAT_NORMAL_WITHOUT_DECODE)
+         UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, GREY_NORMAL_MAP, FLOAT_NORMAL_WITHOUT_DECODE, ZERO_UV_SCALE)
 
 # Case-sensitive, as MaterialX (UDIM_TOKEN, UV_TILE_TOKEN) and OpenUSD (UsdShadeUdimUtils) substitute them:
 # "<udim>" is read as part of a file name, so its tiles are never found.
@@ -193,6 +208,11 @@ def check(asset, context):
                 IMAGE_TYPE_MISMATCH, f"{entry.name} is {expected} but {texture.node!r} produces {produced}",
                 entry.location, hint="add an extract node, or declare the image with the input's type",
             )
+        if texture.uv is not None and 0.0 in tuple(texture.uv.scale) and not _gltf(texture):
+            yield context.diagnostic(
+                ZERO_UV_SCALE, f"{entry.name}: {texture.node!r} scales its coordinates by "
+                f"({texture.uv.scale[0]:g}, {texture.uv.scale[1]:g}): the texture collapses to one texel "
+                "(a tiling of 0) or divides by zero (a scale of 0)", where, hint="set the tiling or scale to 1 (no tiling)")
         if texture.constant_uv:
             yield context.diagnostic(
                 PLACE2D_WITHOUT_TEXCOORD, f"{entry.name}: {texture.node!r} is placed by a place2d without a texcoord "

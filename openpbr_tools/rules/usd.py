@@ -29,6 +29,10 @@ value clips pointing outside are deleted before usd-core composes the stage and 
 and a USDZ's entries are checked as usd-core sees them (OPBR1012). Files that would crash or hang
 usd-core (brackets nested deeper than 1,000 levels, a package whose entries lie about their size)
 are refused as unreadable (OPBR002) before usd-core parses them.
+
+One module because its rules are reported from one pass over the reader's observations, and usd-core's own
+findings (OPBR1010) are filtered against what those rules already report; split, each half would import the
+other's.
 """
 
 from __future__ import annotations
@@ -152,12 +156,13 @@ ARC_OUTSIDE = Rule(
 PACKAGE_ENTRY = Rule(
     "OPBR1012", "usdz-unsafe-entry", Severity.ERROR,
     "A USDZ package holds an entry whose name is absolute, climbs out with '..' or contains a "
-    "backslash, or an entry that is compressed.",
+    "backslash, an entry that is compressed, or a file type a package may not hold (a TGA texture).",
     "A tool that extracts the package writes such an entry outside the folder it extracts to (over "
     "/etc/..., or beside the package); the USDZ specification allows only relative names inside the "
     "package and stored (uncompressed) entries, which usd-core reads in place: a compressed texture "
-    "does not load. The names are usd-core's view of the archive (its local file headers, not the "
-    "central directory).",
+    "does not load. It allows layers, PNG, JPEG, EXR and AVIF images and audio only (usd-core's "
+    "FileExtensionValidator): a viewer that conforms does not load a TGA. The names are usd-core's view "
+    "of the archive (its local file headers, not the central directory).",
     passing=_package(("root.usda", openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("albedo.png", "")),
     failing=_package(("root.usda", openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("../albedo.png", "")),
     passing_name="example.usdz", failing_name="example.usdz", formats=("usd",),
@@ -188,6 +193,7 @@ RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SC
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
     "NonCompliantBiasAndScale", "NonCompliantScaleValues", "NonCompliantBiasValues", "InvalidSourceColorSpace",
+    "UnsupportedFileExtensionInPackage",  # OPBR1012
 }
 
 
@@ -204,30 +210,37 @@ def check(asset, context):
 
 # -- structure, ids, connections (colour-space names: usd_colorspaces.py) --------------------------
 
-def _set_aside(asset) -> set[str]:
+def set_aside(asset) -> set[str]:
     """The prims whose MaterialX arc was set aside (OPBR1013), as their layers name them; a sublayered
     document's prims sit under /MaterialX (UsdMtlx's root)."""
     arcs = [o for o in asset.observations if o.kind == "usd_mtlx_reference"]
     return {o.location.path or "/MaterialX" for o in arcs}
 
 
-def _under(path: str, prims: set[str]) -> bool:
+def under(path: str, prims: set[str]) -> bool:
     """Whether ``path`` is one of ``prims`` or below one, also where the prim's layer is referenced below
     another prim of the stage (/Looks/M in looks.usda, /World/Looks/M on the stage)."""
     return any(f"{path}/".startswith(f"{prim}/") or f"/{prim.strip('/')}/" in f"{path}/" for prim in prims)
 
 
 def _observations(asset, context):
-    composed_elsewhere = _set_aside(asset)  # materials whose shader is in a MaterialX document set aside
+    composed_elsewhere = set_aside(asset)  # materials whose shader is in a MaterialX document set aside
     for observation in asset.observations:
         detail, where = observation.detail, observation.location
         if observation.kind == "usd_material_without_surface":
-            if _under(detail["material"], composed_elsewhere):
+            if under(detail["material"], composed_elsewhere):
                 continue  # its shader is in the MaterialX document set aside
             yield context.diagnostic(
                 NO_SHADER, f"material {detail['material']!r} has no surface shader: {detail['reason']}", where,
                 hint="connect outputs:mtlx:surface to the OpenPBR shader's outputs:surface (or outputs:surface "
                      "to a UsdPreviewSurface)",
+            )
+        elif observation.kind == "usd_missing_shader_id" and detail.get("implementation"):
+            source = detail["implementation"]
+            yield context.diagnostic(
+                MISSING_SHADER_ID, f"info:implementationSource is {source!r} but no info:<type>:{source} is authored "
+                "(an info:id is then ignored): no renderer knows which node it is", where,
+                hint='set info:implementationSource = "id" to use info:id, or author the source',
             )
         elif observation.kind == "usd_missing_shader_id":
             yield context.diagnostic(
@@ -260,7 +273,8 @@ def _observations(asset, context):
         elif observation.kind == "usd_package_entry":
             yield context.diagnostic(
                 PACKAGE_ENTRY, f"package entry {detail['entry']!r} {detail['reason']}", where,
-                hint="re-create the package with usdzip (relative names, stored entries)",
+                hint="convert it to PNG or JPEG and re-create the package" if detail.get("file_type")
+                else "re-create the package with usdzip (relative names, stored entries)",
             )
 
 
@@ -370,7 +384,8 @@ def _usd_core(asset, context):
                     if o.kind == "usd_unknown_shader_id" and _judge_unknown_id(asset, o) is not None}
     texture_files = {t.file for m in asset.materials for _, t in m.textures()}
     # prims whose MaterialX arc was deleted (OPBR1013): usd-core finds them empty, as it would not with usdMtlx
-    composed_elsewhere = _set_aside(asset)
+    composed_elsewhere = set_aside(asset)
+    invalid_bindings = {o.detail["target"] for o in asset.observations if o.kind == "usd_binding_invalid"}
     for finding in findings:
         name, sites = finding["name"], finding["sites"]
         prims = {site.split(".", 1)[0] for site in sites}
@@ -381,8 +396,10 @@ def _usd_core(asset, context):
         if name == "MissingShaderIdInRegistry" and prims and prims <= reported_ids:
             continue
         bound = _BINDING_TARGET.search(finding["message"]) if name == "InvalidResourcePath" else None
-        if bound and _under(bound.group(1), composed_elsewhere):
+        if bound and under(bound.group(1), composed_elsewhere):
             continue  # a binding to a material composed from a MaterialX document this usd-core cannot open
+        if bound and bound.group(1) in invalid_bindings:
+            continue  # OPBR1017 reports it, with why
         if name in ("UnresolvableDependency", "InvalidFile") and any(
                 f"@{file}@" in finding["message"] or f"'{file}'" in finding["message"] for file in texture_files):
             continue  # OPBR701 reports missing textures

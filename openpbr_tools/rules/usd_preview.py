@@ -62,14 +62,18 @@ NORMAL_MAP_ENCODING = Rule(
 )
 OPACITY_THRESHOLD = Rule(
     "OPBR1007", "preview-opacity-threshold", Severity.WARNING,
-    "UsdPreviewSurface opacityThreshold contradicts opacityMode, or has nothing to cut.",
+    "UsdPreviewSurface opacityThreshold contradicts opacityMode, has nothing to cut, or cuts the whole surface "
+    "away.",
     "A non-zero opacityThreshold turns opacity into a cut-out mask and makes the renderer ignore "
-    "opacityMode (UsdPreviewSurface specification), so an authored opacityMode is dead; and a "
-    "threshold with opacity 1 everywhere (unset or constant 1) cuts nothing out.",
-    passing=_preview("float inputs:opacity = 0.4", "float inputs:opacityThreshold = 0.5"),
+    "opacityMode (UsdPreviewSurface specification), so an authored opacityMode is dead. With a constant "
+    "opacity the mask is all or nothing: at or above the threshold (unset, or 1) nothing is cut and the "
+    "surface renders fully opaque, below it every fragment is masked and the surface is invisible (a "
+    "translucent pane given a threshold).",
+    passing=_preview("float inputs:opacity.connect = </M/mask.outputs:a>", "float inputs:opacityThreshold = 0.5",
+                     extra=_uv_texture("mask", "mask.png", output="a", output_type="float")),
     failing=_preview('token inputs:opacityMode = "transparent"', "float inputs:opacity = 0.4",
                      "float inputs:opacityThreshold = 0.5"),
-    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("mask.png",),
 )
 WORKFLOW_INPUT_IGNORED = Rule(
     "OPBR1008", "preview-workflow-input-ignored", Severity.WARNING,
@@ -153,10 +157,17 @@ def _preview_conventions(material, context):
                 hint="remove opacityMode, or set opacityThreshold to 0 for translucency",
             )
         opacity = constant_or_default(material, "opacity")
-        if isinstance(opacity, (int, float)) and opacity >= 1.0:
+        if isinstance(opacity, (int, float)) and opacity >= threshold:
             yield context.diagnostic(
-                OPACITY_THRESHOLD, f"opacityThreshold {threshold:g} cuts nothing out: opacity is 1 everywhere", where,
-                hint="connect opacity to a mask texture, or remove opacityThreshold",
+                OPACITY_THRESHOLD, f"opacityThreshold {threshold:g} cuts nothing out: opacity is "
+                + ("1 everywhere" if opacity >= 1.0 else f"a constant {opacity:g}, so the surface renders fully opaque"),
+                where, hint="connect opacity to a mask texture, or remove opacityThreshold",
+            )
+        elif isinstance(opacity, (int, float)):
+            yield context.diagnostic(
+                OPACITY_THRESHOLD, f"opacityThreshold {threshold:g} cuts the whole surface away: opacity is a "
+                f"constant {opacity:g}, below it everywhere, so nothing of the material is visible", where,
+                hint="set opacityThreshold to 0 for translucency, or connect opacity to a mask texture",
             )
     workflow = constant_or_default(material, "useSpecularWorkflow")
     if workflow in (0, 1):

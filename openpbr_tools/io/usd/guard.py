@@ -37,7 +37,7 @@ from .. import ReadError, read_bytes
 from ..paths import Kind, PathGuard, classify, climbs
 from .crate import CRATE_MAGIC, crate_problem, crate_tokens
 from .errors import quiet, require_pxr, strip_stage_suffix, tf_error_text, usd_error_message
-from .package import ZIP_MAGIC, package_entries, read_layer_bytes, unsafe_entry_name
+from .package import ZIP_MAGIC, disallowed_entry_type, package_entries, read_layer_bytes, unsafe_entry_name
 from .text_layer import text_nesting_problem
 
 # Pcp errors that mean "a layer of this stage could not be opened".
@@ -159,6 +159,8 @@ class StageGuard:
                 "is compressed (USDZ entries must be stored uncompressed)" if entry.method != 0 else None)
             if reason:
                 self.observe("usd_package_entry", self.where(file), entry=entry.name, reason=reason)
+            elif (reason := disallowed_entry_type(entry.name)) is not None:
+                self.observe("usd_package_entry", self.where(file), entry=entry.name, reason=reason, file_type=True)
         if file == self.path:
             self.package_files = frozenset(e.name for e in entries)
         return bytes(entries[0].data) if entries[0].method == 0 else CRATE_MAGIC  # compressed: usd-core cannot read it

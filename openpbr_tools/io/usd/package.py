@@ -62,6 +62,20 @@ def package_entries(data: bytes) -> list[PackageEntry]:
     return entries
 
 
+#: The file types a USDZ package may hold (OpenUSD's usdz specification; usd-core's FileExtensionValidator,
+#: pxr/usdValidation/usdUtilsValidators): layers, PNG/JPEG/EXR/AVIF images and M4A/MP3/WAV audio.
+USDZ_EXTENSIONS = frozenset({"usda", "usdc", "usd", "usdz", "png", "jpg", "jpeg", "exr", "avif", "m4a", "mp3", "wav"})
+
+
+def disallowed_entry_type(name: str) -> str | None:
+    """Why a USDZ entry's file type is not allowed in a package (a TGA or TIFF texture), or ``None``."""
+    suffix = name.rsplit(".", 1)[-1].lower() if "." in name.rsplit("/", 1)[-1] else ""
+    if suffix in USDZ_EXTENSIONS or name.endswith("/"):
+        return None
+    return (f"is a .{suffix} file, which a USDZ package may not hold (layers, PNG, JPEG, EXR, AVIF and audio only): "
+            "conforming viewers do not load it") if suffix else None
+
+
 def unsafe_entry_name(name: str) -> str | None:
     """Why a USDZ entry name would escape a folder it is extracted to, or ``None``."""
     if classify(name) in (Kind.ABSOLUTE, Kind.DRIVE, Kind.UNC):

@@ -122,7 +122,14 @@ class _Reader(NetworkReader):
             if asset.colorspace:
                 asset.colorspace_location = self.location(default_prim.GetPath(), "colorSpace:name")
         shader_prims, meshes = [], []
-        for prim in stage.Traverse():
+        prototypes_read: set = set()
+        for prim in stage.Traverse(self.Usd.TraverseInstanceProxies()):
+            if prim.IsInstanceProxy():  # inside an instanceable prim: its prototype's prims, read once
+                in_prototype = prim.GetPrimInPrototype().GetPath()
+                if in_prototype in prototypes_read:
+                    continue
+                prototypes_read.add(in_prototype)
+            self.observe_structure(prim)
             if prim.HasAPI(self.Usd.ColorSpaceAPI):
                 name = self.authored_prim_colorspace(prim)
                 if name:
@@ -137,6 +144,47 @@ class _Reader(NetworkReader):
         for prim in shader_prims:
             self.observe_shader_id(prim)
         self.bound_primvars(meshes)
+
+    def observe_structure(self, prim) -> None:
+        """What UsdShade refuses or ignores in ``prim``'s scene description: a direct material binding
+        whose target is no active Material (USD renders the prim unbound), an ``inputs:`` relationship on
+        a shading prim (a relationship is no input: the value is never connected), and a connection
+        ``UsdShade.ConnectableAPI.CanConnect`` refuses (an interfaceOnly input fed by a node, a Material
+        output fed from outside the Material; not a shader input fed across a Material's boundary, which
+        OpenUSD's own preview-surface tests do and Storm renders)."""
+        UsdShade = self.UsdShade
+        for relationship in prim.GetRelationships():
+            name = relationship.GetName()
+            if name.startswith("material:binding") and ":collection" not in name:
+                for target in relationship.GetForwardedTargets():
+                    bound = self.stage.GetPrimAtPath(target.GetPrimPath())
+                    reason = ("does not exist" if not bound else "is inactive" if not bound.IsActive()
+                              else None if bound.IsA(UsdShade.Material) else f"is a {bound.GetTypeName() or 'typeless prim'}, "
+                              "not a Material")
+                    if reason is not None:
+                        self.asset.observe("usd_binding_invalid", self.location(prim.GetPath(), None),
+                                           relationship=name, target=str(target), reason=reason)
+            elif name.startswith("inputs:") and (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):
+                self.asset.observe("usd_input_relationship", self.location(prim.GetPath(), name[len("inputs:"):]),
+                                   input=name, targets=[str(t) for t in relationship.GetTargets()])
+        if not (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):  # (a Material is a NodeGraph)
+            return
+        connectable = UsdShade.ConnectableAPI(prim)
+        for port in list(connectable.GetInputs(onlyAuthored=True)) + list(connectable.GetOutputs(onlyAuthored=True)):
+            sources, _ = port.GetConnectedSources()
+            for source in sources:
+                if source.sourceType == UsdShade.AttributeType.Output:
+                    origin = source.source.GetOutput(source.sourceName)
+                else:
+                    origin = source.source.GetInput(source.sourceName)
+                if origin and not UsdShade.ConnectableAPI.CanConnect(port, origin.GetAttr()):
+                    side = "input" if UsdShade.Input.IsInput(port.GetAttr()) else "output"
+                    if side == "input" and port.GetConnectability() != UsdShade.Tokens.interfaceOnly:
+                        continue  # a shader's input fed across a Material's boundary: Hydra follows it (OpenUSD's own tests)
+                    self.asset.observe("usd_connection_refused", self.location(prim.GetPath(), port.GetBaseName()),
+                                       port=str(port.GetAttr().GetPath()), source=str(origin.GetAttr().GetPath()),
+                                       side=side, interface_only=side == "input" and
+                                       port.GetConnectability() == UsdShade.Tokens.interfaceOnly)
 
     def bound_primvars(self, meshes) -> None:
         """For each Material whose textures read a named primvar: the meshes bound to it (in any purpose,
@@ -173,9 +221,16 @@ class _Reader(NetworkReader):
         shader_id = str(shader.GetShaderId() or "")
         path = str(prim.GetPath())
         if not shader_id:
-            if str(shader.GetImplementationSource()) == "id":
+            source = str(shader.GetImplementationSource())
+            if source == "id":
                 self.asset.observe("usd_missing_shader_id", self.location(path, "info:id"),
                                    mtlx_context=path in self.mtlx_context_shaders)
+            elif source in ("sourceAsset", "sourceCode") and not any(
+                    a.GetName().startswith("info:") and a.GetName().endswith(f":{source}") and a.Get()
+                    for a in prim.GetAttributes()):
+                # info:implementationSource names a source that is not authored: Sdr finds no definition
+                self.asset.observe("usd_missing_shader_id", self.location(path, "info:implementationSource"),
+                                   mtlx_context=path in self.mtlx_context_shaders, implementation=source)
             return
         if shader_id in surface_shader_ids() or materialx_nodedef(shader_id) is not None:
             return
@@ -256,6 +311,8 @@ class _Reader(NetworkReader):
             if declared is not None and declared != "token":  # a surface output takes a shader's token output
                 self.asset.observe("usd_connection_type_mismatch", where, input=where.input, input_type="token",
                                    source=f"{shader_prim.GetPath()}.outputs:{output_name}", source_type=declared)
+                return
+            if not shader_id:  # no usable id: OPBR1001 says so at the shader (not "uses a  shader")
                 return
             self.asset.observe("unsupported_shader", where, material=str(material_prim.GetPath()), category=shader_id)
             return

@@ -16,10 +16,11 @@ def usd_core_findings(stage) -> list[dict]:
     MaterialX node definitions the stage uses registered in Sdr first so that known MaterialX
     shaders raise no "not found in sdrRegistry" errors. Each finding is a dict: ``identifier``,
     ``name``, ``severity`` (``error``/``warning``/``info``), ``message``, ``sites`` (paths)."""
-    from pxr import UsdShade, UsdValidation  # lazy: pxr (0.1-0.2 s) only once a stage has been opened
+    from pxr import Usd, UsdShade, UsdValidation  # lazy: pxr (0.1-0.2 s) only once a stage has been opened
 
     ids = set()
-    for prim in stage.Traverse():
+    # every shader the validators visit: also under class prims and in the prototypes of instances
+    for prim in stage.Traverse(Usd.TraverseInstanceProxies(Usd.PrimAllPrimsPredicate)):
         if prim.IsA(UsdShade.Shader):
             shader_id = UsdShade.Shader(prim).GetShaderId()
             if shader_id:

@@ -430,6 +430,26 @@ case("OPBR1015_usd_uvmap_read_as_st.usda", "OPBR1015", "A Blender export named t
      + "\n" + UV_MESH)
 case("OPBR1016_usd_st_unconnected.usda", "OPBR1016", "The UsdUVTexture's st was never connected to a primvar reader.",
      preview('color3f inputs:diffuseColor.connect = </M/albedo.outputs:rgb>', uvtex("albedo", "textures/checker.png")))
+BOUND_MESH = ('def Mesh "Plane" (\n    prepend apiSchemas = ["MaterialBindingAPI"]\n)\n{\n'
+              '    int[] faceVertexCounts = [3]\n    int[] faceVertexIndices = [0, 1, 2]\n'
+              '    point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 0, 1)]\n    rel material:binding = <TARGET>\n}\n')
+case("OPBR1017_usd_binding_to_shader.usda", "OPBR1017", "The mesh's material:binding was picked in an outliner on the Shader prim instead of its Material: USD resolves it to no material.",
+     usda('color3f inputs:base_color = (0.6, 0.2, 0.1)') + "\n" + BOUND_MESH.replace("TARGET", "/M/S"))
+case("OPBR1017_usd_binding_to_renamed_material.usda", "OPBR1017", "The Material was renamed after the binding was made: the binding targets a prim that no longer exists.",
+     usda('color3f inputs:base_color = (0.6, 0.2, 0.1)') + "\n" + BOUND_MESH.replace("TARGET", "/M_Old"))
+case("OPBR1018_usd_input_relationship.usda", "OPBR1018", "A script authored the base colour connection as a relationship (rel inputs:base_color) instead of an attribute connection: the input is never connected.",
+     usda('rel inputs:base_color = </M/albedo.outputs:out>', mximage("albedo", "textures/albedo.png")))
+case("OPBR1019_usd_interface_only_connected.usda", "OPBR1019", "base_color carries connectability interfaceOnly (copied from an interface template) yet is connected to an image node's output, which UsdShade refuses.",
+     usda('color3f inputs:base_color (\nconnectability = "interfaceOnly"\n)\ncolor3f inputs:base_color.connect = </M/albedo.outputs:out>',
+          mximage("albedo", "textures/albedo.png")))
+case("OPBR1001_usd_source_asset_not_authored.usda", "OPBR1001", "The shader says info:implementationSource = sourceAsset but authors no source asset, so its info:id is ignored and no definition is found.",
+     usda('uniform token info:implementationSource = "sourceAsset"\ncolor3f inputs:base_color = (0.6, 0.2, 0.1)'))
+case("OPBR1007_usd_threshold_cuts_everything.usda", "OPBR1007", "A 35%-opaque pane was given opacityThreshold 0.5 in its preview surface: every fragment falls below the threshold and the pane vanishes.",
+     preview('float inputs:opacity = 0.35\nfloat inputs:opacityThreshold = 0.5'))
+case("OPBR711_tiledimage_tiling_zero.mtlx", "OPBR711", "An unset tiling was exported as uvtiling (0, 0): every point reads the same texel.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />',
+          before='<tiledimage name="albedo" type="color3">\n  <input name="file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n'
+                 '  <input name="uvtiling" type="vector2" value="0, 0" />\n</tiledimage>'))
 case("OPBR709_height_map_as_normal.gltf", "OPBR709", "A greyscale height map was plugged into the normal texture slot.",
      json.dumps(textured({"name": "M", "normalTexture": {"index": 0}}, uri="textures/rough.png"), indent=2))
 case("OPBR702_color_image_into_metalness.mtlx", "OPBR702", "A color3 image fed straight into the float base_metalness.",

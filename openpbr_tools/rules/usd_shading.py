@@ -1,0 +1,112 @@
+"""USD shading structure: what UsdShade itself ignores or refuses, so that a stage loads without a complaint
+and still renders another material than the one authored.
+
+- A direct ``material:binding`` (any purpose) must target an active ``Material`` prim:
+  ``UsdShade.MaterialBindingAPI`` resolves a binding to a missing prim, an inactive one or a prim of another
+  type (a Shader picked in an outliner) to no material, and the geometry renders unbound (OPBR1017).
+- A shader's inputs are attributes: ``rel inputs:base_color = <...>`` is a relationship UsdShade does not
+  read as an input at all, so the input keeps its default (OPBR1018).
+- ``UsdShade.ConnectableAPI.CanConnect`` is the anchor for connections: an input whose connectability is
+  ``interfaceOnly`` takes only interface inputs (a Material's or NodeGraph's), and a Material's output only
+  sources inside that Material (encapsulation). Hydra does not check either and follows the connection, so
+  this is a warning: tools that author through UsdShade refuse to make or keep such a connection, and a
+  Material whose output reaches into another Material renders that one's shader while its own is orphaned
+  (OPBR1019). A shader's input fed from outside its Material is not reported: OpenUSD's own
+  preview-surface tests (testPreviewSurfaceOpacityThreshold.usda) do it and Storm renders them.
+
+Bindings to a material composed from a MaterialX document that this usd-core cannot open (OPBR1013) are
+not judged: with usdMtlx the target would exist.
+"""
+
+from __future__ import annotations
+
+from ..diagnostics import Severity
+from . import Rule
+from .usd import set_aside, under
+from .usd_examples import stage_example
+
+_MESH = ('def Mesh "Plane" (\n    prepend apiSchemas = ["MaterialBindingAPI"]\n)\n{\n'
+         "    int[] faceVertexCounts = [3]\n    int[] faceVertexIndices = [0, 1, 2]\n"
+         "    point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 0, 1)]\n"
+         "    rel material:binding = <TARGET>\n}\n\n")
+_MATERIAL = ('def Material "M"\n{\n    token outputs:mtlx:surface.connect = </M/S.outputs:out>\n\n'
+             '    def Shader "S"\n    {\n        uniform token info:id = "ND_open_pbr_surface_surfaceshader"\n'
+             "INPUTS        token outputs:out\n    }\nEXTRA}")
+_IMAGE = ('\n    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
+          '        asset inputs:file = @albedo.png@\n        color3f outputs:out\n    }\n')
+
+def _stage(target: str = "/M", inputs: str = "", extra: str = "") -> str:
+    return stage_example(_MESH.replace("TARGET", target) + _MATERIAL.replace("INPUTS", inputs).replace("EXTRA", extra),
+                         metadata='defaultPrim = "M"\n    metersPerUnit = 1\n    upAxis = "Y"')
+
+
+BINDING_TARGET = Rule(
+    "OPBR1017", "usd-binding-target-invalid", Severity.ERROR,
+    "A direct material binding targets a prim that does not exist, is inactive, or is not a Material (a "
+    "Shader, a Scope).",
+    "UsdShade.MaterialBindingAPI resolves such a binding to no material, so the geometry renders with the "
+    "renderer's fallback; nothing fails to load. Typical of a Material renamed or deactivated after binding, a "
+    "variant naming a material that was never added, or a Shader picked instead of its Material.",
+    passing=_stage(), failing=_stage(target="/M/S"),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
+INPUT_RELATIONSHIP = Rule(
+    "OPBR1018", "usd-input-is-relationship", Severity.ERROR,
+    "A shader or node graph authors an input as a relationship (rel inputs:name = <...>) instead of an "
+    "attribute connection (type inputs:name.connect = <...>).",
+    "A UsdShade input is an attribute; a relationship of the same name is no input, so the value it "
+    "points to is never connected and the input renders its default.",
+    passing=_stage(inputs="        color3f inputs:base_color.connect = </M/albedo.outputs:out>\n", extra=_IMAGE),
+    failing=_stage(inputs="        rel inputs:base_color = </M/albedo.outputs:out>\n", extra=_IMAGE),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+    example_files=("albedo.png",),
+)
+
+CONNECTION_REFUSED = Rule(
+    "OPBR1019", "usd-connection-refused", Severity.WARNING,
+    "A connection UsdShade's ConnectableAPI.CanConnect refuses: an input whose connectability is "
+    "interfaceOnly fed by a node's output, or a Material's output fed from a shader outside that Material.",
+    "UsdShade's connectability and encapsulation rules: an interfaceOnly input takes only interface "
+    "inputs, and a Material's outputs only sources inside it. Hydra does not check them and follows the "
+    "connection, so the stage renders; but tools authoring through UsdShade refuse it, and a Material "
+    "whose output reaches into another (a duplicate still wired to its original) renders that one's shader.",
+    passing=_stage(inputs="        color3f inputs:base_color.connect = </M/albedo.outputs:out>\n", extra=_IMAGE),
+    failing=_stage(inputs='        color3f inputs:base_color (\n            connectability = "interfaceOnly"\n'
+                          "        )\n        color3f inputs:base_color.connect = </M/albedo.outputs:out>\n",
+                   extra=_IMAGE),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+    example_files=("albedo.png",),
+)
+
+RULES = (BINDING_TARGET, INPUT_RELATIONSHIP, CONNECTION_REFUSED)
+
+
+def check(asset, context):
+    """Runs on USD assets only (rules.FAMILY_FORMATS)."""
+    composed_elsewhere = set_aside(asset)
+    for observation in asset.observations:
+        detail, where = observation.detail, observation.location
+        if observation.kind == "usd_binding_invalid":
+            if under(detail["target"], composed_elsewhere):
+                continue  # with usdMtlx the MaterialX document would provide it
+            yield context.diagnostic(
+                BINDING_TARGET, f"{detail['relationship']} targets <{detail['target']}>, which {detail['reason']}: "
+                "the prim renders unbound", where,
+                hint="bind the Material prim itself" if "not a Material" in detail["reason"]
+                else "bind an existing, active Material")
+        elif observation.kind == "usd_input_relationship":
+            targets = ", ".join(f"<{t}>" for t in detail["targets"]) or "nothing"
+            yield context.diagnostic(
+                INPUT_RELATIONSHIP, f"{detail['input']} is a relationship (to {targets}), not an input: it is never "
+                "connected and the input renders its default", where,
+                hint=f"author it as an attribute connection: <type> {detail['input']}.connect = <...>")
+        elif observation.kind == "usd_connection_refused":
+            why = ("its connectability is interfaceOnly, so only a Material's or NodeGraph's interface input may "
+                   "feed it" if detail["interface_only"] else
+                   "the source is outside the Material (UsdShade's encapsulation)" if detail["side"] == "output"
+                   else "UsdShade's connectability rules refuse it")
+            yield context.diagnostic(
+                CONNECTION_REFUSED, f"{detail['port']} is connected to {detail['source']}, which UsdShade refuses: {why}",
+                where, hint="connect the input through the Material's interface" if detail["interface_only"]
+                else "connect a shader inside the Material")
