@@ -102,7 +102,7 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
     verify = verify or max_delta_e is not None or bool(delta_e_images) or bool(html_report)
     try:
         result = convert_file(input_path, output, target, Settings(nits_per_unit=nits_per_unit, gltf_drafts=gltf_drafts,
-                                                                        candidates=candidates, fit_films=verify),
+                                                                        candidates=candidates, fit_films=verify, search=verify),
                               mesh=mesh,
                               allow_outside=tuple(allow_outside))
     except ReadError as error:

@@ -155,7 +155,7 @@ def _convert(job: Job) -> FileResult:
         os.makedirs(os.path.dirname(job.output), exist_ok=True)
         result = convert_file(job.source, job.output, job.target, Settings(nits_per_unit=job.nits_per_unit, gltf_drafts=job.gltf_drafts,
                                                                                   candidates=job.candidates,
-                                                                                  fit_films=job.verify),
+                                                                                  fit_films=job.verify, search=job.verify),
                               mesh=job.mesh, allow_outside=job.allow_outside)
     except ReadError as error:
         return unreadable(job.source, error)

@@ -20,7 +20,8 @@ structure the mapping keeps (a thin-walled flag, a subsurface lobe) for small ga
 which was kept and both figures (OPBR1102); when the graph's is kept, the mapping's approximation
 notes are replaced by one naming the graph and one at every authored input the graph's result does
 not carry exactly (:func:`read_back_notes`). ``Settings.fit_films`` (``--verify``) also fits a thin
-film's thickness (:func:`refine_thin_film`), which costs a render of 26 thicknesses.
+film's thickness (:func:`refine_thin_film`), which costs a render of 26 thicknesses, and ``Settings.search``
+(``--verify``) searches the target's parameters where the kept result still renders visibly off (:mod:`.search`).
 
 Where the toolkit has two readings of a source (a specular-workflow UsdPreviewSurface: split into metal
 and dielectric shares, or its F0 colour's luminance with a tint; :func:`alternative_reading`), both are
@@ -47,6 +48,7 @@ from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import appearance, spec_gloss
 from .anchor import graph_candidates_of, read_back_notes
 from .judging import RIG_SIZE, Figure, Judge, constant_values, figures_many, scores_many
+from .search import search as parameter_search
 from .common import Settings, Translation
 
 MARGIN = 0.25  # mean CIEDE2000: a smaller win does not pay for what the graphs drop (thin-walled, subsurface)
@@ -155,8 +157,15 @@ def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> lis
         work[position] = (index, candidate)
     decided = _decide_many([(items[index][0], out[index], items[index][2], items[index][3], candidate, judge, score)
                             for (index, candidate), judge, score in zip(work, judges, figures)])
-    for (index, _), translation in zip(work, decided):
+    for position, ((index, _), translation) in enumerate(zip(work, decided)):
         out[index] = translation
+        source, _, _, settings = items[index]
+        if settings.search:  # --verify: the target's parameters searched where the result is still visibly off
+            try:
+                start = judges[position].scores([translation.material])[0]
+            except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
+                continue
+            out[index] = parameter_search(source, translation, judges[position], start, settings)
     return out
 
 

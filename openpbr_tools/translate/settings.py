@@ -34,5 +34,6 @@ class Settings:
     gltf_file: bool = False  # the result goes to a glTF file, which holds extensions the gltf_pbr node cannot
     candidates: bool = True  # weigh MaterialX's translation graphs against the mapping (translate.candidates)
     fit_films: bool = False  # also fit a thin film's thickness by rendering (translate.candidates; --verify)
+    search: bool = False  # also search the target's parameters where the result is visibly off (translate.search; --verify)
     node_graphs: bool = True  # the output holds MaterialX node graphs (.mtlx): a mapping of a procedural input is written as nodes
     specular_split: bool = True  # a specular-workflow preview as metal + dielectric (translate.specular_workflow), else by luminance

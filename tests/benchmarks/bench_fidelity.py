@@ -3,7 +3,7 @@ parameter over its legal range, absent-means-default; tests/generated_materials.
 acescg and lin_displayp3 documents, converted to Standard Surface, glTF and UsdPreviewSurface, judged
 by the lobe evaluator (mean CIEDE2000 over the lit sphere).
 
-    python tests/benchmarks/bench_fidelity.py [--count 1000] [--seed 11] [--corpus archetypes]
+    python tests/benchmarks/bench_fidelity.py [--count 1000] [--seed 11] [--corpus archetypes] [--verify]
 
 ``--corpus all-lobes`` (the default) draws every parameter independently, so most materials switch
 every lobe on at once; ``--corpus archetypes`` draws materials of the kinds artists author (metals
@@ -58,6 +58,9 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=11)
     parser.add_argument("--worst", type=int, default=5)
     parser.add_argument("--corpus", choices=("all-lobes", "archetypes"), default="all-lobes")
+    parser.add_argument("--verify", action="store_true",
+                        help="convert as openpbr convert --verify does: also fit films and search the target's "
+                             "parameters where the result is still visibly off (translate/search.py)")
     arguments = parser.parse_args()
     folder = tempfile.mkdtemp(prefix="openpbr-fidelity-")
     sources, kinds = [], {}
@@ -77,7 +80,8 @@ def main() -> None:
     for target, (suffix, model) in TARGETS.items():
         rows = []
         for path in sources:
-            conversion = convert_file(path, os.path.join(folder, f"out.{suffix}"), model, Settings())
+            conversion = convert_file(path, os.path.join(folder, f"out.{suffix}"), model,
+                                      Settings(fit_films=arguments.verify, search=arguments.verify))
             rows += [(delta.mean, os.path.basename(path), source.name, _opaque(source), untrusted(source) is None)
                      for source, delta in measure(conversion)]
         means = sorted(r[0] for r in rows)

@@ -5,7 +5,7 @@ evaluator that made the choice): a seeded sample of generated OpenPBR materials
 translation graphs), the source and both results rendered with MaterialX's GLSL shaders on the
 lit sphere (Xvfb + Mesa; tests/glsupport.py), mean CIEDE2000 against the source's render.
 
-    python tests/benchmarks/bench_glsl_sample.py [--count 100] [--seed 23] [--corpus archetypes]
+    python tests/benchmarks/bench_glsl_sample.py [--count 100] [--seed 23] [--corpus archetypes] [--verify]
 
 ``--corpus archetypes`` samples the kinds artists author (generated_materials.KINDS) instead of
 materials with every lobe on. The toolkit's result is also judged without the appearance fit
@@ -67,6 +67,8 @@ def main() -> None:
     parser.add_argument("--count", type=int, default=100)
     parser.add_argument("--seed", type=int, default=23)
     parser.add_argument("--corpus", choices=("all-lobes", "archetypes"), default="all-lobes")
+    parser.add_argument("--verify", action="store_true",
+                        help="also judge --verify's parameter search (translate/search.py) against the default result")
     arguments = parser.parse_args()
     rig = Rig(size=64)
     renderer = materialx_renderer(rig)
@@ -97,9 +99,13 @@ def main() -> None:
             chain = anchor.graph_candidate(material, target)
             if chain is None:
                 continue
+            judged = [ours, chain, unfitted]
+            if arguments.verify:
+                searching = Settings(context=Context(), fit_films=True, search=True)
+                judged.append(candidates.choose(material, convert(material, target, searching), target, searching).material)
             deltas = [compare_images(reference, renderer.render(target, _values(m)), mask, rig.white()).mean
-                      for m in (ours, chain, unfitted)]
-            rows[target].append((*deltas, f"{space}:{material.name}"))
+                      for m in judged]
+            rows[target].append((*deltas[:3], f"{space}:{material.name}", *deltas[3:]))
     for target in TARGETS:
         found = rows[target]
         ours, chain = np.array([r[0] for r in found]), np.array([r[1] for r in found])
@@ -115,6 +121,15 @@ def main() -> None:
             print(f"    fit: {int(fitted.sum())} materials fitted; GLSL mean {unfitted[fitted].mean():.2f} -> "
                   f"{ours[fitted].mean():.2f}; better by >0.5: {int(np.sum(change < -0.5))}, worse by >0.5: "
                   f"{int(np.sum(change > 0.5))} (worst {change.max():+.2f})")
+        if arguments.verify:
+            searched = np.array([r[4] for r in found])
+            moved = np.abs(searched - ours) > 1e-9
+            if moved.any():
+                change = searched[moved] - ours[moved]
+                print(f"    --verify's search: {int(moved.sum())} materials changed; GLSL mean {ours[moved].mean():.2f} -> "
+                      f"{searched[moved].mean():.2f}; under 2.3: {np.mean(ours < 2.3):.0%} -> {np.mean(searched < 2.3):.0%}; "
+                      f"better by >0.5: {int(np.sum(change < -0.5))}, worse by >0.5: {int(np.sum(change > 0.5))} "
+                      f"(worst {change.max():+.2f})")
         for row in sorted(found, key=lambda r: r[0] - r[1])[-3:]:
             print(f"    gap {row[0] - row[1]:+6.2f}  toolkit {row[0]:6.2f}  chain {row[1]:6.2f}  {row[3]}")
 
