@@ -97,13 +97,22 @@ def test_non_power_of_two_external_image(tmp_path):
 
 
 def test_webp_needs_its_texture_extension(tmp_path):
+    """A WebP (or KTX2) named by the core source is the validator's TEXTURE_INVALID_IMAGE_MIME_TYPE, an error
+    (OPBR1220), not the warning OPBR1207 that a format no extension defines (TGA, EXR) gets."""
     (tmp_path / "a.webp").write_bytes(png(fmt="WEBP"))
     plain = write(tmp_path, {"images": [{"uri": "a.webp"}], **BASE}, "plain.gltf")
-    assert findings(plain, "OPBR1207")
+    assert findings(plain, "OPBR1220") and not findings(plain, "OPBR1207")
     through_extension = {"images": [{"uri": "a.webp"}], "extensionsUsed": ["EXT_texture_webp"],
                          "textures": [{"extensions": {"EXT_texture_webp": {"source": 0}}}],
                          "materials": BASE["materials"]}
-    assert not findings(write(tmp_path, through_extension, "ext.gltf"), "OPBR1207")
+    path = write(tmp_path, through_extension, "ext.gltf")
+    assert not findings(path, "OPBR1207") and not findings(path, "OPBR1220")
+
+
+def test_a_tga_through_the_core_source_stays_a_warning(tmp_path):
+    (tmp_path / "a.tga").write_bytes(png(fmt="TGA"))
+    path = write(tmp_path, {"images": [{"uri": "a.tga"}], **BASE})
+    assert findings(path, "OPBR1207") and not findings(path, "OPBR1220")
 
 
 def test_image_content_decides_over_a_misleading_suffix(tmp_path):

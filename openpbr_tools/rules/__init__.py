@@ -36,11 +36,14 @@ FAMILIES = (
     "usd_texcoords",
     "gltf",
     "gltf_meshes",
+    "gltf_images",
+    "gltf_plausibility",
     "translation",
 )
 
 #: Families that check one input format only (their modules, and what they import, load only for it).
 FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "gltf": "gltf", "gltf_meshes": "gltf",
+                "gltf_images": "gltf", "gltf_plausibility": "gltf",
                 "translation": None}
 
 
