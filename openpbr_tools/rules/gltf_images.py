@@ -76,7 +76,7 @@ def check(asset, context):
 
 def _encodings(asset, facts, images, context):
     for image in images:
-        if image.get("mode") == "CMYK" and image.get("damage") is None:
+        if image.get("mode") == "CMYK" and image.get("detected_mime") == "image/jpeg" and image.get("damage") is None:
             yield context.diagnostic(
                 IMAGE_ENCODING, f"image {image['index']} ({image['file']}) is a four-component (CMYK) JPEG, which is not "
                 "JFIF: glTF viewers decode it with wrong colours or not at all", Location(asset.path, None, image["pointer"]),
