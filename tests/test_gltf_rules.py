@@ -97,13 +97,22 @@ def test_non_power_of_two_external_image(tmp_path):
 
 
 def test_webp_needs_its_texture_extension(tmp_path):
+    """A WebP (or KTX2) named by the core source is the validator's TEXTURE_INVALID_IMAGE_MIME_TYPE, an error
+    (OPBR1220), not the warning OPBR1207 that a format no extension defines (TGA, EXR) gets."""
     (tmp_path / "a.webp").write_bytes(png(fmt="WEBP"))
     plain = write(tmp_path, {"images": [{"uri": "a.webp"}], **BASE}, "plain.gltf")
-    assert findings(plain, "OPBR1207")
+    assert findings(plain, "OPBR1220") and not findings(plain, "OPBR1207")
     through_extension = {"images": [{"uri": "a.webp"}], "extensionsUsed": ["EXT_texture_webp"],
                          "textures": [{"extensions": {"EXT_texture_webp": {"source": 0}}}],
                          "materials": BASE["materials"]}
-    assert not findings(write(tmp_path, through_extension, "ext.gltf"), "OPBR1207")
+    path = write(tmp_path, through_extension, "ext.gltf")
+    assert not findings(path, "OPBR1207") and not findings(path, "OPBR1220")
+
+
+def test_a_tga_through_the_core_source_stays_a_warning(tmp_path):
+    (tmp_path / "a.tga").write_bytes(png(fmt="TGA"))
+    path = write(tmp_path, {"images": [{"uri": "a.tga"}], **BASE})
+    assert findings(path, "OPBR1207") and not findings(path, "OPBR1220")
 
 
 def test_image_content_decides_over_a_misleading_suffix(tmp_path):
@@ -210,3 +219,101 @@ def test_data_uri_image_is_listed_by_info_as_packaged(tmp_path):
     textures = json.loads(result.output)[0]["materials"][0]["textures"]
     assert textures == [{"input": "base_color", "file": "#/images/0", "colorspace": "srgb_texture", "channels": [0, 1, 2],
                          "normal_map": False, "udim": False}]
+
+
+# -- session 17: image encodings and channels, variants, tangent signs, plausibility ----------------------------
+
+def _image(tmp_path, name, mode, value, fmt="PNG", **save):
+    out = io.BytesIO()
+    image = Image.new(mode, (4, 4), value)
+    image.save(out, fmt, **save)
+    (tmp_path / name).write_bytes(out.getvalue())
+
+
+def test_a_16_bit_normal_map_is_allowed(tmp_path):
+    """Only base colour and emissive textures must be 8-bit (3.9.2, 3.9.3); data textures may use more bits."""
+    from openpbr_tools.rules.gltf_images import _PNG_16BIT
+
+    document = {"images": [{"uri": _PNG_16BIT}], "textures": [{"source": 0}],
+                "materials": [{"normalTexture": {"index": 0}, "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0}}]}
+    found = findings(write(tmp_path, document), "OPBR1219")
+    assert [d.location.path for d in found] == ["/materials/0/emissiveTexture"]
+
+
+def test_transmission_with_a_textured_alpha_in_blend_is_coverage_not_reported(tmp_path):
+    """KHR_materials_transmission: alpha-as-coverage may be used along with transmission."""
+    _image(tmp_path, "a.png", "RGBA", (200, 200, 200, 128))
+    glass = {"alphaMode": "BLEND", "pbrMetallicRoughness": {"metallicFactor": 0, "baseColorTexture": {"index": 0}},
+             "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1}}}
+    document = {"extensionsUsed": ["KHR_materials_transmission"], "images": [{"uri": "a.png"}], "textures": [{"source": 0}],
+                "materials": [glass]}
+    assert not findings(write(tmp_path, document), "OPBR1221")
+
+
+def test_an_extension_authoring_other_properties_but_not_its_factor_is_a_deliberate_zero(tmp_path):
+    """As in Khronos' DiffuseTransmissionTest ("Factor 0.0"): only an empty object is reported."""
+    for index, extension in enumerate(({"diffuseTransmissionColorFactor": [1, 0, 0]}, {})):
+        document = {"extensionsUsed": ["KHR_materials_diffuse_transmission"],
+                    "materials": [{"pbrMetallicRoughness": {"metallicFactor": 0},
+                                   "extensions": {"KHR_materials_diffuse_transmission": extension}}]}
+        found = findings(write(tmp_path, document, f"{index}.gltf"), "OPBR1211")
+        assert bool(found) == (extension == {})
+
+
+def _tangents(tmp_path, values, component_type=5126, name="t.gltf", primitives=1):
+    import struct
+
+    fmt = {5126: "f", 5122: "h"}[component_type]
+    data = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + b"".join(struct.pack(f"<4{fmt}", 1, 0, 0, w) for w in values)
+    accessor = {"bufferView": 1, "componentType": component_type, "count": 3, "type": "VEC4"}
+    if component_type != 5126:
+        accessor["normalized"] = True
+    document = {"buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+                "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": len(data) - 36}],
+                "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                              accessor],
+                "materials": [{}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TANGENT": 1}, "material": 0}] * primitives}]}
+    if component_type != 5126:
+        document["extensionsUsed"] = ["KHR_mesh_quantization"]
+    return findings(write(tmp_path, document, name), "OPBR1227")
+
+
+def test_tangent_signs_minus_one_and_quantised_extremes_are_signs(tmp_path):
+    assert not _tangents(tmp_path, [1.0, -1.0, -1.0])
+    assert not _tangents(tmp_path, [32767, -32767, -32768], component_type=5122, name="q.gltf")  # max(c / 32767, -1)
+    assert _tangents(tmp_path, [16384, 32767, 32767], component_type=5122, name="half.gltf")
+
+
+def test_a_tangent_accessor_shared_by_primitives_is_reported_once(tmp_path):
+    found = _tangents(tmp_path, [0.0, 1.0, float("nan")], primitives=3)
+    assert len(found) == 1 and "2 of 3" in found[0].message
+
+
+def test_a_variant_index_naming_nothing_is_a_dangling_reference(tmp_path):
+    document = {"extensionsUsed": ["KHR_materials_variants"],
+                "extensions": {"KHR_materials_variants": {"variants": [{"name": "Red"}]}}, "materials": [{}],
+                "accessors": [{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0, "extensions": {
+                    "KHR_materials_variants": {"mappings": [{"material": 0, "variants": [0, 3]}]}}}]}]}
+    found = findings(write(tmp_path, document), "OPBR802")
+    assert [d.location.path for d in found] == ["/meshes/0/primitives/0/extensions/KHR_materials_variants/mappings/0/variants/1"]
+
+
+def test_a_volume_thickness_is_compared_with_the_meshes_using_the_material_only(tmp_path):
+    volume = {"extensionsUsed": ["KHR_materials_transmission", "KHR_materials_volume"],
+              "materials": [{"pbrMetallicRoughness": {"metallicFactor": 0}, "extensions": {
+                  "KHR_materials_transmission": {"transmissionFactor": 1}, "KHR_materials_volume": {"thicknessFactor": 0.5}}}]}
+    assert not findings(write(tmp_path, volume), "OPBR1222")  # no mesh: nothing to compare with
+    small = {"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0.01, 0.04, 0.02]}
+    meshed = {**volume, "accessors": [small], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}]}
+    assert findings(write(tmp_path, meshed, "m.gltf"), "OPBR1222")  # 0.5 > 10 x 0.04
+    small["max"] = [0.01, 0.06, 0.02]
+    assert not findings(write(tmp_path, meshed, "n.gltf"), "OPBR1222")  # 0.5 < 10 x 0.06
+
+
+def test_an_anisotropy_texture_with_blue_strength_is_not_reported(tmp_path):
+    _image(tmp_path, "flow.png", "RGB", (255, 128, 200))
+    document = {"extensionsUsed": ["KHR_materials_anisotropy"], "images": [{"uri": "flow.png"}], "textures": [{"source": 0}],
+                "materials": [{"extensions": {"KHR_materials_anisotropy": {"anisotropyStrength": 1, "anisotropyTexture": {"index": 0}}}}]}
+    assert not [d for d in findings(write(tmp_path, document), "OPBR1211") if "anisotropy" in d.message]

@@ -79,6 +79,27 @@ def pillow_format(opened) -> str | None:
     return {"MPO": "JPEG"}.get(opened.format, opened.format)
 
 
+#: Pillow modes that carry an alpha channel (a palette or greyscale PNG's tRNS shows in ``info["transparency"]``).
+ALPHA_MODES = frozenset({"RGBA", "RGBa", "LA", "La", "PA"})
+
+
+def head_of(path: str, size: int = 32) -> bytes:
+    """The first ``size`` bytes of the file at ``path`` (empty when it cannot be read)."""
+    try:
+        with open(path, "rb") as handle:
+            return handle.read(size)
+    except OSError:
+        return b""
+
+
+def png_bit_depth(head: bytes) -> int | None:
+    """A PNG's bits per sample (1, 2, 4, 8 or 16), read from its IHDR chunk in the first 26 bytes (PNG
+    specification, 11.2.2); ``None`` for anything else."""
+    if head[:8] != b"\x89PNG\r\n\x1a\n" or head[12:16] != b"IHDR" or len(head) < 25:
+        return None
+    return head[24]
+
+
 def damage(image: str | bytes) -> Damage | None:
     """Why ``image`` (a path or the bytes of an image) cannot be read as an image, or ``None``.
 
@@ -326,3 +347,31 @@ def _varies_openimageio(path: str) -> bool:
         return not failed and constant is None
     except (TypeError, ValueError, RuntimeError):
         return False
+
+
+def channel_maxima(image: str | bytes, max_pixels: int = MAX_DECODED_PIXELS) -> tuple[int, ...] | None:
+    """The largest 8-bit value of each channel of ``image`` (a path or bytes) as RGB(A) (a palette or
+    greyscale image converted first; a 16-bit one scaled to 8 bits, so only a channel that is 0 everywhere
+    reads 0), or ``None`` when it cannot be told: undecodable, not an image Pillow opens, or larger than
+    ``max_pixels``. A JPEG is decoded at 1/8 scale (Pillow's ``draft``); nothing larger than the limit is
+    decoded."""
+    from PIL import Image  # lazy: as in load_pixels
+
+    try:
+        with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
+            warnings.simplefilter("ignore")
+            opened = Image.open(io.BytesIO(image) if isinstance(image, (bytes, bytearray, memoryview)) else image)
+        with opened:
+            width, height = opened.size
+            if width * height > max_pixels:
+                return None
+            if pillow_format(opened) == "JPEG":
+                opened.draft("RGB", (max(1, width // 8), max(1, height // 8)))
+            if opened.mode.startswith("I;16") or opened.mode in ("I", "F"):
+                extrema = opened.getextrema()
+                high = extrema[1] if not isinstance(extrema[0], tuple) else max(b[1] for b in extrema)
+                return (1 if high > 0 else 0,) * 3  # grey: one channel read as R, G and B
+            plane = opened.convert("RGBA" if "A" in opened.mode or "transparency" in opened.info else "RGB")
+            return tuple(int(high) for _, high in plane.getextrema())
+    except Exception:  # noqa: BLE001 - Pillow raises many exception types for data it cannot decode
+        return None

@@ -37,11 +37,14 @@ FAMILIES = (
     "usd_shading",
     "gltf",
     "gltf_meshes",
+    "gltf_images",
+    "gltf_plausibility",
     "translation",
 )
 
 #: Families that check one input format only (their modules, and what they import, load only for it).
-FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "usd_shading": "usd", "gltf": "gltf", "gltf_meshes": "gltf",
+FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "usd_shading": "usd", "gltf": "gltf",
+                "gltf_meshes": "gltf", "gltf_images": "gltf", "gltf_plausibility": "gltf",
                 "translation": None}
 
 

@@ -155,6 +155,24 @@ UNSUPPORTED_IMAGE = Rule(
     example_files=("albedo.png", "albedo.exr"),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
+_WEBP = "data:image/webp;base64,UklGRh4AAABXRUJQVlA4TBEAAAAvA8AAAAdQiirUo/+BiOh/AAA="
+IMAGE_NEEDS_EXTENSION = Rule(
+    "OPBR1220", "gltf-image-needs-texture-extension", Severity.ERROR,
+    "A texture's core source is a WebP or KTX2 image: those formats are only allowed through EXT_texture_webp "
+    "or KHR_texture_basisu.",
+    "glTF 2.0's texture.source names a PNG or JPEG image (3.8.2, and the mimeType enum of image.schema.json); "
+    "KHR_texture_basisu allows image/ktx2 only for images \"referenced by the source property of "
+    "KHR_texture_basisu texture extension object\", and EXT_texture_webp likewise adds WebP through its own "
+    "source, the core source being a PNG or JPEG fallback. A viewer without the extension fails on the image, "
+    "one with it never looks for it there: the Khronos glTF-Validator's TEXTURE_INVALID_IMAGE_MIME_TYPE (an "
+    "error). Other formats (TGA, EXR) that no extension defines are OPBR1207.",
+    passing=_gltf('"extensionsUsed": ["EXT_texture_webp"]', '"extensionsRequired": ["EXT_texture_webp"]',
+                  f'"images": [{{"uri": "{_WEBP}"}}]', '"textures": [{"extensions": {"EXT_texture_webp": {"source": 0}}}]',
+                  '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]'),
+    failing=_gltf(f'"images": [{{"uri": "{_WEBP}"}}]', '"textures": [{"source": 0}]',
+                  '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
 STRENGTH_WITHOUT_EMISSIVE = Rule(
     "OPBR1208", "gltf-emissive-strength-without-emissive", Severity.WARNING,
     "KHR_materials_emissive_strength is set but the material emits nothing (emissiveFactor is black or absent).",
@@ -205,15 +223,26 @@ INVALID_PROPERTY = Rule(
 NO_EFFECT = Rule(
     "OPBR1211", "gltf-extension-no-effect", Severity.WARNING,
     "A material extension is set where the glTF extension texts say it has no effect: transmission "
-    "on a fully metallic material, a volume without a transmission extension, dispersion without a volume, "
-    "iridescence with zero thickness; a texture whose factor is left at its default 0 (emissiveTexture without "
-    "emissiveFactor); or an alphaCutoff without alphaMode MASK.",
+    "or diffuse transmission on a fully metallic material, a volume without a transmission extension, dispersion "
+    "without a volume, iridescence with zero thickness, an extension object without the factor that carries its "
+    "effect and nothing else (\"KHR_materials_transmission\": {}: the factor defaults to 0); a texture whose factor is left at its "
+    "default 0 (emissiveTexture without emissiveFactor), a normal map at scale 0, or a texture without the "
+    "channel its slot reads (an RGB specularTexture, an anisotropyTexture whose blue strength is 0 everywhere, an "
+    "RGB base colour texture under alphaMode MASK that never reaches below the cutoff: the gltf_images family); "
+    "or an alphaCutoff without alphaMode MASK.",
     "KHR_materials_transmission applies to the dielectric part only (metallicFactor defaults to 1, so "
     "an exporter that omits it makes glass opaque metal); KHR_materials_volume acts only through "
     "transmission or diffuse transmission, and KHR_materials_dispersion only through a volume "
     "(the Khronos validator's VOLUME_NO_TRANSMISSION / DISPERSION_NO_VOLUME); iridescence needs a film "
     "thicker than 0 nm; a factor multiplies its texture, so an emissive, clearcoat, transmission or sheen "
-    "texture without its factor (default 0) shows nothing. Usually half of a set-up lost in export.",
+    "texture without its factor (default 0) shows nothing, and transmissionFactor, clearcoatFactor, "
+    "sheenColorFactor (\"If sheenColorFactor is zero, the whole sheen layer is disabled\"), iridescenceFactor, "
+    "anisotropyStrength and diffuseTransmissionFactor each default to 0. KHR_materials_diffuse_transmission "
+    "replaces part of the dielectric's diffuse BRDF, which a metal (metallicFactor 1) does not have. A normal "
+    "texture's scale multiplies the map's X and Y (3.9.3), so 0 leaves the vertex normal. A slot reads the "
+    "channel its extension names (KHR_materials_specular: strength in A; KHR_materials_anisotropy: strength "
+    "in B; 3.9.2: alpha in the base colour texture's A), and an image without that channel reads A = 1. "
+    "Usually half of a set-up lost in export.",
     passing=_gltf('"extensionsUsed": ["KHR_materials_transmission"]',
                   '"materials": [{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 0.0}, '
                   '"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}]'),
@@ -282,7 +311,8 @@ MISSPELT_EXTENSION = Rule(
 
 RULES = (UNDECLARED_EXTENSION, REQUIRED_UNSUPPORTED, EXCLUSIVE_EXTENSIONS, NOT_CONVERTED, MISSING_TEXCOORD,
          NOT_POWER_OF_TWO, UNSUPPORTED_IMAGE, STRENGTH_WITHOUT_EMISSIVE, BROKEN_RESOURCE, INVALID_PROPERTY, NO_EFFECT,
-         EXTENSION_NOT_CONVERTED, UNEXPECTED_PROPERTY, MIME_MISMATCH, ARCHIVED_WITH_FALLBACK, MISSPELT_EXTENSION)
+         EXTENSION_NOT_CONVERTED, UNEXPECTED_PROPERTY, MIME_MISMATCH, ARCHIVED_WITH_FALLBACK, MISSPELT_EXTENSION,
+         IMAGE_NEEDS_EXTENSION)
 
 
 def check(asset, context):
@@ -437,12 +467,49 @@ def _no_effect(material, context):
         found.append((slots.VOLUME, "doubleSided has no effect on a volume boundary (thicknessFactor > 0)"))
     if slots.IRIDESCENCE in present and value["iridescence"] != 0.0 and value["iridescence_thickness"] == 0.0:
         found.append((slots.IRIDESCENCE, "iridescence with a film of 0 nm has no effect"))
+    for extension, parameter in EFFECT_FACTORS:
+        if extension in present and not _authors_anything(material, extension):
+            factor = slots.SLOT_BY_PARAMETER[parameter].factor
+            found.append((extension, f"an empty {extension} object has no effect: {factor} defaults to 0"))
+    diffuse = ((material.extra.get("gltf") or {}).get("extensions") or {}).get(slots.DIFFUSE_TRANSMISSION)
+    if isinstance(diffuse, dict):
+        factor = diffuse.get("diffuseTransmissionFactor")
+        if not set(diffuse) - {"extensions", "extras"}:
+            found.append((slots.DIFFUSE_TRANSMISSION, f"an empty {slots.DIFFUSE_TRANSMISSION} object has no effect: "
+                                                      "diffuseTransmissionFactor defaults to 0"))
+        elif value["metallic"] == 1.0 and isinstance(factor, (int, float)) and factor > 0:
+            found.append((slots.DIFFUSE_TRANSMISSION, "diffuse transmission on a fully metallic material (metallicFactor "
+                                                      "1, the default) has no effect: a metal has no diffuse lobe"))
     for extension, why in found:
         yield context.diagnostic(NO_EFFECT, f"{material.name}: {why}",
                                  Location(material.location.file, None, f"{material.location.path}/extensions/{extension}"))
+    for name in ("normal", "clearcoat_normal"):
+        entry = material.inputs.get(name)
+        if entry is not None and entry.texture is not None and entry.texture.normal_map == 0.0:
+            slot = slots.SLOT_BY_PARAMETER[name]
+            yield context.diagnostic(NO_EFFECT, f"{material.name}: {slot.texture}.scale 0 flattens the normal map to the "
+                                                "vertex normal, so the texture has no effect",
+                                     Location(material.location.file, None, entry.texture.node, "scale"),
+                                     hint="set scale to 1 (the default), or remove the normal texture")
     if "alpha_cutoff" in material.inputs and constant_or_default(material, "alpha_mode") != 1:  # (the validator's warning)
         yield context.diagnostic(NO_EFFECT, f"{material.name}: alphaCutoff has no effect unless alphaMode is MASK",
                                  material.inputs["alpha_cutoff"].location)
+
+
+#: Material extensions whose effect a factor carries that defaults to 0 (each README's property table): an empty
+#: extension object does nothing. (One that authors other properties but not the factor may be a deliberate 0, as
+#: in Khronos' DiffuseTransmissionTest: not reported; a texture without its factor is _texture_factors'.)
+EFFECT_FACTORS = ((slots.TRANSMISSION, "transmission"), (slots.CLEARCOAT, "clearcoat"), (slots.SHEEN, "sheen_color"),
+                  (slots.IRIDESCENCE, "iridescence"), (slots.ANISOTROPY, "anisotropy_strength"))
+
+
+def _authors_anything(material, extension: str) -> bool:
+    """Whether any input of ``material`` was read from a property of its ``extension`` object (a default the
+    reader fills in, iridescenceThicknessMaximum's, names no property)."""
+    within = f"{material.location.path}/extensions/{extension}"
+    return any(entry.location is not None and entry.location.input is not None
+               and (entry.location.path == within or (entry.location.path or "").startswith(within + "/"))
+               for entry in material.inputs.values())
 
 
 def _emissive_strength(material, context):
@@ -549,6 +616,11 @@ def _images(asset, facts, context):
             continue
         extension = slots.EXTENSION_MIME_TYPES.get(mime)
         allowed = mime in slots.core_mime_types() or (extension and extension in image.get("via_extensions", ()))
-        if not allowed:
+        if not allowed and extension:
+            yield context.diagnostic(IMAGE_NEEDS_EXTENSION, f"image {image['index']} ({image['file']}) is {mime}, which a "
+                                     f"texture's core source may not name (only PNG or JPEG)", where,
+                                     hint=f"reference it through {extension} (texture.extensions.{extension}.source), with a "
+                                          "PNG or JPEG fallback as the core source")
+        elif not allowed:
             yield context.diagnostic(UNSUPPORTED_IMAGE, f"image {image['index']} ({image['file']}) is {mime}, not PNG or JPEG",
                                      where, hint="convert it to PNG" if not extension else f"reference it through {extension}")

@@ -13,7 +13,18 @@ facts decide whether the material can look right at all:
   defined tangent space, i.e., it MUST have NORMAL and TANGENT attributes or its base material MUST
   have a normal texture" (each extension's README; the validator's MESH_PRIMITIVE_NO_TANGENT_SPACE).
 
-A missing UV set is OPBR1205 (the glTF family). Only the JSON is read: no accessor data.
+and, on the primitive too,
+
+* its TANGENT ``w``, the handedness of the tangent basis: "a sign value (-1 or +1)" (3.7.2.1; the bitangent
+  is ``cross(normal, tangent.xyz) * w``), read from the accessor data (the reader's
+  ``tangent_signs``, bounded: :mod:`openpbr_tools.io.gltf.accessors`), as the Khronos validator does
+  (ACCESSOR_INVALID_SIGN);
+* its KHR_materials_variants mappings: "across the entire mappings array, each variant index must be used
+  no more than one time" (the validator's KHR_MATERIALS_VARIANTS_NON_UNIQUE_VARIANT); a mapping's material
+  or variant index that names nothing is OPBR802. Variants are presented to users and selected by name, so
+  two variants of one name are reported too.
+
+A missing UV set is OPBR1205 (the glTF family). Apart from the tangent signs only the JSON is read.
 """
 
 from __future__ import annotations
@@ -79,17 +90,116 @@ NO_TANGENT_SPACE = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (TEXCOORD_FORMAT, NO_TANGENT_SPACE)
+def _variants(first: list, second: list, names=("Red", "Blue")) -> str:
+    return _gltf(
+        '"extensionsUsed": ["KHR_materials_variants"]',
+        '"extensions": {"KHR_materials_variants": {"variants": [' + ", ".join(f'{{"name": "{n}"}}' for n in names) + ']}}',
+        '"materials": [{"name": "red"}, {"name": "blue"}]',
+        '"accessors": [{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 1]}]',
+        '"meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0, "extensions": {"KHR_materials_variants": '
+        f'{{"mappings": [{{"material": 0, "variants": {first}}}, {{"material": 1, "variants": {second}}}]}}}}}}]}}]',
+    )
+
+
+# One triangle with normals (0, 0, 1) and tangents (1, 0, 0, w) in one little-endian float buffer.
+_TANGENTS_PLUS = ("AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AACAPwAA"
+                  "AAAAAAAAAACAPwAAgD8AAAAAAAAAAAAAgD8AAIA/AAAAAAAAAAAAAIA/")
+_TANGENTS_ZERO = ("AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AAAAAAAAAAAAAIA/AACAPwAA"
+                  "AAAAAAAAAAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAAAAAAA")
+
+
+def _tangent_mesh(data: str) -> str:
+    return _gltf(
+        f'"buffers": [{{"byteLength": 120, "uri": "data:application/octet-stream;base64,{data}"}}]',
+        '"bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 72}, {"buffer": 0, "byteOffset": 72, "byteLength": 48}]',
+        '"accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]}, '
+        '{"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"}, '
+        '{"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC4"}]',
+        '"materials": [{"name": "M"}]',
+        '"meshes": [{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TANGENT": 2}, "material": 0}]}]',
+    )
+
+
+VARIANT_MAPPED_TWICE = Rule(
+    "OPBR1225", "gltf-variant-mapped-twice", Severity.ERROR,
+    "A primitive's KHR_materials_variants mappings name one variant in two mappings (with two materials).",
+    "KHR_materials_variants: \"across the entire mappings array, each variant index must be used no more than one "
+    "time\". Selecting the variant then has two materials to choose from for the primitive, and viewers pick "
+    "either (the Khronos glTF-Validator's KHR_MATERIALS_VARIANTS_NON_UNIQUE_VARIANT, an error).",
+    passing=_variants("[0]", "[1]"), failing=_variants("[0]", "[0, 1]"),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+VARIANT_NAME_TWICE = Rule(
+    "OPBR1226", "gltf-variant-name-duplicate", Severity.WARNING,
+    "Two KHR_materials_variants variants have the same name.",
+    "KHR_materials_variants lists the variants an application presents to its users, each by its name (\"each "
+    "with a name property\"); the schema does not require the names to differ, but a configurator or API that "
+    "selects a variant by name reaches only one of two variants named alike. Usually a copied variant not "
+    "renamed.",
+    passing=_variants("[0]", "[1]"), failing=_variants("[0]", "[1]", names=("Red", "Red")),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+TANGENT_SIGN = Rule(
+    "OPBR1227", "gltf-tangent-w-not-sign", Severity.ERROR,
+    "A TANGENT accessor holds a w component that is not +1 or -1.",
+    "glTF 2.0 (3.7.2.1): TANGENT is XYZW \"where ... the W component is a sign value (-1 or +1) indicating "
+    "handedness of the tangent basis\", and the bitangent \"MUST be computed\" as cross(normal, tangent.xyz) * w; "
+    "a w of 0 collapses the bitangent, so the normal map (and a clear-coat normal map or anisotropy) shades "
+    "wrong. The Khronos glTF-Validator reports each run of such vertices (ACCESSOR_INVALID_SIGN, an error). "
+    "The first million or so vertices of an accessor are read.",
+    passing=_tangent_mesh(_TANGENTS_PLUS), failing=_tangent_mesh(_TANGENTS_ZERO),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+RULES = (TEXCOORD_FORMAT, NO_TANGENT_SPACE, VARIANT_MAPPED_TWICE, VARIANT_NAME_TWICE, TANGENT_SIGN)
 
 
 def check(asset, context):
     """Runs on glTF assets only (rules.FAMILY_FORMATS)."""
     facts = asset.extra.get("gltf", {})
+    yield from _variant_names(asset, facts, context)
     primitives = facts.get("primitives", ())
     if not primitives:
         return
     yield from _texcoord_formats(asset, facts, primitives, context)
     yield from _tangent_space(asset, primitives, context)
+    yield from _tangent_signs(asset, primitives, context)
+
+
+def _variant_names(asset, facts, context):
+    variants = facts.get("variants") or {}
+    first: dict[str, str] = {}
+    for pointer, name in variants.get("names", ()):
+        if name in first:
+            yield context.diagnostic(
+                VARIANT_NAME_TWICE, f"variant {pointer.rsplit('/', 1)[-1]} is named {name!r}, as variant "
+                f"{first[name].rsplit('/', 1)[-1]} is: selecting {name!r} by name reaches only one of them",
+                Location(asset.path, None, pointer, "name"), hint="give each variant its own name")
+        else:
+            first[name] = pointer
+    for primitive in variants.get("mappings", ()):
+        seen: dict[int, str] = {}
+        for where, variant in primitive["variants"]:
+            if variant in seen and seen[variant] != where:
+                yield context.diagnostic(
+                    VARIANT_MAPPED_TWICE, f"variant {variant} is mapped by {seen[variant].rsplit('/', 1)[-1]} and by "
+                    f"{where.rsplit('/', 1)[-1]} of {primitive['pointer']}: each variant may be used once per primitive",
+                    Location(asset.path, None, where, "variants"), hint="keep the variant in one mapping")
+            seen.setdefault(variant, where)
+
+
+def _tangent_signs(asset, primitives, context):
+    reported = set()  # an accessor shared by primitives is reported once
+    for primitive in primitives:
+        signs = primitive.get("tangent_signs")
+        if not signs or not signs["invalid"] or signs["accessor"] in reported:
+            continue
+        reported.add(signs["accessor"])
+        yield context.diagnostic(
+            TANGENT_SIGN, f"TANGENT accessor {signs['accessor']} has {signs['invalid']} of {signs['checked']} w components "
+            f"that are not +1 or -1 (first: {signs['value']:g}): the bitangent, and with it the normal map, is wrong there",
+            Location(asset.path, None, f"{primitive['pointer']}/attributes", "TANGENT"),
+            hint="re-export the tangents (MikkTSpace) with w = +1 or -1, the handedness")
 
 
 def _allowed(accessor_type, component_type, normalized: bool, quantized: bool) -> bool:

@@ -73,11 +73,14 @@ EMISSION_OFF = Rule(
 )
 INVISIBLE = Rule(
     "OPBR908", "fully-transparent", Severity.WARNING,
-    "geometry_opacity is 0: the surface is invisible.",
+    "geometry_opacity is 0, or a glTF material (gltf_pbr) is invisible everywhere: alphaMode BLEND with alpha 0, "
+    "or MASK with alpha below alphaCutoff, and no base colour texture: the surface is invisible.",
     "The whole material renders nothing: no base, no reflection, no shadow. Usually an exporter mapping "
-    "a transparency value onto opacity (glass wants transmission_weight 1), or a holdout or ghosting "
-    "override left in the asset; a holdout belongs to the render setup, not the material. Suppress it "
-    "where the invisibility is meant.",
+    "a transparency value onto opacity (glass wants transmission_weight 1, in glTF KHR_materials_transmission), "
+    "or a holdout or ghosting override left in the asset; a holdout belongs to the render setup, not the "
+    "material. glTF 2.0 (3.9.4): in BLEND mode alpha is coverage, and 0 draws nothing; in MASK mode a fragment "
+    "whose alpha is below alphaCutoff is discarded (vertex colours only multiply alpha, so they cannot bring it "
+    "back). Suppress it where the invisibility is meant.",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_opacity" type="float" value="1" />\n</open_pbr_surface>',
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_opacity" type="float" value="0" />\n</open_pbr_surface>',
 )
@@ -119,6 +122,8 @@ def check(asset, context):
     limits = {k: context.threshold(k, v) for k, v in data["thresholds"].items()}
     weights = data["luminance_weights_lin_rec709"]
     for material in asset.materials:
+        if material.model == "gltf_pbr" and material.version is not None:
+            yield from _invisible_gltf(material, context)
         if material.model != "open_pbr_surface" or material.version is None:
             continue
         value = _Values(material)
@@ -181,3 +186,20 @@ def check(asset, context):
         if value.authored("geometry_opacity") and opacity == 0:
             yield context.diagnostic(INVISIBLE, f"{material.name}: geometry_opacity is 0 (invisible)",
                                      material.inputs["geometry_opacity"].location)
+
+
+def _invisible_gltf(material, context):
+    """OPBR908 for gltf_pbr: one alpha everywhere (no base colour texture) that BLEND draws as nothing (0) or
+    MASK cuts away (below the cutoff)."""
+    value = _Values(material)
+    mode, alpha, cutoff = value("alpha_mode"), value("alpha"), value("alpha_cutoff")
+    if not isinstance(alpha, float) or mode not in (1, 2):
+        return  # textured, broken, or OPAQUE (which ignores alpha)
+    entry = material.inputs.get("alpha") or material.inputs.get("alpha_mode")
+    if mode == 2 and alpha == 0:
+        yield context.diagnostic(INVISIBLE, f"{material.name}: alphaMode BLEND with alpha 0 everywhere (invisible)",
+                                 entry.location, hint="alpha is opacity: 1 is solid (for glass, use KHR_materials_transmission)")
+    elif mode == 1 and isinstance(cutoff, float) and alpha < cutoff:
+        yield context.diagnostic(INVISIBLE, f"{material.name}: alphaMode MASK with alpha {alpha:g} everywhere, below the "
+                                 f"cutoff {cutoff:g}: every fragment is discarded (invisible)", entry.location,
+                                 hint="raise baseColorFactor's alpha above alphaCutoff, or lower the cutoff")

@@ -224,8 +224,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR907": ("The emission set does not render (luminance 0, or a black colour): intent lost, or a leftover "
                 "that a later edit will make glow.", f"{OPENPBR}; {khr('KHR_materials_emissive_strength')}"),
     "OPBR908": ("A fully transparent surface renders nothing, not even reflections (OpenPBR's geometry_opacity "
-                "mixes the whole surface with nothing); cut-outs are textured opacity, which this does not flag.",
-                OPENPBR),
+                "mixes the whole surface with nothing; glTF's BLEND alpha 0 or MASK below the cutoff draws nothing); "
+                "cut-outs are textured opacity, which this does not flag.", f"{OPENPBR}; {GLTF}"),
     # -- usd -----------------------------------------------------------------------------------
     "OPBR1001": ("Without info:id (or a source asset/code) Sdr cannot find the shader's definition: Hydra "
                  "renders the material with its fallback.", f"{USD_SHADER}; {_USD}pxr/usd/sdr/shaderNode.h"),
@@ -310,8 +310,11 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1210": ("A property of the wrong JSON type violates the schema: loaders ignore it or refuse the file.",
                  f"{GLTF_MATERIAL_SCHEMA}; {GLTF}"),
     "OPBR1211": ("The extension texts say these settings do nothing (transmission on a metal, a volume without "
-                 "transmission, dispersion without a volume): intent lost, and viewers differ.",
-                 f"{khr('KHR_materials_volume')}; {khr('KHR_materials_dispersion')}; {khr('KHR_materials_iridescence')}"),
+                 "transmission, dispersion without a volume, an extension whose factor defaults to 0, a texture "
+                 "without the channel its slot reads): intent lost, and viewers differ.",
+                 f"{khr('KHR_materials_volume')}; {khr('KHR_materials_dispersion')}; {khr('KHR_materials_iridescence')}; "
+                 f"{khr('KHR_materials_transmission')}; {khr('KHR_materials_diffuse_transmission')}; "
+                 f"{khr('KHR_materials_sheen')}; {khr('KHR_materials_specular')}; {khr('KHR_materials_anisotropy')}; {GLTF}"),
     "OPBR1213": ("A property the schema does not define is ignored by every viewer: a misspelt factor renders as its "
                  "default, silently. The Khronos glTF-Validator warns (UNEXPECTED_PROPERTY).",
                  f"{GLTF_MATERIAL_SCHEMA}; {khr('KHR_materials_iridescence')}; https://github.com/KhronosGroup/glTF-Validator"),
@@ -332,6 +335,29 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "viewers generate different tangents or none (the glTF-Validator's MESH_PRIMITIVE_NO_TANGENT_SPACE).",
                  f"{_GLTF}extensions/2.0/Khronos/KHR_materials_clearcoat/README.md; "
                  f"{_GLTF}extensions/2.0/Khronos/KHR_materials_anisotropy/README.md"),
+    "OPBR1219": ("A 16-bit base colour or emissive image, or a CMYK JPEG, breaks glTF's MUSTs (8-bit sRGB colour "
+                 "textures; JFIF JPEGs): loaders truncate, reject or miscolour it (the glTF-Validator's "
+                 "IMAGE_DATA_INVALID for the JPEG).", f"{GLTF}; https://www.w3.org/Graphics/JPEG/jfif3.pdf"),
+    "OPBR1220": ("A WebP or KTX2 image named by a texture's core source fails in viewers without the extension, and "
+                 "viewers with it never look there (the glTF-Validator's TEXTURE_INVALID_IMAGE_MIME_TYPE).",
+                 f"{GLTF}; {khr('KHR_texture_basisu')}; {_GLTF}extensions/2.0/Vendor/EXT_texture_webp/README.md"),
+    "OPBR1221": ("Glass blended by a uniform alpha is transparent twice: its reflections and tint fade, and it almost "
+                 "disappears; the extension asks for OPAQUE when alpha is not coverage.", khr("KHR_materials_transmission")),
+    "OPBR1222": ("A length in the wrong unit (micrometres for nanometres, centimetres for metres) renders no thin-film "
+                 "colour, or refraction and absorption through an object hundreds of times too thick.",
+                 f"{khr('KHR_materials_iridescence')}; {khr('KHR_materials_volume')}; {GLTF}"),
+    "OPBR1223": ("A volume whose attenuation keeps no light over its thickness renders black glass (Beer-Lambert with the "
+                 "extension's attenuationColor and attenuationDistance).", khr("KHR_materials_volume")),
+    "OPBR1224": ("A thickness range whose minimum exceeds its maximum inverts the thickness texture: thin where it was "
+                 "painted thick.", khr("KHR_materials_iridescence")),
+    "OPBR1225": ("A variant mapped twice on one primitive gives the primitive two materials for one selection: viewers "
+                 "pick either (the glTF-Validator's KHR_MATERIALS_VARIANTS_NON_UNIQUE_VARIANT).",
+                 f"{khr('KHR_materials_variants')}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
+    "OPBR1226": ("Two variants of one name cannot both be selected by name in a configurator or API.",
+                 khr("KHR_materials_variants")),
+    "OPBR1227": ("A tangent w that is not a sign collapses or flips the bitangent, so normal maps (and clear-coat "
+                 "normals, anisotropy) shade wrong (the glTF-Validator's ACCESSOR_INVALID_SIGN).",
+                 f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
     "OPBR1212": ("Nothing renders wrong (info: Khronos' own samples use these); checks and conversions see the "
                  "material without the extension, and a conversion reports what it keeps or loses.",
                  f"{khr('KHR_materials_diffuse_transmission')}; {GLTF}"),

@@ -118,26 +118,53 @@ class ExtensionReading:
     def read_variants(self) -> None:
         """KHR_materials_variants: the names of the variants that select each material (the root's
         ``variants`` list, indexed by each primitive's ``mappings``), as ``extra["gltf"]["variants"]``,
-        which travels in the side channel (gltf_state)."""
+        which travels in the side channel (gltf_state). A mapping's material or variant index that names
+        nothing is a dangling reference; the variant names and, per primitive, the variant indices of each
+        mapping are facts for the rules (``facts["variants"]``: ``names``, ``mappings``)."""
         root = self.document.json.get("extensions")
-        declared = root.get("KHR_materials_variants") if isinstance(root, dict) else None
-        names = declared.get("variants") if isinstance(declared, dict) else None
-        if not isinstance(names, list):
-            return
+        declared = root.get(slots.VARIANTS) if isinstance(root, dict) else None
+        listed = declared.get("variants") if isinstance(declared, dict) else None
+        listed = listed if isinstance(listed, list) else []
         names = [v.get("name") if isinstance(v, dict) and isinstance(v.get("name"), str) else f"variant_{i}"
-                 for i, v in enumerate(names)]
+                 for i, v in enumerate(listed)]
+        facts = {"names": [(f"/extensions/{slots.VARIANTS}/variants/{i}", v.get("name"))
+                           for i, v in enumerate(listed) if isinstance(v, dict) and isinstance(v.get("name"), str)],
+                 "mappings": []}
         by_index = {m.extra["gltf"]["index"]: m for m in self.asset.materials}
-        for mesh in self.document.array("meshes"):
-            for primitive in mesh.get("primitives", []) if isinstance(mesh, dict) and isinstance(mesh.get("primitives"), list) else []:
-                extension = (primitive.get("extensions") or {}).get("KHR_materials_variants") \
+        for mesh_index, mesh in enumerate(self.document.array("meshes")):
+            primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
+            for index, primitive in enumerate(primitives if isinstance(primitives, list) else []):
+                extension = (primitive.get("extensions") or {}).get(slots.VARIANTS) \
                     if isinstance(primitive, dict) and isinstance(primitive.get("extensions"), dict) else None
-                for mapping in extension.get("mappings", []) if isinstance(extension, dict) and \
-                        isinstance(extension.get("mappings"), list) else []:
-                    material = by_index.get(mapping.get("material")) if isinstance(mapping, dict) else None
-                    if material is None or not isinstance(mapping.get("variants"), list):
+                mappings = extension.get("mappings") if isinstance(extension, dict) else None
+                pointer = f"/meshes/{mesh_index}/primitives/{index}/extensions/{slots.VARIANTS}/mappings"
+                used = []  # (mapping pointer, variant index) in order, for the rules
+                for number, mapping in enumerate(mappings if isinstance(mappings, list) else []):
+                    if not isinstance(mapping, dict):
                         continue
-                    chosen = material.extra["gltf"].setdefault("variants", [])
-                    for variant in mapping["variants"]:
-                        if isinstance(variant, int) and not isinstance(variant, bool) and 0 <= variant < len(names) \
-                                and names[variant] not in chosen:
+                    where = f"{pointer}/{number}"
+                    target = mapping.get("material")
+                    if _index(target) and self.document.item("materials", target) is None:
+                        self.asset.observe("dangling_reference", self.location(where, "material"),
+                                           attribute="material", target=target)
+                    variants = mapping.get("variants") if isinstance(mapping.get("variants"), list) else []
+                    for position, variant in enumerate(variants):
+                        if not _index(variant):
+                            continue
+                        if variant >= len(listed):
+                            self.asset.observe("dangling_reference", self.location(f"{where}/variants/{position}"),
+                                               attribute="variant", target=variant)
+                            continue
+                        used.append((where, variant))
+                        material = by_index.get(target)
+                        chosen = material.extra["gltf"].setdefault("variants", []) if material is not None else None
+                        if chosen is not None and names[variant] not in chosen:
                             chosen.append(names[variant])
+                if used:
+                    facts["mappings"].append({"pointer": pointer, "variants": used})
+        if facts["names"] or facts["mappings"]:
+            self.facts["variants"] = facts
+
+
+def _index(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0

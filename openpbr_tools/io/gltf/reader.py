@@ -28,8 +28,8 @@ and the extensions the node does not carry (``KHR_materials_diffuse_transmission
 the translation; reported as archived), unknown ones). Every value's :class:`Location` is the file, a JSON pointer to the object holding the property
 and the glTF property name.
 
-Facts for the glTF rules (declared and used extensions, images, texture coordinates each primitive
-provides) are recorded in ``Asset.extra["gltf"]``; broken references and resources are
+Facts for the glTF rules (extensions, images, each primitive's UV sets, extent and tangent signs:
+:mod:`.accessors`; variants) are in ``Asset.extra["gltf"]``; broken references and resources are
 :class:`Observation` s, each reported once. Only a file that is not glTF at all raises
 :class:`ReadError` (the container's limits are :mod:`.document`'s).
 
@@ -51,7 +51,7 @@ import re
 from ... import tables, versioning
 from ...model import Asset, Constant, Input, Location, Material, Texture
 from .. import ReadError
-from . import drafts, slots
+from . import accessors, drafts, slots
 from .document import GltfDocument, ResourceError, load_document
 from .extension_reader import ExtensionReading, thin_diffuse_transmission
 from .textures import TextureReading, json_float, json_numbers, json_text
@@ -85,6 +85,7 @@ class _Reader(TextureReading, ExtensionReading):
         self.bad_samplers: set = set()
         self.observed: set = set()  # (kind, pointer, message): the same problem reached twice is reported once
         self.texture_pointers: set[str] = set()
+        self.tangent_cache: dict[int, dict | None] = {}
         self.package_files: set[str] = set()  # embedded images that decode: the textures rule looks them up here
         self.facts: dict = {"extensions_used": _names(document.json.get("extensionsUsed")),
                             "extensions_required": _names(document.json.get("extensionsRequired")),
@@ -178,7 +179,10 @@ class _Reader(TextureReading, ExtensionReading):
                 self.facts["primitives"].append({"pointer": f"/meshes/{mesh_index}/primitives/{index}",
                                                  "material": primitive.get("material"), "texcoords": sets,
                                                  "tangents": "TANGENT" in attributes, "normals": "NORMAL" in attributes,
-                                                 "texcoord_formats": {n: f for n, f in formats.items() if f}})
+                                                 "texcoord_formats": {n: f for n, f in formats.items() if f},
+                                                 "extent": accessors.position_extent(self.document, attributes.get("POSITION")),
+                                                 "tangent_signs": accessors.tangent_signs(self.document, attributes.get("TANGENT"),
+                                                                                          self.tangent_cache)})
                 material = primitive.get("material")
                 if material is not None and self.document.item("materials", material) is None:
                     self.asset.observe("dangling_reference", self.location(f"/meshes/{mesh_index}/primitives/{index}", "material"),

@@ -19,7 +19,7 @@ import warnings
 from urllib.parse import unquote
 
 from ...model import Connection, Texture
-from ..image_files import ResourceFile, damage, pillow_format
+from ..image_files import ALPHA_MODES, ResourceFile, damage, head_of, pillow_format, png_bit_depth
 from . import slots
 from .document import ResourceError, data_uri_mime
 from .uv import from_texture_transform
@@ -60,7 +60,7 @@ class TextureReading:
                     info["outside"] = error.message  # never opened; the rules report it
                 return info
             if os.path.isfile(local):  # the header is read, and the data checked (io.image_files.damage)
-                _measure(local, info)
+                _measure(local, info, head_of(local))
                 info["damage"] = damage(local)
                 _declared_type(info, declared if isinstance(declared, str) else None, "uri")
             return info
@@ -71,7 +71,7 @@ class TextureReading:
             return info
         info["mime"] = info["mime"] or (mime if isinstance(mime, str) else None) or data_uri_mime(uri or "")
         self.package_files.add(info["file"])
-        _measure(ResourceFile(data), info, bytes(data[:16]))
+        _measure(ResourceFile(data), info, bytes(data[:32]))
         info["damage"] = damage(data)
         where = "bufferView" if "bufferView" in image else "uri"  # where the bytes are, as the Khronos validator points
         _declared_type(info, declared if isinstance(declared, str) else data_uri_mime(uri or ""), where)
@@ -206,11 +206,15 @@ def _declared_type(info: dict, declared: str | None, where: str) -> None:
 
 
 def _measure(source, info: dict, head: bytes | None = None) -> None:
-    """Fill ``width``, ``height`` and (when undeclared) ``mime`` from the image header."""
+    """Fill ``width``, ``height``, ``mode`` (Pillow's: ``RGB``, ``RGBA``, ``CMYK``...), ``alpha`` (whether
+    the image has an alpha channel, a PNG's tRNS transparency included), ``bit_depth`` (a PNG's bits per
+    sample, from its IHDR) and (when undeclared) ``mime`` from the image header; nothing is decoded."""
     if head is not None and not info["mime"]:
         info["mime"] = next((mime for magic, mime in SNIFF if head.startswith(magic)), None)
         if head[:4] == b"RIFF" and head[8:12] == b"WEBP":
             info["mime"] = "image/webp"
+    if head is not None:
+        info["bit_depth"] = png_bit_depth(head)
     try:
         from PIL import Image  # lazy: Pillow (~15 ms) only for a file that has images
 
@@ -221,6 +225,8 @@ def _measure(source, info: dict, head: bytes | None = None) -> None:
                 detected = Image.MIME.get(pillow_format(image) or "")
                 info["detected_mime"] = detected
                 info["mime"] = info["mime"] or detected
+                info["mode"] = image.mode
+                info["alpha"] = image.mode in ALPHA_MODES or "transparency" in image.info
     except Exception:  # noqa: BLE001 - Pillow raises many exception types for images it cannot identify
         pass  # (io.images.damage says why)
 

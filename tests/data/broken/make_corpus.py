@@ -153,6 +153,24 @@ def checker() -> bytes:
     return buffer.getvalue()
 
 
+def png16() -> bytes:
+    """A 4 x 4 RGB PNG with 16 bits per channel (written by hand: Pillow saves RGB at 8 bits)."""
+    import zlib
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+    rows = b"".join(b"\0" + struct.pack(">12H", *([30000, 20000, 10000] * 4)) for _ in range(4))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 4, 4, 16, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def encoded(mode: str, fmt: str, value) -> bytes:
+    from PIL import Image  # Pillow only when writing the corpus
+    buffer = io.BytesIO()
+    Image.new(mode, (4, 4), value).save(buffer, fmt)
+    return buffer.getvalue()
+
+
 TEXTURES = {
     "textures/albedo.png": png("RGB"),
     "textures/rough.png": png("L"),
@@ -162,6 +180,10 @@ TEXTURES = {
     "textures/odd.png": png("RGB", size=(3, 5)),
     "textures/checker.png": checker(),
     "textures/normal.tif": tiff_rgb(),
+    "textures/albedo16.png": png16(),
+    "textures/albedo_cmyk.jpg": encoded("CMYK", "JPEG", (0, 60, 120, 0)),
+    "textures/albedo.webp": encoded("RGB", "WEBP", (120, 80, 40)),
+    "textures/flow_rg.png": encoded("RGB", "PNG", (255, 128, 0)),
 }
 
 
@@ -652,6 +674,87 @@ case("OPBR1218_clearcoat_normal_without_tangents.gltf", "OPBR1218", "A clear-coa
      json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0, "clearcoatNormalTexture": {"index": 0}}}}],
                      ["KHR_materials_clearcoat"], images=[{"uri": "textures/normal.png"}], textures=[{"source": 0}], accessors=_MESH_ACCESSORS,
                      meshes=[{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 2, "TEXCOORD_0": 1}, "material": 0}]}]), indent=2))
+
+def _tangent_buffer(w: float) -> str:
+    """A data URI holding one triangle's positions, normals (0, 0, 1) and tangents (1, 0, 0, w)."""
+    data = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack("<9f", *[0, 0, 1] * 3) + struct.pack("<12f", *[1, 0, 0, w] * 3)
+    return "data:application/octet-stream;base64," + base64.b64encode(data).decode()
+
+
+_CUBE_5CM = {"componentType": 5126, "count": 3, "type": "VEC3", "min": [-0.025, -0.025, -0.025], "max": [0.025, 0.025, 0.025]}
+_GLASS = {"metallicFactor": 0.0, "roughnessFactor": 0.05}
+
+
+def _variants(names, mappings, materials=2) -> dict:
+    return gltf([{"name": f"m{i}"} for i in range(materials)], ["KHR_materials_variants"],
+                extensions={"KHR_materials_variants": {"variants": [{"name": n} for n in names]}},
+                accessors=[_MESH_ACCESSORS[0]],
+                meshes=[{"primitives": [{"attributes": {"POSITION": 0}, "material": 0,
+                                         "extensions": {"KHR_materials_variants": {"mappings": mappings}}}]}])
+
+
+case("OPBR1219_basecolor_png_16bit.gltf", "OPBR1219", "The base colour texture is a 16-bit-per-channel PNG exported from a linear paint buffer; glTF requires 8-bit sRGB.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri="textures/albedo16.png"), indent=2))
+case("OPBR1219_cmyk_jpeg.gltf", "OPBR1219", "A print department's CMYK JPEG copied in as the base colour texture (not JFIF).",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri="textures/albedo_cmyk.jpg"), indent=2))
+case("OPBR1220_webp_core_source.gltf", "OPBR1220", "A WebP image named by texture.source without EXT_texture_webp.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri="textures/albedo.webp"), indent=2))
+case("OPBR802_gltf_variant_material_missing.gltf", "OPBR802", "A KHR_materials_variants mapping names material 2 after the variant's material was deleted.",
+     json.dumps(_variants(["Red", "Blue", "Green"], [{"material": 0, "variants": [0]}, {"material": 1, "variants": [1]},
+                                                    {"material": 2, "variants": [2]}]), indent=2))
+case("OPBR1225_variant_mapped_twice.gltf", "OPBR1225", "Variant 0 appears in two mappings (two materials) of one primitive.",
+     json.dumps(_variants(["Red", "Blue"], [{"material": 0, "variants": [0]}, {"material": 1, "variants": [0, 1]}]), indent=2))
+case("OPBR1226_variant_names_duplicate.gltf", "OPBR1226", "Two variants both named 'Red' (copied in a configurator, not renamed).",
+     json.dumps(_variants(["Red", "Red"], [{"material": 0, "variants": [0]}, {"material": 1, "variants": [1]}]), indent=2))
+case("OPBR1227_tangent_w_zero.gltf", "OPBR1227", "A triangle whose TANGENT w is 0 (an exporter left the handedness uninitialised).",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 0.0}}],
+                     buffers=[{"byteLength": 120, "uri": _tangent_buffer(0.0)}],
+                     bufferViews=[{"buffer": 0, "byteLength": 72}, {"buffer": 0, "byteOffset": 72, "byteLength": 48}],
+                     accessors=[{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                                {"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"},
+                                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC4"}],
+                     meshes=[{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TANGENT": 2}, "material": 0}]}]), indent=2))
+case("OPBR1221_transmission_alpha_blend.gltf", "OPBR1221", "Window glass with transmission 1 and also alphaMode BLEND at alpha 0.25: transparent twice.",
+     json.dumps(gltf([{"name": "M", "alphaMode": "BLEND", "pbrMetallicRoughness": {**_GLASS, "baseColorFactor": [0.9, 0.95, 1.0, 0.25]},
+                       "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}], ["KHR_materials_transmission"]), indent=2))
+case("OPBR1222_iridescence_micrometres.gltf", "OPBR1222", "Iridescence thicknesses written in micrometres (0.1 / 0.4) where glTF wants nanometres.",
+     json.dumps(gltf([{"name": "M", "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceThicknessMinimum": 0.1,
+                                                                                 "iridescenceThicknessMaximum": 0.4}}}], ["KHR_materials_iridescence"]), indent=2))
+case("OPBR1222_volume_thickness_centimetres.gltf", "OPBR1222", "A 5 cm glass die (mesh in metres) with thicknessFactor 5: centimetres.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": _GLASS, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                                                                                     "KHR_materials_volume": {"thicknessFactor": 5.0}}}],
+                     ["KHR_materials_transmission", "KHR_materials_volume"], accessors=[_CUBE_5CM],
+                     meshes=[{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}]), indent=2))
+case("OPBR1223_volume_black_attenuation.gltf", "OPBR1223", "attenuationColor [0, 0, 0] ('no tint' exported as black) with attenuationDistance 0.5: black glass.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": _GLASS, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                                                                                     "KHR_materials_volume": {"thicknessFactor": 0.2, "attenuationDistance": 0.5, "attenuationColor": [0, 0, 0]}}}],
+                     ["KHR_materials_transmission", "KHR_materials_volume"]), indent=2))
+case("OPBR1223_volume_attenuation_distance_tiny.gltf", "OPBR1223", "attenuationDistance 1e-6 through a thickness of 1 with a pale tint: no light gets through.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": _GLASS, "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0},
+                                                                                     "KHR_materials_volume": {"thicknessFactor": 1.0, "attenuationDistance": 1e-6, "attenuationColor": [0.9, 0.95, 0.9]}}}],
+                     ["KHR_materials_transmission", "KHR_materials_volume"]), indent=2))
+case("OPBR1224_iridescence_range_inverted.gltf", "OPBR1224", "iridescenceThicknessMinimum 800 and Maximum 100 (swapped) under a thickness texture.",
+     json.dumps(textured({"name": "M", "extensions": {"KHR_materials_iridescence": {"iridescenceFactor": 1.0, "iridescenceThicknessTexture": {"index": 0},
+                                                                                   "iridescenceThicknessMinimum": 800, "iridescenceThicknessMaximum": 100}}},
+                         uri="textures/rough.png", extensionsUsed=["KHR_materials_iridescence"]), indent=2))
+case("OPBR908_gltf_blend_alpha_zero.gltf", "OPBR908", "alphaMode BLEND with baseColorFactor alpha 0 and no texture ('transparency 1' written as alpha 0): invisible.",
+     json.dumps(gltf([{"name": "M", "alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.95, 0.0]}}]), indent=2))
+case("OPBR908_gltf_mask_below_cutoff.gltf", "OPBR908", "alphaMode MASK with alpha 0.3 and no texture under the cutoff 0.5: every fragment discarded.",
+     json.dumps(gltf([{"name": "M", "alphaMode": "MASK", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.95, 0.3]}}]), indent=2))
+case("OPBR1211_transmission_empty.gltf", "OPBR1211", "\"KHR_materials_transmission\": {} on a glass (the exporter never wrote transmissionFactor, default 0).",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": _GLASS, "extensions": {"KHR_materials_transmission": {}}}], ["KHR_materials_transmission"]), indent=2))
+case("OPBR1211_diffuse_transmission_metal.gltf", "OPBR1211", "Diffuse transmission 1 on a lampshade left at metallicFactor 1 (no metallicRoughness texture): a metal has no diffuse lobe.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 1.0},
+                       "extensions": {"KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 1.0}}}], ["KHR_materials_diffuse_transmission"]), indent=2),
+     also={"OPBR1212": "(info) the toolkit does not convert diffuse transmission"})
+case("OPBR1211_normal_scale_zero.gltf", "OPBR1211", "normalTexture.scale 0 (a disabled bump node exported as strength 0): the normal map is flat.",
+     json.dumps(textured({"name": "M", "normalTexture": {"index": 0, "scale": 0.0}}, uri="textures/normal.png"), indent=2))
+case("OPBR1211_specular_texture_rgb.gltf", "OPBR1211", "A specularTexture baked into RGB without alpha, where KHR_materials_specular reads the strength.",
+     json.dumps(textured({"name": "M", "extensions": {"KHR_materials_specular": {"specularTexture": {"index": 0}}}}, uri="textures/albedo.png",
+                         extensionsUsed=["KHR_materials_specular"]), indent=2))
+case("OPBR1211_anisotropy_blue_zero.gltf", "OPBR1211", "An anisotropyTexture made from a two-channel flow map: direction in RG, strength (B) 0 everywhere.",
+     json.dumps(textured({"name": "M", "extensions": {"KHR_materials_anisotropy": {"anisotropyStrength": 0.8, "anisotropyTexture": {"index": 0}}}},
+                         uri="textures/flow_rg.png", extensionsUsed=["KHR_materials_anisotropy"]), indent=2))
 
 EXTRA_FILES = {
     "OPBR1013_look.mtlx": opbr('<input name="base_weight" type="float" value="1" />'),

@@ -1,0 +1,115 @@
+"""glTF images: whether an image's encoding is one glTF allows for the slot that reads it, and whether
+it has the channel the slot reads.
+
+* glTF 2.0, 3.9.2 and 3.9.3: the base colour and emissive textures "MUST contain 8-bit values encoded
+  with the sRGB opto-electronic transfer function" (the metallic-roughness texture, by contrast, "MAY use
+  more than 8 bits per channel"); and "JPEG images MUST be compatible with JPEG File Interchange Format"
+  (section 2, File Extensions and Media Types), whose images have one (Y) or three (YCbCr) components, so a
+  four-component CMYK or YCCK JPEG is not a glTF image (the Khronos glTF-Validator's IMAGE_DATA_INVALID).
+* A slot that reads a channel the image does not have reads its default there (A = 1): an RGB
+  ``specularTexture`` (strength in A, KHR_materials_specular) changes nothing, and an ``anisotropyTexture``
+  whose blue channel (the strength, KHR_materials_anisotropy) is 0 everywhere turns the anisotropy off. These
+  are OPBR1211, the glTF family's "no effect", reported from here because only the image says so. An RGB
+  base colour texture under ``alphaMode`` MASK (nothing is cut out) is not reported: Khronos' CompareIor
+  sample does it and renders as its author meant, so it is no defect there.
+
+Every fact but the last is the reader's, from the image header (Pillow's mode and transparency, a PNG's
+IHDR bit depth): nothing is decoded. The anisotropy texture's blue channel is decoded once per image, a
+JPEG at 1/8 scale, and only up to :data:`MAX_INSPECTED_PIXELS`.
+"""
+
+from __future__ import annotations
+
+from ..diagnostics import Severity
+from ..io.image_files import channel_maxima
+from ..model import Location, Texture
+from . import Rule, constant_or_default
+from .gltf import NO_EFFECT, _gltf
+from .textures import image_of
+
+_PNG_16BIT = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAQAAAAEEAIAAAB2A9VqAAAAEElEQVR4nGMoNcAOGagnAQASFh7xh7LOv"
+              "gAAAABJRU5ErkJggg==")
+_PNG_8BIT = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAQAAAAECAIAAAAmkwkpAAAAFElEQVR42mM8kWLEAANMDEgANwcA"
+             "RfYBZsiXQosAAAAASUVORK5CYII=")
+
+
+def _emissive(uri: str) -> str:
+    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]',
+                 '"materials": [{"name": "M", "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0}}]')
+
+
+IMAGE_ENCODING = Rule(
+    "OPBR1219", "gltf-image-encoding-not-allowed", Severity.ERROR,
+    "An image is encoded as glTF forbids: a base colour or emissive texture with 16 bits per channel, or a "
+    "JPEG that is not JFIF (four components: CMYK or YCCK).",
+    "glTF 2.0 requires base colour and emissive textures to \"contain 8-bit values encoded with the sRGB "
+    "opto-electronic transfer function\" (3.9.2, 3.9.3; data textures such as metallicRoughness and normal "
+    "maps may use more bits), and every JPEG to be compatible with JFIF (section 2), which has one or three "
+    "components. Loaders truncate or reject a 16-bit colour image (WebGL uploads it as 8-bit sRGB, or not at "
+    "all), and decode a CMYK JPEG with inverted or wrong colours where they decode it at all (the Khronos "
+    "glTF-Validator: IMAGE_DATA_INVALID). Re-export the image as 8-bit RGB(A).",
+    passing=_emissive(_PNG_8BIT), failing=_emissive(_PNG_16BIT),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+RULES = (IMAGE_ENCODING,)
+
+#: The channel content of an image is inspected up to this many pixels (4096 x 4096); a larger image is not.
+MAX_INSPECTED_PIXELS = 4096 * 4096
+_COLOUR_TEXTURES = ("/pbrMetallicRoughness/baseColorTexture", "/emissiveTexture")
+
+
+def check(asset, context):
+    """Runs on glTF assets only (rules.FAMILY_FORMATS)."""
+    facts = asset.extra.get("gltf", {})
+    images = facts.get("images", ())
+    if not images:
+        return
+    yield from _encodings(asset, facts, images, context)
+    image_by_texture = {use["pointer"]: images[use["image"]] for use in facts.get("texture_uses", ())
+                        if isinstance(use.get("image"), int) and 0 <= use["image"] < len(images)}
+    decoded: dict = {}
+    for material in asset.materials:
+        yield from _missing_channels(asset, material, image_by_texture, decoded, context)
+
+
+def _encodings(asset, facts, images, context):
+    for image in images:
+        if image.get("mode") == "CMYK" and image.get("detected_mime") == "image/jpeg" and image.get("damage") is None:
+            yield context.diagnostic(
+                IMAGE_ENCODING, f"image {image['index']} ({image['file']}) is a four-component (CMYK) JPEG, which is not "
+                "JFIF: glTF viewers decode it with wrong colours or not at all", Location(asset.path, None, image["pointer"]),
+                hint="re-export it as an RGB JPEG or a PNG")
+    for use in facts.get("texture_uses", ()):
+        image = images[use["image"]] if isinstance(use.get("image"), int) and 0 <= use["image"] < len(images) else None
+        if image is None or image.get("bit_depth") != 16 or not use["pointer"].endswith(_COLOUR_TEXTURES):
+            continue
+        slot = use["pointer"].rsplit("/", 1)[-1]
+        yield context.diagnostic(
+            IMAGE_ENCODING, f"{slot} reads image {image['index']} ({image['file']}), a 16-bit PNG: glTF requires 8-bit "
+            "sRGB values in a colour texture", Location(asset.path, None, use["pointer"], "index"),
+            hint="re-export the image with 8 bits per channel (sRGB)")
+
+
+def _missing_channels(asset, material, image_by_texture, decoded, context):
+    specular = material.inputs.get("specular")
+    if specular is not None and isinstance(specular.value, Texture):
+        image = image_by_texture.get(specular.value.node, {})
+        if image.get("alpha") is False:
+            yield context.diagnostic(
+                NO_EFFECT, f"{material.name}: specularTexture (image {image['index']}) has no alpha channel, where "
+                "KHR_materials_specular reads the strength: it reads 1 everywhere, so the texture has no effect",
+                Location(asset.path, None, specular.value.node, "index"),
+                hint="store the specular strength in the image's alpha channel")
+    strength = material.inputs.get("anisotropy_strength")
+    if strength is not None and isinstance(strength.value, Texture) and strength.value.scale != 0.0:
+        texture = strength.value
+        if texture.file not in decoded:
+            source = image_of(asset, texture, context, {})
+            decoded[texture.file] = channel_maxima(source, MAX_INSPECTED_PIXELS) if source is not None else None
+        maxima = decoded[texture.file]
+        if maxima is not None and len(maxima) >= 3 and maxima[2] == 0:
+            yield context.diagnostic(
+                NO_EFFECT, f"{material.name}: the anisotropyTexture's blue channel, the anisotropy strength, is 0 "
+                "everywhere, so the material has no anisotropy", Location(asset.path, None, texture.node, "index"),
+                hint="store the strength in the blue channel (1 where the full anisotropyStrength applies)")
