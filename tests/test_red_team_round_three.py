@@ -358,3 +358,88 @@ def test_a_zero_tiling_collapses_the_texture(tmp_path, tiling, flagged):
         </surfacematerial>
     """)
     assert ("OPBR711" in _codes(path)) is flagged
+
+
+# -- MaterialX texture use: the same image read as a colour and as data; a texture GPUs cannot load ----------
+
+_TWO_READS = """
+<image name="albedo" type="color3">
+  <input name="file" type="filename" value="oak_basecolor.png" colorspace="srgb_texture" />
+</image>
+<image name="data" type="{type}">
+  <input name="file" type="filename" value="{file}" />
+</image>
+{extract}
+<open_pbr_surface name="S" type="surfaceshader">
+  <input name="base_color" type="color3" nodename="albedo" />
+  <input name="{input}" type="float" nodename="{node}" />
+</open_pbr_surface>
+<surfacematerial name="M" type="material">
+  <input name="surfaceshader" type="surfaceshader" nodename="S" />
+</surfacematerial>
+"""
+_ALPHA = ('<extract name="a" type="float">\n  <input name="in" type="color4" nodename="data" />\n'
+          '  <input name="index" type="integer" value="3" />\n</extract>')
+
+
+@pytest.mark.parametrize("file, input_name, kind, flagged", [
+    ("oak_basecolor.png", "specular_roughness", "float", True),   # the auto-assign script's wrong pick
+    ("oak_basecolor.png", "geometry_opacity", "float", True),     # a cut-out from the red channel
+    ("oak_roughness.png", "specular_roughness", "float", False),  # its own map
+    ("oak_basecolor.png", "specular_roughness", "alpha", False),  # data packed in the colour image's alpha
+])
+def test_a_colour_image_read_as_data_through_a_colour_channel(tmp_path, file, input_name, kind, flagged):
+    _png(tmp_path / "oak_basecolor.png", "RGBA")
+    _png(tmp_path / "oak_roughness.png", "L", colour=128)
+    alpha = kind == "alpha"
+    path = _mtlx(tmp_path, _TWO_READS.format(type="color4" if alpha else "float", file=file, input=input_name,
+                                             extract=_ALPHA if alpha else "", node="a" if alpha else "data"))
+    assert ("OPBR712" in _codes(path)) is flagged
+
+
+@pytest.mark.parametrize("width, flagged", [(16384, False), (16385, True)])
+def test_a_texture_wider_than_gpus_load_is_flagged_from_its_header(tmp_path, width, flagged):
+    import struct
+    import zlib
+
+    # a PNG header and an empty image: the size is read from IHDR, nothing is decoded
+    ihdr = struct.pack(">IIBBBBB", width, 4, 8, 0, 0, 0, 0)
+    png = (b"\x89PNG\r\n\x1a\n" + struct.pack(">I", 13) + b"IHDR" + ihdr + struct.pack(">I", zlib.crc32(b"IHDR" + ihdr))
+           + struct.pack(">I", 0) + b"IEND" + struct.pack(">I", zlib.crc32(b"IEND")))
+    (tmp_path / "scan.png").write_bytes(png)
+    path = _mtlx(tmp_path, """
+        <image name="rough" type="float"><input name="file" type="filename" value="scan.png" /></image>
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="specular_roughness" type="float" nodename="rough" />
+        </open_pbr_surface>
+    """)
+    assert ("OPBR713" in _codes(path)) is flagged
+
+
+@pytest.mark.parametrize("colour, weight, code", [
+    ("0, 0, 0", "1", "OPBR909"), ("0.9, 0.9, 0.9", "0.01", "OPBR909"),   # black, or dimmed to black by base_weight
+    ("0.1, 0.1, 0.1", "1", "OPBR901"),                                    # dark: the heuristic's info
+    ("0.56, 0.57, 0.58", "1", None),                                       # a real metal (physicallybased.info's iron)
+])
+def test_a_black_metal_is_a_warning_and_a_dark_one_an_info(tmp_path, colour, weight, code):
+    path = _mtlx(tmp_path, f"""
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="base_metalness" type="float" value="1" />
+          <input name="base_weight" type="float" value="{weight}" />
+          <input name="base_color" type="color3" value="{colour}" />
+        </open_pbr_surface>
+    """)
+    found = set(_codes(path, ("error", "warning", "info"))) & {"OPBR901", "OPBR909"}
+    assert found == ({code} if code else set())
+
+
+@pytest.mark.parametrize("layer_unit, flagged", [("1", True), ("0.01", False)])
+def test_a_composed_layer_in_another_unit_is_read_in_the_stages(tmp_path, layer_unit, flagged):
+    from pxr import Usd, UsdGeom
+
+    (tmp_path / "looks.usda").write_text(f'#usda 1.0\n(\n    metersPerUnit = {layer_unit}\n)\n', encoding="utf-8")
+    path = tmp_path / "stage.usda"
+    path.write_text('#usda 1.0\n(\n    metersPerUnit = 0.01\n    subLayers = [@looks.usda@]\n)\n', encoding="utf-8")
+    stage = Usd.Stage.Open(str(path))
+    assert UsdGeom.GetStageMetersPerUnit(stage) == 0.01  # the anchor: the root layer's unit is the stage's
+    assert ("OPBR1020" in _codes(path)) is flagged

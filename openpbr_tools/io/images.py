@@ -223,6 +223,32 @@ def channel_count(image: str | bytes) -> int:
             return len(opened.getbands()) if opened.mode != "P" else (4 if "transparency" in opened.info else 3)
 
 
+def image_size(image: str | bytes) -> tuple[int, int] | None:
+    """(width, height) of an image from its header (a PNG's IHDR, else Pillow's header read; an image
+    above Pillow's decompression-bomb limit is opened with the limit lifted, still without decoding), or
+    ``None`` when it cannot be told."""
+    from PIL import Image  # lazy: as in load_pixels
+
+    head = image[:24] if isinstance(image, bytes) else None
+    if head is None:
+        try:
+            with open(image, "rb") as handle:
+                head = handle.read(24)
+        except OSError:
+            return None
+    if head.startswith(b"\x89PNG\r\n\x1a\n") and head[12:16] == b"IHDR":
+        return int.from_bytes(head[16:20], "big"), int.from_bytes(head[20:24], "big")
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")
+            with Image.open(io.BytesIO(image) if isinstance(image, bytes) else image) as opened:
+                return opened.size
+    except Image.DecompressionBombError:
+        return None
+    except Exception:  # noqa: BLE001 - not an image Pillow opens: OPBR707/OPBR708 say so
+        return None
+
+
 PNG_CHANNELS = {0: 1, 2: 3, 3: 3, 4: 2, 6: 4}  # PNG colour type -> channels (ISO/IEC 15948, 11.2.2 IHDR)
 
 

@@ -23,7 +23,7 @@ from __future__ import annotations
 from ..diagnostics import Severity
 from ..io.image_files import channel_maxima
 from ..model import Location, Texture
-from . import Rule, constant_or_default
+from . import Rule
 from .gltf import NO_EFFECT, _gltf
 from .textures import image_of
 

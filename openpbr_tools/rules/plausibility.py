@@ -85,8 +85,23 @@ INVISIBLE = Rule(
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_opacity" type="float" value="0" />\n</open_pbr_surface>',
 )
 
+#: Below this linear luminance of base_weight * base_color a metal reflects (next to) nothing at normal incidence.
+BLACK_METAL = 0.02
+
+METAL_BLACK = Rule(
+    "OPBR909", "metal-black", Severity.WARNING,
+    f"A metal whose base colour (times base_weight) has a luminance below {BLACK_METAL}: it reflects next to "
+    "nothing at normal incidence and renders black.",
+    "OpenPBR's metal reflects base_weight * base_color at normal incidence (its F0). No metal reflects under 2%: "
+    "the darkest measured ones (physicallybased.info's silicon, 0.37 luminance) are far above it, and a dark "
+    "anodised metal is a thin film, not a black F0. A black metal is a dielectric's black left on a metal, or an "
+    "unset colour exported as 0. Reported instead of OPBR901.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="base_color" type="color3" value="0.56, 0.57, 0.58" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="base_color" type="color3" value="0, 0, 0" />\n</open_pbr_surface>',
+)
+
 RULES = (METAL_TOO_DARK, DIELECTRIC_OUT_OF_RANGE, TRANSMISSIVE_METAL, FILM_WITHOUT_THICKNESS,
-         IOR_BELOW_ONE, PARTIAL_METALNESS, EMISSION_OFF, INVISIBLE)
+         IOR_BELOW_ONE, PARTIAL_METALNESS, EMISSION_OFF, INVISIBLE, METAL_BLACK)
 
 
 class _Values:
@@ -132,7 +147,15 @@ def check(asset, context):
         if isinstance(base_color, tuple) and isinstance(metalness, float) and value.authored("base_color"):
             linear = _linear(material, asset, base_color)
             luminance = sum(w * c for w, c in zip(weights, linear))
-            if metalness >= limits["metalness_metal_above"] and luminance < limits["metal_base_color_min_linear"]:
+            weight = value("base_weight")
+            if metalness >= limits["metalness_metal_above"] and isinstance(weight, float) and \
+                    luminance * weight < BLACK_METAL:
+                yield context.diagnostic(
+                    METAL_BLACK, f"{material.name}: a metal whose base_weight * base_color luminance is "
+                    f"{luminance * weight:.3f}: it reflects next to nothing at normal incidence and renders black",
+                    material.inputs["base_color"].location, hint="give the metal its reflectance colour (real metals: "
+                    "luminance 0.4-1), or set base_metalness 0 for a black dielectric")
+            elif metalness >= limits["metalness_metal_above"] and luminance < limits["metal_base_color_min_linear"]:
                 yield context.diagnostic(
                     METAL_TOO_DARK,
                     f"{material.name}: metal base_color luminance {luminance:.3f} is below "

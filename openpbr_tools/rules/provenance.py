@@ -173,6 +173,10 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "normal tilts towards +X+Y+Z.", f"{MX_NODES}; {MX_OPENPBR}"),
     "OPBR711": ("tiledimage multiplies by uvtiling and place2d divides by scale (MaterialX's stdlib node "
                 "definitions): a 0 collapses the texture or divides by zero.", MX_NODES),
+    "OPBR712": ("A colour image's red, green or blue channel is a colour component, not a roughness or mask; "
+                "data packed beside a colour lives in alpha.", MX_NODES),
+    "OPBR713": ("Direct3D 11/12 and Metal on Apple GPUs load textures of at most 16384 pixels a side.",
+                "https://learn.microsoft.com/windows/win32/direct3d11/overviews-direct3d-11-resources-limits"),
     "OPBR710": ("A floating-point image read straight into a world-space normal input is right only if it holds "
                 "world-space normals; a tangent-space map read so shades every point wrongly.", f"{MX_NODES}; {MX_OPENPBR}"),
     "OPBR704": ("Absolute paths, '..' and URLs break when the asset is moved, packaged (USDZ, glTF) or rendered "
@@ -227,6 +231,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "mixes the whole surface with nothing; glTF's BLEND alpha 0 or MASK below the cutoff draws nothing); "
                 "cut-outs are textured opacity, which this does not flag.", f"{OPENPBR}; {GLTF}"),
     # -- usd -----------------------------------------------------------------------------------
+    "OPBR909": ("OpenPBR's metal reflects base_weight * base_color at normal incidence; no measured metal reflects "
+                "under 2% (physicallybased.info).", "AntonPalmqvist/physically-based-api:deploy/v2/materials.json"),
     "OPBR1001": ("Without info:id (or a source asset/code) Sdr cannot find the shader's definition: Hydra "
                  "renders the material with its fallback.", f"{USD_SHADER}; {_USD}pxr/usd/sdr/shaderNode.h"),
     "OPBR1002": ("Hydra and UsdMtlx type MaterialX inputs from the USD type (role and precision): a wrong role "
@@ -269,6 +275,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "connected.", _USD + "pxr/usd/usdShade/input.h"),
     "OPBR1019": ("UsdShade's connectability (interfaceOnly) and encapsulation rules, as "
                  "UsdShadeConnectableAPI::CanConnect applies them.", _USD + "pxr/usd/usdShade/connectableAPI.h"),
+    "OPBR1020": ("UsdGeom's metersPerUnit is the root layer's metadata; composition does not rescale the values of "
+                 "a layer authored in another unit.", _USD + "pxr/usd/usdGeom/metrics.h"),
     "OPBR1101": ("Nothing is lost; a rename recorded so a reviewer can follow a value across models and "
                  "versions.", f"{OPENPBR}; {MX_OPENPBR}"),
     "OPBR1102": ("Nothing is lost; the value changed form exactly (units, folded parameters) and the report says "

@@ -4,6 +4,9 @@ Paths are resolved as MaterialX resolves them: the ``fileprefix`` in effect, the
 document's folder. ``<UDIM>`` (and ``<UVTILE>``) paths need at least one matching tile on disk.
 A texture's output type after channel selection must match the input (a colour image cannot feed
 ``base_metalness`` without an ``extract``), and tangent-space normal maps need a ``normalmap`` decode.
+
+One module because its rules are one pass over each material's textures that shares the image look-ups
+(:func:`image_of`, the package cache, the files already checked or measured); split, each half would repeat them.
 """
 
 from __future__ import annotations
@@ -14,7 +17,7 @@ import re
 from ..diagnostics import Severity
 from ..io import ReadError, package_member, packaged_image
 from ..io.image_files import damage
-from ..io.images import channel_count
+from ..io.images import channel_count, image_size
 from ..io.paths import Kind, classify, climbs
 from ..io.usd.types import is_eight_bit
 from . import Rule, for_each_input
@@ -142,8 +145,42 @@ ZERO_UV_SCALE = Rule(
     passing=_TILED.format(tiling="4, 4"), failing=_TILED.format(tiling="0, 0"), example_files=("albedo.png",),
 )
 
+_TWO_READS = ('<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" '
+              'colorspace="srgb_texture" />\n</image>\n<image name="rough" type="float">\n  <input name="file" '
+              'type="filename" value="{file}" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n'
+              '  <input name="base_color" type="color3" nodename="albedo" />\n'
+              '  <input name="specular_roughness" type="float" nodename="rough" />\n</open_pbr_surface>')
+
+COLOUR_IMAGE_AS_DATA = Rule(
+    "OPBR712", "colour-image-read-as-data", Severity.WARNING,
+    "One image feeds a colour input as a colour and a float input (roughness, metalness, opacity, a weight) "
+    "through its red, green or blue channel.",
+    "A colour image's channels are colours, not a roughness or a mask: an auto-assign script picked the base "
+    "colour file for the roughness slot (oak_roughness.png sat beside it), or a cut-out reads the leaf's red "
+    "channel because the image has no alpha. Packing data beside a colour goes in the alpha channel (Unity's "
+    "smoothness in albedo alpha), which is not reported.",
+    passing=_TWO_READS.format(file="rough.png"), failing=_TWO_READS.format(file="albedo.png"),
+    example_files=("albedo.png", "rough.png"),
+)
+
+#: The largest texture Direct3D 11/12 (D3D11_REQ_TEXTURE2D_U_OR_V_DIMENSION) and Apple GPUs under Metal load.
+GPU_TEXTURE_LIMIT = 16384
+
+TEXTURE_TOO_LARGE = Rule(
+    "OPBR713", "texture-too-large", Severity.WARNING,
+    f"An image is wider or taller than {GPU_TEXTURE_LIMIT} pixels.",
+    f"Direct3D 11/12 (D3D11_REQ_TEXTURE2D_U_OR_V_DIMENSION) and Metal on Apple GPUs load textures of at most "
+    f"{GPU_TEXTURE_LIMIT} pixels a side: a larger one fails to load or is downscaled by the renderer, and a "
+    "400-megapixel scan costs over a gigabyte of memory per channel set. Usually a source scan exported at full "
+    "resolution.",
+    passing=_TILED.format(tiling="1, 1"), failing=_TILED.format(tiling="1, 1").replace("albedo.png", "huge.png"),
+    example_files=("albedo.png", "huge.png"),
+    failing_files=(("huge.png", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\x00\x00N \x00\x00\x00\x04\x08\x02\x00\x00\x00"),),
+)
+
 RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, EMPTY_PATH, PLACE2D_WITHOUT_TEXCOORD,
-         UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, GREY_NORMAL_MAP, FLOAT_NORMAL_WITHOUT_DECODE, ZERO_UV_SCALE)
+         UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, GREY_NORMAL_MAP, FLOAT_NORMAL_WITHOUT_DECODE, ZERO_UV_SCALE,
+         COLOUR_IMAGE_AS_DATA, TEXTURE_TOO_LARGE)
 
 # Case-sensitive, as MaterialX (UDIM_TOKEN, UV_TILE_TOKEN) and OpenUSD (UsdShadeUdimUtils) substitute them:
 # "<udim>" is read as part of a file name, so its tiles are never found.
@@ -191,6 +228,8 @@ def output_type(texture) -> str:
 def check(asset, context):
     checked_files: set[str] = set()
     containers: dict = {}  # packaged_image's cache of loaded packages
+    sized: set[str] = set()
+    yield from _colour_read_as_data(asset, context)
     for material, table, entry in for_each_input(asset):
         texture = entry.texture
         if texture is None:
@@ -208,6 +247,14 @@ def check(asset, context):
                 IMAGE_TYPE_MISMATCH, f"{entry.name} is {expected} but {texture.node!r} produces {produced}",
                 entry.location, hint="add an extract node, or declare the image with the input's type",
             )
+        if texture.file not in sized:
+            sized.add(texture.file)
+            image = image_of(asset, texture, context, containers)
+            size = image_size(image) if image is not None else None
+            if size is not None and max(size) > GPU_TEXTURE_LIMIT:
+                yield context.diagnostic(
+                    TEXTURE_TOO_LARGE, f"{entry.name}: {texture.file!r} is {size[0]} x {size[1]} pixels, beyond the "
+                    f"{GPU_TEXTURE_LIMIT} a side GPUs load", where, hint=f"downscale it to {GPU_TEXTURE_LIMIT} or less")
         if texture.uv is not None and 0.0 in tuple(texture.uv.scale) and not _gltf(texture):
             yield context.diagnostic(
                 ZERO_UV_SCALE, f"{entry.name}: {texture.node!r} scales its coordinates by "
@@ -283,6 +330,28 @@ def _check_path(asset, texture, where, context, checked_files):
                 where, hint="copy the tile into the asset's folder instead of linking it")
         for name, real in readable:
             yield from _damaged(real, name, where, context)
+
+
+def _colour_read_as_data(asset, context):
+    """OPBR712: per material, an image read as a colour by a colour input and through a colour channel (R, G or
+    B, not A) by a float input."""
+    for material in asset.materials:
+        colours, data = {}, []
+        for name, texture in material.textures():
+            entry = material.inputs[name]
+            if texture.normal_map is not None or not texture.file.strip():
+                continue
+            if (entry.type or "").startswith("color") and (texture.channels is None or len(texture.channels) == 3):
+                colours.setdefault(texture.file, name)
+            elif entry.type == "float" and (texture.channels is None or texture.channels[0] in (0, 1, 2)):
+                data.append((name, texture, entry))
+        for name, texture, entry in data:
+            if texture.file in colours:
+                channel = "RGB"[texture.channels[0]] if texture.channels else "R"
+                yield context.diagnostic(
+                    COLOUR_IMAGE_AS_DATA, f"{name} reads channel {channel} of {texture.file!r}, which "
+                    f"{colours[texture.file]} reads as a colour: a colour image read as data", entry.location,
+                    hint=f"point {name} at its own map (or pack the data in the image's alpha channel)")
 
 
 def _gltf(texture) -> bool:

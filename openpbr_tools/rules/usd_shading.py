@@ -14,6 +14,9 @@ and still renders another material than the one authored.
   (OPBR1019). A shader's input fed from outside its Material is not reported: OpenUSD's own
   preview-surface tests (testPreviewSurfaceOpacityThreshold.usda) do it and Storm renders them.
 
+A composed layer that authors another ``metersPerUnit`` than the stage keeps its numbers: USD does not
+rescale them, so its lengths are read in the stage's unit (OPBR1020).
+
 Bindings to a material composed from a MaterialX document that this usd-core cannot open (OPBR1013) are
 not judged: with usdMtlx the target would exist.
 """
@@ -79,7 +82,20 @@ CONNECTION_REFUSED = Rule(
     example_files=("albedo.png",),
 )
 
-RULES = (BINDING_TARGET, INPUT_RELATIONSHIP, CONNECTION_REFUSED)
+LAYER_UNITS = Rule(
+    "OPBR1020", "usd-layer-units-differ", Severity.WARNING,
+    "A layer the stage composes (a reference, payload or sublayer) authors another metersPerUnit than the stage.",
+    "USD does not rescale what it composes: a transmission depth of 2.5 authored in a metre layer is read as "
+    "2.5 centimetres in a centimetre stage, and so are the layer's points (UsdGeom's metersPerUnit is stage "
+    "metadata, read from the root layer only). Convert the layer's lengths, or author its unit to match.",
+    passing=_stage(inputs="        float inputs:transmission_depth = 2.5\n"),
+    failing=_stage(inputs="        float inputs:transmission_depth = 2.5\n").replace(
+        "    metersPerUnit = 1\n", "    metersPerUnit = 1\n    subLayers = [@looks.usda@]\n", 1),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+    failing_files=(("looks.usda", b'#usda 1.0\n(\n    metersPerUnit = 0.01\n)\n'),), example_files=("looks.usda",),
+)
+
+RULES = (BINDING_TARGET, INPUT_RELATIONSHIP, CONNECTION_REFUSED, LAYER_UNITS)
 
 
 def check(asset, context):
@@ -101,6 +117,12 @@ def check(asset, context):
                 INPUT_RELATIONSHIP, f"{detail['input']} is a relationship (to {targets}), not an input: it is never "
                 "connected and the input renders its default", where,
                 hint=f"author it as an attribute connection: <type> {detail['input']}.connect = <...>")
+        elif observation.kind == "usd_layer_units":
+            yield context.diagnostic(
+                LAYER_UNITS, f"{detail['layer']} authors metersPerUnit {detail['layer_unit']:g}, the stage "
+                f"{detail['stage_unit']:g}: USD does not rescale it, so its lengths are read "
+                f"{detail['layer_unit'] / detail['stage_unit']:g}x too short or long", where,
+                hint="convert the layer's lengths to the stage's unit, or author the same metersPerUnit")
         elif observation.kind == "usd_connection_refused":
             why = ("its connectability is interfaceOnly, so only a Material's or NodeGraph's interface input may "
                    "feed it" if detail["interface_only"] else

@@ -48,6 +48,7 @@ from ... import colorspaces, gltf_state, tables, versioning
 from ...model import Asset, Constant, Input, Location, Material
 from .. import ReadError
 from .network import MAX_DEPTH, NetworkReader
+from .observations import observe_layer_units, observe_structure
 from .errors import quiet, tf_error_text, usd_error_message
 from .guard import StageGuard
 from .sdr import materialx_nodedef
@@ -115,6 +116,7 @@ class _Reader(NetworkReader):
         asset.format_version = self.root_layer.GetFileFormat().formatId
         if stage.HasAuthoredMetadata("metersPerUnit"):
             asset.meters_per_unit = float(self.UsdGeom.GetStageMetersPerUnit(stage))
+        observe_layer_units(self.stage, self.asset.observe, self.location)
         asset.extra["up_axis"] = str(self.UsdGeom.GetStageUpAxis(stage)) if stage.HasAuthoredMetadata("upAxis") else None
         default_prim = stage.GetDefaultPrim()
         if default_prim:
@@ -129,7 +131,7 @@ class _Reader(NetworkReader):
                 if in_prototype in prototypes_read:
                     continue
                 prototypes_read.add(in_prototype)
-            self.observe_structure(prim)
+            observe_structure(prim, self.stage, self.asset.observe, self.location)
             if prim.HasAPI(self.Usd.ColorSpaceAPI):
                 name = self.authored_prim_colorspace(prim)
                 if name:
@@ -144,47 +146,6 @@ class _Reader(NetworkReader):
         for prim in shader_prims:
             self.observe_shader_id(prim)
         self.bound_primvars(meshes)
-
-    def observe_structure(self, prim) -> None:
-        """What UsdShade refuses or ignores in ``prim``'s scene description: a direct material binding
-        whose target is no active Material (USD renders the prim unbound), an ``inputs:`` relationship on
-        a shading prim (a relationship is no input: the value is never connected), and a connection
-        ``UsdShade.ConnectableAPI.CanConnect`` refuses (an interfaceOnly input fed by a node, a Material
-        output fed from outside the Material; not a shader input fed across a Material's boundary, which
-        OpenUSD's own preview-surface tests do and Storm renders)."""
-        UsdShade = self.UsdShade
-        for relationship in prim.GetRelationships():
-            name = relationship.GetName()
-            if name.startswith("material:binding") and ":collection" not in name:
-                for target in relationship.GetForwardedTargets():
-                    bound = self.stage.GetPrimAtPath(target.GetPrimPath())
-                    reason = ("does not exist" if not bound else "is inactive" if not bound.IsActive()
-                              else None if bound.IsA(UsdShade.Material) else f"is a {bound.GetTypeName() or 'typeless prim'}, "
-                              "not a Material")
-                    if reason is not None:
-                        self.asset.observe("usd_binding_invalid", self.location(prim.GetPath(), None),
-                                           relationship=name, target=str(target), reason=reason)
-            elif name.startswith("inputs:") and (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):
-                self.asset.observe("usd_input_relationship", self.location(prim.GetPath(), name[len("inputs:"):]),
-                                   input=name, targets=[str(t) for t in relationship.GetTargets()])
-        if not (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):  # (a Material is a NodeGraph)
-            return
-        connectable = UsdShade.ConnectableAPI(prim)
-        for port in list(connectable.GetInputs(onlyAuthored=True)) + list(connectable.GetOutputs(onlyAuthored=True)):
-            sources, _ = port.GetConnectedSources()
-            for source in sources:
-                if source.sourceType == UsdShade.AttributeType.Output:
-                    origin = source.source.GetOutput(source.sourceName)
-                else:
-                    origin = source.source.GetInput(source.sourceName)
-                if origin and not UsdShade.ConnectableAPI.CanConnect(port, origin.GetAttr()):
-                    side = "input" if UsdShade.Input.IsInput(port.GetAttr()) else "output"
-                    if side == "input" and port.GetConnectability() != UsdShade.Tokens.interfaceOnly:
-                        continue  # a shader's input fed across a Material's boundary: Hydra follows it (OpenUSD's own tests)
-                    self.asset.observe("usd_connection_refused", self.location(prim.GetPath(), port.GetBaseName()),
-                                       port=str(port.GetAttr().GetPath()), source=str(origin.GetAttr().GetPath()),
-                                       side=side, interface_only=side == "input" and
-                                       port.GetConnectability() == UsdShade.Tokens.interfaceOnly)
 
     def bound_primvars(self, meshes) -> None:
         """For each Material whose textures read a named primvar: the meshes bound to it (in any purpose,

@@ -472,6 +472,14 @@ case("OPBR711_tiledimage_tiling_zero.mtlx", "OPBR711", "An unset tiling was expo
      opbr('<input name="base_color" type="color3" nodename="albedo" />',
           before='<tiledimage name="albedo" type="color3">\n  <input name="file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n'
                  '  <input name="uvtiling" type="vector2" value="0, 0" />\n</tiledimage>'))
+case("OPBR712_roughness_reads_basecolor.mtlx", "OPBR712", "An auto-assign script picked the base colour file for the roughness slot: roughness is the colour's red channel.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />\n<input name="specular_roughness" type="float" nodename="rough" />',
+          before=image("albedo", "textures/albedo.png") + "\n" + image("rough", "textures/albedo.png", "float", None)))
+case("OPBR909_black_metal.mtlx", "OPBR909", "A dielectric's black base colour was left on a metal: it reflects nothing at normal incidence.",
+     opbr('<input name="base_metalness" type="float" value="1" />\n<input name="base_color" type="color3" value="0, 0, 0" />'))
+case("OPBR1020_usd_layer_in_metres.usda", "OPBR1020", "A centimetre stage sublayers a look layer authored in metres: its transmission depth of 2.5 (m) reads as 2.5 cm.",
+     usda('float inputs:transmission_weight = 1\nfloat inputs:transmission_depth = 2.5').replace(
+         'metersPerUnit = 0.01\n', 'metersPerUnit = 0.01\n    subLayers = [@OPBR1020_layers/look_m.usda@]\n', 1))
 case("OPBR709_height_map_as_normal.gltf", "OPBR709", "A greyscale height map was plugged into the normal texture slot.",
      json.dumps(textured({"name": "M", "normalTexture": {"index": 0}}, uri="textures/rough.png"), indent=2))
 case("OPBR702_color_image_into_metalness.mtlx", "OPBR702", "A color3 image fed straight into the float base_metalness.",
@@ -764,6 +772,7 @@ EXTRA_FILES = {
     "textures/cut.jpg": jpeg_cut_short(),
     "textures/photo.jpg": jpeg_whole(),
     "textures/empty.png": b"",
+    "OPBR1020_layers/look_m.usda": b'#usda 1.0\n(\n    metersPerUnit = 1\n)\n',
     "textures/scrambled.png": bytes((i * 73 + 41) % 256 for i in range(600)),
 }
 
