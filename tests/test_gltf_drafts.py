@@ -116,8 +116,18 @@ def test_a_metal_under_ext_materials_specular_openpbr_keeps_its_f0_and_edge_tint
     values = _inputs(tmp_path / "out.mtlx")
     assert values["gold"]["base_color"] == pytest.approx((1.0, 0.78, 0.34))  # F0 as is (EXT: OpenPBR's metal)
     assert values["gold"]["specular_color"] == pytest.approx((0.9, 0.7, 0.5))
-    # without the EXT, glTF's Schlick metal is inverted for the F82 tint: a different base colour
-    assert values["gold_ratified"]["base_color"] != pytest.approx((1.0, 0.78, 0.34), abs=1e-3)
+    # without the EXT the specular colour has no effect on glTF's metal (Schlick's, F0 = base colour): read from
+    # another tool's file, OpenPBR's edge tint is left white and the base colour is the F0 as is, which renders
+    # as glTF does
+    assert values["gold_ratified"]["base_color"] == pytest.approx((1.0, 0.78, 0.34))
+    assert values["gold_ratified"].get("specular_color", (1.0, 1.0, 1.0)) == pytest.approx((1.0, 1.0, 1.0))
+    # from this toolkit's own file the colour is the F82 tint it carries for the round trip: glTF's Schlick
+    # metal is inverted for that tint, a different base colour
+    ours = json.loads((tmp_path / "in.gltf").read_text())
+    ours["asset"]["generator"] = "openpbr-tools 0.1.0"
+    (tmp_path / "ours.gltf").write_text(json.dumps(ours))
+    convert_file(str(tmp_path / "ours.gltf"), str(tmp_path / "ours.mtlx"))
+    assert _inputs(tmp_path / "ours.mtlx")["gold_ratified"]["base_color"] != pytest.approx((1.0, 0.78, 0.34), abs=1e-3)
 
 
 def test_clearcoat_darkening_clearcoat_ior_and_openpbr_anisotropy_sub_extensions(tmp_path):

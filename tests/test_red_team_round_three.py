@@ -443,3 +443,27 @@ def test_a_composed_layer_in_another_unit_is_read_in_the_stages(tmp_path, layer_
     stage = Usd.Stage.Open(str(path))
     assert UsdGeom.GetStageMetersPerUnit(stage) == 0.01  # the anchor: the root layer's unit is the stage's
     assert ("OPBR1020" in _codes(path)) is flagged
+
+
+# -- a foreign glTF metal's KHR_materials_specular: glTF renders none of it, so neither does the OpenPBR ---------
+
+def test_a_foreign_gltf_metal_reads_its_specular_colour_as_glTF_renders_it(tmp_path):
+    """physicallybased.info's tungsten as kwokcb/materialxMaterials exports it to glTF: the F82 tint in the
+    specular colour of a full metal, which glTF's metal (Schlick's, F0 = base colour) ignores."""
+    import json
+
+    from openpbr_tools.convert import convert_file
+    from openpbr_tools.translate.common import Settings
+    from openpbr_tools.verification import measure
+
+    tungsten = {"name": "tungsten", "pbrMetallicRoughness": {"baseColorFactor": [0.504, 0.498, 0.478, 1.0],
+                                                              "metallicFactor": 1.0, "roughnessFactor": 0.0},
+                "extensions": {"KHR_materials_specular": {"specularColorFactor": [0.403, 0.418, 0.423]}}}
+    path = tmp_path / "tungsten.gltf"
+    path.write_text(json.dumps({"asset": {"version": "2.0", "generator": "materialxMaterials"},
+                                "extensionsUsed": ["KHR_materials_specular"], "materials": [tungsten]}))
+    conversion = convert_file(str(path), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings())
+    (source, delta), = measure(conversion)
+    assert delta.mean < 0.05 and delta.max < 0.5  # read as a tint: mean 2.10, max 14.7
+    assert any(d.code == "OPBR1102" and "no effect on a fully metallic" in d.message and d.location.input == "specularColorFactor"
+               for d in conversion.diagnostics)

@@ -803,6 +803,9 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     else:
         source, coat_ior = with_draft_coat(material, found.get(drafts.CLEARCOAT_IOR), ior_only=True)
     source, infinite_ior = _infinite_ior(source)
+    metal_notes = []
+    if state.get("toolkit_written") is False and drafts.SPECULAR_OPENPBR not in found:  # a glTF file another tool wrote
+        source, metal_notes = _metal_ignores_specular(source, settings)
     unlit = _unlit_as_emission(source, state)
     specular_glossiness = unlit is None and spec_gloss.state_of(material) is not None
     colour = material.inputs.get("specular_color")
@@ -813,6 +816,7 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     translation = translate(unlit or source, "open_pbr_surface", mappings, DROPPED_FROM_GLTF, settings,
                             "glTF -> OpenPBR")
     translation.source = material
+    translation.diagnostics += metal_notes
     if unlit is not None:
         translation.diagnostics += _unlit_emission(translation.material, material, settings)
     if infinite_ior:
@@ -827,6 +831,35 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     translation.diagnostics += _volume_of_diffuse_transmission(material, state, settings)
     translation.diagnostics += _diffuse_transmission_in(translation.material, material, state, settings)
     return translation
+
+
+def _metal_ignores_specular(material: Material, settings: Settings) -> tuple[Material, list]:
+    """A fully metallic glTF material (a constant metallicFactor of 1, glTF's default) from another tool: its
+    KHR_materials_specular colour and factor have no effect (glTF's metal is Schlick's with F0 = base colour and
+    F90 = 1), while OpenPBR's specular_color would tint the metal's edge (F82) and its specular_weight dim it.
+    They are read as white and 1, which renders as glTF does (physicallybased.info's tungsten, exported with its
+    F82 tint in the specular colour: mean CIEDE2000 2.10, max 14.7, read as a tint; 0 read so). Only for a glTF
+    file another tool wrote (its asset.generator): a file this toolkit wrote, or its gltf_pbr result in memory
+    or in a .mtlx, carries OpenPBR's tint there on purpose, for the round trip, and is read as before."""
+    metallic = material.inputs.get("metallic")
+    if metallic is not None and not (isinstance(metallic.value, Constant) and float(metallic.value.value) >= 1.0):
+        return material, []
+    notes, inputs = [], dict(material.inputs)
+    for name, neutral, target in (("specular_color", (1.0, 1.0, 1.0), "specular_color"), ("specular", 1.0, "specular_weight")):
+        entry = material.inputs.get(name)
+        if entry is None or (isinstance(entry.value, Constant) and not differs(entry.value.value, neutral)):
+            continue
+        inputs[name] = Input(name, entry.type, Constant(neutral), entry.location)
+        notes.append(settings.context.diagnostic(
+            CONVERTED, f"{material.name} (glTF -> OpenPBR): {name}: KHR_materials_specular has no effect on a fully "
+                       f"metallic material (glTF's metal is Schlick's with F0 = base colour), so OpenPBR's {target}, which "
+                       f"would tint or dim the metal, is left at {neutral if isinstance(neutral, float) else 'white'}",
+            entry.location))
+    if not notes:
+        return material, []
+    changed = copy.copy(material)
+    changed.inputs = inputs
+    return changed, notes
 
 
 #: The IOR that stands for KHR_materials_ior's ior 0, whose Fresnel term is 1 at every angle ("the effective IOR

@@ -79,6 +79,8 @@ def read_gltf(path: str, allow_outside: tuple[str, ...] = ()) -> Asset:
 class _Reader(TextureReading, ExtensionReading):
     def __init__(self, asset: Asset, document: GltfDocument) -> None:
         self.asset, self.document, self.path = asset, document, asset.path
+        header = document.json.get("asset") if isinstance(document.json.get("asset"), dict) else {}
+        self.toolkit_written = str(header.get("generator", "")).startswith("openpbr-tools")  # (translate.gltf)
         self.table = tables.table(MODEL, VERSION)
         self.wrap_modes = slots.wrap_to_address()
         self.filters = slots.sampler_filters()
@@ -206,7 +208,7 @@ class _Reader(TextureReading, ExtensionReading):
         material = Material(name=name, model=MODEL, location=self.location(pointer), material_name=name,
                             material_location=self.location(pointer))
         extensions = raw.get("extensions") if isinstance(raw.get("extensions"), dict) else {}
-        extra = {"index": index, "material_extensions": sorted(extensions)}
+        extra = {"index": index, "material_extensions": sorted(extensions), "toolkit_written": self.toolkit_written}
         for key in ("doubleSided", "extras"):
             if key in raw:
                 extra[key] = raw[key]
