@@ -1,6 +1,7 @@
 """Real published assets (tests/data/published, sources and licences in its SOURCES.md): MaterialX's
 example library, OpenUSD's and the USD working group's test assets, factor-only derivatives of
-Khronos' glTF sample models, and 110 materials of the CC0 physically-based database.
+Khronos' glTF sample models, and 110 materials of the CC0 physically-based database (and 198 more as another
+published generator exports it, kwokcb/materialxMaterials).
 
 A finding on a published, working asset is a false alarm until the asset is shown broken. Every
 error the validator reports on this corpus is listed below with its verdict: a defect of the asset
@@ -49,6 +50,13 @@ EXPECTED_ERRORS = {
     (f"{TESTSUITE}/stdlib/definition/definition_reduced_interface.mtlx", "OPBR104"):
         (1, "defect: its nodedef says nodename=\"pattern_shader\" where node= declares a category, so no nodedef "
             "declares the pattern_shader node it instantiates (MaterialX's validate() does not check categories)"),
+    ("materialx_materials/PhysicallyBasedMaterialX_OPBR.mtlx", "OPBR202"):
+        (12, "defect: subsurface_radius, a float in OpenPBR 1.1.1's nodedef, holds the database's three-channel radius "
+             "(\"10,5,1\" for coffee): MaterialX cannot read it as a float and renders the default (the per-channel "
+             "radius is subsurface_radius_scale)"),
+    ("materialx_materials/PhysicallyBasedMaterialX_OPBR.mtlx", "OPBR301"):
+        (5, "defect: transmission_dispersion_scale, in [0, 1], holds the Abbe number (55.3 diamond, 64 glass, 72.2 "
+            "sapphire); the Abbe number's input is transmission_dispersion_abbe_number"),
     ("gltf_samples/Avocado_SpecGloss/Avocado_SpecGloss.gltf", "OPBR1210"):
         (1, "defect: glossinessFactor is [20.0], an array where the schema wants a number in [0, 1] (the Khronos "
             "validator's TYPE_MISMATCH)"),
