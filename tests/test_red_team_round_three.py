@@ -467,3 +467,32 @@ def test_a_foreign_gltf_metal_reads_its_specular_colour_as_glTF_renders_it(tmp_p
     assert delta.mean < 0.05 and delta.max < 0.5  # read as a tint: mean 2.10, max 14.7
     assert any(d.code == "OPBR1102" and "no effect on a fully metallic" in d.message and d.location.input == "specularColorFactor"
                for d in conversion.diagnostics)
+
+
+def test_an_image_too_large_to_decode_is_refused_before_it_is_decoded(tmp_path):
+    """A 20000 x 20000 scan: decoded whole (Pillow refuses it as a decompression bomb, OpenImageIO did not) it
+    exhausted the machine's memory and the conversion was killed; now it is an undecodable texture with a note."""
+    import struct
+    import zlib
+
+    from openpbr_tools.convert import convert_file
+    from openpbr_tools.io.images import ImageUndecodable, load_pixels
+    from openpbr_tools.translate.common import Settings
+
+    ihdr = struct.pack(">IIBBBBB", 20000, 20000, 8, 0, 0, 0, 0)
+    png = (b"\x89PNG\r\n\x1a\n" + struct.pack(">I", 13) + b"IHDR" + ihdr + struct.pack(">I", zlib.crc32(b"IHDR" + ihdr))
+           + struct.pack(">I", 0) + b"IEND" + struct.pack(">I", zlib.crc32(b"IEND")))
+    (tmp_path / "scan.png").write_bytes(png)
+    with pytest.raises(ImageUndecodable, match="20000 x 20000"):
+        load_pixels(str(tmp_path / "scan.png"))
+    path = _mtlx(tmp_path, """
+        <image name="rough" type="float"><input name="file" type="filename" value="scan.png" /></image>
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="specular_roughness" type="float" nodename="rough" />
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+    """)
+    conversion = convert_file(str(path), str(tmp_path / "out.gltf"), None, Settings())
+    assert any("20000 x 20000" in d.message for d in conversion.diagnostics)

@@ -159,11 +159,28 @@ def _mime_of_file(path: str) -> str | None:
 
 
 
+#: The most pixels an image may have to be decoded (8192 x 8192: a 4-channel float64 copy is 2 GiB). A larger
+#: one (a 20000 x 20000 scan) is refused as undecodable before a byte is decoded, where decoding it whole
+#: would exhaust the machine's memory (measured: the process killed); the validator reports its size (OPBR713).
+MAX_DECODED_PIXELS = 8192 * 8192
+
+
+def _refuse_huge(width: int, height: int, image) -> None:
+    if width * height > MAX_DECODED_PIXELS:
+        name = repr(image) if isinstance(image, str) else "the embedded image"
+        raise ImageUndecodable(f"{name} is {width} x {height} pixels, above the {MAX_DECODED_PIXELS:,} pixels "
+                               "(8192 x 8192) that are decoded: not read")
+
+
 def load_pixels(image: str | bytes, levels: bool = False):
     """Pixels as float64 ``(height, width, channels)`` in [0, 1] (greyscale expanded to RGB). With
     ``levels``, an 8-bit image comes as its uint8 levels instead (``levels / 255`` is the float
-    image)."""
+    image). An image above :data:`MAX_DECODED_PIXELS` is refused (:class:`ImageUndecodable`)."""
     import numpy as np  # lazy: numpy ~60 ms, Pillow ~15 ms; every conversion imports this module (the baker)
+
+    size = image_size(image)
+    if size is not None:
+        _refuse_huge(*size, image)
 
     try:
         from PIL import Image  # lazy: as numpy above
@@ -199,6 +216,7 @@ def _load_with_openimageio(image: str | bytes):
     buffer = oiio.ImageBuf(image)
     if buffer.has_error:
         raise ImageUndecodable(f"cannot read {image!r}: {_one_line(buffer.geterror())}")
+    _refuse_huge(buffer.spec().width, buffer.spec().height * max(1, buffer.spec().depth), image)
     pixels = buffer.get_pixels(oiio.FLOAT)
     if buffer.has_error:  # read, but with chunks missing (a file cut short); retrieving the error also keeps
         raise ImageUndecodable(f"cannot read {image!r}: {_one_line(buffer.geterror())}")  # OpenImageIO from printing it
