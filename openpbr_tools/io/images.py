@@ -23,7 +23,7 @@ import os
 import warnings
 
 from . import ReadError, packaged_image
-from .image_files import damage
+from .image_files import MAX_DECODED_PIXELS, damage
 from ..model import Texture
 from .paths import Kind, PathGuard, classify
 
@@ -159,13 +159,10 @@ def _mime_of_file(path: str) -> str | None:
 
 
 
-#: The most pixels an image may have to be decoded (8192 x 8192: a 4-channel float64 copy is 2 GiB). A larger
-#: one (a 20000 x 20000 scan) is refused as undecodable before a byte is decoded, where decoding it whole
-#: would exhaust the machine's memory (measured: the process killed); the validator reports its size (OPBR713).
-MAX_DECODED_PIXELS = 8192 * 8192
-
-
 def _refuse_huge(width: int, height: int, image) -> None:
+    """An image above :data:`~.image_files.MAX_DECODED_PIXELS` (a 4-channel float64 copy of 8192 x 8192 is
+    2 GiB) is refused as undecodable before a byte is decoded: a 20000 x 20000 scan decoded whole exhausted
+    the machine's memory and the process was killed. The validator reports its size (OPBR713)."""
     if width * height > MAX_DECODED_PIXELS:
         name = repr(image) if isinstance(image, str) else "the embedded image"
         raise ImageUndecodable(f"{name} is {width} x {height} pixels, above the {MAX_DECODED_PIXELS:,} pixels "
