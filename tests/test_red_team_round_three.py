@@ -289,7 +289,9 @@ def test_a_source_asset_implementation_without_its_asset_has_no_definition(tmp_p
     report = validate_paths([str(path)], options=Options(use_config=False))
     found = [d for d in report.diagnostics if d.code == "OPBR1001"]
     assert found and found[0].location.input == "info:implementationSource"
-    assert not [d for d in report.diagnostics if d.code == "OPBR805"]  # no "uses a  shader" with an empty name
+    # the material is still reported as left out of conversions, naming the implementation, not an empty id
+    notes = [d.message for d in report.diagnostics if d.code == "OPBR805"]
+    assert notes and "uses a sourceAsset" in notes[0] and "uses a  shader" not in notes[0]
 
 
 def test_a_tga_texture_in_a_usdz_is_an_entry_the_package_may_not_hold(tmp_path):
@@ -433,11 +435,15 @@ def test_a_black_metal_is_a_warning_and_a_dark_one_an_info(tmp_path, colour, wei
     assert found == ({code} if code else set())
 
 
-@pytest.mark.parametrize("layer_unit, flagged", [("1", True), ("0.01", False)])
-def test_a_composed_layer_in_another_unit_is_read_in_the_stages(tmp_path, layer_unit, flagged):
+@pytest.mark.parametrize("layer_unit, length, flagged", [("1", True, True), ("0.01", True, False), ("1", False, False)])
+def test_a_composed_layer_in_another_unit_is_read_in_the_stages(tmp_path, layer_unit, length, flagged):
+    """A material length in a layer of another unit is read in the stage's; a layer of geometry only is the
+    layout OpenUSD's linear-units guidance and NVIDIA's UN.004 recommend (a scale on the referencing prim)."""
     from pxr import Usd, UsdGeom
 
-    (tmp_path / "looks.usda").write_text(f'#usda 1.0\n(\n    metersPerUnit = {layer_unit}\n)\n', encoding="utf-8")
+    body = 'over "M"\n{\n    over "S"\n    {\n        float inputs:transmission_depth = 2.5\n    }\n}\n' if length else \
+        'def Xform "Geo"\n{\n}\n'
+    (tmp_path / "looks.usda").write_text(f'#usda 1.0\n(\n    metersPerUnit = {layer_unit}\n)\n{body}', encoding="utf-8")
     path = tmp_path / "stage.usda"
     path.write_text('#usda 1.0\n(\n    metersPerUnit = 0.01\n    subLayers = [@looks.usda@]\n)\n', encoding="utf-8")
     stage = Usd.Stage.Open(str(path))
@@ -496,3 +502,43 @@ def test_an_image_too_large_to_decode_is_refused_before_it_is_decoded(tmp_path):
     """)
     conversion = convert_file(str(path), str(tmp_path / "out.gltf"), None, Settings())
     assert any("20000 x 20000" in d.message for d in conversion.diagnostics)
+
+
+def test_a_prototype_shared_by_many_instances_is_read_once(tmp_path):
+    """Materials inside instanceable prims are read through the first instance's proxies; the other instances'
+    subtrees are pruned (a traversal of every proxy grew with instances x prototype size)."""
+    instances = "".join(
+        f'    def Xform "Chair_{i}" (\n        instanceable = true\n        references = </Prototypes/Chair>\n    )\n    {{\n    }}\n'
+        for i in range(40))
+    path = tmp_path / "room.usda"
+    path.write_text(textwrap.dedent('''\
+        #usda 1.0
+        (
+            defaultPrim = "World"
+            metersPerUnit = 1
+            upAxis = "Y"
+        )
+        def Xform "World"
+        {
+        ''') + instances + textwrap.dedent('''\
+        }
+        class "Prototypes"
+        {
+            def Xform "Chair"
+            {
+                def Material "M"
+                {
+                    token outputs:mtlx:surface.connect = </Prototypes/Chair/M/S.outputs:out>
+                    def Shader "S"
+                    {
+                        uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+                        color3f inputs:base_color = (0.25, 0.12, 0.06)
+                        token outputs:out
+                    }
+                }
+            }
+        }
+        '''), encoding="utf-8")
+    report = validate_paths([str(path)], options=Options(use_config=False))
+    assert sum(f.materials for f in report.files) == 1
+    assert not [d for d in report.diagnostics if str(d.severity) in ("error", "warning")]

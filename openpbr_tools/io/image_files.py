@@ -271,6 +271,24 @@ def _openimageio_opens(image: str | memoryview) -> bool:
     return True
 
 
+def openimageio_size(image: str) -> tuple[int, int] | None:
+    """(width, height) of the file at ``image`` from its header, read by OpenImageIO when it is installed
+    (any format it knows: OpenEXR, a JPEG above Pillow's decompression-bomb limit), or ``None``."""
+    oiio = _openimageio()
+    if oiio is None or not isinstance(image, str) or not _utf8(image):
+        return None
+    try:
+        found = oiio.ImageInput.open(image)
+    except (TypeError, ValueError, RuntimeError):
+        return None
+    if found is None:
+        oiio.geterror()  # retrieved, so OpenImageIO does not print it
+        return None
+    spec = found.spec()
+    found.close()
+    return spec.width, spec.height * max(1, spec.depth)
+
+
 def _utf8(path: str) -> bool:
     """Whether OpenImageIO's Python API can take ``path`` (it wants UTF-8; a name from another encoding
     is held as surrogate escapes)."""

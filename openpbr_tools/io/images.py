@@ -20,10 +20,11 @@ from __future__ import annotations
 
 import io
 import os
+import threading
 import warnings
 
 from . import ReadError, packaged_image
-from .image_files import MAX_DECODED_PIXELS, damage
+from .image_files import damage, openimageio_size
 from ..model import Texture
 from .paths import Kind, PathGuard, classify
 
@@ -160,24 +161,25 @@ def _mime_of_file(path: str) -> str | None:
 
 
 def _refuse_huge(width: int, height: int, image) -> None:
-    """An image above :data:`~.image_files.MAX_DECODED_PIXELS` (a 4-channel float64 copy of 8192 x 8192 is
-    2 GiB) is refused as undecodable before a byte is decoded: a 20000 x 20000 scan decoded whole exhausted
-    the machine's memory and the process was killed. The validator reports its size (OPBR713)."""
-    if width * height > MAX_DECODED_PIXELS:
+    """An image above Pillow's own decompression-bomb limit (2 x ``Image.MAX_IMAGE_PIXELS``, about 13,400 x
+    13,400), which Pillow refuses, is refused by the OpenImageIO fallback too, before a byte is decoded: a
+    20000 x 20000 scan decoded whole by OpenImageIO exhausted the machine's memory and the process was killed.
+    The validator reports the size of anything beyond what GPUs load (OPBR713)."""
+    from PIL import Image  # lazy: as in load_pixels
+
+    limit = 2 * Image.MAX_IMAGE_PIXELS
+    if width * height > limit:
         name = repr(image) if isinstance(image, str) else "the embedded image"
-        raise ImageUndecodable(f"{name} is {width} x {height} pixels, above the {MAX_DECODED_PIXELS:,} pixels "
-                               "(8192 x 8192) that are decoded: not read")
+        raise ImageUndecodable(f"{name} is {width} x {height} pixels, above the {limit:,} pixels that are "
+                               "decoded (Pillow's decompression-bomb limit): not read")
 
 
 def load_pixels(image: str | bytes, levels: bool = False):
     """Pixels as float64 ``(height, width, channels)`` in [0, 1] (greyscale expanded to RGB). With
     ``levels``, an 8-bit image comes as its uint8 levels instead (``levels / 255`` is the float
-    image). An image above :data:`MAX_DECODED_PIXELS` is refused (:class:`ImageUndecodable`)."""
+    image). An image above Pillow's decompression-bomb limit is refused (:class:`ImageUndecodable`)."""
     import numpy as np  # lazy: numpy ~60 ms, Pillow ~15 ms; every conversion imports this module (the baker)
 
-    size = image_size(image)
-    if size is not None:
-        _refuse_huge(*size, image)
 
     try:
         from PIL import Image  # lazy: as numpy above
@@ -194,6 +196,9 @@ def load_pixels(image: str | bytes, levels: bool = False):
                 values = np.asarray(opened.convert(target))
                 values = values if levels else values.astype(np.float64) / 255.0
     except Exception:  # Pillow raises many exception types for formats it does not know
+        size = image_size(image)  # (a decompression bomb among them: refused here too, by its header)
+        if size is not None:
+            _refuse_huge(*size, image)
         values = _load_with_openimageio(image)
     if values.ndim == 2:
         values = values[:, :, None]
@@ -238,10 +243,13 @@ def channel_count(image: str | bytes) -> int:
             return len(opened.getbands()) if opened.mode != "P" else (4 if "transparency" in opened.info else 3)
 
 
+_BOMB_LIMIT_LIFTED = threading.Lock()  # Pillow's limit is a module global: lifted for one header read at a time
+
+
 def image_size(image: str | bytes) -> tuple[int, int] | None:
-    """(width, height) of an image from its header (a PNG's IHDR, else Pillow's header read; an image
-    above Pillow's decompression-bomb limit is opened with the limit lifted, still without decoding), or
-    ``None`` when it cannot be told."""
+    """(width, height) of an image from its header (a PNG's IHDR, else Pillow's header read, else, for a
+    file Pillow refuses as a decompression bomb or does not open, OpenImageIO's), or ``None`` when it cannot
+    be told. Nothing is decoded."""
     from PIL import Image  # lazy: as in load_pixels
 
     head = image[:24] if isinstance(image, bytes) else None
@@ -258,10 +266,18 @@ def image_size(image: str | bytes) -> tuple[int, int] | None:
             warnings.simplefilter("ignore")
             with Image.open(io.BytesIO(image) if isinstance(image, bytes) else image) as opened:
                 return opened.size
-    except Image.DecompressionBombError:
-        return None
-    except Exception:  # noqa: BLE001 - not an image Pillow opens: OPBR707/OPBR708 say so
-        return None
+    except Image.DecompressionBombError:  # the header again with Pillow's limit lifted: open() decodes nothing
+        with _BOMB_LIMIT_LIFTED:
+            limit, Image.MAX_IMAGE_PIXELS = Image.MAX_IMAGE_PIXELS, None
+            try:
+                with Image.open(io.BytesIO(image) if isinstance(image, bytes) else image) as opened:
+                    return opened.size
+            except Exception:  # noqa: BLE001 - as below
+                return None
+            finally:
+                Image.MAX_IMAGE_PIXELS = limit
+    except Exception:  # noqa: BLE001 - not an image Pillow opens (EXR, HDR...)
+        return openimageio_size(image) if isinstance(image, str) else None
 
 
 PNG_CHANNELS = {0: 1, 2: 3, 3: 3, 4: 2, 6: 4}  # PNG colour type -> channels (ISO/IEC 15948, 11.2.2 IHDR)

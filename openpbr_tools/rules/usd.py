@@ -156,12 +156,13 @@ ARC_OUTSIDE = Rule(
 PACKAGE_ENTRY = Rule(
     "OPBR1012", "usdz-unsafe-entry", Severity.ERROR,
     "A USDZ package holds an entry whose name is absolute, climbs out with '..' or contains a "
-    "backslash, an entry that is compressed, or a file type a package may not hold (a TGA texture).",
+    "backslash, an entry that is compressed, or an image in a format a package may not hold (a TGA texture).",
     "A tool that extracts the package writes such an entry outside the folder it extracts to (over "
     "/etc/..., or beside the package); the USDZ specification allows only relative names inside the "
     "package and stored (uncompressed) entries, which usd-core reads in place: a compressed texture "
     "does not load. It allows layers, PNG, JPEG, EXR and AVIF images and audio only (usd-core's "
-    "FileExtensionValidator): a viewer that conforms does not load a TGA. The names are usd-core's view "
+    "FileExtensionValidator): a viewer that conforms does not load a TGA (another file, a LICENSE.txt, renders "
+    "nothing either way and stays usd-core's OPBR1010 warning). The names are usd-core's view "
     "of the archive (its local file headers, not the central directory).",
     passing=_package(("root.usda", openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("albedo.png", "")),
     failing=_package(("root.usda", openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("../albedo.png", "")),
@@ -193,7 +194,6 @@ RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SC
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
     "NonCompliantBiasAndScale", "NonCompliantScaleValues", "NonCompliantBiasValues", "InvalidSourceColorSpace",
-    "UnsupportedFileExtensionInPackage",  # OPBR1012
 }
 
 
@@ -386,11 +386,15 @@ def _usd_core(asset, context):
     # prims whose MaterialX arc was deleted (OPBR1013): usd-core finds them empty, as it would not with usdMtlx
     composed_elsewhere = set_aside(asset)
     invalid_bindings = {o.detail["target"] for o in asset.observations if o.kind == "usd_binding_invalid"}
+    bound_prims = {o.location.path for o in asset.observations if o.kind == "usd_binding_invalid"}
+    packaged = {o.detail["entry"] for o in asset.observations if o.kind == "usd_package_entry" and o.detail.get("file_type")}
     for finding in findings:
         name, sites = finding["name"], finding["sites"]
         prims = {site.split(".", 1)[0] for site in sites}
         if name in _COVERED_USD_CORE:
             continue
+        if name == "UnsupportedFileExtensionInPackage" and any(f"'{entry}'" in finding["message"] for entry in packaged):
+            continue  # OPBR1012 reports the image
         if name == "MismatchedPropertyType" and prims and prims <= read_shaders:
             continue
         if name == "MissingShaderIdInRegistry" and prims and prims <= reported_ids:
@@ -398,7 +402,7 @@ def _usd_core(asset, context):
         bound = _BINDING_TARGET.search(finding["message"]) if name == "InvalidResourcePath" else None
         if bound and under(bound.group(1), composed_elsewhere):
             continue  # a binding to a material composed from a MaterialX document this usd-core cannot open
-        if bound and bound.group(1) in invalid_bindings:
+        if bound and (bound.group(1) in invalid_bindings or prims & bound_prims):
             continue  # OPBR1017 reports it, with why
         if name in ("UnresolvableDependency", "InvalidFile") and any(
                 f"@{file}@" in finding["message"] or f"'{file}'" in finding["message"] for file in texture_files):

@@ -15,7 +15,8 @@ and still renders another material than the one authored.
   preview-surface tests (testPreviewSurfaceOpacityThreshold.usda) do it and Storm renders them.
 
 A composed layer that authors another ``metersPerUnit`` than the stage keeps its numbers: USD does not
-rescale them, so its lengths are read in the stage's unit (OPBR1020).
+rescale them, and where they are a material's lengths no transform on the referencing prim corrects them
+(OPBR1020; a layer of geometry only is no finding).
 
 Bindings to a material composed from a MaterialX document that this usd-core cannot open (OPBR1013) are
 not judged: with usdMtlx the target would exist.
@@ -84,15 +85,18 @@ CONNECTION_REFUSED = Rule(
 
 LAYER_UNITS = Rule(
     "OPBR1020", "usd-layer-units-differ", Severity.WARNING,
-    "A layer the stage composes (a reference, payload or sublayer) authors another metersPerUnit than the stage.",
-    "USD does not rescale what it composes: a transmission depth of 2.5 authored in a metre layer is read as "
-    "2.5 centimetres in a centimetre stage, and so are the layer's points (UsdGeom's metersPerUnit is stage "
-    "metadata, read from the root layer only). Convert the layer's lengths, or author its unit to match.",
+    "A layer the stage composes (a reference, payload or sublayer) authors another metersPerUnit than the stage, "
+    "and a material length (a transmission depth, a subsurface radius).",
+    "USD does not rescale what it composes (UsdGeom's metersPerUnit is stage metadata, read from the root layer "
+    "only): a transmission depth of 2.5 authored in a metre layer is read as 2.5 centimetres in a centimetre "
+    "stage. An assembler corrects the layer's geometry with a scale on the referencing prim (OpenUSD's linear-units "
+    "guidance, NVIDIA's asset requirement UN.004), which is no finding; no transform corrects a material's "
+    "lengths. Convert them, or author the layer's unit to match.",
     passing=_stage(inputs="        float inputs:transmission_depth = 2.5\n"),
-    failing=_stage(inputs="        float inputs:transmission_depth = 2.5\n").replace(
-        "    metersPerUnit = 1\n", "    metersPerUnit = 1\n    subLayers = [@looks.usda@]\n", 1),
+    failing=_stage().replace("    metersPerUnit = 1\n", "    metersPerUnit = 1\n    subLayers = [@looks.usda@]\n", 1),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
-    failing_files=(("looks.usda", b'#usda 1.0\n(\n    metersPerUnit = 0.01\n)\n'),), example_files=("looks.usda",),
+    failing_files=(("looks.usda", b'#usda 1.0\n(\n    metersPerUnit = 0.01\n)\nover "M"\n{\n    over "S"\n    {\n'
+                                  b'        float inputs:transmission_depth = 2.5\n    }\n}\n'),), example_files=("looks.usda",),
 )
 
 RULES = (BINDING_TARGET, INPUT_RELATIONSHIP, CONNECTION_REFUSED, LAYER_UNITS)
@@ -118,17 +122,28 @@ def check(asset, context):
                 "connected and the input renders its default", where,
                 hint=f"author it as an attribute connection: <type> {detail['input']}.connect = <...>")
         elif observation.kind == "usd_layer_units":
+            ratio = detail["layer_unit"] / detail["stage_unit"]
+            size = f"{ratio:g}x too short" if ratio > 1 else f"{1 / ratio:g}x too long"
             yield context.diagnostic(
-                LAYER_UNITS, f"{detail['layer']} authors metersPerUnit {detail['layer_unit']:g}, the stage "
-                f"{detail['stage_unit']:g}: USD does not rescale it, so its lengths are read "
-                f"{detail['layer_unit'] / detail['stage_unit']:g}x too short or long", where,
+                LAYER_UNITS, f"{detail['attribute']} is authored in {detail['layer']}, whose metersPerUnit is "
+                f"{detail['layer_unit']:g} where the stage's is {detail['stage_unit']:g}: USD does not rescale it, and "
+                f"no transform corrects a material's length, so it is read {size}", where,
                 hint="convert the layer's lengths to the stage's unit, or author the same metersPerUnit")
         elif observation.kind == "usd_connection_refused":
-            why = ("its connectability is interfaceOnly, so only a Material's or NodeGraph's interface input may "
-                   "feed it" if detail["interface_only"] else
-                   "the source is outside the Material (UsdShade's encapsulation)" if detail["side"] == "output"
-                   else "UsdShade's connectability rules refuse it")
+            if detail["interface_only"] and detail.get("source_is_interface"):
+                why = ("its connectability is interfaceOnly, and an interfaceOnly input takes only an interface input "
+                       "that is interfaceOnly itself")
+                hint = "mark the interface input interfaceOnly too (or the shader input fully connectable)"
+            elif detail["interface_only"]:
+                why = "its connectability is interfaceOnly, so only a Material's or NodeGraph's interface input may feed it"
+                hint = "connect the input through the Material's interface"
+            elif detail.get("source_inside"):
+                why = ("the source is not a shader or node graph directly inside the Material (UsdShade's "
+                       "encapsulation: a Material's outputs connect to its children)")
+                hint = "move the shader directly under the Material, or connect through a NodeGraph"
+            else:
+                why = "the source is outside the Material (UsdShade's encapsulation)"
+                hint = "connect a shader inside the Material"
             yield context.diagnostic(
                 CONNECTION_REFUSED, f"{detail['port']} is connected to {detail['source']}, which UsdShade refuses: {why}",
-                where, hint="connect the input through the Material's interface" if detail["interface_only"]
-                else "connect a shader inside the Material")
+                where, hint=hint)

@@ -119,8 +119,8 @@ class GraphFollower:
                     (source := node.getInput("in")) is not None and source.getType().startswith("vector"):
                 return None  # a vector image read as a colour: no Texture holds that (nor its colour management)
             elif category == "convert" and channels is None and node.getType()[-1:] == "3" and \
-                    (source := node.getInput("in")) is not None and source.getType()[-1:] == "4":
-                channels = (0, 1, 2)  # a four-channel image converted to three: its alpha is dropped
+                    (source := node.getInput("in")) is not None and source.getType() == node.getType()[:-1] + "4":
+                channels = (0, 1, 2)  # color4 to color3 (vector4 to vector3): the fourth channel dropped
             upstream = node.getInput("in1" if category in ("multiply", "add") else "in")
             node = self.upstream_node(upstream) if upstream is not None else None
             # which output of the next node this step reads (a multi-output UsdUVTexture's rgb, say)

@@ -142,8 +142,8 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
     decode (scale 2, bias -1, x and y by its strength) rather than through a ``normalmap`` node."""
     prefix = f"{shader_name}_{input_name}"
     image_type = texture.image_type or input_type
-    if texture.normal_map is not None and texture.channels is None and image_type == "color3":
-        image_type = "vector3"  # (a UsdUVTexture's rgb read as a normal map): what a normalmap decode takes
+    if texture.normal_map is not None and texture.channels is None and image_type in ("color3", "color4", "vector4"):
+        image_type = "vector3"  # (a UsdUVTexture's rgb, an RGBA image read as a normal map): what a normalmap decode takes
     if texture.channels is not None and len(texture.channels) == 1 and image_type in ("float", "integer", "boolean"):
         # one channel extracted from the image (a glTF colour image's outa): the image must have it
         image_type = "color4" if texture.channels[0] == 3 else "color3"

@@ -4,21 +4,48 @@ and composed layers authored in another unit than the stage."""
 
 from __future__ import annotations
 
+from functools import lru_cache
 
-def observe_layer_units(stage, observe, location) -> None:
+from ... import tables
+
+
+@lru_cache(maxsize=1)
+def scene_length_inputs() -> frozenset[str]:
+    """``inputs:<name>`` of every shader input in scene units (a transmission depth, a subsurface radius) of the
+    models the toolkit reads, in their latest versions."""
+    names = set()
+    for model in ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface"):
+        table = tables.table(model)
+        names.update(f"inputs:{name}" for name in tables.names(model, tables.latest(model))
+                     if table[name].unit == "scene_length")
+    return frozenset(names)
+
+
+def observe_layer_units(stage, observe, location, length_inputs) -> None:
     """A layer the stage composes (a reference, payload or sublayer) that authors another metersPerUnit than
-    the stage's: USD does not rescale what it composes, so its lengths (a depth, a radius, points) are read
-    in the stage's unit."""
-    from pxr import UsdGeom  # lazy: pxr only once the reader has opened a stage
+    the stage's and a material length (``length_inputs``: shader inputs in scene units, a transmission depth, a
+    subsurface radius): USD does not rescale what it composes, and while an assembler corrects geometry with a
+    scale on the referencing prim (OpenUSD's and NVIDIA's recommended layout, no finding), no transform corrects
+    a material's lengths, which are read in the stage's unit."""
+    from pxr import Sdf, UsdGeom  # lazy: pxr only once the reader has opened a stage
 
     stage_unit = float(UsdGeom.GetStageMetersPerUnit(stage))
     for layer in stage.GetUsedLayers():
         if layer in (stage.GetRootLayer(), stage.GetSessionLayer()) or layer.anonymous:
             continue
         unit = layer.pseudoRoot.GetInfo("metersPerUnit") if layer.pseudoRoot.HasInfo("metersPerUnit") else None
-        if isinstance(unit, (int, float)) and unit > 0 and abs(unit - stage_unit) > 1e-9 * stage_unit:
-            observe("usd_layer_units", location("/", "metersPerUnit"), layer=layer.GetDisplayName(),
-                    layer_unit=float(unit), stage_unit=stage_unit)
+        if not (isinstance(unit, (int, float)) and unit > 0 and abs(unit - stage_unit) > 1e-9 * stage_unit):
+            continue
+        found: list[str] = []
+
+        def visit(path, found=found):
+            if path.IsPropertyPath() and path.name in length_inputs and not found:
+                found.append(str(path))
+
+        layer.Traverse(Sdf.Path.absoluteRootPath, visit)
+        if found:
+            observe("usd_layer_units", location(found[0].split(".", 1)[0], found[0].split(".", 1)[1].removeprefix("inputs:")),
+                    layer=layer.GetDisplayName(), layer_unit=float(unit), stage_unit=stage_unit, attribute=found[0])
 
 
 def observe_structure(prim, stage, observe, location) -> None:
@@ -32,10 +59,14 @@ def observe_structure(prim, stage, observe, location) -> None:
 
     for relationship in prim.GetRelationships():
         name = relationship.GetName()
-        if name.startswith("material:binding") and ":collection" not in name:
-            for target in relationship.GetForwardedTargets():
+        if name.startswith("material:binding"):
+            targets = relationship.GetTargets()
+            if ":collection:" in name:  # (the collection, the Material)
+                targets = targets[1:2] if len(targets) == 2 else []
+            for target in targets:
                 bound = stage.GetPrimAtPath(target.GetPrimPath())
-                reason = ("does not exist" if not bound else "is inactive" if not bound.IsActive()
+                reason = ("is a property, not a Material prim" if target.IsPropertyPath() else
+                          "does not exist" if not bound else "is inactive" if not bound.IsActive()
                           else None if bound.IsA(UsdShade.Material) else f"is a {bound.GetTypeName() or 'typeless prim'}, "
                           "not a Material")
                 if reason is not None:
@@ -58,7 +89,10 @@ def observe_structure(prim, stage, observe, location) -> None:
                 side = "input" if UsdShade.Input.IsInput(port.GetAttr()) else "output"
                 if side == "input" and port.GetConnectability() != UsdShade.Tokens.interfaceOnly:
                     continue  # a shader's input fed across a Material's boundary: Hydra follows it (OpenUSD's own tests)
+                source_prim = origin.GetAttr().GetPrim()
                 observe("usd_connection_refused", location(prim.GetPath(), port.GetBaseName()),
                         port=str(port.GetAttr().GetPath()), source=str(origin.GetAttr().GetPath()), side=side,
-                        interface_only=side == "input" and port.GetConnectability() == UsdShade.Tokens.interfaceOnly)
+                        interface_only=side == "input" and port.GetConnectability() == UsdShade.Tokens.interfaceOnly,
+                        source_is_interface=UsdShade.Input.IsInput(origin.GetAttr()),
+                        source_inside=str(source_prim.GetPath()).startswith(f"{prim.GetPath()}/"))
 

@@ -67,10 +67,16 @@ def package_entries(data: bytes) -> list[PackageEntry]:
 USDZ_EXTENSIONS = frozenset({"usda", "usdc", "usd", "usdz", "png", "jpg", "jpeg", "exr", "avif", "m4a", "mp3", "wav"})
 
 
+#: Image formats a texture may be in but a USDZ package may not hold: an error, as the texture does not load in a
+#: conforming viewer. Other files a package may not hold (a LICENSE.txt) render nothing: usd-core's warning says so.
+DISALLOWED_IMAGE_EXTENSIONS = frozenset({"tga", "tif", "tiff", "bmp", "gif", "webp", "psd", "hdr", "ktx", "ktx2", "dds",
+                                         "jp2", "tx", "tex", "sgi", "rgb", "iff"})
+
+
 def disallowed_entry_type(name: str) -> str | None:
-    """Why a USDZ entry's file type is not allowed in a package (a TGA or TIFF texture), or ``None``."""
+    """Why a USDZ entry is an image in a format a package may not hold (a TGA or TIFF texture), or ``None``."""
     suffix = name.rsplit(".", 1)[-1].lower() if "." in name.rsplit("/", 1)[-1] else ""
-    if suffix in USDZ_EXTENSIONS or name.endswith("/"):
+    if suffix in USDZ_EXTENSIONS or suffix not in DISALLOWED_IMAGE_EXTENSIONS or name.endswith("/"):
         return None
     return (f"is a .{suffix} file, which a USDZ package may not hold (layers, PNG, JPEG, EXR, AVIF and audio only): "
             "conforming viewers do not load it") if suffix else None

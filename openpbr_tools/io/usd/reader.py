@@ -48,7 +48,7 @@ from ... import colorspaces, gltf_state, tables, versioning
 from ...model import Asset, Constant, Input, Location, Material
 from .. import ReadError
 from .network import MAX_DEPTH, NetworkReader
-from .observations import observe_layer_units, observe_structure
+from .observations import observe_layer_units, observe_structure, scene_length_inputs
 from .errors import quiet, tf_error_text, usd_error_message
 from .guard import StageGuard
 from .sdr import materialx_nodedef
@@ -116,7 +116,7 @@ class _Reader(NetworkReader):
         asset.format_version = self.root_layer.GetFileFormat().formatId
         if stage.HasAuthoredMetadata("metersPerUnit"):
             asset.meters_per_unit = float(self.UsdGeom.GetStageMetersPerUnit(stage))
-        observe_layer_units(self.stage, self.asset.observe, self.location)
+        observe_layer_units(self.stage, self.asset.observe, self.location, scene_length_inputs())
         asset.extra["up_axis"] = str(self.UsdGeom.GetStageUpAxis(stage)) if stage.HasAuthoredMetadata("upAxis") else None
         default_prim = stage.GetDefaultPrim()
         if default_prim:
@@ -125,12 +125,13 @@ class _Reader(NetworkReader):
                 asset.colorspace_location = self.location(default_prim.GetPath(), "colorSpace:name")
         shader_prims, meshes = [], []
         prototypes_read: set = set()
-        for prim in stage.Traverse(self.Usd.TraverseInstanceProxies()):
-            if prim.IsInstanceProxy():  # inside an instanceable prim: its prototype's prims, read once
-                in_prototype = prim.GetPrimInPrototype().GetPath()
-                if in_prototype in prototypes_read:
-                    continue
-                prototypes_read.add(in_prototype)
+        prims = iter(self.Usd.PrimRange.Stage(stage, self.Usd.TraverseInstanceProxies()))
+        for prim in prims:
+            if prim.IsInstance():  # an instanceable prim: its prototype's prims are read once, at its first instance
+                prototype = prim.GetPrototype().GetPath()
+                if prototype in prototypes_read:
+                    prims.PruneChildren()
+                prototypes_read.add(prototype)
             observe_structure(prim, self.stage, self.asset.observe, self.location)
             if prim.HasAPI(self.Usd.ColorSpaceAPI):
                 name = self.authored_prim_colorspace(prim)
@@ -273,9 +274,8 @@ class _Reader(NetworkReader):
                 self.asset.observe("usd_connection_type_mismatch", where, input=where.input, input_type="token",
                                    source=f"{shader_prim.GetPath()}.outputs:{output_name}", source_type=declared)
                 return
-            if not shader_id:  # no usable id: OPBR1001 says so at the shader (not "uses a  shader")
-                return
-            self.asset.observe("unsupported_shader", where, material=str(material_prim.GetPath()), category=shader_id)
+            category = shader_id or f"{shader.GetImplementationSource()} ({shader_prim.GetPath().name})"
+            self.asset.observe("unsupported_shader", where, material=str(material_prim.GetPath()), category=category)
             return
         model, id_version, flavour = known
         accepted = ("surface",) if flavour == "usd" else ("out", "surface")

@@ -61,7 +61,7 @@ class TextureNodeReader:
                         and source.getType().startswith("vector"):
                     break  # a vector image read as a colour: no Texture holds that (nor its colour management)
                 if category == "convert" and channels is None and nodedef.getType()[-1:] == "3" and \
-                        source is not None and source.getType()[-1:] == "4":
+                        source is not None and source.getType() == nodedef.getType()[:-1] + "4":
                     channels = (0, 1, 2)  # a four-channel image converted to three: its alpha is dropped
                 step = "in"
             elif category in ("multiply", "add") and unconnected(prim.GetAttribute("inputs:in2")):

@@ -478,7 +478,7 @@ case("OPBR712_roughness_reads_basecolor.mtlx", "OPBR712", "An auto-assign script
 case("OPBR909_black_metal.mtlx", "OPBR909", "A dielectric's black base colour was left on a metal: it reflects nothing at normal incidence.",
      opbr('<input name="base_metalness" type="float" value="1" />\n<input name="base_color" type="color3" value="0, 0, 0" />'))
 case("OPBR1020_usd_layer_in_metres.usda", "OPBR1020", "A centimetre stage sublayers a look layer authored in metres: its transmission depth of 2.5 (m) reads as 2.5 cm.",
-     usda('float inputs:transmission_weight = 1\nfloat inputs:transmission_depth = 2.5').replace(
+     usda('float inputs:transmission_weight = 1').replace(
          'metersPerUnit = 0.01\n', 'metersPerUnit = 0.01\n    subLayers = [@OPBR1020_layers/look_m.usda@]\n', 1))
 case("OPBR709_height_map_as_normal.gltf", "OPBR709", "A greyscale height map was plugged into the normal texture slot.",
      json.dumps(textured({"name": "M", "normalTexture": {"index": 0}}, uri="textures/rough.png"), indent=2))
@@ -772,7 +772,8 @@ EXTRA_FILES = {
     "textures/cut.jpg": jpeg_cut_short(),
     "textures/photo.jpg": jpeg_whole(),
     "textures/empty.png": b"",
-    "OPBR1020_layers/look_m.usda": b'#usda 1.0\n(\n    metersPerUnit = 1\n)\n',
+    "OPBR1020_layers/look_m.usda": b'#usda 1.0\n(\n    metersPerUnit = 1\n)\nover "M"\n{\n    over "S"\n    {\n'
+                                   b'        float inputs:transmission_depth = 2.5\n    }\n}\n',
     "textures/scrambled.png": bytes((i * 73 + 41) % 256 for i in range(600)),
 }
 
