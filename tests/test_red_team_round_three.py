@@ -542,3 +542,20 @@ def test_a_prototype_shared_by_many_instances_is_read_once(tmp_path):
     report = validate_paths([str(path)], options=Options(use_config=False))
     assert sum(f.materials for f in report.files) == 1
     assert not [d for d in report.diagnostics if str(d.severity) in ("error", "warning")]
+
+
+def test_a_black_standard_surface_metal_is_flagged_and_a_black_gltf_default_metal_is_not(tmp_path):
+    import json
+
+    ss = _mtlx(tmp_path, """
+        <standard_surface name="S" type="surfaceshader">
+          <input name="metalness" type="float" value="1" />
+          <input name="base_color" type="color3" value="0, 0, 0" />
+        </standard_surface>
+    """, name="ss.mtlx")
+    assert "OPBR909" in _codes(ss)
+    # glTF's metallicFactor defaults to 1: Khronos' samples label spheres with black text exported so
+    text = tmp_path / "text.gltf"
+    text.write_text(json.dumps({"asset": {"version": "2.0"}, "materials": [
+        {"name": "text", "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1]}}]}))
+    assert "OPBR909" not in _codes(text)

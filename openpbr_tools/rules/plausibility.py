@@ -90,12 +90,14 @@ BLACK_METAL = 0.02
 
 METAL_BLACK = Rule(
     "OPBR909", "metal-black", Severity.WARNING,
-    f"A metal whose base colour (times base_weight) has a luminance below {BLACK_METAL}: it reflects next to "
-    "nothing at normal incidence and renders black.",
+    f"A metal whose base colour (times base_weight, Standard Surface's base) has a luminance below {BLACK_METAL}: "
+    "it reflects next to nothing at normal incidence and renders black (OpenPBR, Standard Surface).",
     "OpenPBR's metal reflects base_weight * base_color at normal incidence (its F0). No metal reflects under 2%: "
     "the darkest measured ones (physicallybased.info's silicon, 0.37 luminance) are far above it, and a dark "
     "anodised metal is a thin film, not a black F0. A black metal is a dielectric's black left on a metal, or an "
-    "unset colour exported as 0. Reported instead of OPBR901.",
+    "unset colour exported as 0. Reported instead of OPBR901. Not for glTF: its metallicFactor defaults to 1, so "
+    "black text and trim are exported as black metals and render as meant (Khronos' AnisotropyDiscTest and "
+    "IORTestGrid label their spheres so).",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="base_color" type="color3" value="0.56, 0.57, 0.58" />\n</open_pbr_surface>',
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="base_color" type="color3" value="0, 0, 0" />\n</open_pbr_surface>',
 )
@@ -125,6 +127,28 @@ class _Values:
         return name in self.material.inputs
 
 
+#: Per model other than OpenPBR: its metalness, base colour and base weight inputs. Not glTF: its metallicFactor
+#: defaults to 1, so black text and trim are exported as black metals and render as meant (Khronos'
+#: AnisotropyDiscTest and IORTestGrid label their spheres so).
+_OTHER_METALS = {"standard_surface": ("metalness", "base_color", "base")}
+
+
+def _black_metal(material, asset, weights, limits, context):
+    """OPBR909 for a Standard Surface metal: its conductor's F0 is its base colour times ``base``."""
+    value = _Values(material)
+    metal, colour, weight = _OTHER_METALS[material.model]
+    metalness, base_color, scale = value(metal), value(colour), value(weight)
+    if not (isinstance(base_color, tuple) and isinstance(metalness, float) and isinstance(scale, float)
+            and value.authored(colour) and metalness >= limits["metalness_metal_above"]):
+        return
+    luminance = sum(w * c for w, c in zip(weights, _linear(material, asset, base_color))) * scale
+    if luminance < BLACK_METAL:
+        yield context.diagnostic(
+            METAL_BLACK, f"{material.name}: a metal whose base colour luminance is {luminance:.3f}: it reflects next "
+            "to nothing at normal incidence and renders black", material.inputs[colour].location,
+            hint="give the metal its reflectance colour (real metals: luminance 0.4-1), or make it a dielectric")
+
+
 def _linear(material, asset, rgb):
     space = material.colorspace or asset.colorspace
     if space in (None, "lin_rec709", "none") or space not in colorspaces.materialx_names():
@@ -139,6 +163,8 @@ def check(asset, context):
     for material in asset.materials:
         if material.model == "gltf_pbr" and material.version is not None:
             yield from _invisible_gltf(material, context)
+        if material.model in _OTHER_METALS and material.version is not None:
+            yield from _black_metal(material, asset, weights, limits, context)
         if material.model != "open_pbr_surface" or material.version is None:
             continue
         value = _Values(material)
