@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 from PIL import Image
 
+from glsupport import shader_generator, validated
 from openpbr_tools.validate import Options, validate_paths
 
 
@@ -40,28 +41,15 @@ def _png(path: Path, mode: str = "RGB", size=(4, 4), colour=(200, 120, 40)) -> P
     return path
 
 
-def _materialx_document(path):
-    import MaterialX as mx
+def _validates_and_generates(path) -> bool:
+    """MaterialX's Document.validate() accepts the document (glsupport.validated) and its GLSL generator writes
+    a pixel shader for its first renderable element."""
+    import MaterialX.PyMaterialXGenShader as gs  # lazy: as glsupport.shader_generator
 
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
-    document = mx.createDocument()
-    mx.readFromXmlFile(document, str(path))
-    document.importLibrary(library)
-    return document
-
-
-def _generates(path) -> bool:
-    import MaterialX.PyMaterialXGenGlsl as glsl
-    import MaterialX.PyMaterialXGenShader as gen
-    import MaterialX as mx
-
-    document = _materialx_document(path)
-    generator = glsl.GlslShaderGenerator.create()
-    context = gen.GenContext(generator)
-    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
-    generator.generate("s", gen.findRenderableElements(document)[0], context)
-    return True
+    _, generator, context = shader_generator()
+    document = validated(path)  # held: an element of a released document is orphaned
+    element = gs.findRenderableElements(document)[0]
+    return bool(generator.generate("s", element, context).getSourceCode(gs.PIXEL_STAGE))
 
 
 # -- a [token] in a file name: MaterialX's string resolver is the anchor ---------------------------------
@@ -127,13 +115,13 @@ def test_a_color4_image_converted_to_color3_is_no_type_mismatch_and_converts_to_
 
     _png(tmp_path / "leaf.png", "RGBA")
     path = _mtlx(tmp_path, _CONVERTED)
-    assert _materialx_document(path).validate()[0] and _generates(path)  # the anchor: a valid, renderable graph
+    assert _validates_and_generates(path)  # the anchor: a valid, renderable graph
     assert _codes(path) == {}
     for output in ("out.mtlx", "out.usda"):
         convert_file(str(path), str(tmp_path / output), "open_pbr_surface", Settings())
         assert _codes(tmp_path / output) == {}, output
     written = tmp_path / "out.mtlx"
-    assert _materialx_document(written).validate()[0] and _generates(written)
+    assert _validates_and_generates(written)
     assert "<convert" in written.read_text(encoding="utf-8")
 
 

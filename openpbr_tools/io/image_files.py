@@ -255,25 +255,9 @@ def _openimageio():
         return None
 
 
-def _openimageio_opens(image: str | memoryview) -> bool:
-    """Whether OpenImageIO, when installed, recognises the file at ``image`` by its header."""
-    oiio = _openimageio()
-    if oiio is None or not isinstance(image, str) or not _utf8(image):
-        return False
-    try:
-        found = oiio.ImageInput.open(image)
-    except (TypeError, ValueError, RuntimeError):
-        return False
-    if found is None:
-        oiio.geterror()  # retrieved, so OpenImageIO does not print it
-        return False
-    found.close()
-    return True
-
-
-def openimageio_size(image: str) -> tuple[int, int] | None:
-    """(width, height) of the file at ``image`` from its header, read by OpenImageIO when it is installed
-    (any format it knows: OpenEXR, a JPEG above Pillow's decompression-bomb limit), or ``None``."""
+def _openimageio_spec(image: str | memoryview):
+    """The header (``ImageSpec``) OpenImageIO, when installed, reads from the file at ``image``, or ``None``
+    (not installed, not a path it can take, not a format it recognises). Nothing is decoded."""
     oiio = _openimageio()
     if oiio is None or not isinstance(image, str) or not _utf8(image):
         return None
@@ -286,7 +270,19 @@ def openimageio_size(image: str) -> tuple[int, int] | None:
         return None
     spec = found.spec()
     found.close()
-    return spec.width, spec.height * max(1, spec.depth)
+    return spec
+
+
+def _openimageio_opens(image: str | memoryview) -> bool:
+    """Whether OpenImageIO, when installed, recognises the file at ``image`` by its header."""
+    return _openimageio_spec(image) is not None
+
+
+def openimageio_size(image: str) -> tuple[int, int] | None:
+    """(width, height) of the file at ``image`` from its header, read by OpenImageIO when it is installed
+    (any format it knows: OpenEXR, a JPEG above Pillow's decompression-bomb limit), or ``None``."""
+    spec = _openimageio_spec(image)
+    return (spec.width, spec.height * max(1, spec.depth)) if spec is not None else None
 
 
 def _utf8(path: str) -> bool:
