@@ -315,24 +315,35 @@ def _ends_with_eoi(image: str | memoryview) -> bool:
 _FLAT_LEVELS = 2  # 8-bit levels: "one flat colour" allows JPEG noise
 
 
+def _opened_reduced(image, max_pixels: int):
+    """``image`` (a path or bytes) opened by Pillow, a JPEG set to decode at 1/8 scale (Pillow's ``draft``), or
+    ``None`` (closed) when it has more than ``max_pixels`` pixels: nothing is decoded yet. Raises what Pillow
+    raises for data it does not open."""
+    from PIL import Image  # lazy: as in load_pixels
+
+    with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
+        warnings.simplefilter("ignore")
+        opened = Image.open(io.BytesIO(image) if isinstance(image, (bytes, bytearray, memoryview)) else image)
+    width, height = opened.size
+    if width * height > max_pixels:
+        opened.close()
+        return None
+    if pillow_format(opened) == "JPEG":
+        opened.draft("RGB", (max(1, width // 8), max(1, height // 8)))
+    return opened
+
+
 def varies(image: str | bytes) -> bool:
     """Whether ``image`` (a path or bytes) is more than one flat colour (every texel within 2/255 of the
     others); ``False`` when that cannot be told (undecodable, larger than :data:`MAX_DECODED_PIXELS`).
     Pillow's extrema of the image in its own mode (a JPEG decoded at 1/8 scale), never a float copy of
     it; OpenImageIO's ``isConstantColor`` for a file Pillow does not open (OpenEXR, Radiance HDR), when
     it is installed."""
-    from PIL import Image  # lazy: as in load_pixels
-
     try:
-        with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
-            warnings.simplefilter("ignore")
-            opened = Image.open(io.BytesIO(image) if isinstance(image, bytes) else image)
+        opened = _opened_reduced(image, MAX_DECODED_PIXELS)
+        if opened is None:
+            return False
         with opened:
-            width, height = opened.size
-            if width * height > MAX_DECODED_PIXELS:
-                return False
-            if pillow_format(opened) == "JPEG":
-                opened.draft("RGB", (max(1, width // 8), max(1, height // 8)))
             plane = opened.convert("RGBA") if opened.mode in ("P", "PA", "1") else opened
             extrema = plane.getextrema()
             mode = plane.mode
@@ -369,18 +380,11 @@ def channel_maxima(image: str | bytes, max_pixels: int = MAX_DECODED_PIXELS) -> 
     reads 0), or ``None`` when it cannot be told: undecodable, not an image Pillow opens, or larger than
     ``max_pixels``. A JPEG is decoded at 1/8 scale (Pillow's ``draft``); nothing larger than the limit is
     decoded."""
-    from PIL import Image  # lazy: as in load_pixels
-
     try:
-        with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
-            warnings.simplefilter("ignore")
-            opened = Image.open(io.BytesIO(image) if isinstance(image, (bytes, bytearray, memoryview)) else image)
+        opened = _opened_reduced(image, max_pixels)
+        if opened is None:
+            return None
         with opened:
-            width, height = opened.size
-            if width * height > max_pixels:
-                return None
-            if pillow_format(opened) == "JPEG":
-                opened.draft("RGB", (max(1, width // 8), max(1, height // 8)))
             if opened.mode.startswith("I;16") or opened.mode in ("I", "F"):
                 extrema = opened.getextrema()
                 high = extrema[1] if not isinstance(extrema[0], tuple) else max(b[1] for b in extrema)
