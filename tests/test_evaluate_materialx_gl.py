@@ -66,6 +66,9 @@ MATERIALS = [
     ("usd_metallic", "UsdPreviewSurface", {"diffuseColor": [0.9, 0.6, 0.3], "metallic": 1.0, "roughness": 0.3}, None, ""),
     ("usd_specular_workflow", "UsdPreviewSurface", {"useSpecularWorkflow": 1, "diffuseColor": [0.1, 0.1, 0.3], "specularColor": [0.5, 0.5, 0.5], "roughness": 0.4}, None, ""),
     ("usd_clearcoat_emissive", "UsdPreviewSurface", {"diffuseColor": [0.5, 0.1, 0.1], "roughness": 0.6, "clearcoat": 1.0, "clearcoatRoughness": 0.1, "emissiveColor": [0.05, 0.1, 0.0]}, None, ""),
+    # a Display P3 document's saturated yellow emission: negative blue in linear Rec.709, where both render;
+    # MaterialX's graph adds it as it is (the evaluator clamped it at 0 until session 18: 4.3 mean CIEDE2000 off)
+    ("usd_wide_gamut_emission", "UsdPreviewSurface", {"diffuseColor": [0.8, 0.6, 0.6], "emissiveColor": [0.9, 1.0, -0.1]}, None, ""),
     ("standard_surface_default", "standard_surface", {}, None, ""),
     ("standard_surface_oren_nayar", "standard_surface", {"diffuse_roughness": 0.8, "base_color": [0.7, 0.5, 0.3]}, None, ""),
     ("standard_surface_conductor", "standard_surface", {"metalness": 1.0, "base_color": [0.9, 0.7, 0.3], "specular_roughness": 0.3}, None, ""),

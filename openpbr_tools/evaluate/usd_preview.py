@@ -73,5 +73,6 @@ class UsdPreviewSurface(BSDFModel):
         return result
 
     def emission(self, wo) -> np.ndarray:
-        out = np.maximum(self.f["emissiveColor"], 0.0)
+        out = self.f["emissiveColor"]  # added as it is, as MaterialX's graph adds it (no clamp): a
+        # wide-gamut document's emission can be negative in linear Rec.709 and is not dimmed by that
         return np.broadcast_to(out, np.broadcast_shapes(out.shape, np.shape(wo)[:-1] + (3,)))

@@ -95,6 +95,10 @@ def main() -> None:
               f"appearance.untrusted): {sum(r[0] < 2.3 for r in trusted) / max(len(trusted), 1):.1%} of {len(trusted)} "
               f"(opaque: {sum(r[0] < 2.3 for r in trusted if r[3]) / max(sum(r[3] for r in trusted), 1):.1%} "
               f"of {sum(r[3] for r in trusted)})")
+        for space in COLORSPACES:
+            of_space = [r[0] for r in rows if r[1].endswith(f"_{space}.mtlx")]
+            print(f"    {space + ' document':16s} {len(of_space):4d}  under 2.3: "
+                  f"{sum(m < 2.3 for m in of_space) / max(len(of_space), 1):6.1%}")
         for kind in sorted(set(kinds.values())):
             of_kind = [r[0] for r in rows if kinds.get((r[1], r[2])) == kind]
             print(f"    {kind:16s} {len(of_kind):4d}  under 2.3: {sum(m < 2.3 for m in of_kind) / len(of_kind):6.1%}"
