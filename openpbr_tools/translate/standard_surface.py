@@ -247,12 +247,17 @@ def ss_base_color_rough(*sources):
     """:func:`ss_base_color` (``BASE_SOURCES``) of the colour that, under a rough diffuse (the last
     source, ``base_diffuse_roughness``), makes Standard Surface's qualitative Oren-Nayar reflect the
     hemispherical albedo of OpenPBR's EON (the exact inverse of :func:`openpbr_base_color_rough`);
-    clipped at 1."""
-    return np.clip(_ss_rough_unclipped(*sources), 0.0, 1.0)
+    clipped at 1 on a metal (:func:`_metal_clipped`)."""
+    return _metal_clipped(_ss_rough_unclipped(*sources), sources[1])
 
 
-def ss_rough_clipped(*sources) -> bool:
-    return bool(np.any(_ss_rough_unclipped(*sources) > 1.0 + 1e-6))
+def _metal_clipped(color, metalness):
+    """``color`` clipped to [0, 1] in linear Rec.709 where the base has metal (Standard Surface's conductor,
+    an artistic IOR, takes a reflectivity below 1 there); a dielectric's colour outside Rec.709's gamut (a
+    wide-gamut document's) is shaded as it is in MaterialX's working space, and its range is the written
+    colour space's (target.inside, after the colour goes back into it)."""
+    return np.where(np.asarray(metalness)[..., None] > 0 if np.ndim(metalness) and np.ndim(color) > np.ndim(metalness)
+                    else np.asarray(metalness) > 0, np.clip(color, 0.0, 1.0), color)
 
 
 THIN_SUBSURFACE_SOURCES = ("subsurface_weight", "geometry_thin_walled", "subsurface_scatter_anisotropy",
@@ -285,8 +290,8 @@ def ss_base_color_thin(*sources):
     the colour whose diffuse reflection, beside Standard Surface's subsurface weight, reflects what
     OpenPBR's diffuse and its subsurface's reflected share do: ((1 - w) b c + w (1 - g)/2 s) / (1 - w'),
     w' the written weight, with the base weight b folded in (:func:`ss_base_weight`). At most 1 for
-    inputs in range: (1 - w) b c + w (1 - g)/2 s <= 1 - w (1 + g)/2."""
-    return np.clip(_ss_thin_unclipped(*sources), 0.0, 1.0)
+    inputs in range: (1 - w) b c + w (1 - g)/2 s <= 1 - w (1 + g)/2. Clipped on a metal (:func:`_metal_clipped`)."""
+    return _metal_clipped(_ss_thin_unclipped(*sources), sources[1])
 
 
 def _ss_thin_unclipped(*sources):
@@ -305,7 +310,8 @@ def _ss_thin_unclipped(*sources):
 
 
 def ss_base_clipped(*sources) -> bool:
-    return bool(np.any(_ss_thin_unclipped(*sources) > 1.0 + 1e-6))
+    unclipped = _ss_thin_unclipped(*sources)
+    return bool(np.any(np.abs(_metal_clipped(unclipped, sources[1]) - unclipped) > 1e-6))
 
 
 def openpbr_specular_color(specular_color, base, color, metalness, *weight_sources):
