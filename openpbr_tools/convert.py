@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 from . import convert_looks, gltf_state, tables
 from .atomic import write_bytes
 from .diagnostics import Diagnostic
-from .io import read_asset
+from .io import ReadError, package_member, packaged_image, read_asset
 from .io.gltf.document import load_document
 from .io.paths import Kind, PathGuard, classify
 from .model import Asset, Connection, Material, Texture
@@ -154,6 +154,11 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                                                 f"{unique!r} so that no writer merges the two"
                                                 + (" (a glTF output restores the name)" if asset.format == "gltf" else ""),
                                                 material.location))
+            if material.extra.get("displacement"):
+                notes.append(context.diagnostic(NOT_CARRIED, f"{material.material_name or material.name}: its "
+                                                f"{material.extra['displacement']} (a displacement shader) is not "
+                                                "written: conversions carry the surface shader only",
+                                                material.material_location or material.location))
             if unitless:
                 notes.append(context.diagnostic(APPROXIMATED, f"{material.name}: {', '.join(unitless)} carry no unit; "
                                                 "taken as metres", material.inputs[unitless[0]].location))
@@ -293,26 +298,48 @@ def _rebase_textures(materials: list[Material], source_path: str, output_path: s
             material.inputs[name] = rebased_entry
 
 
-def _unpack_gltf_images(materials: list[Material], asset: Asset, output_path: str) -> None:
-    """Images embedded in a glTF (``#/images/N``) written beside a .mtlx or USD output, which can only
-    reference files: ``<output stem>_textures/image_N.<ext>``."""
+def _unpack_packaged_images(materials: list[Material], asset: Asset, output_path: str) -> list[Diagnostic]:
+    """Images inside the source's own container written beside an output that can only reference files
+    (``<output stem>_textures/``): a glTF's embedded ``#/images/N`` as ``image_N.<ext>`` (for a .mtlx or
+    USD output), a USDZ's members, nested packages' too, under their own file names (for a .mtlx, .usda or
+    .usdc output; a .usdz output copies them from the source package itself). A member that cannot be read stays as it is, with a note."""
     extensions = {"image/png": ".png", "image/jpeg": ".jpg", "image/webp": ".webp", "image/ktx2": ".ktx2"}
     folder = os.path.splitext(output_path)[0] + "_textures"
-    document, written = None, {}
+    document, written, notes, taken = None, {}, [], set()
     for material in materials:
-        for entry in material.inputs.values():
+        for name, entry in material.inputs.items():
             texture = entry.value
-            if not (isinstance(texture, Texture) and texture.packaged and texture.file.startswith("#/images/")):
+            if not (isinstance(texture, Texture) and texture.packaged):
                 continue
             if texture.file not in written:
-                document = document or load_document(asset.path)
-                index = int(texture.file.rsplit("/", 1)[1])
-                data, mime = document.image_bytes(index)
+                if texture.file.startswith("#/images/"):
+                    document = document or load_document(asset.path)
+                    index = int(texture.file.rsplit("/", 1)[1])
+                    data, mime = document.image_bytes(index)
+                    file_name = f"image_{index}{extensions.get(mime or '', '.bin')}"
+                else:
+                    try:
+                        data, _ = packaged_image(asset.path, texture.file)
+                    except ReadError as error:
+                        notes.append(NOT_CARRIED.note(f"{material.name}: {texture.file!r} cannot be taken out of "
+                                                      f"the package ({error.message})",
+                                                      entry.location.with_material(material.name)))
+                        written[texture.file] = None
+                        continue
+                    file_name = os.path.basename(package_member(texture.file.rstrip("]"))) or "image"
+                stem, suffix = os.path.splitext(file_name)
+                count = 1
+                while file_name in taken:
+                    count += 1
+                    file_name = f"{stem}_{count}{suffix}"
+                taken.add(file_name)
                 os.makedirs(folder, exist_ok=True)
-                target = os.path.join(folder, f"image_{index}{extensions.get(mime or '', '.bin')}")
+                target = os.path.join(folder, file_name)
                 write_bytes(target, data)
                 written[texture.file] = os.path.abspath(target)
-            texture.file, texture.packaged = written[texture.file], False
+            if written[texture.file] is not None:
+                texture.file, texture.packaged = written[texture.file], False
+    return notes
 
 
 def _tag_length_units(materials: list[Material], asset: Asset) -> None:
@@ -336,19 +363,21 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside,
     """Write with the format's writer; returns its notes. Writers are imported here, when a
     conversion writes that format: USD's pulls in pxr (~0.3 s), glTF's Pillow."""
     asset = result.asset
-    if kind != "gltf" and asset.format == "gltf":
-        _unpack_gltf_images(result.materials, asset, output_path)
+    notes = []
+    if (kind != "gltf" and asset.format == "gltf") or (asset.path.lower().endswith(".usdz") and (
+            kind == "mtlx" or (kind == "usd" and not output_path.lower().endswith(".usdz")))):
+        notes = _unpack_packaged_images(result.materials, asset, output_path)
     if kind == "mtlx":
         from .io.mtlx.writer import write_mtlx  # lazy: see the docstring
 
         _rebase_textures(result.materials, asset.path, output_path)
         _tag_length_units(result.materials, asset)
         write_mtlx(result.materials, output_path, colorspace=asset.colorspace or "lin_rec709", looks=looks)
-        return []
+        return notes
     if kind == "usd":
         from .io.usd.writer import write_usd  # lazy: see the docstring
 
-        return write_usd(result.materials, output_path, source=asset, allow_outside=allow_outside)
+        return notes + write_usd(result.materials, output_path, source=asset, allow_outside=allow_outside)
     try:
         from .io.gltf.writer import write_gltf  # lazy: see the docstring
     except ImportError:

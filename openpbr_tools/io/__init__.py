@@ -6,6 +6,7 @@ are imported by the reader that needs them, never here.
 
 from __future__ import annotations
 
+import io
 import os
 import re
 import stat
@@ -117,10 +118,16 @@ def package_member(path: str) -> str:
 def _usdz_member(container: str, member: str) -> tuple[bytes, str | None]:
     import zipfile  # lazy: only a texture packaged in a USDZ needs it
 
-    name = package_member(member).lstrip("./")
     try:
         with zipfile.ZipFile(container) as archive:
-            data = archive.read(name)
+            outer, _, nested = member.lstrip("./").partition("[")
+            if nested.endswith("]") and outer.lower().endswith(".usdz") and outer in archive.namelist():
+                # a member of a package nested in this one: "parts/b.usdz[textures/a.png]"
+                try:
+                    return _usdz_member(io.BytesIO(archive.read(outer)), nested[:-1])  # type: ignore[arg-type]
+                except ReadError as error:
+                    raise ReadError(error.kind, f"{member!r}: {error.message}", Location(container)) from None
+            data = archive.read(package_member(member).lstrip("./"))
     except KeyError:
         raise ReadError("unreadable", f"{member!r} is not in the package", Location(container)) from None
     except (OSError, zipfile.BadZipFile) as error:

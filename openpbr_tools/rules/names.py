@@ -78,8 +78,8 @@ def check(asset, context):
         yield from _check_material(material, context)
     for observation in asset.observations:
         if observation.kind == "duplicate_element":
-            first = observation.detail.get("first_line")
-            where = f" (first at line {first})" if first else ""
+            first, included = observation.detail.get("first_line"), observation.detail.get("first_in")
+            where = f" (first in the included {included})" if included else f" (first at line {first})" if first else ""
             yield context.diagnostic(
                 DUPLICATE_INPUT,
                 f"duplicate element {observation.detail['name']!r}{where}: MaterialX keeps the first and drops this one",

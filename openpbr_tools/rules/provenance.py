@@ -277,6 +277,14 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "UsdShadeConnectableAPI::CanConnect applies them.", _USD + "pxr/usd/usdShade/connectableAPI.h"),
     "OPBR1020": ("UsdGeom's metersPerUnit is the root layer's metadata; composition does not rescale the values of "
                  "a layer authored in another unit.", _USD + "pxr/usd/usdGeom/metrics.h"),
+    "OPBR1021": ("UsdShade's material purposes are allPurpose, preview and full (UsdShadeTokens); a binding under "
+                 "another purpose name is computed for no renderer.", _USD + "pxr/usd/usdShade/materialBindingAPI.h"),
+    "OPBR1022": ("bindMaterialAs takes UsdShadeTokens weakerThanDescendants or strongerThanDescendants; any other "
+                 "token is read as the fallback strength.", _USD + "pxr/usd/usdShade/materialBindingAPI.h"),
+    "OPBR1023": ("Usd.CollectionAPI includes are paths: a path that names no prim matches nothing, so a collection "
+                 "binding of only such paths binds nothing.", _USD + "pxr/usd/usd/collectionAPI.h"),
+    "OPBR1024": ("UsdShadeMaterial::ComputeSurfaceSource looks up outputs:<renderContext>:surface for the renderer's "
+                 "context (mtlx, glslfx, ri) and the universal outputs:surface.", _USD + "pxr/usd/usdShade/material.h"),
     "OPBR1101": ("Nothing is lost; a rename recorded so a reviewer can follow a value across models and "
                  "versions.", f"{OPENPBR}; {MX_OPENPBR}"),
     "OPBR1102": ("Nothing is lost; the value changed form exactly (units, folded parameters) and the report says "

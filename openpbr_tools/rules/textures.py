@@ -11,6 +11,7 @@ One module because its rules are one pass over each material's textures that sha
 
 from __future__ import annotations
 
+import math
 import os
 import re
 
@@ -255,10 +256,12 @@ def check(asset, context):
                 yield context.diagnostic(
                     TEXTURE_TOO_LARGE, f"{entry.name}: {texture.file!r} is {size[0]} x {size[1]} pixels, beyond the "
                     f"{GPU_TEXTURE_LIMIT} a side GPUs load", where, hint=f"downscale it to {GPU_TEXTURE_LIMIT} or less")
-        if texture.uv is not None and 0.0 in tuple(texture.uv.scale) and not _gltf(texture):
+        if texture.uv is not None and any(v in (0.0, math.inf) for v in texture.uv.scale) and not _gltf(texture):
+            tiled = texture.node_category == "tiledimage"  # (its tiling is read as place2d's dividing scale)
+            factors = tuple(1.0 / v for v in texture.uv.scale) if tiled else tuple(texture.uv.scale)
             yield context.diagnostic(
-                ZERO_UV_SCALE, f"{entry.name}: {texture.node!r} scales its coordinates by "
-                f"({texture.uv.scale[0]:g}, {texture.uv.scale[1]:g}): the texture collapses to one texel "
+                ZERO_UV_SCALE, f"{entry.name}: {texture.node!r} {'tiles' if tiled else 'scales'} its coordinates by "
+                f"({factors[0]:g}, {factors[1]:g}): the texture collapses to one texel "
                 "(a tiling of 0) or divides by zero (a scale of 0)", where, hint="set the tiling or scale to 1 (no tiling)")
         if texture.constant_uv:
             yield context.diagnostic(
@@ -322,6 +325,10 @@ def _check_path(asset, texture, where, context, checked_files):
         hint = (f"tile tokens are case-sensitive: {miscased[0]!r} is read as part of the file name; "
                 f"write {miscased[0].upper()!r}") if miscased else None
         yield context.diagnostic(MISSING_TEXTURE, f"{what}: {file!r}", where, hint=hint)
+    elif not _TILE_TOKENS.search(file) and os.path.isdir(resolved.real or resolve(asset.path, file)):
+        # an empty file name under a fileprefix ("textures/" + ""), or a path cut short: a folder loads no image
+        yield context.diagnostic(MISSING_TEXTURE, f"texture path {file!r} names a folder, not an image file", where,
+                                 hint="name the image file (an image node without one renders its default)")
     elif resolved.inside and not _gltf(texture):  # a glTF's images are judged by the glTF family, used or not
         readable, outside = _files(asset, file, context)
         for name, real in outside:

@@ -18,6 +18,11 @@ A composed layer that authors another ``metersPerUnit`` than the stage keeps its
 rescale them, and where they are a material's lengths no transform on the referencing prim corrects them
 (OPBR1020; a layer of geometry only is no finding).
 
+A binding UsdShade does not read as written: a purpose that is no material purpose (``material:binding:render``,
+OPBR1021), a ``bindMaterialAs`` that is no strength (read as weaker than descendants, OPBR1022), a collection
+binding whose collection includes only paths to no prim (OPBR1023). A Material whose only surface output is
+in a misspelt render context (``outputs:materialx:surface``) is found by no renderer (OPBR1024).
+
 Bindings to a material composed from a MaterialX document that this usd-core cannot open (OPBR1013) are
 not judged: with usdMtlx the target would exist.
 """
@@ -99,7 +104,57 @@ LAYER_UNITS = Rule(
                                   b'        float inputs:transmission_depth = 2.5\n    }\n}\n'),), example_files=("looks.usda",),
 )
 
-RULES = (BINDING_TARGET, INPUT_RELATIONSHIP, CONNECTION_REFUSED, LAYER_UNITS)
+BINDING_PURPOSE = Rule(
+    "OPBR1021", "usd-binding-purpose-unknown", Severity.ERROR,
+    "A material binding names a purpose that is no material purpose (material:binding:render, :proxy): "
+    "UsdShade's purposes are all-purpose (material:binding), preview and full.",
+    "UsdShade.MaterialBindingAPI computes bindings for the purpose a renderer asks for (Storm: preview; final "
+    "renderers: full; either falls back to the all-purpose binding). render and proxy are geometry purposes "
+    "(UsdGeom's purpose attribute), so material:binding:render is read by no renderer and the geometry keeps "
+    "whatever else is bound, or renders unbound.",
+    passing=_stage(), failing=_stage().replace("rel material:binding =", "rel material:binding:render =", 1),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
+BINDING_STRENGTH = Rule(
+    "OPBR1022", "usd-binding-strength-invalid", Severity.WARNING,
+    "A material binding's bindMaterialAs is not one of UsdShade's strengths (weakerThanDescendants, "
+    "strongerThanDescendants).",
+    "UsdShade reads any other token as the fallback, weakerThanDescendants: an override meant to win over the "
+    "descendants' own bindings (a whole-asset look, a review material) silently loses to them.",
+    passing=_stage(), failing=_stage().replace("rel material:binding = </M>", 'rel material:binding = </M> (\n'
+                                               '        bindMaterialAs = "strongest"\n    )', 1),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
+COLLECTION_EMPTY = Rule(
+    "OPBR1023", "usd-binding-collection-matches-nothing", Severity.WARNING,
+    "A collection-based material binding's collection includes only paths that name no prim.",
+    "Usd.CollectionAPI matches prims by path: after the geometry is renamed or moved, a collection still "
+    "listing the old paths matches nothing, so the binding binds nothing and the geometry renders with "
+    "whatever else is bound, or unbound. Nothing fails to load.",
+    passing=_stage().replace("rel material:binding = </M>", 'uniform token collection:c:expansionRule = "expandPrims"\n'
+                             "    rel collection:c:includes = </Plane>\n"
+                             "    rel material:binding:collection:c = [</Plane.collection:c>, </M>]", 1),
+    failing=_stage().replace("rel material:binding = </M>", 'uniform token collection:c:expansionRule = "expandPrims"\n'
+                             "    rel collection:c:includes = </Plane_old>\n"
+                             "    rel material:binding:collection:c = [</Plane.collection:c>, </M>]", 1),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
+RENDER_CONTEXT = Rule(
+    "OPBR1024", "usd-render-context-misspelt", Severity.ERROR,
+    "A Material's surface output is only in a render context no renderer reads under that name "
+    "(outputs:materialx:surface where MaterialX's context is mtlx), with no universal outputs:surface.",
+    "UsdShade.Material.ComputeSurfaceSource looks up outputs:<context>:surface for the renderer's own context "
+    "(mtlx for MaterialX, glslfx for Storm, ri for RenderMan) and then the universal outputs:surface: a misspelt "
+    "context matches neither, so no renderer finds the surface and the geometry renders with the fallback.",
+    passing=_stage(), failing=_stage().replace("outputs:mtlx:surface", "outputs:materialx:surface", 1),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
+RULES = (BINDING_TARGET, INPUT_RELATIONSHIP, CONNECTION_REFUSED, LAYER_UNITS, BINDING_PURPOSE, BINDING_STRENGTH,
+         COLLECTION_EMPTY, RENDER_CONTEXT)
 
 
 def check(asset, context):
@@ -115,6 +170,28 @@ def check(asset, context):
                 "the prim renders unbound", where,
                 hint="bind the Material prim itself" if "not a Material" in detail["reason"]
                 else "bind an existing, active Material")
+        elif observation.kind == "usd_binding_purpose":
+            yield context.diagnostic(
+                BINDING_PURPOSE, f"{detail['relationship']}: {detail['purpose']!r} is no material purpose (UsdShade's "
+                "are all-purpose, preview and full; render and proxy are geometry purposes), so no renderer reads "
+                "this binding", where, hint="bind with material:binding (all purposes), material:binding:preview or "
+                                            "material:binding:full")
+        elif observation.kind == "usd_binding_strength":
+            yield context.diagnostic(
+                BINDING_STRENGTH, f"{detail['relationship']} has bindMaterialAs = {detail['strength']!r}, which is no "
+                "binding strength: UsdShade reads it as weakerThanDescendants, so the descendants' own bindings win",
+                where, hint="use \"strongerThanDescendants\" (or \"weakerThanDescendants\")")
+        elif observation.kind == "usd_collection_empty":
+            missing = ", ".join(f"<{m}>" for m in detail["missing"][:4])
+            yield context.diagnostic(
+                COLLECTION_EMPTY, f"{detail['relationship']} binds through {detail['collection']}, whose includes "
+                f"({missing}) name no prim: the collection matches nothing and binds nothing", where,
+                hint="include the geometry's current paths")
+        elif observation.kind == "usd_render_context":
+            yield context.diagnostic(
+                RENDER_CONTEXT, f"the Material's only surface output is {detail['output']}: no renderer reads the "
+                f"context {detail['context']!r}, so none finds the surface (meant: {detail['meant']!r}?)", where,
+                hint=f"rename it outputs:{detail['meant']}:surface")
         elif observation.kind == "usd_input_relationship":
             targets = ", ".join(f"<{t}>" for t in detail["targets"]) or "nothing"
             yield context.diagnostic(

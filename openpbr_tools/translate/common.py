@@ -146,6 +146,12 @@ def _equal(a, b) -> bool:
     return bool(np.allclose(np.asarray(a, dtype=np.float64), np.asarray(b, dtype=np.float64), rtol=0, atol=1e-9))
 
 
+#: Models whose normal and tangent inputs are world-space vectors (MaterialX's geometry defaults: Nworld,
+#: Tworld), so an authored constant means the same in both; a UsdPreviewSurface's normal is tangent-space and
+#: glTF's come from the mesh.
+WORLD_SPACE_VECTORS = frozenset({"open_pbr_surface", "standard_surface"})
+
+
 def translate(material: Material, target_model: str, mappings: tuple[Mapping, ...], dropped: tuple[Dropped, ...],
               settings: Settings, label: str) -> Translation:
     """Apply ``mappings`` to ``material``; returns the target material and the loss report."""
@@ -213,7 +219,12 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 value = arrays[0] if mapping.formula is None else mapping.formula(*arrays)
             if mapping.formula is not None:
                 value = working.out_of(value, parameter, material.inputs.get(mapping.sources[0]))
-            if parameter.role in ("normal", "tangent"):
+            if parameter.role in ("normal", "tangent") and not (
+                    {material.model, target_model} <= WORLD_SPACE_VECTORS and values.authored(mapping.sources[0])):
+                if values.authored(mapping.sources[0]) and not _equal(arrays[0], source_table[mapping.sources[0]].default):
+                    say(NOT_CARRIED, f"{mapping.sources[0]}: a constant {parameter.role} is a fixed vector in the "
+                                     f"source's space, which {mapping.target} does not hold (the mesh's own is used)",
+                        mapping.sources[0])
                 continue  # a constant normal is the geometry's own (each model's default means "unperturbed")
             typed = as_value(value, parameter.type)
             plain_copy = mapping.formula is None and values.authored(mapping.sources[0])

@@ -20,6 +20,7 @@ from ...model import Texture
 from ...resources import load_json
 from ...rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from ..images import ImageUndecodable
+from ..usd.types import WRAP_TO_ADDRESS_MODE
 from . import slots
 from .bake import ChannelSource, pack
 from .uv import to_texture_transform
@@ -118,6 +119,8 @@ class TextureWriting:
         table = slots.address_to_wrap()
         modes = []
         for mode in texture.wrap:
+            # a UsdUVTexture's wrap token in MaterialX's words (useMetadata: the image's default, periodic)
+            mode = "periodic" if mode == "useMetadata" else WRAP_TO_ADDRESS_MODE.get(mode, mode)
             if mode not in table:
                 self.note(APPROXIMATED, f"address mode {mode!r} is unknown; REPEAT used", parameter)
             elif mode == "constant":

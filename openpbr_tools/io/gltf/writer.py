@@ -219,7 +219,8 @@ class _MaterialWriter(TextureWriting, DraftWriting):
 
     def linear(self, value, entry):
         """A colour constant in linear Rec.709, as glTF factors are (specification 3.9.2)."""
-        space = entry.colorspace or self.material.colorspace
+        # any scheme's name: a USD stage's colorSpace:name (lin_rec709_scene) is MaterialX's lin_rec709
+        space = colorspaces.materialx_name(entry.colorspace or self.material.colorspace)
         if space in (None, "lin_rec709") or colorspaces.is_data(space):
             return value
         try:

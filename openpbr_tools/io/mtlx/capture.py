@@ -177,3 +177,13 @@ def _resolve_files(copy, original) -> None:
         space = port.getActiveColorSpace()
         if not port.getColorSpace() and space and space != root.getColorSpace():
             target.setColorSpace(space)
+
+
+def read_output(port) -> str:
+    """Which output of the node feeding ``port`` it reads: the port's ``output`` (a multi-output node's
+    ``outg``), or, through a node graph's (or the document's) <output>, that output's own ``output``
+    attribute (``<output nodename="split" output="outg">``)."""
+    output = port.getConnectedOutput()
+    if output is not None and output.getParent().getCategory() in ("nodegraph", "materialx"):
+        return output.getOutputString()
+    return port.getOutputString() if not port.getNodeGraphString() else ""

@@ -13,10 +13,13 @@ from __future__ import annotations
 
 from ...model import Connection, Constant, Location, Texture, UVTransform, normal_strength
 from ...values import ValueSyntaxError, parse_value
-from .capture import capture_graph, interface_input
+from . import gltf_nodes
+from .arithmetic import ScaleBias, connected as _connected
+from .capture import capture_graph, interface_input, read_output
 
-IMAGE_CATEGORIES = ("image", "tiledimage", "gltf_image", "gltf_colorimage", "UsdUVTexture")
+IMAGE_CATEGORIES = ("image", "tiledimage", "gltf_image", "gltf_colorimage", "gltf_normalmap", "UsdUVTexture")
 PASS_THROUGH = ("convert", "dot")
+
 
 
 class GraphFollower:
@@ -76,7 +79,7 @@ class GraphFollower:
             constant, held = constant
             self.followed_space = held.getActiveColorSpace() or None  # the colour space the value is in
             return constant
-        texture = self.texture_chain(node, port.getOutputString() if not port.getNodeGraphString() else "")
+        texture = self.texture_chain(node, read_output(port))
         if texture is not None:
             return texture
         return Connection(
@@ -90,7 +93,7 @@ class GraphFollower:
         UsdUVTexture's: the writer puts them there)."""
         channels = None
         normal_scale = None
-        arithmetic = _ScaleBias()
+        arithmetic = ScaleBias()
         if output_name in ("outr", "outg", "outb", "outa", "outx", "outy", "outz", "outw") and node.getCategory().startswith("separate"):
             channels = ("rgba".find(output_name[-1]) if output_name[-1] in "rgba" else "xyzw".find(output_name[-1]),)
             node = self.upstream_node(node.getInput("in")) if node.getInput("in") else None
@@ -124,18 +127,24 @@ class GraphFollower:
             upstream = node.getInput("in1" if category in ("multiply", "add") else "in")
             node = self.upstream_node(upstream) if upstream is not None else None
             # which output of the next node this step reads (a multi-output UsdUVTexture's rgb, say)
-            output_name = upstream.getOutputString() if upstream is not None and not upstream.getNodeGraphString() else ""
+            output_name = read_output(upstream) if upstream is not None else ""
         else:
             return None
         image_type = None
+        if node.getCategory() == "gltf_normalmap":  # an image and its tangent-space decode in one node
+            if normal_scale is not None or arithmetic.seen:
+                return None
+            normal_scale, image_type = 1.0, "vector3"
         if node.getType() == "multioutput":  # e.g. gltf_colorimage: outcolor (color3) and outa (float)
             image_type, channel = _multioutput_type(node, output_name)
             if channel is not None and channels is None:
                 channels = (channel,)
-        if not self.plain_coordinates(node):
+        if not self.plain_coordinates(node) or gltf_nodes.transform(node) is False or gltf_nodes.connected_factor(node):
             return None  # coordinates a Texture cannot hold: the graph is kept whole, not read without them
         texture = self.image(node, channels, normal_scale, image_type)
+        arithmetic.multiply(gltf_nodes.factor(node, channels if node.getType() == "multioutput" else None))
         texture.scale, texture.bias = arithmetic.values()
+        texture.uv = gltf_nodes.transform(node) or texture.uv  # (a glTF image node's own inputs)
         return texture
 
     #: (instance, nodedef) while a custom shader node's implementation graph is read for that instance
@@ -229,8 +238,8 @@ class GraphFollower:
         if node.getCategory() == "tiledimage":
             tiling = _vector2(node.getInput("uvtiling"))
             offset = _vector2(node.getInput("uvoffset"))
-            if tiling:
-                transform.scale = tiling
+            if tiling:  # uv * tiling - offset (NG_tiledimage): place2d's scale divides (a tiling of 0: one texel)
+                transform.scale = tuple(1.0 / v if v else float("inf") for v in tiling)
             if offset:
                 transform.offset = offset
         texcoord = _coordinates(node)
@@ -266,10 +275,6 @@ def _coordinates(node):
     return node.getInput("st" if node.getCategory() == "UsdUVTexture" else "texcoord")
 
 
-def _connected(port) -> bool:
-    return any(port.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename", "output"))
-
-
 def _normal_scale(port) -> float | None:
     """A ``normalmap`` node's strength (:func:`normal_strength`), or None where it is connected or
     unreadable: a texture chain through it is then not one the model can hold."""
@@ -283,48 +288,6 @@ def _normal_scale(port) -> float | None:
         return normal_strength(parse_value(port.getValueString(), port.getType()))
     except ValueSyntaxError:
         return None
-
-
-class _ScaleBias:
-    """``multiply``/``add`` nodes met walking up from the input, composed into one value * scale + bias
-    (moving up past ``+ c`` adds c * scale to the bias; past ``* k`` multiplies the scale by k). An
-    operation on the whole colour above an ``extract`` is reduced to the extracted channel."""
-
-    def __init__(self):
-        self.scale, self.bias, self.seen = None, None, False
-
-    def take(self, node, channels) -> bool:
-        first, second = node.getInput("in1"), node.getInput("in2")
-        if first is None or second is None or not second.hasAttribute("value") or _connected(second):
-            return False
-        try:
-            value = parse_value(second.getValueString(), second.getType())
-        except ValueSyntaxError:
-            return False
-        operand = [float(v) for v in value] if isinstance(value, (tuple, list)) else [float(value)]
-        if channels is not None and len(operand) > 1:
-            if channels[0] >= len(operand):
-                return False
-            operand = [operand[channels[0]]]
-        self.seen = True
-        scale = self.scale if self.scale is not None else [1.0]
-        if node.getCategory() == "add":
-            bias = self.bias if self.bias is not None else [0.0]
-            self.bias = _combine(bias, _combine(operand, scale, lambda a, b: a * b), lambda a, b: a + b)
-        else:
-            self.scale = _combine(scale, operand, lambda a, b: a * b)
-        return True
-
-    def values(self):
-        def shown(v):
-            return None if v is None else (v[0] if len(v) == 1 else tuple(v))
-        return shown(self.scale), shown(self.bias)
-
-
-def _combine(a: list[float], b: list[float], operation) -> list[float]:
-    width = max(len(a), len(b))
-    a, b = (a * width)[:width] if len(a) == 1 else a, (b * width)[:width] if len(b) == 1 else b
-    return [operation(x, y) for x, y in zip(a, b)]
 
 
 def _constant_value(follower, node, type_name: str):

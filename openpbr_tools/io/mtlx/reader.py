@@ -36,6 +36,7 @@ from ..paths import PathGuard
 from . import library
 from .graph import GraphFollower, in_definition, interface_colorspace
 from .looks import record_looks
+from .includes import follow_includes
 from .xmlscan import XmlSyntaxError, message_sites, parse_suppression, scan, scan_with_materialx, upgrade_changes_nothing
 
 SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
@@ -121,7 +122,9 @@ def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ..
     except Exception as error:  # MaterialX raises its own exception types for parse failures
         raise ReadError("not_materialx", f"MaterialX cannot read the document: {error}", Location(path)) from None
     guard = PathGuard.for_asset(path, allow_outside)
-    not_followed = _include(document, path, structure.xincludes, guard, {guard.resolve(os.path.abspath(path)).real})
+    shadowed: list[tuple[str, str]] = []  # (the document's own element, the include that defines it too)
+    not_followed = follow_includes(document, path, structure.xincludes, guard,
+                                   {guard.resolve(os.path.abspath(path)).real}, shadowed=shadowed)
 
     asset = Asset(path=path, format="mtlx", line_of=structure.lines, suppressions=dict(structure.suppressions))
     asset.format_version = structure.root_attributes.get("version")
@@ -134,53 +137,9 @@ def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ..
     _Reader(asset, document, structure).run()
     for line, href, reason, broken in not_followed:
         asset.observe("xinclude_broken" if broken else "xinclude", Location(path, line), href=href, reason=reason)
+    for name, href in shadowed:  # MaterialX reads the include's first and drops the document's own
+        asset.observe("duplicate_element", Location(path, structure.lines.get(name), name), first_in=href, name=name)
     return asset
-
-
-MAX_XINCLUDE_DEPTH = 8
-
-
-def _include(document, path: str, xincludes, guard: PathGuard, seen: set[str], depth: int = 0) -> list[tuple]:
-    """Follow the XIncludes of ``document`` (read from ``path``) as MaterialX does: each included
-    document's elements are imported into it (``importLibrary``), marked with the included file as
-    their source URI so the reader uses them to resolve references but does not validate them
-    again (they are validated as their own file). Only files inside the asset's folder are read (the
-    one path guard), at most 8 levels deep, each once (a cycle is not followed). Returns
-    ``(line, href, reason, broken)`` for every include not followed; ``broken`` when MaterialX
-    could not follow it either (missing, unreadable, a cycle), not merely refused here."""
-    import MaterialX as mx  # lazy: as in standard_library
-
-    not_followed = []
-    for line, href in xincludes:
-        resolved = guard.resolve(href, base=os.path.dirname(os.path.abspath(path)))
-        reason, broken = None, True
-        if not resolved.inside:
-            reason, broken = "leads outside the asset's folder, so it is not opened", False
-        elif resolved.real in seen:
-            reason = "is already being included (a cycle), so it is not followed again"
-        elif depth >= MAX_XINCLUDE_DEPTH:
-            reason, broken = f"is nested deeper than {MAX_XINCLUDE_DEPTH} includes, so it is not opened", False
-        elif not os.path.isfile(resolved.real):
-            reason = "does not exist"
-        if reason is None:
-            included = mx.createDocument()
-            options = mx.XmlReadOptions()
-            options.readXIncludeFunction = None
-            try:
-                data = read_bytes(resolved.real)
-                mx.readFromXmlString(included, data.decode("utf-8-sig"), mx.FileSearchPath(), options)
-                nested = scan(data).xincludes
-            except Exception as error:  # noqa: BLE001 - ReadError, UnicodeDecodeError, XmlSyntaxError and MaterialX's own types
-                reason = f"cannot be read ({getattr(error, 'message', error)})"
-            else:
-                for _, inner, why, inner_broken in _include(included, resolved.real, nested, guard, seen | {resolved.real},
-                                                            depth + 1):
-                    not_followed.append((line, href, f"includes {inner!r}, which {why}", inner_broken))
-                included.setSourceUri(resolved.real)
-                document.importLibrary(included)
-        if reason is not None:
-            not_followed.append((line, href, reason, broken))
-    return not_followed
 
 
 class _Reader(GraphFollower):
@@ -248,6 +207,11 @@ class _Reader(GraphFollower):
                 target = assign.getMaterial()
                 if target and self.document.getChild(target) is None:
                     self.asset.observe("dangling_reference", self.location(assign), attribute="material", target=target)
+            for assign in look.getVariantAssigns():  # a variant that names nothing selects nothing
+                named = self.document.getVariantSet(assign.getVariantSetString())
+                if named is None or named.getVariant(assign.getVariantString()) is None:
+                    self.asset.observe("dangling_reference", self.location(assign), attribute="variant", target=
+                                       f"{assign.getVariantSetString()}/{assign.getVariantString()}")
         record_looks(self.asset, self.document, self.location)
 
     def _doc_suppression(self, path: str, text: str) -> None:
@@ -288,6 +252,9 @@ class _Reader(GraphFollower):
         if material.material_name is None:
             material.material_name = node.getName()
             material.material_location = location
+            displacement = node.getInput("displacementshader")
+            if displacement is not None and (displacement.getNodeName() or displacement.getNodeGraphString()):
+                material.extra["displacement"] = "displacementshader"  # no conversion carries it (convert notes it)
             state = gltf_state.decode(node.getAttribute(gltf_state.MTLX_ATTRIBUTE)) if node.hasAttribute(
                 gltf_state.MTLX_ATTRIBUTE) else {}
             if state:

@@ -165,7 +165,8 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
         if mode in MATERIALX_ADDRESS_MODES:  # (useMetadata: the image node's default, periodic, as the evaluator reads it)
             image.addInput(name, "string").setValueString(mode)
     if image.getCategory() == "tiledimage":
-        image.addInput("uvtiling", "vector2").setValueString(format_value(texture.uv.scale, "vector2"))
+        tiling = tuple(1.0 / v if v else 0.0 for v in texture.uv.scale)  # place2d's scale divides (inf: a tiling of 0)
+        image.addInput("uvtiling", "vector2").setValueString(format_value(tiling, "vector2"))
         image.addInput("uvoffset", "vector2").setValueString(format_value(texture.uv.offset, "vector2"))
     elif texture.uv is not None or texture.texcoord:
         _write_placement(document, image, prefix, texture, used)
@@ -203,11 +204,15 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
 
 
 def _write_placement(document, image, prefix: str, texture: Texture, used) -> None:
-    """A ``texcoord`` node (the UV set) and, for a transform, a ``place2d`` on it. The ``texcoord``
-    node is written even for set 0 under a ``place2d``: ND_place2d_vector2's own texcoord defaults to
+    """A ``texcoord`` node (the UV set; a ``geompropvalue`` for a set named by its primvar) and, for a
+    transform, a ``place2d`` on it. The ``texcoord`` node is written even for set 0 under a ``place2d``: ND_place2d_vector2's own texcoord defaults to
     the constant (0, 0), not to the mesh's UVs (rule OPBR706)."""
     coordinates = None
-    if texture.texcoord or texture.uv is not None:
+    named = isinstance(texture.texcoord, str) and not texture.texcoord.isdigit()
+    if named:  # a UV set by its primvar name (USD's "st1", Blender's "UVMap"): MaterialX reads it as a geomprop
+        coordinates = document.addNode("geompropvalue", _unique(f"{prefix}_uvset", used), "vector2")
+        coordinates.addInput("geomprop", "string").setValueString(texture.texcoord)
+    elif texture.texcoord or texture.uv is not None:
         coordinates = document.addNode("texcoord", _unique(f"{prefix}_texcoord", used), "vector2")
         if texture.texcoord:
             coordinates.addInput("index", "integer").setValueString(str(int(texture.texcoord)))

@@ -161,8 +161,8 @@ class StageGuard:
                 self.observe("usd_package_entry", self.where(file), entry=entry.name, reason=reason)
             elif (reason := disallowed_entry_type(entry.name)) is not None:
                 self.observe("usd_package_entry", self.where(file), entry=entry.name, reason=reason, file_type=True)
-        if file == self.path:
-            self.package_files = frozenset(e.name for e in entries)
+        if file == self.path and not self.package_files:  # the root package (checked first; a nested one
+            self.package_files = frozenset(_member_names(entries))  # opened later is listed inside it)
         return bytes(entries[0].data) if entries[0].method == 0 else CRATE_MAGIC  # compressed: usd-core cannot read it
 
     def follow(self, root) -> None:
@@ -374,3 +374,19 @@ def _clip_asset_paths(clip_set) -> list[str]:
     if template:
         found.append(str(template))
     return [f for f in found if f]
+
+
+
+def _member_names(entries, depth: int = 0) -> list[str]:
+    """The names of a package's entries and, for a nested package (a stored .usdz entry), of its own as
+    ``parts/b.usdz[textures/a.png]``, as usd-core's package resolver addresses them (four levels at most)."""
+    names = []
+    for entry in entries:
+        names.append(entry.name)
+        if depth < 4 and entry.name.lower().endswith(".usdz") and entry.method == 0:
+            try:
+                nested = package_entries(bytes(entry.data))
+            except ValueError:
+                continue  # the nested package is not readable: its members are found nowhere
+            names += [f"{entry.name}[{name}]" for name in _member_names(nested, depth + 1)]
+    return names

@@ -190,9 +190,13 @@ class NetworkReader(TextureNodeReader):
         if packaged and classify(authored) is Kind.RELATIVE and "[" not in authored:
             # a member of the package: relative to the packaged layer's own folder inside it ("./a.png" of
             # the package's first layer is the member "a.png"); one that climbs out of the package stays as authored
-            inner = layer.identifier[:-1].split("[", 1)[1] if layer.identifier.endswith("]") else ""
+            packages, inner = _package_chain(layer.identifier)
             member = posixpath.normpath(posixpath.join(posixpath.dirname(inner), authored.replace("\\", "/")))
-            return (authored if member.startswith("..") else member), True
+            if member.startswith(".."):
+                return authored, True
+            for package in reversed(packages):  # a nested package's member: "parts/bolt.usdz[textures/a.png]"
+                member = f"{package}[{member}]"
+            return member, True
         if packaged or layer.identifier == self.root_layer.identifier or classify(authored) is not Kind.RELATIVE:
             return authored, packaged  # as authored: a URL, an absolute, drive or UNC path is not re-anchored
         if not layer.realPath:
@@ -201,3 +205,22 @@ class NetworkReader(TextureNodeReader):
         # relative to the root layer's folder (whether that stays inside is the texture rules' call)
         anchored = os.path.normpath(os.path.join(os.path.dirname(layer.realPath), authored))
         return os.path.relpath(anchored, self.root_dir).replace(os.sep, "/"), False
+
+
+def _package_chain(identifier: str) -> tuple[list[str], str]:
+    """The packages nested inside the root package, outermost first, and the layer's path inside the
+    innermost: ``a.usdz[parts/b.usdz[b.usda]]`` gives (["parts/b.usdz"], "b.usda"), as does
+    ``a.usdz[parts/b.usdz]`` (the nested package's first layer, as usd-core names it) with ""; a layer
+    of the root package itself, ([], its path)."""
+    if not identifier.endswith("]") or "[" not in identifier:
+        return [], ""
+    inside = identifier.split("[", 1)[1][:-1]
+    packages = []
+    while "[" in inside and inside.endswith("]"):
+        package, inside = inside.split("[", 1)
+        packages.append(package)
+        inside = inside[:-1]
+    if inside.lower().endswith(".usdz"):  # a nested package named alone: its first layer, at its root
+        packages.append(inside)
+        inside = ""
+    return packages, inside

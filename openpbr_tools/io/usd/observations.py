@@ -60,6 +60,7 @@ def observe_structure(prim, stage, observe, location) -> None:
     for relationship in prim.GetRelationships():
         name = relationship.GetName()
         if name.startswith("material:binding"):
+            _observe_binding_form(prim, relationship, name, stage, observe, location)
             targets = relationship.GetTargets()
             if ":collection:" in name:  # (the collection, the Material)
                 targets = targets[1:2] if len(targets) == 2 else []
@@ -75,6 +76,8 @@ def observe_structure(prim, stage, observe, location) -> None:
         elif name.startswith("inputs:") and (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):
             observe("usd_input_relationship", location(prim.GetPath(), name[len("inputs:"):]),
                     input=name, targets=[str(t) for t in relationship.GetTargets()])
+    if prim.IsA(UsdShade.Material):
+        _observe_render_contexts(prim, observe, location)
     if not (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):  # (a Material is a NodeGraph)
         return
     connectable = UsdShade.ConnectableAPI(prim)
@@ -96,3 +99,69 @@ def observe_structure(prim, stage, observe, location) -> None:
                         source_is_interface=UsdShade.Input.IsInput(origin.GetAttr()),
                         source_inside=str(source_prim.GetPath()).startswith(f"{prim.GetPath()}/"))
 
+
+#: UsdShade's material purposes besides allPurpose (UsdShadeTokens: preview, full)
+MATERIAL_PURPOSES = ("preview", "full")
+#: bindMaterialAs tokens (UsdShadeTokens: weakerThanDescendants, strongerThanDescendants; "" is the fallback)
+BINDING_STRENGTHS = ("", "weakerThanDescendants", "strongerThanDescendants", "fallbackStrength")
+
+
+def _observe_binding_form(prim, relationship, name, stage, observe, location) -> None:
+    """A binding UsdShade.MaterialBindingAPI never reads as written: a purpose that is no material purpose
+    (``material:binding:render``: a geometry purpose), or a ``bindMaterialAs`` that is no strength token
+    (read as the fallback, weaker than descendants); a collection binding whose collection includes only
+    paths that name no prim (the collection matches nothing)."""
+    parts = name.split(":")[2:]  # material:binding[:purpose][:collection:name]
+    if parts and parts[0] != "collection" and parts[0] not in MATERIAL_PURPOSES:
+        observe("usd_binding_purpose", location(prim.GetPath(), None), relationship=name, purpose=parts[0])
+    strength = relationship.GetMetadata("bindMaterialAs")
+    if strength is not None and str(strength) not in BINDING_STRENGTHS:
+        observe("usd_binding_strength", location(prim.GetPath(), None), relationship=name, strength=str(strength))
+    if "collection" in parts:
+        targets = relationship.GetTargets()
+        if targets and targets[0].IsPropertyPath():
+            _observe_collection(targets[0], name, stage, observe, location(prim.GetPath(), None))
+
+
+def _observe_collection(path, binding, stage, observe, where) -> None:
+    from pxr import Usd  # lazy: as in observe_layer_units
+
+    owner = stage.GetPrimAtPath(path.GetPrimPath())
+    if not owner:
+        return  # a missing collection owner is the binding-target check's concern
+    collection = Usd.CollectionAPI(owner, path.name.split(":", 1)[1] if ":" in path.name else path.name)
+    includes = collection.GetIncludesRel().GetTargets() if collection.GetIncludesRel() else []
+    if not includes or collection.GetIncludeRootAttr().Get():
+        return
+    missing = [str(p) for p in includes if not stage.GetPrimAtPath(p.GetPrimPath())]
+    if len(missing) == len(includes):
+        observe("usd_collection_empty", where, relationship=binding, collection=str(path), missing=missing)
+
+
+#: render contexts of Material outputs, as their renderers name them ("" is the universal output)
+KNOWN_CONTEXTS = ("mtlx", "glslfx", "ri", "arnold", "nsi", "karma", "cycles", "vray", "redshift", "omni", "mdl",
+                  "osl", "prman", "riCpp")
+#: names that mean a known context but no renderer reads (MaterialX's is "mtlx")
+MISSPELT_CONTEXTS = {"materialx": "mtlx", "material_x": "mtlx", "mx": "mtlx", "mtl": "mtlx", "usdmtlx": "mtlx",
+                     "glsl": "glslfx", "glslfx2": "glslfx", "renderman": "ri"}
+
+
+def _observe_render_contexts(material, observe, location) -> None:
+    """A Material whose surface output is only in a render context no renderer reads under that name
+    (``outputs:materialx:surface`` for ``outputs:mtlx:surface``): UsdShade.Material.ComputeSurfaceSource
+    finds no surface for any renderer."""
+    from pxr import UsdShade  # lazy: as in observe_layer_units
+
+    outputs = [o.GetBaseName() for o in UsdShade.Material(material).GetOutputs(onlyAuthored=True)]
+    surfaces = [n for n in outputs if n == "surface" or n.endswith(":surface")]
+    if not surfaces or "surface" in surfaces:
+        return
+    contexts = [n[: -len(":surface")] for n in surfaces]
+    if any(c in KNOWN_CONTEXTS for c in contexts):
+        return
+    for context in contexts:
+        meant = MISSPELT_CONTEXTS.get(context.lower()) or next(
+            (k for k in KNOWN_CONTEXTS if k.lower() == context.lower()), None)
+        if meant is not None:
+            observe("usd_render_context", location(material.GetPath(), None), output=f"outputs:{context}:surface",
+                    context=context, meant=meant)

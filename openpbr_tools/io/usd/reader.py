@@ -303,6 +303,10 @@ class _Reader(NetworkReader):
                 material.extra["gltf"] = state
             material.extra["usd_render_context"] = context
             material.extra["usd_surface_output"] = where.input
+            displaced = [f"outputs:{o.GetBaseName()}" for o in self.UsdShade.Material(material_prim).GetOutputs()
+                         if str(o.GetBaseName()).endswith("displacement") and o.GetAttr().GetConnections()]
+            if displaced:  # a displacement shader: no conversion carries it (convert notes it)
+                material.extra["displacement"] = displaced[0]
             # MaterialX's name for it, so colour maths elsewhere (plausibility) can use it
             space = self.inherited_colorspace(material_prim)
             material.colorspace = (colorspaces.materialx_equivalent(space) or space) if space else None

@@ -351,4 +351,6 @@ def _scene_unit(asset: Asset) -> float | None:
         return asset.meters_per_unit or units["usd_default_meters_per_unit"]
     if asset.format == "gltf":
         return units["gltf_meters_per_unit"]
-    return asset.meters_per_unit
+    # a MaterialX document's lengths without a unit are taken as metres (the conversion says so, and its glTF
+    # output reads them so): the stage is written in metres rather than USD's centimetres, values unchanged
+    return asset.meters_per_unit or (1.0 if asset.format == "mtlx" else None)

@@ -1,0 +1,58 @@
+"""``multiply``/``add`` by constants between an image and the input it feeds, read as the texture's
+scale and bias (as a UsdUVTexture's: the writer puts them there)."""
+
+from __future__ import annotations
+
+from ...values import ValueSyntaxError, parse_value
+
+
+def connected(port) -> bool:
+    """Whether ``port`` is connected (to a node, a graph, an interface input or an output)."""
+    return any(port.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename", "output"))
+
+
+class ScaleBias:
+    """``multiply``/``add`` nodes met walking up from the input, composed into one value * scale + bias
+    (moving up past ``+ c`` adds c * scale to the bias; past ``* k`` multiplies the scale by k). An
+    operation on the whole colour above an ``extract`` is reduced to the extracted channel."""
+
+    def __init__(self):
+        self.scale, self.bias, self.seen = None, None, False
+
+    def take(self, node, channels) -> bool:
+        first, second = node.getInput("in1"), node.getInput("in2")
+        if first is None or second is None or not second.hasAttribute("value") or connected(second):
+            return False
+        try:
+            value = parse_value(second.getValueString(), second.getType())
+        except ValueSyntaxError:
+            return False
+        operand = [float(v) for v in value] if isinstance(value, (tuple, list)) else [float(value)]
+        if channels is not None and len(operand) > 1:
+            if channels[0] >= len(operand):
+                return False
+            operand = [operand[channels[0]]]
+        self.seen = True
+        scale = self.scale if self.scale is not None else [1.0]
+        if node.getCategory() == "add":
+            bias = self.bias if self.bias is not None else [0.0]
+            self.bias = combine(bias, combine(operand, scale, lambda a, b: a * b), lambda a, b: a + b)
+        else:
+            self.scale = combine(scale, operand, lambda a, b: a * b)
+        return True
+
+    def multiply(self, operand: list[float] | None) -> None:
+        """An image's own factor, which applies before every operation met above it."""
+        if operand is not None and operand != [1.0] * len(operand):
+            self.scale = combine(self.scale if self.scale is not None else [1.0], operand, lambda a, b: a * b)
+
+    def values(self):
+        def shown(v):
+            return None if v is None else (v[0] if len(v) == 1 else tuple(v))
+        return shown(self.scale), shown(self.bias)
+
+
+def combine(a: list[float], b: list[float], operation) -> list[float]:
+    width = max(len(a), len(b))
+    a, b = (a * width)[:width] if len(a) == 1 else a, (b * width)[:width] if len(b) == 1 else b
+    return [operation(x, y) for x, y in zip(a, b)]

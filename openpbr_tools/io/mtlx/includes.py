@@ -1,0 +1,60 @@
+"""MaterialX XIncludes, followed as MaterialX follows them, through the one path guard."""
+
+from __future__ import annotations
+
+import os
+
+from .. import read_bytes
+from ..paths import PathGuard
+from .xmlscan import scan
+
+MAX_XINCLUDE_DEPTH = 8
+
+
+def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[str], depth: int = 0,
+                    shadowed: list | None = None) -> list[tuple]:
+    """Follow the XIncludes of ``document`` (read from ``path``) as MaterialX does: each included
+    document's elements are imported into it (``importLibrary``), marked with the included file as
+    their source URI so the reader uses them to resolve references but does not validate them
+    again (they are validated as their own file). Only files inside the asset's folder are read (the
+    one path guard), at most 8 levels deep, each once (a cycle is not followed). Returns
+    ``(line, href, reason, broken)`` for every include not followed; ``broken`` when MaterialX
+    could not follow it either (missing, unreadable, a cycle), not merely refused here. ``shadowed``
+    collects (name, href) of the document's own elements an include also defines: MaterialX reads the
+    included one and drops the document's own, wherever the include stands (``validate()`` passes)."""
+    import MaterialX as mx  # lazy: loaded by the reader that calls this
+
+    not_followed = []
+    for line, href in xincludes:
+        resolved = guard.resolve(href, base=os.path.dirname(os.path.abspath(path)))
+        reason, broken = None, True
+        if not resolved.inside:
+            reason, broken = "leads outside the asset's folder, so it is not opened", False
+        elif resolved.real in seen:
+            reason = "is already being included (a cycle), so it is not followed again"
+        elif depth >= MAX_XINCLUDE_DEPTH:
+            reason, broken = f"is nested deeper than {MAX_XINCLUDE_DEPTH} includes, so it is not opened", False
+        elif not os.path.isfile(resolved.real):
+            reason = "does not exist"
+        if reason is None:
+            included = mx.createDocument()
+            options = mx.XmlReadOptions()
+            options.readXIncludeFunction = None
+            try:
+                data = read_bytes(resolved.real)
+                mx.readFromXmlString(included, data.decode("utf-8-sig"), mx.FileSearchPath(), options)
+                nested = scan(data).xincludes
+            except Exception as error:  # noqa: BLE001 - ReadError, UnicodeDecodeError, XmlSyntaxError and MaterialX's own types
+                reason = f"cannot be read ({getattr(error, 'message', error)})"
+            else:
+                for _, inner, why, inner_broken in follow_includes(included, resolved.real, nested, guard,
+                                                                   seen | {resolved.real}, depth + 1):
+                    not_followed.append((line, href, f"includes {inner!r}, which {why}", inner_broken))
+                included.setSourceUri(resolved.real)
+                if shadowed is not None:  # top-level names the document defines itself (importLibrary keeps those)
+                    shadowed += [(c.getName(), href) for c in included.getChildren() if document.getChild(c.getName())
+                                 is not None and not document.getChild(c.getName()).getActiveSourceUri()]
+                document.importLibrary(included)
+        if reason is not None:
+            not_followed.append((line, href, reason, broken))
+    return not_followed
