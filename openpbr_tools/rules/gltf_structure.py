@@ -3,8 +3,8 @@
 A material is only as good as the mesh data it is sampled with: texture coordinates that start mid-float,
 overlap their neighbours, are substituted at the wrong vertices or run out before the positions do put the
 texture in the wrong place, or make the viewer refuse the mesh. The reader's layout facts
-(:mod:`openpbr_tools.io.gltf.layout`, which cites the specification clause of each) are judged here, one
-finding per accessor (or per primitive attribute, for counts), located at it:
+(:mod:`openpbr_tools.io.gltf.layout`, which cites the specification clause of each) are judged here, each
+finding located at the accessor (or at the primitive's attribute, for counts):
 
 * an accessor offset that is no multiple of its component size, within its bufferView or within the buffer
   (3.6.2.4; the Khronos glTF-Validator's ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_TOTAL_OFFSET_ALIGNMENT);

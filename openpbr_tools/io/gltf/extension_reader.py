@@ -149,7 +149,7 @@ class ExtensionReading:
                         self.asset.observe("dangling_reference", self.location(where, "material"),
                                            attribute="material", target=target)
                     variants = mapping.get("variants") if isinstance(mapping.get("variants"), list) else []
-                    if "variants" in mapping and not variants:  # (the schema's minItems 1: the validator's EMPTY_ENTITY)
+                    if mapping.get("variants") == []:  # (the schema's minItems 1: the validator's EMPTY_ENTITY)
                         self.invalid(f"{where}/variants", "this KHR_materials_variants mapping lists no variant, so no "
                                      "selection ever shows its material (the schema requires at least one variant "
                                      "index): remove the mapping, or name the variants that should select it")
