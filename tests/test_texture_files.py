@@ -249,8 +249,8 @@ def test_a_greyscale_normal_map_is_reported_in_materialx_and_an_rgb_one_is_not(t
 
 
 def test_damaged_embedded_images_used_or_not_are_reported_at_the_image(tmp_path):
-    binary = JPEG[:len(JPEG) // 2] + b"\0" * (-len(JPEG) // 2 % 4)
     half = len(JPEG) // 2
+    binary = JPEG[:half] + b"\0" * (-half % 4)  # (the PNG's view starts 4-byte aligned, as GLB chunks must end)
     document = {"asset": {"version": "2.0"}, "buffers": [{"byteLength": len(binary) + len(PNG) + (-len(PNG) % 4)}],
                 "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": half},
                                 {"buffer": 0, "byteOffset": len(binary), "byteLength": len(PNG)}],

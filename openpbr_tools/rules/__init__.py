@@ -39,13 +39,14 @@ FAMILIES = (
     "gltf_meshes",
     "gltf_images",
     "gltf_plausibility",
+    "gltf_structure",
     "translation",
 )
 
 #: Families that check one input format only (their modules, and what they import, load only for it).
 FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "usd_shading": "usd", "gltf": "gltf",
                 "gltf_meshes": "gltf", "gltf_images": "gltf", "gltf_plausibility": "gltf",
-                "translation": None}
+                "gltf_structure": "gltf", "translation": None}
 
 
 @dataclass(frozen=True, slots=True)

@@ -4,7 +4,7 @@ extensions, texture coordinates, images, embedded resources).
 The glTF reader fills the same model as the MaterialX reader (``gltf_pbr`` materials), so the generic
 families judge glTF materials too: a factor outside its range is OPBR301 (here also a factor that
 multiplies a texture: ``roughnessFactor`` 1.5 is as wrong with a texture as without), a property of
-the wrong JSON type OPBR202, a texture, image or sampler index that points nowhere OPBR802, an
+the wrong JSON type OPBR202, a texture, image, sampler or default-scene index that points nowhere OPBR802, an
 image file that does not exist OPBR701, an image URI that is absolute, climbs out of the asset's
 folder (with ``..`` or through a symbolic link) or is a URL OPBR704 (such an image is never opened),
 an empty URI OPBR705. A file the reader refuses (not JSON, not UTF-8, a bad GLB container, JSON
@@ -159,13 +159,15 @@ _WEBP = "data:image/webp;base64,UklGRh4AAABXRUJQVlA4TBEAAAAvA8AAAAdQiirUo/+BiOh/
 IMAGE_NEEDS_EXTENSION = Rule(
     "OPBR1220", "gltf-image-needs-texture-extension", Severity.ERROR,
     "A texture's core source is a WebP or KTX2 image: those formats are only allowed through EXT_texture_webp "
-    "or KHR_texture_basisu.",
+    "or KHR_texture_basisu; or such an extension's source is an image of another format (a PNG).",
     "glTF 2.0's texture.source names a PNG or JPEG image (3.8.2, and the mimeType enum of image.schema.json); "
     "KHR_texture_basisu allows image/ktx2 only for images \"referenced by the source property of "
     "KHR_texture_basisu texture extension object\", and EXT_texture_webp likewise adds WebP through its own "
     "source, the core source being a PNG or JPEG fallback. A viewer without the extension fails on the image, "
     "one with it never looks for it there: the Khronos glTF-Validator's TEXTURE_INVALID_IMAGE_MIME_TYPE (an "
-    "error). Other formats (TGA, EXR) that no extension defines are OPBR1207.",
+    "error). Conversely the extension's source \"is the index of\" a WebP (a KTX2) image: a PNG there fails in the "
+    "viewers that read the extension (same code; the gltf_structure family). Other formats (TGA, EXR) that no "
+    "extension defines are OPBR1207.",
     passing=_gltf('"extensionsUsed": ["EXT_texture_webp"]', '"extensionsRequired": ["EXT_texture_webp"]',
                   f'"images": [{{"uri": "{_WEBP}"}}]', '"textures": [{"extensions": {"EXT_texture_webp": {"source": 0}}}]',
                   '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]'),
@@ -187,10 +189,14 @@ STRENGTH_WITHOUT_EMISSIVE = Rule(
 )
 BROKEN_RESOURCE = Rule(
     "OPBR1209", "gltf-broken-resource", Severity.ERROR,
-    "A buffer or embedded image cannot be loaded: invalid base64, above the size limit, missing, or outside its buffer.",
-    "A data URI that is not valid base64, a buffer file that does not exist, a bufferView past the "
+    "A buffer or embedded image cannot be loaded: invalid base64, above the size limit, missing, shorter than its "
+    "byteLength, or outside its buffer; or a GLB chunk is not 4-byte aligned.",
+    "A data URI that is not valid base64, a buffer file that does not exist or holds fewer bytes than its "
+    "byteLength (3.6.1; a truncated copy: the validator's BUFFER_BYTE_LENGTH_MISMATCH), a bufferView past the "
     "end of its buffer or a GLB without the binary chunk its buffer needs: loaders fail on the whole "
-    "file or show the mesh without the texture. A data URI whose decoded size is above "
+    "file or show the mesh without the texture. A GLB chunk whose length is no multiple of 4 (4.4.3: chunks "
+    "\"MUST be aligned to a 4-byte boundary\", the JSON padded with spaces; GLB_CHUNK_LENGTH_UNALIGNED) leaves "
+    "the binary data unaligned for loaders that map it in place. A data URI whose decoded size is above "
     "OPENPBR_MAX_DATA_URI_MB (default: the file limit OPENPBR_MAX_FILE_MB, 64 MiB) is reported "
     "without being decoded, and a buffer an image needs that lies outside the asset's folder is "
     "never opened.",
@@ -208,7 +214,8 @@ INVALID_PROPERTY = Rule(
     "material), a sampler filter or wrap outside the schema's list, or a value out of range that no "
     "gltf_pbr parameter holds (texCoord, occlusion strength, iridescenceThicknessMinimum); an image with both "
     "a uri and a bufferView, or in a bufferView without a mimeType; a name listed twice in extensionsUsed or "
-    "extensionsRequired.",
+    "extensionsRequired; a KHR_materials_variants object on a material (it belongs on the root and on mesh "
+    "primitives), or a variants mapping that lists no variant.",
     "The glTF schema rejects the file; lenient loaders skip the property, so the texture or extension "
     "silently disappears. Factors of the wrong type are OPBR202. A string holding an unpaired "
     "surrogate escape (\\ud800 alone) is valid JSON but no valid text: it cannot be written as UTF-8, "

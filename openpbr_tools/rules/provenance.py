@@ -202,7 +202,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR801": ("A material without a surface shader renders black or with the renderer's fallback shader.",
                 f"{MX_SPEC}; {USD_SHADER}"),
     "OPBR802": ("A dangling reference is dropped by MaterialX and USD: the input falls back to its default or "
-                "the material to nothing.", f"{MX_VALIDATE}; {USD_CONNECT}"),
+                "the material to nothing; a glTF index that names nothing (a texture, a variant, the default scene) "
+                "leaves loaders nothing to show (the glTF-Validator's UNRESOLVED_REFERENCE).",
+                f"{MX_VALIDATE}; {USD_CONNECT}; {GLTF}"),
     "OPBR803": ("Nothing renders wrong; the toolkit cannot check (or translate without baking) a procedural "
                 "graph, and says so.", MX_NODES),
     "OPBR804": ("Nothing renders wrong; an unbound shader is usually left over and never reaches a renderer.",
@@ -322,9 +324,15 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1208": ("emissive_strength multiplies emissiveFactor; with nothing emitted it has no effect (a likely "
                  "authoring slip).", khr("KHR_materials_emissive_strength")),
     "OPBR1209": ("A buffer or image that cannot be loaded fails the asset in glTF loaders and the Khronos "
-                 "validator.", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),
-    "OPBR1210": ("A property of the wrong JSON type violates the schema: loaders ignore it or refuse the file.",
-                 f"{GLTF_MATERIAL_SCHEMA}; {GLTF}"),
+                 "validator; a buffer shorter than its byteLength leaves the data at its end undefined, and an "
+                 "unaligned GLB chunk breaks loaders that map the binary data in place (the glTF-Validator's "
+                 "BUFFER_BYTE_LENGTH_MISMATCH, GLB_CHUNK_LENGTH_UNALIGNED).",
+                 f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
+    "OPBR1210": ("A property of the wrong JSON type violates the schema: loaders ignore it or refuse the file. A "
+                 "variants object on a material, or a mapping without variants, never switches a material (the "
+                 "glTF-Validator's UNEXPECTED_EXTENSION_OBJECT, EMPTY_ENTITY).",
+                 f"{GLTF_MATERIAL_SCHEMA}; {GLTF}; {khr('KHR_materials_variants')}; "
+                 f"{_GLTF}extensions/2.0/Khronos/KHR_materials_variants/schema/mesh.primitive.KHR_materials_variants.schema.json"),
     "OPBR1211": ("The extension texts say these settings do nothing (transmission on a metal, a volume without "
                  "transmission, dispersion without a volume, an extension whose factor defaults to 0, a texture "
                  "without the channel its slot reads): intent lost, and viewers differ.",
@@ -356,7 +364,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "IMAGE_DATA_INVALID for the JPEG).", f"{GLTF}; https://www.w3.org/Graphics/JPEG/jfif3.pdf"),
     "OPBR1220": ("A WebP or KTX2 image named by a texture's core source fails in viewers without the extension, and "
                  "viewers with it never look there (the glTF-Validator's TEXTURE_INVALID_IMAGE_MIME_TYPE).",
-                 f"{GLTF}; {khr('KHR_texture_basisu')}; {_GLTF}extensions/2.0/Vendor/EXT_texture_webp/README.md"),
+                 f"{GLTF}; {khr('KHR_texture_basisu')}; {_GLTF}extensions/2.0/Vendor/EXT_texture_webp/README.md; "
+                 "KhronosGroup/glTF-Validator:lib/src/errors.dart"),
     "OPBR1221": ("Glass blended by a uniform alpha is transparent twice: its reflections and tint fade, and it almost "
                  "disappears; the extension asks for OPAQUE when alpha is not coverage.", khr("KHR_materials_transmission")),
     "OPBR1222": ("A length in the wrong unit (micrometres for nanometres, centimetres for metres) renders no thin-film "
@@ -374,6 +383,14 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1227": ("A tangent w that is not a sign collapses or flips the bitangent, so normal maps (and clear-coat "
                  "normals, anisotropy) shade wrong (the glTF-Validator's ACCESSOR_INVALID_SIGN).",
                  f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
+    "OPBR1228": ("An unaligned accessor is refused by GPU APIs (WebGL: INVALID_OPERATION) or read misaligned; a stride "
+                 "smaller than an element overlaps vertices; unsorted or out-of-range sparse indices substitute UVs at "
+                 "the wrong vertices or past the end; attributes of unequal count leave vertices without UVs: the "
+                 "texture is misplaced or the mesh is not drawn (the glTF-Validator's ACCESSOR_OFFSET_ALIGNMENT, "
+                 "ACCESSOR_SMALL_BYTESTRIDE, ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB, "
+                 "MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT, all errors).",
+                 f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart; "
+                 "KhronosGroup/glTF-Validator:lib/src/base/accessor.dart"),
     "OPBR1212": ("Nothing renders wrong (info: Khronos' own samples use these); checks and conversions see the "
                  "material without the extension, and a conversion reports what it keeps or loses.",
                  f"{khr('KHR_materials_diffuse_transmission')}; {GLTF}"),

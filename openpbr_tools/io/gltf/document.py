@@ -79,6 +79,7 @@ class GltfDocument:
     binary: bytes | None = None
     is_glb: bool = False
     repairs: list[tuple[str, str]] = field(default_factory=list)  # (JSON pointer, what was repaired)
+    chunks: tuple[tuple[int, int], ...] = ()  # a GLB's chunks as (type, declared length), in file order
     _buffers: dict[int, bytes | ResourceError] = field(default_factory=dict)
     _files: dict[str, bytes | ResourceError] = field(default_factory=dict)
     allow_outside: tuple[str, ...] = ()  # folders besides the asset's own that URIs may name
@@ -246,10 +247,10 @@ def load_document(path: str) -> GltfDocument:
     """Read and decode the container; :class:`ReadError` when it is not glTF at all."""
     data = read_bytes(path)
     if data[:4] == b"glTF" or path.lower().endswith(".glb"):
-        text, binary = _split_glb(data, path)
+        text, binary, chunks = _split_glb(data, path)
         is_glb = True
     else:
-        text, binary, is_glb = data, None, False
+        text, binary, is_glb, chunks = data, None, False, ()
     if text[:2] in (b"\xff\xfe", b"\xfe\xff"):
         raise ReadError("not_gltf", "glTF JSON is UTF-16 (it starts with a UTF-16 byte-order mark); glTF requires UTF-8",
                         Location(path))
@@ -276,7 +277,7 @@ def load_document(path: str) -> GltfDocument:
     major = asset["version"].split(".", 1)[0]
     if major != "2":
         raise ReadError("not_gltf", f"glTF version {asset['version']!r} is not 2.x", Location(path, path="/asset", input="version"))
-    return GltfDocument(path=path, json=document, binary=binary, is_glb=is_glb, repairs=repairs)
+    return GltfDocument(path=path, json=document, binary=binary, is_glb=is_glb, repairs=repairs, chunks=chunks)
 
 
 def _integer(digits: str):
@@ -320,8 +321,9 @@ def _escape(token) -> str:
     return str(token).replace("~", "~0").replace("/", "~1")
 
 
-def _split_glb(data: bytes, path: str) -> tuple[bytes, bytes | None]:
-    """The JSON and BIN chunks of a GLB file (specification 4.4)."""
+def _split_glb(data: bytes, path: str) -> tuple[bytes, bytes | None, tuple[tuple[int, int], ...]]:
+    """The JSON and BIN chunks of a GLB file (specification 4.4), and every chunk's (type, length). A chunk
+    length that is no multiple of 4 is not refused here (the layout rules report it; the bytes still read)."""
 
     def refuse(message: str):
         raise ReadError("not_gltf", f"bad GLB: {message}", Location(path))
@@ -349,4 +351,4 @@ def _split_glb(data: bytes, path: str) -> tuple[bytes, bytes | None]:
     if not chunks or chunks[0][0] != GLB_JSON:
         refuse("the first chunk is not JSON")
     binary = next((chunk for kind, chunk in chunks[1:2] if kind == GLB_BIN), None)
-    return chunks[0][1], binary
+    return chunks[0][1], binary, tuple((kind, len(chunk)) for kind, chunk in chunks)

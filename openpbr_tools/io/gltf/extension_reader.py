@@ -119,8 +119,9 @@ class ExtensionReading:
         """KHR_materials_variants: the names of the variants that select each material (the root's
         ``variants`` list, indexed by each primitive's ``mappings``), as ``extra["gltf"]["variants"]``,
         which travels in the side channel (gltf_state). A mapping's material or variant index that names
-        nothing is a dangling reference; the variant names and, per primitive, the variant indices of each
-        mapping are facts for the rules (``facts["variants"]``: ``names``, ``mappings``)."""
+        nothing is a dangling reference, one that lists no variant an invalid property; the variant names
+        and, per primitive, the variant indices of each mapping are facts for the rules
+        (``facts["variants"]``: ``names``, ``mappings``)."""
         root = self.document.json.get("extensions")
         declared = root.get(slots.VARIANTS) if isinstance(root, dict) else None
         listed = declared.get("variants") if isinstance(declared, dict) else None
@@ -148,6 +149,10 @@ class ExtensionReading:
                         self.asset.observe("dangling_reference", self.location(where, "material"),
                                            attribute="material", target=target)
                     variants = mapping.get("variants") if isinstance(mapping.get("variants"), list) else []
+                    if mapping.get("variants") == []:  # (the schema's minItems 1: the validator's EMPTY_ENTITY)
+                        self.invalid(f"{where}/variants", "this KHR_materials_variants mapping lists no variant, so no "
+                                     "selection ever shows its material (the schema requires at least one variant "
+                                     "index): remove the mapping, or name the variants that should select it")
                     for position, variant in enumerate(variants):
                         if not _index(variant):
                             continue

@@ -45,13 +45,12 @@ images, textures and samplers are :mod:`.textures`'s.
 
 from __future__ import annotations
 
-import os
 import re
 
 from ... import tables, versioning
 from ...model import Asset, Constant, Input, Location, Material, Texture
 from .. import ReadError
-from . import accessors, drafts, slots
+from . import accessors, drafts, layout, slots
 from .document import GltfDocument, ResourceError, load_document
 from .extension_reader import ExtensionReading, thin_diffuse_transmission
 from .textures import TextureReading, json_float, json_numbers, json_text
@@ -116,9 +115,10 @@ class _Reader(TextureReading, ExtensionReading):
         _extension_uses(self.document.json, self.facts["extension_uses"])
         for pointer, name in self.facts["extension_uses"]:
             if not _extension_in_place(pointer, name):
-                self.invalid(pointer, f"{name} is not defined on this object (a material extension belongs in a "
-                                      "material's extensions, KHR_texture_transform in a textureInfo's); viewers "
-                                      "ignore it")
+                where = (f"{name} belongs in the root's extensions (its variants) and in mesh primitives' (their "
+                         "mappings)") if name == slots.VARIANTS else ("a material extension belongs in a material's "
+                                                                       "extensions, KHR_texture_transform in a textureInfo's")
+                self.invalid(pointer, f"{name} is not defined on this object ({where}); viewers ignore it")
         for key in ("extensionsUsed", "extensionsRequired"):
             names, seen = self.document.json.get(key), set()
             for index, name in enumerate(names if isinstance(names, list) else ()):
@@ -128,7 +128,7 @@ class _Reader(TextureReading, ExtensionReading):
         self.images = [self.read_image(i) for i in range(len(self.document.array("images")))]
         self.facts["images"] = self.images
         self.asset.extra["package_files"] = frozenset(self.package_files)
-        self.check_buffers()
+        self.check_layout()
         self.read_primitives()
         materials = self.document.json.get("materials", [])
         if not isinstance(materials, list):
@@ -141,30 +141,17 @@ class _Reader(TextureReading, ExtensionReading):
             self.asset.materials.append(self.read_material(index, raw))
         self.read_variants()
 
-    # -- resources ---------------------------------------------------------------------------
-    def check_buffers(self) -> None:
-        """Data URIs that do not decode and external buffers that are missing (they carry the geometry)."""
-        for index, buffer in enumerate(self.document.array("buffers")):
-            uri = buffer.get("uri") if isinstance(buffer, dict) else None
-            pointer = f"/buffers/{index}"
-            if isinstance(uri, str) and uri.startswith("data:"):
-                try:
-                    self.document.buffer(index)
-                except ResourceError as error:
-                    self.broken(error)
-            elif isinstance(uri, str):
-                try:
-                    local = self.document.resolve(uri, pointer + "/uri")
-                except ResourceError as error:
-                    if not error.outside:  # one outside the asset is reported only when an image needs it
-                        self.broken(error)
-                    continue
-                if not os.path.isfile(local):
-                    self.broken(self.document.missing(uri, pointer + "/uri"))
-            elif uri is not None:
-                self.invalid(pointer, f"uri must be a string, not {json_text(uri)}", "uri")
-            elif not (self.document.is_glb and index == 0 and self.document.binary is not None):
-                self.observe_once("gltf_resource", pointer, "buffer has no uri and there is no GLB binary chunk for it")
+    # -- resources and layout ------------------------------------------------------------------
+    def check_layout(self) -> None:
+        """Buffers that cannot provide their bytes, unaligned GLB chunks, a default scene that names nothing, and
+        the accessor and texture-source facts for the structure rules (:mod:`.layout`)."""
+        for kind, pointer, message, name in layout.buffer_problems(self.document):
+            self.observe_once(kind, pointer, message, name)
+        scene = layout.missing_scene(self.document)
+        if scene is not None:
+            self.asset.observe("dangling_reference", self.location("/scene"), attribute="scene", target=scene)
+        self.facts["accessor_problems"] = layout.accessor_problems(self.document)
+        self.facts["extension_sources"] = layout.extension_sources(self.document)
 
     def read_primitives(self) -> None:
         for mesh_index, mesh in enumerate(self.document.array("meshes")):
@@ -375,6 +362,7 @@ def _extension_uses(document, found: list) -> None:
 
 
 _MATERIAL_EXTENSION = re.compile(r"/materials/\d+/extensions/[^/]+")
+_VARIANTS_PLACES = re.compile(rf"(/meshes/\d+/primitives/\d+)?/extensions/{slots.VARIANTS}")
 _TEXTURE_TRANSFORM = re.compile(r"/materials/\d+(/[^/]+)*/[^/]*[tT]exture/extensions/KHR_texture_transform")
 
 
@@ -383,7 +371,9 @@ def _extension_in_place(pointer: str, name: str) -> bool:
     (the Khronos glTF-Validator's UNEXPECTED_EXTENSION_OBJECT; other extensions are not judged here)."""
     if name == slots.TEXTURE_TRANSFORM:
         return _TEXTURE_TRANSFORM.fullmatch(pointer) is not None
-    if name.startswith("KHR_materials_") and name != slots.VARIANTS:
+    if name == slots.VARIANTS:  # (despite its name no material extension: the validator's UNEXPECTED_EXTENSION_OBJECT)
+        return _VARIANTS_PLACES.fullmatch(pointer) is not None
+    if name.startswith("KHR_materials_"):
         return _MATERIAL_EXTENSION.fullmatch(pointer) is not None
     return True
 

@@ -722,6 +722,54 @@ case("OPBR1227_tangent_w_zero.gltf", "OPBR1227", "A triangle whose TANGENT w is 
                                 {"bufferView": 0, "byteOffset": 36, "componentType": 5126, "count": 3, "type": "VEC3"},
                                 {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC4"}],
                      meshes=[{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1, "TANGENT": 2}, "material": 0}]}]), indent=2))
+_UV_DATA = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack("<6f", 0, 0, 1, 0, 0, 1)
+
+
+def _uv_triangle(texcoord: dict, data: bytes = _UV_DATA, views=None, **top) -> dict:
+    """A textured triangle: positions in view 0, TEXCOORD_0 (accessor 1, ``texcoord`` merged in) in view 1."""
+    return gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+                images=[{"uri": "textures/albedo.png"}], textures=[{"source": 0}],
+                buffers=top.pop("buffers", [{"byteLength": len(data), "uri": "data:application/octet-stream;base64,"
+                                             + base64.b64encode(data).decode()}]),
+                bufferViews=views or [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}],
+                accessors=[{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                           {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2", **texcoord}],
+                meshes=[{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}], **top)
+
+
+_SPARSE = _UV_DATA + struct.pack("<2H", 2, 1) + struct.pack("<4f", 0.5, 0.5, 0.25, 0.25)
+case("OPBR1228_texcoord_count_differs.gltf", "OPBR1228", "TEXCOORD_0 with 2 elements for 3 positions (UVs taken from another LOD).",
+     json.dumps(_uv_triangle({"count": 2}), indent=2))
+case("OPBR1228_sparse_indices_swapped.gltf", "OPBR1228", "A sparse TEXCOORD_0 whose indices [2, 1] an optimiser swapped (not strictly increasing).",
+     json.dumps(_uv_triangle({"sparse": {"count": 2, "indices": {"bufferView": 2, "componentType": 5123}, "values": {"bufferView": 3}}},
+                             _SPARSE, [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24},
+                                       {"buffer": 0, "byteOffset": 60, "byteLength": 4}, {"buffer": 0, "byteOffset": 64, "byteLength": 16}]), indent=2))
+case("OPBR1228_byte_offset_unaligned.gltf", "OPBR1228", "A FLOAT TEXCOORD_0 at byteOffset 2 (not a multiple of 4).",
+     json.dumps(_uv_triangle({"byteOffset": 2}, _UV_DATA[:36] + bytes(2) + _UV_DATA[36:] + bytes(2),
+                             [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 28}]), indent=2))
+case("OPBR1209_buffer_truncated.gltf", "OPBR1209", "The external uv_short.bin holds 16 bytes fewer than buffers[0].byteLength (a truncated upload).",
+     json.dumps(_uv_triangle({}, buffers=[{"byteLength": 60, "uri": "OPBR1209_buffers/uv_short.bin"}]), indent=2))
+def _glb_json_unpadded() -> bytes:
+    """A GLB of the textured triangle whose JSON chunk is one byte past a multiple of 4 (no space padding)."""
+    text = json.dumps(_uv_triangle({}, buffers=[{"byteLength": 60}]), separators=(",", ":")).encode()
+    text += b" " * ((1 - len(text)) % 4)
+    chunks = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", 60, 0x004E4942) + _UV_DATA
+    return struct.pack("<III", 0x46546C67, 2, 12 + len(chunks)) + chunks
+
+
+case("OPBR1209_glb_json_chunk_unpadded.glb", "OPBR1209", "A GLB whose JSON chunk length is not a multiple of 4 (no space padding).",
+     _glb_json_unpadded())
+case("OPBR1220_webp_extension_source_png.gltf", "OPBR1220", "EXT_texture_webp's source is a PNG (the WebP conversion was skipped, the extension written).",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], ["EXT_texture_webp"],
+                     images=[{"uri": "textures/albedo.png"}], textures=[{"source": 0, "extensions": {"EXT_texture_webp": {"source": 0}}}]), indent=2))
+case("OPBR802_gltf_scene_missing.gltf", "OPBR802", "\"scene\": 1 in a file with one scene: loaders honouring the default scene show nothing.",
+     json.dumps(_uv_triangle({}, scene=1, scenes=[{"nodes": [0]}], nodes=[{"mesh": 0}]), indent=2))
+case("OPBR1210_variants_mapping_empty.gltf", "OPBR1210", "A KHR_materials_variants mapping with \"variants\": [] (left over after its variant was deleted).",
+     json.dumps(_variants(["Red", "Blue"], [{"material": 0, "variants": [0]}, {"material": 1, "variants": [1]},
+                                           {"material": 1, "variants": []}]), indent=2))
+case("OPBR1210_variants_on_material.gltf", "OPBR1210", "KHR_materials_variants mappings written on the material instead of the mesh primitive.",
+     json.dumps(gltf([{"name": "m0", "extensions": {"KHR_materials_variants": {"mappings": [{"material": 1, "variants": [0]}]}}}, {"name": "m1"}],
+                     ["KHR_materials_variants"], extensions={"KHR_materials_variants": {"variants": [{"name": "Red"}]}}), indent=2))
 case("OPBR1221_transmission_alpha_blend.gltf", "OPBR1221", "Window glass with transmission 1 and also alphaMode BLEND at alpha 0.25: transparent twice.",
      json.dumps(gltf([{"name": "M", "alphaMode": "BLEND", "pbrMetallicRoughness": {**_GLASS, "baseColorFactor": [0.9, 0.95, 1.0, 0.25]},
                        "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}], ["KHR_materials_transmission"]), indent=2))
@@ -765,6 +813,7 @@ case("OPBR1211_anisotropy_blue_zero.gltf", "OPBR1211", "An anisotropyTexture mad
                          uri="textures/flow_rg.png", extensionsUsed=["KHR_materials_anisotropy"]), indent=2))
 
 EXTRA_FILES = {
+    "OPBR1209_buffers/uv_short.bin": _UV_DATA[:44],  # 16 bytes short of the 60 its buffer declares
     "OPBR1013_look.mtlx": opbr('<input name="base_weight" type="float" value="1" />'),
     "textures/albedo.exr": b"v/1\x01" + b"\0" * 60,  # an OpenEXR magic number, enough to be an EXR by signature
     "textures/lfs_albedo.png": (b"version https://git-lfs.github.com/spec/v1\n"

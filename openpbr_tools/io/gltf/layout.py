@@ -1,0 +1,206 @@
+"""The glTF binary layout: whether buffers provide their bytes, a GLB's chunks are aligned, accessors lie in
+their buffer views as the specification requires, and the document's top-level references name something.
+
+Each check is one the Khronos glTF-Validator makes (its code in brackets), read from glTF 2.0:
+
+* 3.6.1 Buffers: ``byteLength`` is the buffer's length, so the resource must hold that many bytes; a data URI
+  that does not decode, a file that is missing or shorter, or a GLB binary chunk shorter than buffer 0
+  leaves the data at its end (vertices, UVs, indices) undefined [BUFFER_BYTE_LENGTH_MISMATCH, IO_ERROR];
+* 4.4.3 GLB chunks: "The start and the end of each chunk MUST be aligned to a 4-byte boundary", so every
+  chunk length is a multiple of 4 (the JSON chunk padded with spaces) [GLB_CHUNK_LENGTH_UNALIGNED];
+* 3.6.2.4 Data Alignment: "The offset of an accessor into a bufferView (i.e., accessor.byteOffset) and the
+  offset of an accessor into a buffer (i.e., accessor.byteOffset + bufferView.byteOffset) MUST be a multiple
+  of the size of the accessor's component type" [ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_TOTAL_OFFSET_ALIGNMENT],
+  and a view's ``byteStride`` is at least an element's size, or elements overlap [ACCESSOR_SMALL_BYTESTRIDE];
+* 3.6.2.3 Sparse Accessors: the indices "MUST strictly increase" and each is less than the accessor's
+  ``count`` [ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB];
+* 3.7.2.1: "All attribute accessors for a given primitive MUST have the same count", morph targets' too
+  [MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT, MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT];
+* the document's ``scene`` names one of its ``scenes`` [UNRESOLVED_REFERENCE].
+
+Only the JSON and file sizes are read, except a sparse accessor's indices (at most
+:data:`~.accessors.MAX_ELEMENTS` of them, one NumPy view of the buffer). Malformed values (a string for an
+offset, an accessor that does not exist) are left to the schema checks: nothing here guesses.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Iterator
+
+from . import slots
+from .accessors import MAX_ELEMENTS
+from .document import GLB_BIN, GLB_JSON, GltfDocument, ResourceError
+from .textures import json_text
+
+COMPONENT_SIZES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
+VECTOR_WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}  # (matrices pad their columns: not judged here)
+_INDEX_DTYPES = {5121: "u1", 5123: "<u2", 5125: "<u4"}  # sparse indices (3.6.2.3)
+_CHUNK_NAMES = {GLB_JSON: "JSON", GLB_BIN: "BIN"}
+
+
+def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str | None]]:
+    """``(observation kind, JSON pointer, message, property)`` for every buffer that cannot provide its
+    ``byteLength`` bytes and every GLB chunk that is not 4-byte aligned; kind ``gltf_resource`` (a broken
+    resource) or ``gltf_invalid`` (a uri that is no string). Files are measured, not read."""
+    for number, (kind, length) in enumerate(document.chunks):
+        if length % 4:
+            name = _CHUNK_NAMES.get(kind, f"0x{kind:08x}")
+            yield ("gltf_resource", "", f"GLB chunk {number} ({name}) is {length} bytes long, not a multiple of 4: "
+                   "every chunk must start and end on a 4-byte boundary (pad the JSON chunk with spaces, the BIN "
+                   "chunk with zeros), and loaders that map the binary data in place read it misaligned", None)
+    for index, buffer in enumerate(document.array("buffers")):
+        uri = buffer.get("uri") if isinstance(buffer, dict) else None
+        length = buffer.get("byteLength") if isinstance(buffer, dict) else None
+        pointer = f"/buffers/{index}"
+        if isinstance(uri, str) and uri.startswith("data:"):
+            try:
+                document.buffer(index)
+            except ResourceError as error:
+                yield "gltf_resource", error.pointer, error.message, None
+        elif isinstance(uri, str):
+            try:
+                local = document.resolve(uri, pointer + "/uri")
+            except ResourceError as error:
+                if not error.outside:  # one outside the asset is reported only when an image needs it
+                    yield "gltf_resource", error.pointer, error.message, None
+                continue
+            if not os.path.isfile(local):
+                missing = document.missing(uri, pointer + "/uri")
+                yield "gltf_resource", missing.pointer, missing.message, None
+            elif _natural(length) and os.path.getsize(local) < length:
+                yield ("gltf_resource", pointer, f"file {json_text(uri)} holds {os.path.getsize(local)} bytes, fewer than "
+                       f"the buffer's byteLength {length}: the data at its end is missing (a truncated copy?)", None)
+        elif uri is not None:
+            yield "gltf_invalid", pointer, f"uri must be a string, not {json_text(uri)}", "uri"
+        elif not (document.is_glb and index == 0 and document.binary is not None):
+            yield "gltf_resource", pointer, "buffer has no uri and there is no GLB binary chunk for it", None
+        elif _natural(length) and len(document.binary) < length:
+            yield ("gltf_resource", pointer, f"the GLB binary chunk holds {len(document.binary)} bytes, fewer than the "
+                   f"buffer's byteLength {length}: the data at its end is missing", None)
+
+
+def missing_scene(document: GltfDocument):
+    """The document's ``scene`` when it is an index that names no scene, else ``None``."""
+    scene = document.json.get("scene")
+    if _natural(scene) and scene >= len(document.array("scenes")):
+        return scene
+    return None
+
+
+def extension_sources(document: GltfDocument) -> list[dict]:
+    """``{"pointer", "extension", "mime", "image"}`` for every texture extension's ``source`` (EXT_texture_webp,
+    KHR_texture_basisu) that names an existing image: the image must be of the extension's MIME type."""
+    found = []
+    for index, texture in enumerate(document.array("textures")):
+        extensions = texture.get("extensions") if isinstance(texture, dict) else None
+        for mime, name in slots.EXTENSION_MIME_TYPES.items():
+            alternative = extensions.get(name) if isinstance(extensions, dict) else None
+            source = alternative.get("source") if isinstance(alternative, dict) else None
+            if _natural(source) and document.item("images", source) is not None:
+                found.append({"pointer": f"/textures/{index}/extensions/{name}", "extension": name, "mime": mime,
+                              "image": source})
+    return found
+
+
+def accessor_problems(document: GltfDocument) -> list[dict]:
+    """The accessor layout facts glTF forbids, each ``{"kind", "pointer", "property", ...}`` with the numbers a
+    message needs; kinds: ``offset_alignment``, ``total_offset_alignment``, ``small_stride``,
+    ``sparse_not_increasing``, ``sparse_out_of_range``, ``unequal_count``. Every accessor is judged once,
+    every primitive's attribute counts once."""
+    found: list[dict] = []
+    for index, accessor in enumerate(document.array("accessors")):
+        if isinstance(accessor, dict):
+            found.extend(_accessor(document, index, accessor))
+    for mesh_index, mesh in enumerate(document.array("meshes")):
+        primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
+        for index, primitive in enumerate(primitives if isinstance(primitives, list) else ()):
+            if isinstance(primitive, dict):
+                found.extend(_counts(document, f"/meshes/{mesh_index}/primitives/{index}", primitive))
+    return found
+
+
+def _accessor(document: GltfDocument, index: int, accessor: dict) -> Iterator[dict]:
+    pointer = f"/accessors/{index}"
+    component_type = accessor.get("componentType")
+    size = COMPONENT_SIZES.get(component_type) if _natural(component_type) else None
+    view = document.item("bufferViews", accessor.get("bufferView"))
+    offset = accessor.get("byteOffset", 0)
+    if size is not None and view is not None and _natural(offset):
+        view_offset = view.get("byteOffset", 0)
+        if offset % size:
+            yield {"kind": "offset_alignment", "pointer": pointer, "property": "byteOffset", "offset": offset, "size": size}
+        elif _natural(view_offset) and (offset + view_offset) % size:
+            yield {"kind": "total_offset_alignment", "pointer": pointer, "property": "byteOffset", "offset": offset,
+                   "view_offset": view_offset, "view": accessor["bufferView"], "size": size}
+        stride, width = view.get("byteStride"), VECTOR_WIDTHS.get(accessor.get("type"))
+        if _natural(stride) and width is not None and stride < width * size:
+            yield {"kind": "small_stride", "pointer": pointer, "property": "bufferView", "view": accessor["bufferView"],
+                   "stride": stride, "element": width * size, "type": accessor.get("type")}
+    sparse = accessor.get("sparse")
+    if isinstance(sparse, dict) and _natural(accessor.get("count")):
+        yield from _sparse(document, pointer, sparse, accessor["count"])
+
+
+def _sparse(document: GltfDocument, pointer: str, sparse: dict, count: int) -> Iterator[dict]:
+    indices, number = sparse.get("indices"), sparse.get("count")
+    if not isinstance(indices, dict) or not _natural(number) or number == 0:
+        return
+    dtype, offset = _INDEX_DTYPES.get(indices.get("componentType")), indices.get("byteOffset", 0)
+    if dtype is None or not _natural(offset):
+        return
+    try:
+        data = document.buffer_view(indices.get("bufferView"))
+    except ResourceError:
+        return  # (a view that cannot be loaded is the broken-resource rule's)
+    import numpy  # lazy: NumPy (~60 ms) only for a file with a sparse accessor
+
+    number = min(number, MAX_ELEMENTS)
+    if offset + number * numpy.dtype(dtype).itemsize > len(data):
+        return
+    values = numpy.frombuffer(data, dtype=dtype, count=number, offset=offset).astype(numpy.int64)
+    where = f"{pointer}/sparse"
+    falling = numpy.flatnonzero(values[1:] <= values[:-1])
+    if falling.size:
+        at = int(falling[0]) + 1
+        yield {"kind": "sparse_not_increasing", "pointer": where, "property": "indices", "position": at,
+               "value": int(values[at]), "previous": int(values[at - 1])}
+    beyond = numpy.flatnonzero(values >= count)
+    if beyond.size:
+        at = int(beyond[0])
+        yield {"kind": "sparse_out_of_range", "pointer": where, "property": "indices", "position": at,
+               "value": int(values[at]), "count": count}
+
+
+def _counts(document: GltfDocument, pointer: str, primitive: dict) -> Iterator[dict]:
+    attributes = primitive.get("attributes")
+    counts = _attribute_counts(document, attributes)
+    if not counts:
+        return
+    reference = "POSITION" if "POSITION" in counts else next(iter(counts))
+    expected = counts[reference]
+    for name, count in counts.items():
+        if count != expected:
+            yield {"kind": "unequal_count", "pointer": f"{pointer}/attributes", "property": name, "count": count,
+                   "reference": reference, "expected": expected}
+    targets = primitive.get("targets")
+    for number, target in enumerate(targets if isinstance(targets, list) else ()):
+        for name, count in _attribute_counts(document, target).items():
+            if count != expected:
+                yield {"kind": "unequal_count", "pointer": f"{pointer}/targets/{number}", "property": name,
+                       "count": count, "reference": reference, "expected": expected}
+
+
+def _attribute_counts(document: GltfDocument, attributes) -> dict[str, int]:
+    if not isinstance(attributes, dict):
+        return {}
+    counts = {}
+    for name, index in attributes.items():
+        accessor = document.item("accessors", index)
+        if accessor is not None and _natural(accessor.get("count")):
+            counts[name] = accessor["count"]
+    return counts
+
+
+def _natural(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
