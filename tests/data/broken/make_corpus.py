@@ -246,6 +246,10 @@ case("OPBR103_duplicate_input.mtlx", "OPBR103", "base_weight written twice on on
 case("OPBR103_duplicate_node.mtlx", "OPBR103", "Two image nodes with the same name in one document.",
      opbr('<input name="base_color" type="color3" nodename="albedo" />',
           before=image("albedo", "textures/albedo.png") + "\n" + image("albedo", "textures/albedo.png")))
+case("OPBR103_xinclude_redefines_material.mtlx", "OPBR103", "The document overrides a library material it also XIncludes: MaterialX keeps the library's and drops the override.",
+     mtlx('<xi:include href="OPBR103_includes/library.mtlx" />\n' + '<open_pbr_surface name="S" type="surfaceshader">\n'
+          '  <input name="specular_roughness" type="float" value="0.55" />\n</open_pbr_surface>', material=True)
+     .replace('<materialx version="1.39"', '<materialx version="1.39" xmlns:xi="http://www.w3.org/2001/XInclude"', 1))
 case("OPBR104_open_pbr_surfce.mtlx", "OPBR104", "The shader category is misspelt open_pbr_surfce.",
      opbr('<input name="base_weight" type="float" value="1" />', category="open_pbr_surfce"))
 case("OPBR104_standard_surface_v2.mtlx", "OPBR104", "A vendor's category name standard_surface2 that no node definition declares.",
@@ -459,6 +463,18 @@ case("OPBR1017_usd_binding_to_shader.usda", "OPBR1017", "The mesh's material:bin
      usda('color3f inputs:base_color = (0.6, 0.2, 0.1)') + "\n" + BOUND_MESH.replace("TARGET", "/M/S"))
 case("OPBR1017_usd_binding_to_renamed_material.usda", "OPBR1017", "The Material was renamed after the binding was made: the binding targets a prim that no longer exists.",
      usda('color3f inputs:base_color = (0.6, 0.2, 0.1)') + "\n" + BOUND_MESH.replace("TARGET", "/M_Old"))
+case("OPBR1021_usd_binding_render_purpose.usda", "OPBR1021", "The mesh binds its material under material:binding:render, a geometry purpose: no renderer asks for it and the mesh renders unbound.",
+     usda('color3f inputs:base_color = (0.6, 0.2, 0.1)') + "\n" + BOUND_MESH.replace("rel material:binding =", "rel material:binding:render =").replace("TARGET", "/M"))
+case("OPBR1022_usd_binding_strength_token.usda", "OPBR1022", "An override binding says bindMaterialAs = \"strongest\", which is no strength: USD reads it as weaker than descendants.",
+     usda('color3f inputs:base_color = (0.6, 0.2, 0.1)') + "\n" + BOUND_MESH.replace("<TARGET>", '</M> (\n        bindMaterialAs = "strongest"\n    )'))
+case("OPBR1023_usd_collection_stale.usda", "OPBR1023", "A collection binding's collection still lists the meshes' old paths after they were renamed: it binds nothing.",
+     usda('color3f inputs:base_color = (0.6, 0.2, 0.1)') + "\n" + BOUND_MESH.replace(
+         '["MaterialBindingAPI"]', '["MaterialBindingAPI", "CollectionAPI:parts"]').replace(
+         "rel material:binding = <TARGET>", 'uniform token collection:parts:expansionRule = "expandPrims"\n'
+         "    rel collection:parts:includes = </Plane_old>\n"
+         "    rel material:binding:collection:parts = [</Plane.collection:parts>, </M>]"))
+case("OPBR1024_usd_render_context_misspelt.usda", "OPBR1024", "The Material's only surface output is outputs:materialx:surface (MaterialX's context is mtlx): no renderer finds the surface.",
+     usda('color3f inputs:base_color = (0.6, 0.2, 0.1)', output="materialx:surface"))
 case("OPBR1018_usd_input_relationship.usda", "OPBR1018", "A script authored the base colour connection as a relationship (rel inputs:base_color) instead of an attribute connection: the input is never connected.",
      usda('rel inputs:base_color = </M/albedo.outputs:out>', mximage("albedo", "textures/albedo.png")))
 case("OPBR1019_usd_interface_only_connected.usda", "OPBR1019", "base_color carries connectability interfaceOnly (copied from an interface template) yet is connected to an image node's output, which UsdShade refuses.",
@@ -821,6 +837,12 @@ EXTRA_FILES = {
     "textures/cut.jpg": jpeg_cut_short(),
     "textures/photo.jpg": jpeg_whole(),
     "textures/empty.png": b"",
+    "OPBR103_includes/library.mtlx": ('<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n'
+                             '  <open_pbr_surface name="S" type="surfaceshader">\n'
+                             '    <input name="specular_roughness" type="float" value="0.1" />\n  </open_pbr_surface>\n'
+                             '  <surfacematerial name="M" type="material">\n'
+                             '    <input name="surfaceshader" type="surfaceshader" nodename="S" />\n'
+                             '  </surfacematerial>\n</materialx>\n').encode(),
     "OPBR1020_layers/look_m.usda": b'#usda 1.0\n(\n    metersPerUnit = 1\n)\nover "M"\n{\n    over "S"\n    {\n'
                                    b'        float inputs:transmission_depth = 2.5\n    }\n}\n',
     "textures/scrambled.png": bytes((i * 73 + 41) % 256 for i in range(600)),
