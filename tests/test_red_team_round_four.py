@@ -263,6 +263,16 @@ def test_a_collection_binding_whose_collection_names_no_prim_binds_nothing(tmp_p
     assert ("OPBR1023" in _codes(path)) == (bound is None)
 
 
+def test_a_collection_naming_prims_of_a_scope_the_layer_does_not_hold_is_left_to_composition(tmp_path):
+    """A look layer whose geometry is composed in later (OpenUSD's usdMtlx baseline Looks.usda: collections under
+    the look prim name X/Y/a/g1, a scope the layer itself has not) binds nothing here and is no finding."""
+    asset = ('    uniform token collection:parts:expansionRule = "expandPrims"\n'
+             "    rel collection:parts:includes = </Asset/Geometry/Body>\n"
+             "    rel material:binding:collection:parts = [</Asset.collection:parts>, </Asset/M>]\n")
+    path = _stage(tmp_path, asset=asset, mesh="", schemas='"MaterialBindingAPI", "CollectionAPI:parts"')
+    assert "OPBR1023" not in _codes(path)
+
+
 @pytest.mark.parametrize("context, found", [("mtlx:", True), ("", True), ("materialx:", False), ("MTLX:", False)])
 def test_a_surface_output_in_a_misspelt_render_context_is_found_by_no_renderer(tmp_path, context, found):
     from pxr import Usd, UsdShade
@@ -601,3 +611,21 @@ def test_materialx_gltf_image_nodes_keep_their_factor_alpha_and_normal_map(tmp_p
     assert material.pbrMetallicRoughness.baseColorFactor == pytest.approx([1.0, 0.8, 0.8, 0.5])
     assert material.normalTexture is not None and material.alphaMode == "BLEND"
     assert not [d for d in conversion.diagnostics if str(d.severity) == "error"]
+
+
+@pytest.mark.parametrize("key, expected", [(0.35, 0), (1.35, 1)])
+def test_every_time_sample_of_an_animated_input_is_held_to_its_range(tmp_path, key, expected):
+    """The red team's ub13: an animated roughness keyed 1.35 at frame 24 (a typo for 0.35). usd-core reads that
+    value at that time (the anchor); the reader checked the first sample only."""
+    from pxr import Usd
+
+    samples = f"{{\n            1: 0.45,\n            24: {key},\n            48: 0.45,\n        }}"
+    path = tmp_path / "animated.usda"
+    path.write_text(_STAGE.format(asset="", mesh="        rel material:binding = </Asset/M>", context="mtlx:").replace(
+        '            token outputs:out\n', f"            float inputs:specular_roughness.timeSamples = {samples}\n"
+                                          "            token outputs:out\n", 1), encoding="utf-8")
+    stage = Usd.Stage.Open(str(path))
+    assert stage.GetPrimAtPath("/Asset/M/S").GetAttribute("inputs:specular_roughness").Get(24) == pytest.approx(key)
+    messages = [d.message for d in _report(path).diagnostics if d.code == "OPBR301"]
+    assert messages == (["specular_roughness = 1.35 at time 24 (a time sample) is outside its valid range [0, 1]"]
+                        if expected else [])

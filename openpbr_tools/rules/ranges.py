@@ -23,6 +23,7 @@ from __future__ import annotations
 
 import difflib
 
+from .. import tables
 from ..diagnostics import Severity
 from ..model import Connection, Location, Texture
 from ..optics import F82_COSINE
@@ -109,6 +110,7 @@ def check(asset, context):
             yield context.diagnostic(
                 ENUM_VALUE, f"{observation.location.input} = {detail['value']!r} is not one of {list(detail['allowed'])}",
                 observation.location, hint=f"did you mean {guess[0]!r}?" if guess else None)
+    yield from _time_samples(asset, context)
     yield from _specular_glossiness(asset, context)
     yield from _diffuse_transmission(asset, context)
     for material, table, entry in for_each_input(asset):
@@ -170,6 +172,30 @@ def check(asset, context):
                 f"{entry.name} = {_fmt(value)} is outside the recommended range {_range(soft_low, soft_high)}{note}",
                 entry.location,
             )
+
+
+def _time_samples(asset, context):
+    """An animated USD input: each time sample is a value the input takes, held to its hard range (the value
+    read, the default or first sample, is checked with the others above); the first sample outside it is
+    reported."""
+    for observation in asset.observations:
+        if observation.kind != "usd_time_samples":
+            continue
+        detail = observation.detail
+        parameter = tables.table(detail["model"]).get(detail["input"])
+        if parameter is None or parameter.enum is not None or parameter.type in ("boolean", "string", "filename"):
+            continue
+        for time, value in detail["samples"]:
+            if value is None or isinstance(value, (bool, str)) or not is_finite(value):
+                continue
+            values = _components(value)
+            if _outside(values, parameter.hard_min, below=True, exclusive=parameter.hard_min_exclusive) or \
+                    _outside(values, parameter.hard_max, below=False):
+                valid = _range(parameter.hard_min, parameter.hard_max, parameter.hard_min_exclusive)
+                yield context.diagnostic(
+                    HARD_RANGE, f"{detail['input']} = {_fmt(value)} at time {time:g} (a time sample) is outside its "
+                    f"valid range {valid}", observation.location, hint="fix the key at that time")
+                break
 
 
 def _specular_glossiness(asset, context):

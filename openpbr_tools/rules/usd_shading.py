@@ -129,10 +129,12 @@ BINDING_STRENGTH = Rule(
 
 COLLECTION_EMPTY = Rule(
     "OPBR1023", "usd-binding-collection-matches-nothing", Severity.WARNING,
-    "A collection-based material binding's collection includes only paths that name no prim.",
+    "A collection-based material binding's collection includes only paths that name no prim (under scopes the "
+    "stage holds).",
     "Usd.CollectionAPI matches prims by path: after the geometry is renamed or moved, a collection still "
     "listing the old paths matches nothing, so the binding binds nothing and the geometry renders with "
-    "whatever else is bound, or unbound. Nothing fails to load.",
+    "whatever else is bound, or unbound. Nothing fails to load. A look layer whose geometry is composed in later "
+    "(the included paths' parent prims are not on the stage either, as in OpenUSD's usdMtlx baselines) is no finding.",
     passing=_stage().replace("rel material:binding = </M>", 'uniform token collection:c:expansionRule = "expandPrims"\n'
                              "    rel collection:c:includes = </Plane>\n"
                              "    rel material:binding:collection:c = [</Plane.collection:c>, </M>]", 1),

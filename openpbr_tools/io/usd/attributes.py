@@ -45,6 +45,19 @@ def read_constant(attribute):
     return Constant(python_value(value, single))
 
 
+#: Time samples of an animated input checked against its range (a longer animation: its first ones)
+MAX_SAMPLES = 10000
+
+
+def read_constant_at(attribute, time: float):
+    """The attribute's value at the time sample ``time``, as Python numbers (None when there is none)."""
+    value = attribute.Get(time)
+    if value is None:
+        return None
+    scalar = str(attribute.GetTypeName().scalarType)
+    return python_value(value, scalar.startswith(("float", "half")) or scalar.endswith(("f", "h")))
+
+
 def constant_of(prim, input_name: str):
     attribute = prim.GetAttribute(f"inputs:{input_name}")
     if not attribute:

@@ -16,7 +16,7 @@ import posixpath
 
 from ...model import Connection, Input, Texture
 from ..paths import Kind, classify
-from .attributes import input_name, read_constant, value_shape
+from .attributes import MAX_SAMPLES, input_name, read_constant, read_constant_at, value_shape
 from .sdr import materialx_nodedef
 from .texture_nodes import TextureNodeReader
 from .types import MATERIALX_TO_USD, UV_TEXTURE_ID, UV_TEXTURE_OUTPUTS
@@ -123,7 +123,12 @@ class NetworkReader(TextureNodeReader):
                     entry.authored_colorspace = self.attribute_colorspace(
                         origin, "materialx" if consumer[1] == "mtlx" else "usd")
                     entry.colorspace = entry.authored_colorspace
-            return read_constant(origin)
+            constant = read_constant(origin)
+            if origin.GetNumTimeSamples() > 1 and consumer[2] is not None:  # animated: every sample is a value
+                samples = [(float(time), read_constant_at(origin, time)) for time in origin.GetTimeSamples()[:MAX_SAMPLES]]
+                self.asset.observe("usd_time_samples", entry.location, input=entry.name, model=consumer[0],
+                                   samples=[s for s in samples if constant is None or s[1] != constant.value])
+            return constant
         prim, output_name, interface = found
         entry.interface_name = interface
         value = self.texture_chain(prim, output_name, entry, consumer)

@@ -134,7 +134,10 @@ def _observe_collection(path, binding, stage, observe, where) -> None:
     if not includes or collection.GetIncludeRootAttr().Get():
         return
     missing = [str(p) for p in includes if not stage.GetPrimAtPath(p.GetPrimPath())]
-    if len(missing) == len(includes):
+    # only where the included prims' parents are on the stage: a look layer whose geometry is composed in
+    # later names prims under scopes it does not hold itself (OpenUSD's usdMtlx test baselines do)
+    present = all(stage.GetPrimAtPath(p.GetPrimPath().GetParentPath()) for p in includes)
+    if len(missing) == len(includes) and present:
         observe("usd_collection_empty", where, relationship=binding, collection=str(path), missing=missing)
 
 
