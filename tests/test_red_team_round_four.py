@@ -7,6 +7,7 @@ from __future__ import annotations
 import textwrap
 from pathlib import Path
 
+import numpy as np
 import pytest
 from PIL import Image
 
@@ -629,3 +630,78 @@ def test_every_time_sample_of_an_animated_input_is_held_to_its_range(tmp_path, k
     messages = [d.message for d in _report(path).diagnostics if d.code == "OPBR301"]
     assert messages == (["specular_roughness = 1.35 at time 24 (a time sample) is outside its valid range [0, 1]"]
                         if expected else [])
+
+
+# -- #13: the appearance fit, judged by MaterialX's GLSL where the judges' conductors differ ----------------
+
+@pytest.mark.gl
+def test_a_fitted_metal_colour_stays_a_reflectivity_materialx_renders(tmp_path):
+    """A preview metal (metallic 0.82) of an ACEScg document: the fit moved its colour to (1.09, 0.83, 1.02) in
+    linear Rec.709, 1.5 mean CIEDE2000 closer on the evaluator's Schlick metal, but MaterialX renders the
+    preview's metal by an artistic IOR that takes no reflectivity above 1: 3.9 farther there. Held to [0, 1] in
+    linear Rec.709, the fit is closer in MaterialX's GLSL too (bench_glsl_sample.py's acescg:S15)."""
+    from glsupport import comparison_mask, materialx_renderer
+    from openpbr_tools.evaluate.difference import compare_images
+    from openpbr_tools.evaluate.preview import Rig
+    from openpbr_tools.io import read_asset
+    from openpbr_tools.rules import Context
+    from openpbr_tools.translate import appearance, candidates
+    from openpbr_tools.translate.convert import convert
+    from openpbr_tools.translate.judging import as_written
+
+    path = tmp_path / "metal.mtlx"
+    path.write_text('<?xml version="1.0"?>\n<materialx version="1.39" colorspace="acescg">\n'
+                    '  <open_pbr_surface name="S" type="surfaceshader">\n'
+                    '    <input name="base_color" type="color3" value="1, 0.6853, 0.8526" />\n'
+                    '    <input name="base_metalness" type="float" value="0.8162" />\n'
+                    '    <input name="specular_roughness" type="float" value="0.539" />\n'
+                    '    <input name="specular_roughness_anisotropy" type="float" value="0.3414" />\n'
+                    '    <input name="emission_luminance" type="float" value="0.2145" />\n'
+                    '    <input name="emission_color" type="color3" value="9.217, 0, 0.1925" />\n'
+                    '  </open_pbr_surface>\n</materialx>\n', encoding="utf-8")
+    source = read_asset(path).materials[0]
+    settings = Settings(context=Context())
+    fitted = candidates.choose(source, convert(source, "UsdPreviewSurface", settings), "UsdPreviewSurface", settings)
+    written = as_written(fitted.material)
+    assert np.max(written["diffuseColor"]) <= 1.0 + 1e-9  # the conductor's reflectivity, in linear Rec.709
+    fit_from, appearance.FIT_FROM = appearance.FIT_FROM, float("inf")
+    try:
+        unfitted = candidates.choose(source, convert(source, "UsdPreviewSurface", settings), "UsdPreviewSurface", settings)
+    finally:
+        appearance.FIT_FROM = fit_from
+    rig = Rig(size=64)
+    renderer = materialx_renderer(rig)
+
+    def rendered(material):  # numbers as MaterialX's renderer takes them (as bench_glsl_sample.py's _values)
+        out = {}
+        for name, value in as_written(material).items():
+            array = np.asarray(value)
+            out[name] = bool(array) if array.dtype.kind == "b" else (int(array) if array.dtype.kind in "iu" else
+                                                                      float(array)) if array.ndim == 0 else \
+                [float(v) for v in array]
+        return out
+
+    reference = renderer.render("open_pbr_surface", rendered(source))
+    mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
+    fit, plain = (compare_images(reference, renderer.render("UsdPreviewSurface", rendered(m)), mask, rig.white()).mean
+                  for m in (fitted.material, unfitted.material))
+    assert fit <= plain + 0.1, (fit, plain)
+
+
+@pytest.mark.parametrize("output, expected", [(' output="outg"', 0), ("", 1)])
+def test_a_connection_to_a_multi_output_node_names_its_output(tmp_path, output, expected):
+    """The red team's mb04: a graph output wired to a separate3 without output=. MaterialX's validate() passes and
+    its GLSL generator reads the first output, outr (the anchor): the roughness comes from the red channel."""
+    from openpbr_tools.rules.structure import _SPLIT
+
+    _png(tmp_path / "orm.png")
+    path = _mtlx(tmp_path, _SPLIT.format(output=output) + _MATERIAL)
+    import MaterialX.PyMaterialXGenShader as gs
+
+    _, generator, context = shader_generator()
+    document = validated(path)
+    source = generator.generate("s", gs.findRenderableElements(document)[0], context).getSourceCode(gs.PIXEL_STAGE)
+    call = next(line for line in source.splitlines() if "NG_open_pbr_surface_surfaceshader(" in line)
+    roughness = call.split("(", 1)[1].split(", ")[6]  # specular_roughness, the seventh input
+    assert roughness == ("split_outr" if expected else "split_outg")
+    assert _codes(path).get("OPBR806", 0) == expected

@@ -213,6 +213,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "read is not checked and cannot be converted, and without the report the material would vanish "
                 "from a converted file.", f"{MX_SPEC}; {USD_SHADER}"),
     # -- plausibility --------------------------------------------------------------------------
+    "OPBR806": ("MaterialX's specification: the output attribute names the output of a node with several; MaterialX "
+                "connects the first where it is missing.", _MX + "documents/Specification/MaterialX.Specification.md"),
     "OPBR901": ("Real metals reflect at least ~50% at normal incidence; a darker metal reads as plastic under "
                 "image-based light (info: heuristic, some measured alloys come close).",
                 f"{FILAMENT}; https://physicallybased.info/"),

@@ -56,7 +56,22 @@ NOT_READ = Rule(
             '  <input name="surfaceshader" type="surfaceshader" nodename="S" />\n</surfacematerial>',
 )
 
-RULES = (NO_SHADER, DANGLING, UNINTERPRETED, UNASSIGNED, NOT_READ)
+_SPLIT = ('<nodegraph name="NG">\n  <image name="orm" type="color3">\n'
+          '    <input name="file" type="filename" value="orm.png" colorspace="none" />\n  </image>\n'
+          '  <separate3 name="split" type="multioutput">\n    <input name="in" type="color3" nodename="orm" />\n'
+          '  </separate3>\n  <output name="rough" type="float" nodename="split"{output} />\n</nodegraph>\n'
+          '<open_pbr_surface name="S" type="surfaceshader">\n'
+          '  <input name="specular_roughness" type="float" nodegraph="NG" output="rough" />\n</open_pbr_surface>')
+MULTIOUTPUT_UNNAMED = Rule(
+    "OPBR806", "multioutput-connection-unnamed", Severity.WARNING,
+    "A connection to a node with several outputs (separate3, a glTF colour image) names none of them (no output=).",
+    "MaterialX's specification asks for the output attribute where the node has more than one; MaterialX itself "
+    "then connects the first (a separate3's red channel, outr) without a word and validate() passes, while the "
+    "author usually meant another channel (roughness in green of an ORM map). Name the output.",
+    passing=_SPLIT.format(output=' output="outg"'), failing=_SPLIT.format(output=""), example_files=("orm.png",),
+)
+
+RULES = (NO_SHADER, DANGLING, UNINTERPRETED, UNASSIGNED, NOT_READ, MULTIOUTPUT_UNNAMED)
 
 
 def check(asset, context):
@@ -72,6 +87,11 @@ def check(asset, context):
                           "shader, which the toolkit does not read: not checked, and left out of conversions",
                 observation.location,
             )
+        elif observation.kind == "multioutput_unnamed":
+            yield context.diagnostic(
+                MULTIOUTPUT_UNNAMED, f"the connection to {observation.detail['category']} node "
+                f"{observation.detail['node']!r} names no output: MaterialX takes its first", observation.location,
+                hint="add output=\"...\" naming the channel meant (outr, outg, outb)")
         elif observation.kind == "dangling_reference":
             target = observation.detail.get("target")
             yield context.diagnostic(

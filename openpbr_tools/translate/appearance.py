@@ -57,6 +57,12 @@ from .target import inside
 #: the colour each target's fit adjusts: the one that carries the base's diffuse and metal colour
 KNOB = {"standard_surface": "base_color", "gltf_pbr": "base_color", "UsdPreviewSurface": "diffuseColor",
         "open_pbr_surface": "base_color"}
+#: Each target's metal weight: where it is above 0 the fitted colour is also a conductor's reflectivity, held to
+#: [0, 1] in linear Rec.709 where the target is shaded (MaterialX renders Standard Surface's and a preview's metal
+#: by an artistic IOR, which takes none above 1; a preview metal fitted to (1.09, 0.83, 1.02) in an ACEScg
+#: document was 1.5 mean CIEDE2000 closer on the evaluator's Schlick and 3.9 farther in MaterialX's GLSL).
+METALNESS = {"standard_surface": "metalness", "gltf_pbr": "metallic", "UsdPreviewSurface": "metallic",
+             "open_pbr_surface": "base_metalness"}
 FIT_FROM = 1.0  # mean CIEDE2000 below which the candidate is left as it is (the fit costs renders)
 STEPS = 2  # Newton steps; each renders the candidate and its perturbed copy together
 PERTURBATION = 0.05  # of the colour component (absolute), for the slope
@@ -190,8 +196,9 @@ def _job(source: Material, candidate: Material, judge, mean: np.ndarray | None =
     if np.asarray(values.get(knob)).shape != (3,):
         return None
     entry = candidate.inputs.get(knob)
+    metal = float(np.max(values.get(METALNESS.get(candidate.model, ""), 0.0))) > 0.0
     clip = _in_range((entry.colorspace if entry is not None else None) or candidate.colorspace,
-                     knob in CLAMPED_IN_FILE.get(candidate.model, ()))
+                     knob in CLAMPED_IN_FILE.get(candidate.model, ()) or metal)
     return _Job(source, judge, knob, clip, candidate, values, {}, mean)
 
 

@@ -13,7 +13,8 @@ materials with every lobe on. The toolkit's result is also judged without the ap
 agrees that the fit helps.
 
 Per target: medians, share under 2.3, how many the toolkit leaves worse than the chain by more than
-0.5 and the worst gap (#13: none beyond 0.5), and the three worst materials. Materials with a
+0.5 and the worst gap (#13: none beyond 0.5), the same count where neither judge is known wrong (_judges_differ), and the
+three worst materials. Materials with a
 geometry_opacity below 1 are left out and counted: the test harness draws without blending, so GLSL
 cannot show a cut-out (measured: every gap above 2 on the first run was one). MaterialX's GLSL
 gltf_pbr does not render KHR_materials_volume attenuation, so tinted thick glass is judged without
@@ -62,6 +63,19 @@ def _values(material) -> dict:
     return out
 
 
+def _judges_differ(material) -> str | None:
+    """Why one judge is known wrong on ``material``, or None: the evaluator where appearance.untrusted says so
+    (an IOR below 1, a film on a metal or much denser than its base), MaterialX 1.39.5's GLSL on a thin wall
+    with subsurface (it applies subsurface_color twice: tests/test_evaluate_materialx_gl.py)."""
+    why = appearance.untrusted(material)
+    if why is not None:
+        return f"evaluator: {why}"
+    values = _values(material)
+    if values.get("geometry_thin_walled") and values.get("subsurface_weight", 0.0) > 0.0:
+        return "MaterialX GLSL: thin-walled subsurface"
+    return None
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--count", type=int, default=100)
@@ -105,7 +119,7 @@ def main() -> None:
                 judged.append(candidates.choose(material, convert(material, target, searching), target, searching).material)
             deltas = [compare_images(reference, renderer.render(target, _values(m)), mask, rig.white()).mean
                       for m in judged]
-            rows[target].append((*deltas[:3], f"{space}:{material.name}", *deltas[3:]))
+            rows[target].append((*deltas[:3], f"{space}:{material.name}", *deltas[3:], _judges_differ(material)))
     for target in TARGETS:
         found = rows[target]
         ours, chain = np.array([r[0] for r in found]), np.array([r[1] for r in found])
@@ -116,6 +130,10 @@ def main() -> None:
               f"{statistics.median(chain):.2f}; under 2.3: toolkit {np.mean(ours < 2.3):.0%}, chain {np.mean(chain < 2.3):.0%}; "
               f"toolkit worse than the chain by >0.5: {int(np.sum(gap > 0.5))} (worst {gap.max():+.2f}); "
               f"better by >0.5: {int(np.sum(gap < -0.5))}")
+        known = [r[-1] for r in found]
+        trusted_gap = [g for g, why in zip(gap, known) if why is None]
+        print(f"    where neither judge is known wrong ({len(trusted_gap)} materials): worse than the chain by >0.5: "
+              f"{sum(g > 0.5 for g in trusted_gap)}" + (f" (worst {max(trusted_gap):+.2f})" if trusted_gap else ""))
         if fitted.any():
             change = ours[fitted] - unfitted[fitted]
             print(f"    fit: {int(fitted.sum())} materials fitted; GLSL mean {unfitted[fitted].mean():.2f} -> "
@@ -131,7 +149,8 @@ def main() -> None:
                       f"better by >0.5: {int(np.sum(change < -0.5))}, worse by >0.5: {int(np.sum(change > 0.5))} "
                       f"(worst {change.max():+.2f})")
         for row in sorted(found, key=lambda r: r[0] - r[1])[-3:]:
-            print(f"    gap {row[0] - row[1]:+6.2f}  toolkit {row[0]:6.2f}  chain {row[1]:6.2f}  {row[3]}")
+            print(f"    gap {row[0] - row[1]:+6.2f}  toolkit {row[0]:6.2f}  chain {row[1]:6.2f}  {row[3]}"
+                  + (f"  ({row[-1]})" if row[-1] else ""))
 
 
 if __name__ == "__main__":

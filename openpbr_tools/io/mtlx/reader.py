@@ -169,6 +169,12 @@ class _Reader(GraphFollower):
         for element in self.document.traverseTree():
             if element.getActiveSourceUri():
                 continue  # included (XInclude): resolves references here, validated as its own file
+            if element.getCategory() in ("input", "output") and element.getNodeName() and not element.getOutputString():
+                node = element.getConnectedNode()  # a multi-output node named without output=: its first output
+                if node is not None and node.getType() == "multioutput" and element.getType() != "multioutput":
+                    self.asset.observe("multioutput_unnamed", self.location(element.getParent(), element.getName())
+                                       if element.getCategory() == "input" else self.location(element),
+                                       node=node.getNamePath(), category=node.getCategory())
             if element.hasAttribute("doc"):
                 self._doc_suppression(element.getNamePath(), element.getDocString())
             if not element.isA(mx.Node):

@@ -463,6 +463,12 @@ case("OPBR1017_usd_binding_to_shader.usda", "OPBR1017", "The mesh's material:bin
      usda('color3f inputs:base_color = (0.6, 0.2, 0.1)') + "\n" + BOUND_MESH.replace("TARGET", "/M/S"))
 case("OPBR1017_usd_binding_to_renamed_material.usda", "OPBR1017", "The Material was renamed after the binding was made: the binding targets a prim that no longer exists.",
      usda('color3f inputs:base_color = (0.6, 0.2, 0.1)') + "\n" + BOUND_MESH.replace("TARGET", "/M_Old"))
+case("OPBR806_separate3_without_output.mtlx", "OPBR806", "An ORM map's roughness is wired from a separate3 without output=\"outg\": MaterialX takes the red channel (occlusion).",
+     opbr('<input name="specular_roughness" type="float" nodegraph="NG" output="rough" />',
+          before='<nodegraph name="NG">\n  <image name="orm" type="color3">\n'
+                 '    <input name="file" type="filename" value="textures/orm.png" colorspace="none" />\n  </image>\n'
+                 '  <separate3 name="split" type="multioutput">\n    <input name="in" type="color3" nodename="orm" />\n'
+                 '  </separate3>\n  <output name="rough" type="float" nodename="split" />\n</nodegraph>'))
 case("OPBR1021_usd_binding_render_purpose.usda", "OPBR1021", "The mesh binds its material under material:binding:render, a geometry purpose: no renderer asks for it and the mesh renders unbound.",
      usda('color3f inputs:base_color = (0.6, 0.2, 0.1)') + "\n" + BOUND_MESH.replace("rel material:binding =", "rel material:binding:render =").replace("TARGET", "/M"))
 case("OPBR1022_usd_binding_strength_token.usda", "OPBR1022", "An override binding says bindMaterialAs = \"strongest\", which is no strength: USD reads it as weaker than descendants.",
