@@ -701,7 +701,8 @@ def test_a_connection_to_a_multi_output_node_names_its_output(tmp_path, output, 
     _, generator, context = shader_generator()
     document = validated(path)
     source = generator.generate("s", gs.findRenderableElements(document)[0], context).getSourceCode(gs.PIXEL_STAGE)
-    call = next(line for line in source.splitlines() if "NG_open_pbr_surface_surfaceshader(" in line)
+    call = next(line for line in source.splitlines()  # the call, not the definition
+                if "NG_open_pbr_surface_surfaceshader(" in line and line.strip().endswith(");"))
     roughness = call.split("(", 1)[1].split(", ")[6]  # specular_roughness, the seventh input
     assert roughness == ("split_outr" if expected else "split_outg")
     assert _codes(path).get("OPBR806", 0) == expected
