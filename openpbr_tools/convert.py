@@ -154,10 +154,11 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                                                 f"{unique!r} so that no writer merges the two"
                                                 + (" (a glTF output restores the name)" if asset.format == "gltf" else ""),
                                                 material.location))
-            if material.extra.get("displacement"):
+            if material.extra.get("displacement") and not (kind == "mtlx" and material.extra.get("displacement_graph")):
                 notes.append(context.diagnostic(NOT_CARRIED, f"{material.material_name or material.name}: its "
                                                 f"{material.extra['displacement']} (a displacement shader) is not "
-                                                "written: conversions carry the surface shader only",
+                                                + ("written: only a .mtlx output carries one" if kind != "mtlx" else
+                                                   "written: only a MaterialX document's displacement graph is carried"),
                                                 material.material_location or material.location))
             if unitless:
                 notes.append(context.diagnostic(APPROXIMATED, f"{material.name}: {', '.join(unitless)} carry no unit; "
@@ -182,6 +183,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                                       translated_state if isinstance(translated_state, dict) else None)
             translated = translation.material
             translated.material_name = unique
+            if kind == "mtlx" and material.extra.get("displacement_graph"):  # kept whole (its writer wires it)
+                translated.extra["displacement_graph"] = material.extra["displacement_graph"]
             if unique != name and asset.format == "gltf" and isinstance(translated.extra.get("gltf"), dict):
                 # restored on glTF output while the material still bears the name it was written as
                 translated.extra["gltf"]["name"], translated.extra["gltf"]["renamed_to"] = name, unique
@@ -280,6 +283,12 @@ def _rebase_textures(materials: list[Material], source_path: str, output_path: s
         return os.path.relpath(absolute, output_dir).replace(os.sep, "/")
 
     for material in materials:
+        displacement = material.extra.get("displacement_graph")
+        if isinstance(displacement, Connection) and displacement.graph_xml:
+            from .io.mtlx.capture import rewrite_files  # lazy: as below
+
+            material.extra = dict(material.extra, displacement_graph=dataclasses.replace(
+                displacement, graph_xml=rewrite_files(displacement.graph_xml, rebased)))
         for name, entry in list(material.inputs.items()):
             value = entry.value
             if isinstance(value, Connection) and value.graph_xml:

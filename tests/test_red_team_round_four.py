@@ -532,8 +532,10 @@ def test_the_tools_own_usd_colour_space_name_is_known_to_its_gltf_writer(tmp_pat
     assert not [m for m in _notes(conversion) if "unknown colour space" in m]
 
 
-def test_a_displacement_shader_left_behind_is_noted_at_its_material(tmp_path):
-    """C-03: a material's displacement shader was dropped from every output without a word."""
+def test_a_displacement_shader_is_kept_in_mtlx_and_noted_elsewhere(tmp_path):
+    """C-03: a material's displacement shader was dropped from every output without a word. A .mtlx output keeps
+    it whole, wired to the material again (MaterialX validates it and generates its vertex stage); a glTF output,
+    which has no displacement, says so at the material."""
     source = _mtlx(tmp_path, '<displacement name="D" type="displacementshader">\n'
                              '  <input name="displacement" type="float" value="0.1" />\n</displacement>\n'
                              '<open_pbr_surface name="S" type="surfaceshader" />\n'
@@ -542,8 +544,14 @@ def test_a_displacement_shader_left_behind_is_noted_at_its_material(tmp_path):
                              '  <input name="displacementshader" type="displacementshader" nodename="D" />\n'
                              '</surfacematerial>')
     conversion = _convert(source, tmp_path / "out" / "m.mtlx", "standard_surface")
+    assert not [m for m in _notes(conversion) if "displacement" in m]
+    document = validated(tmp_path / "out" / "m.mtlx")
+    material = next(n for n in document.getNodes() if n.getCategory() == "surfacematerial")
+    displaced = material.getInput("displacementshader").getConnectedNode()
+    assert displaced.getCategory() == "displacement" and displaced.getInputValue("displacement") == pytest.approx(0.1)
+    conversion = _convert(source, tmp_path / "out" / "m.gltf")
     assert [m for m in _notes(conversion, "OPBR1104") if "displacement" in m] == [
-        "M: its displacementshader (a displacement shader) is not written: conversions carry the surface shader only"]
+        "M: its displacementshader (a displacement shader) is not written: only a .mtlx output carries one"]
 
 
 @pytest.mark.parametrize("target, written", [("standard_surface", True), ("gltf_pbr", False)])

@@ -29,11 +29,12 @@ import os
 from functools import lru_cache
 
 from ... import gltf_state, versioning
-from ...model import Asset, Constant, Input, Location, Material
+from ...model import Asset, Connection, Constant, Input, Location, Material
 from ...values import ValueSyntaxError, parse_value
 from .. import ReadError, read_bytes
 from ..paths import PathGuard
 from . import library
+from .capture import capture_graph
 from .graph import GraphFollower, in_definition, interface_colorspace
 from .looks import record_looks
 from .includes import follow_includes
@@ -260,7 +261,14 @@ class _Reader(GraphFollower):
             material.material_location = location
             displacement = node.getInput("displacementshader")
             if displacement is not None and (displacement.getNodeName() or displacement.getNodeGraphString()):
-                material.extra["displacement"] = "displacementshader"  # no conversion carries it (convert notes it)
+                # kept whole for a .mtlx output (the writer wires it to the material again); others note it
+                material.extra["displacement"] = "displacementshader"
+                upstream = self.upstream_node(displacement)
+                graph = capture_graph(upstream) if upstream is not None else None
+                if graph:
+                    material.extra["displacement_graph"] = Connection(
+                        upstream.getNamePath(), upstream.getCategory(), "a displacement shader", graph_xml=graph,
+                        output=upstream.getName())
             state = gltf_state.decode(node.getAttribute(gltf_state.MTLX_ATTRIBUTE)) if node.hasAttribute(
                 gltf_state.MTLX_ATTRIBUTE) else {}
             if state:

@@ -114,6 +114,11 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
             port.setUnitType(entry.unittype)
     node = document.addMaterialNode(material_name, shader)
     node.setType("material")
+    displacement = material.extra.get("displacement_graph")  # the source material's, kept whole (.mtlx to .mtlx)
+    if isinstance(displacement, Connection):
+        displaced = _write_connection(document, material_name, "displacement", displacement, used)
+        if displaced:
+            node.addInput("displacementshader", "displacementshader").setNodeName(displaced)
     state = gltf_state.travelling(material)
     if state:
         node.setAttribute(gltf_state.MTLX_ATTRIBUTE, gltf_state.encode(state))
