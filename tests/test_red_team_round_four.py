@@ -714,3 +714,58 @@ def test_a_connection_to_a_multi_output_node_names_its_output(tmp_path, output, 
     roughness = call.split("(", 1)[1].split(", ")[6]  # specular_roughness, the seventh input
     assert roughness == ("split_outr" if expected else "split_outg")
     assert _codes(path).get("OPBR806", 0) == expected
+
+
+_VARIANT_STAGE = """#usda 1.0
+(
+    defaultPrim = "M"
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+
+def Material "M" (
+    variants = {
+        string finish = "satin"
+    }
+    prepend variantSets = "finish"
+)
+{
+    token outputs:mtlx:surface.connect = </M/S.outputs:out>
+
+    def Shader "S"
+    {
+        uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+        token outputs:out
+    }
+    variantSet "finish" = {
+        "satin" {
+            over "S"
+            {
+                float inputs:specular_roughness = 0.45
+            }
+        }
+        "gloss" {
+            over "S"
+            {
+                float inputs:specular_roughness = GLOSS
+            }
+        }
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("gloss, expected", [("0.05", []), ("-0.15", [
+    "specular_roughness = -0.15 in variant finish=gloss (not selected) is outside its valid range [0, 1]"])])
+def test_a_value_in_a_variant_not_selected_is_held_to_its_range(tmp_path, gloss, expected):
+    """The red team's ub03: a finish a user can switch to sets a roughness of -0.15. usd-core composes that value
+    once the variant is selected (the anchor); the composed stage the reader reads shows the selected one only."""
+    from pxr import Usd
+
+    path = tmp_path / "variants.usda"
+    path.write_text(_VARIANT_STAGE.replace("GLOSS", gloss), encoding="utf-8")
+    stage = Usd.Stage.Open(str(path))
+    stage.SetEditTarget(stage.GetSessionLayer())  # the selection in the session layer: the file's layer stays clean
+    stage.GetPrimAtPath("/M").GetVariantSet("finish").SetVariantSelection("gloss")
+    assert stage.GetPrimAtPath("/M/S").GetAttribute("inputs:specular_roughness").Get() == pytest.approx(float(gloss))
+    assert [d.message for d in _report(path).diagnostics if d.code == "OPBR301"] == expected

@@ -175,17 +175,19 @@ def check(asset, context):
 
 
 def _time_samples(asset, context):
-    """An animated USD input: each time sample is a value the input takes, held to its hard range (the value
-    read, the default or first sample, is checked with the others above); the first sample outside it is
-    reported."""
+    """The other values a USD input takes: each time sample of an animated one, and its value in each variant
+    that is not selected; each is held to the hard range (the value read, the default or first sample of the
+    selected variant, is checked with the others above), and the first outside it is reported."""
     for observation in asset.observations:
-        if observation.kind != "usd_time_samples":
+        if observation.kind not in ("usd_time_samples", "usd_other_values"):
             continue
         detail = observation.detail
+        values_at = [(f"at time {time:g} (a time sample)", value) for time, value in detail.get("samples", ())] + \
+            list(detail.get("values", ()))
         parameter = tables.table(detail["model"]).get(detail["input"])
         if parameter is None or parameter.enum is not None or parameter.type in ("boolean", "string", "filename"):
             continue
-        for time, value in detail["samples"]:
+        for where, value in values_at:
             if value is None or isinstance(value, (bool, str)) or not is_finite(value):
                 continue
             values = _components(value)
@@ -193,8 +195,8 @@ def _time_samples(asset, context):
                     _outside(values, parameter.hard_max, below=False):
                 valid = _range(parameter.hard_min, parameter.hard_max, parameter.hard_min_exclusive)
                 yield context.diagnostic(
-                    HARD_RANGE, f"{detail['input']} = {_fmt(value)} at time {time:g} (a time sample) is outside its "
-                    f"valid range {valid}", observation.location, hint="fix the key at that time")
+                    HARD_RANGE, f"{detail['input']} = {_fmt(value)} {where} is outside its valid range {valid}",
+                    observation.location, hint="fix the value there")
                 break
 
 

@@ -168,3 +168,60 @@ def _observe_render_contexts(material, observe, location) -> None:
         if meant is not None:
             observe("usd_render_context", location(material.GetPath(), None), output=f"outputs:{context}:surface",
                     context=context, meant=meant)
+
+
+def observe_variant_values(stage, observe, location, shader_ids) -> None:
+    """Values a shader input takes in a variant that is not selected (a finish the user can switch to): the
+    composed stage shows only the selected one, so each layer's variant specs are read as authored, for shaders
+    of a model the toolkit reads (``shader_ids``: id -> (model, ...)), and observed as the input's other values."""
+    from pxr import Sdf  # lazy: pxr only once the reader has opened a stage
+
+    found: dict[tuple[str, str], list] = {}
+    for layer in stage.GetUsedLayers():
+        if layer.anonymous:
+            continue
+        paths: list = []
+        layer.Traverse(Sdf.Path.absoluteRootPath, lambda path: paths.append(path) if path.IsPropertyPath()
+                       and path.ContainsPrimVariantSelection() and path.name.startswith("inputs:") else None)
+        for path in paths[:MAX_VARIANT_VALUES]:
+            spec = layer.GetAttributeAtPath(path)
+            if spec is None or not spec.HasDefaultValue():
+                continue
+            selection = _selection_of(path)
+            if selection is None:
+                continue
+            variant_set, variant = selection.GetVariantSelection()
+            owner = stage.GetPrimAtPath(selection.GetParentPath().StripAllVariantSelections())
+            if owner and owner.GetVariantSets().HasVariantSet(variant_set) and \
+                    owner.GetVariantSet(variant_set).GetVariantSelection() == variant:
+                continue  # the selected variant: its value is the composed one, read with the material
+            prim = stage.GetPrimAtPath(path.GetPrimPath().StripAllVariantSelections())
+            known = shader_ids.get(str(prim.GetAttribute("info:id").Get() or "")) if prim else None
+            if known is None:
+                continue
+            key = (str(prim.GetPath()), path.name[len("inputs:"):])
+            found.setdefault(key, [known[0]]).append((f"in variant {variant_set}={variant} (not selected)",
+                                                      _plain(spec.default)))
+    for (prim_path, name), (model, *values) in found.items():
+        observe("usd_other_values", location(prim_path, name), input=name, model=model, values=values)
+
+
+MAX_VARIANT_VALUES = 10000  # attribute specs under variants read per layer
+
+
+def _selection_of(path):
+    """The innermost variant selection path ``path`` lies under (``/M{finish=gloss}``), or None."""
+    prim = path.GetPrimPath()
+    while not prim.IsPrimVariantSelectionPath():
+        if not prim.ContainsPrimVariantSelection() or prim.IsAbsoluteRootPath():
+            return None
+        prim = prim.GetParentPath()
+    return prim
+
+
+def _plain(value):
+    """A Gf value as Python numbers (a tuple for a vector), anything else as it is."""
+    try:
+        return tuple(float(v) for v in value)
+    except TypeError:
+        return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else value

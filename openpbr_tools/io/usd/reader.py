@@ -48,7 +48,7 @@ from ... import colorspaces, gltf_state, tables, versioning
 from ...model import Asset, Constant, Input, Location, Material
 from .. import ReadError
 from .network import MAX_DEPTH, NetworkReader
-from .observations import observe_layer_units, observe_structure, scene_length_inputs
+from .observations import observe_layer_units, observe_structure, observe_variant_values, scene_length_inputs
 from .errors import quiet, tf_error_text, usd_error_message
 from .guard import StageGuard
 from .sdr import materialx_nodedef
@@ -117,6 +117,7 @@ class _Reader(NetworkReader):
         if stage.HasAuthoredMetadata("metersPerUnit"):
             asset.meters_per_unit = float(self.UsdGeom.GetStageMetersPerUnit(stage))
         observe_layer_units(self.stage, self.asset.observe, self.location, scene_length_inputs())
+        observe_variant_values(self.stage, self.asset.observe, self.location, surface_shader_ids())
         asset.extra["up_axis"] = str(self.UsdGeom.GetStageUpAxis(stage)) if stage.HasAuthoredMetadata("upAxis") else None
         default_prim = stage.GetDefaultPrim()
         if default_prim:
