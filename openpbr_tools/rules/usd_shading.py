@@ -49,6 +49,14 @@ def _stage(target: str = "/M", inputs: str = "", extra: str = "") -> str:
                          metadata='defaultPrim = "M"\n    metersPerUnit = 1\n    upAxis = "Y"')
 
 
+def _collection(includes: str) -> str:
+    """The example stage with the mesh bound through a collection (on the mesh, CollectionAPI applied) of ``includes``."""
+    return _stage().replace('["MaterialBindingAPI"]', '["MaterialBindingAPI", "CollectionAPI:c"]', 1).replace(
+        "rel material:binding = </M>", 'uniform token collection:c:expansionRule = "expandPrims"\n'
+        f"    rel collection:c:includes = {includes}\n"
+        "    rel material:binding:collection:c = [</Plane.collection:c>, </M>]", 1)
+
+
 BINDING_TARGET = Rule(
     "OPBR1017", "usd-binding-target-invalid", Severity.ERROR,
     "A direct material binding targets a prim that does not exist, is inactive, or is not a Material (a "
@@ -135,12 +143,7 @@ COLLECTION_EMPTY = Rule(
     "listing the old paths matches nothing, so the binding binds nothing and the geometry renders with "
     "whatever else is bound, or unbound. Nothing fails to load. A look layer whose geometry is composed in later "
     "(the included paths' parent prims are not on the stage either, as in OpenUSD's usdMtlx baselines) is no finding.",
-    passing=_stage().replace("rel material:binding = </M>", 'uniform token collection:c:expansionRule = "expandPrims"\n'
-                             "    rel collection:c:includes = </Plane>\n"
-                             "    rel material:binding:collection:c = [</Plane.collection:c>, </M>]", 1),
-    failing=_stage().replace("rel material:binding = </M>", 'uniform token collection:c:expansionRule = "expandPrims"\n'
-                             "    rel collection:c:includes = </Plane_old>\n"
-                             "    rel material:binding:collection:c = [</Plane.collection:c>, </M>]", 1),
+    passing=_collection("</Plane>"), failing=_collection("</Plane_old>"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
 
