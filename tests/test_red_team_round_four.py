@@ -4,7 +4,6 @@ generator), usd-core's binding and surface-output computations and its package r
 
 from __future__ import annotations
 
-import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -14,32 +13,11 @@ from PIL import Image
 from glsupport import shader_generator, validated
 from openpbr_tools.convert import convert_file
 from openpbr_tools.translate.common import Settings
-from openpbr_tools.validate import Options, validate_paths
+from redteam_support import codes as _codes, mtlx as _mtlx, png as _png, report as _report
 
 
-def _report(path):
-    return validate_paths([str(path)], options=Options(use_config=False))
 
 
-def _codes(path, severities=("error", "warning")) -> dict[str, int]:
-    found: dict[str, int] = {}
-    for d in _report(path).diagnostics:
-        if str(d.severity) in severities:
-            found[d.code] = found.get(d.code, 0) + 1
-    return found
-
-
-def _mtlx(tmp_path, body: str, name: str = "m.mtlx", root: str = 'colorspace="lin_rec709"') -> Path:
-    path = tmp_path / name
-    path.write_text(f'<?xml version="1.0"?>\n<materialx version="1.39" {root}>\n'
-                    + textwrap.indent(textwrap.dedent(body).strip("\n"), "  ") + "\n</materialx>\n", encoding="utf-8")
-    return path
-
-
-def _png(path: Path, colour=(200, 120, 40)) -> Path:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    Image.new("RGB", (4, 4), colour).save(path)
-    return path
 
 
 _MATERIAL = """
@@ -101,7 +79,7 @@ _EMPTY_FILE = """
 
 def test_an_empty_file_name_under_a_file_prefix_names_a_folder_not_an_image(tmp_path):
     (tmp_path / "textures").mkdir()
-    path = _mtlx(tmp_path, _EMPTY_FILE, root='colorspace="lin_rec709" fileprefix="textures/"')
+    path = _mtlx(tmp_path, _EMPTY_FILE, attributes='colorspace="lin_rec709" fileprefix="textures/"')
     import MaterialX as mx
 
     document = mx.createDocument()
@@ -129,7 +107,7 @@ def test_an_xinclude_defining_the_documents_own_material_drops_the_documents_one
     _mtlx(tmp_path, _STEEL.format(roughness=0.1), name="lib.mtlx")
     include = '<xi:include href="lib.mtlx" />'
     body = (include + "\n" + _STEEL.format(roughness=0.55)) if first else (_STEEL.format(roughness=0.55) + include)
-    path = _mtlx(tmp_path, body, root='colorspace="lin_rec709" xmlns:xi="http://www.w3.org/2001/XInclude"')
+    path = _mtlx(tmp_path, body, attributes='colorspace="lin_rec709" xmlns:xi="http://www.w3.org/2001/XInclude"')
     import MaterialX as mx
 
     document = mx.createDocument()
@@ -143,7 +121,7 @@ def test_an_xinclude_defining_the_documents_own_material_drops_the_documents_one
 def test_an_xinclude_of_other_names_is_no_duplicate(tmp_path):
     _mtlx(tmp_path, _STEEL.format(roughness=0.1).replace('"S"', '"LS"').replace('"M"', '"LM"'), name="lib.mtlx")
     path = _mtlx(tmp_path, '<xi:include href="lib.mtlx" />\n' + _STEEL.format(roughness=0.55),
-                 root='colorspace="lin_rec709" xmlns:xi="http://www.w3.org/2001/XInclude"')
+                 attributes='colorspace="lin_rec709" xmlns:xi="http://www.w3.org/2001/XInclude"')
     assert "OPBR103" not in _codes(path)
 
 

@@ -8,37 +8,13 @@ import textwrap
 from pathlib import Path
 
 import pytest
-from PIL import Image
 
 from glsupport import shader_generator, validated
-from openpbr_tools.validate import Options, validate_paths
+from redteam_support import codes as _codes, messages as _messages, mtlx as _mtlx, png as _png, report as _report
 
 
-def _codes(path, severities=("error", "warning")) -> dict[str, int]:
-    report = validate_paths([str(path)], options=Options(use_config=False))
-    found: dict[str, int] = {}
-    for d in report.diagnostics:
-        if str(d.severity) in severities:
-            found[d.code] = found.get(d.code, 0) + 1
-    return found
 
 
-def _messages(path, code: str) -> list[str]:
-    report = validate_paths([str(path)], options=Options(use_config=False))
-    return [d.message for d in report.diagnostics if d.code == code]
-
-
-def _mtlx(tmp_path, body: str, name: str = "m.mtlx") -> Path:
-    path = tmp_path / name
-    path.write_text('<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n'
-                    + textwrap.indent(textwrap.dedent(body).strip("\n"), "  ") + "\n</materialx>\n", encoding="utf-8")
-    return path
-
-
-def _png(path: Path, mode: str = "RGB", size=(4, 4), colour=(200, 120, 40)) -> Path:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    Image.new(mode, size, colour if mode != "RGBA" else colour + (128,)).save(path)
-    return path
 
 
 def _validates_and_generates(path) -> bool:
@@ -274,7 +250,7 @@ def test_a_source_asset_implementation_without_its_asset_has_no_definition(tmp_p
     stage = Usd.Stage.Open(str(path))
     shader = UsdShade.Shader(stage.GetPrimAtPath("/World/M/S"))
     assert not shader.GetShaderId() and not shader.GetSourceAsset("mtlx")  # the anchor: nothing names the node
-    report = validate_paths([str(path)], options=Options(use_config=False))
+    report = _report(path)
     found = [d for d in report.diagnostics if d.code == "OPBR1001"]
     assert found and found[0].location.input == "info:implementationSource"
     # the material is still reported as left out of conversions, naming the implementation, not an empty id
@@ -527,7 +503,7 @@ def test_a_prototype_shared_by_many_instances_is_read_once(tmp_path):
             }
         }
         '''), encoding="utf-8")
-    report = validate_paths([str(path)], options=Options(use_config=False))
+    report = _report(path)
     assert sum(f.materials for f in report.files) == 1
     assert not [d for d in report.diagnostics if str(d.severity) in ("error", "warning")]
 

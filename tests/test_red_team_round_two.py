@@ -15,25 +15,12 @@ from click.testing import CliRunner
 
 from cli.group import cli
 from openpbr_tools.validate import Options, validate_paths
+from redteam_support import codes as _codes, mtlx as _mtlx
 
 BROKEN = Path(__file__).parent / "data" / "broken"
 PUBLISHED = Path(__file__).parent / "data" / "published"
 
 
-def _codes(path, severities=("error", "warning")) -> dict[str, int]:
-    report = validate_paths([str(path)], options=Options(use_config=False))
-    found: dict[str, int] = {}
-    for d in report.diagnostics:
-        if str(d.severity) in severities:
-            found[d.code] = found.get(d.code, 0) + 1
-    return found
-
-
-def _mtlx(tmp_path, body: str, name: str = "m.mtlx", version: str = "1.39") -> Path:
-    path = tmp_path / name
-    path.write_text(f'<?xml version="1.0"?>\n<materialx version="{version}" colorspace="lin_rec709">\n'
-                    + textwrap.indent(textwrap.dedent(body).strip("\n"), "  ") + "\n</materialx>\n", encoding="utf-8")
-    return path
 
 
 def _glsl(path, colour_managed: bool = False) -> tuple[str | None, str | None]:
