@@ -351,20 +351,19 @@ def _unpack_packaged_images(materials: list[Material], asset: Asset, output_path
     return notes
 
 
-def _tag_length_units(materials: list[Material], asset: Asset) -> None:
-    """Lengths from glTF (metres) or USD (``metersPerUnit``) get a MaterialX distance unit, so the
-    written document says what its numbers mean."""
-    if asset.format not in ("gltf", "usd"):
-        return
-    scale = 1.0 if asset.format == "gltf" else (asset.meters_per_unit or load_json("units.json")["usd_default_meters_per_unit"])
-    names = [name for name, factor in load_json("units.json")["distance"].items() if abs(factor - scale) <= 1e-12 * max(1, scale)]
-    if not names:
-        return
-    for material in materials:
+def _tag_length_units(pairs: list[tuple[Material, Material]], asset: Asset) -> None:
+    """Each written material's lengths without a unit get the MaterialX distance unit the conversion took them
+    in (:func:`_meters_per_unit` of its source: glTF's metres, USD's ``metersPerUnit``, a MaterialX length's
+    own unit, else metres), so the written document says what its numbers mean and a USD writer converts
+    them to its stage's unit."""
+    distance = load_json("units.json")["distance"]
+    for source, material in pairs:
+        scale, _ = _meters_per_unit(source, asset)
+        names = [name for name, factor in distance.items() if abs(factor - scale) <= 1e-12 * max(1, scale)]
         table = tables.table(material.model)
         for name, entry in material.inputs.items():
             parameter = table.get(name)
-            if parameter is not None and parameter.unit == "scene_length" and not entry.unit:
+            if names and parameter is not None and parameter.unit == "scene_length" and not entry.unit:
                 entry.unit, entry.unittype = names[0], "distance"
 
 
@@ -380,12 +379,14 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside,
         from .io.mtlx.writer import write_mtlx  # lazy: see the docstring
 
         _rebase_textures(result.materials, asset.path, output_path)
-        _tag_length_units(result.materials, asset)
+        if asset.format in ("gltf", "usd"):  # (a MaterialX source's lengths are written as authored)
+            _tag_length_units(result.pairs, asset)
         write_mtlx(result.materials, output_path, colorspace=asset.colorspace or "lin_rec709", looks=looks)
         return notes
     if kind == "usd":
         from .io.usd.writer import write_usd  # lazy: see the docstring
 
+        _tag_length_units(result.pairs, asset)  # a MaterialX source's too: USD's stage has a unit of its own
         return notes + write_usd(result.materials, output_path, source=asset, allow_outside=allow_outside)
     try:
         from .io.gltf.writer import write_gltf  # lazy: see the docstring

@@ -497,6 +497,26 @@ def test_a_unitless_mtlx_length_written_to_usd_keeps_its_metres(tmp_path):
     assert metres == pytest.approx(0.5)
 
 
+def test_a_unitless_length_beside_one_with_a_unit_is_written_to_usd_in_that_unit(tmp_path):
+    """The conversion takes a material's unit-less length in the unit of its other length (convert's
+    _meters_per_unit, with no note: the document states it); the USD output reads it so too. Written through the
+    USD writer's one unit conversion, the first fix of C-05 (a metre stage) had read it as 3 m."""
+    from pxr import Usd, UsdGeom
+
+    source = _mtlx(tmp_path, '<open_pbr_surface name="S" type="surfaceshader">\n'
+                             '  <input name="transmission_weight" type="float" value="1" />\n'
+                             '  <input name="transmission_depth" type="float" value="2" unittype="distance" unit="centimeter" />\n'
+                             '  <input name="subsurface_weight" type="float" value="0.5" />\n'
+                             '  <input name="subsurface_radius" type="float" value="3" />\n</open_pbr_surface>\n' + _MATERIAL)
+    conversion = _convert(source, tmp_path / "out" / "m.usda")
+    assert not [m for m in _notes(conversion) if "taken as metres" in m]
+    stage = Usd.Stage.Open(str(tmp_path / "out" / "m.usda"))
+    shader = next(p for p in stage.Traverse() if p.GetAttribute("inputs:subsurface_radius"))
+    unit = UsdGeom.GetStageMetersPerUnit(stage)
+    assert shader.GetAttribute("inputs:subsurface_radius").Get() * unit == pytest.approx(0.03)
+    assert shader.GetAttribute("inputs:transmission_depth").Get() * unit == pytest.approx(0.02)
+
+
 def test_the_tools_own_usd_colour_space_name_is_known_to_its_gltf_writer(tmp_path):
     """C-08: the USD writer authors colorSpace:name = "lin_rec709_scene" (OpenUSD's name for linear Rec.709); the
     glTF writer reported it as an unknown colour space, an error, for every colour."""

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 from ...model import UVTransform
 from ...values import ValueSyntaxError, parse_value
+from .arithmetic import connected
 
 _FACTOR = {"gltf_image": "factor", "gltf_colorimage": "color"}
 
@@ -39,15 +40,14 @@ def connected_factor(node) -> bool:
     """Whether the factor is driven by a connection (the lookup is then not a plain texture)."""
     name = _FACTOR.get(node.getCategory())
     port = node.getInput(name) if name else None
-    return port is not None and any(port.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename"))
+    return port is not None and connected(port)
 
 
 def transform(node) -> UVTransform | None | bool:
     """The node's texture transform as ``place2d`` parameters; None when it is the identity; False when it
     cannot be held (a connected input, or the offset-rotate-scale order with a rotation or scale)."""
     ports = {name: node.getInput(name) for name in ("pivot", "scale", "rotate", "offset", "operationorder")}
-    if any(p is not None and any(p.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename"))
-           for p in ports.values()):
+    if any(p is not None and connected(p) for p in ports.values()):
         return False
     definition = node.getNodeDef()
 

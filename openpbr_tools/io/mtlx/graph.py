@@ -21,7 +21,6 @@ IMAGE_CATEGORIES = ("image", "tiledimage", "gltf_image", "gltf_colorimage", "glt
 PASS_THROUGH = ("convert", "dot")
 
 
-
 class GraphFollower:
     """Upstream walks for a reader that has ``path`` (the file) and ``asset`` (its ``line_of``)."""
 
@@ -139,12 +138,13 @@ class GraphFollower:
             image_type, channel = _multioutput_type(node, output_name)
             if channel is not None and channels is None:
                 channels = (channel,)
-        if not self.plain_coordinates(node) or gltf_nodes.transform(node) is False or gltf_nodes.connected_factor(node):
+        own_transform = gltf_nodes.transform(node)  # (a glTF image node's own inputs)
+        if not self.plain_coordinates(node) or own_transform is False or gltf_nodes.connected_factor(node):
             return None  # coordinates a Texture cannot hold: the graph is kept whole, not read without them
         texture = self.image(node, channels, normal_scale, image_type)
         arithmetic.multiply(gltf_nodes.factor(node, channels if node.getType() == "multioutput" else None))
         texture.scale, texture.bias = arithmetic.values()
-        texture.uv = gltf_nodes.transform(node) or texture.uv  # (a glTF image node's own inputs)
+        texture.uv = own_transform or texture.uv
         return texture
 
     #: (instance, nodedef) while a custom shader node's implementation graph is read for that instance

@@ -40,9 +40,7 @@ def read_constant(attribute):
         from pxr import Usd  # lazy: pxr (0.1-0.2 s) only once the reader has required it and opened a stage
 
         value = attribute.Get(Usd.TimeCode.EarliestTime())  # the first sample, without listing them all
-    scalar = str(attribute.GetTypeName().scalarType)
-    single = scalar.startswith(("float", "half")) or scalar.endswith(("f", "h"))
-    return Constant(python_value(value, single))
+    return Constant(python_value(value, single_precision(attribute.GetTypeName())))
 
 
 #: Time samples of an animated input checked against its range (a longer animation: its first ones)
@@ -52,10 +50,13 @@ MAX_SAMPLES = 10000
 def read_constant_at(attribute, time: float):
     """The attribute's value at the time sample ``time``, as Python numbers (None when there is none)."""
     value = attribute.Get(time)
-    if value is None:
-        return None
-    scalar = str(attribute.GetTypeName().scalarType)
-    return python_value(value, scalar.startswith(("float", "half")) or scalar.endswith(("f", "h")))
+    return None if value is None else python_value(value, single_precision(attribute.GetTypeName()))
+
+
+def single_precision(type_name) -> bool:
+    """Whether an Sdf value type holds single- (or half-) precision floats (float, color3f, half3)."""
+    scalar = str(type_name.scalarType)
+    return scalar.startswith(("float", "half")) or scalar.endswith(("f", "h"))
 
 
 def constant_of(prim, input_name: str):

@@ -376,7 +376,6 @@ def _clip_asset_paths(clip_set) -> list[str]:
     return [f for f in found if f]
 
 
-
 def _member_names(entries, depth: int = 0) -> list[str]:
     """The names of a package's entries and, for a nested package (a stored .usdz entry), of its own as
     ``parts/b.usdz[textures/a.png]``, as usd-core's package resolver addresses them (four levels at most)."""

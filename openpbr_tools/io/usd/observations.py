@@ -7,6 +7,7 @@ from __future__ import annotations
 from functools import lru_cache
 
 from ... import tables
+from .attributes import python_value, single_precision
 
 
 @lru_cache(maxsize=1)
@@ -201,7 +202,7 @@ def observe_variant_values(stage, observe, location, shader_ids) -> None:
                 continue
             key = (str(prim.GetPath()), path.name[len("inputs:"):])
             found.setdefault(key, [known[0]]).append((f"in variant {variant_set}={variant} (not selected)",
-                                                      _plain(spec.default)))
+                                                      python_value(spec.default, single_precision(spec.typeName))))
     for (prim_path, name), (model, *values) in found.items():
         observe("usd_other_values", location(prim_path, name), input=name, model=model, values=values)
 
@@ -217,11 +218,3 @@ def _selection_of(path):
             return None
         prim = prim.GetParentPath()
     return prim
-
-
-def _plain(value):
-    """A Gf value as Python numbers (a tuple for a vector), anything else as it is."""
-    try:
-        return tuple(float(v) for v in value)
-    except TypeError:
-        return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else value

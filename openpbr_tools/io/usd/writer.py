@@ -351,11 +351,4 @@ def _scene_unit(asset: Asset) -> float | None:
         return asset.meters_per_unit or units["usd_default_meters_per_unit"]
     if asset.format == "gltf":
         return units["gltf_meters_per_unit"]
-    # a MaterialX document's lengths without a unit are taken as metres (the conversion says so, and its glTF
-    # output reads them so): where it has one, the stage is written in metres rather than USD's centimetres,
-    # values unchanged (lengths with a unit are converted to the stage's whichever it is)
-    if asset.meters_per_unit or asset.format != "mtlx":
-        return asset.meters_per_unit
-    return 1.0 if any(tables.table(m.model).get(name) is not None and tables.table(m.model)[name].unit == "scene_length"
-                      and not entry.unit and entry.constant is not None for m in asset.materials
-                      for name, entry in m.inputs.items()) else None
+    return asset.meters_per_unit
