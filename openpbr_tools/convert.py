@@ -34,7 +34,7 @@ from .rules import Context
 from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .bake import Baker
 from .translate.common import Settings
-from .translate import candidates
+from .translate import candidates, past_hub
 from .translate.convert import MODELS, convert
 from .translate.upgrade import upgrade
 
@@ -198,14 +198,17 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             if state is None:
                 continue
             notes, _, translated = state
+            carried, fallback_only = past_hub.carry(material, translated), ()
             result.materials.append(translated)
             result.pairs.append((material, translated))
             if kind == "usd":
                 preview = next(previews)
                 notes += preview.diagnostics
+                fallback_only = past_hub.carry(material, preview.material)
                 preview.material.name = f"{translated.name}_preview"
                 preview.material.material_name = translated.material_name
                 result.materials.append(preview.material)
+            notes = past_hub.settle_notes(notes, material, carried, fallback_only, context)
             result.diagnostics += _at_material(notes, material)
         looks, look_notes = convert_looks.looks(asset, result.pairs, kind, context)
         result.diagnostics += look_notes
