@@ -83,6 +83,57 @@ def normal_map_decode(strength: float) -> tuple[tuple[float, float, float], tupl
     return (2.0 * strength, 2.0 * strength, 2.0), (-strength, -strength, -1.0)
 
 
+def _three(value, default: float) -> tuple[float, float, float]:
+    if value is None:
+        return (default,) * 3
+    if isinstance(value, (int, float)):
+        return (float(value),) * 3
+    flat = [float(v) for v in value]
+    return tuple((flat * 3)[:3]) if len(flat) == 1 else tuple(flat[:3])
+
+
+def normal_decode(texture: "Texture") -> tuple[tuple[float, float, float], tuple[float, float, float]] | None:
+    """(scale, bias) with which a normal map's texels t become its tangent-space vector n = scale t + bias
+    (before normalisation), whichever way it was authored: a UsdUVTexture's scale and bias (or MaterialX
+    multiply/add nodes feeding a preview's normal) are the whole decode (UsdPreviewSurface spec, "normal");
+    otherwise the texture's scale and bias come before a normalmap node's 2 t - 1 and its strength k on x and
+    y (MaterialX's ND_normalmap). ``None`` for a texture that is no normal map."""
+    if texture.normal_map is None:
+        return None
+    scale, bias = _three(texture.scale, 1.0), _three(texture.bias, 0.0)
+    if texture.node_category == "UsdUVTexture" or texture.decoded_by_scale_bias:
+        return scale, bias
+    k = float(texture.normal_map)
+    strength = (k, k, 1.0)
+    return (tuple(2.0 * s * w for s, w in zip(scale, strength)),
+            tuple((2.0 * b - 1.0) * w for b, w in zip(bias, strength)))
+
+
+def decode_strength(scale, bias, tolerance: float = 1e-6) -> float | None:
+    """k where (scale, bias) is :func:`normal_map_decode` (k), a plain normal map of one strength; ``None`` for
+    any other decode (a flipped green channel: a DirectX normal map read as OpenGL's, a per-axis strength)."""
+    k = -bias[0]
+    expected_scale, expected_bias = normal_map_decode(k)
+    if all(abs(a - b) <= tolerance for a, b in zip(tuple(scale) + tuple(bias), expected_scale + expected_bias)):
+        return k
+    return None
+
+
+def normal_encoding(texture: "Texture") -> tuple[tuple | None, tuple | None, float] | None:
+    """(scale, bias, strength) that give :func:`normal_decode` as an affine map on the texels followed by a
+    normalmap node (2 t - 1, x and y times strength), as the MaterialX writers write it: scale and bias
+    ``None`` where the decode is a plain one of some strength; else strength 1 and the texels remapped,
+    scale / 2 and (bias + 1) / 2. ``None`` for a texture that is no normal map."""
+    decode = normal_decode(texture)
+    if decode is None:
+        return None
+    k = decode_strength(*decode)
+    if k is not None:
+        return None, None, k
+    scale, bias = decode
+    return tuple(s / 2.0 for s in scale), tuple((b + 1.0) / 2.0 for b in bias), 1.0
+
+
 def normal_strength(scale) -> float | None:
     """The strength of a ``normalmap`` node's ``scale`` as authored: a float (``ND_normalmap_float``),
     or a vector2 whose x and y are equal (``ND_normalmap_vector2`` scales x and y by its components);

@@ -547,7 +547,10 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
                 lambda c, l, w, cc, ci: _emissive_strength(c * coat_emission_factor(cc, w, ci), l, nits),
                 when=lambda c, l, *coat: l > 0, converted=f"nits at {nits:g} nit(s) per unit"),
         Mapping("alpha", ("geometry_opacity",)),
-        Mapping("alpha_mode", ("geometry_opacity",), lambda o: np.where(o < 1.0, 2.0, 0.0)),
+        # A cut-out (every texel 0 or 1: a UsdPreviewSurface opacityThreshold read as OpenPBR, a leaf mask) is
+        # glTF's MASK at the default cutoff 0.5, exactly and without BLEND's sorting; one partial texel needs
+        # BLEND (the baker takes the largest per-texel mode)
+        Mapping("alpha_mode", ("geometry_opacity",), lambda o: np.where(o >= 1.0, 0.0, np.where(o <= 0.0, 1.0, 2.0))),
         Mapping("normal", ("geometry_normal",)),
         Mapping("tangent", ("geometry_tangent",)),
         Mapping("clearcoat_normal", ("geometry_coat_normal",)),

@@ -16,7 +16,7 @@ from __future__ import annotations
 import re
 
 from ... import colorspaces
-from ...model import Texture
+from ...model import Texture, normal_decode, normal_encoding
 from ...resources import load_json
 from ...rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from ..images import ImageUndecodable
@@ -24,6 +24,10 @@ from ..usd.types import WRAP_TO_ADDRESS_MODE
 from . import slots
 from .bake import ChannelSource, pack
 from .uv import to_texture_transform
+
+#: A USD UV primvar named as the USD writer names glTF UV set n (io/usd/texture_networks.py: "st1"), read back
+#: as that set; "st" itself is the default set (texcoord None).
+_NUMBERED_PRIMVAR = re.compile(r"st(\d{1,2})")
 
 
 class TextureWriting:
@@ -62,8 +66,15 @@ class TextureWriting:
             if first.normal_map is None:
                 self.note(CONVERTED, f"{slot.parameter}: texture without a normal-map decode written as a glTF normal map",
                           slot.parameter)
-            elif first.normal_map != 1.0:
-                info["scale"] = first.normal_map
+            else:
+                remap_scale, _, strength = normal_encoding(first)
+                if strength != 1.0:
+                    info["scale"] = strength
+                if remap_scale is not None:  # (bake_plan remapped the texels: glTF's decode is 2 t - 1)
+                    decoded_scale, decoded_bias = normal_decode(first)
+                    self.note(CONVERTED, f"{slot.parameter}: the normal map's decode (scale {_listed(decoded_scale)}, bias "
+                                         f"{_listed(decoded_bias)}: a flipped green channel, say) baked into its texels "
+                                         "for glTF's 2 t - 1", slot.parameter)
         elif slot.texture_kind == "occlusionTextureInfo":
             strength = 1.0 if first.scale is None else float(first.scale)
             expected_bias = 1.0 - strength
@@ -131,10 +142,15 @@ class TextureWriting:
 
     def uv(self, info: dict, texture: Texture, parameter: str) -> None:
         if texture.texcoord:
+            numbered = _NUMBERED_PRIMVAR.fullmatch(texture.texcoord) if isinstance(texture.texcoord, str) else None
             try:
-                info["texCoord"] = int(texture.texcoord)
+                info["texCoord"] = int(numbered.group(1) if numbered else texture.texcoord)
             except (TypeError, ValueError):
                 self.note(APPROXIMATED, f"UV set {texture.texcoord!r} is not a glTF TEXCOORD index; set 0 used", parameter)
+            else:
+                if numbered:
+                    self.note(CONVERTED, f"UV primvar {texture.texcoord!r} written as TEXCOORD_{info['texCoord']} "
+                                         "(the USD writer's name for that glTF UV set)", parameter)
         if texture.uv is None or texture.uv.is_identity and tuple(texture.uv.pivot) in ((0.0, 0.0), (0.0, 1.0)):
             return
         try:
@@ -171,7 +187,9 @@ class TextureWriting:
 
     def conversion(self, slot: slots.Slot, space: str | None) -> tuple[str | None, bool]:
         """(colour space to decode from, whether to encode sRGB) so texels reach glTF's encoding:
-        sRGB for colour slots, linear for data. An unknown name is taken as already right (noted)."""
+        sRGB for colour slots, linear for data. An unknown name is taken as already right (noted). A name
+        of another scheme (a UsdUVTexture's ``raw``, a USD colour space) is read as its MaterialX equivalent."""
+        space = colorspaces.materialx_name(space)
         if space is None or colorspaces.is_data(space) or (slot.colour and space == slots.SRGB):
             return None, False
         if space not in colorspaces.materialx_names():
@@ -186,14 +204,14 @@ class TextureWriting:
         without a scale and bias that only baking carries)?"""
         if _affine(slot, texture) is not None:
             return False
-        space = texture.colorspace
+        space = colorspaces.materialx_name(texture.colorspace)
         if slot.colour:
             if space not in (None, slots.SRGB):
                 return False
         elif space is not None and space in colorspaces.materialx_names() and _encoded(space):
             return False
         if slot.texture_kind == "normalTextureInfo":
-            return texture.channels in (None, (0, 1, 2))
+            return texture.channels in (None, (0, 1, 2)) and _normal_remap(slot, texture, 0) is None
         channels = texture.channels
         if channels is None:  # the whole image: RGB for colour slots, the first channel for single ones
             return slot.channels in ((0, 1, 2), (0,)) or (source.channels in (1, 2) and slot.channels[0] < 3)
@@ -227,7 +245,7 @@ class TextureWriting:
             else:
                 picked = index if slot.channels in (None, (0, 1, 2)) else 0
             decode, encode = self.conversion(slot, texture.colorspace)
-            scale, bias = _affine(slot, texture) or (1.0, 0.0)
+            scale, bias = _affine(slot, texture) or _normal_remap(slot, texture, index) or (1.0, 0.0)
             return ChannelSource(source.image, picked, decode=decode, encode_srgb=encode, scale=scale, bias=bias)
 
         by_name = {s.parameter: s for s in members}
@@ -271,6 +289,19 @@ def _affine(slot: slots.Slot, texture: Texture) -> tuple[float, float] | None:
     if scale is not None and not isinstance(scale, (int, float)):
         return None
     return (1.0 if scale is None else float(scale)), float(bias)
+
+
+def _listed(values) -> str:
+    return "(" + ", ".join(f"{v:g}" for v in values) + ")"
+
+
+def _normal_remap(slot: slots.Slot, texture: Texture, index: int) -> tuple[float, float] | None:
+    """(scale, bias) of channel ``index`` of a normal map whose decode is no plain normal map of one strength
+    (model.normal_encoding: a flipped green channel), remapped so that glTF's 2 t - 1 gives it; else None."""
+    if slot.texture_kind != "normalTextureInfo" or texture.normal_map is None:
+        return None
+    scale, bias, _ = normal_encoding(texture)
+    return None if scale is None else (scale[min(index, 2)], bias[min(index, 2)])
 
 
 def _encoded(space: str) -> bool:

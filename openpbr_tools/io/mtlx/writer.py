@@ -15,7 +15,7 @@ import MaterialX as mx
 
 from ... import colorspaces, gltf_state, tables
 from ...atomic import write_text
-from ...model import Connection, Constant, Material, Texture, normal_map_decode
+from ...model import Connection, Constant, Material, Texture, normal_decode, normal_encoding
 from ...values import COMPONENTS, format_value
 from ..usd.types import MATERIALX_ADDRESS_MODES, WRAP_TO_ADDRESS_MODE
 from .looks import add_look
@@ -124,15 +124,6 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
         node.setAttribute(gltf_state.MTLX_ATTRIBUTE, gltf_state.encode(state))
 
 
-def _is_decode(texture: Texture) -> bool:
-    """Whether the texture's scale and bias are the plain decode of a normal map of its strength (a
-    UsdUVTexture's 2, -1): a ``normalmap`` node does that decode itself."""
-    if texture.normal_map is None or texture.scale is None or texture.bias is None:
-        return False
-    scale, bias = normal_map_decode(float(texture.normal_map))
-    return tuple(_components(texture.scale, 3)) == scale and tuple(_components(texture.bias, 3)) == bias
-
-
 def _components(value, width: int) -> list[float]:
     flat = [float(v) for v in value] if isinstance(value, (tuple, list)) else [float(value)]
     return (flat * width)[:width] if len(flat) == 1 else flat[:width]
@@ -185,9 +176,12 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
         convert = document.addNode("convert", _unique(f"{prefix}_convert", used), image_type[:-1] + "3")
         convert.addInput("in", image_type).setNodeName(upstream)  # a four-channel image read as three: alpha dropped
         upstream = convert.getName()
-    scale, bias = texture.scale, texture.bias
-    if texture.normal_map is not None and (_is_decode(texture) or (scale is None and bias is None)):
-        scale, bias = normal_map_decode(float(texture.normal_map)) if tangent_vector else (None, None)
+    scale, bias, strength = texture.scale, texture.bias, None
+    if texture.normal_map is not None and tangent_vector:
+        scale, bias = normal_decode(texture)  # the whole decode, as UsdPreviewSurface's normal takes it
+    elif texture.normal_map is not None:
+        # before a normalmap node, which decodes 2 t - 1 itself: a UsdUVTexture's whole decode remapped
+        scale, bias, strength = normal_encoding(texture)
     delivered = document.getNode(upstream).getType()
     width = COMPONENTS.get(delivered, 1)
     for category, value, identity in (("multiply", scale, 1.0), ("add", bias, 0.0)):
@@ -202,8 +196,8 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
     if texture.normal_map is not None and not tangent_vector:
         decode = document.addNode("normalmap", _unique(f"{prefix}_normalmap", used), "vector3")
         decode.addInput("in", "vector3").setNodeName(upstream)
-        if texture.normal_map != 1.0:
-            decode.addInput("scale", "float").setValueString(format_value(texture.normal_map, "float"))
+        if strength != 1.0:
+            decode.addInput("scale", "float").setValueString(format_value(strength, "float"))
         upstream = decode.getName()
     return upstream
 

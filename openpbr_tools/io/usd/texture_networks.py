@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 
-from ...model import Texture, UVTransform, normal_map_decode
+from ...model import Texture, UVTransform, normal_decode, normal_encoding
 from ...rules.translation import CONVERTED
 from ...values import COMPONENTS
 from .types import ADDRESS_MODE_TO_WRAP, MATERIALX_TO_USD, WRAP_TO_ADDRESS_MODE
@@ -74,7 +74,10 @@ class TextureNetworkWriter:
             node, converted = self.node(material, f"{base}_convert", f"ND_convert_{current}_{three}", three)
             node.CreateInput("in", output.GetTypeName()).ConnectToSource(output)
             output, current = converted, three
-        for operation, value, identity in (("multiply", texture.scale, 1.0), ("add", texture.bias, 0.0)):
+        scale, bias, strength = texture.scale, texture.bias, None
+        if texture.normal_map is not None:  # before the normalmap node, which decodes 2 t - 1 itself
+            scale, bias, strength = normal_encoding(texture)
+        for operation, value, identity in (("multiply", scale, 1.0), ("add", bias, 0.0)):
             factor = _per_output(value, texture.channels, current)
             if factor is None or all(v == identity for v in _components(factor)):
                 continue
@@ -85,7 +88,7 @@ class TextureNetworkWriter:
         if texture.normal_map is not None:
             node, decoded = self.node(material, f"{base}_normalmap", "ND_normalmap_float", "vector3")
             node.CreateInput("in", output.GetTypeName()).ConnectToSource(output)
-            self.constant_input(node, "scale", "float", float(texture.normal_map))
+            self.constant_input(node, "scale", "float", float(strength))
             output = decoded
         return output
 
@@ -125,12 +128,12 @@ class TextureNetworkWriter:
         if source:
             reader.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set(source)
         scale, bias = texture.scale, texture.bias
-        if texture.normal_map is not None and scale is None and bias is None:
-            # A tangent-space normal map decoded by a MaterialX normalmap node: UsdUVTexture decodes it
-            # with scale 2 and bias -1 (UsdPreviewSurface spec, "normal"); the node's strength scales x, y.
-            scale, bias = normal_map_decode(float(texture.normal_map))
-            scale, bias = scale + (1.0,), bias + (0.0,)  # alpha untouched
-            if not source:
+        if texture.normal_map is not None:
+            # UsdUVTexture's scale and bias are the whole decode (UsdPreviewSurface spec, "normal"): a MaterialX
+            # normalmap's 2 t - 1 and strength (x, y) folded into any scale and bias before it
+            decoded_scale, decoded_bias = normal_decode(texture)
+            scale, bias = decoded_scale + (1.0,), decoded_bias + (0.0,)  # alpha untouched
+            if not source and texture.scale is None and texture.bias is None:
                 reader.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("raw")
         for name, value in (("scale", scale), ("bias", bias), ("fallback", texture.fallback)):
             if value is not None:
