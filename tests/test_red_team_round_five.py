@@ -190,3 +190,222 @@ def test_a_usd_cut_out_is_gltf_mask_not_blend(tmp_path):
     material = json.loads((tmp_path / "out" / "out.gltf").read_text())["materials"][0]
     assert material["alphaMode"] == "MASK"
     assert material.get("alphaCutoff", 0.5) == 0.5
+
+
+# -- part E: validator findings ------------------------------------------------------------------------------------
+
+def _codes_at(path: Path) -> dict[str, str]:
+    from openpbr_tools.validate import validate_file
+
+    return {d.code: str(d.severity) for d in validate_file(str(path)).diagnostics}
+
+
+def _document(tmp_path: Path, name: str, data: bytes) -> Path:
+    path = tmp_path / name
+    path.write_bytes(data)
+    return path
+
+
+_OAK = ('<?xml version="1.0" encoding="{encoding}"?>\r\n<materialx version="1.39" colorspace="lin_rec709">\r\n'
+        '  <open_pbr_surface name="SR_oak" type="surfaceshader" doc="Ch\u00eane huil\u00e9">\r\n'
+        '    <input name="base_color" type="color3" value="0.42, 0.27, 0.15" />\r\n  </open_pbr_surface>\r\n'
+        '  <surfacematerial name="M_oak" type="material">\r\n'
+        '    <input name="surfaceshader" type="surfaceshader" nodename="SR_oak" />\r\n  </surfacematerial>\r\n'
+        '</materialx>\r\n')
+
+
+@pytest.mark.parametrize("encoding, codec", [("UTF-16", "utf-16"), ("ISO-8859-1", "latin-1"), ("UTF-8", "utf-8-sig")])
+def test_a_materialx_document_in_its_declared_encoding_is_read_as_materialx_reads_it(tmp_path, encoding, codec):
+    """The red team's mg01/mg10 (false alarms): XML 1.0 (4.3.3) has every processor read UTF-16 and the encoding a
+    declaration names; MaterialX's own file reader (the anchor) reads both and decodes the doc string. The
+    toolkit refused them as 'not UTF-8 text' (OPBR001, exit 2)."""
+    import MaterialX as mx
+
+    path = _document(tmp_path, "oak.mtlx", _OAK.format(encoding=encoding).encode(codec))
+    anchor = mx.createDocument()
+    mx.readFromXmlFile(anchor, str(path))
+    assert anchor.validate()[0] and anchor.getNode("SR_oak").getDocString() == "Ch\u00eane huil\u00e9"
+    from openpbr_tools.io.mtlx.reader import read_mtlx
+
+    asset = read_mtlx(str(path))
+    assert [m.name for m in asset.materials] == ["SR_oak"]
+    assert asset.materials[0].inputs["base_color"].value.value == pytest.approx((0.42, 0.27, 0.15))
+    assert not {c for c, s in _codes_at(path).items() if s in ("error", "warning")}
+
+
+def test_a_document_that_is_not_its_declared_encoding_is_still_unreadable(tmp_path):
+    path = _document(tmp_path, "oak.mtlx", _OAK.format(encoding="UTF-8").encode("latin-1"))
+    assert _codes_at(path).get("OPBR001") == "error"
+
+
+_STAGE = """#usda 1.0
+(
+    defaultPrim = "Asset"
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+def Xform "Asset"
+{
+    def Scope "Looks"
+    {
+        MATERIAL
+    }
+    def Mesh "Board" (
+        prepend apiSchemas = ["MaterialBindingAPI"]
+    )
+    {
+        int[] faceVertexCounts = [4, 4]
+        int[] faceVertexIndices = [0, 1, 4, 3, 1, 2, 5, 4]
+        point3f[] points = [(-1, 0, -0.5), (0, 0, -0.5), (1, 0, -0.5), (-1, 0, 0.5), (0, 0, 0.5), (1, 0, 0.5)]
+        texCoord2f[] primvars:st = ST
+        rel material:binding = </Asset/Looks/M>
+    }
+}
+"""
+_UV8 = '[(0, 0), (0.5, 0), (0.5, 1), (0, 1), (0.5, 0), (1, 0), (1, 1), (0.5, 1)] (interpolation = "faceVarying")'
+_SHADER = """def Shader "SR"
+            {
+                uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+                color3f inputs:base_color = (0.42, 0.27, 0.15)
+                token outputs:out
+            }"""
+
+
+def _stage(tmp_path: Path, material: str, st: str = _UV8, name: str = "stage.usda") -> Path:
+    Image.frombytes("RGB", (2, 2), bytes([200, 10, 10, 10, 200, 10, 10, 10, 200, 200, 200, 10])).save(tmp_path / "albedo.png")
+    path = tmp_path / name
+    path.write_text(_STAGE.replace("MATERIAL", material).replace("ST", st))
+    return path
+
+
+def test_a_binding_to_a_material_only_overridden_is_an_invalid_binding_target(tmp_path):
+    """ub08: the Material is only an 'over'. usd-core's ComputeBoundMaterial still resolves it, but it is no defined
+    prim: stage traversal (and so Hydra) never visits it."""
+    from pxr import Usd, UsdShade
+
+    material = 'over Material "M"\n        {\n            token outputs:mtlx:surface.connect = </Asset/Looks/M/SR.outputs:out>\n            ' + _SHADER + "\n        }"
+    path = _stage(tmp_path, material)
+    stage = Usd.Stage.Open(str(path))
+    assert UsdShade.MaterialBindingAPI(stage.GetPrimAtPath("/Asset/Board")).ComputeBoundMaterial()[0]
+    assert "/Asset/Looks/M" not in {str(p.GetPath()) for p in stage.Traverse()}
+    assert _codes_at(path).get("OPBR1017") == "error"
+    defined = _stage(tmp_path, material.replace("over Material", "def Material"), name="defined.usda")
+    assert "OPBR1017" not in _codes_at(defined)
+
+
+def test_a_surface_through_a_node_graph_output_fed_by_nothing_is_a_dangling_surface(tmp_path):
+    """ub15: outputs:mtlx:surface reaches a NodeGraph output that nothing feeds; usd-core's ComputeSurfaceSource
+    (the anchor) finds no shader."""
+    from pxr import Usd, UsdShade
+
+    graph = ('def Material "M"\n        {\n            token outputs:mtlx:surface.connect = </Asset/Looks/M/NG.outputs:surface>\n'
+             '            def NodeGraph "NG"\n            {\n                token outputs:surface FEED\n            ' + _SHADER +
+             "\n            }\n        }")
+    path = _stage(tmp_path, graph.replace(" FEED", ""))
+    stage = Usd.Stage.Open(str(path))
+    assert not UsdShade.Material(stage.GetPrimAtPath("/Asset/Looks/M")).ComputeSurfaceSource("mtlx")[0]
+    assert _codes_at(path).get("OPBR802") == "error"
+    fed = _stage(tmp_path, graph.replace(" FEED", ".connect = </Asset/Looks/M/NG/SR.outputs:out>"), name="fed.usda")
+    fed_stage = Usd.Stage.Open(str(fed))
+    assert UsdShade.Material(fed_stage.GetPrimAtPath("/Asset/Looks/M")).ComputeSurfaceSource("mtlx")[0]
+    assert "OPBR802" not in _codes_at(fed)
+
+
+_PREVIEW_MATERIAL = """def Material "M"
+        {
+            INTERFACE
+            token outputs:surface.connect = </Asset/Looks/M/P.outputs:surface>
+            def Shader "P"
+            {
+                uniform token info:id = "UsdPreviewSurface"
+                color3f inputs:diffuseColor.connect = </Asset/Looks/M/tex.outputs:rgb>
+                token outputs:surface
+            }
+            def Shader "tex"
+            {
+                uniform token info:id = "UsdUVTexture"
+                asset inputs:file = @albedo.png@
+                float2 inputs:st.connect = </Asset/Looks/M/tiling.outputs:result>
+                float3 outputs:rgb
+            }
+            def Shader "tiling"
+            {
+                uniform token info:id = "UsdTransform2d"
+                float2 inputs:scale = (4, 4)
+                IN
+                float2 outputs:result
+            }
+            def Shader "uv"
+            {
+                uniform token info:id = "UsdPrimvarReader_float2"
+                VARNAME
+                float2 outputs:result
+            }
+        }"""
+
+
+def _preview_stage(tmp_path, interface="", in_="float2 inputs:in.connect = </Asset/Looks/M/uv.outputs:result>",
+                   varname='string inputs:varname = "st"', st=_UV8, name="stage.usda"):
+    material = _PREVIEW_MATERIAL.replace("INTERFACE", interface).replace("IN", in_).replace("VARNAME", varname)
+    return _stage(tmp_path, material, st=st, name=name)
+
+
+def test_a_transform2d_whose_in_is_unconnected_reads_one_texel(tmp_path):
+    """ub04: UsdTransform2d's in defaults to (0, 0) (UsdPreviewSurface spec), so the texture behind it shows one
+    texel everywhere: OPBR1016, now an error (the painted texture does not show at all)."""
+    assert _codes_at(_preview_stage(tmp_path, in_="")).get("OPBR1016") == "error"
+    assert "OPBR1016" not in _codes_at(_preview_stage(tmp_path, name="connected.usda"))
+
+
+def test_a_varname_connected_to_an_interface_input_without_a_value_reads_no_primvar(tmp_path):
+    """ub12: the reader's varname is connected to the Material's frame:stPrimvarName, which has no value; usd-core
+    gives the varname no value (GetValueProducingAttributes finds none), so no primvar is read."""
+    from pxr import Usd, UsdShade
+
+    connected = "string inputs:varname.connect = </Asset/Looks/M.inputs:frame:stPrimvarName>"
+    path = _preview_stage(tmp_path, interface="string inputs:frame:stPrimvarName", varname=connected)
+    stage = Usd.Stage.Open(str(path))
+    reader = UsdShade.Shader(stage.GetPrimAtPath("/Asset/Looks/M/uv")).GetInput("varname")
+    assert not [a for a in reader.GetValueProducingAttributes() if a.Get()]
+    assert _codes_at(path).get("OPBR1015") == "error"
+    valued = _preview_stage(tmp_path, interface='string inputs:frame:stPrimvarName = "st"', varname=connected,
+                            name="valued.usda")
+    assert "OPBR1015" not in _codes_at(valued)
+
+
+@pytest.mark.parametrize("st, expected", [(_UV8, None), (_UV8.replace("(1, 1), (0.5, 1)]", "]"), "error"),
+                                          ('[(0, 0), (1, 0), (0, 1)] (interpolation = "vertex")', "error")])
+def test_a_uv_primvar_of_the_wrong_size_for_its_interpolation_is_a_missing_primvar(tmp_path, st, expected):
+    """ub05: a faceVarying st with 6 values where the mesh has 8 face-vertices (UsdGeomPrimvar: faceVarying needs
+    one per face-vertex, vertex one per point): renderers drop the primvar, so the texture reads (0, 0)."""
+    assert _codes_at(_preview_stage(tmp_path, st=st)).get("OPBR1015") == expected
+
+
+def test_the_new_usd_binding_rules_agree_with_usd_core():
+    """OPBR1025 (usd-core's own binding validators' errors), OPBR1026 (an explicitOnly collection of the group) and
+    OPBR1027 (an override below an instance): each rule's failing example binds as usd-core says it does."""
+    from pxr import Usd, UsdShade
+
+    from openpbr_tools.io.usd.validators import usd_core_findings
+    from openpbr_tools.rules.usd import USD_CORE_BINDING
+    from openpbr_tools.rules.usd_shading import COLLECTION_NO_GEOMETRY, INSTANCE_OVERRIDE
+
+    def stage(text):
+        opened = Usd.Stage.CreateInMemory()
+        opened.GetRootLayer().ImportFromString(text)
+        return opened
+
+    def bound(opened, path):
+        return str(UsdShade.MaterialBindingAPI(opened.GetPrimAtPath(path)).ComputeBoundMaterial()[0].GetPath())
+
+    failing, passing = stage(USD_CORE_BINDING.failing), stage(USD_CORE_BINDING.passing)
+    assert any(f["severity"] == "error" and "SubsetMaterialBindFamilyName" in f["identifier"] for f in usd_core_findings(failing))
+    assert not any(f["severity"] == "error" for f in usd_core_findings(passing))
+    subset = "/Asset/Crate/band"
+    assert UsdShade.MaterialBindingAPI(passing.GetPrimAtPath(subset)).GetDirectBindingRel()
+    assert [str(s.GetPath()) for s in UsdShade.MaterialBindingAPI(passing.GetPrimAtPath("/Asset/Crate")).GetMaterialBindSubsets()] == [subset]
+    assert not UsdShade.MaterialBindingAPI(failing.GetPrimAtPath("/Asset/Crate")).GetMaterialBindSubsets()
+    assert bound(stage(COLLECTION_NO_GEOMETRY.passing), "/Deck/Plank") == "/Deck/Oak"
+    assert bound(stage(COLLECTION_NO_GEOMETRY.failing), "/Deck/Plank") == ""
+    assert bound(stage(INSTANCE_OVERRIDE.passing), "/Asset/Bolt/Geo") == "/Asset/Gold"
+    assert bound(stage(INSTANCE_OVERRIDE.failing), "/Asset/Bolt/Geo") == "/Asset/Steel"

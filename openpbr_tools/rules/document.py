@@ -15,10 +15,12 @@ from . import Rule
 UNREADABLE = Rule(
     "OPBR001", "unreadable-file", Severity.ERROR,
     "The file cannot be opened or decoded.",
-    "The file does not exist, cannot be read (permissions, a folder), or is not UTF-8 text. "
+    "The file does not exist, cannot be read (permissions, a folder), or is not text in its encoding (a "
+    "MaterialX document's byte-order mark or XML declaration names it, as XML 1.0 section 4.3.3 says; UTF-8 "
+    "without either: a UTF-16 or Latin-1 document that says so is read as MaterialX's own parser reads it). "
     "Nothing else can be checked; the exit code is 2.",
     passing='<open_pbr_surface name="S" type="surfaceshader" />',
-    failing=b"\xff\xfe<\x00m\x00",
+    failing=b'<?xml version="1.0"?>\n<materialx version="1.39">\n  <!-- Ch\xeane -->\n</materialx>\n',
 )
 NOT_MATERIALX = Rule(
     "OPBR002", "malformed-document", Severity.ERROR,

@@ -6,6 +6,9 @@ finding is ignored (for a style or policy rule: what it protects instead). ``sou
 citations separated by ``"; "``, each an ``https://`` URL or ``owner/repository:path`` in a public
 GitHub repository (the specification or the code that behaves so). ``openpbr rules CODE`` and the
 SARIF rule help show both; a test checks that every rule has them.
+
+One module because it is one table, keyed by rule code and read whole (the rule catalogue, SARIF, the
+test that every rule has an entry); split by family, each part would repeat the citation constants.
 """
 
 from __future__ import annotations
@@ -258,6 +261,17 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "from the OpenPBR look shows another material there.", f"{USD_PREVIEW}; {HD_MTLX}"),
     "OPBR1010": ("usd-core's own validators (the anchor) flag stages that load or render wrongly in USD tools "
                  "(composition errors, missing stage metrics).", f"{USD_COMPLIANCE}; {USD_METRICS}"),
+    "OPBR1025": ("usd-core's validators (the anchor): SubsetMaterialBindFamilyName, SubsetFamilies and "
+                 "MaterialBindingCollectionValidator report these as errors; UsdShadeMaterialBindingAPI.ComputeBoundMaterial "
+                 "then finds another material, or none (checked on the red team's round-five files ub01, ub06, ub07).",
+                 f"{_USD}pxr/usd/usdShade/materialBindingAPI.h; {_USD}pxr/usd/usdGeom/subset.h"),
+    "OPBR1026": ("Usd.CollectionAPI's explicitOnly includes exactly the listed prims; UsdShade binds a collection's "
+                 "material to its members only, so a collection of the group binds nothing that renders "
+                 "(ComputeBoundMaterial on the meshes, checked on the red team's round-five ub13).",
+                 f"{_USD}pxr/usd/usd/collectionAPI.h; {_USD}pxr/usd/usdShade/materialBindingAPI.h"),
+    "OPBR1027": ("usd-core composes the prims below an instance from its prototype and ignores the stage's own "
+                 "opinions there: an override of one instance does nothing (ComputeBoundMaterial, checked on the red "
+                 "team's round-five ub02).", f"{_USD}pxr/usd/usd/instancing.dox; {_USD}pxr/usd/usd/prim.h"),
     "OPBR1011": ("An arc outside the asset breaks when the asset moves or is packaged, and reads files the "
                  "asset's owner did not ship; the toolkit never opens it.", f"{USDZ}; {USD_COMPLIANCE}"),
     "OPBR1012": ("The USDZ specification requires stored (uncompressed), relative, aligned entries; ARKit and "

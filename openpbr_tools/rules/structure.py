@@ -93,10 +93,10 @@ def check(asset, context):
                 f"{observation.detail['node']!r} names no output: MaterialX takes its first", observation.location,
                 hint="add output=\"...\" naming the channel meant (outr, outg, outb)")
         elif observation.kind == "dangling_reference":
-            target = observation.detail.get("target")
+            target, reason = observation.detail.get("target"), observation.detail.get("ends")
             yield context.diagnostic(
-                DANGLING, f"{observation.detail.get('attribute', 'reference')} {target!r} does not exist",
-                observation.location,
+                DANGLING, f"{observation.detail.get('attribute', 'reference')} {target!r} "
+                          + (reason if reason else "does not exist"), observation.location,
             )
     for material in asset.materials:
         if material.material_name is None and asset.format == "mtlx":

@@ -126,6 +126,61 @@ USD_CORE = Rule(
     failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace('    upAxis = "Y"\n', ""),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
+_SUBSET_MESH = """#usda 1.0
+(
+    defaultPrim = "Asset"
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+def Xform "Asset"
+{
+    def Material "Oak"
+    {
+    }
+    def Material "Steel"
+    {
+    }
+    def Mesh "Crate" (
+        prepend apiSchemas = ["MaterialBindingAPI"]
+    )
+    {
+        int[] faceVertexCounts = [3, 3]
+        int[] faceVertexIndices = [0, 1, 2, 0, 2, 3]
+        point3f[] points = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+        rel material:binding = </Asset/Oak>
+        uniform token subsetFamily:materialBind:familyType = "nonOverlapping"
+        def GeomSubset "band" (
+            prepend apiSchemas = ["MaterialBindingAPI"]
+        )
+        {
+            uniform token elementType = "face"
+FAMILY            int[] indices = [1]
+            rel material:binding = </Asset/Steel>
+        }
+    }
+}
+"""
+#: usd-core validators whose errors mean a material is bound to other geometry than the file says, or to none:
+#: ComputeBoundMaterial and Hydra skip the binding (a GeomSubset outside the materialBind family, a family whose
+#: subsets overlap, a binding left with no target).
+BINDING_VALIDATORS = frozenset(("SubsetMaterialBindFamilyName", "SubsetFamilies", "MaterialBindingCollectionValidator",
+                                "MaterialBindingRelationships"))
+USD_CORE_BINDING = Rule(
+    "OPBR1025", "usd-core-binding-error", Severity.ERROR,
+    "usd-core's validators report an error in how materials are bound: a GeomSubset with a material binding but "
+    "no familyName \"materialBind\", subsets of that family that share a face, a binding whose target composition "
+    "dropped (outside the scope of a reference), a binding that is no relationship.",
+    "UsdShadeMaterialBindingAPI only honours a GeomSubset's binding when the subset is in the materialBind family "
+    "(GetMaterialBindSubsets returns nothing otherwise), and a family whose subsets overlap is invalid "
+    "(UsdGeomSubset.ValidateFamily); a target outside the referenced prim's scope is ignored by composition "
+    "(\"outside the scope of the reference\"), which leaves the binding empty. usd-core's validators (the anchor) "
+    "call each an error, and the geometry renders with another material than the file says, or with none. Other "
+    "usd-core findings are OPBR1010.",
+    passing=_SUBSET_MESH.replace("FAMILY", '            uniform token familyName = "materialBind"\n'),
+    failing=_SUBSET_MESH.replace("FAMILY", ""),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
 
 def _package(*entries: tuple[str, str]) -> bytes:
     """A USDZ's bytes: entries stored uncompressed, the root layer first."""
@@ -189,7 +244,7 @@ MTLX_REFERENCE = Rule(
 
 
 RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
-         USD_CORE, ARC_OUTSIDE, PACKAGE_ENTRY, MTLX_REFERENCE, REMAPPED_NAME)
+         USD_CORE, USD_CORE_BINDING, ARC_OUTSIDE, PACKAGE_ENTRY, MTLX_REFERENCE, REMAPPED_NAME)
 
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
@@ -409,7 +464,8 @@ def _usd_core(asset, context):
             continue  # OPBR701 reports missing textures
         site = sites[0] if sites else ""
         prim, _, attribute = site.partition(".")
+        binding = finding["severity"] == "error" and finding["identifier"].rsplit(":", 1)[-1].split(".")[0] in BINDING_VALIDATORS
         yield context.diagnostic(
-            USD_CORE, f"usd-core {finding['identifier']}: {finding['message']}",
+            USD_CORE_BINDING if binding else USD_CORE, f"usd-core {finding['identifier']}: {finding['message']}",
             Location(asset.path, None, prim or None, (attribute.removeprefix("inputs:")) or None),
         )

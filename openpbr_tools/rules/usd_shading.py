@@ -59,11 +59,13 @@ def _collection(includes: str) -> str:
 
 BINDING_TARGET = Rule(
     "OPBR1017", "usd-binding-target-invalid", Severity.ERROR,
-    "A direct material binding targets a prim that does not exist, is inactive, or is not a Material (a "
-    "Shader, a Scope).",
+    "A direct material binding targets a prim that does not exist, is inactive, is not a Material (a "
+    "Shader, a Scope), or is a Material only ever authored as an 'over' (never defined).",
     "UsdShade.MaterialBindingAPI resolves such a binding to no material, so the geometry renders with the "
     "renderer's fallback; nothing fails to load. Typical of a Material renamed or deactivated after binding, a "
-    "variant naming a material that was never added, or a Shader picked instead of its Material.",
+    "variant naming a material that was never added, or a Shader picked instead of its Material. An 'over' that "
+    "no layer defines is resolved by ComputeBoundMaterial but is no defined prim: stage traversal, and so Hydra "
+    "and every renderer, skip it (an override whose layer with the 'def' was left out).",
     passing=_stage(), failing=_stage(target="/M/S"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
@@ -147,6 +149,93 @@ COLLECTION_EMPTY = Rule(
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
 
+_PLANKS = """#usda 1.0
+(
+    defaultPrim = "Deck"
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+def Xform "Deck" (
+    prepend apiSchemas = ["MaterialBindingAPI", "CollectionAPI:planks"]
+)
+{
+    uniform token collection:planks:expansionRule = "explicitOnly"
+    rel collection:planks:includes = INCLUDES
+    rel material:binding:collection:planks = [</Deck.collection:planks>, </Deck/Oak>]
+    def Material "Oak"
+    {
+    }
+    def Mesh "Plank"
+    {
+        int[] faceVertexCounts = [3]
+        int[] faceVertexIndices = [0, 1, 2]
+        point3f[] points = [(0, 0, 0), (1, 0, 0), (1, 1, 0)]
+    }
+}
+"""
+COLLECTION_NO_GEOMETRY = Rule(
+    "OPBR1026", "usd-binding-collection-binds-no-geometry", Severity.ERROR,
+    "A collection-based material binding's collection includes prims, but no geometry (no Gprim): an explicitOnly "
+    "collection that lists the parent Xform of the meshes meant, which it then leaves out.",
+    "Usd.CollectionAPI with expansionRule explicitOnly includes exactly the listed prims, not their descendants, and "
+    "UsdShade.MaterialBindingAPI binds a collection's material only to the prims the collection includes: listing "
+    "the group instead of its meshes binds nothing that renders (ComputeBoundMaterial on the meshes finds nothing "
+    "through it). With expandPrims (the default) the same list would include the meshes.",
+    passing=_PLANKS.replace("INCLUDES", "</Deck/Plank>"), failing=_PLANKS.replace("INCLUDES", "</Deck>"),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
+_BOLTS = """#usda 1.0
+(
+    defaultPrim = "Asset"
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+def Xform "Asset"
+{
+    def Material "Steel"
+    {
+    }
+    def Material "Gold"
+    {
+    }
+    def Xform "Proto"
+    {
+        def Mesh "Geo" (
+            prepend apiSchemas = ["MaterialBindingAPI"]
+        )
+        {
+            int[] faceVertexCounts = [3]
+            int[] faceVertexIndices = [0, 1, 2]
+            point3f[] points = [(0, 0, 0), (1, 0, 0), (1, 1, 0)]
+            rel material:binding = </Asset/Steel>
+        }
+    }
+    def "Bolt" (
+        instanceable = INSTANCEABLE
+        prepend references = </Asset/Proto>
+    )
+    {
+        over "Geo" (
+            prepend apiSchemas = ["MaterialBindingAPI"]
+        )
+        {
+            rel material:binding = </Asset/Gold>
+        }
+    }
+}
+"""
+INSTANCE_OVERRIDE = Rule(
+    "OPBR1027", "usd-override-inside-instance", Severity.WARNING,
+    "A layer authors opinions below an instanceable prim (a material binding override on one instance's mesh).",
+    "An instance shares its prototype's subtree: usd-core composes the prims below an instanceable prim from the "
+    "prototype only and ignores the stage's opinions there, so the override does nothing (ComputeBoundMaterial "
+    "on the instance's mesh still finds the prototype's material). Bind on the instance prim itself, make that "
+    "one prim not instanceable, or override through a variant of the prototype.",
+    passing=_BOLTS.replace("INSTANCEABLE", "false"), failing=_BOLTS.replace("INSTANCEABLE", "true"),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
 RENDER_CONTEXT = Rule(
     "OPBR1024", "usd-render-context-misspelt", Severity.ERROR,
     "A Material's surface output is only in a render context no renderer reads under that name "
@@ -159,7 +248,7 @@ RENDER_CONTEXT = Rule(
 )
 
 RULES = (BINDING_TARGET, INPUT_RELATIONSHIP, CONNECTION_REFUSED, LAYER_UNITS, BINDING_PURPOSE, BINDING_STRENGTH,
-         COLLECTION_EMPTY, RENDER_CONTEXT)
+         COLLECTION_EMPTY, COLLECTION_NO_GEOMETRY, INSTANCE_OVERRIDE, RENDER_CONTEXT)
 
 
 def check(asset, context):
@@ -192,6 +281,18 @@ def check(asset, context):
                 COLLECTION_EMPTY, f"{detail['relationship']} binds through {detail['collection']}, whose includes "
                 f"({missing}) name no prim: the collection matches nothing and binds nothing", where,
                 hint="include the geometry's current paths")
+        elif observation.kind == "usd_collection_no_geometry":
+            listed = ", ".join(f"<{m}>" for m in detail["includes"][:4])
+            yield context.diagnostic(
+                COLLECTION_NO_GEOMETRY, f"{detail['relationship']} binds through {detail['collection']}, which "
+                f"({detail['rule']}) includes {listed} but no geometry: the binding reaches nothing that renders", where,
+                hint="include the meshes themselves, or set the collection's expansionRule to expandPrims")
+        elif observation.kind == "usd_instance_override":
+            ignored = ", ".join(f"<{m}>" for m in detail["ignored"][:4])
+            yield context.diagnostic(
+                INSTANCE_OVERRIDE, f"{detail['instance']} is instanceable, so usd-core ignores what this stage authors "
+                f"below it ({ignored}): the override does nothing", where,
+                hint="author it on the instance prim, or make this prim not instanceable")
         elif observation.kind == "usd_render_context":
             yield context.diagnostic(
                 RENDER_CONTEXT, f"the Material's only surface output is {detail['output']}: no renderer reads the "

@@ -51,7 +51,8 @@ _CHECKER = (("albedo.png", bytes.fromhex(  # a 2 x 2 black and white checker: an
 PRIMVAR_MISSING = Rule(
     "OPBR1015", "usd-primvar-missing", Severity.ERROR,
     "A primvar reader (or a MaterialX geompropvalue) feeding a texture's coordinates reads a primvar that a mesh "
-    "bound to its Material does not have.",
+    "bound to its Material does not have (or has with the wrong number of values for its interpolation, which "
+    "renderers drop), or reads none: its varname is connected to an interface input with no value.",
     "The reader returns its fallback, (0, 0), on that mesh, so the texture shows as the one colour of its "
     "corner texel. Typical of a mesh exported with its UVs named after the tool (UVMap, map1) while the "
     "material reads st. Bindings are resolved as usd-core resolves them (inherited, collections, every "
@@ -61,11 +62,13 @@ PRIMVAR_MISSING = Rule(
     failing_files=_CHECKER,
 )
 ST_UNCONNECTED = Rule(
-    "OPBR1016", "usd-uvtexture-without-st", Severity.WARNING,
-    "A UsdUVTexture's st input is neither connected nor set, so every point reads the texel at (0, 0).",
-    "UsdUVTexture's st defaults to (0, 0) (UsdPreviewSurface specification); it does not fall back to the "
-    "mesh's UVs, so the texture renders as one flat colour. Connect st to a UsdPrimvarReader_float2 "
-    "reading the mesh's UV primvar (st).",
+    "OPBR1016", "usd-uvtexture-without-st", Severity.ERROR,
+    "A UsdUVTexture's st input (or the in input of the UsdTransform2d that feeds it) is neither connected nor "
+    "set, so every point reads the texel at (0, 0).",
+    "UsdUVTexture's st and UsdTransform2d's in default to (0, 0) (UsdPreviewSurface specification); neither "
+    "falls back to the mesh's UVs, so the texture renders as one flat colour: the texture the author painted "
+    "does not show. Connect st (or the transform's in) to a UsdPrimvarReader_float2 reading the mesh's UV "
+    "primvar (st). Only reported for an image that is more than one colour.",
     passing=_stage(_READS, "st"), failing=_stage("", "st"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
     failing_files=_CHECKER,
@@ -97,16 +100,32 @@ def check(asset, context):
         if read["st"] == "unconnected":
             if not _varies(asset, texture, context, containers):
                 continue
+            through = read.get("through")
             yield context.diagnostic(
-                ST_UNCONNECTED, f"{entry.name}: {texture.node} has no st connection, so it reads the texel at (0, 0) "
-                "everywhere", Location(asset.path, None, texture.node, "st"),
-                hint="connect st to a UsdPrimvarReader_float2 whose varname is the mesh's UV primvar (st)")
+                ST_UNCONNECTED, f"{entry.name}: " + (
+                    f"{texture.node} reads its coordinates through {through}, whose in is neither connected nor set"
+                    if through else f"{texture.node} has no st connection") + ", so it reads the texel at (0, 0) "
+                "everywhere", Location(asset.path, None, through or texture.node, "in" if through else "st"),
+                hint=f"connect {'in' if through else 'st'} to a UsdPrimvarReader_float2 whose varname is the mesh's UV "
+                     "primvar (st)")
+            continue
+        if read["st"] == "no_varname":
+            if not _varies(asset, texture, context, containers):
+                continue
+            yield context.diagnostic(
+                PRIMVAR_MISSING, f"{entry.name}: {texture.node} reads its coordinates through {read['reader']}, whose "
+                f"varname is connected to {read.get('source') or 'an input'}, which has no value: no primvar is read, "
+                "so it reads the texel at (0, 0) everywhere", Location(asset.path, None, read["reader"], "varname"),
+                hint="give the interface input the mesh's UV primvar name (st), or set varname itself")
             continue
         name = read.get("primvar")
         lacking = [(mesh, names) for mesh, names in bound.get(material_path, ()) if name and name not in names]
         if not lacking or not _varies(asset, texture, context, containers):
             continue
-        shown = ", ".join(mesh for mesh, _ in lacking[:_SHOWN]) + (f" and {len(lacking) - _SHOWN} more" if len(lacking) > _SHOWN else "")
+        sizes = asset.extra.get("usd_primvar_sizes", {})
+        shown = ", ".join(mesh + (f" (its {name} {sizes[mesh][name]}, so renderers drop it)" if name in sizes.get(mesh, {})
+                                  else "") for mesh, _ in lacking[:_SHOWN]) + \
+            (f" and {len(lacking) - _SHOWN} more" if len(lacking) > _SHOWN else "")
         has = sorted({n for _, names in lacking for n in names if not n.startswith(("displayColor", "displayOpacity"))})
         yield context.diagnostic(
             PRIMVAR_MISSING, f"{entry.name}: {texture.node} reads primvar {name!r} through {read['reader']}, which "

@@ -17,6 +17,7 @@ from .. import tables
 from ..diagnostics import Diagnostic
 from ..io.mtlx.patch import apply_edits
 from ..io.mtlx.reader import read_mtlx
+from ..io.mtlx.xmlscan import decode_document
 from ..io.mtlx.writer import document_text
 from ..model import Material
 from ..rules import Context
@@ -89,7 +90,7 @@ def upgrade_mtlx_file(path: str, target: str | None = None, context: Context | N
     document = mx.createDocument()
     options = mx.XmlReadOptions()
     options.readXIncludeFunction = None
-    mx.readFromXmlString(document, data.decode("utf-8-sig"), mx.FileSearchPath(), options)
+    mx.readFromXmlString(document, decode_document(data), mx.FileSearchPath(), options)
     upgrades = []
     for material in asset.materials:
         if material.model != MODEL:

@@ -6,7 +6,7 @@ import os
 
 from .. import read_bytes
 from ..paths import PathGuard
-from .xmlscan import scan
+from .xmlscan import decode_document, scan
 
 MAX_XINCLUDE_DEPTH = 8
 
@@ -42,7 +42,7 @@ def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[
             options.readXIncludeFunction = None
             try:
                 data = read_bytes(resolved.real)
-                mx.readFromXmlString(included, data.decode("utf-8-sig"), mx.FileSearchPath(), options)
+                mx.readFromXmlString(included, decode_document(data), mx.FileSearchPath(), options)
                 nested = scan(data).xincludes
             except Exception as error:  # noqa: BLE001 - ReadError, UnicodeDecodeError, XmlSyntaxError and MaterialX's own types
                 reason = f"cannot be read ({getattr(error, 'message', error)})"

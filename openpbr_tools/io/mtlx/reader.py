@@ -38,7 +38,8 @@ from .capture import capture_graph
 from .graph import GraphFollower, in_definition, interface_colorspace
 from .looks import record_looks
 from .includes import follow_includes
-from .xmlscan import XmlSyntaxError, message_sites, parse_suppression, scan, scan_with_materialx, upgrade_changes_nothing
+from .xmlscan import (XmlSyntaxError, decode_document, message_sites, parse_suppression, scan, scan_with_materialx,
+                      upgrade_changes_nothing)
 
 SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
 MATERIAL_CATEGORIES = ("surfacematerial",)
@@ -88,12 +89,14 @@ def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ..
     if data is None:
         data = read_bytes(path)
     try:
-        text = data.decode("utf-8-sig")
+        text = decode_document(data)
     except UnicodeDecodeError as error:
         raise ReadError(
-            "unreadable", f"not UTF-8 text (MaterialX documents are UTF-8): {error.reason} at byte {error.start}",
-            Location(path),
+            "unreadable", f"not text in its declared encoding ({error.encoding}; UTF-8 where none is declared): "
+                          f"{error.reason} at byte {error.start}", Location(path),
         ) from None
+    except LookupError:
+        raise ReadError("unreadable", "the XML declaration names an encoding no XML parser knows", Location(path)) from None
     lenient_error = None
     try:
         structure = scan(data)

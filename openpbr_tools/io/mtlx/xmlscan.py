@@ -10,6 +10,7 @@ entity-expansion bombs.
 
 from __future__ import annotations
 
+import codecs
 import re
 from dataclasses import dataclass, field
 from xml.parsers import expat
@@ -18,6 +19,25 @@ from xml.parsers import expat
 # it (and what it contains); ``openpbr-ignore-file:`` applies to the whole document. The same
 # marker in an element's ``doc`` attribute applies to that element.
 SUPPRESSION = re.compile(r"openpbr-ignore(-file)?\s*:\s*((?:all|OPBR\d+)(?:\s*,\s*(?:all|OPBR\d+))*)")
+
+
+_DECLARED_ENCODING = re.compile(rb"""^<\?xml[^>]*?\sencoding\s*=\s*["']([A-Za-z][A-Za-z0-9._-]*)["']""")
+_BOMS = ((codecs.BOM_UTF32_LE, "utf-32"), (codecs.BOM_UTF32_BE, "utf-32"), (codecs.BOM_UTF8, "utf-8-sig"),
+         (codecs.BOM_UTF16_LE, "utf-16"), (codecs.BOM_UTF16_BE, "utf-16"))
+
+
+def decode_document(data: bytes) -> str:
+    """The text of an XML document in the encoding XML 1.0 (4.3.3, Appendix F) gives it: a byte-order mark's
+    (UTF-8, UTF-16, UTF-32), else the declaration's ``encoding`` (ISO-8859-1, windows-1252), else UTF-8, as
+    MaterialX's parser (pugixml) reads a file. The declaration in the result says UTF-8: the text is handed
+    to MaterialX as a string, which it reads as UTF-8 (a Latin-1 declaration would make it decode twice).
+    Raises UnicodeDecodeError (or LookupError for an encoding Python does not know)."""
+    encoding = next((name for bom, name in _BOMS if data.startswith(bom)), None)
+    if encoding is None:
+        declared = _DECLARED_ENCODING.match(data)
+        encoding = declared.group(1).decode("ascii") if declared else "utf-8"
+    text = data.decode(encoding)
+    return re.sub(r"""^(<\?xml[^>]*?\sencoding\s*=\s*["'])[^"']*(["'])""", r"\g<1>UTF-8\g<2>", text, count=1)
 
 
 def parse_suppression(text: str) -> tuple[bool, frozenset[str]] | None:

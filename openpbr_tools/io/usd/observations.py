@@ -58,6 +58,8 @@ def observe_structure(prim, stage, observe, location) -> None:
     OpenUSD's own preview-surface tests do and Storm renders)."""
     from pxr import UsdShade  # lazy: as in observe_layer_units
 
+    if prim.IsInstance():
+        _observe_instance_overrides(prim, stage, observe, location)
     for relationship in prim.GetRelationships():
         name = relationship.GetName()
         if name.startswith("material:binding"):
@@ -69,6 +71,8 @@ def observe_structure(prim, stage, observe, location) -> None:
                 bound = stage.GetPrimAtPath(target.GetPrimPath())
                 reason = ("is a property, not a Material prim" if target.IsPropertyPath() else
                           "does not exist" if not bound else "is inactive" if not bound.IsActive()
+                          else "is only an 'over' of a Material, never defined (def): stage traversal and renderers "
+                               "skip it" if not bound.IsDefined()
                           else None if bound.IsA(UsdShade.Material) else f"is a {bound.GetTypeName() or 'typeless prim'}, "
                           "not a Material")
                 if reason is not None:
@@ -124,6 +128,22 @@ def _observe_binding_form(prim, relationship, name, stage, observe, location) ->
             _observe_collection(targets[0], name, stage, observe, location(prim.GetPath(), None))
 
 
+def _observe_instance_overrides(prim, stage, observe, location) -> None:
+    """Opinions a layer of the stage's own layer stack authors under an instance (below the instanceable prim):
+    the instance shares its prototype's subtree, so usd-core ignores them (a material:binding override on one
+    instance's mesh does nothing). The instance prim's own properties are kept and not reported."""
+    path = prim.GetPath()
+    ignored = []
+    for layer in stage.GetLayerStack(includeSessionLayers=False):
+        spec = layer.GetPrimAtPath(path)
+        if spec is None:
+            continue
+        for child in spec.nameChildren:
+            ignored.append(str(child.path))
+    if ignored:
+        observe("usd_instance_override", location(path, None), instance=str(path), ignored=sorted(set(ignored)))
+
+
 def _observe_collection(path, binding, stage, observe, where) -> None:
     from pxr import Usd  # lazy: as in observe_layer_units
 
@@ -140,6 +160,13 @@ def _observe_collection(path, binding, stage, observe, where) -> None:
     present = all(stage.GetPrimAtPath(p.GetPrimPath().GetParentPath()) for p in includes)
     if len(missing) == len(includes) and present:
         observe("usd_collection_empty", where, relationship=binding, collection=str(path), missing=missing)
+    elif not missing:
+        from pxr import UsdGeom  # lazy: as above
+
+        included = Usd.CollectionAPI.ComputeIncludedPaths(collection.ComputeMembershipQuery(), stage)
+        if not any(stage.GetPrimAtPath(p).IsA(UsdGeom.Gprim) for p in included[:100_000]):
+            observe("usd_collection_no_geometry", where, relationship=binding, collection=str(path),
+                    includes=[str(p) for p in includes], rule=str(collection.GetExpansionRuleAttr().Get() or "expandPrims"))
 
 
 #: render contexts of Material outputs, as their renderers name them ("" is the universal output)

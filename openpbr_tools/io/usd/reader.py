@@ -168,16 +168,23 @@ class _Reader(NetworkReader):
             for mesh, material in zip(meshes, materials):
                 if material:
                     bound.setdefault(str(material.GetPath()), set()).add(mesh)
-        found = {}
+        found, sizes = {}, {}
+        read_names = {read.get("primvar") for read in reads.values() if read.get("primvar")}
         for material_path, bound_meshes in bound.items():
             entries = []
             for mesh in sorted(bound_meshes, key=lambda prim: str(prim.GetPath())):
                 api = self.UsdGeom.PrimvarsAPI(mesh)
                 names = {p.GetPrimvarName() for p in api.GetPrimvarsWithValues()}
                 names |= {p.GetPrimvarName() for p in api.FindInheritablePrimvars() if p.HasValue()}
+                for name in sorted(read_names & {str(n) for n in names}):
+                    problem = primvar_size_problem(self.UsdGeom, mesh, api.GetPrimvar(name))
+                    if problem:  # Hydra drops a primvar of the wrong size: the reader gets its fallback, as without it
+                        names.discard(name)
+                        sizes.setdefault(str(mesh.GetPath()), {})[name] = problem
                 entries.append((str(mesh.GetPath()), tuple(sorted(str(n) for n in names))))
             found[material_path] = entries
         self.asset.extra["usd_bound_primvars"] = found
+        self.asset.extra["usd_primvar_sizes"] = sizes
 
     def observe_shader_id(self, prim) -> None:
         shader = self.UsdShade.Shader(prim)
@@ -242,6 +249,12 @@ class _Reader(NetworkReader):
             if kind == "dangling":
                 target, reason = found
                 self.asset.observe("dangling_reference", where, attribute=f"outputs:{base}", target=target, reason=reason)
+                continue
+            if kind == "value" and found[0].GetPath() != attribute.GetPath():
+                # through a node graph's output that nothing feeds: ComputeSurfaceSource finds no shader
+                self.asset.observe("dangling_reference", where, attribute=f"outputs:{base}", target=str(found[0].GetPath()),
+                                   reason="a node graph output connected to nothing",
+                                   ends="is a node graph output connected to nothing: no shader renders")
                 continue
             if kind != "shader":
                 continue
@@ -353,3 +366,33 @@ class _Reader(NetworkReader):
             if value.value in OPACITY_MODE_TOKENS:
                 value = Constant(OPACITY_MODE_TOKENS.index(value.value))
         entry.value = value
+
+
+def primvar_size_problem(UsdGeom, mesh, primvar) -> str | None:
+    """Why a mesh's own primvar has the wrong number of elements for its interpolation (constant 1, uniform one per
+    face, vertex and varying one per point, faceVarying one per face-vertex; an indexed primvar's indices count,
+    and each must name a value), as UsdGeomPrimvar documents them; ``None`` when it fits or cannot be judged (no
+    topology authored, a primvar inherited from an ancestor)."""
+    if not primvar or not primvar.HasAuthoredValue() or primvar.GetAttr().GetPrim() != mesh:
+        return None
+    geometry = UsdGeom.Mesh(mesh)
+    counts, points = geometry.GetFaceVertexCountsAttr().Get(), geometry.GetPointsAttr().Get()
+    if counts is None or points is None:
+        return None
+    interpolation = str(primvar.GetInterpolation())
+    needed = {"constant": 1, "uniform": len(counts), "vertex": len(points), "varying": len(points),
+              "faceVarying": int(sum(counts))}.get(interpolation)
+    values = primvar.Get()
+    if needed is None or values is None:
+        return None
+    element = max(1, primvar.GetElementSize())
+    if primvar.IsIndexed():
+        indices = primvar.GetIndices() or ()
+        if len(indices) != needed * element:
+            return f"has {len(indices)} indices where {interpolation} interpolation needs {needed * element}"
+        if len(indices) and (min(indices) < 0 or max(indices) >= len(values)):
+            return f"has indices outside its {len(values)} values"
+        return None
+    if len(values) != needed * element:
+        return f"has {len(values)} values where {interpolation} interpolation needs {needed * element}"
+    return None

@@ -183,10 +183,20 @@ class TextureNodeReader:
             if node_id == TRANSFORM_2D_ID:
                 texture.uv = _transform2d_as_place2d(node)
                 kind, *found = self.upstream(node, "in")
+                coordinates = node.GetAttribute("inputs:in")
+                if kind == "value" and not (coordinates and (coordinates.HasAuthoredValue() or
+                                                             coordinates.HasAuthoredConnections())):
+                    reads.setdefault(path, {"st": "unconnected", "through": str(node.GetPath())})
                 continue
             if node_id.startswith(PRIMVAR_READER_PREFIX):
                 varname = self.varname(node)
                 texture.texcoord = None if varname in (None, DEFAULT_UV_PRIMVAR) else varname
+                named = self.UsdShade.Shader(node).GetInput("varname")
+                if varname is None and named and named.HasConnectedSource():
+                    sources, _ = named.GetConnectedSources()
+                    reads.setdefault(path, {"st": "no_varname", "reader": str(node.GetPath()), "input": "varname",
+                                            "source": f"{sources[0].source.GetPath()}.inputs:{sources[0].sourceName}"
+                                            if sources else None})
                 reads.setdefault(path, {"st": "primvar", "reader": str(node.GetPath()), "primvar": varname, "input": "varname"})
             break
         return texture

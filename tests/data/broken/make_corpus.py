@@ -188,8 +188,8 @@ TEXTURES = {
 
 
 # ================================================================ document
-case("OPBR001_utf16_garbage.mtlx", "OPBR001", "An exporter wrote the document as UTF-16 with a byte-order mark and then truncated it, so it cannot be decoded.",
-     b"\xff\xfe<\x00m\x00a\x00t\x00")
+case("OPBR001_utf16_garbage.mtlx", "OPBR001", "An exporter wrote the document as UTF-16 with a byte-order mark and then truncated it mid-character, so it cannot be decoded.",
+     b"\xff\xfe<\x00m\x00a\x00t")
 case("OPBR002_gltf_not_utf8.gltf", "OPBR002", "A glTF JSON file saved in Latin-1 with a non-UTF-8 byte in the material name.",
      b'{"asset": {"version": "2.0"}, "materials": [{"name": "Mat\xe9riau"}]}')
 case("OPBR002_truncated_export.mtlx", "OPBR002", "The exporter crashed mid-write: the shader element and the document are never closed.",
