@@ -186,6 +186,7 @@ class Texture:
     # a normal map's scale and bias are its whole decode (a UsdPreviewSurface's normal fed by MaterialX
     # multiply/add nodes, as a UsdUVTexture's are), not followed by a normalmap node's 2 t - 1
     decoded_by_scale_bias: bool = False
+    layer: str | None = None  # a MaterialX image's layer: the OpenEXR layer (part) its channels are read from
 
     @property
     def reads_alpha(self) -> bool:

@@ -409,3 +409,127 @@ def test_the_new_usd_binding_rules_agree_with_usd_core():
     assert bound(stage(COLLECTION_NO_GEOMETRY.failing), "/Deck/Plank") == ""
     assert bound(stage(INSTANCE_OVERRIDE.passing), "/Asset/Bolt/Geo") == "/Asset/Gold"
     assert bound(stage(INSTANCE_OVERRIDE.failing), "/Asset/Bolt/Geo") == "/Asset/Steel"
+
+
+_MX_ALBEDO = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <image name="bc" type="color3">
+    <input name="file" type="filename" value="{file}"{space} />{extra}
+  </image>
+  <open_pbr_surface name="SR" type="surfaceshader">
+    <input name="base_color" type="color3" nodename="bc" />
+  </open_pbr_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def _exr(path: Path, channels=("R", "G", "B")) -> None:
+    import OpenImageIO as oiio
+
+    spec = oiio.ImageSpec(2, 2, len(channels), oiio.HALF)
+    spec.channelnames = tuple(channels)
+    buffer = oiio.ImageBuf(spec)
+    oiio.ImageBufAlgo.fill(buffer, (0.5,) * len(channels))
+    assert buffer.write(str(path)), oiio.geterror()
+
+
+def _albedo(tmp_path, file, space="", extra="", name="doc.mtlx") -> Path:
+    path = tmp_path / name
+    path.write_text(_MX_ALBEDO.format(file=file, space=space, extra=extra))
+    return path
+
+
+def test_an_exr_tagged_srgb_is_decoded_as_srgb_by_materialx(tmp_path):
+    """mb02: MaterialX's GLSL (the anchor) applies the tag as authored: an sRGB decode on scene-linear EXR values."""
+    from glsupport import shader_generator, validated
+
+    _exr(tmp_path / "albedo.exr")
+    tagged = _albedo(tmp_path, "albedo.exr", ' colorspace="srgb_texture"')
+    linear = _albedo(tmp_path, "albedo.exr", ' colorspace="lin_rec709"', name="linear.mtlx")
+    import MaterialX.PyMaterialXGenShader as gs
+
+    library, generator, context = shader_generator()
+    colour_management = gs.DefaultColorManagementSystem.create(generator.getTarget())
+    colour_management.loadLibrary(library)
+    generator.setColorManagementSystem(colour_management)
+    for path, decoded in ((tagged, True), (linear, False)):
+        document = validated(path)
+        document.setDataLibrary(library)
+        element = document.getMaterialNodes()[0]
+        code = generator.generate("M", element, context).getSourceCode(gs.PIXEL_STAGE)
+        assert ("srgb_texture_to_lin_rec709" in code) == decoded
+        assert (_codes_at(path).get("OPBR715") == "warning") == decoded
+
+
+def test_an_exr_layer_the_file_does_not_have(tmp_path):
+    """mb14: MaterialX reads the channels '<layer>.R/G/B'; the file's header (OpenImageIO) has diffuse and spec."""
+    _exr(tmp_path / "layers.exr", ("diffuse.R", "diffuse.G", "diffuse.B", "spec.R", "spec.G", "spec.B"))
+    layer = '\n    <input name="layer" type="string" value="{}" />'
+    assert _codes_at(_albedo(tmp_path, "layers.exr", extra=layer.format("albedo"))).get("OPBR717") == "warning"
+    assert "OPBR717" not in _codes_at(_albedo(tmp_path, "layers.exr", extra=layer.format("diffuse"), name="ok.mtlx"))
+
+
+def test_a_udim_set_without_its_first_tile(tmp_path):
+    """mb04: UVs in [0, 1] read tile 1001 (MaterialX's and USD's UDIM resolution); the set starts at 1002."""
+    for tile in ("1002", "1003"):
+        Image.new("RGB", (2, 2), (120, 80, 40)).save(tmp_path / f"hull.{tile}.png")
+    assert _codes_at(_albedo(tmp_path, "hull.<UDIM>.png", ' colorspace="srgb_texture"')).get("OPBR716") == "warning"
+    Image.new("RGB", (2, 2), (120, 80, 40)).save(tmp_path / "hull.1001.png")
+    assert "OPBR716" not in _codes_at(_albedo(tmp_path, "hull.<UDIM>.png", ' colorspace="srgb_texture"', name="ok.mtlx"))
+
+
+def test_a_png_name_on_tiff_content(tmp_path):
+    """mb05: the bytes are a TIFF (II*\\0) under a .png name; MaterialX's stb_image loader picks PNG by the suffix."""
+    Image.new("RGB", (2, 2), (120, 80, 40)).save(tmp_path / "brick.png", format="TIFF")
+    assert _codes_at(_albedo(tmp_path, "brick.png", ' colorspace="srgb_texture"')).get("OPBR714") == "error"
+    Image.new("RGB", (2, 2), (120, 80, 40)).save(tmp_path / "brick.tif", format="TIFF")
+    assert "OPBR714" not in _codes_at(_albedo(tmp_path, "brick.tif", ' colorspace="srgb_texture"', name="ok.mtlx"))
+
+
+@pytest.mark.parametrize("rotate, expected", [("1.5708", "warning"), ("3.14159", "warning"), ("90", None), ("1.5", None)])
+def test_a_place2d_rotation_written_in_radians(tmp_path, rotate, expected):
+    """mb10: place2d's rotate is in degrees (MaterialX's stdlib: ND_place2d rotate, its GLSL mx_radians)."""
+    Image.new("RGB", (2, 2), (120, 80, 40)).save(tmp_path / "floor.png")
+    extra = '\n    <input name="texcoord" type="vector2" nodename="turned" />'
+    path = _albedo(tmp_path, "floor.png", ' colorspace="srgb_texture"', extra=extra)
+    path.write_text(path.read_text().replace(
+        "  <image", '  <texcoord name="uv" type="vector2" />\n  <place2d name="turned" type="vector2">\n'
+        '    <input name="texcoord" type="vector2" nodename="uv" />\n'
+        f'    <input name="rotate" type="float" value="{rotate}" />\n  </place2d>\n  <image', 1))
+    assert _codes_at(path).get("OPBR719") == expected
+
+
+def test_an_orm_map_read_by_a_float_image_reads_its_occlusion(tmp_path):
+    """mb03: a float image reads the first channel (MaterialX: the image's channels beyond the output type are
+    dropped), which in glTF's occlusion-roughness-metalness packing is the occlusion, not the roughness."""
+    Image.new("RGB", (2, 2), (220, 128, 10)).save(tmp_path / "oak_orm.png")
+    body = ('<image name="rough" type="float">\n    <input name="file" type="filename" value="{file}" />\n  </image>\n'
+            '  <open_pbr_surface name="SR" type="surfaceshader">\n'
+            '    <input name="specular_roughness" type="float" nodename="rough" />\n  </open_pbr_surface>')
+    text = _MX_ALBEDO.split("  <image")[0] + "  " + body + "\n" + _MX_ALBEDO.split("</open_pbr_surface>\n")[1]
+    path = tmp_path / "doc.mtlx"
+    path.write_text(text.format(file="oak_orm.png"))
+    assert _codes_at(path).get("OPBR712") == "warning"
+    Image.new("L", (2, 2), 128).save(tmp_path / "oak_roughness.png")
+    ok = tmp_path / "ok.mtlx"
+    ok.write_text(text.format(file="oak_roughness.png"))
+    assert "OPBR712" not in _codes_at(ok)
+
+
+def test_an_unsigned_flow_map_read_as_a_tangent(tmp_path):
+    from openpbr_tools.rules.texture_content import TANGENT_FROM_UNSIGNED as rule
+
+    assert rule.failing != rule.passing  # (both run in test_rule_examples; here the red team's shape)
+    Image.new("RGB", (2, 2), (255, 128, 128)).save(tmp_path / "flow.png")
+    import sys
+
+    sys.path.insert(0, str(Path(__file__).parent))
+    from conftest import document
+
+    for text, expected in ((rule.failing, "warning"), (rule.passing, None)):
+        path = tmp_path / f"{expected}.mtlx"
+        path.write_text(document(text))
+        assert _codes_at(path).get("OPBR718") == expected

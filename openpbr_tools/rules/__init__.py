@@ -29,6 +29,7 @@ FAMILIES = (
     "colorspace",
     "units",
     "textures",
+    "texture_content",
     "structure",
     "plausibility",
     "usd",

@@ -240,6 +240,21 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     # -- usd -----------------------------------------------------------------------------------
     "OPBR909": ("OpenPBR's metal reflects base_weight * base_color at normal incidence; no measured metal reflects "
                 "under 2% (physicallybased.info).", "AntonPalmqvist/physically-based-api:deploy/v2/materials.json"),
+    "OPBR714": ("MaterialX's stb_image loader, browsers and engines choose the decoder by the file's suffix: a "
+                "TIFF named .png fails there and loads only where the content is sniffed (OpenImageIO).",
+                f"{_MX}source/MaterialXRender/StbImageLoader.cpp; {_MX}source/MaterialXRender/ImageHandler.cpp"),
+    "OPBR715": ("MaterialX applies a texture's colour space as authored: an sRGB tag on an OpenEXR or Radiance "
+                "image (scene-linear by convention) runs the sRGB decode on linear values (its GLSL's "
+                "NG_srgb_texture_to_lin_rec709).", f"{MX_CMS}; https://openexr.com/en/latest/TechnicalIntroduction.html"),
+    "OPBR716": ("MaterialX and USD resolve <UDIM> per point: UVs in [0, 1] read tile 1001; without it they read "
+                "the image's default.", f"{MX_SPEC}; {_USD}pxr/usd/usdShade/udimUtils.h"),
+    "OPBR717": ("MaterialX's image layer selects the OpenEXR channels '<layer>.R', '.G', '.B': a layer the file "
+                "does not have reads nothing and renders the default.", f"{MX_NODES}; {MX_SPEC}"),
+    "OPBR718": ("A tangent is a signed direction; an 8-bit image holds [0, 1], so without a 2t - 1 decode every "
+                "anisotropic highlight runs along the positive octant.", f"{MX_OPENPBR}; {MX_NODES}"),
+    "OPBR719": ("place2d's rotate and UsdTransform2d's rotation are in degrees (MaterialX's GLSL converts with "
+                "mx_radians); glTF's is in radians, so a value copied across turns the texture by 1/57 of what "
+                "was meant.", f"{MX_NODES}; {USD_PREVIEW}; {GLTF}"),
     "OPBR1001": ("Without info:id (or a source asset/code) Sdr cannot find the shader's definition: Hydra "
                  "renders the material with its fallback.", f"{USD_SHADER}; {_USD}pxr/usd/sdr/shaderNode.h"),
     "OPBR1002": ("Hydra and UsdMtlx type MaterialX inputs from the USD type (role and precision): a wrong role "

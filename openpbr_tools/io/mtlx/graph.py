@@ -180,6 +180,9 @@ class GraphFollower:
             node_category=node.getCategory(),
             location=Location(self.path, self.asset.line_of.get(node.getNamePath()), node.getNamePath(), "file"),
         )
+        layer = node.getInput("layer")
+        if layer is not None and layer.getValueString():
+            texture.layer = layer.getValueString()
         default = node.getInput("default")
         if default is not None and default.hasAttribute("value"):
             try:
