@@ -497,6 +497,12 @@ case("OPBR711_tiledimage_tiling_zero.mtlx", "OPBR711", "An unset tiling was expo
 case("OPBR712_roughness_reads_basecolor.mtlx", "OPBR712", "An auto-assign script picked the base colour file for the roughness slot: roughness is the colour's red channel.",
      opbr('<input name="base_color" type="color3" nodename="albedo" />\n<input name="specular_roughness" type="float" nodename="rough" />',
           before=image("albedo", "textures/albedo.png") + "\n" + image("rough", "textures/albedo.png", "float", None)))
+case("OPBR719_place2d_rotate_in_radians.mtlx", "OPBR719", "A script copied a quarter turn from an API in radians: place2d rotate = 1.5708 (degrees), so the floor turns 1.6 degrees, not 90.",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />',
+          before='<texcoord name="uv" type="vector2" />\n<place2d name="turned" type="vector2">\n  <input name="texcoord" type="vector2" nodename="uv" />\n'
+                 '  <input name="rotate" type="float" value="1.5708" />\n</place2d>\n<image name="albedo" type="color3">\n'
+                 '  <input name="file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n'
+                 '  <input name="texcoord" type="vector2" nodename="turned" />\n</image>'))
 case("OPBR909_black_metal.mtlx", "OPBR909", "A dielectric's black base colour was left on a metal: it reflects nothing at normal incidence.",
      opbr('<input name="base_metalness" type="float" value="1" />\n<input name="base_color" type="color3" value="0, 0, 0" />'))
 case("OPBR1020_usd_layer_in_metres.usda", "OPBR1020", "A centimetre stage sublayers a look layer authored in metres: its transmission depth of 2.5 (m) reads as 2.5 cm.",
