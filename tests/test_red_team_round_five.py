@@ -533,3 +533,34 @@ def test_an_unsigned_flow_map_read_as_a_tangent(tmp_path):
         path = tmp_path / f"{expected}.mtlx"
         path.write_text(document(text))
         assert _codes_at(path).get("OPBR718") == expected
+
+
+def test_a_base_colour_on_other_uvs_than_the_metalness_is_kept_not_dropped(tmp_path):
+    """F-02: a glTF base colour texture under a KHR_texture_transform, its metallicRoughnessTexture without one
+    (Blender's exporter writes this). Through OpenPBR and back, the base colour's formula needs both per texel,
+    which do not line up; the base colour texture was replaced by the default (white: dE76 78). Kept as it is
+    (its transform and factor), with a note, it is the source's exactly where the metal is 0 or 1."""
+    Image.new("RGB", (4, 4), (78, 66, 28)).save(tmp_path / "albedo.png")
+    Image.new("RGB", (4, 4), (0, 128, 255)).save(tmp_path / "mr.png")
+    document = {
+        "asset": {"version": "2.0"}, "extensionsUsed": ["KHR_texture_transform"],
+        "images": [{"uri": "albedo.png"}, {"uri": "mr.png"}], "samplers": [{}],
+        "textures": [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}],
+        "materials": [{"name": "Body", "pbrMetallicRoughness": {
+            "baseColorFactor": [0.9, 0.8, 0.7, 1.0], "metallicFactor": 1.0,
+            "baseColorTexture": {"index": 0, "extensions": {"KHR_texture_transform": {"scale": [2.0, 3.0]}}},
+            "metallicRoughnessTexture": {"index": 1}}}]}
+    source = tmp_path / "scene.gltf"
+    source.write_text(json.dumps(document))
+    middle = tmp_path / "mid" / "body.mtlx"
+    convert_file(str(source), str(middle))
+    back = convert_file(str(middle), str(tmp_path / "back" / "body.gltf"), allow_outside=(str(tmp_path),))
+    material = json.loads((tmp_path / "back" / "body.gltf").read_text())["materials"][0]["pbrMetallicRoughness"]
+    info = material["baseColorTexture"]
+    assert info["extensions"]["KHR_texture_transform"]["scale"] == pytest.approx([2.0, 3.0])
+    assert material.get("baseColorFactor", [1, 1, 1, 1])[:3] == pytest.approx([0.9, 0.8, 0.7], abs=1e-6)
+    written = json.loads((tmp_path / "back" / "body.gltf").read_text())
+    uri = written["images"][written["textures"][info["index"]]["source"]]["uri"]
+    texel = Image.open(tmp_path / "back" / uri).convert("RGB").getpixel((0, 0))
+    assert texel == pytest.approx((78, 66, 28), abs=1)
+    assert any("kept as it is" in d.message for d in back.diagnostics)

@@ -452,7 +452,7 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
     if settings.gltf_drafts and specular_openpbr:
         # EXT_materials_specular_openpbr: KHR_materials_specular and the base colour are OpenPBR's own
         base_and_specular = (
-            Mapping("base_color", DRAFT_BASE_SOURCES, gltf_base_color_drafts, exact=False, matters=_mixed_base_matters,
+            Mapping("base_color", DRAFT_BASE_SOURCES, gltf_base_color_drafts, keep="base_color", exact=False, matters=_mixed_base_matters,
                     note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed"),
             Mapping("specular", ("specular_weight",)),
             Mapping("specular_color", ("specular_color",)),
@@ -462,7 +462,7 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
         # specular weight (whose fit, without darkening, is what the reader inverts)
         base_and_specular = (
             Mapping("base_color", base_sources, lambda *v: gltf_base_color(*v[:10], 0.0, v[11], WHITE, *v[13:]),
-                    exact=False, matters=lambda *v: _base_color_matters(*v[:10], 0.0, v[11], WHITE, *v[13:]),
+                    keep="base_color", exact=False, matters=lambda *v: _base_color_matters(*v[:10], 0.0, v[11], WHITE, *v[13:]),
                     note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed"),
             # the coat's IOR as KHR_materials_coat holds it (at least 1), which is what a reader inverts with
             Mapping("specular", SPECULAR_SOURCES + ("transmission_weight",),
@@ -477,7 +477,7 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
         )
     else:
         base_and_specular = (
-            Mapping("base_color", base_sources, gltf_base_color, exact=False, matters=_base_color_matters,
+            Mapping("base_color", base_sources, gltf_base_color, keep="base_color", exact=False, matters=_base_color_matters,
                     note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed; "
                          "the coat's colour (glTF's clearcoat is colourless) is folded into it, which misses the "
                          f"tint of the dielectric reflection under the coat; a metal's F82 edge tint and specular "
@@ -494,6 +494,7 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
     return base_and_specular + (
         Mapping("metallic", ("base_metalness",)),
         Mapping("roughness", ROUGHNESS_SOURCES, lambda r, a, c, rc: gltf_roughness(coat_roughened(r, c, rc), a),
+                keep="specular_roughness",
                 converted="roughness from OpenPBR's anisotropic alpha_b, roughened by the coat as OpenPBR does "
                           "(glTF's clearcoat does not roughen the base)"),
         Mapping("anisotropy_strength", ROUGHNESS_SOURCES,
@@ -595,6 +596,7 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
                     + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:] + TRANSMISSION_MIX_SOURCES,
                     lambda *v: openpbr_base_color(*v[:-4], coat_ior=coat_ior, transmission=v[-4],
                                                   attenuation_distance=v[-3], thickness=v[-2], attenuation_color=v[-1]),
+                    keep="base_color",
                     converted="a metal's base colour solved for OpenPBR's F82 edge tint (specular_color)", exact=False,
                     matters=lambda *v: _metal_inverse_clips(*v[:-4], coat_ior=coat_ior, transmission=v[-4],
                                                             attenuation_distance=v[-3], thickness=v[-2],
@@ -620,7 +622,7 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
     if drafts.ANISOTROPY_OPENPBR in found:  # roughnessFactor and anisotropyStrength are OpenPBR's
         roughness = (
             Mapping("specular_roughness", ("roughness", "clearcoat", "clearcoat_roughness"),
-                    lambda r, c, rc: fit.coat_unroughened(r, c, rc),
+                    lambda r, c, rc: fit.coat_unroughened(r, c, rc), keep="roughness",
                     converted="roughness less the roughening OpenPBR's coat adds", exact=False,
                     matters=lambda r, c, rc: bool(np.any(fit.smoother_than_the_coat_allows(r, c, rc))),
                     note="the base is smoother than OpenPBR's coat lets a base be (the coat roughens it, glTF's does "
@@ -631,7 +633,7 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
     else:
         roughness = (
             Mapping("specular_roughness", ("roughness", "anisotropy_strength", "clearcoat", "clearcoat_roughness"),
-                    lambda r, s, c, rc: fit.coat_unroughened(openpbr_roughness(r, s), c, rc),
+                    lambda r, s, c, rc: fit.coat_unroughened(openpbr_roughness(r, s), c, rc), keep="roughness",
                     converted="roughness from glTF's anisotropic alphas, less the roughening OpenPBR's coat adds",
                     exact=False, matters=_smoother_than_the_coat,
                     note="the base is smoother than OpenPBR's coat lets a base be (the coat roughens it, glTF's does "

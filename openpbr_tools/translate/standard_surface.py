@@ -346,7 +346,7 @@ TO_SS = (
     Mapping("base", ("base_weight",) + THIN_SUBSURFACE_SOURCES, ss_base_weight, converted_to_default=True,
             converted="on a thin wall with subsurface, 1: the base weight is in the base colour"),
     Mapping("base_color", BASE_SOURCES + ("base_diffuse_roughness", "base_weight") + THIN_SUBSURFACE_SOURCES,
-            ss_base_color_thin, exact=False, matters=ss_base_clipped,
+            ss_base_color_thin, keep="base_color", exact=False, matters=ss_base_clipped,
             note="a bright base colour (at this diffuse roughness, in Standard Surface's darker qualitative "
                  "Oren-Nayar, or carrying a thin wall's reflected subsurface) would exceed 1: clipped",
             converted="darkened as OpenPBR darkens the base under its coat (Standard Surface does not); on metals "
@@ -423,7 +423,7 @@ TO_SS = (
 FROM_SS = (
     Mapping("base_weight", ("base",)),
     Mapping("base_color", ("base_color", "metalness") + SPECULAR_WEIGHT_SOURCES[:1] + SPECULAR_WEIGHT_SOURCES[2:]
-            + ("diffuse_roughness",), openpbr_base_color_rough,
+            + ("diffuse_roughness",), openpbr_base_color_rough, keep="base_color",
             converted="on a metal, divided by its specular weight; under a rough diffuse, darkened so OpenPBR's "
                       "energy-preserving Oren-Nayar reflects the hemispherical albedo of the qualitative one"),
     Mapping("base_diffuse_roughness", ("diffuse_roughness",), exact=False, matters=lambda r: r > 0,

@@ -151,13 +151,13 @@ def to_usd_mappings(settings: Settings, presence_over_transmission: bool = False
                                "one opacity cannot also hold the transmission, which shows as the base on the part "
                                "that is present (the smaller error here: the surface is mostly absent)")
     return (
-        Mapping("diffuseColor", DIFFUSE_SOURCES, preview_diffuse_color, exact=False, matters=_diffuse_matters,
+        Mapping("diffuseColor", DIFFUSE_SOURCES, preview_diffuse_color, keep="base_color", exact=False, matters=_diffuse_matters,
                 note="subsurface, and the coat's darkening and colour (the preview's clear coat is colourless and "
                      "does not darken), folded into the diffuse colour; on a metal it is the constant reflectance "
                      "(F0 = F90) fitted to OpenPBR's metal with its F82 edge tint and specular weight "
                      f"({METAL_RESIDUAL})"),
         Mapping("metallic", ("base_metalness",)),
-        Mapping("roughness", ("specular_roughness", "specular_roughness_anisotropy"), preview_roughness, exact=False,
+        Mapping("roughness", ("specular_roughness", "specular_roughness_anisotropy"), preview_roughness, keep="specular_roughness", exact=False,
                 matters=lambda r, a: a > 0, note="anisotropy dropped: isotropic roughness keeps the geometric mean of the alphas"),
         Mapping("ior", IOR_SOURCES, preview_specular_ior, exact=False,
                 matters=lambda *v: differs(preview_specular_ior(*v), v[0]),
@@ -240,7 +240,7 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
 
     return (
         Mapping("base_color", ("diffuseColor", "metallic", "useSpecularWorkflow", "roughness", "specularColor"),
-                base_color, exact=False, matters=lambda d, m, w, r, s: split and w >= 1 and _coloured(s),
+                base_color, keep="diffuseColor", exact=False, matters=lambda d, m, w, r, s: split and w >= 1 and _coloured(s),
                 note=SPLIT_NOTE, converted="a metal's constant reflectance (F0 = F90) fitted by OpenPBR's F82 metal"),
         Mapping("base_metalness", ("specularColor", "diffuseColor", "metallic", "useSpecularWorkflow"), metalness,
                 exact=False, matters=lambda s, d, m, w: split and w >= 1 and _coloured(s), note=SPLIT_NOTE),
