@@ -564,3 +564,56 @@ def test_a_base_colour_on_other_uvs_than_the_metalness_is_kept_not_dropped(tmp_p
     texel = Image.open(tmp_path / "back" / uri).convert("RGB").getpixel((0, 0))
     assert texel == pytest.approx((78, 66, 28), abs=1)
     assert any("kept as it is" in d.message for d in back.diagnostics)
+
+
+_SS_ANISOTROPIC = """<?xml version="1.0"?>
+<materialx version="1.39">
+  <standard_surface name="SR" type="surfaceshader">
+    <input name="metalness" type="float" value="1" />
+    <input name="specular_anisotropy" type="float" value="0.8" />
+    <input name="specular_rotation" type="float" value="{rotation}" />
+  </standard_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+@pytest.mark.parametrize("rotation", [0.125, 0.5])
+def test_standard_surface_rotation_becomes_a_rotated_openpbr_tangent(tmp_path, rotation):
+    """F-03: specular_rotation was dropped without a note. MaterialX's NG_standard_surface_surfaceshader_100 (the
+    anchor, read from the installed library) shades with normalize(rotate3d(tangent, 360 * rotation, normal)); the
+    .mtlx output writes those nodes as geometry_tangent, which MaterialX validates and generates. A half turn
+    leaves an anisotropy as it is: nothing written, nothing noted. Other outputs note the loss."""
+    import MaterialX as mx
+
+    from glsupport import shader_generator, validated
+
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    graph = library.getNodeGraph("NG_standard_surface_surfaceshader_100")
+    assert graph.getNode("tangent_rotate_degree").getInput("in2").getValue() == 360.0
+    assert graph.getNode("tangent_rotate").getInput("axis").getInterfaceName() == "normal"
+    source = tmp_path / "ss.mtlx"
+    source.write_text(_SS_ANISOTROPIC.format(rotation=rotation))
+    conversion = convert_file(str(source), str(tmp_path / "out" / "opbr.mtlx"))
+    document = validated(tmp_path / "out" / "opbr.mtlx")
+    shader = next(n for n in document.getNodes() if n.getCategory() == "open_pbr_surface")
+    tangent = shader.getInput("geometry_tangent")
+    notes = [d for d in conversion.diagnostics if "rotation" in d.message]
+    if rotation == 0.5:
+        assert tangent is None and not notes
+        return
+    normalized = tangent.getConnectedNode()
+    rotated = normalized.getInput("in").getConnectedNode()
+    assert (normalized.getCategory(), rotated.getCategory()) == ("normalize", "rotate3d")
+    assert rotated.getInputValue("amount") == pytest.approx(360.0 * rotation)
+    assert rotated.getInput("axis").getConnectedNode().getCategory() == "normal"
+    assert rotated.getInput("in").getConnectedNode().getCategory() == "tangent"
+    assert [d.code for d in notes] == ["OPBR1102"]
+    _, generator, context = shader_generator()
+    document.setDataLibrary(library)
+    assert generator.generate("M", document.getMaterialNodes()[0], context).getSourceCode("pixel")
+    gltf = convert_file(str(source), str(tmp_path / "out" / "m.gltf"))
+    assert [d.code for d in gltf.diagnostics if "specular_rotation" in d.message] == ["OPBR1104"]

@@ -45,7 +45,7 @@ import dataclasses
 
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
-from . import appearance, spec_gloss
+from . import appearance, spec_gloss, ss_rotation
 from .anchor import graph_candidates_of, read_back_notes
 from .judging import RIG_SIZE, Figure, Judge, constant_values, figures_many, scores_many
 from .search import search as parameter_search
@@ -271,7 +271,8 @@ def _decide(source, translation, target, settings, candidate, judge, scores, our
     notes.append(context.diagnostic(
         APPROXIMATED, f"{source.name}: converted to {target} by MaterialX's translation graphs, which render "
                       f"closer than the toolkit's mapping ({figures})", where))
-    notes += read_back_notes(source, candidate, where, context)
+    rotated = ss_rotation.onto_candidate(translation.material, candidate)  # (the graphs turn no tangent)
+    notes += [note for note in read_back_notes(source, candidate, where, context) if note.location.input not in rotated]
     return _with_fit(source, Translation(candidate, notes, translation.source), theirs, theirs_fit, settings)
 
 

@@ -548,14 +548,21 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
                 lambda c, l, w, cc, ci: _emissive_strength(c * coat_emission_factor(cc, w, ci), l, nits),
                 when=lambda c, l, *coat: l > 0, converted=f"nits at {nits:g} nit(s) per unit"),
         Mapping("alpha", ("geometry_opacity",)),
-        # A cut-out (every texel 0 or 1: a UsdPreviewSurface opacityThreshold read as OpenPBR, a leaf mask) is
-        # glTF's MASK at the default cutoff 0.5, exactly and without BLEND's sorting; one partial texel needs
-        # BLEND (the baker takes the largest per-texel mode)
-        Mapping("alpha_mode", ("geometry_opacity",), lambda o: np.where(o >= 1.0, 0.0, np.where(o <= 0.0, 1.0, 2.0))),
+        # A cut-out texture (every texel 0 or 1: a UsdPreviewSurface opacityThreshold read as OpenPBR, a leaf mask)
+        # is glTF's MASK at the default cutoff 0.5, exactly and without BLEND's sorting; one partial texel needs
+        # BLEND (the baker takes the largest per-texel mode). A constant opacity below 1, 0 included, stays BLEND.
+        Mapping("alpha_mode", ("geometry_opacity",), _alpha_mode),
         Mapping("normal", ("geometry_normal",)),
         Mapping("tangent", ("geometry_tangent",)),
         Mapping("clearcoat_normal", ("geometry_coat_normal",)),
     )
+
+
+def _alpha_mode(opacity):
+    """glTF's alphaMode (0 OPAQUE, 1 MASK, 2 BLEND) per texel of OpenPBR's geometry_opacity: a texel of a texture
+    (two dimensions) that is 0 is cut out (MASK), one between 0 and 1 blends; a constant below 1 blends."""
+    cut = 1.0 if np.ndim(opacity) >= 2 else 2.0
+    return np.where(opacity >= 1.0, 0.0, np.where(opacity <= 0.0, cut, 2.0))
 
 
 DROPPED_TO_GLTF = (

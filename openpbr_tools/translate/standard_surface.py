@@ -73,7 +73,7 @@ import numpy as np
 from ..evaluate import fresnel
 from ..evaluate.coat import coat_darkening_factor, coat_roughened
 from ..model import Material
-from . import fit
+from . import fit, ss_rotation
 from .coat_facts import DARKENING_SOURCES
 from .common import Dropped, Mapping, Settings, Translation, differs, translate
 
@@ -502,6 +502,13 @@ DROPPED_FROM_SS = (
     Dropped("transmission_extra_roughness", "OpenPBR has no extra transmission roughness", matters=lambda v: v != 0),
     Dropped("coat_affect_color", "OpenPBR darkens under a coat physically (coat_darkening), not by saturation",
             matters=lambda v: v != 0),
+    # (the red team's F-03: both were dropped without a note)
+    Dropped("specular_rotation", "OpenPBR turns the anisotropy with geometry_tangent, a vector in world space, which "
+            "a rotation in the surface's UV frame does not give", matters=lambda r, a: bool(np.any((r % 0.5 != 0) & (a > 0))),
+            needs=("specular_anisotropy",)),
+    Dropped("coat_rotation", "OpenPBR turns the coat's anisotropy with geometry_coat_tangent, a vector in world space, "
+            "which a rotation in the surface's UV frame does not give",
+            matters=lambda r, a: bool(np.any((r % 0.5 != 0) & (a > 0))), needs=("coat_anisotropy",)),
 )
 
 
@@ -538,5 +545,11 @@ def openpbr_to_standard_surface(material: Material, settings: Settings | None = 
 
 def standard_surface_to_openpbr(material: Material, settings: Settings | None = None) -> Translation:
     settings = settings or Settings()
-    return translate(material, "open_pbr_surface", _emission(FROM_SS, settings, False), DROPPED_FROM_SS, settings,
-                     "Standard Surface -> OpenPBR")
+    rotations = ss_rotation.carried(material, settings.node_graphs)
+    written = {rotation for rotation, _, _ in rotations.values()}
+    translation = translate(material, "open_pbr_surface", _emission(FROM_SS, settings, False),
+                            tuple(d for d in DROPPED_FROM_SS if d.source not in written), settings,
+                            "Standard Surface -> OpenPBR")
+    translation.diagnostics += ss_rotation.apply(material, translation.material, rotations, settings.context,
+                                                 f"{material.name} (Standard Surface -> OpenPBR)")
+    return translation

@@ -279,8 +279,9 @@ class _MaterialWriter(TextureWriting, DraftWriting):
                     self.note(NOT_CARRIED, f"the source's {key} holds a number JSON cannot (NaN or infinity); not written")
                     continue
                 self.out[key] = self.extra[key]
-        if self.extra.get("alphaMode") == "MASK" and self.out.get("alphaMode") != "MASK":
-            # the source's cut-out came through OpenPBR as a (binary) opacity: its mode and threshold return
+        if self.extra.get("alphaMode") == "MASK":
+            # the source's cut-out came through OpenPBR as a (binary) opacity: its mode and threshold return (the
+            # mapping writes a binary opacity as MASK at the default cutoff, 0.5: the source's cutoff is kept)
             self.out["alphaMode"], self.out["alphaCutoff"] = "MASK", self.extra.get("alphaCutoff", 0.5)
         for name, value in sorted((self.extra.get("extensions") or {}).items()):
             if name in slots.INTERPRETED_MATERIAL_EXTENSIONS:
