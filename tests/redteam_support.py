@@ -1,8 +1,10 @@
-"""What the red-team rounds' tests share (tests/test_red_team_round_*.py): a validation report of one file, its
-codes at warning and error, a small MaterialX document written from a body, a small PNG."""
+"""What the red-team rounds' tests share (tests/test_red_team_*.py): a validation report of one file, its
+codes (or findings) at warning and error, a small MaterialX document written from a body, a small PNG, and the
+Khronos glTF-Validator's error codes for a file when OPENPBR_GLTF_VALIDATOR is set."""
 
 from __future__ import annotations
 
+import os
 import textwrap
 from pathlib import Path
 
@@ -23,6 +25,21 @@ def codes(path, severities=("error", "warning")) -> dict[str, int]:
         if str(d.severity) in severities:
             found[d.code] = found.get(d.code, 0) + 1
     return found
+
+
+def findings(path) -> list[tuple[str, str, str | None, str | None]]:
+    """(code, severity, JSON pointer, property) of every warning or error."""
+    return [(d.code, str(d.severity), d.location.path, d.location.input) for d in report(path).diagnostics
+            if str(d.severity) in ("error", "warning")]
+
+
+def khronos_errors(path, tmp_path) -> set[str] | None:
+    """The Khronos glTF-Validator's error codes for ``path``, or ``None`` when OPENPBR_GLTF_VALIDATOR is not set."""
+    if not os.environ.get("OPENPBR_GLTF_VALIDATOR"):
+        return None
+    from gltf_support import validate_with_khronos
+
+    return {m["code"] for m in validate_with_khronos(path, tmp_path)["issues"]["messages"] if m["severity"] == 0}
 
 
 def messages(path, code: str) -> list[str]:

@@ -13,29 +13,14 @@ from pathlib import Path
 
 import pytest
 
-from openpbr_tools.validate import Options, validate_paths
+from redteam_support import findings as _findings
+from redteam_support import khronos_errors as _khronos_errors
 
 _PNG = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAQAAAAECAIAAAAmkwkpAAAAFElEQVR42mM8kWLEAANMDEgANwcA"
         "RfYBZsiXQosAAAAASUVORK5CYII=")
 _WEBP = "data:image/webp;base64,UklGRh4AAABXRUJQVlA4TBEAAAAvA8AAAAdQiirUo/+BiOh/AAA="
 _POSITIONS = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
 _UVS = struct.pack("<6f", 0, 0, 1, 0, 0, 1)
-
-
-def _findings(path) -> list[tuple[str, str, str | None, str | None]]:
-    """(code, severity, JSON pointer, property) of every warning or error."""
-    report = validate_paths([str(path)], options=Options(use_config=False))
-    return [(d.code, str(d.severity), d.location.path, d.location.input) for d in report.diagnostics
-            if str(d.severity) in ("error", "warning")]
-
-
-def _khronos_errors(path, tmp_path) -> set[str] | None:
-    """The validator's error codes for ``path``, or ``None`` when OPENPBR_GLTF_VALIDATOR is not set."""
-    if not os.environ.get("OPENPBR_GLTF_VALIDATOR"):
-        return None
-    from gltf_support import validate_with_khronos
-
-    return {m["code"] for m in validate_with_khronos(path, tmp_path)["issues"]["messages"] if m["severity"] == 0}
 
 
 def _agree(tmp_path, broken: Path, fixed: Path, khronos_code: str, expected: tuple) -> None:

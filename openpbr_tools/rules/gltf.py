@@ -62,11 +62,14 @@ def _mesh(texcoord: int) -> str:
 
 UNDECLARED_EXTENSION = Rule(
     "OPBR1201", "gltf-extension-not-declared", Severity.ERROR,
-    "An extension is used but not listed in extensionsUsed (or listed in extensionsRequired only).",
+    "An extension is used but not listed in extensionsUsed (or listed in extensionsRequired only), or "
+    "KHR_mesh_quantization is not listed in extensionsRequired.",
     "glTF 2.0 (section 3.12) requires every extension used anywhere in the asset to be named in "
     "extensionsUsed, and every name in extensionsRequired to be in extensionsUsed too. Loaders that "
     "trust the declaration skip the undeclared extension, so the material renders without it; the "
-    "Khronos glTF-Validator reports it as an error.",
+    "Khronos glTF-Validator reports it as an error. KHR_mesh_quantization \"is not optional\": its attribute "
+    "formats (normalised SHORT texture coordinates, BYTE normals) are invalid without it, so a loader that does not "
+    "know it must refuse the file rather than misread the mesh (the validator's NON_REQUIRED_EXTENSION).",
     passing=_gltf('"extensionsUsed": ["KHR_materials_clearcoat"]', _CLEARCOAT),
     failing=_gltf(_CLEARCOAT),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
@@ -190,13 +193,16 @@ STRENGTH_WITHOUT_EMISSIVE = Rule(
 BROKEN_RESOURCE = Rule(
     "OPBR1209", "gltf-broken-resource", Severity.ERROR,
     "A buffer or embedded image cannot be loaded: invalid base64, above the size limit, missing, shorter than its "
-    "byteLength, or outside its buffer; or a GLB chunk is not 4-byte aligned.",
+    "byteLength, or outside its buffer; a buffer's data URI declares a media type other than application/octet-stream "
+    "or application/gltf-buffer; or a GLB chunk is not 4-byte aligned.",
     "A data URI that is not valid base64, a buffer file that does not exist or holds fewer bytes than its "
     "byteLength (3.6.1; a truncated copy: the validator's BUFFER_BYTE_LENGTH_MISMATCH), a bufferView past the "
     "end of its buffer or a GLB without the binary chunk its buffer needs: loaders fail on the whole "
     "file or show the mesh without the texture. A GLB chunk whose length is no multiple of 4 (4.4.3: chunks "
     "\"MUST be aligned to a 4-byte boundary\", the JSON padded with spaces; GLB_CHUNK_LENGTH_UNALIGNED) leaves "
-    "the binary data unaligned for loaders that map it in place. A data URI whose decoded size is above "
+    "the binary data unaligned for loaders that map it in place. A buffer's data URI \"MUST\" declare "
+    "application/octet-stream or application/gltf-buffer (3.6.1; BUFFER_DATA_URI_MIME_TYPE_INVALID): a text/plain "
+    "one is refused by loaders that check. A data URI whose decoded size is above "
     "OPENPBR_MAX_DATA_URI_MB (default: the file limit OPENPBR_MAX_FILE_MB, 64 MiB) is reported "
     "without being decoded, and a buffer an image needs that lies outside the asset's folder is "
     "never opened.",
@@ -208,14 +214,14 @@ BROKEN_RESOURCE = Rule(
 )
 INVALID_PROPERTY = Rule(
     "OPBR1210", "gltf-invalid-property", Severity.ERROR,
-    "A material property has the wrong JSON type (a textureInfo without an integer index, an "
+    "A material property has the wrong JSON type (a textureInfo without an integer index or null, an "
     "extension that is not an object, a malformed KHR_texture_transform), a material extension on another "
     "object (KHR_materials_emissive_strength inside pbrMetallicRoughness, KHR_texture_transform on a "
     "material), a sampler filter or wrap outside the schema's list, or a value out of range that no "
     "gltf_pbr parameter holds (texCoord, occlusion strength, iridescenceThicknessMinimum); an image with both "
     "a uri and a bufferView, or in a bufferView without a mimeType; a name listed twice in extensionsUsed or "
     "extensionsRequired; a KHR_materials_variants object on a material (it belongs on the root and on mesh "
-    "primitives), or a variants mapping that lists no variant.",
+    "primitives), a variant that is not an object with a string name, or a variants mapping that lists no variant.",
     "The glTF schema rejects the file; lenient loaders skip the property, so the texture or extension "
     "silently disappears. Factors of the wrong type are OPBR202. A string holding an unpaired "
     "surrogate escape (\\ud800 alone) is valid JSON but no valid text: it cannot be written as UTF-8, "
@@ -396,6 +402,12 @@ def _declarations(asset, facts, context):
             reported.add(name)
             yield context.diagnostic(UNDECLARED_EXTENSION, f"{name} is used but not declared in extensionsUsed",
                                      Location(asset.path, None, pointer), hint=f'add "{name}" to extensionsUsed')
+    for index, name in enumerate(facts.get("extensions_used", ())):
+        if name in slots.NEVER_OPTIONAL and name not in facts.get("extensions_required", ()):
+            yield context.diagnostic(UNDECLARED_EXTENSION, f"{name} is in extensionsUsed but not in extensionsRequired: "
+                                     "it cannot be optional (a loader without it misreads the quantised attributes)",
+                                     Location(asset.path, None, f"/extensionsUsed/{index}"),
+                                     hint=f'add "{name}" to extensionsRequired')
     for index, name in enumerate(facts.get("extensions_required", ())):
         where = Location(asset.path, None, f"/extensionsRequired/{index}")
         if name not in used:

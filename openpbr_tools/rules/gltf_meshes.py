@@ -24,7 +24,8 @@ and, on the primitive too,
   or variant index that names nothing is OPBR802. Variants are presented to users and selected by name, so
   two variants of one name are reported too.
 
-A missing UV set is OPBR1205 (the glTF family). Apart from the tangent signs only the JSON is read.
+A missing UV set is OPBR1205 (the glTF family); NaN values and normals not of unit length are OPBR1231 (the
+gltf_structure family). Apart from the tangent signs only the JSON is read.
 """
 
 from __future__ import annotations
@@ -38,7 +39,7 @@ from .gltf import _PNG_4X4, _gltf
 _FLOAT, _BYTE, _UNSIGNED_BYTE, _SHORT, _UNSIGNED_SHORT = 5126, 5120, 5121, 5122, 5123
 _COMPONENT_NAMES = {5120: "BYTE", 5121: "UNSIGNED_BYTE", 5122: "SHORT", 5123: "UNSIGNED_SHORT", 5125: "UNSIGNED_INT",
                     5126: "FLOAT"}
-QUANTIZATION = "KHR_mesh_quantization"
+QUANTIZATION = slots.MESH_QUANTIZATION
 
 
 def _uv_mesh(component_type: int, normalized: bool) -> str:

@@ -11,20 +11,34 @@ finding located at the accessor (or at the primitive's attribute, for counts):
 * a bufferView ``byteStride`` smaller than an element of an accessor using it (ACCESSOR_SMALL_BYTESTRIDE);
 * sparse indices that do not strictly increase, or reach the accessor's count (3.6.2.3;
   ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB);
+* an accessor that does not fit its bufferView (3.6.2.4; ACCESSOR_TOO_LONG);
 * attributes (and morph targets) of one primitive with different counts (3.7.2.1;
-  MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT).
+  MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT), and indices that reach the vertex count (3.7.2.1; ACCESSOR_INDEX_OOB).
+
+The values the primitives of the file's materials are drawn with (OPBR1231): no NaN or infinity in a float
+(3.6.2.2; ACCESSOR_INVALID_FLOAT), NORMAL and TANGENT xyz of unit length (3.7.2.1; ACCESSOR_VECTOR3_NON_UNIT).
+Only the accessors of such primitives are read, each once and at most :data:`~..io.gltf.accessors.MAX_ELEMENTS`
+elements of it (:mod:`openpbr_tools.io.gltf.accessors`).
+
+And the document as a whole: a texture whose only image comes through EXT_texture_webp or KHR_texture_basisu
+while the extension is not required (OPBR1229), and a property name written twice in one JSON object (OPBR1230).
 
 Also, as OPBR1220 (the core source's counterpart, in the glTF family): a texture extension's ``source`` that
 names an image of another format (EXT_texture_webp's a PNG; the validator's TEXTURE_INVALID_IMAGE_MIME_TYPE).
-Buffers shorter than their byteLength and unaligned GLB chunks are OPBR1209, a ``scene`` naming no scene OPBR802.
+Buffers shorter than their byteLength, data URIs of another media type and unaligned GLB chunks are OPBR1209, a
+``scene`` naming no scene OPBR802.
 """
 
 from __future__ import annotations
 
+import base64
+import struct
+
 from ..diagnostics import Severity
+from ..io.gltf.accessors import UNIT_TOLERANCE
 from ..model import Location
 from . import Rule
-from .gltf import IMAGE_NEEDS_EXTENSION, _gltf
+from .gltf import _WEBP, IMAGE_NEEDS_EXTENSION, _gltf
 
 
 def _counted(texcoords: int) -> str:
@@ -39,8 +53,9 @@ def _counted(texcoords: int) -> str:
 ACCESSOR_STRUCTURE = Rule(
     "OPBR1228", "gltf-accessor-structure", Severity.ERROR,
     "An accessor is laid out as glTF forbids: an offset that is no multiple of its component size, a bufferView "
-    "byteStride smaller than its element, sparse indices that do not strictly increase or reach its count; or "
-    "the attributes of one primitive have different counts.",
+    "byteStride smaller than its element, more elements than its bufferView holds, sparse indices that do not "
+    "strictly increase or reach its count; or the attributes of one primitive have different counts, or its "
+    "indices reach its vertex count.",
     "glTF 2.0 requires accessor offsets (into the bufferView and into the buffer) to be multiples of the "
     "component size (3.6.2.4), a stride to hold a whole element, sparse indices to \"strictly increase\" and to "
     "stay below the accessor's count (3.6.2.3), and \"all attribute accessors for a given primitive\" to \"have "
@@ -50,12 +65,82 @@ ACCESSOR_STRUCTURE = Rule(
     "is misplaced or the mesh is not drawn. The Khronos glTF-Validator reports each as an error "
     "(ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_TOTAL_OFFSET_ALIGNMENT, ACCESSOR_SMALL_BYTESTRIDE, "
     "ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB, MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT). "
-    "Up to about four million sparse indices of an accessor are read.",
+    "Likewise an accessor that does not fit its bufferView (\"each accessor MUST fit its bufferView\", 3.6.2.4: "
+    "the last elements are read from the next view or past the buffer; ACCESSOR_TOO_LONG), and a primitive's "
+    "indices that reach its vertex count (\"all index values MUST be less than attribute accessors' count\", "
+    "3.7.2.1: WebGL refuses the draw, other APIs read undefined vertices; ACCESSOR_INDEX_OOB). "
+    "Up to about four million sparse indices or indices of an accessor are read, the indices only of primitives "
+    "with a material.",
     passing=_counted(3), failing=_counted(2),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (ACCESSOR_STRUCTURE,)
+
+def _webp_only(required: bool) -> str:
+    return _gltf('"extensionsUsed": ["EXT_texture_webp"]', *(('"extensionsRequired": ["EXT_texture_webp"]',) if required else ()),
+                 f'"images": [{{"uri": "{_WEBP}"}}]', '"textures": [{"extensions": {"EXT_texture_webp": {"source": 0}}}]',
+                 '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]')
+
+
+EXTENSION_WITHOUT_FALLBACK = Rule(
+    "OPBR1229", "gltf-texture-extension-not-required", Severity.WARNING,
+    "A texture's only image comes through EXT_texture_webp or KHR_texture_basisu (no core source to fall back on), "
+    "but the extension is not in extensionsRequired.",
+    "Both extensions' READMEs, \"Using Without a Fallback\": to use their images without a PNG or JPEG fallback, the "
+    "extension \"must be present in both extensionsUsed and extensionsRequired\". Listed as optional, a viewer "
+    "without WebP (or KTX2) support loads the asset anyway and renders the material without the texture (a plain "
+    "base colour) instead of refusing it. The Khronos glTF-Validator does not check this. Require the extension, or "
+    "give the texture a PNG or JPEG core source.",
+    passing=_webp_only(True), failing=_webp_only(False),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+_MATERIAL = '{"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.1, 0.1, 1.0]}'
+NAME_REPEATED = Rule(
+    "OPBR1230", "gltf-json-name-repeated", Severity.WARNING,
+    "A JSON object names one property twice (two pbrMetallicRoughness in one material).",
+    "glTF 2.0, JSON Encoding: property names \"SHOULD be unique\" and clients \"SHOULD override lexically preceding "
+    "values for the same key\"; RFC 8259 says of such objects that \"the behavior of software that receives [them] is "
+    "unpredictable\". JavaScript and Python parsers keep the last value (as the toolkit and the Khronos "
+    "glTF-Validator, which says nothing), streaming and first-match parsers the first: the same material renders "
+    "differently from one viewer to the next. Usually a merge or hand edit; keep the one meant.",
+    passing=_gltf(f'"materials": [{_MATERIAL}}}]'),
+    failing=_gltf(f'"materials": [{_MATERIAL}, "pbrMetallicRoughness": {{"metallicFactor": 0.0}}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+
+def _triangle_uvs(v: float) -> str:
+    """A triangle (positions, then texture coordinates with one ``u`` of ``v``) in one data-URI buffer."""
+    data = struct.pack("<9f6f", 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, v)
+    uri = "data:application/octet-stream;base64," + base64.b64encode(data).decode("ascii")
+    return _gltf(
+        f'"buffers": [{{"byteLength": 60, "uri": "{uri}"}}]',
+        '"bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24}]',
+        '"accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], '
+        '"max": [1, 1, 0]}, {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC2"}]',
+        '"materials": [{"name": "M"}]',
+        '"meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0}]}]',
+    )
+
+
+VERTEX_VALUES = Rule(
+    "OPBR1231", "gltf-vertex-values-invalid", Severity.ERROR,
+    "A vertex attribute of a primitive with a material holds values glTF forbids: a NaN or infinite float, or a "
+    "NORMAL (a TANGENT's xyz) that is not of unit length.",
+    "glTF 2.0: float accessor values \"of NaN, +Infinity, and -Infinity MUST NOT be present\" (3.6.2.2), and NORMAL "
+    "is a \"normalized\" vector, TANGENT's xyz \"normalized\" (3.7.2.1). A NaN texture coordinate samples garbage or "
+    "black (a degenerate unwrap), a NaN normal or position drops or blackens the triangles; a normal of length 2.5 "
+    "(an object scale baked into the normals) brightens or darkens the lighting by that factor in viewers that do "
+    "not renormalise, and tilts a normal map's basis. The Khronos glTF-Validator reports both as errors "
+    f"(ACCESSOR_INVALID_FLOAT, ACCESSOR_VECTOR3_NON_UNIT, with its tolerance: |length - 1| > {UNIT_TOLERANCE:g}). "
+    "Only POSITION, NORMAL, TANGENT, TEXCOORD_n and COLOR_n accessors of primitives with a material are read, each "
+    "once and its first four million or so elements; a TANGENT's w is OPBR1227.",
+    passing=_triangle_uvs(1.0), failing=_triangle_uvs(float("nan")),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+RULES = (ACCESSOR_STRUCTURE, EXTENSION_WITHOUT_FALLBACK, NAME_REPEATED, VERTEX_VALUES)
 
 
 def _offset_alignment(p):
@@ -92,9 +177,35 @@ def _unequal_count(p):
             "from the same mesh as the other attributes")
 
 
+def _too_long(p):
+    return (f"byteOffset {p['offset']} plus {p['count']} elements ({p['length']} bytes) does not fit bufferView "
+            f"{p['view']}, {p['view_length']} bytes long: the last elements are read past the view's end",
+            f"give the accessor the count its data has, or bufferView {p['view']} the byteLength its accessors need")
+
+
+def _index_out_of_range(p):
+    return (f"indices (accessor {p['accessor']}) hold {p['count']} of {p['checked']} values not below the vertex count "
+            f"{p['vertices']} (first: {p['value']} at index {p['first']}): those triangles name vertices that do not "
+            "exist", "re-export the mesh (indices from another level of detail, or vertices lost in a merge?)")
+
+
+def _non_finite(p):
+    return (f"{p['count']} of {p['checked']} elements hold a value that is not a finite number (first: element "
+            f"{p['first']}, {p['value']:g}; read as {p['attribute']}): glTF forbids NaN and infinity in an accessor",
+            "re-export the mesh; a NaN texture coordinate is usually a degenerate UV unwrap")
+
+
+def _non_unit(p):
+    return (f"{p['count']} of {p['checked']} vectors of accessor {p['accessor']} are not of unit length (first: "
+            f"element {p['first']}, length {p['length']:.4g}): lighting and normal maps are scaled or tilted there",
+            "normalise the vectors (an object scale baked into them?)")
+
+
 _MESSAGES = {"offset_alignment": _offset_alignment, "total_offset_alignment": _total_offset_alignment,
-             "small_stride": _small_stride, "sparse_not_increasing": _sparse_not_increasing,
-             "sparse_out_of_range": _sparse_out_of_range, "unequal_count": _unequal_count}
+             "small_stride": _small_stride, "too_long": _too_long, "sparse_not_increasing": _sparse_not_increasing,
+             "sparse_out_of_range": _sparse_out_of_range, "unequal_count": _unequal_count,
+             "index_out_of_range": _index_out_of_range, "non_finite": _non_finite, "non_unit": _non_unit}
+_VALUE_KINDS = ("non_finite", "non_unit")
 
 
 def check(asset, context):
@@ -103,10 +214,41 @@ def check(asset, context):
     for problem in facts.get("accessor_problems", ()):
         message, hint = _MESSAGES[problem["kind"]](problem)
         pointer = problem["pointer"]
-        where = f"primitive {pointer.rsplit('/', 1)[0]}" if problem["kind"] == "unequal_count" else \
-            f"accessor {pointer.split('/')[2]}" + (" (sparse)" if pointer.endswith("/sparse") else "")
-        yield context.diagnostic(ACCESSOR_STRUCTURE, f"{where}: {message}",
+        if pointer.startswith("/meshes/"):
+            where = f"primitive {pointer.removesuffix('/attributes')}"
+        else:
+            where = f"accessor {pointer.split('/')[2]}" + (" (sparse)" if pointer.endswith("/sparse") else "")
+        rule = VERTEX_VALUES if problem["kind"] in _VALUE_KINDS else ACCESSOR_STRUCTURE
+        yield context.diagnostic(rule, f"{where}: {message}",
                                  Location(asset.path, None, problem["pointer"], problem["property"]), hint=hint)
+    yield from _fallbacks(asset, facts, context)
+    for pointer, times in facts.get("repeated_names", ()):
+        name = pointer.rsplit("/", 1)[-1].replace("~1", "/").replace("~0", "~")
+        yield context.diagnostic(
+            NAME_REPEATED, f"{name!r} is written {times} times in {pointer.rsplit('/', 1)[0] or 'the root'}: parsers that "
+            "keep the last value (this toolkit, browsers) and those that keep the first read the file differently",
+            Location(asset.path, None, pointer), hint=f"keep one {name!r} (the toolkit read the last one)")
+    yield from _extension_sources(asset, facts, context)
+
+
+def _fallbacks(asset, facts, context):
+    """One finding per texture extension that some texture needs (no core source) and that is declared used but not
+    required (one not declared at all is OPBR1201's)."""
+    used, required = set(facts.get("extensions_used", ())), set(facts.get("extensions_required", ()))
+    alone: dict[str, list[str]] = {}
+    for source in facts.get("extension_sources", ()):
+        if not source["fallback"] and source["extension"] in used and source["extension"] not in required:
+            alone.setdefault(source["extension"], []).append(source["pointer"])
+    for extension, pointers in alone.items():
+        more = f" (and {len(pointers) - 1} more texture{'s' if len(pointers) > 2 else ''})" if len(pointers) > 1 else ""
+        yield context.diagnostic(
+            EXTENSION_WITHOUT_FALLBACK, f"texture {pointers[0].split('/')[2]}{more} has no core source, only "
+            f"{extension}'s, but {extension} is not in extensionsRequired: a viewer without it loads the asset and "
+            "renders the material untextured", Location(asset.path, None, pointers[0]),
+            hint=f'add "{extension}" to extensionsRequired, or give the texture a PNG or JPEG source as a fallback')
+
+
+def _extension_sources(asset, facts, context):
     images = facts.get("images", ())
     for source in facts.get("extension_sources", ()):
         image = images[source["image"]] if source["image"] < len(images) else {}

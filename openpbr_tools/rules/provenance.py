@@ -1,14 +1,14 @@
 """Why each rule exists: the renderer or tool behaviour it protects against, and where that
 behaviour is specified or implemented.
 
+One module because it is one table, read whole by ``openpbr rules``, the SARIF catalogue and the provenance test:
+split by family, each part would repeat the source constants.
+
 ``PROVENANCE[code] = (protects, sources)``. ``protects`` says what goes wrong, and where, when the
 finding is ignored (for a style or policy rule: what it protects instead). ``sources`` are
 citations separated by ``"; "``, each an ``https://`` URL or ``owner/repository:path`` in a public
 GitHub repository (the specification or the code that behaves so). ``openpbr rules CODE`` and the
 SARIF rule help show both; a test checks that every rule has them.
-
-One module because it is one table, keyed by rule code and read whole (the rule catalogue, SARIF, the
-test that every rule has an entry); split by family, each part would repeat the citation constants.
 """
 
 from __future__ import annotations
@@ -338,7 +338,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "evaluator's render.", "https://www.ece.rochester.edu/~gsharma/ciede2000/"),
     # -- gltf ----------------------------------------------------------------------------------
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
-                 "errors): the extension's look is lost.", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),
+                 "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
+                 "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),
     "OPBR1202": ("A loader that does not support a required extension must refuse the whole asset; the toolkit "
                  "cannot check what that extension does.", GLTF),
     "OPBR1203": ("The glTF specification forbids combining these extensions (pbrSpecularGlossiness with the PBR "
@@ -356,12 +357,15 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "authoring slip).", khr("KHR_materials_emissive_strength")),
     "OPBR1209": ("A buffer or image that cannot be loaded fails the asset in glTF loaders and the Khronos "
                  "validator; a buffer shorter than its byteLength leaves the data at its end undefined, and an "
-                 "unaligned GLB chunk breaks loaders that map the binary data in place (the glTF-Validator's "
-                 "BUFFER_BYTE_LENGTH_MISMATCH, GLB_CHUNK_LENGTH_UNALIGNED).",
+                 "unaligned GLB chunk breaks loaders that map the binary data in place; a buffer data URI of another "
+                 "media type is refused by loaders that check it (the glTF-Validator's BUFFER_BYTE_LENGTH_MISMATCH, "
+                 "GLB_CHUNK_LENGTH_UNALIGNED, BUFFER_DATA_URI_MIME_TYPE_INVALID).",
                  f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
-    "OPBR1210": ("A property of the wrong JSON type violates the schema: loaders ignore it or refuse the file. A "
-                 "variants object on a material, or a mapping without variants, never switches a material (the "
-                 "glTF-Validator's UNEXPECTED_EXTENSION_OBJECT, EMPTY_ENTITY).",
+    "OPBR1210": ("A property of the wrong JSON type violates the schema: loaders ignore it or refuse the file, and a "
+                 "null textureInfo is dereferenced by loaders that test only for the property's presence (the "
+                 "glTF-Validator's TYPE_MISMATCH). A variants object on a material, a mapping without variants, or a "
+                 "variant that is no object with a name never switches a material (UNEXPECTED_EXTENSION_OBJECT, "
+                 "EMPTY_ENTITY, ARRAY_TYPE_MISMATCH).",
                  f"{GLTF_MATERIAL_SCHEMA}; {GLTF}; {khr('KHR_materials_variants')}; "
                  f"{_GLTF}extensions/2.0/Khronos/KHR_materials_variants/schema/mesh.primitive.KHR_materials_variants.schema.json"),
     "OPBR1211": ("The extension texts say these settings do nothing (transmission on a metal, a volume without "
@@ -416,10 +420,25 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
     "OPBR1228": ("An unaligned accessor is refused by GPU APIs (WebGL: INVALID_OPERATION) or read misaligned; a stride "
                  "smaller than an element overlaps vertices; unsorted or out-of-range sparse indices substitute UVs at "
-                 "the wrong vertices or past the end; attributes of unequal count leave vertices without UVs: the "
-                 "texture is misplaced or the mesh is not drawn (the glTF-Validator's ACCESSOR_OFFSET_ALIGNMENT, "
-                 "ACCESSOR_SMALL_BYTESTRIDE, ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB, "
+                 "the wrong vertices or past the end; attributes of unequal count leave vertices without UVs, an "
+                 "accessor longer than its view reads its last elements from elsewhere, indices past the vertex count "
+                 "name vertices that do not exist: the texture is misplaced or the mesh is not drawn (the "
+                 "glTF-Validator's ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_SMALL_BYTESTRIDE, ACCESSOR_TOO_LONG, "
+                 "ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB, ACCESSOR_INDEX_OOB, "
                  "MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT, all errors).",
+                 f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart; "
+                 "KhronosGroup/glTF-Validator:lib/src/base/accessor.dart"),
+    "OPBR1229": ("A texture whose only image needs WebP or KTX2 support, with the extension optional, renders as a plain "
+                 "factor in every viewer without that support instead of the asset being refused (the extensions' "
+                 "\"Using Without a Fallback\"; the glTF-Validator does not check it).",
+                 f"{_GLTF}extensions/2.0/Vendor/EXT_texture_webp/README.md; {khr('KHR_texture_basisu')}"),
+    "OPBR1230": ("A property written twice in one object is read as the last value by JavaScript and Python parsers "
+                 "and as the first by others: one file, two materials, depending on the viewer (the glTF-Validator, "
+                 "parsing with JSON.parse, keeps the last and says nothing).",
+                 f"{GLTF}; https://www.rfc-editor.org/rfc/rfc8259#section-4"),
+    "OPBR1231": ("A NaN texture coordinate samples garbage, a NaN normal or position drops or blackens triangles, and a "
+                 "normal not of unit length scales the lighting and tilts normal maps in viewers that do not "
+                 "renormalise (the glTF-Validator's ACCESSOR_INVALID_FLOAT, ACCESSOR_VECTOR3_NON_UNIT, errors).",
                  f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart; "
                  "KhronosGroup/glTF-Validator:lib/src/base/accessor.dart"),
     "OPBR1212": ("Nothing renders wrong (info: Khronos' own samples use these); checks and conversions see the "

@@ -6,6 +6,10 @@ little-endian IEEE 754 single, a normalised SHORT ``max(c / 32767, -1)`` and a n
 ``max(c / 127, -1)`` (3.11, the ``KHR_mesh_quantization`` formats). An accessor without a bufferView is
 zeros, and a sparse one replaces some of them; neither is read here (the caller then knows nothing).
 
+What is read: a TANGENT's w (:func:`tangent_signs`), and for a primitive with a material (:func:`primitive_problems`)
+its POSITION, NORMAL, TANGENT, TEXCOORD_n and COLOR_n values (finite? NORMAL and TANGENT xyz of unit length?) and
+its indices (below the vertex count?).
+
 Cost is bounded: at most :data:`MAX_ELEMENTS` elements of one accessor are read, as one strided NumPy
 view of the buffer (no copy of the buffer, no Python loop over vertices).
 """
@@ -21,9 +25,17 @@ from .textures import json_float, json_numbers
 MAX_ELEMENTS = 1 << 22
 
 SIGN_TOLERANCE = 1e-5  # a TANGENT w further than this from +1 or -1 is no sign (float32 rounding aside)
+#: A NORMAL or TANGENT xyz whose length is further than this from 1 is no unit vector: the Khronos glTF-Validator's
+#: threshold (ACCESSOR_VECTOR3_NON_UNIT), loose enough for normals quantised to bytes (KHR_mesh_quantization).
+UNIT_TOLERANCE = 0.00674
+#: The vertex attributes whose values a material's look depends on, read for NaN and infinity (glTF 2.0, 3.6.2.2:
+#: "Values of NaN, +Infinity, and -Infinity MUST NOT be present"); skinning weights and joints are not the material's.
+MATERIAL_ATTRIBUTES = ("POSITION", "NORMAL", "TANGENT", "TEXCOORD_", "COLOR_")
 
 _COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
 _FORMATS = {5126: ("<f4", None), 5122: ("<i2", 32767.0), 5120: ("i1", 127.0)}  # dtype, normalisation divisor
+_FLOATS = {5126: ("<f4", None)}
+_INDICES = {5121: ("u1", None), 5123: ("<u2", None), 5125: ("<u4", None)}  # 3.7.2.1: indices are unsigned integers
 
 
 def component(document: GltfDocument, index, which: int):
@@ -31,14 +43,32 @@ def component(document: GltfDocument, index, which: int):
     float64 NumPy array, dequantised when the accessor is normalised; ``None`` when it cannot be read
     (no such accessor, no bufferView, sparse, a format other than FLOAT or normalised (SHORT, BYTE), a
     view or buffer that cannot be loaded or is too short: those are other rules' findings)."""
+    found = _elements(document, index, _FORMATS)
+    if found is None or not 0 <= which < found[0].shape[1]:
+        return None
+    values, divisor = found[0][:, which].astype("float64"), found[1]
+    return values if divisor is None else _dequantised(values, divisor)
+
+
+def _dequantised(values, divisor: float):
+    import numpy  # lazy: only reached once NumPy has read the data
+
+    return numpy.maximum(values / divisor, -1.0)
+
+
+def _elements(document: GltfDocument, index, formats: dict):
+    """``(elements, divisor)``: the first :data:`MAX_ELEMENTS` elements of accessor ``index`` as a strided
+    ``(count, width)`` NumPy view of its buffer in their stored type, and the normalisation divisor of its
+    format in ``formats`` (``componentType`` -> (dtype, divisor or ``None``); a divisor asks for
+    ``normalized: true``); ``None`` when the accessor cannot be read so (see :func:`component`)."""
     accessor = document.item("accessors", index)
     if accessor is None or "sparse" in accessor or "bufferView" not in accessor:
         return None
     kind, component_type, count = accessor.get("type"), accessor.get("componentType"), accessor.get("count")
     width = _COMPONENTS.get(kind) if isinstance(kind, str) else None
-    found = _FORMATS.get(component_type) if isinstance(component_type, int) and not isinstance(component_type, bool) else None
+    found = formats.get(component_type) if isinstance(component_type, int) and not isinstance(component_type, bool) else None
     offset = accessor.get("byteOffset", 0)
-    if width is None or found is None or not 0 <= which < width or not _natural(count) or not _natural(offset):
+    if width is None or found is None or not _natural(count) or not _natural(offset):
         return None
     dtype, divisor = found
     if divisor is not None and accessor.get("normalized") is not True:
@@ -53,11 +83,9 @@ def component(document: GltfDocument, index, which: int):
     size = numpy.dtype(dtype).itemsize
     stride = view.get("byteStride") if isinstance(view, dict) and _natural(view.get("byteStride")) else width * size
     count = min(count, MAX_ELEMENTS)
-    start = offset + which * size
-    if count == 0 or start + (count - 1) * stride + size > len(data):
+    if count == 0 or offset + (count - 1) * stride + width * size > len(data):
         return None
-    values = numpy.ndarray((count,), dtype=dtype, buffer=data, offset=start, strides=(stride,)).astype(numpy.float64)
-    return values if divisor is None else numpy.maximum(values / divisor, -1.0)
+    return numpy.ndarray((count, width), dtype=dtype, buffer=data, offset=offset, strides=(stride, size)), divisor
 
 
 def position_extent(document: GltfDocument, index) -> float | None:
@@ -84,6 +112,79 @@ def tangent_signs(document: GltfDocument, index, cache: dict) -> dict | None:
             "accessor": index, "checked": int(signs.size), "invalid": int(bad.sum()),
             "value": float(signs[bad.argmax()]) if bad.any() else None}
     return cache[index]
+
+
+def primitive_problems(document: GltfDocument, pointer: str, primitive: dict, cache: dict) -> list[dict]:
+    """What the data of one mesh primitive holds that glTF forbids, as the layout facts are written
+    (:func:`.layout.accessor_problems`: ``{"kind", "pointer", "property", ...}``): ``non_finite`` (a NaN or infinite
+    float in a :data:`MATERIAL_ATTRIBUTES` accessor, at the accessor; a TANGENT's w is :func:`tangent_signs`'),
+    ``non_unit`` (a NORMAL or TANGENT xyz not of unit length, at the attribute) and ``index_out_of_range`` (an index
+    not below the vertex count, 3.7.2.1, at ``indices``). Each accessor's values are judged once (``cache``, by
+    accessor; the indices by accessor and vertex count), and at most :data:`MAX_ELEMENTS` elements of each are read."""
+    attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
+    found: list[dict] = []
+    for name, index in attributes.items():
+        if not name.startswith(MATERIAL_ATTRIBUTES) or not _natural(index) or (index, name) in cache:
+            continue
+        cache[(index, name)] = True
+        found.extend(_vertex_values(document, index, name, f"{pointer}/attributes", cache))
+    indices = primitive.get("indices")
+    reference = attributes.get("POSITION", next(iter(attributes.values()), None))
+    vertices = (document.item("accessors", reference) or {}).get("count")
+    if _natural(indices) and _natural(vertices) and ("indices", indices, vertices) not in cache:
+        cache[("indices", indices, vertices)] = True
+        found.extend(_index_range(document, indices, vertices, pointer))
+    return found
+
+
+def _vertex_values(document: GltfDocument, index, name: str, where: str, cache: dict):
+    import numpy  # lazy: NumPy (~60 ms) only for a file with mesh data
+
+    unit = 3 if name in ("NORMAL", "TANGENT") else 0  # the xyz a unit vector
+    values = _elements(document, index, _FLOATS)
+    if values is not None and ("non_finite", index) not in cache:
+        cache[("non_finite", index)] = True  # (an accessor two attributes share is read for NaN once)
+        judged = values[0][:, :3] if name == "TANGENT" else values[0]
+        bad = ~numpy.isfinite(judged).all(axis=1)
+        if bad.any():
+            first = int(bad.argmax())
+            yield {"kind": "non_finite", "pointer": f"/accessors/{index}", "property": None, "accessor": index,
+                   "attribute": name, "count": int(bad.sum()), "checked": _checked(document, index, bad.size), "first": first,
+                   "value": float(judged[first][~numpy.isfinite(judged[first])][0])}
+    if not unit:
+        return
+    found = _elements(document, index, _FORMATS)
+    if found is None:
+        return
+    xyz = found[0][:, :unit].astype(numpy.float64)
+    xyz = xyz if found[1] is None else _dequantised(xyz, found[1])
+    with numpy.errstate(invalid="ignore", over="ignore"):
+        length = numpy.sqrt((xyz * xyz).sum(axis=1))
+    bad = numpy.isfinite(length) & (numpy.abs(length - 1.0) > UNIT_TOLERANCE)  # (NaN is non_finite's)
+    if bad.any():
+        first = int(bad.argmax())
+        yield {"kind": "non_unit", "pointer": where, "property": name, "accessor": index, "attribute": name,
+               "count": int(bad.sum()), "checked": _checked(document, index, bad.size), "first": first,
+               "length": float(length[first])}
+
+
+def _index_range(document: GltfDocument, index, vertices: int, pointer: str):
+    found = _elements(document, index, _INDICES)
+    if found is None:
+        return
+    values = found[0][:, 0]
+    beyond = values >= vertices
+    if beyond.any():
+        first = int(beyond.argmax())
+        yield {"kind": "index_out_of_range", "pointer": pointer, "property": "indices", "accessor": index,
+               "count": int(beyond.sum()), "checked": _checked(document, index, values.size), "first": first,
+               "value": int(values[first]), "vertices": vertices}
+
+
+def _checked(document: GltfDocument, index: int, read: int) -> str:
+    """How many elements of accessor ``index`` were judged, for a message: all of them, or the first ``read``."""
+    count = document.item("accessors", index)["count"]
+    return str(read) if read >= count else f"the first {read} (of {count})"
 
 
 def _natural(value) -> bool:

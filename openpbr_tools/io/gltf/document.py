@@ -16,6 +16,9 @@ Limits, each refusing hostile input before the work it would cause:
   documents are refused as malformed, so no later step can run out of Python's recursion limit;
 * integers of more than 4300 digits (Python's conversion limit) are read as floats (infinite), not
   refused: the property holding one is then simply out of range or of the wrong type;
+* a property name repeated within one object (``{"a": 1, "a": 2}``: glTF 2.0, JSON Encoding: names "SHOULD be
+  unique", clients "SHOULD override lexically preceding values") is read as its last value, as the specification
+  asks, and every repetition is kept (:attr:`GltfDocument.duplicates`) for the rules;
 * strings holding an unpaired UTF-16 surrogate escape (``"\\ud800"``: valid JSON, not valid
   Unicode, and unwritable as UTF-8) get U+FFFD instead, and the repair is reported
   (:attr:`GltfDocument.repairs`);
@@ -79,6 +82,7 @@ class GltfDocument:
     binary: bytes | None = None
     is_glb: bool = False
     repairs: list[tuple[str, str]] = field(default_factory=list)  # (JSON pointer, what was repaired)
+    duplicates: list[tuple[str, int]] = field(default_factory=list)  # (JSON pointer of a repeated name, times written)
     chunks: tuple[tuple[int, int], ...] = ()  # a GLB's chunks as (type, declared length), in file order
     _buffers: dict[int, bytes | ResourceError] = field(default_factory=dict)
     _files: dict[str, bytes | ResourceError] = field(default_factory=dict)
@@ -259,8 +263,9 @@ def load_document(path: str) -> GltfDocument:
     except UnicodeDecodeError as error:
         raise ReadError("not_gltf", f"glTF JSON is not UTF-8: {error.reason} at byte {error.start}", Location(path)) from None
     too_deep = ReadError("not_gltf", f"JSON nested more than {MAX_JSON_DEPTH} levels deep", Location(path))
+    repeated: dict[int, tuple[dict, dict[str, int]]] = {}
     try:
-        document = json.loads(decoded, parse_int=_integer)
+        document = json.loads(decoded, parse_int=_integer, object_pairs_hook=_object_keeping_repeats(repeated))
     except json.JSONDecodeError as error:
         raise ReadError("not_gltf", f"not JSON: {error.msg} (line {error.lineno}, column {error.colno})",
                         Location(path, line=error.lineno)) from None
@@ -269,7 +274,9 @@ def load_document(path: str) -> GltfDocument:
     if not isinstance(document, dict):
         raise ReadError("not_gltf", f"the JSON root is a {type(document).__name__}, not an object", Location(path, line=1))
     repairs: list[tuple[str, str]] = []
-    if not _settle(document, repair=_SURROGATE_ESCAPE.search(text) is not None, repairs=repairs):
+    duplicates: list[tuple[str, int]] = []
+    if not _settle(document, repair=_SURROGATE_ESCAPE.search(text) is not None, repairs=repairs,
+                   repeated=repeated, duplicates=duplicates):
         raise too_deep
     asset = document.get("asset")
     if not isinstance(asset, dict) or not isinstance(asset.get("version"), str):
@@ -277,7 +284,25 @@ def load_document(path: str) -> GltfDocument:
     major = asset["version"].split(".", 1)[0]
     if major != "2":
         raise ReadError("not_gltf", f"glTF version {asset['version']!r} is not 2.x", Location(path, path="/asset", input="version"))
-    return GltfDocument(path=path, json=document, binary=binary, is_glb=is_glb, repairs=repairs, chunks=chunks)
+    return GltfDocument(path=path, json=document, binary=binary, is_glb=is_glb, repairs=repairs, chunks=chunks,
+                        duplicates=duplicates)
+
+
+def _object_keeping_repeats(repeated: dict[int, tuple[dict, dict[str, int]]]):
+    """A ``json`` object hook that builds each object as ``json`` does (the last value of a repeated name wins)
+    and notes, by the object's identity, how often each repeated name was written. The object itself is kept in
+    ``repeated`` so that its identity stays unique until :func:`_settle` has found its pointer."""
+
+    def build(pairs: list) -> dict:
+        found = dict(pairs)
+        if len(found) != len(pairs):
+            counts: dict[str, int] = {}
+            for key, _ in pairs:
+                counts[key] = counts.get(key, 0) + 1
+            repeated[id(found)] = (found, {key: n for key, n in counts.items() if n > 1})
+        return found
+
+    return build
 
 
 def _integer(digits: str):
@@ -285,16 +310,21 @@ def _integer(digits: str):
     return int(digits) if len(digits) <= MAX_INTEGER_DIGITS else float(digits)
 
 
-def _settle(document: dict, repair: bool, repairs: list[tuple[str, str]]) -> bool:
+def _settle(document: dict, repair: bool, repairs: list[tuple[str, str]],
+            repeated: dict[int, tuple[dict, dict[str, int]]], duplicates: list[tuple[str, int]]) -> bool:
     """Check the nesting depth (``False`` when above :data:`MAX_JSON_DEPTH`) and, when ``repair``,
-    replace unpaired surrogates in keys and strings by U+FFFD, noting each repair. Iterative: the
-    document may be nested as deeply as ``json`` allowed."""
+    replace unpaired surrogates in keys and strings by U+FFFD, noting each repair; note the pointer of every
+    name the parse found ``repeated`` in an object of the document. Iterative: the document may be nested as
+    deeply as ``json`` allowed."""
     stack: list[tuple[dict | list, int, str]] = [(document, 1, "")]
     while stack:
         container, depth, pointer = stack.pop()
         if depth > MAX_JSON_DEPTH:
             return False
         if isinstance(container, dict):
+            known = repeated.get(id(container)) if repeated else None
+            if known is not None and known[0] is container:
+                duplicates.extend((f"{pointer}/{_escape(key)}", times) for key, times in known[1].items())
             if repair and any(_SURROGATE.search(key) for key in container):
                 fixed = {}
                 for key, value in container.items():

@@ -9,7 +9,7 @@ from __future__ import annotations
 
 from ...model import Constant, Input, Material
 from . import drafts, slots
-from .textures import json_float, json_numbers
+from .textures import json_float, json_numbers, json_text
 
 
 def thin_diffuse_transmission(extensions: dict) -> bool:
@@ -55,6 +55,9 @@ class ExtensionReading:
             self.unexpected(found, names, where, container or "material")
             for name, kind in textures.items():
                 info = found.get(name)
+                if info is None and name in found:  # (the schema's type is object: null is no "no texture")
+                    self.invalid(f"{where}/{name}", f"{name} is null, not a {kind} object: viewers that test for the "
+                                 "property's presence read a texture that is not there (omit it when there is none)")
                 if not isinstance(info, dict):
                     continue
                 self.unexpected(info, slots.TEXTURE_INFO_PROPERTIES[kind] + slots.COMMON_PROPERTIES, f"{where}/{name}", kind)
@@ -128,6 +131,14 @@ class ExtensionReading:
         listed = listed if isinstance(listed, list) else []
         names = [v.get("name") if isinstance(v, dict) and isinstance(v.get("name"), str) else f"variant_{i}"
                  for i, v in enumerate(listed)]
+        for i, variant in enumerate(listed):  # (the schema: objects with a required string name)
+            where = f"/extensions/{slots.VARIANTS}/variants/{i}"
+            if not isinstance(variant, dict):
+                self.invalid(where, f"variant {i} is {json_text(variant)}, not an object with a name ({{\"name\": ...}}): "
+                             "viewers cannot list it, and the mappings that name it select nothing")
+            elif not isinstance(variant.get("name"), str):
+                self.invalid(where, f"variant {i} has no string name (the schema requires one), so viewers cannot list it",
+                             "name")
         facts = {"names": [(f"/extensions/{slots.VARIANTS}/variants/{i}", v.get("name"))
                            for i, v in enumerate(listed) if isinstance(v, dict) and isinstance(v.get("name"), str)],
                  "mappings": []}

@@ -5,13 +5,16 @@ Each check is one the Khronos glTF-Validator makes (its code in brackets), read 
 
 * 3.6.1 Buffers: ``byteLength`` is the buffer's length, so the resource must hold that many bytes; a data URI
   that does not decode, a file that is missing or shorter, or a GLB binary chunk shorter than buffer 0
-  leaves the data at its end (vertices, UVs, indices) undefined [BUFFER_BYTE_LENGTH_MISMATCH, IO_ERROR];
+  leaves the data at its end (vertices, UVs, indices) undefined [BUFFER_BYTE_LENGTH_MISMATCH, IO_ERROR]; a buffer's
+  data URI "MUST" declare ``application/octet-stream`` or ``application/gltf-buffer`` [BUFFER_DATA_URI_MIME_TYPE_INVALID];
 * 4.4.3 GLB chunks: "The start and the end of each chunk MUST be aligned to a 4-byte boundary", so every
   chunk length is a multiple of 4 (the JSON chunk padded with spaces) [GLB_CHUNK_LENGTH_UNALIGNED];
 * 3.6.2.4 Data Alignment: "The offset of an accessor into a bufferView (i.e., accessor.byteOffset) and the
   offset of an accessor into a buffer (i.e., accessor.byteOffset + bufferView.byteOffset) MUST be a multiple
   of the size of the accessor's component type" [ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_TOTAL_OFFSET_ALIGNMENT],
   and a view's ``byteStride`` is at least an element's size, or elements overlap [ACCESSOR_SMALL_BYTESTRIDE];
+* 3.6.2.4 too: "Each accessor MUST fit its bufferView", ``byteOffset + stride * (count - 1) + element size`` at most
+  the view's ``byteLength`` [ACCESSOR_TOO_LONG];
 * 3.6.2.3 Sparse Accessors: the indices "MUST strictly increase" and each is less than the accessor's
   ``count`` [ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB];
 * 3.7.2.1: "All attribute accessors for a given primitive MUST have the same count", morph targets' too
@@ -30,13 +33,14 @@ from typing import Iterator
 
 from . import slots
 from .accessors import MAX_ELEMENTS
-from .document import GLB_BIN, GLB_JSON, GltfDocument, ResourceError
+from .document import GLB_BIN, GLB_JSON, GltfDocument, ResourceError, data_uri_mime
 from .textures import json_text
 
 COMPONENT_SIZES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
 VECTOR_WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}  # (matrices pad their columns: not judged here)
 _INDEX_DTYPES = {5121: "u1", 5123: "<u2", 5125: "<u4"}  # sparse indices (3.6.2.3)
 _CHUNK_NAMES = {GLB_JSON: "JSON", GLB_BIN: "BIN"}
+BUFFER_MEDIA_TYPES = ("application/octet-stream", "application/gltf-buffer")  # a buffer's data URI (3.6.1)
 
 
 def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str | None]]:
@@ -58,6 +62,10 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
                 document.buffer(index)
             except ResourceError as error:
                 yield "gltf_resource", error.pointer, error.message, None
+            media_type = data_uri_mime(uri)
+            if media_type not in BUFFER_MEDIA_TYPES:
+                yield ("gltf_resource", pointer + "/uri", f"the buffer's data URI declares {json_text(media_type or '')}, "
+                       f"not {' or '.join(BUFFER_MEDIA_TYPES)}: loaders that check the media type refuse the buffer", None)
         elif isinstance(uri, str):
             try:
                 local = document.resolve(uri, pointer + "/uri")
@@ -89,8 +97,10 @@ def missing_scene(document: GltfDocument):
 
 
 def extension_sources(document: GltfDocument) -> list[dict]:
-    """``{"pointer", "extension", "mime", "image"}`` for every texture extension's ``source`` (EXT_texture_webp,
-    KHR_texture_basisu) that names an existing image: the image must be of the extension's MIME type."""
+    """``{"pointer", "extension", "mime", "image", "fallback"}`` for every texture extension's ``source``
+    (EXT_texture_webp, KHR_texture_basisu) that names an existing image: the image must be of the extension's MIME
+    type; ``fallback`` says whether the texture has a core ``source`` too (without one, the extension's README
+    asks for it in extensionsRequired: "Using Without a Fallback")."""
     found = []
     for index, texture in enumerate(document.array("textures")):
         extensions = texture.get("extensions") if isinstance(texture, dict) else None
@@ -99,13 +109,13 @@ def extension_sources(document: GltfDocument) -> list[dict]:
             source = alternative.get("source") if isinstance(alternative, dict) else None
             if _natural(source) and document.item("images", source) is not None:
                 found.append({"pointer": f"/textures/{index}/extensions/{name}", "extension": name, "mime": mime,
-                              "image": source})
+                              "image": source, "fallback": "source" in texture})
     return found
 
 
 def accessor_problems(document: GltfDocument) -> list[dict]:
     """The accessor layout facts glTF forbids, each ``{"kind", "pointer", "property", ...}`` with the numbers a
-    message needs; kinds: ``offset_alignment``, ``total_offset_alignment``, ``small_stride``,
+    message needs; kinds: ``offset_alignment``, ``total_offset_alignment``, ``small_stride``, ``too_long``,
     ``sparse_not_increasing``, ``sparse_out_of_range``, ``unequal_count``. Every accessor is judged once,
     every primitive's attribute counts once."""
     found: list[dict] = []
@@ -137,6 +147,12 @@ def _accessor(document: GltfDocument, index: int, accessor: dict) -> Iterator[di
         if _natural(stride) and width is not None and stride < width * size:
             yield {"kind": "small_stride", "pointer": pointer, "property": "bufferView", "view": accessor["bufferView"],
                    "stride": stride, "element": width * size, "type": accessor.get("type")}
+        count, view_length = accessor.get("count"), view.get("byteLength")
+        if width is not None and _natural(count) and count > 0 and _natural(view_length):
+            length = (stride if _natural(stride) else width * size) * (count - 1) + width * size
+            if offset + length > view_length:
+                yield {"kind": "too_long", "pointer": pointer, "property": "count", "view": accessor["bufferView"],
+                       "offset": offset, "length": length, "view_length": view_length, "count": count}
     sparse = accessor.get("sparse")
     if isinstance(sparse, dict) and _natural(accessor.get("count")):
         yield from _sparse(document, pointer, sparse, accessor["count"])

@@ -28,10 +28,10 @@ and the extensions the node does not carry (``KHR_materials_diffuse_transmission
 the translation; reported as archived), unknown ones). Every value's :class:`Location` is the file, a JSON pointer to the object holding the property
 and the glTF property name.
 
-Facts for the glTF rules (extensions, images, each primitive's UV sets, extent and tangent signs:
-:mod:`.accessors`; variants) are in ``Asset.extra["gltf"]``; broken references and resources are
-:class:`Observation` s, each reported once. Only a file that is not glTF at all raises
-:class:`ReadError` (the container's limits are :mod:`.document`'s).
+Facts for the glTF rules (extensions, images, each primitive's UV sets, extent and tangent signs, the
+values of primitives with a material: :mod:`.accessors`; variants; repeated JSON names) are in
+``Asset.extra["gltf"]``; broken references and resources are :class:`Observation` s, each reported once.
+Only a file that is not glTF at all raises :class:`ReadError` (the container's limits are :mod:`.document`'s).
 
 Nothing outside the asset is opened: an image or buffer URI that is a URL, absolute, climbs out with
 ``..`` or resolves outside the asset's folder through a symbolic link is never read (the image's
@@ -87,11 +87,12 @@ class _Reader(TextureReading, ExtensionReading):
         self.observed: set = set()  # (kind, pointer, message): the same problem reached twice is reported once
         self.texture_pointers: set[str] = set()
         self.tangent_cache: dict[int, dict | None] = {}
+        self.data_cache: dict = {}  # the accessors whose values accessors.primitive_problems judged
         self.package_files: set[str] = set()  # embedded images that decode: the textures rule looks them up here
         self.facts: dict = {"extensions_used": _names(document.json.get("extensionsUsed")),
                             "extensions_required": _names(document.json.get("extensionsRequired")),
                             "extension_uses": [], "images": [], "texture_uses": [], "primitives": [],
-                            "glb": document.is_glb}
+                            "glb": document.is_glb, "repeated_names": document.duplicates}
         asset.extra["gltf"] = self.facts
 
     def location(self, pointer: str, name: str | None = None) -> Location:
@@ -172,10 +173,13 @@ class _Reader(TextureReading, ExtensionReading):
                                                  "extent": accessors.position_extent(self.document, attributes.get("POSITION")),
                                                  "tangent_signs": accessors.tangent_signs(self.document, attributes.get("TANGENT"),
                                                                                           self.tangent_cache)})
-                material = primitive.get("material")
+                material, where = primitive.get("material"), f"/meshes/{mesh_index}/primitives/{index}"
                 if material is not None and self.document.item("materials", material) is None:
-                    self.asset.observe("dangling_reference", self.location(f"/meshes/{mesh_index}/primitives/{index}", "material"),
-                                       attribute="material", target=material)
+                    self.asset.observe("dangling_reference", self.location(where, "material"), attribute="material",
+                                       target=material)
+                elif material is not None:  # the data of the primitives the file's materials shade
+                    self.facts["accessor_problems"] += accessors.primitive_problems(self.document, where, primitive,
+                                                                                    self.data_cache)
 
     def accessor_format(self, index) -> tuple | None:
         """``(type, componentType, normalized)`` of the accessor at ``index``, or ``None`` when there is

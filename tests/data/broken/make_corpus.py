@@ -798,6 +798,49 @@ case("OPBR1210_variants_mapping_empty.gltf", "OPBR1210", "A KHR_materials_varian
 case("OPBR1210_variants_on_material.gltf", "OPBR1210", "KHR_materials_variants mappings written on the material instead of the mesh primitive.",
      json.dumps(gltf([{"name": "m0", "extensions": {"KHR_materials_variants": {"mappings": [{"material": 1, "variants": [0]}]}}}, {"name": "m1"}],
                      ["KHR_materials_variants"], extensions={"KHR_materials_variants": {"variants": [{"name": "Red"}]}}), indent=2))
+_QUANTIZED_UV = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack("<6h", 0, 0, 32767, 0, 0, 32767)
+case("OPBR1201_mesh_quantization_optional.gltf", "OPBR1201", "UVs quantised to normalised SHORT (gltfpack) with KHR_mesh_quantization in extensionsUsed only: the extension cannot be optional.",
+     json.dumps(_uv_triangle({"componentType": 5122, "normalized": True}, _QUANTIZED_UV,
+                             [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 12}],
+                             extensionsUsed=["KHR_mesh_quantization"]), indent=2))
+case("OPBR1209_buffer_data_uri_text_plain.gltf", "OPBR1209", "The embedded buffer's data URI declares text/plain (glTF: application/octet-stream or application/gltf-buffer).",
+     json.dumps(_uv_triangle({}, buffers=[{"byteLength": 60, "uri": "data:text/plain;base64," + base64.b64encode(_UV_DATA).decode()}]), indent=2))
+case("OPBR1210_texture_info_null.gltf", "OPBR1210", "\"normalTexture\": null, a Python exporter's None for a texture it did not have.",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}, "normalTexture": None}), indent=2))
+case("OPBR1210_variants_plain_strings.gltf", "OPBR1210", "The root's KHR_materials_variants variants written as [\"Red\", \"Blue\"] instead of objects with a name.",
+     json.dumps(dict(_variants(["Red", "Blue"], [{"material": 0, "variants": [0]}, {"material": 1, "variants": [1]}]),
+                     extensions={"KHR_materials_variants": {"variants": ["Red", "Blue"]}}), indent=2))
+case("OPBR1228_texcoord_past_view_end.gltf", "OPBR1228", "TEXCOORD_0 counts 3 elements but its bufferView holds 2 (16 bytes): the last is read past the view.",
+     json.dumps(_uv_triangle({}, _UV_DATA, [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 16}]), indent=2))
+
+
+def _indexed_triangle(last: int) -> dict:
+    """The textured triangle drawn through UNSIGNED_SHORT indices (0, 1, ``last``) in view 2."""
+    data = _UV_DATA + struct.pack("<3H", 0, 1, last) + bytes(2)
+    document = _uv_triangle({}, data, [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 24},
+                                       {"buffer": 0, "byteOffset": 60, "byteLength": 6}])
+    document["accessors"].append({"bufferView": 2, "componentType": 5123, "count": 3, "type": "SCALAR"})
+    document["meshes"][0]["primitives"][0]["indices"] = 2
+    return document
+
+
+case("OPBR1228_indices_out_of_range.gltf", "OPBR1228", "The triangle's last index is 3 with 3 vertices (0 to 2): indices from another LOD.",
+     json.dumps(_indexed_triangle(3), indent=2))
+case("OPBR1229_webp_only_not_required.gltf", "OPBR1229", "A texture whose only image is EXT_texture_webp's (no PNG fallback), the extension in extensionsUsed only.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}], ["EXT_texture_webp"],
+                     images=[{"uri": "textures/albedo.webp"}], textures=[{"extensions": {"EXT_texture_webp": {"source": 0}}}]), indent=2))
+case("OPBR1230_material_property_repeated.gltf", "OPBR1230", "A merge script wrote a second pbrMetallicRoughness into the material: viewers keep the first or the last.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 0.0}}]), indent=2).replace(
+         '"pbrMetallicRoughness": {', '"pbrMetallicRoughness": {"metallicFactor": 1.0, "roughnessFactor": 0.2},\n      "pbrMetallicRoughness": {', 1))
+case("OPBR1231_texcoord_nan.gltf", "OPBR1231", "TEXCOORD_0 holds a NaN (a degenerate UV unwrap).",
+     json.dumps(_uv_triangle({}, _UV_DATA[:36] + struct.pack("<6f", 0, 0, 1, 0, float("nan"), 1)), indent=2))
+_NORMALS_SCALED = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack("<9f", *[0, 0, 2.5] * 3)
+case("OPBR1231_normals_not_unit.gltf", "OPBR1231", "NORMALs of length 2.5 (an object scale baked into them).",
+     json.dumps(gltf([{"name": "M"}], buffers=[{"byteLength": 72, "uri": "data:application/octet-stream;base64," + base64.b64encode(_NORMALS_SCALED).decode()}],
+                     bufferViews=[{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 36}],
+                     accessors=[{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                                {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"}],
+                     meshes=[{"primitives": [{"attributes": {"POSITION": 0, "NORMAL": 1}, "material": 0}]}]), indent=2))
 case("OPBR1221_transmission_alpha_blend.gltf", "OPBR1221", "Window glass with transmission 1 and also alphaMode BLEND at alpha 0.25: transparent twice.",
      json.dumps(gltf([{"name": "M", "alphaMode": "BLEND", "pbrMetallicRoughness": {**_GLASS, "baseColorFactor": [0.9, 0.95, 1.0, 0.25]},
                        "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}], ["KHR_materials_transmission"]), indent=2))
