@@ -33,6 +33,13 @@ def usd_uvtexture_names() -> tuple[str, ...]:
     return tuple(_data()["usd_uvtexture_source"])
 
 
+def materialx_remapped(name: str | None) -> str | None:
+    """The cmlib name MaterialX's own colour management maps ``name`` to (a legacy name such as ``lin_ap1`` or
+    ``gamma22``, an ASWF colour-interop name such as ``lin_p3d65_scene``); ``name`` itself otherwise."""
+    remapped = _data()["materialx_remapped"]
+    return remapped.get(name, name) if name and not name.startswith("_") else name
+
+
 def materialx_name(name: str | None) -> str | None:
     """The MaterialX name of a colour-space name from any scheme: a MaterialX name as it is, a USD
     name (``lin_rec709_scene``) by equivalence, a UsdUVTexture ``sourceColorSpace`` token as Storm

@@ -82,6 +82,21 @@ def climbs(reference: str) -> bool:
     return ".." in re.split(r"[\\/]", reference)
 
 
+def leaves(reference: str) -> bool:
+    """Whether a relative reference climbs out of its anchor folder once its ``..`` components are taken against
+    the components before them (``textures/v002/../albedo.png`` stays inside; ``../albedo.png`` leaves). Symbolic
+    links are the guard's concern (:meth:`PathGuard.resolve` resolves them before ``..``, as the system does)."""
+    depth = 0
+    for part in re.split(r"[\\/]", reference):
+        if part == "..":
+            depth -= 1
+            if depth < 0:
+                return True
+        elif part not in ("", "."):
+            depth += 1
+    return False
+
+
 @dataclass(frozen=True, slots=True)
 class Resolved:
     """A reference resolved by :meth:`PathGuard.resolve`.

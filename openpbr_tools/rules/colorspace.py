@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from .. import colorspaces
 from ..diagnostics import Severity
+from ..io import package_member
 from ..model import Location, Texture
 from . import Rule, for_each_input
 
@@ -40,7 +41,8 @@ COLOR_TEXTURE_RAW = Rule(
     "OPBR503", "color-texture-raw", Severity.WARNING,
     "A colour input reads a texture marked as raw data (colorspace none).",
     "An sRGB-encoded albedo read raw renders too bright and desaturated. Mark it srgb_texture (or the "
-    "space it was painted in).",
+    "space it was painted in). Not reported for an OpenEXR, Radiance or PFM image, whose values are "
+    "scene-linear: read raw, they need no transform.",
     passing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
     failing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="none" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
     example_files=("albedo.png",),
@@ -152,7 +154,7 @@ def check(asset, context):
                 or (texture is not None and texture.colorspace is None)
             ):
                 ambiguous = entry.location
-            if texture is not None and colorspaces.is_data(texture.colorspace):
+            if texture is not None and colorspaces.is_data(texture.colorspace) and not scene_linear_file(texture.file):
                 yield context.diagnostic(
                     COLOR_TEXTURE_RAW, f"{entry.name} reads {texture.file!r} as raw data (colorspace none)",
                     entry.location, hint="mark the image srgb_texture (or the space it was painted in)",
@@ -190,6 +192,16 @@ def ignored_colorspace(texture: Texture) -> bool:
     if texture.image_type in COLOUR_MANAGED_IMAGE_TYPES or space is None or texture.reads_alpha:
         return False  # a colour image, or the alpha of one (gltf_colorimage's outa): the space is its RGB's
     return not (colorspaces.is_data(space) or colorspaces.is_data(space, "usd") or space in ("raw", "auto"))
+
+
+#: Image formats whose values are scene-linear by convention (OpenEXR: "pixel values are linear"; Radiance RGBE; PFM):
+#: read without a transform ("raw", "none"), a colour in them is already in the working space's linear encoding.
+SCENE_LINEAR_SUFFIXES = (".exr", ".hdr", ".pfm")
+
+
+def scene_linear_file(file: str) -> bool:
+    """Whether a texture file is a scene-linear floating-point image (by its suffix; inside a package, the member's)."""
+    return package_member(file).lower().endswith(SCENE_LINEAR_SUFFIXES)
 
 
 def _authored_on_texture(texture: Texture, asset) -> bool:

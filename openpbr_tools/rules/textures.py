@@ -19,7 +19,7 @@ from ..diagnostics import Severity
 from ..io import ReadError, package_member, packaged_image
 from ..io.image_files import damage
 from ..io.images import channel_count, image_size
-from ..io.paths import Kind, classify, climbs
+from ..io.paths import Kind, classify, leaves
 from ..io.usd.types import is_eight_bit
 from . import Rule, for_each_input
 
@@ -305,7 +305,7 @@ def _check_path(asset, texture, where, context, checked_files):
     guard = context.guard(asset.path)
     resolved = guard.resolve(file)
     allowed_elsewhere = resolved.inside and resolved.root != guard.own_root  # --allow-outside
-    if (kind in _NOT_RELATIVE or climbs(file)) and not allowed_elsewhere:
+    if (kind in _NOT_RELATIVE or leaves(file)) and not allowed_elsewhere:
         yield context.diagnostic(
             UNSAFE_PATH, f"texture path {file!r} points outside the asset's folder", where,
             hint="copy the texture next to the asset and use a relative path",

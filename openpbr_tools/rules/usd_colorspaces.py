@@ -24,7 +24,8 @@ from ..model import Location, Texture
 from ..resources import load_json
 from . import Rule, for_each_input
 from . import colorspace as colorspace_rules
-from .colorspace import COLOR_TEXTURE_RAW, COLORSPACE_IGNORED, DATA_TEXTURE_MANAGED, UNKNOWN_COLORSPACE, ignored_colorspace
+from .colorspace import (COLOR_TEXTURE_RAW, COLORSPACE_IGNORED, DATA_TEXTURE_MANAGED, UNKNOWN_COLORSPACE, ignored_colorspace,
+                         scene_linear_file)
 from .usd_examples import openpbr_example
 
 def _materialx_image_example(colorspace: str) -> str:
@@ -161,7 +162,8 @@ def colour_managed_textures(asset, context):
                 texture.location or entry.location, hint='set colorSpace = "none" on the image\'s inputs:file',
             )
         if parameter.role == "color":
-            if space is not None and (colorspaces.is_data(space) or colorspaces.is_data(space, "usd")):
+            if space is not None and (colorspaces.is_data(space) or colorspaces.is_data(space, "usd")) \
+                    and not scene_linear_file(texture.file):
                 yield context.diagnostic(
                     COLOR_TEXTURE_RAW, f"{entry.name} reads {texture.file!r} as raw data ({space})", entry.location,
                     hint="read it as sRGB (sourceColorSpace = \"sRGB\", or colorSpace \"srgb_texture\" on a MaterialX image)",

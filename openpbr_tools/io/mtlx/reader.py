@@ -28,7 +28,7 @@ from __future__ import annotations
 import os
 from functools import lru_cache
 
-from ... import gltf_state, versioning
+from ... import colorspaces, gltf_state, versioning
 from ...model import Asset, Connection, Constant, Input, Location, Material
 from ...values import ValueSyntaxError, parse_value
 from .. import ReadError, read_bytes
@@ -143,7 +143,20 @@ def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ..
         asset.observe("xinclude_broken" if broken else "xinclude", Location(path, line), href=href, reason=reason)
     for name, href in shadowed:  # MaterialX reads the include's first and drops the document's own
         asset.observe("duplicate_element", Location(path, structure.lines.get(name), name), first_in=href, name=name)
+    _remapped_colorspaces(asset)
     return asset
+
+
+def _remapped_colorspaces(asset: Asset) -> None:
+    """Colour-space names MaterialX's colour management maps itself (lin_ap1, gamma22, lin_p3d65_scene) read as
+    the cmlib names they stand for, as MaterialX reads them: known, and converted by them."""
+    asset.colorspace = colorspaces.materialx_remapped(asset.colorspace)
+    for material in asset.materials:
+        for entry in material.inputs.values():
+            entry.colorspace = colorspaces.materialx_remapped(entry.colorspace)
+            entry.authored_colorspace = colorspaces.materialx_remapped(entry.authored_colorspace)
+            if entry.texture is not None:
+                entry.texture.colorspace = colorspaces.materialx_remapped(entry.texture.colorspace)
 
 
 class _Reader(GraphFollower):
