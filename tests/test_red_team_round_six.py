@@ -138,3 +138,162 @@ def test_a_dotdot_that_comes_back_inside_the_folder_is_no_path_outside(tmp_path,
     path = tmp_path / "asset" / "m.gltf"
     path.write_text(json.dumps(document))
     assert _codes(path).get("OPBR704") == expected
+
+
+# -- USD -----------------------------------------------------------------------------------------------------------
+
+_STAGE = """#usda 1.0
+(
+    defaultPrim = "Asset"
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+def Xform "Asset" VARIANTS
+{
+    LOOKS
+    def Mesh "Board" (
+        prepend apiSchemas = ["MaterialBindingAPI"]
+    )
+    {
+        int[] faceVertexCounts = [4]
+        int[] faceVertexIndices = [0, 1, 2, 3]
+        point3f[] points = [(-0.5, 0, -0.5), (0.5, 0, -0.5), (0.5, 0, 0.5), (-0.5, 0, 0.5)]
+        texCoord2f[] primvars:st = ST
+        BINDING
+    }
+}
+"""
+_MATERIAL = """def Material "M"
+        {
+            token outputs:surface.connect = </Asset/Looks/M/P.outputs:surface>
+            def Shader "P"
+            {
+                uniform token info:id = "UsdPreviewSurface"
+                color3f inputs:diffuseColor.connect = </Asset/Looks/M/tex.outputs:rgb>
+                token outputs:surface
+            }
+            def Shader "tex"
+            {
+                uniform token info:id = "UsdUVTexture"
+                asset inputs:file = @albedo.png@
+                token inputs:sourceColorSpace = "sRGB"
+                TEXTURE
+                float2 inputs:st.connect = </Asset/Looks/M/uv.outputs:result>
+                float3 outputs:rgb
+            }
+            def Shader "uv"
+            {
+                uniform token info:id = "UsdPrimvarReader_float2"
+                string inputs:varname = "st"
+                float2 outputs:result
+            }
+        }"""
+_VERTEX_ST = '[(0, 0), (1, 0), (1, 1), (0, 1)] (interpolation = "vertex")'
+
+
+def _usd(tmp_path: Path, looks=None, st=_VERTEX_ST, binding="rel material:binding = </Asset/Looks/M>", variants="",
+         texture="", name="stage.usda") -> Path:
+    Image.frombytes("RGB", (2, 2), bytes([200, 10, 10, 10, 200, 10, 10, 10, 200, 200, 200, 10])).save(tmp_path / "albedo.png")
+    looks = looks if looks is not None else 'def Scope "Looks"\n    {\n        ' + _MATERIAL.replace("TEXTURE", texture) + "\n    }"
+    path = tmp_path / name
+    path.write_text(_STAGE.replace("VARIANTS", variants).replace("LOOKS", looks).replace("ST", st)
+                    .replace("BINDING", binding))
+    return path
+
+
+def test_a_binding_to_a_material_under_a_class_is_an_invalid_target(tmp_path):
+    """ub12: the Material sits under a 'class' scope: abstract (usd-core's IsAbstract), so stage traversal and the
+    renderers never visit it, though ComputeBoundMaterial resolves the binding."""
+    from pxr import Usd, UsdShade
+
+    looks = 'class Scope "Looks"\n    {\n        ' + _MATERIAL.replace("TEXTURE", "") + "\n    }"
+    path = _usd(tmp_path, looks=looks)
+    stage = Usd.Stage.Open(str(path))
+    assert stage.GetPrimAtPath("/Asset/Looks/M").IsAbstract()
+    assert "/Asset/Looks/M" not in {str(p.GetPath()) for p in stage.Traverse()}
+    assert UsdShade.MaterialBindingAPI(stage.GetPrimAtPath("/Asset/Board")).ComputeBoundMaterial()[0]
+    assert _codes(path).get("OPBR1017") == "error"
+    assert "OPBR1017" not in _codes(_usd(tmp_path, name="defined.usda"))
+
+
+@pytest.mark.parametrize("selection, expected", [("Oiled", "error"), ("oiled", None)])
+def test_a_variant_selection_that_names_no_variant(tmp_path, selection, expected):
+    """ub08: the selection 'Oiled' against the variant 'oiled' (names are case-sensitive): usd-core composes none
+    of the set's variants, so the binding the variant holds is never made."""
+    from pxr import Usd, UsdShade
+
+    variants = ('(\n    variants = {\n        string finish = "' + selection + '"\n    }\n    prepend variantSets = "finish"\n)')
+    looks = ('def Scope "Looks"\n    {\n        ' + _MATERIAL.replace("TEXTURE", "") + '\n    }\n    variantSet "finish" = {\n'
+             '        "oiled" {\n            over "Board" (\n                prepend apiSchemas = ["MaterialBindingAPI"]\n'
+             '            )\n            {\n                rel material:binding = </Asset/Looks/M>\n            }\n        }\n'
+             '        "painted" {\n        }\n    }')
+    path = _usd(tmp_path, looks=looks, binding="", variants=variants)
+    stage = Usd.Stage.Open(str(path))
+    bound = UsdShade.MaterialBindingAPI(stage.GetPrimAtPath("/Asset/Board")).ComputeBoundMaterial()[0]
+    assert bool(bound) == (expected is None)
+    assert _codes(path).get("OPBR802") == expected
+
+
+def test_a_missing_value_clip_layer(tmp_path):
+    """ub09: the clip layer a value clip names was not published; usd-core's MissingReferenceValidator reports it."""
+    (tmp_path / "clips").mkdir()
+    (tmp_path / "clips" / "manifest.usda").write_text('#usda 1.0\nover "Asset"\n{\n    double size\n}\n')
+    clips = ('(\n    clips = {\n        dictionary default = {\n            double2[] active = [(0, 0)]\n'
+             '            asset[] assetPaths = [@./clips/wet.0001.usda@]\n'
+             '            asset manifestAssetPath = @./clips/manifest.usda@\n            string primPath = "/Asset"\n'
+             '            double2[] times = [(0, 0)]\n        }\n    }\n)')
+    path = _usd(tmp_path, variants=clips)
+    assert _codes(path).get("OPBR802") == "error"
+    (tmp_path / "clips" / "wet.0001.usda").write_text('#usda 1.0\nover "Asset"\n{\n    double size = 1\n}\n')
+    assert "OPBR802" not in _codes(path)
+
+
+def test_a_specializes_cycle_is_a_composition_error(tmp_path):
+    """ub15: two materials specialize each other; usd-core's composition (the anchor) reports 'Cycle detected', an
+    error of its CompositionErrorTest validator, which is an error here too (it was an OPBR1010 warning)."""
+    from pxr import Usd
+
+    looks = ('def Scope "Looks"\n    {\n        def Material "A" (\n            specializes = </Asset/Looks/B>\n        )\n'
+             '        {\n        }\n        def Material "B" (\n            specializes = </Asset/Looks/A>\n        )\n        {\n'
+             '        }\n        ' + _MATERIAL.replace("TEXTURE", "") + "\n    }")
+    path = _usd(tmp_path, looks=looks)
+    assert any("Cycle" in str(e) for e in Usd.Stage.Open(str(path)).GetCompositionErrors())
+    assert _codes(path).get("OPBR002") == "error"
+
+
+def test_a_uniform_uv_primvar_gives_one_texel_per_face(tmp_path):
+    """ub11: st authored with uniform interpolation holds one UV per face (UsdGeomPrimvar), so a texture shows one
+    flat texel on each face."""
+    uniform = '[(0.5, 0.5)] (interpolation = "uniform")'
+    assert _codes(_usd(tmp_path, st=uniform)).get("OPBR1015") == "error"
+    assert "OPBR1015" not in _codes(_usd(tmp_path, name="vertex.usda"))
+
+
+@pytest.mark.parametrize("texture, expected", [("float4 inputs:scale = (4, 4, 4, 1)", "warning"),
+                                                ("float4 inputs:scale = (0.8, 0.8, 0.8, 1)", None)])
+def test_a_uv_tiling_written_into_a_colour_textures_scale(tmp_path, texture, expected):
+    """ub01: UsdUVTexture's scale multiplies texel values (UsdPreviewSurface spec), so (4, 4, 4, 1) meant as a
+    tiling makes the albedo four times as bright."""
+    assert _codes(_usd(tmp_path, texture=texture)).get("OPBR1028") == expected
+
+
+def test_usdz_entries_not_aligned_to_64_bytes(tmp_path):
+    """ub07: usd-core's package validators (the anchor) call an entry whose data does not start at a multiple of 64
+    bytes an error (ByteMisalignment): now OPBR1012, an error too. The rule's own example package is aligned."""
+    import zipfile
+
+    from openpbr_tools.io.usd.validators import usd_core_findings
+    from openpbr_tools.rules.usd import PACKAGE_ENTRY
+    from pxr import Usd
+
+    layer = _usd(tmp_path).read_text()
+    path = tmp_path / "unaligned.usdz"
+    with zipfile.ZipFile(path, "w", zipfile.ZIP_STORED) as package:
+        package.writestr("a.usda", layer)
+        package.writestr("albedo.png", (tmp_path / "albedo.png").read_bytes())
+    assert any(f["name"] == "ByteMisalignment" and f["severity"] == "error"
+               for f in usd_core_findings(Usd.Stage.Open(str(path))))
+    assert _codes(path).get("OPBR1012") == "error"
+    aligned = tmp_path / "aligned.usdz"
+    aligned.write_bytes(PACKAGE_ENTRY.passing)
+    assert not any(f["name"] == "ByteMisalignment" for f in usd_core_findings(Usd.Stage.Open(str(aligned))))

@@ -28,7 +28,8 @@ NOT_MATERIALX = Rule(
     "MaterialX: the XML is malformed (truncated, unbalanced tags: the message gives expat's line and "
     "column), the root element is not <materialx>, it declares a DOCTYPE or nests absurdly deep, or "
     "MaterialX itself refuses it. USD: a layer usd-core cannot open (a syntax error with its line, a "
-    "corrupt crate file, a USDZ that is not a package, a missing sublayer, reference or payload). "
+    "corrupt crate file, a USDZ that is not a package, a missing sublayer, reference or payload; arcs that "
+    "form a cycle, which usd-core's composition reports as an error and composes without). "
     "glTF: invalid JSON or GLB, broken buffers or data URIs. The exit code is 2.",
     passing='<open_pbr_surface name="S" type="surfaceshader" />',
     failing='<?xml version="1.0"?>\n<materialx version="1.39">\n  <open_pbr_surface name="S" type="surfaceshader">\n',

@@ -54,6 +54,7 @@ from ..model import Location
 from ..resources import load_json
 from . import Rule, for_each_input
 from .ranges import ENUM_VALUE
+from .document import NOT_MATERIALX
 from .structure import NO_SHADER
 from .units import LENGTH_WITHOUT_UNIT
 from .usd_colorspaces import COLORSPACE_SCHEME, REMAPPED_NAME, colorspace_name, colour_managed_textures, colour_policies
@@ -165,6 +166,10 @@ FAMILY            int[] indices = [1]
 #: subsets overlap, a binding left with no target).
 BINDING_VALIDATORS = frozenset(("SubsetMaterialBindFamilyName", "SubsetFamilies", "MaterialBindingCollectionValidator",
                                 "MaterialBindingRelationships"))
+#: usd-core validators whose errors break a package (an entry not aligned to 64 bytes, which usd-core cannot read in
+#: place) or the composition itself (a cycle of arcs): reported as OPBR1012 and OPBR002, errors as usd-core's are.
+PACKAGE_VALIDATORS = frozenset(("RootPackageValidator", "UsdzPackageValidator"))
+COMPOSITION_VALIDATORS = frozenset(("CompositionErrorTest",))
 USD_CORE_BINDING = Rule(
     "OPBR1025", "usd-core-binding-error", Severity.ERROR,
     "usd-core's validators report an error in how materials are bound: a GeomSubset with a material binding but "
@@ -183,13 +188,19 @@ USD_CORE_BINDING = Rule(
 
 
 def _package(*entries: tuple[str, str]) -> bytes:
-    """A USDZ's bytes: entries stored uncompressed, the root layer first."""
+    """A USDZ's bytes: entries stored uncompressed, the root layer first, each entry's data starting at a
+    multiple of 64 bytes (the USDZ specification; usd-core's package validators' ByteMisalignment) through
+    padding in its local header's extra field."""
     import zipfile  # lazy: only a USDZ example package needs it
 
     buffer = io.BytesIO()
     with zipfile.ZipFile(buffer, "w", zipfile.ZIP_STORED) as package:
         for name, text in entries:
-            package.writestr(zipfile.ZipInfo(name), text)
+            info = zipfile.ZipInfo(name)
+            start = buffer.tell() + 30 + len(name.encode("utf-8"))  # where the data would start without padding
+            padding = (-(start + 4)) % 64
+            info.extra = (0x1986).to_bytes(2, "little") + padding.to_bytes(2, "little") + b"\0" * padding
+            package.writestr(info, text)
     return buffer.getvalue()
 
 
@@ -211,7 +222,8 @@ ARC_OUTSIDE = Rule(
 PACKAGE_ENTRY = Rule(
     "OPBR1012", "usdz-unsafe-entry", Severity.ERROR,
     "A USDZ package holds an entry whose name is absolute, climbs out with '..' or contains a "
-    "backslash, an entry that is compressed, or an image in a format a package may not hold (a TGA texture).",
+    "backslash, an entry that is compressed or not aligned to 64 bytes (usd-core's package validators' error), "
+    "or an image in a format a package may not hold (a TGA texture).",
     "A tool that extracts the package writes such an entry outside the folder it extracts to (over "
     "/etc/..., or beside the package); the USDZ specification allows only relative names inside the "
     "package and stored (uncompressed) entries, which usd-core reads in place: a compressed texture "
@@ -464,8 +476,12 @@ def _usd_core(asset, context):
             continue  # OPBR701 reports missing textures
         site = sites[0] if sites else ""
         prim, _, attribute = site.partition(".")
-        binding = finding["severity"] == "error" and finding["identifier"].rsplit(":", 1)[-1].split(".")[0] in BINDING_VALIDATORS
+        validator = finding["identifier"].rsplit(":", 1)[-1].split(".")[0]
+        rule = USD_CORE
+        if finding["severity"] == "error":  # usd-core's errors where the stage then renders wrong: as the anchor says
+            rule = (USD_CORE_BINDING if validator in BINDING_VALIDATORS else PACKAGE_ENTRY if validator in PACKAGE_VALIDATORS
+                    else NOT_MATERIALX if validator in COMPOSITION_VALIDATORS else USD_CORE)
         yield context.diagnostic(
-            USD_CORE_BINDING if binding else USD_CORE, f"usd-core {finding['identifier']}: {finding['message']}",
+            rule, f"usd-core {finding['identifier']}: {finding['message']}",
             Location(asset.path, None, prim or None, (attribute.removeprefix("inputs:")) or None),
         )

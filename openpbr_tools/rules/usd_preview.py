@@ -114,7 +114,23 @@ PREVIEW_DISAGREES = Rule(
 )
 
 
-RULES = (NORMAL_MAP_ENCODING, OPACITY_THRESHOLD, WORKFLOW_INPUT_IGNORED, PREVIEW_DISAGREES)
+_ALBEDO_TEXTURE = ("color3f inputs:diffuseColor.connect = </M/albedo.outputs:rgb>",)
+SCALE_AS_TILING = Rule(
+    "OPBR1028", "preview-texture-scale-as-tiling", Severity.WARNING,
+    "A UsdUVTexture feeding diffuseColor or specularColor scales its colour by 2 or more in every channel (a UV "
+    "tiling written into scale).",
+    "UsdUVTexture's scale multiplies the texel values (UsdPreviewSurface specification: \"scale: values to scale the "
+    "texture's output by\"), not the coordinates: scale (4, 4, 4, 1) makes an albedo four times as bright, above "
+    "1 wherever a texel exceeds 0.25, where the author meant the texture repeated four times. A repetition goes "
+    "in a UsdTransform2d (scale) on the st coordinates. Emission and data inputs may take any scale and are not "
+    "reported.",
+    passing=_preview(*_ALBEDO_TEXTURE, extra=_uv_texture("albedo", "albedo.png", 'token inputs:sourceColorSpace = "sRGB"')),
+    failing=_preview(*_ALBEDO_TEXTURE, extra=_uv_texture("albedo", "albedo.png", 'token inputs:sourceColorSpace = "sRGB"',
+                                                         "float4 inputs:scale = (4, 4, 4, 1)")),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
+)
+
+RULES = (NORMAL_MAP_ENCODING, OPACITY_THRESHOLD, WORKFLOW_INPUT_IGNORED, PREVIEW_DISAGREES, SCALE_AS_TILING)
 
 # OPBR1009 limits; a project can override them with thresholds of the same names.
 PREVIEW_LIMITS = {
@@ -134,6 +150,17 @@ def check(asset, context):
 
 
 def _preview_conventions(material, context):
+    for name in ("diffuseColor", "specularColor"):
+        entry = material.inputs.get(name)
+        texture = entry.texture if entry is not None else None
+        if texture is not None and texture.node_category == UV_TEXTURE_ID and texture.scale is not None:
+            scale = _rgb(texture.scale, 1.0)
+            if min(scale) >= 2.0:
+                yield context.diagnostic(
+                    SCALE_AS_TILING, f"{name} reads {texture.file!r} scaled by {_fmt(scale)}: scale multiplies the "
+                    "colour, not the coordinates, so the albedo exceeds 1", Location(
+                        texture.location.file if texture.location else material.location.file, None, texture.node, "scale"),
+                    hint="to repeat the texture, put a UsdTransform2d with that scale on its st coordinates")
     normal = material.inputs.get("normal")
     texture = normal.texture if normal is not None else None
     if texture is not None and texture.node_category == UV_TEXTURE_ID and is_eight_bit(texture.file):

@@ -60,7 +60,7 @@ def _collection(includes: str) -> str:
 BINDING_TARGET = Rule(
     "OPBR1017", "usd-binding-target-invalid", Severity.ERROR,
     "A direct material binding targets a prim that does not exist, is inactive, is not a Material (a "
-    "Shader, a Scope), or is a Material only ever authored as an 'over' (never defined).",
+    "Shader, a Scope), is a Material only ever authored as an 'over' (never defined), or is abstract (a class).",
     "UsdShade.MaterialBindingAPI resolves such a binding to no material, so the geometry renders with the "
     "renderer's fallback; nothing fails to load. Typical of a Material renamed or deactivated after binding, a "
     "variant naming a material that was never added, or a Shader picked instead of its Material. An 'over' that "

@@ -123,7 +123,7 @@ def check(asset, context):
         if not lacking or not _varies(asset, texture, context, containers):
             continue
         sizes = asset.extra.get("usd_primvar_sizes", {})
-        shown = ", ".join(mesh + (f" (its {name} {sizes[mesh][name]}, so renderers drop it)" if name in sizes.get(mesh, {})
+        shown = ", ".join(mesh + (f" (its {name} {sizes[mesh][name]})" if name in sizes.get(mesh, {})
                                   else "") for mesh, _ in lacking[:_SHOWN]) + \
             (f" and {len(lacking) - _SHOWN} more" if len(lacking) > _SHOWN else "")
         has = sorted({n for _, names in lacking for n in names if not n.startswith(("displayColor", "displayOpacity"))})

@@ -282,11 +282,17 @@ class StageGuard:
         for spec in [spec for spec in _prim_specs(layer) if spec.HasInfo("clips")]:
             clips = spec.GetInfo("clips")
             for clip_set in (clips.values() if isinstance(clips, dict) else ()):
+                template = clip_set.get("templateAssetPath") if isinstance(clip_set, dict) else None
                 for asset_path in _clip_asset_paths(clip_set):
                     reason = self.outside(layer, asset_path)
+                    where = self.where(self.layer_file(layer), None, str(spec.path))
                     if reason:
-                        self.observe("usd_arc_outside", self.where(self.layer_file(layer), None, str(spec.path)),
-                                     arc="value clip", asset=asset_path, reason=reason)
+                        self.observe("usd_arc_outside", where, arc="value clip", asset=asset_path, reason=reason)
+                    elif asset_path != template and "[" not in layer.identifier and not os.path.isfile(
+                            layer.ComputeAbsolutePath(asset_path)):
+                        # (a published clip layer left behind: usd-core composes the prim without its values)
+                        self.observe("dangling_reference", where, attribute="value clip", target=asset_path,
+                                     ends="does not exist: usd-core composes the prim without the clip's values")
             self.editable(layer)
             spec.ClearInfo("clips")
 

@@ -60,6 +60,16 @@ def observe_structure(prim, stage, observe, location) -> None:
 
     if prim.IsInstance():
         _observe_instance_overrides(prim, stage, observe, location)
+    if prim.HasVariantSets():
+        variant_sets = prim.GetVariantSets()
+        for set_name in variant_sets.GetNames():
+            variant_set = variant_sets.GetVariantSet(set_name)
+            selection, names = variant_set.GetVariantSelection(), variant_set.GetVariantNames()
+            if selection and names and selection not in names:  # usd-core composes none of the set's variants
+                observe("dangling_reference", location(prim.GetPath(), None), attribute=f"variant selection {set_name}",
+                        target=selection, ends=f"names no variant of the set ({', '.join(names)}): none of them applies"
+                        + (f" (variant names are case-sensitive: {next(n for n in names if n.lower() == selection.lower())!r}?)"
+                           if any(n.lower() == selection.lower() for n in names) else ""))
     for relationship in prim.GetRelationships():
         name = relationship.GetName()
         if name.startswith("material:binding"):
@@ -73,6 +83,8 @@ def observe_structure(prim, stage, observe, location) -> None:
                           "does not exist" if not bound else "is inactive" if not bound.IsActive()
                           else "is only an 'over' of a Material, never defined (def): stage traversal and renderers "
                                "skip it" if not bound.IsDefined()
+                          else "is abstract (a class, or under one): stage traversal and renderers skip it"
+                          if bound.IsAbstract()
                           else None if bound.IsA(UsdShade.Material) else f"is a {bound.GetTypeName() or 'typeless prim'}, "
                           "not a Material")
                 if reason is not None:

@@ -49,6 +49,7 @@ from ...model import Asset, Constant, Input, Location, Material
 from .. import ReadError
 from .network import MAX_DEPTH, NetworkReader
 from .observations import observe_layer_units, observe_structure, observe_variant_values, scene_length_inputs
+from .primvars import primvar_problem
 from .errors import quiet, tf_error_text, usd_error_message
 from .guard import StageGuard
 from .sdr import materialx_nodedef
@@ -177,8 +178,9 @@ class _Reader(NetworkReader):
                 names = {p.GetPrimvarName() for p in api.GetPrimvarsWithValues()}
                 names |= {p.GetPrimvarName() for p in api.FindInheritablePrimvars() if p.HasValue()}
                 for name in sorted(read_names & {str(n) for n in names}):
-                    problem = primvar_size_problem(self.UsdGeom, mesh, api.GetPrimvar(name))
-                    if problem:  # Hydra drops a primvar of the wrong size: the reader gets its fallback, as without it
+                    problem = primvar_problem(self.UsdGeom, mesh, api.GetPrimvar(name))
+                    if problem:  # Hydra drops a primvar of the wrong size (the reader gets its fallback, as without it);
+                        # a constant or uniform one gives no coordinates across a face
                         names.discard(name)
                         sizes.setdefault(str(mesh.GetPath()), {})[name] = problem
                 entries.append((str(mesh.GetPath()), tuple(sorted(str(n) for n in names))))
@@ -366,33 +368,3 @@ class _Reader(NetworkReader):
             if value.value in OPACITY_MODE_TOKENS:
                 value = Constant(OPACITY_MODE_TOKENS.index(value.value))
         entry.value = value
-
-
-def primvar_size_problem(UsdGeom, mesh, primvar) -> str | None:
-    """Why a mesh's own primvar has the wrong number of elements for its interpolation (constant 1, uniform one per
-    face, vertex and varying one per point, faceVarying one per face-vertex; an indexed primvar's indices count,
-    and each must name a value), as UsdGeomPrimvar documents them; ``None`` when it fits or cannot be judged (no
-    topology authored, a primvar inherited from an ancestor)."""
-    if not primvar or not primvar.HasAuthoredValue() or primvar.GetAttr().GetPrim() != mesh:
-        return None
-    geometry = UsdGeom.Mesh(mesh)
-    counts, points = geometry.GetFaceVertexCountsAttr().Get(), geometry.GetPointsAttr().Get()
-    if counts is None or points is None:
-        return None
-    interpolation = str(primvar.GetInterpolation())
-    needed = {"constant": 1, "uniform": len(counts), "vertex": len(points), "varying": len(points),
-              "faceVarying": int(sum(counts))}.get(interpolation)
-    values = primvar.Get()
-    if needed is None or values is None:
-        return None
-    element = max(1, primvar.GetElementSize())
-    if primvar.IsIndexed():
-        indices = primvar.GetIndices() or ()
-        if len(indices) != needed * element:
-            return f"has {len(indices)} indices where {interpolation} interpolation needs {needed * element}"
-        if len(indices) and (min(indices) < 0 or max(indices) >= len(values)):
-            return f"has indices outside its {len(values)} values"
-        return None
-    if len(values) != needed * element:
-        return f"has {len(values)} values where {interpolation} interpolation needs {needed * element}"
-    return None
