@@ -297,3 +297,161 @@ def test_usdz_entries_not_aligned_to_64_bytes(tmp_path):
     aligned = tmp_path / "aligned.usdz"
     aligned.write_bytes(PACKAGE_ENTRY.passing)
     assert not any(f["name"] == "ByteMisalignment" for f in usd_core_findings(Usd.Stage.Open(str(aligned))))
+
+
+# -- MaterialX -----------------------------------------------------------------------------------------------------
+
+_DOC = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="{space}">
+{body}
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="S" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def _mtlx(tmp_path: Path, body: str, name: str = "doc.mtlx", space: str = "lin_rec709") -> Path:
+    for file in ("albedo.png", "oak_MaskMap.png", "normal.png"):
+        if not (tmp_path / file).exists():
+            Image.new("RGBA" if "Mask" in file else "RGB", (2, 2), (200, 120, 40, 200)[:4 if "Mask" in file else 3]).save(tmp_path / file)
+    path = tmp_path / name
+    path.write_text(_DOC.format(space=space, body=body))
+    return path
+
+
+def _glsl(path: Path) -> str:
+    import MaterialX as mx
+    import MaterialX.PyMaterialXGenGlsl as gg
+    import MaterialX.PyMaterialXGenShader as gs
+
+    from glsupport import shader_generator
+
+    library, _, _ = shader_generator()  # (its library; a generator of this test's own: the shared one is left as it is)
+    generator = gg.GlslShaderGenerator.create()
+    context = gs.GenContext(generator)
+    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
+    colour_management = gs.DefaultColorManagementSystem.create(generator.getTarget())
+    colour_management.loadLibrary(library)
+    generator.setColorManagementSystem(colour_management)
+    context.registerSourceCodeSearchPath(mx.FileSearchPath(str(path.parent)))
+    context.getOptions().targetColorSpaceOverride = "lin_rec709"  # the renderer's working space
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    document.setDataLibrary(library)
+    return generator.generate("M", document.getMaterialNodes()[0], context).getSourceCode(gs.PIXEL_STAGE)
+
+
+def _shader(input_name: str, input_type: str, node: str, extra: str = "") -> str:
+    return (f'  <open_pbr_surface name="S" type="surfaceshader">\n    <input name="{input_name}" type="{input_type}" '
+            f'nodename="{node}"{extra} />\n  </open_pbr_surface>')
+
+
+@pytest.mark.parametrize("image_type, expected", [("color3", "error"), ("color4", None)])
+def test_an_extract_past_its_inputs_channels(tmp_path, image_type, expected):
+    """mb03: extract index 3 of a color3 (a mask map's alpha read as three channels). MaterialX's validate() accepts
+    it (so the anchor cannot be relied on here); ND_extract_color3 defines index 0 to 2."""
+    import MaterialX as mx
+
+    body = (f'  <image name="mask" type="{image_type}">\n    <input name="file" type="filename" value="oak_MaskMap.png" />\n'
+            f'  </image>\n  <extract name="smooth" type="float">\n    <input name="in" type="{image_type}" nodename="mask" />\n'
+            '    <input name="index" type="integer" value="3" />\n  </extract>\n' + _shader("specular_roughness", "float", "smooth"))
+    path = _mtlx(tmp_path, body)
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    assert library.getNodeDef("ND_extract_color3").getInput("index").getAttribute("uimax") == "2"
+    assert _codes(path).get("OPBR807") == expected
+
+
+def test_a_custom_nodes_missing_glsl_source(tmp_path):
+    """mb04: MaterialX's shader generation (the anchor) fails on a custom node whose genglsl source is not there,
+    and generates once it is."""
+    body = ('  <nodedef name="ND_grime_color3" node="grime">\n    <input name="base" type="color3" value="0.5, 0.5, 0.5" />\n'
+            '    <output name="out" type="color3" />\n  </nodedef>\n  <implementation name="IM_grime_color3_genglsl" '
+            'nodedef="ND_grime_color3" file="grime.glsl" function="grime_color3" target="genglsl" />\n'
+            '  <grime name="g" type="color3" />\n' + _shader("base_color", "color3", "g"))
+    path = _mtlx(tmp_path, body)
+    with pytest.raises(Exception, match="(?i)source code|grime"):
+        _glsl(path)
+    assert _codes(path).get("OPBR808") == "error"
+    (tmp_path / "grime.glsl").write_text("void grime_color3(vec3 base, out vec3 result) { result = base * 0.5; }\n")
+    assert _glsl(path)
+    assert "OPBR808" not in _codes(path)
+
+
+def test_two_default_versions_of_one_node(tmp_path):
+    body = ''.join(
+        f'  <nodedef name="ND_grime_v{v}_color3" node="grime" version="{v}.0"{flag}>\n'
+        '    <input name="base" type="color3" value="0.5, 0.5, 0.5" />\n    <output name="out" type="color3" />\n'
+        f'  </nodedef>\n  <nodegraph name="NG_grime_v{v}_color3" nodedef="ND_grime_v{v}_color3">\n'
+        '    <output name="out" type="color3" interfacename="base" />\n  </nodegraph>\n'
+        for v, flag in ((1, ' isdefaultversion="true"'), (2, "FLAG"))) + '  <grime name="g" type="color3" />\n' + \
+        _shader("base_color", "color3", "g")
+    assert _codes(_mtlx(tmp_path, body.replace("FLAG", ' isdefaultversion="true"'))).get("OPBR809") == "warning"
+    assert "OPBR809" not in _codes(_mtlx(tmp_path, body.replace("FLAG", ""), name="one.mtlx"))
+
+
+@pytest.mark.parametrize("geom, expected", [("|table_GRP|top_GEO", "warning"), ("/table_GRP/top_GEO", None)])
+def test_a_look_assignment_with_a_maya_dag_path(tmp_path, geom, expected):
+    body = ('  <constant name="c" type="color3">\n    <input name="value" type="color3" value="0.5, 0.3, 0.2" />\n'
+            '  </constant>\n' + _shader("base_color", "color3", "c") +
+            f'\n  <look name="L">\n    <materialassign name="MA" material="M" geom="{geom}" />\n  </look>')
+    assert _codes(_mtlx(tmp_path, body)).get("OPBR810") == expected
+
+
+def test_a_colour_space_on_a_connected_input_converts_nothing(tmp_path):
+    """mb13: MaterialX's GLSL (the anchor) has no sRGB decode when srgb_texture sits on the shader's connected
+    base_color, and has it when it sits on the image's file input."""
+    image = '  <image name="bc" type="color3">\n    <input name="file" type="filename" value="albedo.png"{space} />\n  </image>\n'
+    on_input = _mtlx(tmp_path, image.format(space="") + _shader("base_color", "color3", "bc", ' colorspace="srgb_texture"'))
+    on_file = _mtlx(tmp_path, image.format(space=' colorspace="srgb_texture"') + _shader("base_color", "color3", "bc"),
+                    name="file.mtlx")
+    assert "srgb_texture_to_lin_rec709" not in _glsl(on_input)
+    assert "srgb_texture_to_lin_rec709" in _glsl(on_file)
+    assert _codes(on_input).get("OPBR509") == "warning"
+    assert "OPBR509" not in _codes(on_file)
+
+
+@pytest.mark.parametrize("scale, expected", [('type="float" value="-1"', "warning"), ('type="vector2" value="1, -1"', None)])
+def test_a_normalmap_flipped_by_a_negative_strength(tmp_path, scale, expected):
+    body = ('  <image name="n" type="vector3">\n    <input name="file" type="filename" value="normal.png" />\n  </image>\n'
+            f'  <normalmap name="nm" type="vector3">\n    <input name="in" type="vector3" nodename="n" />\n'
+            f'    <input name="scale" {scale} />\n  </normalmap>\n' + _shader("geometry_normal", "vector3", "nm"))
+    assert _codes(_mtlx(tmp_path, body)).get("OPBR720") == expected
+
+
+def test_a_normal_map_fed_to_the_tangent(tmp_path):
+    body = ('  <image name="n" type="vector3">\n    <input name="file" type="filename" value="normal.png" />\n  </image>\n'
+            '  <normalmap name="nm" type="vector3">\n    <input name="in" type="vector3" nodename="n" />\n  </normalmap>\n'
+            + _shader("geometry_tangent", "vector3", "nm"))
+    assert _codes(_mtlx(tmp_path, body)).get("OPBR718") == "warning"
+    assert "OPBR718" not in _codes(_mtlx(tmp_path, body.replace("geometry_tangent", "geometry_normal"), name="n.mtlx"))
+
+
+@pytest.mark.parametrize("inverted, expected", [(False, "warning"), (True, None)])
+def test_a_unity_mask_maps_smoothness_read_as_roughness(tmp_path, inverted, expected):
+    """mb07: Unity HDRP's mask map holds smoothness in A; read into roughness without 1 - x it renders inverted."""
+    body = ('  <image name="mask" type="color4">\n    <input name="file" type="filename" value="oak_MaskMap.png" />\n'
+            '  </image>\n  <extract name="a" type="float">\n    <input name="in" type="color4" nodename="mask" />\n'
+            '    <input name="index" type="integer" value="3" />\n  </extract>\n'
+            + ('  <invert name="r" type="float">\n    <input name="in" type="float" nodename="a" />\n  </invert>\n'
+               if inverted else "") + _shader("specular_roughness", "float", "r" if inverted else "a"))
+    assert _codes(_mtlx(tmp_path, body)).get("OPBR721") == expected
+
+
+@pytest.mark.parametrize("chunk, expected", [(True, "warning"), (False, None)])
+def test_an_srgb_png_tagged_acescg(tmp_path, chunk, expected):
+    """mb10: the PNG's sRGB chunk declares encoded values; tagged acescg, MaterialX's GLSL (the anchor) runs the AP1
+    matrix and no sRGB decode. Without the chunk the tag is the only statement, and nothing is reported."""
+    from openpbr_tools.rules.texture_content import SRGB_IMAGE_AS_LINEAR
+
+    data = dict(SRGB_IMAGE_AS_LINEAR.failing_files)["albedo.png"]
+    image = Image.open(__import__("io").BytesIO(data))
+    assert image.info.get("srgb") == 0
+    (tmp_path / "albedo.png").write_bytes(data) if chunk else Image.new("RGB", (2, 2), (200, 120, 40)).save(tmp_path / "albedo.png")
+    body = ('  <image name="bc" type="color3">\n    <input name="file" type="filename" value="albedo.png" colorspace="acescg" />\n'
+            '  </image>\n' + _shader("base_color", "color3", "bc"))
+    path = _mtlx(tmp_path, body, space="acescg")
+    code = _glsl(path)
+    assert "acescg_to_lin_rec709" in code and "srgb_texture_to_lin_rec709" not in code
+    assert _codes(path).get("OPBR722") == expected

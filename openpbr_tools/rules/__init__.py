@@ -31,6 +31,7 @@ FAMILIES = (
     "textures",
     "texture_content",
     "structure",
+    "mtlx_document",
     "plausibility",
     "usd",
     "usd_preview",
@@ -47,7 +48,7 @@ FAMILIES = (
 #: Families that check one input format only (their modules, and what they import, load only for it).
 FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "usd_shading": "usd", "gltf": "gltf",
                 "gltf_meshes": "gltf", "gltf_images": "gltf", "gltf_plausibility": "gltf",
-                "gltf_structure": "gltf", "translation": None}
+                "gltf_structure": "gltf", "mtlx_document": "mtlx", "translation": None}
 
 
 @dataclass(frozen=True, slots=True)

@@ -155,6 +155,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "where the specification's reading is followed.",
                 f"{MX_SPEC}; {_MX}source/MaterialXGenShader/ShaderGraph.cpp"),
     # -- units ---------------------------------------------------------------------------------
+    "OPBR509": ("MaterialX applies an input's colorspace to the input's own value: on a connected input it converts "
+                "nothing, and the texture behind it is read unconverted.", f"{MX_SPEC}; {MX_CMS}"),
     "OPBR601": ("MaterialX converts lengths through the unittype's converter; a wrong unittype converts with the "
                 "wrong table or not at all.", f"{MX_UNITS}; {MX_STDLIB}"),
     "OPBR602": ("MaterialX's distance converter has no factor for an unknown unit and leaves the value as is: a "
@@ -202,6 +204,14 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "detail is lost or the whole surface tilts (a height map belongs in heighttonormal or bump).",
                 f"{MX_NODES}; {GLTF}"),
     # -- structure -----------------------------------------------------------------------------
+    "OPBR720": ("ND_normalmap_float multiplies x and y by its scale: -1 inverts the relief instead of converting a "
+                "DirectX map, which needs green flipped only (ND_normalmap_vector2 scale (1, -1)).", f"{MX_STDLIB}; {MX_NODES}"),
+    "OPBR721": ("Unity HDRP's mask map holds smoothness in its alpha and glossiness maps hold 1 - roughness: read as "
+                "roughness without an inversion, polished parts render matte.",
+                f"https://docs.unity3d.com/Packages/com.unity.render-pipelines.high-definition@17.0/manual/Mask-Map-and-Detail-Map.html; {MX_OPENPBR}"),
+    "OPBR722": ("A PNG's sRGB chunk declares sRGB-encoded values; MaterialX applies the authored tag, so a linear tag "
+                "never removes the sRGB curve and the albedo renders washed out.",
+                f"https://www.w3.org/TR/png-3/#11sRGB; {MX_CMS}"),
     "OPBR801": ("A material without a surface shader renders black or with the renderer's fallback shader.",
                 f"{MX_SPEC}; {USD_SHADER}"),
     "OPBR802": ("A dangling reference is dropped by MaterialX and USD: the input falls back to its default or "
@@ -218,6 +228,14 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     # -- plausibility --------------------------------------------------------------------------
     "OPBR806": ("MaterialX's specification: the output attribute names the output of a node with several; MaterialX "
                 "connects the first where it is missing.", _MX + "documents/Specification/MaterialX.Specification.md"),
+    "OPBR807": ("ND_extract_color3 takes index 0 to 2; MaterialX's GLSL indexes the vector past its end, which GLSL "
+                "leaves undefined.", f"{MX_STDLIB}; {MX_NODES}"),
+    "OPBR808": ("MaterialX's shader generation reads a custom node's implementation file: without it generation "
+                "fails and no MaterialX renderer shows the material.", f"{_MX}source/MaterialXGenShader/SourceCodeNode.cpp; {MX_SPEC}"),
+    "OPBR809": ("The MaterialX specification allows one default version per node and signature; with two, an "
+                "unversioned node binds one of them silently.", f"{MX_SPEC}; {MX_NODE}"),
+    "OPBR810": ("MaterialX geometry names are '/'-separated paths: a Maya DAG path matches no geometry, so the look "
+                "assigns the material to nothing.", MX_SPEC),
     "OPBR901": ("Real metals reflect at least ~50% at normal incidence; a darker metal reads as plastic under "
                 "image-based light (info: heuristic, some measured alloys come close).",
                 f"{FILAMENT}; https://physicallybased.info/"),

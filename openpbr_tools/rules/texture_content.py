@@ -95,7 +95,8 @@ _DECODED = ('<multiply name="scaled" type="vector3">\n  <input name="in1" type="
 TANGENT_FROM_UNSIGNED = Rule(
     "OPBR718", "tangent-from-unsigned-image", Severity.WARNING,
     "A tangent input (geometry_tangent, geometry_coat_tangent, Standard Surface's tangent) reads an 8-bit image "
-    "(PNG, JPEG) directly, whose values are all in [0, 1].",
+    "(PNG, JPEG) directly, whose values are all in [0, 1], or reads a normal map through a normalmap node (a normal, "
+    "not a tangent).",
     "A tangent is a direction with signed components; a flow or direction map stores them as 0.5 + 0.5 t. Read "
     "without the decode (2 t - 1, a multiply and a subtract, or a normalmap node in tangent space), every tangent "
     "points into the positive octant and the anisotropic highlight runs along the wrong direction (MaterialX's "
@@ -121,8 +122,43 @@ ROTATION_IN_RADIANS = Rule(
     example_files=("albedo.png",),
 )
 
+_SMOOTH = ('<image name="mask" type="color4">\n  <input name="file" type="filename" value="{file}" />\n</image>\n'
+           '<extract name="a" type="float">\n  <input name="in" type="color4" nodename="mask" />\n'
+           '  <input name="index" type="integer" value="3" />\n</extract>\n')
+SMOOTHNESS_AS_ROUGHNESS = Rule(
+    "OPBR721", "smoothness-read-as-roughness", Severity.WARNING,
+    "A roughness input reads a smoothness (glossiness) map as it is: a file named for smoothness or gloss, or the "
+    "alpha of a Unity mask map (its smoothness), with no inversion.",
+    "Unity's HDRP mask map holds smoothness in its alpha (R metallic, G occlusion, B detail mask, A smoothness) and "
+    "glossiness maps hold 1 - roughness: read as roughness without 1 - x, polished parts render matte and matte "
+    "parts glossy. Invert it on the way (an invert node, or scale -1 and bias 1).",
+    passing=_SMOOTH.format(file="oak_MaskMap.png") + '<invert name="rough" type="float">\n  <input name="in" type="float" '
+    'nodename="a" />\n</invert>\n' + _SHADER.format(input="specular_roughness", type="float", node="rough"),
+    failing=_SMOOTH.format(file="oak_MaskMap.png") + _SHADER.format(input="specular_roughness", type="float", node="a"),
+    example_files=("oak_MaskMap.png",),
+)
+
+_TAGGED = ('<image name="albedo" type="color3">\n  <input name="file" type="filename" value="{file}" '
+           'colorspace="acescg" />\n</image>\n')
+SRGB_IMAGE_AS_LINEAR = Rule(
+    "OPBR722", "srgb-image-tagged-linear", Severity.WARNING,
+    "A colour input reads an 8-bit PNG that declares itself sRGB-encoded (its sRGB chunk) with a linear colour space "
+    "(acescg, lin_rec709): the sRGB curve is never removed.",
+    "A PNG's sRGB chunk says its values are sRGB-encoded (the PNG specification, 11.3.3.5); MaterialX applies the "
+    "tag as authored, so an acescg tag runs only the AP1 to Rec.709 matrix on encoded values: the albedo renders too "
+    "bright and washed out (its GLSL calls NG_acescg_to_lin_rec709 and no sRGB decode). Tag it srgb_texture (or the "
+    "encoded space it was painted in).",
+    passing=_TAGGED.format(file="albedo.png").replace("acescg", "srgb_texture")
+    + _SHADER.format(input="base_color", type="color3", node="albedo"),
+    failing=_TAGGED.format(file="albedo.png") + _SHADER.format(input="base_color", type="color3", node="albedo"),
+    example_files=("albedo.png",),
+    failing_files=(("albedo.png", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\x00\x00\x00\x01\x00\x00\x00\x01\x08\x02\x00\x00"
+                                  b"\x00\x90wS\xde\x00\x00\x00\x01sRGB\x00\xae\xce\x1c\xe9\x00\x00\x00\x0cIDATx\x9cc8Q"
+                                  b"\xa1\x01\x00\x03t\x01i\xcb\xfa\xd0\xd7\x00\x00\x00\x00IEND\xaeB`\x82"),),
+)
+
 RULES = (CONTENT_NOT_SUFFIX, LINEAR_IMAGE_AS_SRGB, FIRST_TILE_MISSING, LAYER_MISSING, TANGENT_FROM_UNSIGNED,
-         ROTATION_IN_RADIANS)
+         ROTATION_IN_RADIANS, SMOOTHNESS_AS_ROUGHNESS, SRGB_IMAGE_AS_LINEAR)
 
 _TANGENT_INPUTS = ("geometry_tangent", "geometry_coat_tangent", "tangent", "coat_tangent")
 #: a packed map named for glTF's occlusion-roughness-metalness layout (R occlusion): "oak_ORM.png", "arm"
@@ -152,12 +188,67 @@ def check(asset, context):
                 TANGENT_FROM_UNSIGNED, f"{entry.name} reads {texture.file!r} as it is: an 8-bit image holds values in "
                 "[0, 1], so every tangent points into the positive octant", entry.location,
                 hint="decode it first (multiply by 2, subtract 1), or feed a world-space tangent")
+        elif entry.name in _TANGENT_INPUTS and texture.normal_map is not None:
+            yield context.diagnostic(
+                TANGENT_FROM_UNSIGNED, f"{entry.name} reads the normal map {texture.file!r} through a normalmap node: "
+                "that gives the shading normal, perpendicular to the tangent plane, not a tangent", entry.location,
+                hint="feed the tangent a tangent (a flow map decoded to [-1, 1]); the normal map goes to geometry_normal")
+        if entry.name in _ROUGHNESS_INPUTS and _smoothness(texture):
+            yield context.diagnostic(
+                SMOOTHNESS_AS_ROUGHNESS, f"{entry.name} reads {texture.file!r}"
+                + (f" channel {'RGBA'[texture.channels[0]]}" if texture.channels else "")
+                + ", a smoothness (glossiness) map, as it is: smooth areas render rough", entry.location,
+                hint="invert it (an invert node, or a scale of -1 and a bias of 1)")
+        if first and parameter_role(table, entry.name) == "color" and files:
+            yield from _declared_srgb(files, texture, entry, context)
         if entry.type == "float" and texture.channels in (None, (0,)) and texture.image_type in ("float", None) \
                 and entry.name != "occlusion" and _OCCLUSION_FIRST.search(os.path.splitext(os.path.basename(texture.file))[0]):
             yield context.diagnostic(
                 COLOUR_IMAGE_AS_DATA, f"{entry.name} reads channel R of {texture.file!r}, a packed occlusion-roughness-"
                 "metalness map whose R is the occlusion (a float image reads the first channel)", entry.location,
                 hint="read G (roughness) or B (metalness) with an extract node, or a separate3's outg / outb")
+
+
+_ROUGHNESS_INPUTS = ("specular_roughness", "coat_roughness", "fuzz_roughness", "roughness", "coat_roughness")
+_SMOOTHNESS_NAME = re.compile(r"(smooth|gloss)", re.IGNORECASE)
+
+
+def _smoothness(texture) -> bool:
+    """A texture that holds smoothness read without an inversion (its scale not negative)."""
+    stem = os.path.splitext(os.path.basename(texture.file))[0]
+    inverted = texture.scale is not None and isinstance(texture.scale, (int, float)) and texture.scale < 0
+    if inverted or texture.image_type not in ("float", "color4", "color3", None):
+        return False
+    mask_alpha = "maskmap" in stem.lower() and texture.channels == (3,)
+    return mask_alpha or bool(_SMOOTHNESS_NAME.search(stem))
+
+
+def parameter_role(table, name: str) -> str | None:
+    parameter = table.get(name)
+    return parameter.role if parameter is not None else None
+
+
+def _declared_srgb(files, texture, entry, context):
+    """OPBR722: an 8-bit PNG with an sRGB chunk read through a linear colour space."""
+    space = materialx_name(texture.colorspace) if texture.colorspace else None
+    spec = load_json("colorspaces.json")["materialx"].get(space) if space else None
+    if spec is None or spec["transfer"] != "linear":
+        return
+    for name, real in files[:1]:
+        if _format(real) != "PNG":
+            return
+        try:
+            from PIL import Image  # lazy: Pillow only for a PNG a colour input reads through a linear space
+
+            with Image.open(real) as opened:
+                declared = "srgb" in opened.info and opened.mode in ("RGB", "RGBA", "P", "L", "LA")
+        except (OSError, ValueError):
+            return
+        if declared:
+            yield context.diagnostic(
+                SRGB_IMAGE_AS_LINEAR, f"{entry.name} reads {name!r}, whose sRGB chunk declares sRGB-encoded values, "
+                f"through the linear colour space {texture.colorspace!r}: the sRGB curve is never removed",
+                entry.location, hint="tag it srgb_texture")
 
 
 def _readable(asset, texture, context) -> list[tuple[str, str]]:

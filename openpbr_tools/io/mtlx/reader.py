@@ -38,6 +38,7 @@ from .capture import capture_graph
 from .graph import GraphFollower, in_definition, interface_colorspace
 from .looks import record_looks
 from .includes import follow_includes
+from .document_checks import observe_document
 from .xmlscan import (XmlSyntaxError, decode_document, message_sites, parse_suppression, scan, scan_with_materialx,
                       upgrade_changes_nothing)
 
@@ -139,6 +140,7 @@ def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ..
         asset.observe("malformed_xml", Location(path, lenient_error.line),
                       message=f"{lenient_error} (line {lenient_error.line}, column {lenient_error.column})")
     _Reader(asset, document, structure).run()
+    observe_document(document, asset, path, guard)
     for line, href, reason, broken in not_followed:
         asset.observe("xinclude_broken" if broken else "xinclude", Location(path, line), href=href, reason=reason)
     for name, href in shadowed:  # MaterialX reads the include's first and drops the document's own

@@ -503,6 +503,10 @@ case("OPBR719_place2d_rotate_in_radians.mtlx", "OPBR719", "A script copied a qua
                  '  <input name="rotate" type="float" value="1.5708" />\n</place2d>\n<image name="albedo" type="color3">\n'
                  '  <input name="file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n'
                  '  <input name="texcoord" type="vector2" nodename="turned" />\n</image>'))
+case("OPBR807_extract_alpha_of_color3.mtlx", "OPBR807", "A Unity mask map's smoothness (alpha) read by extract index 3 from an image read as color3, which has no fourth channel.",
+     opbr('<input name="specular_roughness" type="float" nodename="smooth" />',
+          before=image("mask", "textures/albedo.png", "color3", None) + '\n<extract name="smooth" type="float">\n'
+                 '  <input name="in" type="color3" nodename="mask" />\n  <input name="index" type="integer" value="3" />\n</extract>'))
 case("OPBR909_black_metal.mtlx", "OPBR909", "A dielectric's black base colour was left on a metal: it reflects nothing at normal incidence.",
      opbr('<input name="base_metalness" type="float" value="1" />\n<input name="base_color" type="color3" value="0, 0, 0" />'))
 case("OPBR1020_usd_layer_in_metres.usda", "OPBR1020", "A centimetre stage sublayers a look layer authored in metres: its transmission depth of 2.5 (m) reads as 2.5 cm.",
