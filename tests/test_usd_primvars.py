@@ -106,7 +106,7 @@ def test_a_material_bound_to_no_mesh_is_not_judged(tmp_path):
 
 def test_a_uv_texture_without_st_reads_one_texel(tmp_path):
     [finding] = _findings(_stage(tmp_path, _mesh("A", primvar="st"), _material(st=False)), "OPBR1016")
-    assert finding.severity.name == "WARNING"
+    assert finding.severity.name == "ERROR"  # (an error since session 19: the texture does not show at all)
     assert (finding.location.path, finding.location.input) == ("/World/M/albedo", "st")
     assert _findings(_stage(tmp_path, _mesh("A", primvar="st"), _material(st=True), name="b.usda"), "OPBR1016") == []
 

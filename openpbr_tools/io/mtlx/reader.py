@@ -96,8 +96,9 @@ def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ..
             "unreadable", f"not text in its declared encoding ({error.encoding}; UTF-8 where none is declared): "
                           f"{error.reason} at byte {error.start}", Location(path),
         ) from None
-    except LookupError:
-        raise ReadError("unreadable", "the XML declaration names an encoding no XML parser knows", Location(path)) from None
+    except LookupError:  # (expat refuses it as malformed: "unknown encoding")
+        raise ReadError("not_materialx", "not well-formed XML: the XML declaration names an encoding no XML parser "
+                        "knows", Location(path, line=1)) from None
     lenient_error = None
     try:
         structure = scan(data)
