@@ -15,7 +15,6 @@ message to decide anything.
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import os
 import shutil
@@ -25,9 +24,7 @@ from dataclasses import dataclass, field
 from . import convert_looks, gltf_state, tables
 from .atomic import write_bytes
 from .diagnostics import Diagnostic
-from .io import ReadError, package_member, packaged_image, read_asset
-from .io.gltf.document import load_document
-from .io.paths import Kind, PathGuard, classify
+from .io import read_asset
 from .model import Asset, Connection, Material, Texture
 from .resources import load_json
 from .rules import Context
@@ -37,6 +34,7 @@ from .translate.common import Settings
 from .translate import candidates, past_hub
 from .translate.convert import MODELS, convert
 from .translate.upgrade import upgrade
+from .convert_textures import rebase_textures as _rebase_textures, unpack_packaged_images as _unpack_packaged_images
 
 OUTPUT_KINDS = {".mtlx": "mtlx", ".usda": "usd", ".usdc": "usd", ".usd": "usd", ".usdz": "usd",
                 ".gltf": "gltf", ".glb": "gltf"}
@@ -149,6 +147,10 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             while unique in used_names and kind != "gltf":  # glTF keeps materials apart by index
                 unique = f"{name}_{len(used_names) + 1}"
             used_names.add(unique)
+            written = _name_as_written(unique, kind)
+            if written != unique:  # (the red team's F-08: 'Material #25' came back as 'Material__25', unannounced)
+                notes.append(context.diagnostic(CONVERTED, f"{unique}: written as {written!r}, a name {kind} allows "
+                                                "(letters, digits and underscores)", material.location))
             if unique != name:
                 notes.append(context.diagnostic(CONVERTED, f"{name}: an earlier material has the same name; written as "
                                                 f"{unique!r} so that no writer merges the two"
@@ -229,6 +231,19 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     return result
 
 
+def _name_as_written(name: str, kind: str) -> str:
+    """The material name a writer of ``kind`` writes for ``name`` (a glTF output keeps any name)."""
+    if kind == "mtlx":
+        import MaterialX as mx  # lazy: as the MaterialX writer imports it
+
+        return mx.createValidName(name)
+    if kind == "usd":
+        from .io.usd.texture_networks import identifier  # lazy: pxr only for a USD output
+
+        return identifier(name)
+    return name
+
+
 def _unreadable_inputs(source: Material, result: Material, kind: str, context: Context) -> list[Diagnostic]:
     """An input whose authored value could not be read (validate: OPBR202, OPBR303) reaches the result
     only in a .mtlx output that keeps its text verbatim (same model, same name; USD and glTF writers
@@ -268,90 +283,6 @@ def _write_baked(baker, materials: list[Material]) -> list[str]:
         write_bytes(path, baker.images[path])
         written.append(path)
     return written
-
-
-def _rebase_textures(materials: list[Material], source_path: str, output_path: str) -> None:
-    """Re-express relative texture paths relative to the output's folder, so they still resolve: a
-    texture's file, and the filename inputs of a kept procedural graph."""
-    source_dir = os.path.dirname(os.path.abspath(source_path))
-    output_dir = os.path.dirname(os.path.abspath(output_path))
-    output_folder = PathGuard(output_dir, real_path=os.path.normpath)  # where the output's own files are, as spelt
-    def rebased(file: str) -> str | None:
-        kind = classify(file)
-        if kind in (Kind.URL, Kind.NUL, Kind.EMPTY, Kind.DRIVE, Kind.UNC):
-            return None  # names no file here: written as authored
-        absolute = file if kind is Kind.ABSOLUTE else os.path.join(source_dir, file)
-        if kind is Kind.ABSOLUTE and not output_folder.contains(absolute):
-            return None  # an absolute path the user authored stays as it is
-        return os.path.relpath(absolute, output_dir).replace(os.sep, "/")
-
-    for material in materials:
-        displacement = material.extra.get("displacement_graph")
-        if isinstance(displacement, Connection) and displacement.graph_xml:
-            from .io.mtlx.capture import rewrite_files  # lazy: as below
-
-            material.extra = dict(material.extra, displacement_graph=dataclasses.replace(
-                displacement, graph_xml=rewrite_files(displacement.graph_xml, rebased)))
-        for name, entry in list(material.inputs.items()):
-            value = entry.value
-            if isinstance(value, Connection) and value.graph_xml:
-                # lazy: MaterialX is loaded for a .mtlx output anyway (this runs only for one)
-                from .io.mtlx.capture import rewrite_files
-
-                moved = copy.copy(value)
-                moved.graph_xml = rewrite_files(value.graph_xml, rebased)
-            elif isinstance(value, Texture) and not value.packaged and (file := rebased(value.file)) is not None:
-                moved = copy.copy(value)
-                moved.file = file
-            else:
-                continue
-            rebased_entry = copy.copy(entry)  # the entry may be the source's own (a value copied through): never mutated
-            rebased_entry.value = moved
-            material.inputs[name] = rebased_entry
-
-
-def _unpack_packaged_images(materials: list[Material], asset: Asset, output_path: str) -> list[Diagnostic]:
-    """Images inside the source's own container written beside an output that can only reference files
-    (``<output stem>_textures/``): a glTF's embedded ``#/images/N`` as ``image_N.<ext>`` (for a .mtlx or
-    USD output), a USDZ's members, nested packages' too, under their own file names (for a .mtlx, .usda or
-    .usdc output; a .usdz output copies them from the source package itself). A member that cannot be read stays as it is, with a note."""
-    extensions = {"image/png": ".png", "image/jpeg": ".jpg", "image/webp": ".webp", "image/ktx2": ".ktx2"}
-    folder = os.path.splitext(output_path)[0] + "_textures"
-    document, written, notes, taken = None, {}, [], set()
-    for material in materials:
-        for name, entry in material.inputs.items():
-            texture = entry.value
-            if not (isinstance(texture, Texture) and texture.packaged):
-                continue
-            if texture.file not in written:
-                if texture.file.startswith("#/images/"):
-                    document = document or load_document(asset.path)
-                    index = int(texture.file.rsplit("/", 1)[1])
-                    data, mime = document.image_bytes(index)
-                    file_name = f"image_{index}{extensions.get(mime or '', '.bin')}"
-                else:
-                    try:
-                        data, _ = packaged_image(asset.path, texture.file)
-                    except ReadError as error:
-                        notes.append(NOT_CARRIED.note(f"{material.name}: {texture.file!r} cannot be taken out of "
-                                                      f"the package ({error.message})",
-                                                      entry.location.with_material(material.name)))
-                        written[texture.file] = None
-                        continue
-                    file_name = os.path.basename(package_member(texture.file.rstrip("]"))) or "image"
-                stem, suffix = os.path.splitext(file_name)
-                count = 1
-                while file_name in taken:
-                    count += 1
-                    file_name = f"{stem}_{count}{suffix}"
-                taken.add(file_name)
-                os.makedirs(folder, exist_ok=True)
-                target = os.path.join(folder, file_name)
-                write_bytes(target, data)
-                written[texture.file] = os.path.abspath(target)
-            if written[texture.file] is not None:
-                texture.file, texture.packaged = written[texture.file], False
-    return notes
 
 
 def _tag_length_units(pairs: list[tuple[Material, Material]], asset: Asset) -> None:

@@ -10,7 +10,7 @@ import os
 
 from .diagnostics import Diagnostic
 from .io import ReadError, read_asset
-from .model import Asset, Material
+from .model import Asset, Location, Material
 from .rules.translation import CONVERTED, NOT_CARRIED
 
 
@@ -31,6 +31,17 @@ def looks(asset: Asset, pairs: list[tuple[Material, Material]], kind: str, conte
             where = f"XIncluded file(s) ({', '.join(sorted({os.path.basename(included[n]) for n in names}))})"
             notes.append(context.diagnostic(rule, sentence.format(what=f"{len(names)} material(s) ({', '.join(names)})",
                                                                   where=where), asset.colorspace_location))
+    # the red team's F-05: a source's geometry and its material assignments were dropped without a word
+    bound = asset.extra.get("usd_bindings") or 0
+    assigned = [p for p in (asset.extra.get("gltf") or {}).get("primitives", ()) if isinstance(p.get("material"), int)]
+    if bound or assigned:
+        what = (f"{bound} prim(s) with a material binding" if bound else
+                f"{len(assigned)} mesh primitive(s) with a material")
+        notes.append(context.diagnostic(  # (a note, not a loss of the material: converting materials is the job)
+            CONVERTED, f"the source's geometry and material assignments ({what}) are not written: the output holds "
+                         "the materials only" + (" (--mesh sphere adds a preview sphere per material)" if kind == "gltf"
+                                                 else "") + "; bind them in the scene that uses it",
+            asset.colorspace_location or Location(asset.path)))
     carried = []
     for look in asset.extra.get("looks") or ():
         what = f"{look['category']} {look['name']}"

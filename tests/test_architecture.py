@@ -20,7 +20,7 @@ NOT_CONTAINMENT = {
     ("reports/sarif.py", "://"): "the SARIF schema URI",
     ("io/usd/writer.py", "relpath"): "spells a texture path relative to the output folder",
     ("io/usd/network.py", "relpath"): "spells an anchored asset path relative to the root layer",
-    ("convert.py", "relpath"): "spells a texture path relative to the output folder",
+    ("convert_textures.py", "relpath"): "spells a texture path relative to the output folder",
     ("batch.py", "relpath"): "places an output below the output folder as its input sits below its argument",
     ("io/mtlx/library.py", "realpath"): "keys the library cache by MaterialX's own library folder",
     ("io/mtlx/library.py", "relpath"): "lists MaterialX's own definition files below its library folder",

@@ -617,3 +617,27 @@ def test_standard_surface_rotation_becomes_a_rotated_openpbr_tangent(tmp_path, r
     assert generator.generate("M", document.getMaterialNodes()[0], context).getSourceCode("pixel")
     gltf = convert_file(str(source), str(tmp_path / "out" / "m.gltf"))
     assert [d.code for d in gltf.diagnostics if "specular_rotation" in d.message] == ["OPBR1104"]
+
+
+def test_a_materials_name_that_the_output_cannot_hold_is_noted(tmp_path):
+    """F-08: glTF's 'Material #25' became 'Material__25' in .mtlx (MaterialX names: letters, digits, underscores)
+    without a word, and a glTF round trip through .mtlx could not restore it."""
+    import MaterialX as mx
+
+    document = {"asset": {"version": "2.0"}, "materials": [{"name": "Material #25"}]}
+    source = tmp_path / "m.gltf"
+    source.write_text(json.dumps(document))
+    conversion = convert_file(str(source), str(tmp_path / "out" / "m.mtlx"))
+    [note] = [d for d in conversion.diagnostics if "written as" in d.message]
+    assert mx.createValidName("Material #25") in note.message and note.code == "OPBR1102"
+
+
+def test_the_sources_geometry_and_bindings_not_written_are_noted(tmp_path):
+    """F-05: a glTF's meshes and a USD stage's bindings were dropped without a word (a MaterialX look was already
+    noted). The output holds materials: said once, as a note at the asset."""
+    document = {"asset": {"version": "2.0"}, "materials": [{"name": "M"}],
+                "meshes": [{"primitives": [{"attributes": {}, "material": 0}, {"attributes": {}, "material": 0}]}]}
+    source = tmp_path / "m.gltf"
+    source.write_text(json.dumps(document))
+    conversion = convert_file(str(source), str(tmp_path / "out" / "m.usda"))
+    assert any("2 mesh primitive(s)" in d.message and d.code == "OPBR1102" for d in conversion.diagnostics)

@@ -135,6 +135,8 @@ class _Reader(NetworkReader):
                     prims.PruneChildren()
                 prototypes_read.add(prototype)
             observe_structure(prim, self.stage, self.asset.observe, self.location)
+            if any(r.GetName().startswith("material:binding") and r.GetTargets() for r in prim.GetRelationships()):
+                self.asset.extra["usd_bindings"] = self.asset.extra.get("usd_bindings", 0) + 1  # (convert notes them)
             if prim.HasAPI(self.Usd.ColorSpaceAPI):
                 name = self.authored_prim_colorspace(prim)
                 if name:

@@ -1,0 +1,100 @@
+"""The textures of a conversion's written materials, beside its output (split from :mod:`openpbr_tools.convert`):
+relative paths rebased from the source's folder to the output's, and a USDZ source's packaged images unpacked
+beside a .mtlx or .usda output that cannot reference inside the package."""
+
+from __future__ import annotations
+
+import copy
+import dataclasses
+import os
+
+from .atomic import write_bytes
+from .diagnostics import Diagnostic
+from .io import ReadError, package_member, packaged_image
+from .io.gltf.document import load_document
+from .io.paths import Kind, PathGuard, classify
+from .model import Asset, Connection, Material, Texture
+from .rules.translation import NOT_CARRIED
+
+def rebase_textures(materials: list[Material], source_path: str, output_path: str) -> None:
+    """Re-express relative texture paths relative to the output's folder, so they still resolve: a
+    texture's file, and the filename inputs of a kept procedural graph."""
+    source_dir = os.path.dirname(os.path.abspath(source_path))
+    output_dir = os.path.dirname(os.path.abspath(output_path))
+    output_folder = PathGuard(output_dir, real_path=os.path.normpath)  # where the output's own files are, as spelt
+    def rebased(file: str) -> str | None:
+        kind = classify(file)
+        if kind in (Kind.URL, Kind.NUL, Kind.EMPTY, Kind.DRIVE, Kind.UNC):
+            return None  # names no file here: written as authored
+        absolute = file if kind is Kind.ABSOLUTE else os.path.join(source_dir, file)
+        if kind is Kind.ABSOLUTE and not output_folder.contains(absolute):
+            return None  # an absolute path the user authored stays as it is
+        return os.path.relpath(absolute, output_dir).replace(os.sep, "/")
+
+    for material in materials:
+        displacement = material.extra.get("displacement_graph")
+        if isinstance(displacement, Connection) and displacement.graph_xml:
+            from .io.mtlx.capture import rewrite_files  # lazy: as below
+
+            material.extra = dict(material.extra, displacement_graph=dataclasses.replace(
+                displacement, graph_xml=rewrite_files(displacement.graph_xml, rebased)))
+        for name, entry in list(material.inputs.items()):
+            value = entry.value
+            if isinstance(value, Connection) and value.graph_xml:
+                # lazy: MaterialX is loaded for a .mtlx output anyway (this runs only for one)
+                from .io.mtlx.capture import rewrite_files
+
+                moved = copy.copy(value)
+                moved.graph_xml = rewrite_files(value.graph_xml, rebased)
+            elif isinstance(value, Texture) and not value.packaged and (file := rebased(value.file)) is not None:
+                moved = copy.copy(value)
+                moved.file = file
+            else:
+                continue
+            rebased_entry = copy.copy(entry)  # the entry may be the source's own (a value copied through): never mutated
+            rebased_entry.value = moved
+            material.inputs[name] = rebased_entry
+
+
+def unpack_packaged_images(materials: list[Material], asset: Asset, output_path: str) -> list[Diagnostic]:
+    """Images inside the source's own container written beside an output that can only reference files
+    (``<output stem>_textures/``): a glTF's embedded ``#/images/N`` as ``image_N.<ext>`` (for a .mtlx or
+    USD output), a USDZ's members, nested packages' too, under their own file names (for a .mtlx, .usda or
+    .usdc output; a .usdz output copies them from the source package itself). A member that cannot be read stays as it is, with a note."""
+    extensions = {"image/png": ".png", "image/jpeg": ".jpg", "image/webp": ".webp", "image/ktx2": ".ktx2"}
+    folder = os.path.splitext(output_path)[0] + "_textures"
+    document, written, notes, taken = None, {}, [], set()
+    for material in materials:
+        for name, entry in material.inputs.items():
+            texture = entry.value
+            if not (isinstance(texture, Texture) and texture.packaged):
+                continue
+            if texture.file not in written:
+                if texture.file.startswith("#/images/"):
+                    document = document or load_document(asset.path)
+                    index = int(texture.file.rsplit("/", 1)[1])
+                    data, mime = document.image_bytes(index)
+                    file_name = f"image_{index}{extensions.get(mime or '', '.bin')}"
+                else:
+                    try:
+                        data, _ = packaged_image(asset.path, texture.file)
+                    except ReadError as error:
+                        notes.append(NOT_CARRIED.note(f"{material.name}: {texture.file!r} cannot be taken out of "
+                                                      f"the package ({error.message})",
+                                                      entry.location.with_material(material.name)))
+                        written[texture.file] = None
+                        continue
+                    file_name = os.path.basename(package_member(texture.file.rstrip("]"))) or "image"
+                stem, suffix = os.path.splitext(file_name)
+                count = 1
+                while file_name in taken:
+                    count += 1
+                    file_name = f"{stem}_{count}{suffix}"
+                taken.add(file_name)
+                os.makedirs(folder, exist_ok=True)
+                target = os.path.join(folder, file_name)
+                write_bytes(target, data)
+                written[texture.file] = os.path.abspath(target)
+            if written[texture.file] is not None:
+                texture.file, texture.packaged = written[texture.file], False
+    return notes
