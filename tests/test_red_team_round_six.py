@@ -455,3 +455,66 @@ def test_an_srgb_png_tagged_acescg(tmp_path, chunk, expected):
     code = _glsl(path)
     assert "acescg_to_lin_rec709" in code and "srgb_texture_to_lin_rec709" not in code
     assert _codes(path).get("OPBR722") == expected
+
+
+# -- converter (set H: renders) --------------------------------------------------------------------------------
+
+_TILED_NORMAL = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <nodegraph name="NG">
+    <input name="uvtiling" type="float" value="3" />
+    <convert name="tiling" type="vector2">
+      <input name="in" type="float" TILING />
+    </convert>
+    <tiledimage name="nrm" type="vector3">
+      <input name="file" type="filename" value="normal.png" />
+      <input name="uvtiling" type="vector2" nodename="tiling" />
+    </tiledimage>
+    <normalmap name="nmap" type="vector3">
+      <input name="in" type="vector3" nodename="nrm" />
+    </normalmap>
+    <output name="out_normal" type="vector3" nodename="nmap" />
+  </nodegraph>
+  <standard_surface name="S" type="surfaceshader">
+    <input name="normal" type="vector3" nodegraph="NG" output="out_normal" />
+  </standard_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="S" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def test_a_normal_maps_tiling_through_a_graph_input_is_kept(tmp_path):
+    """H-01: MaterialX's brick example tiles every map by its graph input uvtiling (3) through a convert node; the
+    normal map was read as a plain image and lost the tiling (bumps 3x larger than the bricks; 4.3 mean dE2000 in
+    MaterialX's GLSL). NG_tiledimage computes uv * uvtiling: the glTF output's KHR_texture_transform scale is 3."""
+    from openpbr_tools.convert import convert_file
+
+    Image.new("RGB", (2, 2), (128, 128, 255)).save(tmp_path / "normal.png")
+    source = tmp_path / "brick.mtlx"
+    source.write_text(_TILED_NORMAL.replace("TILING", 'interfacename="uvtiling"'))
+    convert_file(str(source), str(tmp_path / "out" / "b.gltf"))
+    info = json.loads((tmp_path / "out" / "b.gltf").read_text())["materials"][0]["normalTexture"]
+    assert info["extensions"]["KHR_texture_transform"]["scale"] == pytest.approx([3.0, 3.0])
+    import MaterialX as mx
+
+    convert_file(str(source), str(tmp_path / "out" / "b.mtlx"))
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(tmp_path / "out" / "b.mtlx"))
+    tiled = [n for n in document.getNodes() if n.getCategory() in ("tiledimage", "place2d")]
+    assert tiled, "the written normal map has no placement"
+
+
+def test_a_tiling_computed_by_nodes_keeps_the_graph(tmp_path):
+    """A tiling no constant gives (computed from a texture) cannot be a Texture's transform: the graph is kept whole
+    (a procedural input), never read as an untiled image."""
+    from openpbr_tools.io.mtlx.reader import read_mtlx
+    from openpbr_tools.model import Connection
+
+    Image.new("RGB", (2, 2), (128, 128, 255)).save(tmp_path / "normal.png")
+    source = tmp_path / "computed.mtlx"
+    source.write_text(_TILED_NORMAL.replace("TILING", 'nodename="noise"').replace(
+        '    <convert name="tiling"', '    <noise2d name="noise" type="float" />\n    <convert name="tiling"'))
+    (material,) = read_mtlx(str(source)).materials
+    assert isinstance(material.inputs["normal"].value, Connection)

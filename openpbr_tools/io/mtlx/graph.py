@@ -7,6 +7,9 @@ node: an ``image``/``tiledimage`` chain (through ``extract``, ``convert``, ``nor
 anything else a :class:`~openpbr_tools.model.Connection`, with the procedural graph captured as a
 MaterialX document so a read-write round trip keeps it. The reader reads documents and materials
 (:mod:`.reader`); this module only walks from an input upstream.
+
+One module because the walk is one recursion: how an image's coordinates, channels and decode are read
+decides whether it is a Texture or the graph is kept whole, and each step calls back into the others.
 """
 
 from __future__ import annotations
@@ -199,11 +202,40 @@ class GraphFollower:
         texture.constant_uv = self.constant_placement(node)
         return texture
 
+    def resolved_vector2(self, port) -> tuple[float, float] | None:
+        """A vector2 input's constant value, followed through what only passes a constant on: a node graph's
+        interface input with a value (or the custom node instance's), a ``convert`` or ``constant`` node (a
+        float broadcast, as ND_convert_float_vector2 does): MaterialX's brick example tiles every map by a graph
+        input ``uvtiling`` (float, 3) through a convert node. ``None`` for anything else."""
+        for _ in range(8):
+            if port is None:
+                return None
+            if port.hasAttribute("value"):
+                return _vector2(port) if port.getType() == "vector2" else _broadcast(port)
+            if port.hasAttribute("interfacename"):
+                bound, _ = interface_input(port, self.binding)
+                if bound is None or bound is port:
+                    return None
+                port = bound
+                continue
+            node = self.upstream_node(port)
+            if node is None or node.getCategory() not in ("convert", "constant"):
+                return None
+            port = node.getInput("in" if node.getCategory() == "convert" else "value")
+        return None
+
     def plain_coordinates(self, node) -> bool:
         """Whether the image reads coordinates a :class:`Texture` holds: the default UVs, a ``texcoord``
         node (its set), a ``place2d`` of constants on one (its transform) or on nothing (a constant
-        placement, OPBR706). Anything else -- UVs multiplied by a tiling, a constant or procedural
-        coordinate -- would be dropped by reading the image alone."""
+        placement, OPBR706), a ``tiledimage`` whose tiling and offset are constants (also through a graph
+        input: :meth:`resolved_vector2`). Anything else -- UVs multiplied by a tiling, a constant or procedural
+        coordinate, a tiling computed by nodes -- would be dropped by reading the image alone."""
+        if node.getCategory() == "tiledimage":
+            for name in ("uvtiling", "uvoffset", "realworldimagesize", "realworldtilesize"):
+                port = node.getInput(name)
+                if port is not None and not port.hasAttribute("value") and (
+                        name.startswith("realworld") or self.resolved_vector2(port) is None):
+                    return False
         port = _coordinates(node)
         if port is None:
             return True
@@ -239,8 +271,8 @@ class GraphFollower:
         transform = UVTransform()
         uv_set = None
         if node.getCategory() == "tiledimage":
-            tiling = _vector2(node.getInput("uvtiling"))
-            offset = _vector2(node.getInput("uvoffset"))
+            tiling = self.resolved_vector2(node.getInput("uvtiling"))
+            offset = self.resolved_vector2(node.getInput("uvoffset"))
             if tiling:  # uv * tiling - offset (NG_tiledimage): place2d's scale divides (a tiling of 0: one texel)
                 transform.scale = tuple(1.0 / v if v else float("inf") for v in tiling)
             if offset:
@@ -318,6 +350,19 @@ def _constant_value(follower, node, type_name: str):
             return Constant(parse_value(port.getValueString(), type_name)), port
         except ValueSyntaxError:
             return None
+    return None
+
+
+def _broadcast(port) -> tuple[float, float] | None:
+    """A float input's value as a vector2 (both components), or a vector2's."""
+    try:
+        value = parse_value(port.getValueString(), port.getType())
+    except ValueSyntaxError:
+        return None
+    if isinstance(value, (int, float)) and not isinstance(value, bool):
+        return (float(value), float(value))
+    if isinstance(value, tuple) and len(value) == 2:
+        return (float(value[0]), float(value[1]))
     return None
 
 
