@@ -211,6 +211,9 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 preview.material.material_name = translated.material_name
                 result.materials.append(preview.material)
             notes = past_hub.settle_notes(notes, material, carried, fallback_only, context)
+            notes = past_hub.carry_roughness(material, translated, notes, context)
+            if kind == "usd":
+                notes = past_hub.carry_roughness(material, preview.material, notes, context)
             result.diagnostics += _at_material(notes, material)
         looks, look_notes = convert_looks.looks(asset, result.pairs, kind, context)
         result.diagnostics += look_notes

@@ -518,3 +518,45 @@ def test_a_tiling_computed_by_nodes_keeps_the_graph(tmp_path):
         '    <convert name="tiling"', '    <noise2d name="noise" type="float" />\n    <convert name="tiling"'))
     (material,) = read_mtlx(str(source)).materials
     assert isinstance(material.inputs["normal"].value, Connection)
+
+
+_COATED_BRASS = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <image name="rough" type="float">
+    <input name="file" type="filename" value="rough.png" />
+  </image>
+  <standard_surface name="S" type="surfaceshader">
+    <input name="base_color" type="color3" value="0.9, 0.7, 0.3" />
+    <input name="metalness" type="float" value="1" />
+    <input name="specular_roughness" type="float" nodename="rough" />
+    <input name="coat" type="float" value="1" />
+    <input name="coat_roughness" type="float" value="0.6" />
+  </standard_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="S" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+@pytest.mark.parametrize("target, roughness", [("UsdPreviewSurface", "roughness"), ("gltf_pbr", "roughness")])
+def test_a_textured_roughness_under_a_rough_coat_survives_between_models_whose_coats_do_not_roughen(tmp_path, target,
+                                                                                                       roughness):
+    """H-02: MaterialX's brass example (a metal under a coat, roughness 0.16-0.56 from a texture) went to a
+    UsdPreviewSurface with a constant roughness of 0: through OpenPBR, whose coat roughens the base, the base
+    roughness was unroughened and clamped at 0 on every texel. Standard Surface's, the preview's and glTF's coats do
+    not roughen the base (their MaterialX graphs), so the texture is the same quantity: carried as it is."""
+    import MaterialX as mx
+
+    from openpbr_tools.convert import convert_file
+
+    Image.frombytes("L", (2, 2), bytes([40, 80, 120, 143])).save(tmp_path / "rough.png")
+    source = tmp_path / "brass.mtlx"
+    source.write_text(_COATED_BRASS)
+    conversion = convert_file(str(source), str(tmp_path / "out" / "brass.mtlx"), target)
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(tmp_path / "out" / "brass.mtlx"))
+    shader = next(n for n in document.getNodes() if n.getType() == "surfaceshader")
+    image = shader.getInput(roughness).getConnectedNode()
+    assert image.getCategory() == "image" and image.getInputValue("file").endswith("rough.png")
+    assert any("carried as it is" in d.message for d in conversion.diagnostics)

@@ -9,6 +9,14 @@ Every conversion goes through OpenPBR (:mod:`.convert`), which has no ambient oc
 * UsdPreviewSurface (2.5, ``occlusion``): "extracted from ambient occlusion map; 1 means no occlusion, 0 means
   full occlusion", float, default 1; MaterialX's ``ND_UsdPreviewSurface_surfaceshader`` the same.
 
+**Base roughness under a coat** (the red team's H-02). OpenPBR's coat roughens the base beneath it; Standard
+Surface's, glTF's and UsdPreviewSurface's clear coats do not (each target's MaterialX graph, and the glTF and
+preview specifications). A textured base roughness under a coat therefore goes to OpenPBR less the roughening, clamped
+at 0 (all of it, for a rough coat), and back out with the roughening put back: what the clamp took is lost, and a
+brass under a rough coat came out of Standard Surface as a mirror-smooth UsdPreviewSurface. Between two of those
+models, with no anisotropy (where all three take alpha = roughness squared), the base roughness texture is the
+same quantity and is carried as it is (:func:`carry_roughness`).
+
 One quantity with one meaning and one default: the source's input reaches a target of either model as it is
 (a constant, or its texture with the source's channel, scale and bias, coordinates, transform and wrap, which
 both writers carry), and the hub's "no equivalent" note (OPBR1104) is taken back. Where only a USD output's
@@ -21,8 +29,8 @@ from __future__ import annotations
 import copy
 
 from ..diagnostics import Diagnostic
-from ..model import Material
-from ..rules.translation import APPROXIMATED, NOT_CARRIED
+from ..model import Material, Texture
+from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 
 SHARED = ("occlusion",)
 HOLDERS = frozenset(("gltf_pbr", "UsdPreviewSurface"))
@@ -60,4 +68,37 @@ def settle_notes(notes: list[Diagnostic], source: Material, carried: tuple[str, 
             APPROXIMATED, f"{source.name}: {name} is written on the UsdPreviewSurface fallback only: the OpenPBR "
                           "shader, which renderers reading MaterialX use, has no ambient occlusion input",
             source.inputs[name].location))
+    return kept
+
+
+#: per model: (its base roughness, its anisotropy, its coat weight), for models whose coat does not roughen the base
+ROUGHNESS = {"standard_surface": ("specular_roughness", "specular_anisotropy", "coat"),
+             "gltf_pbr": ("roughness", "anisotropy_strength", "clearcoat"),
+             "UsdPreviewSurface": ("roughness", None, "clearcoat")}
+
+
+def _zero_or_absent(material: Material, name: str | None) -> bool:
+    entry = material.inputs.get(name) if name else None
+    value = getattr(entry.value, "value", None) if entry is not None else 0.0
+    return entry is None or (isinstance(value, (int, float)) and value == 0)
+
+
+def carry_roughness(source: Material, result: Material, notes: list[Diagnostic], context) -> list[Diagnostic]:
+    """A textured base roughness under a coat carried as it is between two models whose coats do not roughen the
+    base (:data:`ROUGHNESS`), instead of through OpenPBR's unroughened, clamped one; returns ``notes`` with the
+    roughness notes of the trip through OpenPBR replaced by one that says so."""
+    if source.model == result.model or source.model not in ROUGHNESS or result.model not in ROUGHNESS:
+        return notes
+    name, anisotropy, coat = ROUGHNESS[source.model]
+    target, target_anisotropy, _ = ROUGHNESS[result.model]
+    entry = source.inputs.get(name)
+    if entry is None or not isinstance(entry.value, Texture) or _zero_or_absent(source, coat) \
+            or not _zero_or_absent(source, anisotropy) or not _zero_or_absent(result, target_anisotropy):
+        return notes
+    result.inputs[target] = copy.copy(entry)
+    result.inputs[target].name = target
+    kept = [note for note in notes if note.location != entry.location]
+    kept.append(context.diagnostic(
+        CONVERTED, f"{source.name}: {name} carried as it is to {result.model}'s {target}: neither model's coat roughens "
+                   "the base (OpenPBR's does: through it, the roughness would be unroughened and clamped)", entry.location))
     return kept
