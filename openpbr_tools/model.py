@@ -187,6 +187,7 @@ class Texture:
     # multiply/add nodes, as a UsdUVTexture's are), not followed by a normalmap node's 2 t - 1
     decoded_by_scale_bias: bool = False
     layer: str | None = None  # a MaterialX image's layer: the OpenEXR layer (part) its channels are read from
+    filter: str | None = None  # MaterialX filtertype (closest, linear, cubic), a glTF sampler's magFilter as one
 
     @property
     def reads_alpha(self) -> bool:

@@ -641,3 +641,31 @@ def test_the_sources_geometry_and_bindings_not_written_are_noted(tmp_path):
     source.write_text(json.dumps(document))
     conversion = convert_file(str(source), str(tmp_path / "out" / "m.usda"))
     assert any("2 mesh primitive(s)" in d.message and d.code == "OPBR1102" for d in conversion.diagnostics)
+
+
+def test_texture_filtering_is_carried_or_noted(tmp_path):
+    """F-04: MaterialX's filtertype 'closest' and a glTF sampler's NEAREST magFilter were dropped in every output
+    without a note (pixel art turned blurry). Carried to .mtlx (filtertype) and glTF (magFilter and minFilter 9728,
+    glTF 2.0 5.26 sampler); UsdUVTexture has no filter input: noted."""
+    import MaterialX as mx
+
+    Image.new("RGB", (4, 4), (200, 120, 40)).save(tmp_path / "pixels.png")
+    text = ('<?xml version="1.0"?>\n<materialx version="1.39">\n  <image name="px" type="color3">\n'
+            '    <input name="file" type="filename" value="pixels.png" colorspace="srgb_texture" />\n'
+            '    <input name="filtertype" type="string" value="closest" />\n  </image>\n'
+            '  <open_pbr_surface name="S" type="surfaceshader">\n    <input name="base_color" type="color3" nodename="px" />\n'
+            '  </open_pbr_surface>\n  <surfacematerial name="M" type="material">\n'
+            '    <input name="surfaceshader" type="surfaceshader" nodename="S" />\n  </surfacematerial>\n</materialx>\n')
+    source = tmp_path / "pixel.mtlx"
+    source.write_text(text)
+    convert_file(str(source), str(tmp_path / "out" / "p.gltf"))
+    gltf = json.loads((tmp_path / "out" / "p.gltf").read_text())
+    sampler = gltf["samplers"][gltf["textures"][0]["sampler"]]
+    assert (sampler["magFilter"], sampler["minFilter"]) == (9728, 9728)
+    convert_file(str(tmp_path / "out" / "p.gltf"), str(tmp_path / "back" / "p.mtlx"))
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(tmp_path / "back" / "p.mtlx"))
+    [image] = [n for n in document.getNodes() if n.getCategory() == "image"]
+    assert image.getInputValue("filtertype") == "closest"
+    usd = convert_file(str(source), str(tmp_path / "out" / "p.usda"))
+    assert any("filter type 'closest'" in d.message for d in usd.diagnostics)

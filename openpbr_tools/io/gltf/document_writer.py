@@ -51,8 +51,8 @@ class DocumentBuilder:
         self.materials.append(material)
         return len(self.materials) - 1
 
-    def add_sampler(self, wrap_s: int, wrap_t: int) -> int:
-        sampler = {"wrapS": wrap_s, "wrapT": wrap_t}
+    def add_sampler(self, wrap_s: int, wrap_t: int, filters: dict | None = None) -> int:
+        sampler = {**(filters or {}), "wrapS": wrap_s, "wrapT": wrap_t}
         if sampler not in self.samplers:
             self.samplers.append(sampler)
         return self.samplers.index(sampler)

@@ -125,11 +125,18 @@ class TextureWriting:
         self.container(slot)[slot.factor] = self.clamped(slot, scale if isinstance(scale, list) else float(scale))
 
     def sampler(self, texture: Texture, parameter: str) -> int | None:
-        if texture.wrap is None:
+        filters = {}
+        if texture.filter == "closest":  # MaterialX's closest: glTF's NEAREST both ways (9728)
+            filters = {"magFilter": 9728, "minFilter": 9728}
+        elif texture.filter == "linear" or texture.filter == "cubic":
+            filters = {"magFilter": 9729}
+            if texture.filter == "cubic":
+                self.note(APPROXIMATED, "filter type 'cubic' has no glTF equivalent; LINEAR used", parameter)
+        if texture.wrap is None and not filters:
             return None
         table = slots.address_to_wrap()
         modes = []
-        for mode in texture.wrap:
+        for mode in texture.wrap or ("periodic", "periodic"):
             # a UsdUVTexture's wrap token in MaterialX's words (useMetadata: the image's default, periodic)
             mode = "periodic" if mode == "useMetadata" else WRAP_TO_ADDRESS_MODE.get(mode, mode)
             if mode not in table:
@@ -138,7 +145,7 @@ class TextureWriting:
                 self.note(APPROXIMATED, "address mode 'constant' (border colour) has no glTF equivalent; CLAMP_TO_EDGE used",
                           parameter)
             modes.append(table.get(mode, table["periodic"]))
-        return self.builder.add_sampler(modes[0], modes[1])
+        return self.builder.add_sampler(modes[0], modes[1], filters)
 
     def uv(self, info: dict, texture: Texture, parameter: str) -> None:
         if texture.texcoord:

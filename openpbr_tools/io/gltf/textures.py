@@ -105,6 +105,7 @@ class TextureReading:
             packaged=image["packaged"],
         )
         result.wrap = self.sampler(texture.get("sampler"), index)
+        result.filter = self.magnification(texture.get("sampler"))
         transform = _transform(info)
         if transform is not None:
             texcoord = transform.get("texCoord", texcoord)
@@ -152,6 +153,9 @@ class TextureReading:
         if factor != identity:
             texture.scale = factor
 
+    def magnification(self, index) -> str | None:
+        return _magnification_filter(self.document.item("samplers", index)) if index is not None else None
+
     def sampler(self, index, texture_index: int) -> tuple[str, str] | None:
         if index is None:
             return None
@@ -169,7 +173,7 @@ class TextureReading:
                     self.invalid(f"/samplers/{index}", f"{name} must be 33071, 33648 or 10497, not {json_text(value)}", name)
                 value = 10497
             modes.append(self.wrap_modes[value])
-        for name, allowed in self.filters.items():  # (the sampling, not the material: checked, not carried)
+        for name, allowed in self.filters.items():  # (checked; magFilter is carried as Texture.filter)
             value = sampler.get(name)
             if value is not None and (isinstance(value, bool) or value not in allowed) \
                     and (index, name) not in self.bad_samplers:
@@ -178,6 +182,12 @@ class TextureReading:
                                                    f"{json_text(value)}", name)
         return modes[0], modes[1]
 
+
+
+def _magnification_filter(sampler) -> str | None:
+    """A sampler's magFilter in MaterialX's words (9728 NEAREST: closest, 9729 LINEAR: linear); None when unset."""
+    value = sampler.get("magFilter") if isinstance(sampler, dict) else None
+    return {9728: "closest", 9729: "linear"}.get(value) if isinstance(value, int) and not isinstance(value, bool) else None
 
 
 def _transform(info: dict) -> dict | None:

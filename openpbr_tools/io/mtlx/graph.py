@@ -186,6 +186,9 @@ class GraphFollower:
         layer = node.getInput("layer")
         if layer is not None and layer.getValueString():
             texture.layer = layer.getValueString()
+        filtering = node.getInput("filtertype")
+        if filtering is not None and filtering.getValueString():
+            texture.filter = filtering.getValueString()
         default = node.getInput("default")
         if default is not None and default.hasAttribute("value"):
             try:

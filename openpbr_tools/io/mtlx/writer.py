@@ -151,6 +151,8 @@ def _write_texture(document, shader_name: str, input_name: str, input_type: str,
         file_input.setColorSpace(colorspaces.materialx_name(texture.colorspace))
     if texture.layer:
         image.addInput("layer", "string").setValueString(texture.layer)
+    if texture.filter:
+        image.addInput("filtertype", "string").setValueString(texture.filter)
     if texture.fallback is not None:
         fallback = texture.fallback
         if isinstance(fallback, (tuple, list)):  # a UsdUVTexture's is a float4 whatever it feeds: the image's width

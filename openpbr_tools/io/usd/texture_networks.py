@@ -14,7 +14,7 @@ from __future__ import annotations
 import math
 
 from ...model import Texture, UVTransform, normal_decode, normal_encoding
-from ...rules.translation import CONVERTED
+from ...rules.translation import APPROXIMATED, CONVERTED
 from ...values import COMPONENTS
 from .types import ADDRESS_MODE_TO_WRAP, MATERIALX_TO_USD, WRAP_TO_ADDRESS_MODE
 
@@ -58,6 +58,8 @@ class TextureNetworkWriter:
                 mode = WRAP_TO_ADDRESS_MODE.get(mode, mode)
                 if mode != "useMetadata":
                     self.constant_input(image, name, "string", mode)
+        if texture.filter:
+            self.constant_input(image, "filtertype", "string", texture.filter)
         self.coordinates(material, image, texture, category, base)
         current = image_type
         if texture.normal_map is not None and current != "vector3":
@@ -141,6 +143,9 @@ class TextureNetworkWriter:
         if texture.wrap:
             for name, mode in zip(("wrapS", "wrapT"), texture.wrap):
                 reader.CreateInput(name, Sdf.ValueTypeNames.Token).Set(ADDRESS_MODE_TO_WRAP.get(mode, mode))
+        if texture.filter in ("closest", "cubic"):  # (UsdUVTexture has no filter input: renderers filter linearly)
+            self.note(APPROXIMATED, f"{owner}: filter type {texture.filter!r} has no UsdUVTexture input; the preview "
+                                    "filters linearly")
         primvar = self.UsdShade.Shader.Define(self.stage, self.unique_child(str(material.GetPath()), f"{base}_st"))
         primvar.CreateIdAttr("UsdPrimvarReader_float2")
         name = texture.texcoord if isinstance(texture.texcoord, str) and texture.texcoord else "st"
