@@ -33,13 +33,19 @@ def findings(path) -> list[tuple[str, str, str | None, str | None]]:
             if str(d.severity) in ("error", "warning")]
 
 
-def khronos_errors(path, tmp_path) -> set[str] | None:
-    """The Khronos glTF-Validator's error codes for ``path``, or ``None`` when OPENPBR_GLTF_VALIDATOR is not set."""
+def khronos_errors(path, tmp_path, severity: int = 0) -> set[str] | None:
+    """The Khronos glTF-Validator's error codes (or those of another ``severity``: 1 warnings) for ``path``, or
+    ``None`` when OPENPBR_GLTF_VALIDATOR is not set."""
     if not os.environ.get("OPENPBR_GLTF_VALIDATOR"):
         return None
     from gltf_support import validate_with_khronos
 
-    return {m["code"] for m in validate_with_khronos(path, tmp_path)["issues"]["messages"] if m["severity"] == 0}
+    return {m["code"] for m in validate_with_khronos(path, tmp_path)["issues"]["messages"] if m["severity"] == severity}
+
+
+def khronos_warnings(path, tmp_path) -> set[str] | None:
+    """The Khronos glTF-Validator's warning codes for ``path`` (``None`` as :func:`khronos_errors`)."""
+    return khronos_errors(path, tmp_path, severity=1)
 
 
 def messages(path, code: str) -> list[str]:

@@ -131,9 +131,14 @@ EXTENSION_NOT_CONVERTED = Rule(
 )
 MISSING_TEXCOORD = Rule(
     "OPBR1205", "gltf-texcoord-missing", Severity.ERROR,
-    "A texture reads a UV set (texCoord n) that a mesh primitive using the material does not have.",
+    "A texture reads a UV set (texCoord n) that a mesh primitive using the material does not have, or a "
+    "primitive's UV sets skip a number (TEXCOORD_0 and TEXCOORD_2 without TEXCOORD_1).",
     "The primitive has no TEXCOORD_n attribute, so the texture is sampled at undefined coordinates "
-    "(most viewers read (0, 0) everywhere: one flat colour). Checked only when the file has meshes.",
+    "(most viewers read (0, 0) everywhere: one flat colour). Checked only when the file has meshes. "
+    "glTF 2.0 (3.7.2.1): indexed attributes \"MUST start with 0 and be consecutive positive integers\"; a set "
+    "deleted without renumbering the rest leaves loaders that count the sets (or bind them by position) reading "
+    "TEXCOORD_2 as set 1, so the textures on set 2 are sampled at the wrong coordinates or not at all (the Khronos "
+    "glTF-Validator's MESH_PRIMITIVE_INDEXED_SEMANTIC_CONTINUITY, an error).",
     passing=_mesh(0), failing=_mesh(1),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
@@ -162,14 +167,19 @@ _WEBP = "data:image/webp;base64,UklGRh4AAABXRUJQVlA4TBEAAAAvA8AAAAdQiirUo/+BiOh/
 IMAGE_NEEDS_EXTENSION = Rule(
     "OPBR1220", "gltf-image-needs-texture-extension", Severity.ERROR,
     "A texture's core source is a WebP or KTX2 image: those formats are only allowed through EXT_texture_webp "
-    "or KHR_texture_basisu; or such an extension's source is an image of another format (a PNG).",
+    "or KHR_texture_basisu; or such an extension's source is an image of another format (a PNG), or "
+    "KHR_texture_basisu's is no KTX2 with a Basis Universal payload (a legacy .basis file, raw KTX2 texels).",
     "glTF 2.0's texture.source names a PNG or JPEG image (3.8.2, and the mimeType enum of image.schema.json); "
     "KHR_texture_basisu allows image/ktx2 only for images \"referenced by the source property of "
     "KHR_texture_basisu texture extension object\", and EXT_texture_webp likewise adds WebP through its own "
     "source, the core source being a PNG or JPEG fallback. A viewer without the extension fails on the image, "
     "one with it never looks for it there: the Khronos glTF-Validator's TEXTURE_INVALID_IMAGE_MIME_TYPE (an "
     "error). Conversely the extension's source \"is the index of\" a WebP (a KTX2) image: a PNG there fails in the "
-    "viewers that read the extension (same code; the gltf_structure family). Other formats (TGA, EXR) that no "
+    "viewers that read the extension (same code; the gltf_structure family). KHR_texture_basisu's source is "
+    "moreover a \"KTX v2 image with Basis Universal supercompression\" (its README: ETC1S with BasisLZ, or UASTC): "
+    "a pre-ratification .basis file, or a KTX2 of raw texels (a vkFormat such as R8G8B8A8_SRGB, written by toktx "
+    "without --encode), cannot be transcoded by the viewers' Basis transcoders, so the texture is missing "
+    "everywhere (the validator only calls the image unrecognised, a warning). Other formats (TGA, EXR) that no "
     "extension defines are OPBR1207.",
     passing=_gltf('"extensionsUsed": ["EXT_texture_webp"]', '"extensionsRequired": ["EXT_texture_webp"]',
                   f'"images": [{{"uri": "{_WEBP}"}}]', '"textures": [{"extensions": {"EXT_texture_webp": {"source": 0}}}]',
@@ -221,9 +231,15 @@ INVALID_PROPERTY = Rule(
     "gltf_pbr parameter holds (texCoord, occlusion strength, iridescenceThicknessMinimum); an image with both "
     "a uri and a bufferView, or in a bufferView without a mimeType; a name listed twice in extensionsUsed or "
     "extensionsRequired; a KHR_materials_variants object on a material (it belongs on the root and on mesh "
-    "primitives), a variant that is not an object with a string name, or a variants mapping that lists no variant.",
+    "primitives), a variant that is not an object with a string name, or a variants mapping that lists no variant; "
+    "an image in a bufferView with a byteStride; a KHR_draco_mesh_compression object without its bufferView or "
+    "attributes.",
     "The glTF schema rejects the file; lenient loaders skip the property, so the texture or extension "
-    "silently disappears. Factors of the wrong type are OPBR202. A string holding an unpaired "
+    "silently disappears. A bufferView of image data \"MUST NOT\" define byteStride (glTF 2.0, 3.6.1.1; the "
+    "Khronos glTF-Validator's IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE). KHR_draco_mesh_compression's schema requires "
+    "bufferView (the compressed stream) and attributes: without them a required Draco extension leaves the decoder "
+    "nothing to decode, and the mesh is not drawn (the validator does not look into the extension). Factors of the "
+    "wrong type are OPBR202. A string holding an unpaired "
     "surrogate escape (\\ud800 alone) is valid JSON but no valid text: it cannot be written as UTF-8, "
     "and tools disagree on it; it is read with U+FFFD in its place.",
     passing=_gltf('"materials": [{"name": "M", "normalTexture": {"index": 0}}]', '"textures": [{"source": 0}]',
@@ -590,6 +606,14 @@ def _fmt(bound) -> str:
 def _texcoords(asset, facts, context):
     by_material: dict[int, list[dict]] = {}  # indexed, so the check stays linear in uses + primitives
     for primitive in facts.get("primitives", ()):
+        sets = primitive["texcoords"]
+        if sets and sets != list(range(len(sets))):
+            gap = next(n for n in range(len(sets) + 1) if n not in sets)
+            yield context.diagnostic(
+                MISSING_TEXCOORD, f"primitive {primitive['pointer']} has {', '.join(f'TEXCOORD_{n}' for n in sets)} but no "
+                f"TEXCOORD_{gap}: UV sets must be numbered from 0 without a gap, or loaders read the sets after it as "
+                "others", Location(asset.path, None, f"{primitive['pointer']}/attributes", f"TEXCOORD_{sets[-1]}"),
+                hint=f"renumber the UV sets 0 to {len(sets) - 1} (and the textures' texCoord with them)")
         material = primitive["material"]
         if isinstance(material, int) and not isinstance(material, bool):
             by_material.setdefault(material, []).append(primitive)

@@ -4,14 +4,19 @@ A material's textures are sampled at the primitive's texture coordinates and its
 (a clear-coat normal map, anisotropy) are oriented by the primitive's tangent space, so two mesh
 facts decide whether the material can look right at all:
 
-* the texture-coordinate accessors' formats (glTF 2.0, 3.7.2.1 Meshes: ``TEXCOORD_n`` is ``VEC2`` of
-  floats, or of unsigned bytes or shorts with ``normalized: true``; ``KHR_mesh_quantization`` adds
-  signed and unnormalised integers), checked on every primitive as the Khronos glTF-Validator does
-  (MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT);
+* the formats of the accessors the material reads through (glTF 2.0, 3.7.2.1 Meshes: ``NORMAL`` is ``VEC3``
+  and ``TANGENT`` ``VEC4`` of floats; ``TEXCOORD_n`` ``VEC2`` and ``COLOR_n`` ``VEC3`` or ``VEC4`` of floats,
+  or of unsigned bytes or shorts with ``normalized: true``; ``KHR_mesh_quantization`` adds normalised signed
+  bytes and shorts to NORMAL and TANGENT and signed and unnormalised integers to TEXCOORD_n; accessor.schema.json:
+  ``normalized`` "MUST NOT be set to true for accessors with FLOAT or UNSIGNED_INT component type"), checked on every primitive as the Khronos glTF-Validator
+  does (MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT, ACCESSOR_NORMALIZED_INVALID): :data:`ATTRIBUTE_FORMATS`;
 * a tangent space where KHR_materials_clearcoat (with ``clearcoatNormalTexture``) or
   KHR_materials_anisotropy requires one: "a mesh primitive using [such] a material MUST have a
   defined tangent space, i.e., it MUST have NORMAL and TANGENT attributes or its base material MUST
-  have a normal texture" (each extension's README; the validator's MESH_PRIMITIVE_NO_TANGENT_SPACE).
+  have a normal texture" (each extension's README; the validator's MESH_PRIMITIVE_NO_TANGENT_SPACE); and on
+  every primitive, NORMAL beside TANGENT: "When normals are not specified, client implementations MUST
+  calculate flat normals and the provided tangents (if present) MUST be ignored" (3.7.2.1; the validator's
+  MESH_PRIMITIVE_TANGENT_WITHOUT_NORMAL).
 
 and, on the primitive too,
 
@@ -24,7 +29,7 @@ and, on the primitive too,
   or variant index that names nothing is OPBR802. Variants are presented to users and selected by name, so
   two variants of one name are reported too.
 
-A missing UV set is OPBR1205 (the glTF family); NaN values and normals not of unit length are OPBR1231 (the
+A missing UV set, or UV sets not numbered 0, 1, 2 ..., is OPBR1205 (the glTF family); NaN values and normals not of unit length are OPBR1231 (the
 gltf_structure family). Apart from the tangent signs only the JSON is read.
 """
 
@@ -40,6 +45,19 @@ _FLOAT, _BYTE, _UNSIGNED_BYTE, _SHORT, _UNSIGNED_SHORT = 5126, 5120, 5121, 5122,
 _COMPONENT_NAMES = {5120: "BYTE", 5121: "UNSIGNED_BYTE", 5122: "SHORT", 5123: "UNSIGNED_SHORT", 5125: "UNSIGNED_INT",
                     5126: "FLOAT"}
 QUANTIZATION = slots.MESH_QUANTIZATION
+
+_FLOATS = ((_FLOAT, False),)
+_UNSIGNED_NORMALIZED = ((_UNSIGNED_BYTE, True), (_UNSIGNED_SHORT, True))
+_SIGNED_NORMALIZED = ((_BYTE, True), (_SHORT, True))
+_INTEGERS = tuple((c, n) for c in (_BYTE, _UNSIGNED_BYTE, _SHORT, _UNSIGNED_SHORT) for n in (False, True))
+#: semantic -> (accessor types, (componentType, normalized) allowed, those KHR_mesh_quantization adds): glTF 2.0's
+#: table in 3.7.2.1 and the extension's "Extending Mesh Attributes".
+ATTRIBUTE_FORMATS = {
+    "NORMAL": (("VEC3",), _FLOATS, _SIGNED_NORMALIZED),
+    "TANGENT": (("VEC4",), _FLOATS, _SIGNED_NORMALIZED),
+    "TEXCOORD_": (("VEC2",), _FLOATS + _UNSIGNED_NORMALIZED, _INTEGERS),
+    "COLOR_": (("VEC3", "VEC4"), _FLOATS + _UNSIGNED_NORMALIZED, ()),
+}
 
 
 def _uv_mesh(component_type: int, normalized: bool) -> str:
@@ -68,25 +86,36 @@ def _coated_mesh(tangents: bool) -> str:
     )
 
 
-TEXCOORD_FORMAT = Rule(
-    "OPBR1217", "gltf-texcoord-accessor-format", Severity.ERROR,
-    "A TEXCOORD_n accessor has a format glTF does not allow for texture coordinates.",
-    "glTF 2.0 allows VEC2 of FLOAT, or of UNSIGNED_BYTE or UNSIGNED_SHORT with normalized: true "
-    "(KHR_mesh_quantization adds BYTE and SHORT, and unnormalised integers). Unsigned bytes without "
-    "normalized are read as the integers 0 to 255, so every texture is sampled far outside [0, 1] (or "
-    "the viewer rejects the mesh): the Khronos glTF-Validator's MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT.",
+ATTRIBUTE_FORMAT = Rule(
+    "OPBR1217", "gltf-attribute-accessor-format", Severity.ERROR,
+    "A TEXCOORD_n, COLOR_n, NORMAL or TANGENT accessor has a format glTF does not allow for its attribute (a "
+    "VEC3 TANGENT, unnormalised unsigned bytes, a FLOAT accessor marked normalized).",
+    "glTF 2.0 (3.7.2.1) allows TEXCOORD_n as VEC2 of FLOAT, or of UNSIGNED_BYTE or UNSIGNED_SHORT with normalized: "
+    "true (KHR_mesh_quantization adds BYTE and SHORT, and unnormalised integers); COLOR_n likewise as VEC3 or VEC4; "
+    "NORMAL as VEC3 and TANGENT as VEC4 of FLOAT (the extension adds normalised BYTE and SHORT); and normalized "
+    "\"MUST NOT be set to true for accessors with FLOAT or UNSIGNED_INT component type\" (accessor.schema.json). "
+    "Unsigned bytes without normalized are read as the integers 0 to 255, so every texture is sampled far outside [0, 1] and vertex colours multiply the base colour by up to 255; a VEC3 "
+    "TANGENT has no w, the handedness the bitangent needs, so the normal map is mirrored or the mesh refused; a "
+    "FLOAT marked normalized is refused or read as it is, depending on the loader. The Khronos glTF-Validator: "
+    "MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT (and ACCESSOR_NORMALIZED_INVALID), errors.",
     passing=_uv_mesh(_UNSIGNED_BYTE, True), failing=_uv_mesh(_UNSIGNED_BYTE, False),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 NO_TANGENT_SPACE = Rule(
     "OPBR1218", "gltf-no-tangent-space", Severity.ERROR,
     "A primitive uses a clear-coat normal map or an anisotropic material but has no tangent space: no "
-    "NORMAL and TANGENT attributes, and no normalTexture to generate tangents from.",
+    "NORMAL and TANGENT attributes, and no normalTexture to generate tangents from; or a primitive has TANGENT "
+    "without NORMAL.",
     "KHR_materials_clearcoat (with clearcoatNormalTexture) and KHR_materials_anisotropy require it (MUST): "
     "the coat's normal map and the anisotropy direction are expressed in tangent space, which is then "
     "undefined, so viewers orient them differently or not at all. The Khronos glTF-Validator's "
     "MESH_PRIMITIVE_NO_TANGENT_SPACE (an error) covers the textured cases; the extension texts also the "
-    "untextured anisotropy. Export tangents (MikkTSpace), or give the material a normalTexture.",
+    "untextured anisotropy. Export tangents (MikkTSpace), or give the material a normalTexture. "
+    "A primitive with TANGENT but no NORMAL loses the tangents it carries: \"When normals are not specified, client "
+    "implementations MUST calculate flat normals and the provided tangents (if present) MUST be ignored\" (glTF "
+    "2.0, 3.7.2.1), so the normal map is oriented by generated tangents, not the exported ones, and shades faceted "
+    "(usually normals stripped by a decimation step; the validator's MESH_PRIMITIVE_TANGENT_WITHOUT_NORMAL, which "
+    "it reports as a warning).",
     passing=_coated_mesh(True), failing=_coated_mesh(False),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
@@ -152,7 +181,7 @@ TANGENT_SIGN = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (TEXCOORD_FORMAT, NO_TANGENT_SPACE, VARIANT_MAPPED_TWICE, VARIANT_NAME_TWICE, TANGENT_SIGN)
+RULES = (ATTRIBUTE_FORMAT, NO_TANGENT_SPACE, VARIANT_MAPPED_TWICE, VARIANT_NAME_TWICE, TANGENT_SIGN)
 
 
 def check(asset, context):
@@ -162,8 +191,9 @@ def check(asset, context):
     primitives = facts.get("primitives", ())
     if not primitives:
         return
-    yield from _texcoord_formats(asset, facts, primitives, context)
+    yield from _attribute_formats(asset, facts, primitives, context)
     yield from _tangent_space(asset, primitives, context)
+    yield from _tangents_without_normals(asset, primitives, context)
     yield from _tangent_signs(asset, primitives, context)
 
 
@@ -203,32 +233,65 @@ def _tangent_signs(asset, primitives, context):
             hint="re-export the tangents (MikkTSpace) with w = +1 or -1, the handedness")
 
 
-def _allowed(accessor_type, component_type, normalized: bool, quantized: bool) -> bool:
-    if accessor_type != "VEC2":
-        return False
-    if component_type == _FLOAT:
-        return True
-    if component_type in (_UNSIGNED_BYTE, _UNSIGNED_SHORT):
-        return normalized or quantized
-    return quantized and component_type in (_BYTE, _SHORT)
+def _allowed(semantic: str, accessor_type, component_type, normalized: bool, quantized: bool) -> bool:
+    types, core, extended = ATTRIBUTE_FORMATS[semantic]
+    return accessor_type in types and ((component_type, normalized) in core or
+                                       (quantized and (component_type, normalized) in extended))
 
 
-def _texcoord_formats(asset, facts, primitives, context):
+def _semantic(name: str) -> str | None:
+    return name if name in ("NORMAL", "TANGENT") else next((s for s in ("TEXCOORD_", "COLOR_") if name.startswith(s)), None)
+
+
+def _attribute_formats(asset, facts, primitives, context):
     quantized = QUANTIZATION in facts.get("extensions_used", ())
     for primitive in primitives:
-        for index, (accessor_type, component_type, normalized) in sorted(primitive.get("texcoord_formats", {}).items()):
-            if _allowed(accessor_type, component_type, normalized, quantized):
+        for name, (accessor_type, component_type, normalized) in sorted(primitive.get("attribute_formats", {}).items()):
+            semantic = _semantic(name)
+            if semantic is None or _allowed(semantic, accessor_type, component_type, normalized, quantized):
                 continue
-            name = _COMPONENT_NAMES.get(component_type, repr(component_type))
-            shown = f"{accessor_type} of {name}{' (normalized)' if normalized else ''}"
-            integer = component_type in (_UNSIGNED_BYTE, _UNSIGNED_SHORT) and not normalized
             yield context.diagnostic(
-                TEXCOORD_FORMAT, f"TEXCOORD_{index} is {shown}, which glTF does not allow for texture coordinates"
-                + (": read as whole numbers, every texture is sampled outside [0, 1]" if integer else ""),
-                Location(asset.path, None, f"{primitive['pointer']}/attributes", f"TEXCOORD_{index}"),
-                hint='add "normalized": true to the accessor' if integer and accessor_type == "VEC2"
-                else "store texture coordinates as VEC2 of FLOAT (or normalised unsigned bytes or shorts)",
-            )
+                ATTRIBUTE_FORMAT, _format_message(name, semantic, accessor_type, component_type, normalized),
+                Location(asset.path, None, f"{primitive['pointer']}/attributes", name),
+                hint=_format_hint(semantic, accessor_type, component_type, normalized))
+
+
+def _format_message(name: str, semantic: str, accessor_type, component_type, normalized: bool) -> str:
+    shown = f"{accessor_type} of {_COMPONENT_NAMES.get(component_type, repr(component_type))}"
+    shown += " (normalized)" if normalized else ""
+    what = {"TEXCOORD_": "texture coordinates", "COLOR_": "vertex colours", "NORMAL": "normals", "TANGENT": "tangents"}[semantic]
+    message = f"{name} is {shown}, which glTF does not allow for {what}"
+    if normalized and component_type not in (_BYTE, _UNSIGNED_BYTE, _SHORT, _UNSIGNED_SHORT):
+        return message + ": only byte and short accessors can be normalized"
+    if component_type in (_UNSIGNED_BYTE, _UNSIGNED_SHORT) and not normalized and semantic in ("TEXCOORD_", "COLOR_"):
+        return message + (": read as whole numbers, every texture is sampled outside [0, 1]" if semantic == "TEXCOORD_"
+                          else ": read as whole numbers, the colours multiply the base colour by up to 255")
+    if semantic == "TANGENT" and accessor_type == "VEC3":
+        return message + ": it has no w, the handedness the bitangent needs"
+    return message
+
+
+def _format_hint(semantic: str, accessor_type, component_type, normalized: bool) -> str:
+    if normalized and component_type not in (_BYTE, _UNSIGNED_BYTE, _SHORT, _UNSIGNED_SHORT):
+        return 'remove "normalized": true from the accessor'
+    types, _, _ = ATTRIBUTE_FORMATS[semantic]
+    if component_type in (_UNSIGNED_BYTE, _UNSIGNED_SHORT) and not normalized and accessor_type in types:
+        return 'add "normalized": true to the accessor'
+    if semantic == "TANGENT":
+        return "export tangents as VEC4 of FLOAT, w the handedness (+1 or -1; MikkTSpace)"
+    return {"TEXCOORD_": "store texture coordinates as VEC2 of FLOAT (or normalised unsigned bytes or shorts)",
+            "COLOR_": "store vertex colours as VEC3 or VEC4 of FLOAT (or normalised unsigned bytes or shorts)",
+            "NORMAL": "store normals as VEC3 of FLOAT"}[semantic]
+
+
+def _tangents_without_normals(asset, primitives, context):
+    for primitive in primitives:
+        if primitive.get("tangents") and not primitive.get("normals"):
+            yield context.diagnostic(
+                NO_TANGENT_SPACE, f"primitive {primitive['pointer']} has TANGENT but no NORMAL: loaders compute flat "
+                "normals and must ignore the tangents, so the exported tangent space is lost",
+                Location(asset.path, None, f"{primitive['pointer']}/attributes", "TANGENT"),
+                hint="export the normals with the mesh (or drop the tangents)")
 
 
 def _needs_tangents(material) -> str | None:

@@ -24,7 +24,9 @@ And the document as a whole: a texture whose only image comes through EXT_textur
 while the extension is not required (OPBR1229), and a property name written twice in one JSON object (OPBR1230).
 
 Also, as OPBR1220 (the core source's counterpart, in the glTF family): a texture extension's ``source`` that
-names an image of another format (EXT_texture_webp's a PNG; the validator's TEXTURE_INVALID_IMAGE_MIME_TYPE).
+names an image of another format (EXT_texture_webp's a PNG; the validator's TEXTURE_INVALID_IMAGE_MIME_TYPE), or
+KHR_texture_basisu's a file declared KTX2 that holds no Basis Universal payload (a legacy ``.basis`` file, a KTX2 of
+raw texels: the reader's ``not_basis_universal``, from the file's header).
 Buffers shorter than their byteLength, data URIs of another media type and unaligned GLB chunks are OPBR1209, a
 ``scene`` naming no scene OPBR802.
 """
@@ -253,6 +255,14 @@ def _extension_sources(asset, facts, context):
     for source in facts.get("extension_sources", ()):
         image = images[source["image"]] if source["image"] < len(images) else {}
         found = image.get("detected_mime") or image.get("mime")
+        if found == source["mime"] and image.get("not_basis_universal") and image.get("damage") is None:
+            yield context.diagnostic(
+                IMAGE_NEEDS_EXTENSION, f"{source['extension']}'s source is image {source['image']} ({image.get('file')}), "
+                f"but {image['not_basis_universal']}: the extension requires a KTX v2 file with Basis Universal "
+                "supercompression (ETC1S/BasisLZ or UASTC), and viewers that support it fail to transcode this one",
+                Location(asset.path, None, source["pointer"], "source"),
+                hint="encode the texture as Basis Universal KTX2 (toktx --encode etc1s or uastc; basisu -ktx2)")
+            continue
         if found is None or found == source["mime"] or image.get("damage") is not None:
             continue
         yield context.diagnostic(

@@ -272,7 +272,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "anisotropic highlight runs along the positive octant.", f"{MX_OPENPBR}; {MX_NODES}"),
     "OPBR719": ("place2d's rotate and UsdTransform2d's rotation are in degrees (MaterialX's GLSL converts with "
                 "mx_radians); glTF's is in radians, so a value copied across turns the texture by 1/57 of what "
-                "was meant.", f"{MX_NODES}; {USD_PREVIEW}; {GLTF}"),
+                "was meant, and a degree value typed into a glTF file (90) by 57 times it.",
+                f"{MX_NODES}; {USD_PREVIEW}; {GLTF}; {_GLTF}extensions/2.0/Khronos/KHR_texture_transform/README.md"),
     "OPBR1001": ("Without info:id (or a source asset/code) Sdr cannot find the shader's definition: Hydra "
                  "renders the material with its fallback.", f"{USD_SHADER}; {_USD}pxr/usd/sdr/shaderNode.h"),
     "OPBR1002": ("Hydra and UsdMtlx type MaterialX inputs from the USD type (role and precision): a wrong role "
@@ -369,7 +370,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "by the spec-gloss -> metal-rough solve.",
                  f"{khr('KHR_materials_pbrSpecularGlossiness')}; {_MX}libraries/bxdf/gltf_pbr.mtlx"),
     "OPBR1205": ("A texture reading a UV set the mesh does not have samples nothing (or set 0) in loaders: the "
-                 "texture renders wrong or as its factor.", GLTF),
+                 "texture renders wrong or as its factor. UV sets with a gap break the specification's MUST, and "
+                 "loaders that count or bind the sets by position read the later ones as others (the glTF-Validator's "
+                 "MESH_PRIMITIVE_INDEXED_SEMANTIC_CONTINUITY).", GLTF),
     "OPBR1206": ("WebGL 1 cannot mipmap or wrap non-power-of-two images; older loaders resample (info).", GLTF),
     "OPBR1207": ("Core glTF allows PNG and JPEG only; other images need their texture extension or loaders "
                  "skip them.", f"{GLTF}; {khr('KHR_texture_basisu')}"),
@@ -385,9 +388,13 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "null textureInfo is dereferenced by loaders that test only for the property's presence (the "
                  "glTF-Validator's TYPE_MISMATCH). A variants object on a material, a mapping without variants, or a "
                  "variant that is no object with a name never switches a material (UNEXPECTED_EXTENSION_OBJECT, "
-                 "EMPTY_ENTITY, ARRAY_TYPE_MISMATCH).",
+                 "EMPTY_ENTITY, ARRAY_TYPE_MISMATCH). An image in a strided bufferView breaks a MUST NOT "
+                 "(IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE); a Draco object without its bufferView leaves a required "
+                 "decoder nothing to decode, so the mesh is not drawn.",
                  f"{GLTF_MATERIAL_SCHEMA}; {GLTF}; {khr('KHR_materials_variants')}; "
-                 f"{_GLTF}extensions/2.0/Khronos/KHR_materials_variants/schema/mesh.primitive.KHR_materials_variants.schema.json"),
+                 f"{_GLTF}extensions/2.0/Khronos/KHR_materials_variants/schema/mesh.primitive.KHR_materials_variants.schema.json; "
+                 f"{_GLTF}extensions/2.0/Khronos/KHR_draco_mesh_compression/schema/"
+                 "mesh.primitive.KHR_draco_mesh_compression.schema.json"),
     "OPBR1211": ("The extension texts say these settings do nothing (transmission on a metal, a volume without "
                  "transmission, dispersion without a volume, an extension whose factor defaults to 0, a texture "
                  "without the channel its slot reads): intent lost, and viewers differ.",
@@ -406,19 +413,25 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1216": ("Viewers ignore an extension they do not know: a misspelt name silently drops the effect it was "
                  "meant to add (the glTF-Validator only notes it cannot validate the extension).",
                  f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
-    "OPBR1217": ("Texture coordinates in a format glTF does not allow are rejected or misread by loaders: unsigned "
-                 "bytes without normalized read as 0-255, so every texture samples far outside [0, 1] (the "
-                 "glTF-Validator's MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT).",
-                 f"{GLTF}; {_GLTF}extensions/2.0/Khronos/KHR_mesh_quantization/README.md"),
+    "OPBR1217": ("Vertex attributes in a format glTF does not allow are rejected or misread by loaders: unsigned "
+                 "bytes without normalized read as 0-255, so every texture samples far outside [0, 1] and vertex "
+                 "colours multiply the base colour by up to 255; a VEC3 tangent has no handedness for the normal map "
+                 "(the glTF-Validator's MESH_PRIMITIVE_ATTRIBUTES_ACCESSOR_INVALID_FORMAT, ACCESSOR_NORMALIZED_INVALID).",
+                 f"{GLTF}; {_GLTF}extensions/2.0/Khronos/KHR_mesh_quantization/README.md; "
+                 f"{_GLTF}specification/2.0/schema/accessor.schema.json"),
     "OPBR1218": ("Without a tangent space a clear-coat normal map or an anisotropy direction has no orientation: "
-                 "viewers generate different tangents or none (the glTF-Validator's MESH_PRIMITIVE_NO_TANGENT_SPACE).",
+                 "viewers generate different tangents or none (the glTF-Validator's MESH_PRIMITIVE_NO_TANGENT_SPACE). "
+                 "Tangents without normals MUST be ignored by loaders, which shade with flat normals and generated "
+                 "tangents (MESH_PRIMITIVE_TANGENT_WITHOUT_NORMAL).",
                  f"{_GLTF}extensions/2.0/Khronos/KHR_materials_clearcoat/README.md; "
-                 f"{_GLTF}extensions/2.0/Khronos/KHR_materials_anisotropy/README.md"),
+                 f"{_GLTF}extensions/2.0/Khronos/KHR_materials_anisotropy/README.md; {GLTF}"),
     "OPBR1219": ("A 16-bit base colour or emissive image, or a CMYK JPEG, breaks glTF's MUSTs (8-bit sRGB colour "
                  "textures; JFIF JPEGs): loaders truncate, reject or miscolour it (the glTF-Validator's "
                  "IMAGE_DATA_INVALID for the JPEG).", f"{GLTF}; https://www.w3.org/Graphics/JPEG/jfif3.pdf"),
     "OPBR1220": ("A WebP or KTX2 image named by a texture's core source fails in viewers without the extension, and "
-                 "viewers with it never look there (the glTF-Validator's TEXTURE_INVALID_IMAGE_MIME_TYPE).",
+                 "viewers with it never look there (the glTF-Validator's TEXTURE_INVALID_IMAGE_MIME_TYPE); a "
+                 "KHR_texture_basisu source that is no Basis Universal KTX2 (a legacy .basis file, raw texels) fails "
+                 "in the Basis transcoders of the viewers that read the extension.",
                  f"{GLTF}; {khr('KHR_texture_basisu')}; {_GLTF}extensions/2.0/Vendor/EXT_texture_webp/README.md; "
                  "KhronosGroup/glTF-Validator:lib/src/errors.dart"),
     "OPBR1221": ("Glass blended by a uniform alpha is transparent twice: its reflections and tint fade, and it almost "

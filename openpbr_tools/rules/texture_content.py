@@ -1,6 +1,7 @@
 """What a texture file holds against how the material reads it (the red team's round five): a file whose bytes
 are another format than its name says, a scene-linear image decoded as sRGB, a UDIM set without its first tile,
-an OpenEXR layer the file does not have, an unsigned image read as a tangent, a rotation written in radians, and
+an OpenEXR layer the file does not have, an unsigned image read as a tangent, a rotation written in the other angle
+unit (radians for place2d's degrees, degrees for KHR_texture_transform's radians), and
 a packed occlusion-roughness-metalness map read through its occlusion channel (OPBR712).
 
 Formats are judged from the first bytes (:data:`SIGNATURES`); an OpenEXR file's layers from its header, read by
@@ -17,6 +18,7 @@ from ..colorspaces import materialx_name
 from ..diagnostics import Severity
 from ..io.image_files import head_of
 from ..io.usd.types import is_eight_bit
+from ..model import Location
 from ..resources import load_json
 from . import Rule, for_each_input
 from .textures import COLOUR_IMAGE_AS_DATA, _TILE_TOKENS, _files, _gltf, tiles
@@ -109,14 +111,17 @@ _PLACED = ('<texcoord name="uv" type="vector2" />\n<place2d name="turned" type="
            '  <input name="texcoord" type="vector2" nodename="uv" />\n  <input name="rotate" type="float" value="{rotate}" />\n'
            '</place2d>\n<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" '
            'colorspace="srgb_texture" />\n  <input name="texcoord" type="vector2" nodename="turned" />\n</image>\n')
-ROTATION_IN_RADIANS = Rule(
-    "OPBR719", "texture-rotation-radians", Severity.WARNING,
-    "A texture rotation (place2d rotate, UsdTransform2d rotation) is a multiple of pi/12 written in radians "
-    "(1.5708, 3.1416, 0.7854) where the node takes degrees.",
+ROTATION_UNIT = Rule(
+    "OPBR719", "texture-rotation-unit", Severity.WARNING,
+    "A texture rotation is written in the other angle unit: a multiple of pi/12 in radians (1.5708, 3.1416, 0.7854) "
+    "where place2d rotate or UsdTransform2d rotation take degrees, or a multiple of 15 degrees from 15 to 360 (90, "
+    "45) where glTF's KHR_texture_transform rotation takes radians.",
     "MaterialX's place2d and UsdPreviewSurface's UsdTransform2d take degrees (MaterialX's GLSL converts with "
-    "mx_radians), while glTF's KHR_texture_transform and most scripting APIs take radians: 1.5708 meant as a quarter "
-    "turn rotates the texture by 1.6 degrees. (A glTF file's rotation is read in radians, as its specification says, "
-    "and not reported.)",
+    "mx_radians), while glTF's KHR_texture_transform (\"Rotate the UVs by this many radians\") and most scripting "
+    "APIs take radians: 1.5708 meant as a quarter turn rotates the texture by 1.6 degrees, and a glTF rotation of 90 "
+    "(a DCC's degrees) by 90 radians, 116.6 degrees past 14 turns. No radian value needs more than a full turn "
+    "(2 pi), so a glTF rotation is reported only when it is a multiple of 15 from 15 to 360 (the angles a UI offers "
+    "in degrees); another whole number (7) is left alone.",
     passing=_PLACED.format(rotate="90") + _SHADER.format(input="base_color", type="color3", node="albedo"),
     failing=_PLACED.format(rotate="1.5708") + _SHADER.format(input="base_color", type="color3", node="albedo"),
     example_files=("albedo.png",),
@@ -158,18 +163,22 @@ SRGB_IMAGE_AS_LINEAR = Rule(
 )
 
 RULES = (CONTENT_NOT_SUFFIX, LINEAR_IMAGE_AS_SRGB, FIRST_TILE_MISSING, LAYER_MISSING, TANGENT_FROM_UNSIGNED,
-         ROTATION_IN_RADIANS, SMOOTHNESS_AS_ROUGHNESS, SRGB_IMAGE_AS_LINEAR)
+         ROTATION_UNIT, SMOOTHNESS_AS_ROUGHNESS, SRGB_IMAGE_AS_LINEAR)
 
 _TANGENT_INPUTS = ("geometry_tangent", "geometry_coat_tangent", "tangent", "coat_tangent")
 #: a packed map named for glTF's occlusion-roughness-metalness layout (R occlusion): "oak_ORM.png", "arm"
 _OCCLUSION_FIRST = re.compile(r"(?:^|[_\-. ])(orm|arm|occlusionroughnessmetal(?:lic|ness)?)(?:[_\-. ]|$)", re.IGNORECASE)
 _RADIANS = tuple(k * math.pi / 12 for k in range(1, 25))
+_DEGREE_STEPS = frozenset(range(15, 361, 15))  # the angles a UI offers, in degrees: none is a plausible radian value
 
 
 def check(asset, context):
     seen: set = set()
     for material, table, entry in for_each_input(asset):
         texture = entry.texture
+        if texture is not None and _gltf(texture) and texture.node not in seen:
+            seen.add(texture.node)
+            yield from _rotation_in_degrees(asset, texture, context)
         if texture is None or not texture.file.strip() or _gltf(texture):
             continue
         where = texture.location or entry.location
@@ -338,11 +347,27 @@ def _exr_channels(path: str) -> list[str] | None:
     return names
 
 
+def _rotation_in_degrees(asset, texture, context):
+    """A KHR_texture_transform rotation that is a multiple of 15 degrees from 15 to 360, each beyond the 2 pi any
+    radian value needs (a 7 is some turn in radians, seen in files; 90 is a quarter turn typed in degrees)."""
+    if texture.uv is None:
+        return
+    rotation = -math.radians(texture.uv.rotate)  # the file's radians (io.gltf.uv: rotate = -degrees(rotation))
+    turned = abs(rotation)
+    if math.isfinite(turned) and abs(turned - round(turned)) < 1e-6 and round(turned) in _DEGREE_STEPS:
+        shown = round(rotation)
+        yield context.diagnostic(
+            ROTATION_UNIT, f"{texture.node}: KHR_texture_transform rotation {shown} is {shown} radians, "
+            f"{turned / (2 * math.pi):.1f} turns: {shown} degrees written where glTF takes radians?",
+            Location(asset.path, None, f"{texture.node}/extensions/KHR_texture_transform", "rotation"),
+            hint=f"write {math.radians(shown):.6g} (the radians of {shown} degrees)")
+
+
 def _rotation(texture, where, context):
     rotate = abs(texture.uv.rotate) if texture.uv is not None else 0.0
     if 0.0 < rotate <= 2 * math.pi + 1e-3 and rotate != round(rotate) and \
             any(abs(rotate - r) < 5e-4 for r in _RADIANS):
         yield context.diagnostic(
-            ROTATION_IN_RADIANS, f"{texture.node!r} rotates its coordinates by {rotate:g} degrees: "
+            ROTATION_UNIT, f"{texture.node!r} rotates its coordinates by {rotate:g} degrees: "
             f"{math.degrees(rotate):.4g} degrees written in radians?", where,
             hint=f"the node takes degrees: write {math.degrees(rotate):.4g}")

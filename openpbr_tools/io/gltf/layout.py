@@ -19,7 +19,9 @@ Each check is one the Khronos glTF-Validator makes (its code in brackets), read 
   ``count`` [ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB];
 * 3.7.2.1: "All attribute accessors for a given primitive MUST have the same count", morph targets' too
   [MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT, MESH_PRIMITIVE_MORPH_TARGET_INVALID_ATTRIBUTE_COUNT];
-* the document's ``scene`` names one of its ``scenes`` [UNRESOLVED_REFERENCE].
+* the document's ``scene`` names one of its ``scenes`` [UNRESOLVED_REFERENCE];
+* a mesh primitive's KHR_draco_mesh_compression object has the ``bufferView`` and ``attributes`` its schema
+  requires (the validator does not look into it).
 
 Only the JSON and file sizes are read, except a sparse accessor's indices (at most
 :data:`~.accessors.MAX_ELEMENTS` of them, one NumPy view of the buffer). Malformed values (a string for an
@@ -86,6 +88,30 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
         elif _natural(length) and len(document.binary) < length:
             yield ("gltf_resource", pointer, f"the GLB binary chunk holds {len(document.binary)} bytes, fewer than the "
                    f"buffer's byteLength {length}: the data at its end is missing", None)
+
+
+def compression_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str | None]]:
+    """``("gltf_invalid", JSON pointer, message, property)`` for every KHR_draco_mesh_compression object of a mesh
+    primitive that lacks what its schema requires: ``bufferView`` (the compressed stream, a glTF id) and
+    ``attributes`` (an object naming at least one attribute's id in the stream)."""
+    for mesh_index, mesh in enumerate(document.array("meshes")):
+        primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
+        for index, primitive in enumerate(primitives if isinstance(primitives, list) else ()):
+            extensions = primitive.get("extensions") if isinstance(primitive, dict) else None
+            draco = extensions.get(slots.DRACO) if isinstance(extensions, dict) else None
+            if not isinstance(draco, dict):
+                continue  # (an extension that is no object is the reader's)
+            pointer = f"/meshes/{mesh_index}/primitives/{index}/extensions/{slots.DRACO}"
+            if "bufferView" not in draco:
+                yield ("gltf_invalid", pointer, f"{slots.DRACO} has no bufferView: there is no compressed stream for a "
+                       "Draco decoder to decode, so viewers draw nothing", None)
+            elif not _natural(draco["bufferView"]):
+                yield ("gltf_invalid", pointer, f"bufferView must be a bufferView index, not "
+                       f"{json_text(draco['bufferView'])}", "bufferView")
+            attributes = draco.get("attributes")
+            if not isinstance(attributes, dict) or not attributes:
+                yield ("gltf_invalid", pointer, f"{slots.DRACO} needs attributes, an object naming each attribute's id "
+                       "in the compressed stream", "attributes" if "attributes" in draco else None)
 
 
 def missing_scene(document: GltfDocument):

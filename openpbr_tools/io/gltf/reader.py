@@ -28,7 +28,7 @@ and the extensions the node does not carry (``KHR_materials_diffuse_transmission
 the translation; reported as archived), unknown ones). Every value's :class:`Location` is the file, a JSON pointer to the object holding the property
 and the glTF property name.
 
-Facts for the glTF rules (extensions, images, each primitive's UV sets, extent and tangent signs, the
+Facts for the glTF rules (extensions, images, each primitive's UV sets, attribute formats, extent and tangent signs, the
 values of primitives with a material: :mod:`.accessors`; variants; repeated JSON names) are in
 ``Asset.extra["gltf"]``; broken references and resources are :class:`Observation` s, each reported once.
 Only a file that is not glTF at all raises :class:`ReadError` (the container's limits are :mod:`.document`'s).
@@ -144,9 +144,10 @@ class _Reader(TextureReading, ExtensionReading):
 
     # -- resources and layout ------------------------------------------------------------------
     def check_layout(self) -> None:
-        """Buffers that cannot provide their bytes, unaligned GLB chunks, a default scene that names nothing, and
-        the accessor and texture-source facts for the structure rules (:mod:`.layout`)."""
-        for kind, pointer, message, name in layout.buffer_problems(self.document):
+        """Buffers that cannot provide their bytes, unaligned GLB chunks, Draco objects without their stream, a default
+        scene that names nothing, and the accessor and texture-source facts for the structure rules (:mod:`.layout`)."""
+        for kind, pointer, message, name in (*layout.buffer_problems(self.document),
+                                             *layout.compression_problems(self.document)):
             self.observe_once(kind, pointer, message, name)
         scene = layout.missing_scene(self.document)
         if scene is not None:
@@ -161,15 +162,13 @@ class _Reader(TextureReading, ExtensionReading):
                 if not isinstance(primitive, dict):
                     continue
                 attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
-                named = {int(name[9:]): name for name in attributes  # TEXCOORD_n as glTF spells it: no leading zero
-                         if name.startswith("TEXCOORD_") and name[9:].isascii() and name[9:].isdigit() and len(name) < 40
-                         and name[9:] == str(int(name[9:]))}
-                sets = sorted(named)
-                formats = {n: self.accessor_format(attributes[name]) for n, name in named.items()}
+                sets = sorted(n for n in (_set_of(name, "TEXCOORD_") for name in attributes) if n is not None)
+                formats = {name: self.accessor_format(accessor) for name, accessor in attributes.items()  # (rules.gltf_meshes)
+                           if name in ("NORMAL", "TANGENT") or any(_set_of(name, s) is not None for s in ("TEXCOORD_", "COLOR_"))}
                 self.facts["primitives"].append({"pointer": f"/meshes/{mesh_index}/primitives/{index}",
                                                  "material": primitive.get("material"), "texcoords": sets,
                                                  "tangents": "TANGENT" in attributes, "normals": "NORMAL" in attributes,
-                                                 "texcoord_formats": {n: f for n, f in formats.items() if f},
+                                                 "attribute_formats": {n: f for n, f in formats.items() if f},
                                                  "extent": accessors.position_extent(self.document, attributes.get("POSITION")),
                                                  "tangent_signs": accessors.tangent_signs(self.document, attributes.get("TANGENT"),
                                                                                           self.tangent_cache)})
@@ -380,6 +379,12 @@ def _extension_in_place(pointer: str, name: str) -> bool:
     if name.startswith("KHR_materials_"):
         return _MATERIAL_EXTENSION.fullmatch(pointer) is not None
     return True
+
+
+def _set_of(name: str, semantic: str) -> int | None:
+    """n of an indexed attribute ``<semantic>n`` as glTF spells it (no leading zero), else ``None``."""
+    number = name[len(semantic):] if name.startswith(semantic) and len(name) < 40 else ""
+    return int(number) if number.isascii() and number.isdigit() and number == str(int(number)) else None
 
 
 def _escape(token: str) -> str:

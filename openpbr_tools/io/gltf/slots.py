@@ -40,6 +40,7 @@ SPECULAR_GLOSSINESS = "KHR_materials_pbrSpecularGlossiness"
 TEXTURE_TRANSFORM = "KHR_texture_transform"
 VARIANTS = "KHR_materials_variants"  # (on the root and on primitives: no material extension despite its name)
 MESH_QUANTIZATION = "KHR_mesh_quantization"
+DRACO = "KHR_draco_mesh_compression"
 # Extensions no file may list as optional: KHR_mesh_quantization "must [be specified] in extensionsRequired - the
 # extension is not optional" (its README; the Khronos glTF-Validator's NON_REQUIRED_EXTENSION).
 NEVER_OPTIONAL = (MESH_QUANTIZATION,)
@@ -48,7 +49,7 @@ NEVER_OPTIONAL = (MESH_QUANTIZATION,)
 INTERPRETED_MATERIAL_EXTENSIONS = (CLEARCOAT, SHEEN, SPECULAR, TRANSMISSION, VOLUME, IOR, IRIDESCENCE,
                                    ANISOTROPY, EMISSIVE_STRENGTH, DISPERSION)
 # Extensions that do not change how a material or its textures look: geometry, scene, metadata.
-NEUTRAL_EXTENSIONS = ("KHR_draco_mesh_compression", MESH_QUANTIZATION, "EXT_meshopt_compression",
+NEUTRAL_EXTENSIONS = (DRACO, MESH_QUANTIZATION, "EXT_meshopt_compression",
                       "KHR_lights_punctual", "EXT_mesh_gpu_instancing", "KHR_animation_pointer",
                       VARIANTS, "KHR_xmp_json_ld", "KHR_node_visibility")
 # Everything the toolkit reads correctly when a file lists it in extensionsRequired.

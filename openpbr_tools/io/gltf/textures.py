@@ -15,6 +15,7 @@ from __future__ import annotations
 import json
 import math
 import os
+import struct
 import warnings
 from urllib.parse import unquote
 
@@ -24,8 +25,13 @@ from . import slots
 from .document import ResourceError, data_uri_mime
 from .uv import from_texture_transform
 
+KTX2, KTX2_IDENTIFIER = "image/ktx2", b"\xabKTX 20\xbb\r\n\x1a\n"
+#: The bytes of a KTX2 file read for its header and data format descriptor (which follows the level index).
+KTX2_HEAD = 4096
+#: The data format descriptor colour models of Basis Universal (KHR_texture_basisu): ETC1S (with BasisLZ) and UASTC.
+BASIS_COLOR_MODELS = {163: "ETC1S", 166: "UASTC"}
 SNIFF = ((b"\x89PNG\r\n\x1a\n", "image/png"), (b"\xff\xd8\xff", "image/jpeg"),
-         (b"\xabKTX 20\xbb\r\n\x1a\n", "image/ktx2"), (b"v/1\x01", "image/x-exr"), (b"#?RADIANCE", "image/vnd.radiance"))
+         (KTX2_IDENTIFIER, KTX2), (b"v/1\x01", "image/x-exr"), (b"#?RADIANCE", "image/vnd.radiance"))
 SUFFIX_MIME = {".png": "image/png", ".jpg": "image/jpeg", ".jpeg": "image/jpeg", ".webp": "image/webp",
                ".ktx2": "image/ktx2", ".exr": "image/x-exr", ".hdr": "image/vnd.radiance", ".tif": "image/tiff",
                ".tiff": "image/tiff", ".tga": "image/x-tga", ".bmp": "image/bmp"}
@@ -47,6 +53,10 @@ class TextureReading:
             self.invalid(pointer, "an image has a uri or a bufferView, not both")
         elif "bufferView" in image and not isinstance(declared, str):
             self.invalid(pointer, "an image stored in a bufferView needs a mimeType", "bufferView")
+        view = self.document.item("bufferViews", image["bufferView"]) if "bufferView" in image else None
+        if isinstance(view, dict) and "byteStride" in view:  # 3.6.1.1: only vertex attribute views are strided
+            self.invalid(pointer, f"the image's bufferView {image['bufferView']} has a byteStride, which a view of "
+                         "image data must not have (only vertex attributes are strided)", "bufferView")
         if isinstance(uri, str) and not uri.startswith("data:"):
             info["file"], info["packaged"] = unquote(uri), False
             if "\x00" in info["file"]:  # no file system takes it; path functions raise ValueError on it
@@ -62,6 +72,8 @@ class TextureReading:
             if os.path.isfile(local):  # the header is read, and the data checked (io.image_files.damage)
                 _measure(local, info, head_of(local))
                 info["damage"] = damage(local)
+                if info["mime"] == KTX2:
+                    _basis_universal(info, head_of(local, KTX2_HEAD))
                 _declared_type(info, declared if isinstance(declared, str) else None, "uri")
             return info
         try:
@@ -73,6 +85,8 @@ class TextureReading:
         self.package_files.add(info["file"])
         _measure(ResourceFile(data), info, bytes(data[:32]))
         info["damage"] = damage(data)
+        if info["mime"] == KTX2:
+            _basis_universal(info, bytes(data[:KTX2_HEAD]))
         where = "bufferView" if "bufferView" in image else "uri"  # where the bytes are, as the Khronos validator points
         _declared_type(info, declared if isinstance(declared, str) else data_uri_mime(uri or ""), where)
         return info
@@ -213,6 +227,33 @@ def _declared_type(info: dict, declared: str | None, where: str) -> None:
     found = info.get("detected_mime")
     if declared and found and declared != found and info.get("damage") is None:
         info["declared"] = {"type": declared, "found": found, "property": where}
+
+
+def _basis_universal(info: dict, head: bytes) -> None:
+    """Record in ``info["not_basis_universal"]`` why an image declared (or named) KTX2 is no KTX v2 file holding a
+    Basis Universal payload, which KHR_texture_basisu requires (its README, "KTX v2 Images with Basis Universal
+    Supercompression": the DFD colour model ETC1S with supercompression 1 (BasisLZ), or UASTC with 0 or 2
+    (Zstandard); and ``vkFormat`` VK_FORMAT_UNDEFINED, as the KTX 2.0 specification has it for both: no Vulkan
+    format holds them). Only the header is read; a file too short for one is not judged here."""
+    if info.get("detected_mime") is not None:
+        return  # another format: the MIME checks say so
+    if not head.startswith(KTX2_IDENTIFIER):
+        legacy = " (a pre-ratification .basis file)" if head.startswith(b"sB") else ""
+        info["not_basis_universal"] = f"its bytes are no KTX v2 file{legacy}"
+        return
+    if len(head) < 80:
+        return
+    vk_format, scheme = struct.unpack_from("<I", head, 12)[0], struct.unpack_from("<I", head, 44)[0]
+    dfd_offset, dfd_length = struct.unpack_from("<II", head, 48)
+    model = head[dfd_offset + 12] if dfd_length >= 16 and dfd_offset + 12 < len(head) else None
+    if vk_format != 0:
+        info["not_basis_universal"] = f"it is a KTX v2 file of raw texels (vkFormat {vk_format}, not 0)"
+    elif model is not None and model not in BASIS_COLOR_MODELS:
+        info["not_basis_universal"] = (f"its data format descriptor's colour model is {model}, neither ETC1S (163) nor "
+                                       "UASTC (166)")
+    elif (model == 163 and scheme != 1) or (model == 166 and scheme not in (0, 2)):
+        info["not_basis_universal"] = (f"its {BASIS_COLOR_MODELS[model]} payload has supercompression scheme {scheme}, "
+                                       f"not {'1 (BasisLZ)' if model == 163 else '0 or 2 (Zstandard)'}")
 
 
 def _measure(source, info: dict, head: bytes | None = None) -> None:

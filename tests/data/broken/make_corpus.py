@@ -887,6 +887,63 @@ case("OPBR1211_anisotropy_blue_zero.gltf", "OPBR1211", "An anisotropyTexture mad
      json.dumps(textured({"name": "M", "extensions": {"KHR_materials_anisotropy": {"anisotropyStrength": 0.8, "anisotropyTexture": {"index": 0}}}},
                          uri="textures/flow_rg.png", extensionsUsed=["KHR_materials_anisotropy"]), indent=2))
 
+# ---------------------------------------------------------------- the sixth red-team round's glTF defects
+_TEXTURED = {"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}
+
+
+def _attributes(*extra: tuple[str, dict]) -> dict:
+    """A textured primitive: POSITION (accessor 0), TEXCOORD_0 (1), then the ``extra`` (attribute, accessor) pairs."""
+    accessors = [_MESH_ACCESSORS[0], _MESH_ACCESSORS[1]] + [accessor for _, accessor in extra]
+    attributes = {"POSITION": 0, "TEXCOORD_0": 1, **{name: 2 + n for n, (name, _) in enumerate(extra)}}
+    return textured(_TEXTURED, accessors=accessors, meshes=[{"primitives": [{"attributes": attributes, "material": 0}]}])
+
+
+def _ktx2(vk_format: int, color_model: int) -> bytes:
+    """A 4 x 4 KTX v2 file of one level: header, level index, a one-sample data format descriptor, one 16-byte block."""
+    header = b"\xabKTX 20\xbb\r\n\x1a\n" + struct.pack("<9I", vk_format, 1, 4, 4, 0, 0, 1, 1, 0)
+    index = struct.pack("<4I2Q", 104, 44, 0, 0, 0, 0) + struct.pack("<3Q", 160, 16, 16)
+    dfd = struct.pack("<I2I4B4B8B", 44, 0, (40 << 16) | 2, color_model, 1, 2, 0, 3, 3, 0, 0, 16, 0, 0, 0, 0, 0, 0, 0)
+    dfd += struct.pack("<I4BII", 127 << 16, 0, 0, 0, 0, 0, 0xFFFFFFFF)
+    body = header + index + dfd
+    return body + bytes(160 - len(body)) + bytes(16)
+
+
+def _basisu(uri: str) -> dict:
+    return gltf([_TEXTURED], ["KHR_texture_basisu"], extensionsRequired=["KHR_texture_basisu"],
+                images=[{"uri": uri, "mimeType": "image/ktx2"}], textures=[{"extensions": {"KHR_texture_basisu": {"source": 0}}}])
+
+
+def _image_in_strided_view() -> bytes:
+    image = TEXTURES["textures/albedo.png"]
+    return glb(gltf([_TEXTURED], buffers=[{"byteLength": len(image)}],
+                    bufferViews=[{"buffer": 0, "byteLength": len(image), "byteStride": 4}],
+                    images=[{"bufferView": 0, "mimeType": "image/png"}], textures=[{"source": 0}]), image)
+
+
+case("OPBR719_gltf_rotation_in_degrees.gltf", "OPBR719", "KHR_texture_transform rotation 90, a DCC's degrees, where glTF takes radians (90 rad is 14.3 turns).",
+     json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": {
+         "KHR_texture_transform": {"rotation": 90, "scale": [2, 2]}}}}}, extensionsUsed=["KHR_texture_transform"]), indent=2))
+case("OPBR1217_tangent_vec3.gltf", "OPBR1217", "TANGENT exported as VEC3, without the w handedness glTF's VEC4 tangents carry.",
+     json.dumps(_attributes(("NORMAL", _MESH_ACCESSORS[2]), ("TANGENT", {"componentType": 5126, "count": 3, "type": "VEC3"})), indent=2))
+case("OPBR1217_texcoord_float_normalized.gltf", "OPBR1217", "A FLOAT TEXCOORD_1 accessor with normalized: true (a quantising exporter set it on every attribute).",
+     json.dumps(_attributes(("TEXCOORD_1", {"componentType": 5126, "count": 3, "type": "VEC2", "normalized": True})), indent=2))
+case("OPBR1217_color_ubyte_not_normalized.gltf", "OPBR1217", "COLOR_0 as UNSIGNED_BYTE without normalized: true: vertex colours multiply the base colour by up to 255.",
+     json.dumps(_attributes(("COLOR_0", {"componentType": 5121, "count": 3, "type": "VEC4"})), indent=2))
+case("OPBR1218_tangent_without_normal.gltf", "OPBR1218", "TANGENT without NORMAL (normals stripped by a decimation step): loaders must ignore the tangents.",
+     json.dumps(_attributes(("TANGENT", {"componentType": 5126, "count": 3, "type": "VEC4"})), indent=2))
+case("OPBR1205_texcoord_sets_gap.gltf", "OPBR1205", "TEXCOORD_0 and TEXCOORD_2 without TEXCOORD_1 (a UV set deleted without renumbering).",
+     json.dumps(_attributes(("TEXCOORD_2", _MESH_ACCESSORS[1])), indent=2))
+case("OPBR1220_basisu_legacy_basis_file.gltf", "OPBR1220", "KHR_texture_basisu's source is a pre-ratification .basis file declared image/ktx2.",
+     json.dumps(_basisu("textures/albedo.basis"), indent=2))
+case("OPBR1220_basisu_ktx2_raw_texels.gltf", "OPBR1220", "KHR_texture_basisu's source is a KTX2 of raw R8G8B8A8_SRGB texels (toktx without --encode), no Basis Universal payload.",
+     json.dumps(_basisu("textures/albedo_rgba8.ktx2"), indent=2))
+case("OPBR1210_image_bufferview_stride.glb", "OPBR1210", "The bufferView of an embedded PNG declares byteStride 4 (set on every view by the exporter).",
+     _image_in_strided_view())
+case("OPBR1210_draco_without_bufferview.gltf", "OPBR1210", "KHR_draco_mesh_compression on a primitive without the bufferView of its compressed stream.",
+     json.dumps(dict(_attributes(), extensionsUsed=["KHR_draco_mesh_compression"],
+                     meshes=[{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0, "extensions": {
+                         "KHR_draco_mesh_compression": {"attributes": {"POSITION": 0, "TEXCOORD_0": 1}}}}]}]), indent=2))
+
 EXTRA_FILES = {
     "OPBR1209_buffers/uv_short.bin": _UV_DATA[:44],  # 16 bytes short of the 60 its buffer declares
     "OPBR1013_look.mtlx": opbr('<input name="base_weight" type="float" value="1" />'),
@@ -905,6 +962,8 @@ EXTRA_FILES = {
     "OPBR1020_layers/look_m.usda": b'#usda 1.0\n(\n    metersPerUnit = 1\n)\nover "M"\n{\n    over "S"\n    {\n'
                                    b'        float inputs:transmission_depth = 2.5\n    }\n}\n',
     "textures/scrambled.png": bytes((i * 73 + 41) % 256 for i in range(600)),
+    "textures/albedo.basis": b"sB\x13\x00M\x00\x00\x10" + bytes(56),  # a legacy .basis header's signature
+    "textures/albedo_rgba8.ktx2": _ktx2(43, 1),  # VK_FORMAT_R8G8B8A8_SRGB, colour model RGBSDA
 }
 
 
