@@ -274,7 +274,8 @@ def test_package_entries_that_would_escape_an_extraction_folder_are_reported(tmp
     path = tmp_path / "escape.usdz"
     path.write_bytes(local_entry("root.usda", GOOD.encode()) + local_entry(entry, b"\x89PNG"))
     result = validate(path)
-    found = diagnostics(result, "OPBR1012")
+    # (usd-core's own ByteMisalignment errors of these hand-built, unaligned packages are OPBR1012 too: set aside)
+    found = [d for d in diagnostics(result, "OPBR1012") if not d["message"].startswith("usd-core")]
     assert result.exit_code == 1 and len(found) == 1 and repr(entry) in found[0]["message"]
     assert found[0]["location"]["file"] == str(path)
 
@@ -282,7 +283,7 @@ def test_package_entries_that_would_escape_an_extraction_folder_are_reported(tmp
 def test_a_compressed_entry_is_reported(tmp_path):
     path = tmp_path / "deflated.usdz"
     path.write_bytes(local_entry("root.usda", GOOD.encode()) + local_entry("albedo.png", b"\0" * 256, method=8))
-    found = diagnostics(validate(path), "OPBR1012")
+    found = [d for d in diagnostics(validate(path), "OPBR1012") if not d["message"].startswith("usd-core")]
     assert len(found) == 1 and "compressed" in found[0]["message"]
 
 
