@@ -137,12 +137,13 @@ _TILED = ('<tiledimage name="albedo" type="color3">\n  <input name="file" type="
           '</open_pbr_surface>')
 
 ZERO_UV_SCALE = Rule(
-    "OPBR711", "uv-scale-zero", Severity.WARNING,
+    "OPBR711", "uv-scale-zero", Severity.ERROR,
     "An image's coordinates are scaled by 0 in u or v (a tiledimage's uvtiling, a place2d's or UsdTransform2d's "
     "scale): the texture collapses to one texel, or a line of them, across the surface.",
     "tiledimage multiplies the coordinates by uvtiling, so a tiling of 0 maps every point to the same texel; "
     "place2d divides by its scale, so a 0 scale divides by zero (MaterialX's stdlib node definitions). Usually "
-    "an unset tiling exported as 0. glTF's KHR_texture_transform scale of 0 is OPBR1210.",
+    "an unset tiling exported as 0. glTF's KHR_texture_transform scale of 0 is OPBR1210. An error, "
+    "as OPBR1016 (a UsdUVTexture without coordinates) is: the texture the author painted does not show at all.",
     passing=_TILED.format(tiling="4, 4"), failing=_TILED.format(tiling="0, 0"), example_files=("albedo.png",),
 )
 
