@@ -560,3 +560,19 @@ def test_a_textured_roughness_under_a_rough_coat_survives_between_models_whose_c
     image = shader.getInput(roughness).getConnectedNode()
     assert image.getCategory() == "image" and image.getInputValue("file").endswith("rough.png")
     assert any("carried as it is" in d.message for d in conversion.diagnostics)
+
+
+@pytest.mark.parametrize("orientation, expected", [(6, "warning"), (1, None)])
+def test_a_jpeg_texture_with_an_exif_orientation(tmp_path, orientation, expected):
+    """The red team's session-17 basecolor_jpeg_exif_rotated: a phone photo's EXIF Orientation 6 (rotate 90) is
+    applied by browsers and ignored by most engines; Pillow reads the tag (274) from the header."""
+    image = Image.new("RGB", (4, 2), (200, 120, 40))
+    exif = Image.Exif()
+    exif[0x0112] = orientation
+    image.save(tmp_path / "photo.jpg", exif=exif.tobytes())
+    assert Image.open(tmp_path / "photo.jpg").getexif().get(0x0112) == orientation
+    document = {"asset": {"version": "2.0"}, "images": [{"uri": "photo.jpg"}], "textures": [{"source": 0}],
+                "materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]}
+    path = tmp_path / "m.gltf"
+    path.write_text(json.dumps(document))
+    assert _codes(path).get("OPBR1232") == expected

@@ -52,7 +52,20 @@ IMAGE_ENCODING = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (IMAGE_ENCODING,)
+_ROTATED_JPEG = "data:image/jpeg;base64,/9j/4AAQSkZJRgABAQAAAQABAAD/4QAiRXhpZgAATU0AKgAAAAgAAQESAAMAAAABAAYAAAAAAAD/2wBDABALDA4MChAODQ4SERATGCgaGBYWGDEjJR0oOjM9PDkzODdASFxOQERXRTc4UG1RV19iZ2hnPk1xeXBkeFxlZ2P/2wBDARESEhgVGC8aGi9jQjhCY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2P/wAARCAACAAIDASIAAhEBAxEB/8QAHwAAAQUBAQEBAQEAAAAAAAAAAAECAwQFBgcICQoL/8QAtRAAAgEDAwIEAwUFBAQAAAF9AQIDAAQRBRIhMUEGE1FhByJxFDKBkaEII0KxwRVS0fAkM2JyggkKFhcYGRolJicoKSo0NTY3ODk6Q0RFRkdISUpTVFVWV1hZWmNkZWZnaGlqc3R1dnd4eXqDhIWGh4iJipKTlJWWl5iZmqKjpKWmp6ipqrKztLW2t7i5usLDxMXGx8jJytLT1NXW19jZ2uHi4+Tl5ufo6erx8vP09fb3+Pn6/8QAHwEAAwEBAQEBAQEBAQAAAAAAAAECAwQFBgcICQoL/8QAtREAAgECBAQDBAcFBAQAAQJ3AAECAxEEBSExBhJBUQdhcRMiMoEIFEKRobHBCSMzUvAVYnLRChYkNOEl8RcYGRomJygpKjU2Nzg5OkNERUZHSElKU1RVVldYWVpjZGVmZ2hpanN0dXZ3eHl6goOEhYaHiImKkpOUlZaXmJmaoqOkpaanqKmqsrO0tba3uLm6wsPExcbHyMnK0tPU1dbX2Nna4uPk5ebn6Onq8vP09fb3+Pn6/9oADAMBAAIRAxEAPwCSiiivGPWP/9k="
+_PLAIN_JPEG = "data:image/jpeg;base64,/9j/4AAQSkZJRgABAQAAAQABAAD/2wBDABALDA4MChAODQ4SERATGCgaGBYWGDEjJR0oOjM9PDkzODdASFxOQERXRTc4UG1RV19iZ2hnPk1xeXBkeFxlZ2P/2wBDARESEhgVGC8aGi9jQjhCY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2NjY2P/wAARCAACAAIDASIAAhEBAxEB/8QAHwAAAQUBAQEBAQEAAAAAAAAAAAECAwQFBgcICQoL/8QAtRAAAgEDAwIEAwUFBAQAAAF9AQIDAAQRBRIhMUEGE1FhByJxFDKBkaEII0KxwRVS0fAkM2JyggkKFhcYGRolJicoKSo0NTY3ODk6Q0RFRkdISUpTVFVWV1hZWmNkZWZnaGlqc3R1dnd4eXqDhIWGh4iJipKTlJWWl5iZmqKjpKWmp6ipqrKztLW2t7i5usLDxMXGx8jJytLT1NXW19jZ2uHi4+Tl5ufo6erx8vP09fb3+Pn6/8QAHwEAAwEBAQEBAQEBAQAAAAAAAAECAwQFBgcICQoL/8QAtREAAgECBAQDBAcFBAQAAQJ3AAECAxEEBSExBhJBUQdhcRMiMoEIFEKRobHBCSMzUvAVYnLRChYkNOEl8RcYGRomJygpKjU2Nzg5OkNERUZHSElKU1RVVldYWVpjZGVmZ2hpanN0dXZ3eHl6goOEhYaHiImKkpOUlZaXmJmaoqOkpaanqKmqsrO0tba3uLm6wsPExcbHyMnK0tPU1dbX2Nna4uPk5ebn6Onq8vP09fb3+Pn6/9oADAMBAAIRAxEAPwCSiiivGPWP/9k="
+
+IMAGE_ORIENTATION = Rule(
+    "OPBR1232", "gltf-image-exif-orientation", Severity.WARNING,
+    "A JPEG texture carries an EXIF Orientation other than 1 (a phone photo turned 90 degrees in its metadata).",
+    "glTF says nothing about EXIF: browsers decode a JPEG with its orientation applied (the HTML image decoding "
+    "and createImageBitmap's default), most engines and native loaders ignore it, so the texture lands rotated "
+    "or mirrored differently per viewer. Re-export the image with its pixels rotated and the tag removed.",
+    passing=_emissive(_PLAIN_JPEG), failing=_emissive(_ROTATED_JPEG),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+RULES = (IMAGE_ENCODING, IMAGE_ORIENTATION)
 
 #: The channel content of an image is inspected up to this many pixels (4096 x 4096); a larger image is not.
 MAX_INSPECTED_PIXELS = 4096 * 4096
@@ -80,6 +93,13 @@ def _encodings(asset, facts, images, context):
                 IMAGE_ENCODING, f"image {image['index']} ({image['file']}) is a four-component (CMYK) JPEG, which is not "
                 "JFIF: glTF viewers decode it with wrong colours or not at all", Location(asset.path, None, image["pointer"]),
                 hint="re-export it as an RGB JPEG or a PNG")
+    for image in images:
+        orientation = image.get("orientation")
+        if isinstance(orientation, int) and orientation not in (0, 1):
+            yield context.diagnostic(
+                IMAGE_ORIENTATION, f"image {image['index']} ({image['file']}) is a JPEG with EXIF Orientation "
+                f"{orientation}: browsers rotate it, most engines do not", Location(asset.path, None, image["pointer"]),
+                hint="re-export it with the rotation applied to the pixels and no Orientation tag")
     for use in facts.get("texture_uses", ()):
         image = images[use["image"]] if isinstance(use.get("image"), int) and 0 <= use["image"] < len(images) else None
         if image is None or image.get("bit_depth") != 16 or not use["pointer"].endswith(_COLOUR_TEXTURES):

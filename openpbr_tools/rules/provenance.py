@@ -358,6 +358,10 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1109": ("The converted material differs visibly (mean CIEDE2000 above the threshold) in the lobe "
                  "evaluator's render.", "https://www.ece.rochester.edu/~gsharma/ciede2000/"),
     # -- gltf ----------------------------------------------------------------------------------
+    "OPBR1232": ("Browsers apply a JPEG's EXIF Orientation when they decode it (HTML's image decoding, "
+                 "createImageBitmap's imageOrientation default); engines and native loaders mostly ignore it, so the "
+                 "texture is oriented differently per viewer.",
+                 f"{GLTF}; https://html.spec.whatwg.org/multipage/imagebitmap-and-animations.html#dom-imagebitmapoptions-imageorientation"),
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
                  "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
                  "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),

@@ -278,6 +278,8 @@ def _measure(source, info: dict, head: bytes | None = None) -> None:
                 info["mime"] = info["mime"] or detected
                 info["mode"] = image.mode
                 info["alpha"] = image.mode in ALPHA_MODES or "transparency" in image.info
+                if detected == "image/jpeg":  # EXIF Orientation (tag 274): from the header, nothing decoded
+                    info["orientation"] = image.getexif().get(0x0112)
     except Exception:  # noqa: BLE001 - Pillow raises many exception types for images it cannot identify
         pass  # (io.images.damage says why)
 
