@@ -576,3 +576,21 @@ def test_a_jpeg_texture_with_an_exif_orientation(tmp_path, orientation, expected
     path = tmp_path / "m.gltf"
     path.write_text(json.dumps(document))
     assert _codes(path).get("OPBR1232") == expected
+
+
+def test_a_usd_preview_surface_on_the_materialx_surface_output(tmp_path):
+    """ub05: outputs:mtlx:surface fed by info:id UsdPreviewSurface. MaterialX's library (the anchor) defines the
+    preview surface as ND_UsdPreviewSurface_surfaceshader and has no node definition named UsdPreviewSurface, so a
+    renderer reading the mtlx context through MaterialX finds none. Reported as a warning (Storm knows the id)."""
+    import MaterialX as mx
+
+    from openpbr_tools.rules.usd_shading import PREVIEW_IN_MTLX_CONTEXT as rule
+
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    assert library.getNodeDef("ND_UsdPreviewSurface_surfaceshader") is not None
+    assert library.getNodeDef("UsdPreviewSurface") is None
+    for text, expected in ((rule.failing, "warning"), (rule.passing, None)):
+        path = tmp_path / f"{expected}.usda"
+        path.write_text(text)
+        assert _codes(path).get("OPBR1029") == expected

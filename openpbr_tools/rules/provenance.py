@@ -308,6 +308,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "team's round-five ub02).", f"{_USD}pxr/usd/usd/instancing.dox; {_USD}pxr/usd/usd/prim.h"),
     "OPBR1028": ("UsdUVTexture's scale multiplies the texel values: a tiling written into it brightens an albedo "
                  "past 1 instead of repeating the texture.", USD_PREVIEW),
+    "OPBR1029": ("The mtlx render context is read through MaterialX's node definitions, where the preview surface "
+                 "is ND_UsdPreviewSurface_surfaceshader; the glslfx id UsdPreviewSurface names none there.",
+                 f"{MX_PREVIEW}; {HD_MTLX}"),
     "OPBR1011": ("An arc outside the asset breaks when the asset moves or is packaged, and reads files the "
                  "asset's owner did not ship; the toolkit never opens it.", f"{USDZ}; {USD_COMPLIANCE}"),
     "OPBR1012": ("The USDZ specification requires stored (uncompressed), relative, aligned entries; ARKit and "

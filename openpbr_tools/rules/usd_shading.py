@@ -236,6 +236,22 @@ INSTANCE_OVERRIDE = Rule(
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
 
+_PREVIEW_AS_MTLX = ('def Material "M"\n{\n    token outputs:OUTPUT.connect = </M/P.outputs:surface>\n\n'
+                    '    def Shader "P"\n    {\n        uniform token info:id = "UsdPreviewSurface"\n'
+                    '        color3f inputs:diffuseColor = (0.5, 0.4, 0.3)\n        token outputs:surface\n    }\n}\n')
+PREVIEW_IN_MTLX_CONTEXT = Rule(
+    "OPBR1029", "usd-preview-in-materialx-context", Severity.WARNING,
+    "A Material's MaterialX surface output (outputs:mtlx:surface) is fed by a UsdPreviewSurface shader (info:id "
+    "UsdPreviewSurface), the glslfx node, not a MaterialX node definition.",
+    "Renderers that read the mtlx render context look the node up among MaterialX's node definitions, where the "
+    "preview surface is ND_UsdPreviewSurface_surfaceshader: an id of UsdPreviewSurface names none, so a "
+    "MaterialX-only renderer finds no surface. Storm, which also knows the glslfx node, can hide the mistake. Wire "
+    "the preview to the universal outputs:surface, or give the shader the MaterialX id.",
+    passing=stage_example(_PREVIEW_AS_MTLX.replace("OUTPUT", "surface"), metadata='defaultPrim = "M"\n    metersPerUnit = 1\n    upAxis = "Y"'),
+    failing=stage_example(_PREVIEW_AS_MTLX.replace("OUTPUT", "mtlx:surface"), metadata='defaultPrim = "M"\n    metersPerUnit = 1\n    upAxis = "Y"'),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
 RENDER_CONTEXT = Rule(
     "OPBR1024", "usd-render-context-misspelt", Severity.ERROR,
     "A Material's surface output is only in a render context no renderer reads under that name "
@@ -248,7 +264,7 @@ RENDER_CONTEXT = Rule(
 )
 
 RULES = (BINDING_TARGET, INPUT_RELATIONSHIP, CONNECTION_REFUSED, LAYER_UNITS, BINDING_PURPOSE, BINDING_STRENGTH,
-         COLLECTION_EMPTY, COLLECTION_NO_GEOMETRY, INSTANCE_OVERRIDE, RENDER_CONTEXT)
+         COLLECTION_EMPTY, COLLECTION_NO_GEOMETRY, INSTANCE_OVERRIDE, PREVIEW_IN_MTLX_CONTEXT, RENDER_CONTEXT)
 
 
 def check(asset, context):
@@ -293,6 +309,12 @@ def check(asset, context):
                 INSTANCE_OVERRIDE, f"{detail['instance']} is instanceable, so usd-core ignores what this stage authors "
                 f"below it ({ignored}): the override does nothing", where,
                 hint="author it on the instance prim, or make this prim not instanceable")
+        elif observation.kind == "usd_preview_in_mtlx_context":
+            yield context.diagnostic(
+                PREVIEW_IN_MTLX_CONTEXT, f"{detail['shader']} (info:id {detail['id']}) feeds the MaterialX surface "
+                "output: MaterialX names that node ND_UsdPreviewSurface_surfaceshader, so a MaterialX-only renderer "
+                "finds no surface", where,
+                hint="connect it to outputs:surface instead, or set info:id = \"ND_UsdPreviewSurface_surfaceshader\"")
         elif observation.kind == "usd_render_context":
             yield context.diagnostic(
                 RENDER_CONTEXT, f"the Material's only surface output is {detail['output']}: no renderer reads the "

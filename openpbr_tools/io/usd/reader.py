@@ -296,6 +296,8 @@ class _Reader(NetworkReader):
             self.asset.observe("unsupported_shader", where, material=str(material_prim.GetPath()), category=category)
             return
         model, id_version, flavour = known
+        if flavour == "usd" and context == MATERIALX_CONTEXT:  # the glslfx id under MaterialX's render context
+            self.asset.observe("usd_preview_in_mtlx_context", where, id=shader_id, shader=str(shader_prim.GetPath()))
         accepted = ("surface",) if flavour == "usd" else ("out", "surface")
         # a connection to another output the shader prim declares (Pixar's own test stages connect a
         # UsdPreviewSurface's outputs:out) still names the shader: UsdShade's ComputeSurfaceSource and Storm
