@@ -33,6 +33,19 @@ def usd_uvtexture_names() -> tuple[str, ...]:
     return tuple(_data()["usd_uvtexture_source"])
 
 
+def transfer(name: str | None):
+    """The transfer function of a MaterialX colour space ("linear", "data", "space" for its own curve, or a gamma);
+    ``None`` for a name that is not a MaterialX one."""
+    spec = _data()["materialx"].get(name) if name else None
+    return spec["transfer"] if spec is not None else None
+
+
+def encoded(name: str | None) -> bool:
+    """Whether a MaterialX colour space has a non-linear transfer (srgb_texture, g22_rec709): values read through
+    it are bent; ``False`` for a linear or data space and for a name that is not a MaterialX one."""
+    return transfer(name) not in (None, "linear", "data")
+
+
 def materialx_remapped(name: str | None) -> str | None:
     """The cmlib name MaterialX's own colour management maps ``name`` to (a legacy name such as ``lin_ap1`` or
     ``gamma22``, an ASWF colour-interop name such as ``lin_p3d65_scene``); ``name`` itself otherwise."""

@@ -200,20 +200,17 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             if state is None:
                 continue
             notes, _, translated = state
-            carried, fallback_only = past_hub.carry(material, translated), ()
             result.materials.append(translated)
             result.pairs.append((material, translated))
+            fallback = None
             if kind == "usd":
                 preview = next(previews)
                 notes += preview.diagnostics
-                fallback_only = past_hub.carry(material, preview.material)
-                preview.material.name = f"{translated.name}_preview"
-                preview.material.material_name = translated.material_name
-                result.materials.append(preview.material)
-            notes = past_hub.settle_notes(notes, material, carried, fallback_only, context)
-            notes = past_hub.carry_roughness(material, translated, notes, context)
-            if kind == "usd":
-                notes = past_hub.carry_roughness(material, preview.material, notes, context)
+                fallback = preview.material
+                fallback.name = f"{translated.name}_preview"
+                fallback.material_name = translated.material_name
+                result.materials.append(fallback)
+            notes = past_hub.past_the_hub(material, translated, fallback, notes, context)
             result.diagnostics += _at_material(notes, material)
         looks, look_notes = convert_looks.looks(asset, result.pairs, kind, context)
         result.diagnostics += look_notes

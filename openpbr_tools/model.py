@@ -83,13 +83,14 @@ def normal_map_decode(strength: float) -> tuple[tuple[float, float, float], tupl
     return (2.0 * strength, 2.0 * strength, 2.0), (-strength, -strength, -1.0)
 
 
-def _three(value, default: float) -> tuple[float, float, float]:
+def rgb_components(value, default: float) -> tuple[float, float, float]:
+    """A texture's scale or bias for its red, green and blue (a UsdUVTexture's float4, a colour, a scalar for all
+    three, or unauthored: ``default``); a short sequence is padded with ``default``."""
     if value is None:
         return (default,) * 3
-    if isinstance(value, (int, float)):
+    if not isinstance(value, (tuple, list)):
         return (float(value),) * 3
-    flat = [float(v) for v in value]
-    return tuple((flat * 3)[:3]) if len(flat) == 1 else tuple(flat[:3])
+    return tuple(float(v) for v in (tuple(value) + (default,) * 3)[:3])
 
 
 def normal_decode(texture: "Texture") -> tuple[tuple[float, float, float], tuple[float, float, float]] | None:
@@ -100,7 +101,7 @@ def normal_decode(texture: "Texture") -> tuple[tuple[float, float, float], tuple
     y (MaterialX's ND_normalmap). ``None`` for a texture that is no normal map."""
     if texture.normal_map is None:
         return None
-    scale, bias = _three(texture.scale, 1.0), _three(texture.bias, 0.0)
+    scale, bias = rgb_components(texture.scale, 1.0), rgb_components(texture.bias, 0.0)
     if texture.node_category == "UsdUVTexture" or texture.decoded_by_scale_bias:
         return scale, bias
     k = float(texture.normal_map)

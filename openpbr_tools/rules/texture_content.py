@@ -14,12 +14,11 @@ import math
 import os
 import re
 
-from ..colorspaces import materialx_name
+from .. import colorspaces
 from ..diagnostics import Severity
 from ..io.image_files import head_of
 from ..io.usd.types import is_eight_bit
 from ..model import Location
-from ..resources import load_json
 from . import Rule, for_each_input
 from .textures import COLOUR_IMAGE_AS_DATA, _TILE_TOKENS, _files, _gltf, tiles
 
@@ -186,10 +185,13 @@ def check(asset, context):
         first = key not in seen
         seen.add(key)
         files = _readable(asset, texture, context) if first else []
+        # the file a texture reads (a UDIM set's first tile) and its format from its first bytes, read once
+        image = files[0] if files else None
+        found = _format(image[1]) if image is not None else None
         if first:
-            yield from _content(files, texture, where, context)
+            yield from _content(image, found, texture, where, context)
             yield from _first_tile(asset, texture, where, context)
-            yield from _layer(files, texture, where, context)
+            yield from _layer(image, found, texture, where, context)
             yield from _rotation(texture, where, context)
         if entry.name in _TANGENT_INPUTS and texture.normal_map is None and texture.scale is None \
                 and texture.bias is None and is_eight_bit(texture.file):
@@ -208,8 +210,8 @@ def check(asset, context):
                 + (f" channel {'RGBA'[texture.channels[0]]}" if texture.channels else "")
                 + ", a smoothness (glossiness) map, as it is: smooth areas render rough", entry.location,
                 hint="invert it (an invert node, or a scale of -1 and a bias of 1)")
-        if first and parameter_role(table, entry.name) == "color" and files:
-            yield from _declared_srgb(files, texture, entry, context)
+        if first and found == "PNG" and parameter_role(table, entry.name) == "color":
+            yield from _declared_srgb(image, texture, entry, context)
         if entry.type == "float" and texture.channels in (None, (0,)) and texture.image_type in ("float", None) \
                 and entry.name != "occlusion" and _OCCLUSION_FIRST.search(os.path.splitext(os.path.basename(texture.file))[0]):
             yield context.diagnostic(
@@ -218,7 +220,7 @@ def check(asset, context):
                 hint="read G (roughness) or B (metalness) with an extract node, or a separate3's outg / outb")
 
 
-_ROUGHNESS_INPUTS = ("specular_roughness", "coat_roughness", "fuzz_roughness", "roughness", "coat_roughness")
+_ROUGHNESS_INPUTS = ("specular_roughness", "coat_roughness", "fuzz_roughness", "roughness")
 _SMOOTHNESS_NAME = re.compile(r"(smooth|gloss)", re.IGNORECASE)
 
 
@@ -237,27 +239,23 @@ def parameter_role(table, name: str) -> str | None:
     return parameter.role if parameter is not None else None
 
 
-def _declared_srgb(files, texture, entry, context):
-    """OPBR722: an 8-bit PNG with an sRGB chunk read through a linear colour space."""
-    space = materialx_name(texture.colorspace) if texture.colorspace else None
-    spec = load_json("colorspaces.json")["materialx"].get(space) if space else None
-    if spec is None or spec["transfer"] != "linear":
+def _declared_srgb(image, texture, entry, context):
+    """OPBR722: an 8-bit PNG (``image``: (name, path)) with an sRGB chunk read through a linear colour space."""
+    if colorspaces.transfer(colorspaces.materialx_name(texture.colorspace)) != "linear":
         return
-    for name, real in files[:1]:
-        if _format(real) != "PNG":
-            return
-        try:
-            from PIL import Image  # lazy: Pillow only for a PNG a colour input reads through a linear space
+    name, real = image
+    try:
+        from PIL import Image  # lazy: Pillow only for a PNG a colour input reads through a linear space
 
-            with Image.open(real) as opened:
-                declared = "srgb" in opened.info and opened.mode in ("RGB", "RGBA", "P", "L", "LA")
-        except (OSError, ValueError):
-            return
-        if declared:
-            yield context.diagnostic(
-                SRGB_IMAGE_AS_LINEAR, f"{entry.name} reads {name!r}, whose sRGB chunk declares sRGB-encoded values, "
-                f"through the linear colour space {texture.colorspace!r}: the sRGB curve is never removed",
-                entry.location, hint="tag it srgb_texture")
+        with Image.open(real) as opened:
+            declared = "srgb" in opened.info and opened.mode in ("RGB", "RGBA", "P", "L", "LA")
+    except (OSError, ValueError):
+        return
+    if declared:
+        yield context.diagnostic(
+            SRGB_IMAGE_AS_LINEAR, f"{entry.name} reads {name!r}, whose sRGB chunk declares sRGB-encoded values, "
+            f"through the linear colour space {texture.colorspace!r}: the sRGB curve is never removed",
+            entry.location, hint="tag it srgb_texture")
 
 
 def _readable(asset, texture, context) -> list[tuple[str, str]]:
@@ -272,25 +270,22 @@ def _format(path: str) -> str | None:
     return next((name for signature, name in SIGNATURES if head.startswith(signature)), None)
 
 
-def _content(files, texture, where, context):
-    for name, real in files[:1]:
-        promised = SUFFIXES.get(os.path.splitext(real)[1].lower())
-        found = _format(real)
-        if promised and found and found != promised:
-            yield context.diagnostic(
-                CONTENT_NOT_SUFFIX, f"texture {name!r} is a {found} image named as {promised}: loaders that pick the "
-                "decoder by the name fail on it", where, hint=f"re-export it as {promised}, or name it for what it is")
-        elif found in LINEAR_FORMATS and texture.colorspace not in (None, "auto") and \
-                _encoded(materialx_name(texture.colorspace)):
-            yield context.diagnostic(
-                LINEAR_IMAGE_AS_SRGB, f"texture {name!r} is {found} (scene-linear) but tagged "
-                f"{texture.colorspace!r}: its values are decoded as sRGB", where,
-                hint="tag it with the linear colour space it holds (lin_rec709, acescg)")
-
-
-def _encoded(space: str | None) -> bool:
-    spec = load_json("colorspaces.json")["materialx"].get(space) if space else None
-    return spec is not None and spec["transfer"] not in ("linear", "data")
+def _content(image, found, texture, where, context):
+    """OPBR714 and OPBR715 for ``image`` ((name, path), or None), whose first bytes say it is ``found``."""
+    if image is None:
+        return
+    name, real = image
+    promised = SUFFIXES.get(os.path.splitext(real)[1].lower())
+    if promised and found and found != promised:
+        yield context.diagnostic(
+            CONTENT_NOT_SUFFIX, f"texture {name!r} is a {found} image named as {promised}: loaders that pick the "
+            "decoder by the name fail on it", where, hint=f"re-export it as {promised}, or name it for what it is")
+    elif found in LINEAR_FORMATS and texture.colorspace not in (None, "auto") and \
+            colorspaces.encoded(colorspaces.materialx_name(texture.colorspace)):
+        yield context.diagnostic(
+            LINEAR_IMAGE_AS_SRGB, f"texture {name!r} is {found} (scene-linear) but tagged "
+            f"{texture.colorspace!r}: its values are decoded as sRGB", where,
+            hint="tag it with the linear colour space it holds (lin_rec709, acescg)")
 
 
 def _first_tile(asset, texture, where, context):
@@ -311,22 +306,20 @@ def _first_tile(asset, texture, where, context):
             hint=f"restore tile {first}, or move the UVs to the tiles that exist")
 
 
-def _layer(files, texture, where, context):
-    if not texture.layer:
+def _layer(image, found, texture, where, context):
+    if not texture.layer or found != "OpenEXR":
         return
-    for name, real in files[:1]:
-        if _format(real) != "OpenEXR":
-            return
-        channels = _exr_channels(real)
-        if channels is None:
-            return
-        prefix = texture.layer + "."
-        if not any(channel.startswith(prefix) for channel in channels):
-            layers = sorted({c.rsplit(".", 1)[0] for c in channels if "." in c})
-            yield context.diagnostic(
-                LAYER_MISSING, f"texture {name!r} has no layer {texture.layer!r}"
-                + (f" (its layers: {', '.join(layers)})" if layers else " (it has no layers, only the channels "
-                   + ", ".join(channels[:6]) + ")"), where, hint="name one of the file's layers")
+    name, real = image
+    channels = _exr_channels(real)
+    if channels is None:
+        return
+    prefix = texture.layer + "."
+    if not any(channel.startswith(prefix) for channel in channels):
+        layers = sorted({c.rsplit(".", 1)[0] for c in channels if "." in c})
+        yield context.diagnostic(
+            LAYER_MISSING, f"texture {name!r} has no layer {texture.layer!r}"
+            + (f" (its layers: {', '.join(layers)})" if layers else " (it has no layers, only the channels "
+               + ", ".join(channels[:6]) + ")"), where, hint="name one of the file's layers")
 
 
 def _exr_channels(path: str) -> list[str] | None:

@@ -21,7 +21,6 @@ from ..diagnostics import Severity
 from ..io.images import image_layout
 from ..io.usd.types import UV_TEXTURE_ID, is_eight_bit
 from ..model import Location, Texture
-from ..resources import load_json
 from . import Rule, for_each_input
 from . import colorspace as colorspace_rules
 from .colorspace import (COLOR_TEXTURE_RAW, COLORSPACE_IGNORED, DATA_TEXTURE_MANAGED, UNKNOWN_COLORSPACE, ignored_colorspace,
@@ -139,10 +138,9 @@ def _is_encoded(name: str | None) -> bool:
     """True for colour spaces with a non-linear transfer curve (sRGB, gamma 2.2 ...), in any scheme."""
     if not name:
         return False
-    known = load_json("colorspaces.json")["materialx"]
-    spec = known.get(name) or known.get(colorspaces.materialx_equivalent(name) or "")
-    if spec is not None:
-        return spec["transfer"] not in ("linear", "data")
+    for candidate in (name, colorspaces.materialx_equivalent(name)):
+        if colorspaces.transfer(candidate) is not None:
+            return colorspaces.encoded(candidate)
     return name == "sRGB" or name.startswith(("srgb_", "g18_", "g22_", "g24_"))
 
 

@@ -18,7 +18,7 @@ from __future__ import annotations
 from .. import colorspaces, tables
 from ..diagnostics import Severity
 from ..io.usd.types import UV_TEXTURE_ID, is_eight_bit
-from ..model import Location
+from ..model import Location, rgb_components
 from . import Rule, constant_or_default
 from .usd_examples import stage_example
 
@@ -154,7 +154,7 @@ def _preview_conventions(material, context):
         entry = material.inputs.get(name)
         texture = entry.texture if entry is not None else None
         if texture is not None and texture.node_category == UV_TEXTURE_ID and texture.scale is not None:
-            scale = _rgb(texture.scale, 1.0)
+            scale = rgb_components(texture.scale, 1.0)
             if min(scale) >= 2.0:
                 yield context.diagnostic(
                     SCALE_AS_TILING, f"{name} reads {texture.file!r} scaled by {_fmt(scale)}: scale multiplies the "
@@ -164,7 +164,7 @@ def _preview_conventions(material, context):
     normal = material.inputs.get("normal")
     texture = normal.texture if normal is not None else None
     if texture is not None and texture.node_category == UV_TEXTURE_ID and is_eight_bit(texture.file):
-        scale, bias = _rgb(texture.scale, 1.0), _rgb(texture.bias, 0.0)
+        scale, bias = rgb_components(texture.scale, 1.0), rgb_components(texture.bias, 0.0)
         if not _decodes_unit_normals(scale, bias):
             yield context.diagnostic(
                 NORMAL_MAP_ENCODING,
@@ -221,15 +221,6 @@ def _decodes_unit_normals(scale: tuple, bias: tuple) -> bool:
 
     z = sorted((round(bias[2], 6), round(bias[2] + scale[2], 6)))
     return symmetric(0) and symmetric(1) and z in ([-1.0, 1.0], [0.0, 1.0])
-
-
-def _rgb(value, default: float) -> tuple:
-    """UsdUVTexture's scale or bias for the rgb channels (a float4, a scalar, or unauthored)."""
-    if value is None:
-        return (default,) * 3
-    if not isinstance(value, tuple):
-        return (float(value),) * 3
-    return tuple(float(v) for v in (value + (default,) * 3)[:3])
 
 
 def _srgb_encode(linear: float) -> float:

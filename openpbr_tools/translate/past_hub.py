@@ -36,6 +36,19 @@ SHARED = ("occlusion",)
 HOLDERS = frozenset(("gltf_pbr", "UsdPreviewSurface"))
 
 
+def past_the_hub(source: Material, result: Material, fallback: Material | None, notes: list[Diagnostic],
+                 context) -> list[Diagnostic]:
+    """What a conversion through OpenPBR loses and ``result`` (and a USD output's UsdPreviewSurface ``fallback``)
+    can hold, put back from ``source``: the :data:`SHARED` inputs and a textured base roughness under a coat;
+    returns ``notes`` settled to say so."""
+    carried = carry(source, result)
+    fallback_only = carry(source, fallback) if fallback is not None else ()
+    notes = settle_notes(notes, source, carried, fallback_only, context)
+    for target in (result, fallback) if fallback is not None else (result,):
+        notes = carry_roughness(source, target, notes, context)
+    return notes
+
+
 def carry(source: Material, result: Material) -> tuple[str, ...]:
     """Copies ``source``'s :data:`SHARED` inputs onto ``result`` where both models hold them (and the
     result has none of its own); returns the names carried."""

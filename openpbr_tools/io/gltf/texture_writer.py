@@ -17,7 +17,6 @@ import re
 
 from ... import colorspaces
 from ...model import Texture, normal_decode, normal_encoding
-from ...resources import load_json
 from ...rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from ..images import ImageUndecodable
 from ..usd.types import WRAP_TO_ADDRESS_MODE
@@ -204,7 +203,7 @@ class TextureWriting:
             return None, False
         if slot.colour:
             return space, True
-        return (space, False) if _encoded(space) else (None, False)
+        return (space, False) if colorspaces.encoded(space) else (None, False)
 
     def fits(self, slot: slots.Slot, texture: Texture, source) -> bool:
         """Does the texture read ``slot``'s channels of its image, in the encoding glTF expects (and
@@ -215,7 +214,7 @@ class TextureWriting:
         if slot.colour:
             if space not in (None, slots.SRGB):
                 return False
-        elif space is not None and space in colorspaces.materialx_names() and _encoded(space):
+        elif colorspaces.encoded(space):
             return False
         if slot.texture_kind == "normalTextureInfo":
             return texture.channels in (None, (0, 1, 2)) and _normal_remap(slot, texture, 0) is None
@@ -309,12 +308,6 @@ def _normal_remap(slot: slots.Slot, texture: Texture, index: int) -> tuple[float
         return None
     scale, bias, _ = normal_encoding(texture)
     return None if scale is None else (scale[min(index, 2)], bias[min(index, 2)])
-
-
-def _encoded(space: str) -> bool:
-    """A colour space with a non-linear transfer (srgb_texture, g22_...): data read through it is bent."""
-    spec = load_json("colorspaces.json")["materialx"].get(space)
-    return spec is not None and spec["transfer"] not in ("linear", "data")
 
 
 

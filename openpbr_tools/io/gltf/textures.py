@@ -118,8 +118,9 @@ class TextureReading:
             node=pointer, node_category="gltf_texture", location=self.location(pointer, "index"),
             packaged=image["packaged"],
         )
-        result.wrap = self.sampler(texture.get("sampler"), index)
-        result.filter = self.magnification(texture.get("sampler"))
+        sampler = texture.get("sampler")
+        result.wrap = self.sampler(sampler, index)
+        result.filter = _magnification_filter(self.document.item("samplers", sampler)) if sampler is not None else None
         transform = _transform(info)
         if transform is not None:
             texcoord = transform.get("texCoord", texcoord)
@@ -166,9 +167,6 @@ class TextureReading:
         identity = tuple(1.0 for _ in factor) if isinstance(factor, tuple) else 1.0
         if factor != identity:
             texture.scale = factor
-
-    def magnification(self, index) -> str | None:
-        return _magnification_filter(self.document.item("samplers", index)) if index is not None else None
 
     def sampler(self, index, texture_index: int) -> tuple[str, str] | None:
         if index is None:

@@ -20,6 +20,7 @@ from __future__ import annotations
 import os
 
 from ...model import Asset, Location
+from ...values import ValueSyntaxError, parse_value
 
 #: channels of each MaterialX type an extract takes
 _CHANNELS = {"float": 1, "color3": 3, "color4": 4, "vector2": 2, "vector3": 3, "vector4": 4}
@@ -30,10 +31,11 @@ def observe_document(document, asset: Asset, path: str, guard) -> None:
         name = element.getNamePath()
         return Location(path, asset.line_of.get(name), name, input_name)
 
-    used_categories = {node.getCategory() for node in document.traverseTree() if node.isA(_node_class())}
-    for node in document.traverseTree():
-        if not node.isA(_node_class()):
-            continue
+    import MaterialX as mx  # lazy: as the reader imports it
+
+    nodes = [element for element in document.traverseTree() if element.isA(mx.Node)]
+    used_categories = {node.getCategory() for node in nodes}
+    for node in nodes:
         category = node.getCategory()
         if category == "extract":
             _extract(node, asset, where)
@@ -41,9 +43,9 @@ def observe_document(document, asset: Asset, path: str, guard) -> None:
             scale = node.getInput("scale")
             if scale is not None and scale.getType() == "float" and scale.hasValueString():
                 try:
-                    value = float(scale.getValueString())
-                except ValueError:
-                    value = 0.0
+                    value = parse_value(scale.getValueString(), "float")
+                except ValueSyntaxError:
+                    value = 0.0  # (OPBR202 reports the value)
                 if value < 0:
                     asset.observe("mtlx_normalmap_negative", where(node, "scale"), node=node.getNamePath(), scale=value)
         for port in node.getInputs():
@@ -61,8 +63,6 @@ def observe_document(document, asset: Asset, path: str, guard) -> None:
         if len(names) > 1:
             first = document.getNodeDef(names[1])
             asset.observe("mtlx_default_versions", where(first), node=node_name, nodedefs=names)
-    import MaterialX as mx  # lazy: as the reader imports it
-
     for implementation in document.getImplementations():
         file = implementation.getFile()
         nodedef = implementation.getNodeDef()
@@ -84,12 +84,6 @@ def observe_document(document, asset: Asset, path: str, guard) -> None:
             geom = assignment.getGeom()
             if "|" in geom:
                 asset.observe("mtlx_look_geometry", where(assignment), look=look.getName(), geom=geom)
-
-
-def _node_class():
-    import MaterialX as mx  # lazy: as the reader imports it
-
-    return mx.Node
 
 
 def _extract(node, asset, where) -> None:

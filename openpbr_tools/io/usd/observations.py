@@ -49,13 +49,15 @@ def observe_layer_units(stage, observe, location, length_inputs) -> None:
                     layer=layer.GetDisplayName(), layer_unit=float(unit), stage_unit=stage_unit, attribute=found[0])
 
 
-def observe_structure(prim, stage, observe, location) -> None:
+def observe_structure(prim, stage, observe, location) -> bool:
     """What UsdShade refuses or ignores in ``prim``'s scene description: a direct material binding
-    whose target is no active Material (USD renders the prim unbound), an ``inputs:`` relationship on
-    a shading prim (a relationship is no input: the value is never connected), and a connection
+    whose target is no active (defined, concrete) Material (USD renders the prim unbound), an ``inputs:``
+    relationship on a shading prim (a relationship is no input: the value is never connected), a connection
     ``UsdShade.ConnectableAPI.CanConnect`` refuses (an interfaceOnly input fed by a node, a Material
     output fed from outside the Material; not a shader input fed across a Material's boundary, which
-    OpenUSD's own preview-surface tests do and Storm renders)."""
+    OpenUSD's own preview-surface tests do and Storm renders), opinions below an instance, and a variant
+    selection that names no variant. Returns whether the prim has a material binding with a target (convert
+    notes the bindings an output does not hold)."""
     from pxr import UsdShade  # lazy: as in observe_layer_units
 
     if prim.IsInstance():
@@ -66,15 +68,17 @@ def observe_structure(prim, stage, observe, location) -> None:
             variant_set = variant_sets.GetVariantSet(set_name)
             selection, names = variant_set.GetVariantSelection(), variant_set.GetVariantNames()
             if selection and names and selection not in names:  # usd-core composes none of the set's variants
+                meant = next((n for n in names if n.lower() == selection.lower()), None)
                 observe("dangling_reference", location(prim.GetPath(), None), attribute=f"variant selection {set_name}",
                         target=selection, ends=f"names no variant of the set ({', '.join(names)}): none of them applies"
-                        + (f" (variant names are case-sensitive: {next(n for n in names if n.lower() == selection.lower())!r}?)"
-                           if any(n.lower() == selection.lower() for n in names) else ""))
+                        + (f" (variant names are case-sensitive: {meant!r}?)" if meant else ""))
+    bound = False
     for relationship in prim.GetRelationships():
         name = relationship.GetName()
         if name.startswith("material:binding"):
             _observe_binding_form(prim, relationship, name, stage, observe, location)
             targets = relationship.GetTargets()
+            bound = bound or bool(targets)
             if ":collection:" in name:  # (the collection, the Material)
                 targets = targets[1:2] if len(targets) == 2 else []
             for target in targets:
@@ -95,8 +99,14 @@ def observe_structure(prim, stage, observe, location) -> None:
                     input=name, targets=[str(t) for t in relationship.GetTargets()])
     if prim.IsA(UsdShade.Material):
         _observe_render_contexts(prim, observe, location)
-    if not (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):  # (a Material is a NodeGraph)
-        return
+    if prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph):  # (a Material is a NodeGraph)
+        _observe_connections(prim, observe, location)
+    return bound
+
+
+def _observe_connections(prim, observe, location) -> None:
+    from pxr import UsdShade  # lazy: as in observe_layer_units
+
     connectable = UsdShade.ConnectableAPI(prim)
     for port in list(connectable.GetInputs(onlyAuthored=True)) + list(connectable.GetOutputs(onlyAuthored=True)):
         sources, _ = port.GetConnectedSources()

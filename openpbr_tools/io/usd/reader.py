@@ -134,9 +134,8 @@ class _Reader(NetworkReader):
                 if prototype in prototypes_read:
                     prims.PruneChildren()
                 prototypes_read.add(prototype)
-            observe_structure(prim, self.stage, self.asset.observe, self.location)
-            if any(r.GetName().startswith("material:binding") and r.GetTargets() for r in prim.GetRelationships()):
-                self.asset.extra["usd_bindings"] = self.asset.extra.get("usd_bindings", 0) + 1  # (convert notes them)
+            if observe_structure(prim, self.stage, self.asset.observe, self.location):  # (a bound prim: convert notes them)
+                self.asset.extra["usd_bindings"] = self.asset.extra.get("usd_bindings", 0) + 1
             if prim.HasAPI(self.Usd.ColorSpaceAPI):
                 name = self.authored_prim_colorspace(prim)
                 if name:
@@ -257,7 +256,6 @@ class _Reader(NetworkReader):
             if kind == "value" and found[0].GetPath() != attribute.GetPath():
                 # through a node graph's output that nothing feeds: ComputeSurfaceSource finds no shader
                 self.asset.observe("dangling_reference", where, attribute=f"outputs:{base}", target=str(found[0].GetPath()),
-                                   reason="a node graph output connected to nothing",
                                    ends="is a node graph output connected to nothing: no shader renders")
                 continue
             if kind != "shader":

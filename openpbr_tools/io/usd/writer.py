@@ -300,8 +300,7 @@ class _Writer(TextureNetworkWriter):
             return name
         if colorspaces.is_data(name) or colorspaces.is_data(name, "usd"):
             return "raw"
-        spec = load_json("colorspaces.json")["materialx"].get(colorspaces.materialx_equivalent(name) or name)
-        return "sRGB" if spec is not None and spec["transfer"] not in ("linear", "data") else "raw"
+        return "sRGB" if colorspaces.encoded(colorspaces.materialx_equivalent(name) or name) else "raw"
 
     # -- texture files -----------------------------------------------------------------------
     def texture_path(self, texture: Texture, owner: str) -> str:
