@@ -23,6 +23,8 @@ import json
 from dataclasses import replace
 
 from .io.gltf import slots
+from .io.gltf.textures import MINIFICATION_FILTERS
+from .model import Texture
 from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 
 MTLX_ATTRIBUTE = "openpbr_gltf"
@@ -127,6 +129,7 @@ def notes(source, kind: str, context, state: dict | None = None) -> list:
                          f"green channels, {getattr(direction, 'file', 'a texture')!r}) is not carried: MaterialX and "
                          "USD orient anisotropy by the tangent, so the output's runs along the mesh's tangent",
             replace(source.location, path=f"{source.location.path}/extensions/KHR_materials_anisotropy/anisotropyTexture")))
+    lost += _minification_notes(source, kind, context)
     lost += [context.diagnostic(APPROXIMATED, f"{source.name}: {name} changes how the material looks and the output "
                                               f"does not render it (OpenPBR has no parameter for it); it is kept in the "
                                               f"{where} and restored when converted back to glTF",
@@ -134,3 +137,24 @@ def notes(source, kind: str, context, state: dict | None = None) -> list:
     return lost + [context.diagnostic(CONVERTED, f"{source.name}: {what} (glTF material state OpenPBR has no parameter "
                                                  f"for) is kept in the {where} and restored when converted back to glTF",
                                       source.location) for what in kept]
+
+
+def _minification_notes(source, kind: str, context) -> list:
+    """A glTF sampler's minFilter where the output's renderer minifies otherwise. MaterialX has no minification
+    filter: its GLSL renderer (GLTextureHandler::mapFilterTypeToGL) minifies a ``closest`` image with
+    NEAREST_MIPMAP_NEAREST and any other with LINEAR_MIPMAP_LINEAR; UsdUVTexture has no filter at all and Storm
+    samples with LINEAR_MIPMAP_LINEAR. A minFilter equal to that survives as the renderer's own choice."""
+    differing = []
+    for name, entry in source.inputs.items():
+        texture = entry.value
+        if isinstance(texture, Texture) and texture.minification is not None:
+            implied = 9984 if kind == "mtlx" and texture.filter == "closest" else 9987
+            if texture.minification != implied:
+                differing.append(f"{name} {MINIFICATION_FILTERS[texture.minification]} (minified with "
+                                 f"{MINIFICATION_FILTERS[implied]})")
+    if not differing:
+        return []
+    renderer = "MaterialX has no minification filter and its renderer minifies" if kind == "mtlx" else \
+        "UsdUVTexture has no filter and Storm minifies"
+    return [context.diagnostic(APPROXIMATED, f"{source.name}: the samplers' minFilter is not carried ({renderer} as "
+                                             f"noted): {'; '.join(differing)}", source.location)]

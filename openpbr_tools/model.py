@@ -189,6 +189,7 @@ class Texture:
     decoded_by_scale_bias: bool = False
     layer: str | None = None  # a MaterialX image's layer: the OpenEXR layer (part) its channels are read from
     filter: str | None = None  # MaterialX filtertype (closest, linear, cubic), a glTF sampler's magFilter as one
+    minification: int | None = None  # a glTF sampler's minFilter (9728-9987), which only glTF has a place for
 
     @property
     def reads_alpha(self) -> bool:

@@ -57,6 +57,41 @@ def require_validator() -> tuple[str, str]:
     return node, folder
 
 
+MANY_SCRIPT = r"""
+const fs = require("fs");
+const path = require("path");
+const validator = require(process.argv[2]);
+(async () => {
+    const out = {};
+    for (const file of process.argv.slice(3)) {
+        const folder = path.dirname(file);
+        const report = await validator.validateBytes(new Uint8Array(fs.readFileSync(file)), {
+            uri: path.basename(file), maxIssues: 0, writeTimestamp: false,
+            externalResourceFunction: (uri) => new Promise((resolve, reject) => {
+                fs.readFile(path.resolve(folder, decodeURIComponent(uri)), (error, data) => error ? reject(error.toString()) : resolve(new Uint8Array(data)));
+            }),
+        });
+        out[file] = {version: validator.version(), issues: report.issues, info: report.info};
+    }
+    process.stdout.write(JSON.stringify(out));
+})().catch((error) => { process.stderr.write(String(error)); process.exit(3); });
+"""
+
+
+def validate_many_with_khronos(paths, tmp_path) -> dict:
+    """:func:`validate_with_khronos` for several files in one node process (node and the validator's
+    JavaScript take seconds to start): absolute path -> report."""
+    node, folder = require_validator()
+    script = os.path.join(str(tmp_path), "run_gltf_validator_many.js")
+    with open(script, "w", encoding="utf-8") as handle:
+        handle.write(MANY_SCRIPT)
+    completed = subprocess.run([node, script, os.path.abspath(folder), *(os.path.abspath(str(p)) for p in paths)],
+                               capture_output=True, text=True, timeout=120)
+    if completed.returncode != 0:
+        raise AssertionError(f"glTF-Validator failed to run: {completed.stderr.strip()}")
+    return json.loads(completed.stdout)
+
+
 def validate_with_khronos(path, tmp_path) -> dict:
     """The validator's report for ``path``: ``{"version", "issues": {"numErrors", ..., "messages"}, "info"}``."""
     node, folder = require_validator()

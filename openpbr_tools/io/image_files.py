@@ -1,6 +1,5 @@
 """Image files as bytes: whether a file (or the bytes of an embedded image) is a readable image at
-all (:func:`damage`), whether it is more than one flat colour (:func:`varies`), and
-:class:`ResourceFile`, a file over bytes or a view that copies only what is read.
+all (:func:`damage`), and :class:`ResourceFile`, a file over bytes or a view that copies only what is read.
 
 Pillow reads PNG and JPEG (their data checked, not only their header); formats Pillow does not open
 are known by their signature. Which files may be read at all is :mod:`openpbr_tools.io.paths`'s
@@ -246,7 +245,7 @@ def _png_chunks(image: str | memoryview) -> tuple[str | None, bool]:
                 return None, True
 
 
-def _openimageio():
+def openimageio():
     try:
         import OpenImageIO  # lazy: optional (the images extra), ~30 ms; asked only about files Pillow does not open
 
@@ -258,8 +257,8 @@ def _openimageio():
 def _openimageio_spec(image: str | memoryview):
     """The header (``ImageSpec``) OpenImageIO, when installed, reads from the file at ``image``, or ``None``
     (not installed, not a path it can take, not a format it recognises). Nothing is decoded."""
-    oiio = _openimageio()
-    if oiio is None or not isinstance(image, str) or not _utf8(image):
+    oiio = openimageio()
+    if oiio is None or not isinstance(image, str) or not utf8(image):
         return None
     try:
         found = oiio.ImageInput.open(image)
@@ -285,7 +284,7 @@ def openimageio_size(image: str) -> tuple[int, int] | None:
     return (spec.width, spec.height * max(1, spec.depth)) if spec is not None else None
 
 
-def _utf8(path: str) -> bool:
+def utf8(path: str) -> bool:
     """Whether OpenImageIO's Python API can take ``path`` (it wants UTF-8; a name from another encoding
     is held as surrogate escapes)."""
     try:
@@ -310,86 +309,3 @@ def _ends_with_eoi(image: str | memoryview) -> bool:
     except OSError:
         return False
     return tail.rstrip(b"\0").endswith(b"\xff\xd9")
-
-
-_FLAT_LEVELS = 2  # 8-bit levels: "one flat colour" allows JPEG noise
-
-
-def _opened_reduced(image, max_pixels: int):
-    """``image`` (a path or bytes) opened by Pillow, a JPEG set to decode at 1/8 scale (Pillow's ``draft``), or
-    ``None`` (closed) when it has more than ``max_pixels`` pixels: nothing is decoded yet. Raises what Pillow
-    raises for data it does not open."""
-    from PIL import Image  # lazy: as in load_pixels
-
-    with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
-        warnings.simplefilter("ignore")
-        opened = Image.open(io.BytesIO(image) if isinstance(image, (bytes, bytearray, memoryview)) else image)
-    width, height = opened.size
-    if width * height > max_pixels:
-        opened.close()
-        return None
-    if pillow_format(opened) == "JPEG":
-        opened.draft("RGB", (max(1, width // 8), max(1, height // 8)))
-    return opened
-
-
-def varies(image: str | bytes) -> bool:
-    """Whether ``image`` (a path or bytes) is more than one flat colour (every texel within 2/255 of the
-    others); ``False`` when that cannot be told (undecodable, larger than :data:`MAX_DECODED_PIXELS`).
-    Pillow's extrema of the image in its own mode (a JPEG decoded at 1/8 scale), never a float copy of
-    it; OpenImageIO's ``isConstantColor`` for a file Pillow does not open (OpenEXR, Radiance HDR), when
-    it is installed."""
-    try:
-        opened = _opened_reduced(image, MAX_DECODED_PIXELS)
-        if opened is None:
-            return False
-        with opened:
-            plane = opened.convert("RGBA") if opened.mode in ("P", "PA", "1") else opened
-            extrema = plane.getextrema()
-            mode = plane.mode
-    except Exception:  # noqa: BLE001 - not an image Pillow opens (EXR, HDR...): OpenImageIO, else not told
-        return isinstance(image, str) and _varies_openimageio(image)
-    bands = extrema if isinstance(extrema[0], tuple) else (extrema,)
-    limit = _FLAT_LEVELS * 257 if mode.startswith("I;16") else _FLAT_LEVELS / 255.0 if mode == "F" else _FLAT_LEVELS
-    return any(high - low > limit for low, high in bands)
-
-
-def _varies_openimageio(path: str) -> bool:
-    """:func:`varies` for a file only OpenImageIO reads, when it is installed: ``ImageBufAlgo.isConstantColor``
-    at the same 2/255, up to the same size; ``False`` when it cannot tell."""
-    oiio = _openimageio()
-    if oiio is None or not _utf8(path):
-        return False
-    try:
-        buffer = oiio.ImageBuf(path)
-        spec = buffer.spec()
-        if buffer.has_error or not buffer.initialized or not 0 < spec.width * spec.height <= MAX_DECODED_PIXELS:
-            buffer.geterror()  # retrieved, so OpenImageIO does not print it
-            return False
-        constant = oiio.ImageBufAlgo.isConstantColor(buffer, _FLAT_LEVELS / 255.0)
-        failed = buffer.has_error
-        buffer.geterror()
-        return not failed and constant is None
-    except (TypeError, ValueError, RuntimeError):
-        return False
-
-
-def channel_maxima(image: str | bytes, max_pixels: int = MAX_DECODED_PIXELS) -> tuple[int, ...] | None:
-    """The largest 8-bit value of each channel of ``image`` (a path or bytes) as RGB(A) (a palette or
-    greyscale image converted first; a 16-bit one scaled to 8 bits, so only a channel that is 0 everywhere
-    reads 0), or ``None`` when it cannot be told: undecodable, not an image Pillow opens, or larger than
-    ``max_pixels``. A JPEG is decoded at 1/8 scale (Pillow's ``draft``); nothing larger than the limit is
-    decoded."""
-    try:
-        opened = _opened_reduced(image, max_pixels)
-        if opened is None:
-            return None
-        with opened:
-            if opened.mode.startswith("I;16") or opened.mode in ("I", "F"):
-                extrema = opened.getextrema()
-                high = extrema[1] if not isinstance(extrema[0], tuple) else max(b[1] for b in extrema)
-                return (1 if high > 0 else 0,) * 3  # grey: one channel read as R, G and B
-            plane = opened.convert("RGBA" if "A" in opened.mode or "transparency" in opened.info else "RGB")
-            return tuple(int(high) for _, high in plane.getextrema())
-    except Exception:  # noqa: BLE001 - Pillow raises many exception types for data it cannot decode
-        return None

@@ -21,7 +21,8 @@ JPEG at 1/8 scale, and only up to :data:`MAX_INSPECTED_PIXELS`.
 from __future__ import annotations
 
 from ..diagnostics import Severity
-from ..io.image_files import channel_maxima
+from ..io.gltf import slots
+from ..io.image_content import channel_maxima, channel_statistics
 from ..model import Location, Texture
 from . import Rule
 from .gltf import NO_EFFECT, _gltf
@@ -65,7 +66,56 @@ IMAGE_ORIENTATION = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (IMAGE_ENCODING, IMAGE_ORIENTATION)
+_PNG_TALL_PIXELS = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAAD91JpzAAAACXBIWXMAAAsTAAAWJQGdeD1OAAAAFklE"
+                    "QVR4nGNsaPjPwMDAxMDAwMDAAAAXnwIDVqKEkwAAAABJRU5ErkJggg==")
+_PNG_SQUARE_PIXELS = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAAD91JpzAAAACXBIWXMAAAsTAAALEwEAmpwYAAAAFk"
+                      "lEQVR4nGNsaPjPwMDAxMDAwMDAAAAXnwIDVqKEkwAAAABJRU5ErkJggg==")
+
+IMAGE_FEATURES = Rule(
+    "OPBR1233", "gltf-png-unsupported-features", Severity.WARNING,
+    "A PNG image holds what glTF says it should not: an embedded ICC profile (iCCP) or non-square pixels "
+    "(pHYs).",
+    "glTF 2.0, section 2: \"PNG images SHOULD NOT contain animations, non-square pixel ratios, or embedded ICC "
+    "profiles. Such features, if present, MUST be ignored by client implementations\", and 3.8.4: \"any "
+    "colorspace information (such as ICC profiles ...) MUST be ignored\". Clients that decode through the "
+    "browser's image pipeline without UNPACK_COLORSPACE_CONVERSION_WEBGL = NONE (or colorSpaceConversion "
+    "'none') apply the profile anyway, which bends a normal map's or a metallic-roughness map's values; image "
+    "tools that honour pHYs resample the texture on the next save. The Khronos glTF-Validator reports it "
+    "(IMAGE_FEATURES_UNSUPPORTED). Re-save the PNG without the chunk.",
+    passing=_emissive(_PNG_SQUARE_PIXELS), failing=_emissive(_PNG_TALL_PIXELS),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+_ROUGHNESS_IN_G = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAAD91JpzAAAAFklEQVR4nGOIimI4cYKBiYGBgYGBAQ"
+                   "AXvgJHnRWZRQAAAABJRU5ErkJggg==")
+_ROUGHNESS_IN_R = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAAD91JpzAAAAFklEQVR4nGOIYmA4wcDAxMDAwMDAAA"
+                   "AMfgElBp7S3gAAAABJRU5ErkJggg==")
+
+
+def _clearcoat(uri: str) -> str:
+    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]',
+                 '"materials": [{"name": "M", "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1, '
+                 '"clearcoatRoughnessTexture": {"index": 0}}}}]', '"extensionsUsed": ["KHR_materials_clearcoat"]')
+
+
+DATA_IN_UNREAD_CHANNEL = Rule(
+    "OPBR1234", "gltf-data-in-unread-channel", Severity.WARNING,
+    "A data texture's channels that glTF reads are flat while a channel no slot reads carries the data "
+    "(roughness painted in R of a clearcoatRoughnessTexture, which reads G), or its metalness channel (B) is "
+    "0 everywhere while an unread channel holds a black-and-white mask (a metal mask packed in R).",
+    "glTF reads each data texture from fixed channels (2.0 section 3.9: metalness B, roughness G, occlusion R; "
+    "KHR_materials_clearcoat: clearcoat R, clearcoat roughness G; transmission R, thickness G, sheen roughness and "
+    "specular A...). Engines pack differently (Unity's mask maps put metal in R, others grey images in R), and "
+    "an image written for another packing renders the flat channel: a mirror coat, a dielectric where the mask "
+    "says metal. Neither the schema nor the Khronos glTF-Validator looks at texel content. Repack the image (or "
+    "point the slot at the right one).",
+    passing=_clearcoat(_ROUGHNESS_IN_G), failing=_clearcoat(_ROUGHNESS_IN_R),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+RULES = (IMAGE_ENCODING, IMAGE_ORIENTATION, IMAGE_FEATURES, DATA_IN_UNREAD_CHANNEL)
+
+_FEATURE_WORDS = {"icc_profile": "an embedded ICC profile (iCCP)", "non_square_pixels": "non-square pixels (pHYs)"}
 
 #: The channel content of an image is inspected up to this many pixels (4096 x 4096); a larger image is not.
 MAX_INSPECTED_PIXELS = 4096 * 4096
@@ -84,6 +134,7 @@ def check(asset, context):
     decoded: dict = {}
     for material in asset.materials:
         yield from _missing_channels(asset, material, image_by_texture, decoded, context)
+    yield from _unread_channels(asset, facts, images, context)
 
 
 def _encodings(asset, facts, images, context):
@@ -100,6 +151,15 @@ def _encodings(asset, facts, images, context):
                 IMAGE_ORIENTATION, f"image {image['index']} ({image['file']}) is a JPEG with EXIF Orientation "
                 f"{orientation}: browsers rotate it, most engines do not", Location(asset.path, None, image["pointer"]),
                 hint="re-export it with the rotation applied to the pixels and no Orientation tag")
+    for image in images:
+        features = [_FEATURE_WORDS[f] for f in image.get("png_features", ()) if f in _FEATURE_WORDS]
+        if features:
+            yield context.diagnostic(
+                IMAGE_FEATURES, f"image {image['index']} ({image['file']}) is a PNG with {' and '.join(features)}, which glTF "
+                "says a PNG should not hold" + ("; a browser that decodes it with colour conversion on bends its values"
+                                                if "icc_profile" in image["png_features"] else ""),
+                Location(asset.path, None, image["pointer"]),
+                hint="re-save the PNG without the iCCP or pHYs chunk")
     for use in facts.get("texture_uses", ()):
         image = images[use["image"]] if isinstance(use.get("image"), int) and 0 <= use["image"] < len(images) else None
         if image is None or image.get("bit_depth") != 16 or not use["pointer"].endswith(_COLOUR_TEXTURES):
@@ -133,3 +193,54 @@ def _missing_channels(asset, material, image_by_texture, decoded, context):
                 NO_EFFECT, f"{material.name}: the anisotropyTexture's blue channel, the anisotropy strength, is 0 "
                 "everywhere, so the material has no anisotropy", Location(asset.path, None, texture.node, "index"),
                 hint="store the strength in the blue channel (1 where the full anisotropyStrength applies)")
+
+
+#: The channels each data texture property reads (the slots' own, io/gltf/slots.py); an image any other
+#: property reads (a colour, a normal map, the anisotropy direction, an extension the toolkit does not
+#: interpret) is left alone: every channel may be read there.
+_DATA_READS: dict[str, set[int]] = {}
+for _slot in slots.SLOTS:
+    if _slot.texture and _slot.channels and not _slot.colour and _slot.texture != "anisotropyTexture":
+        _DATA_READS.setdefault(_slot.texture, set()).update(_slot.channels)
+_CHANNEL_NAMES = "RGBA"
+_SUBSTANTIAL = 64  # 8-bit levels: a channel that spans a quarter of the range carries data
+
+
+def _unread_channels(asset, facts, images, context):
+    """OPBR1234: per image read only by data textures, the read channels flat while an unread one carries
+    data, or metalness (B) 0 everywhere beside an unread black-and-white mask."""
+    uses: dict[int, list[str]] = {}
+    for use in facts.get("texture_uses", ()):
+        if isinstance(use.get("image"), int) and 0 <= use["image"] < len(images):
+            uses.setdefault(use["image"], []).append(use["pointer"])
+    textures = {entry.value.node: entry.value for material in asset.materials for entry in material.inputs.values()
+                if isinstance(entry.value, Texture)}
+    for index, pointers in uses.items():
+        properties = [pointer.rsplit("/", 1)[-1] for pointer in pointers]
+        texture = next((textures[p] for p in pointers if p in textures), None)
+        if texture is None or any(p not in _DATA_READS for p in properties):
+            continue
+        source = image_of(asset, texture, context, {})
+        statistics = channel_statistics(source, MAX_INSPECTED_PIXELS) if source is not None else None
+        read = set().union(*(_DATA_READS[p] for p in properties))
+        if statistics is None or max(read) >= len(statistics):
+            continue  # undecodable, too large, or a channel the image lacks (OPBR1211 says so)
+        unread = [c for c in range(len(statistics)) if c not in read]
+        carrying = [c for c in unread if statistics[c].high - statistics[c].low >= _SUBSTANTIAL]
+        masks = [c for c in unread if statistics[c].mask]
+        names = " and ".join(sorted(set(properties)))
+        where = Location(asset.path, None, pointers[0], "index")
+        image = images[index]
+        if carrying and all(statistics[c].flat for c in sorted(read)):
+            flat = ", ".join(f"{_CHANNEL_NAMES[c]} = {statistics[c].low}" for c in sorted(read))
+            spread = ", ".join(f"{_CHANNEL_NAMES[c]} {statistics[c].low}-{statistics[c].high}" for c in carrying)
+            yield context.diagnostic(
+                DATA_IN_UNREAD_CHANNEL, f"{names} reads image {index} ({image['file']}) where every channel it reads is "
+                f"flat ({flat} of 255) while a channel no slot reads carries data ({spread}): the data is probably "
+                "packed in the wrong channel", where, hint="repack the image into the channels glTF reads")
+        elif "metallicRoughnessTexture" in properties and statistics[2].flat and statistics[2].high <= 2 and masks:
+            yield context.diagnostic(
+                DATA_IN_UNREAD_CHANNEL, f"metallicRoughnessTexture reads metalness from image {index} ({image['file']})'s "
+                f"blue channel, 0 everywhere, while its {_CHANNEL_NAMES[masks[0]]} channel, which no slot reads, is a "
+                "black-and-white mask: a metal mask packed in another channel (Unity's mask maps put it in R) renders "
+                "as a dielectric", where, hint="move the metal mask into the blue channel")

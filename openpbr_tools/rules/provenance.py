@@ -365,6 +365,12 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "createImageBitmap's imageOrientation default); engines and native loaders mostly ignore it, so the "
                  "texture is oriented differently per viewer.",
                  f"{GLTF}; https://html.spec.whatwg.org/multipage/imagebitmap-and-animations.html#dom-imagebitmapoptions-imageorientation"),
+    "OPBR1233": ("glTF clients must ignore a PNG's ICC profile and pixel aspect; web viewers that decode "
+                 "through the browser without turning colour conversion off apply the profile to data textures.",
+                 f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator/blob/main/ISSUES.md"),
+    "OPBR1234": ("glTF reads each data texture from fixed channels; an image packed for another engine renders its "
+                 "flat channel (a mirror coat, a dielectric where the mask says metal), and no validator reads texels.",
+                 f"{GLTF}; {khr('KHR_materials_clearcoat')}"),
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
                  "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
                  "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),

@@ -18,7 +18,7 @@ with such images and no st), and an image that cannot be read shows nothing eith
 from __future__ import annotations
 
 from ..diagnostics import Severity
-from ..io.image_files import varies
+from ..io.image_content import varies
 from ..model import Location
 from . import Rule, for_each_input
 from .textures import image_of

@@ -131,6 +131,8 @@ class TextureWriting:
             filters = {"magFilter": 9729}
             if texture.filter == "cubic":
                 self.note(APPROXIMATED, "filter type 'cubic' has no glTF equivalent; LINEAR used", parameter)
+        if texture.minification is not None:  # a glTF source's minFilter, as it was
+            filters["minFilter"] = texture.minification
         if texture.wrap is None and not filters:
             return None
         table = slots.address_to_wrap()

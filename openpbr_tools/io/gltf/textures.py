@@ -121,6 +121,7 @@ class TextureReading:
         sampler = texture.get("sampler")
         result.wrap = self.sampler(sampler, index)
         result.filter = _magnification_filter(self.document.item("samplers", sampler)) if sampler is not None else None
+        result.minification = _minification_filter(self.document.item("samplers", sampler)) if sampler is not None else None
         transform = _transform(info)
         if transform is not None:
             texcoord = transform.get("texCoord", texcoord)
@@ -196,10 +197,20 @@ class TextureReading:
 
 
 
+MINIFICATION_FILTERS = {9728: "NEAREST", 9729: "LINEAR", 9984: "NEAREST_MIPMAP_NEAREST", 9985: "LINEAR_MIPMAP_NEAREST",
+                        9986: "NEAREST_MIPMAP_LINEAR", 9987: "LINEAR_MIPMAP_LINEAR"}  # sampler.schema.json
+
+
 def _magnification_filter(sampler) -> str | None:
     """A sampler's magFilter in MaterialX's words (9728 NEAREST: closest, 9729 LINEAR: linear); None when unset."""
     value = sampler.get("magFilter") if isinstance(sampler, dict) else None
     return {9728: "closest", 9729: "linear"}.get(value) if isinstance(value, int) and not isinstance(value, bool) else None
+
+
+def _minification_filter(sampler) -> int | None:
+    """A sampler's minFilter when it is one the schema allows (9728, 9729, 9984-9987); None when unset."""
+    value = sampler.get("minFilter") if isinstance(sampler, dict) else None
+    return value if isinstance(value, int) and not isinstance(value, bool) and value in MINIFICATION_FILTERS else None
 
 
 def _transform(info: dict) -> dict | None:
@@ -278,8 +289,25 @@ def _measure(source, info: dict, head: bytes | None = None) -> None:
                 info["alpha"] = image.mode in ALPHA_MODES or "transparency" in image.info
                 if detected == "image/jpeg":  # EXIF Orientation (tag 274): from the header, nothing decoded
                     info["orientation"] = image.getexif().get(0x0112)
+                if detected == "image/png":
+                    info["png_features"] = _png_features(image)
     except Exception:  # noqa: BLE001 - Pillow raises many exception types for images it cannot identify
         pass  # (io.images.damage says why)
+
+
+def _png_features(image) -> list[str]:
+    """What a PNG holds that glTF 2.0 (section 2) says it SHOULD NOT and the Khronos glTF-Validator reports
+    (IMAGE_FEATURES_UNSUPPORTED): an embedded ICC profile ("icc_profile", iCCP) or non-square pixels
+    ("non_square_pixels", pHYs), from the chunks Pillow reads before the image data; nothing is decoded. An
+    animation (acTL), which the spec names too, is left alone as the validator leaves it: clients show its
+    default image, which is the PNG's first."""
+    found = []
+    if image.info.get("icc_profile"):
+        found.append("icc_profile")
+    ratio = image.info.get("dpi") or image.info.get("aspect")  # pHYs in pixels per metre, or unitless
+    if isinstance(ratio, tuple) and len(ratio) == 2 and all(ratio) and abs(ratio[0] - ratio[1]) > 1e-6 * max(ratio):
+        found.append("non_square_pixels")
+    return found
 
 
 def json_numbers(value, count: int) -> bool:
