@@ -190,6 +190,9 @@ class Texture:
     layer: str | None = None  # a MaterialX image's layer: the OpenEXR layer (part) its channels are read from
     filter: str | None = None  # MaterialX filtertype (closest, linear, cubic), a glTF sampler's magFilter as one
     minification: int | None = None  # a glTF sampler's minFilter (9728-9987), which only glTF has a place for
+    # whether ``colorspace`` is written on the image itself (its file input or node), not inherited from an
+    # enclosing node graph or the document; None where the format has no inheritance
+    colorspace_on_image: bool | None = None
 
     @property
     def reads_alpha(self) -> bool:

@@ -41,6 +41,7 @@ class Parameter:
     group: str | None = None
     doc: str | None = None
     range_note: str | None = None
+    soft_max_exceedable: bool = False  # the spec allows values above soft_max as such: no finding there
     default_geomprop: str | None = None
     switches: str | None = None  # the prefix of the inputs this weight switches on (no effect while it is 0)
 
@@ -118,6 +119,7 @@ def table(model: str, version: str | None = None) -> ParameterTable:
             group=entry.get("group"),
             doc=entry.get("doc"),
             range_note=entry.get("range_note"),
+            soft_max_exceedable=entry.get("soft_max_exceedable", False),
             default_geomprop=entry.get("default_geomprop"),
             switches=entry.get("switches"),
         )

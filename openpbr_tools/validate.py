@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import glob
 import os
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Callable
 
 from . import io as readers
@@ -231,6 +231,11 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
     gets the context of its nearest configuration plus ``options``."""
     options = options or Options()
     files, problems = discover(paths)
+    # a folder named on the command line is the tree its files may read from (a USD asset's ../_common layers,
+    # a MaterialX library's ../../../Images), as --allow-outside names one: nothing outside it
+    folders = tuple(os.path.abspath(os.fspath(p)) for p in paths if os.path.isdir(os.fspath(p)))
+    if folders:
+        options = replace(options, allow_outside=tuple(dict.fromkeys(options.allow_outside + folders)))
     report = Report(problems=problems)
     try:
         if options.changed_since:

@@ -8,6 +8,7 @@ precisely what is wrong otherwise.
 from __future__ import annotations
 
 import math
+import re
 
 COMPONENTS = {
     "float": 1,
@@ -44,7 +45,10 @@ def parse_value(text: str, type_name: str):
         if stripped in ("true", "false"):
             return stripped == "true"
         raise ValueSyntaxError(f"{text!r} is not a boolean (expected 'true' or 'false')")
-    parts = [p.strip() for p in stripped.split(",")]
+    # MaterialX splits a vector on commas and spaces alike, dropping empty pieces (Types.cpp: splitString with
+    # ARRAY_VALID_SEPARATORS ", "): "1 0 1" and "1, 0, 1" are both a color3; a scalar is read up to its first
+    # separator, so "0,5" reads 0 (the decimal comma this reports)
+    parts = [p for p in re.split(r"[,\s]+", stripped) if p] if count > 1 else [p.strip() for p in stripped.split(",")]
     if len(parts) != count:
         if count == 1:
             raise ValueSyntaxError(

@@ -66,7 +66,8 @@ def example_image(name: str) -> bytes:
         with open(path, "rb") as handle:
             return handle.read()
     buffer = io.BytesIO()
-    Image.new("RGB", (4, 4), (200, 120, 40)).save(buffer, format=Image.registered_extensions().get(suffix, "PNG"))
+    colour = (128, 128, 255) if "normal" in os.path.basename(name).lower() else (200, 120, 40)  # a flat normal map
+    Image.new("RGB", (4, 4), colour).save(buffer, format=Image.registered_extensions().get(suffix, "PNG"))
     return buffer.getvalue()
 
 

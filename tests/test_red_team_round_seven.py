@@ -5,6 +5,7 @@ usd-core) or quotes the spec, and checks the tool agrees."""
 from __future__ import annotations
 
 import io
+import re
 import json
 import struct
 import zlib
@@ -177,3 +178,253 @@ def test_a_min_filter_the_target_cannot_hold_is_noted(tmp_path, suffix, mag, min
     notes = [d for d in conversion.diagnostics if "minFilter" in d.message]
     assert bool(notes) == noted
     assert all(d.code == "OPBR1103" for d in notes)
+
+
+# -- MaterialX: published assets no one here wrote (the tester's set P) and the red team's set I ---------------------
+
+def _document(body: str, colorspace: str = ' colorspace="lin_rec709"') -> str:
+    return f'<?xml version="1.0"?>\n<materialx version="1.39"{colorspace}>\n{body}\n</materialx>\n'
+
+
+_SHADED = ('<standard_surface name="SR" type="surfaceshader">\n  {inputs}\n</standard_surface>\n'
+           '<surfacematerial name="M" type="material">\n  <input name="surfaceshader" type="surfaceshader" '
+           'nodename="SR" />\n</surfacematerial>')
+
+
+def _mx_document(path: Path):
+    import MaterialX as mx
+
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    return document
+
+
+@pytest.mark.parametrize("present", [False, True])
+def test_an_image_behind_a_computed_texcoord_is_checked_for_its_file(tmp_path, present):
+    """P's M1: every GPUOpen-library material reads its images through a texcoord -> multiply chain, which the graph
+    follower does not turn into a texture; their files were never looked for (kwokcb's Canyon_Maple_Dark_Wood has
+    none of its three and passed). MaterialX generates the shader either way: the file is what is missing."""
+    body = ('<nodegraph name="NG">\n  <texcoord name="tc" type="vector2" />\n  <multiply name="tile" type="vector2">\n'
+            '    <input name="in1" type="vector2" nodename="tc" />\n    <input name="in2" type="float" value="2" />\n'
+            '  </multiply>\n  <image name="img" type="color3">\n    <input name="texcoord" type="vector2" nodename="tile" />\n'
+            '    <input name="file" type="filename" value="textures/wood.png" />\n  </image>\n'
+            '  <output name="out" type="color3" nodename="img" />\n</nodegraph>\n'
+            + _SHADED.format(inputs='<input name="base_color" type="color3" nodegraph="NG" output="out" />'))
+    path = tmp_path / "wood.mtlx"
+    path.write_text(_document(body))
+    if present:
+        (tmp_path / "textures").mkdir()
+        Image.new("RGB", (2, 2), (120, 80, 40)).save(tmp_path / "textures" / "wood.png")
+    assert _mx_document(path).validate()[0]
+    assert _codes(path).get("OPBR701") == (None if present else "error")
+
+
+def test_a_vector_written_with_spaces_is_read_as_materialx_reads_it(tmp_path):
+    """P's F1: OpenUSD's MaterialX test documents write coat_color="1 0 1"; MaterialX splits a vector on commas and
+    spaces (Types.cpp, ARRAY_VALID_SEPARATORS ", ") and reads Color3(1, 0, 1), where the tool said OPBR202 "has 1
+    components". A scalar still reads up to its first separator, so a decimal comma stays reported."""
+    path = tmp_path / "spaces.mtlx"
+    path.write_text(_document(_SHADED.format(inputs='<input name="coat_color" type="color3" value="1 0 1" />\n'
+                                                    '  <input name="base" type="float" value="0,5" />')))
+    document = _mx_document(path)
+    shader = document.getNode("SR")
+    assert tuple(shader.getInputValue("coat_color")) == (1.0, 0.0, 1.0)
+    assert shader.getInputValue("base") == 0.0  # MaterialX reads 0 from "0,5"
+    found = [d for d in validate_file(str(path)).diagnostics if d.code == "OPBR202"]
+    assert [d.location.input for d in found] == ["base"]
+
+
+def _generated_pixel_code(path: Path, target_unit: str) -> str:
+    import MaterialX as mx
+    import MaterialX.PyMaterialXGenGlsl as mx_glsl
+    import MaterialX.PyMaterialXGenShader as mx_gen
+
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    document = _mx_document(path)
+    document.importLibrary(library)
+    generator = mx_glsl.GlslShaderGenerator.create()
+    context = mx_gen.GenContext(generator)
+    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
+    units = mx_gen.UnitSystem.create(generator.getTarget())
+    registry = mx.UnitConverterRegistry.create()
+    distance = library.getUnitTypeDef("distance")
+    registry.addUnitConverter(distance, mx.LinearUnitConverter.create(distance))
+    units.loadLibrary(library)
+    units.setUnitConverterRegistry(registry)
+    generator.setUnitSystem(units)
+    context.getOptions().targetDistanceUnit = target_unit
+    return generator.generate("probe", document.getNode("SR"), context).getSourceCode(mx_gen.PIXEL_STAGE)
+
+
+def test_a_dimensionless_input_written_in_a_distance_unit_is_judged_as_materialx_converts_it(tmp_path):
+    """P's F2: MaterialX's own stdlib/units/standard_surface_unit.mtlx writes specular_roughness 250 millimeter; its
+    shader generation (target unit metre, as its viewer and test suite run) multiplies by 0.001, so the roughness is
+    0.25. The tool said OPBR301 (250 outside [0, 1]) and "its unit attribute is ignored"; it now judges 0.25 and says
+    what the unit does (OPBR607, info). A value in range made tiny by a pasted unit stays OPBR604."""
+    path = tmp_path / "units.mtlx"
+    path.write_text(_document(_SHADED.format(
+        inputs='<input name="specular_roughness" type="float" value="250" unittype="distance" unit="millimeter" />\n'
+               '  <input name="coat_roughness" type="float" value="0.4" unittype="distance" unit="centimeter" />')))
+    code = _generated_pixel_code(path, "meter")
+    assert re.search(r"specular_roughness_unit_in2 = 0\.001", code) and re.search(r"coat_roughness_unit_in2 = 0\.01", code)
+    found = {(d.code, d.location.input): str(d.severity) for d in validate_file(str(path)).diagnostics
+             if d.code.startswith("OPBR3") or d.code.startswith("OPBR60")}
+    assert found == {("OPBR607", "specular_roughness"): "info", ("OPBR604", "coat_roughness"): "warning"}
+
+
+def test_a_colour_space_a_float_image_inherits_from_its_graph_is_no_finding(tmp_path):
+    """P's F8: OpenUSD's MaterialXTextured colorspaces.mtlx puts colorspace="srgb_texture" on a node graph holding
+    colour and float images; the float images inherit it and MaterialX transforms no float image (its GLSL has no
+    colour transform for them). Written on the float image itself it stays OPBR507."""
+    for on_image, expected in ((False, None), (True, "warning")):
+        tag = ' colorspace="srgb_texture"' if on_image else ""
+        body = (f'<nodegraph name="NG" colorspace="srgb_texture">\n  <image name="rough" type="float">\n'
+                f'    <input name="file" type="filename" value="rough.png"{tag} />\n  </image>\n'
+                '  <output name="out" type="float" nodename="rough" />\n</nodegraph>\n'
+                + _SHADED.format(inputs='<input name="specular_roughness" type="float" nodegraph="NG" output="out" />'))
+        path = tmp_path / f"inherit{on_image}.mtlx"
+        path.write_text(_document(body))
+        Image.new("L", (2, 2), 100).save(tmp_path / "rough.png")
+        assert _codes(path).get("OPBR507") == expected
+
+
+def test_a_specular_weight_above_one_is_no_finding(tmp_path):
+    """The red team's round-seven good mg04: OpenPBR says "we also allow the specular_weight to exceed 1, thus
+    increasing the reflectivity via increase of the IOR above the reference value"; its nodedef's uisoftmax 1 is a
+    slider's end. An IOR far outside its soft range stays OPBR302."""
+    body = ('<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_weight" type="float" value="1.4" />\n'
+            '  <input name="coat_weight" type="float" value="1" />\n  <input name="coat_ior" type="float" value="15" />\n'
+            '</open_pbr_surface>\n<surfacematerial name="M" type="material">\n  <input name="surfaceshader" '
+            'type="surfaceshader" nodename="S" />\n</surfacematerial>')
+    path = tmp_path / "weight.mtlx"
+    path.write_text(_document(body))
+    found = [d.location.input for d in validate_file(str(path)).diagnostics if d.code == "OPBR302"]
+    assert found == ["coat_ior"]
+
+
+def test_a_folder_named_on_the_command_line_is_the_tree_its_files_may_read(tmp_path):
+    """P's F11/F12: MaterialX's examples read ../../../Images and usd-wg's assets ../_common; each file validated on
+    its own reads nothing outside its folder and says so as information (OPBR723: the image is there), and the
+    folder that holds both, named on the command line, is the tree its files may read from: no finding at all."""
+    from openpbr_tools.validate import validate_paths
+
+    (tmp_path / "Images").mkdir()
+    (tmp_path / "Materials").mkdir()
+    Image.new("RGB", (2, 2), (180, 140, 60)).save(tmp_path / "Images" / "brass.png")
+    path = tmp_path / "Materials" / "brass.mtlx"
+    body = ('<image name="albedo" type="color3">\n  <input name="file" type="filename" value="../Images/brass.png" '
+            'colorspace="srgb_texture" />\n</image>\n'
+            + _SHADED.format(inputs='<input name="base_color" type="color3" nodename="albedo" />'))
+    path.write_text(_document(body))
+    alone = {d.code: str(d.severity) for d in validate_file(str(path)).diagnostics}
+    assert alone.get("OPBR723") == "info" and "OPBR704" not in alone
+    tree = validate_paths([str(tmp_path)])
+    assert not [d for f in tree.files for d in f.diagnostics if d.code in ("OPBR704", "OPBR723")]
+    missing = path.with_name("missing.mtlx")
+    missing.write_text(_document(body.replace("brass.png", "gone.png")))
+    assert _codes(missing).get("OPBR704") == "warning"  # a '..' to nothing is not a shared folder
+
+
+@pytest.mark.parametrize("name", ["mb02", "mb06", "mb07", "mb08", "mb14"])
+def test_the_red_team_round_seven_materialx_misses(tmp_path, name):
+    """Set I's MaterialX misses, each built as the red team wrote it, with the anchor's view."""
+    import MaterialX as mx
+
+    from openpbr_tools.rules import mtlx_document as rules
+
+    rule, failing = {
+        "mb02": (rules.OUTPUT_UNNAMED, rules.OUTPUT_UNNAMED.failing),
+        "mb06": (rules.NORMAL_SPACE, rules.NORMAL_SPACE.failing),
+        "mb07": (rules.HEXTILED_NORMAL, rules.HEXTILED_NORMAL.failing),
+        "mb08": (rules.ASSIGN_BOTH, rules.ASSIGN_BOTH.failing),
+        "mb14": (rules.NORMALMAP_UV_SET, rules.NORMALMAP_UV_SET.failing),
+    }[name]
+    Image.new("RGB", (2, 2), (128, 128, 255)).save(tmp_path / "normal.png")
+    Image.new("RGB", (2, 2), (255, 100, 30)).save(tmp_path / "orm.png")
+    path = tmp_path / f"{name}.mtlx"
+    path.write_text(_document(failing))
+    document = _mx_document(path)
+    assert document.validate()[0]  # MaterialX's validate() passes every one: the tool is the only one to say it
+    if name == "mb02":  # the spec requires output=; MaterialX connects the first output
+        assert document.getNode("S").getInput("base_metalness").getConnectedOutput().getName() == "out_roughness"
+    if name == "mb07":  # MaterialX's library has the node that rotates the vectors with the lookup
+        library = mx.createDocument()
+        mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+        assert library.getNodeDef("ND_hextilednormalmap_vector3") is not None
+    assert _codes(path).get(rule.code) == str(rule.severity)
+    clean = tmp_path / f"{name}_clean.mtlx"
+    clean.write_text(_document(rule.passing))
+    assert rule.code not in _codes(clean)
+
+
+def _normal_document(tmp_path: Path, blue: int) -> Path:
+    Image.new("RGB", (4, 4), (128, 128, blue)).save(tmp_path / f"n{blue}.png")
+    body = (f'<image name="nmap" type="vector3">\n  <input name="file" type="filename" value="n{blue}.png" />\n</image>\n'
+            '<normalmap name="nm" type="vector3">\n  <input name="in" type="vector3" nodename="nmap" />\n</normalmap>\n'
+            + _SHADED.format(inputs='<input name="normal" type="vector3" nodename="nm" />'))
+    path = tmp_path / f"n{blue}.mtlx"
+    path.write_text(_document(body))
+    return path
+
+
+@pytest.mark.parametrize("blue, expected", [(255, None), (200, None), (20, "error"), (0, "error")])
+def test_a_normal_map_whose_normals_point_into_the_surface(tmp_path, blue, expected):
+    """Set I's mb04: a normal map with its blue channel inverted along with green. MaterialX's normalmap decodes a
+    texel as 2 t - 1 (ND_normalmap's mx_normalmap: value * 2.0 - 1.0), so blue below one half is a negative z: the
+    normal faces into the surface."""
+    z = 2 * blue / 255 - 1
+    assert (z < 0) == (expected is not None)
+    assert _codes(_normal_document(tmp_path, blue)).get("OPBR724") == expected
+
+
+@pytest.mark.parametrize("peak, expected", [(254, "error"), (65535, None), (40000, None)])
+def test_a_16_bit_image_holding_8_bit_values(tmp_path, peak, expected):
+    """Set I's mb12: a 16-bit greyscale PNG whose samples are 8-bit values: read over 0-65535 (Pillow's I;16 mode
+    holds the samples as written), 254 is 0.0039."""
+    image = Image.new("I;16", (2, 2))
+    image.putdata([peak // 3, peak, peak // 2, 0])
+    image.save(tmp_path / "rough.png")
+    assert Image.open(tmp_path / "rough.png").mode == "I;16" and Image.open(tmp_path / "rough.png").getextrema()[1] == peak
+    body = ('<image name="rough" type="float">\n  <input name="file" type="filename" value="rough.png" />\n</image>\n'
+            + _SHADED.format(inputs='<input name="specular_roughness" type="float" nodename="rough" />'))
+    path = tmp_path / "rough.mtlx"
+    path.write_text(_document(body))
+    assert _codes(path).get("OPBR725") == expected
+
+
+def test_a_floating_point_bake_with_nan_and_infinite_texels_and_a_cropped_data_window(tmp_path):
+    """Set I's mb03 and mb15: OpenImageIO (the anchor that reads the file) counts the non-finite samples and reports
+    the data window inside the display window."""
+    import numpy as np
+    import OpenImageIO as oiio
+
+    def write(name, pixels, full=None, origin=(0, 0)):
+        spec = oiio.ImageSpec(pixels.shape[1], pixels.shape[0], 3, "half")
+        spec.x, spec.y = origin
+        if full:
+            spec.full_width, spec.full_height = full
+        output = oiio.ImageOutput.create(str(tmp_path / name))
+        output.open(str(tmp_path / name), spec)
+        output.write_image(pixels.astype(np.float32))
+        output.close()
+
+    grey = np.full((4, 4, 3), 0.5)
+    broken = grey.copy()
+    broken[0, 0, 0], broken[1, 1, 1] = np.nan, np.inf
+    write("grey.exr", grey)
+    write("broken.exr", broken)
+    write("crop.exr", grey, full=(16, 16), origin=(6, 6))
+    stats = oiio.ImageBufAlgo.computePixelStats(oiio.ImageBuf(str(tmp_path / "broken.exr")))
+    assert sum(stats.nancount) == 1 and sum(stats.infcount) == 1
+    crop = oiio.ImageInput.open(str(tmp_path / "crop.exr"))
+    assert (crop.spec().width, crop.spec().full_width) == (4, 16)
+    crop.close()
+    for file, expected in (("grey.exr", {}), ("broken.exr", {"OPBR726": "error"}), ("crop.exr", {"OPBR727": "warning"})):
+        body = (f'<image name="albedo" type="color3">\n  <input name="file" type="filename" value="{file}" '
+                'colorspace="lin_rec709" />\n</image>\n'
+                + _SHADED.format(inputs='<input name="base_color" type="color3" nodename="albedo" />'))
+        path = tmp_path / f"{file}.mtlx"
+        path.write_text(_document(body))
+        found = {k: v for k, v in _codes(path).items() if k in ("OPBR726", "OPBR727")}
+        assert found == expected, file

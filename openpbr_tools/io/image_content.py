@@ -103,6 +103,7 @@ class ChannelStatistics:
     high: int
     at_ends: float  # share of texels within 8 levels of 0 or 255
     ends_both: bool  # both ends hold at least 2% of the texels
+    mean: float = 0.0  # the mean level, 0-255
 
     @property
     def flat(self) -> bool:
@@ -136,5 +137,21 @@ def channel_statistics(image: str | bytes, max_pixels: int = MAX_DECODED_PIXELS)
         used = [level for level, count in enumerate(counts) if count]
         dark, bright = sum(counts[:9]), sum(counts[247:])
         found.append(ChannelStatistics(used[0] if used else 0, used[-1] if used else 0, (dark + bright) / total,
-                                       dark >= 0.02 * total and bright >= 0.02 * total))
+                                       dark >= 0.02 * total and bright >= 0.02 * total,
+                                       sum(level * count for level, count in enumerate(counts)) / total))
     return tuple(found)
+
+
+def sixteen_bit_peak(image: str | bytes, max_pixels: int = MAX_DECODED_PIXELS) -> int | None:
+    """The largest sample of a 16-bit single-channel image (Pillow's I;16 modes: a 16-bit greyscale PNG), or
+    ``None`` for any other image or one that cannot be told. Decoded only up to ``max_pixels``."""
+    try:
+        opened = opened_reduced(image, max_pixels)
+        if opened is None:
+            return None
+        with opened:
+            if not opened.mode.startswith("I;16"):
+                return None
+            return int(opened.getextrema()[1])
+    except Exception:  # noqa: BLE001 - Pillow raises many exception types for data it cannot decode
+        return None

@@ -30,6 +30,7 @@ FAMILIES = (
     "units",
     "textures",
     "texture_content",
+    "texture_pixels",
     "structure",
     "mtlx_document",
     "plausibility",

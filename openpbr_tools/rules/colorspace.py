@@ -20,11 +20,14 @@ from ..model import Location, Texture
 from . import Rule, for_each_input
 
 NO_DOCUMENT_COLORSPACE = Rule(
-    "OPBR501", "no-document-colorspace", Severity.WARNING,
+    "OPBR501", "no-document-colorspace", Severity.INFO,
     "OpenPBR colour values are authored but the document states no colour space.",
-    "The OpenPBR specification says unspecified colours are ACEScg; MaterialX and most of its "
-    "examples assume lin_rec709. The same file therefore renders with different colours depending on "
-    "the reader. Set colorspace on the <materialx> element.",
+    "The OpenPBR specification says unspecified colours are ACEScg; MaterialX (the renderer the "
+    "document is written for) and most published libraries (MaterialX's examples, PhysicallyBased's "
+    "OpenPBR exports) take them as lin_rec709, which is how the file renders there. Another reader "
+    "following the specification's words shades the same numbers as ACEScg, more saturated. Set "
+    "colorspace on the <materialx> element to say which was meant. Information, not a defect: MaterialX "
+    "renders such a file as its authors saw it.",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="0.8, 0.2, 0.1" />\n</open_pbr_surface>',
     failing='<?xml version="1.0"?>\n<materialx version="1.39">\n  <open_pbr_surface name="S" type="surfaceshader">\n    <input name="base_color" type="color3" value="0.8, 0.2, 0.1" />\n  </open_pbr_surface>\n</materialx>\n',
 )
@@ -205,6 +208,9 @@ def scene_linear_file(file: str) -> bool:
 
 
 def _authored_on_texture(texture: Texture, asset) -> bool:
+    """Whether the image's colour space is written on the image (not inherited from a graph or the document)."""
+    if texture.colorspace_on_image is not None:
+        return texture.colorspace_on_image
     return texture.colorspace != asset.colorspace
 
 

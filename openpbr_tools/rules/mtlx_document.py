@@ -105,8 +105,76 @@ NORMALMAP_NEGATIVE = Rule(
     example_files=("normal.png",),
 )
 
+_ORM = ('<nodegraph name="NG_orm">\n  <image name="orm" type="color3">\n    <input name="file" type="filename" '
+        'value="orm.png" />\n  </image>\n  <extract name="rough" type="float">\n    <input name="in" type="color3" '
+        'nodename="orm" />\n    <input name="index" type="integer" value="1" />\n  </extract>\n  <extract name="metal" '
+        'type="float">\n    <input name="in" type="color3" nodename="orm" />\n    <input name="index" type="integer" '
+        'value="2" />\n  </extract>\n  <output name="out_roughness" type="float" nodename="rough" />\n  <output '
+        'name="out_metalness" type="float" nodename="metal" />\n</nodegraph>\n<open_pbr_surface name="S" '
+        'type="surfaceshader">\n  <input name="base_metalness" type="float" nodegraph="NG_orm"{output} />\n'
+        '</open_pbr_surface>\n<surfacematerial name="M" type="material">\n  <input name="surfaceshader" '
+        'type="surfaceshader" nodename="S" />\n</surfacematerial>')
+OUTPUT_UNNAMED = Rule(
+    "OPBR811", "graph-output-unnamed", Severity.ERROR,
+    "An input connects to a node graph with several outputs without naming one (output=).",
+    "The MaterialX specification: \"If the referenced node/nodegraph has multiple outputs, output is required\". "
+    "MaterialX's validate() accepts the document and connects the graph's first output, so base_metalness reads the "
+    "roughness an ORM graph declares first: an exporter that writes nodegraph= alone wires the wrong map without a "
+    "word. Name the output.",
+    passing=_ORM.format(output=' output="out_metalness"'), failing=_ORM.format(output=""), example_files=("orm.png",),
+)
+_SPACE = ('<normal name="n" type="vector3">\n  <input name="space" type="string" value="{space}" />\n</normal>\n'
+          + _MATERIAL.format(input="geometry_normal", type="vector3", node="n", extra=""))
+NORMAL_SPACE = Rule(
+    "OPBR812", "shader-normal-not-world-space", Severity.WARNING,
+    "A shader's normal or tangent input is fed by a normal, tangent or bitangent node in object or model space.",
+    "OpenPBR's and Standard Surface's normal and tangent inputs are world-space vectors (their nodedefs default them "
+    "to Nworld and Tworld, and the BSDFs shade in world space): an object-space normal is right only while the "
+    "object is untransformed, and shading turns with the object's rotation. Use space=\"world\" (the default).",
+    passing=_SPACE.format(space="world"), failing=_SPACE.format(space="object"),
+)
+_HEX = ('<{image} name="hex" type="{type}">\n  <input name="file" type="filename" value="normal.png" />\n</{image}>\n'
+        '<normalmap name="nm" type="vector3">\n  <input name="in" type="vector3" nodename="hex" />\n</normalmap>\n'
+        + _MATERIAL.format(input="geometry_normal", type="vector3", node="nm", extra=""))
+HEXTILED_NORMAL = Rule(
+    "OPBR813", "hextiled-normal-map", Severity.ERROR,
+    "A normalmap reads a hextiledimage.",
+    "hextiledimage rotates each hexagonal tile's lookup by a random angle (its rotation input, 0-360 degrees by "
+    "default) but a normal map's texels are vectors in the tangent frame, which the rotation does not turn: the "
+    "bumps of each tile light from a different direction. MaterialX's stdlib has hextilednormalmap, which rotates "
+    "the vectors with the lookup.",
+    passing=_HEX.format(image="image", type="vector3"), failing=_HEX.format(image="hextiledimage", type="vector3"),
+    example_files=("normal.png",),
+)
+_LOOK = ('<open_pbr_surface name="S" type="surfaceshader" />\n<surfacematerial name="M" type="material">\n  <input '
+         'name="surfaceshader" type="surfaceshader" nodename="S" />\n</surfacematerial>\n<collection name="C_legs" '
+         'includegeom="/table/leg_*" />\n<look name="L">\n  <materialassign name="MA" material="M" {target} />\n</look>')
+ASSIGN_BOTH = Rule(
+    "OPBR814", "assignment-geom-and-collection", Severity.WARNING,
+    "A look's materialassign names both a geom and a collection.",
+    "The MaterialX specification lets a geometry assignment name either geometry (geom) or a collection, not both; "
+    "MaterialX's validate() does not check it, and applications resolve it differently (one of the two, or their "
+    "union), so the material lands on different geometry per application.",
+    passing=_LOOK.format(target='collection="C_legs"'),
+    failing=_LOOK.format(target='geom="/table/top" collection="C_legs"'),
+)
+_UV_SET = ('<texcoord name="uv" type="vector2">\n  <input name="index" type="integer" value="{index}" />\n</texcoord>\n'
+           '<image name="nmap" type="vector3">\n  <input name="file" type="filename" value="normal.png" />\n  <input '
+           'name="texcoord" type="vector2" nodename="uv" />\n</image>\n<normalmap name="nm" type="vector3">\n  <input '
+           'name="in" type="vector3" nodename="nmap" />\n</normalmap>\n'
+           + _MATERIAL.format(input="geometry_normal", type="vector3", node="nm", extra=""))
+NORMALMAP_UV_SET = Rule(
+    "OPBR815", "normal-map-uv-set-tangent", Severity.WARNING,
+    "A normal map reads a UV set other than 0 while its normalmap node uses the default tangent frame.",
+    "ND_normalmap's tangent and bitangent default to Tworld and Bworld, the tangent frame renderers build from the "
+    "mesh's first UV set; a normal map baked in another UV set's layout is decoded in the wrong frame wherever the "
+    "two layouts are rotated or mirrored against each other. Connect a tangent (and bitangent) of that UV set, or "
+    "bake the map in UV set 0.",
+    passing=_UV_SET.format(index=0), failing=_UV_SET.format(index=1), example_files=("normal.png",),
+)
+
 RULES = (CHANNEL_OUT_OF_RANGE, IMPLEMENTATION_MISSING, DEFAULT_VERSIONS, LOOK_GEOMETRY, COLORSPACE_ON_CONNECTION,
-         NORMALMAP_NEGATIVE)
+         NORMALMAP_NEGATIVE, OUTPUT_UNNAMED, NORMAL_SPACE, HEXTILED_NORMAL, ASSIGN_BOTH, NORMALMAP_UV_SET)
 
 
 def check(asset, context):
@@ -142,3 +210,28 @@ def check(asset, context):
                 NORMALMAP_NEGATIVE, f"{detail['node']!r} scales the normal map by {detail['scale']:g}, which flips x and "
                 "y: a DirectX map needs only green flipped", where,
                 hint="use a vector2 scale of (1, -1), or invert the image's green channel")
+        elif observation.kind == "mtlx_output_unnamed":
+            yield context.diagnostic(
+                OUTPUT_UNNAMED, f"{detail['input']} of {detail['node']!r} connects to node graph {detail['graph']!r}, which "
+                f"has {len(detail['outputs'])} outputs ({', '.join(detail['outputs'])}), without naming one: MaterialX "
+                f"connects {detail['chosen']!r}", where, hint="add output=\"...\" naming the output meant")
+        elif observation.kind == "mtlx_normal_space":
+            yield context.diagnostic(
+                NORMAL_SPACE, f"{detail['input']} reads {detail['category']} node {detail['node']!r} in {detail['space']} "
+                "space, where the shading model takes world-space vectors", where,
+                hint="set its space to \"world\" (the default)")
+        elif observation.kind == "mtlx_hextiled_normal":
+            yield context.diagnostic(
+                HEXTILED_NORMAL, f"{detail['node']!r} decodes the hextiledimage {detail['image']!r}, whose random per-tile "
+                "rotation turns the lookup but not the normals in it", where,
+                hint="use a hextilednormalmap node in place of the hextiledimage and normalmap")
+        elif observation.kind == "mtlx_assign_geom_and_collection":
+            yield context.diagnostic(
+                ASSIGN_BOTH, f"look {detail['look']!r} assigns to geom {detail['geom']!r} and collection "
+                f"{detail['collection']!r}: the specification allows one of them", where,
+                hint="keep the collection (add the geometry to it) or the geom")
+        elif observation.kind == "mtlx_normalmap_uv_set":
+            yield context.diagnostic(
+                NORMALMAP_UV_SET, f"{detail['node']!r} decodes {detail['image']!r}, read in UV set {detail['index']}, in the "
+                "default tangent frame, which follows UV set 0", where,
+                hint="connect a tangent of that UV set to the normalmap, or bake the map in UV set 0")

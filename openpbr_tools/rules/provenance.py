@@ -165,6 +165,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "file renders differently in scenes of other scales (style choice: info).", f"{MX_UNITS}; {USD_METRICS}"),
     "OPBR604": ("A unit on an input with no or a fixed unit is ignored by MaterialX: the author believes a "
                 "conversion happens that does not.", f"{MX_UNITS}; {MX_OPENPBR}"),
+    "OPBR607": ("Renders as meant in MaterialX, whose unit system converts the value into range (metres); a "
+                "renderer without unit conversion reads the number as written.",
+                f"{MX_UNITS}; {_MX}resources/Materials/TestSuite/stdlib/units/standard_surface_unit.mtlx"),
     "OPBR605": ("OpenPBR's thin_film_thickness is in micrometres: a value in nanometres (500) is a 0.5 mm film, "
                 "whose interference washes out to no iridescence.", f"{OPENPBR}; {MX_OPENPBR}"),
     "OPBR606": ("OpenPBR's thin_film_thickness is in micrometres: a value in metres (4.5e-07) is a film of a "
@@ -186,6 +189,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "world-space normals; a tangent-space map read so shades every point wrongly.", f"{MX_NODES}; {MX_OPENPBR}"),
     "OPBR704": ("Absolute paths, '..' and URLs break when the asset is moved, packaged (USDZ, glTF) or rendered "
                 "on a farm; a symlink out of the folder breaks on copy.", f"{USD_COMPLIANCE}; {GLTF}"),
+    "OPBR723": ("Nothing renders wrong: a relative path into a shared folder resolves wherever the tree is checked "
+                "out (MaterialX's examples read ../../../Images); the validator only declines to read outside the "
+                "asset's folder.", f"{MX_SPEC}; {_MX}resources/Materials/Examples/StandardSurface/standard_surface_brass_tiled.mtlx"),
     "OPBR705": ("An image node without a file renders its default: the texture silently vanishes.",
                 f"{MX_NODES}; {USD_PREVIEW}"),
     "OPBR706": ("A place2d whose texcoord is unconnected transforms the constant (0, 0): MaterialX's renderers "
@@ -212,6 +218,13 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR722": ("A PNG's sRGB chunk declares sRGB-encoded values; MaterialX applies the authored tag, so a linear tag "
                 "never removes the sRGB curve and the albedo renders washed out.",
                 f"https://www.w3.org/TR/png-3/#11sRGB; {MX_CMS}"),
+    "OPBR724": ("Decoded, the normals face into the surface: the shading is lit from behind.", f"{MX_STDLIB}; {GLTF}"),
+    "OPBR725": ("8-bit values in a 16-bit file read 257 times too small: a roughness of 0.99 reads 0.004.",
+                "https://www.w3.org/TR/png-3/#11IHDR"),
+    "OPBR726": ("NaN and infinite texels spread through filtering and shading into speckles and fireflies.",
+                "https://openexr.com/en/latest/TechnicalIntroduction.html"),
+    "OPBR727": ("Loaders place or stretch an OpenEXR data-window crop differently: the texture moves per renderer.",
+                "https://openexr.com/en/latest/TechnicalIntroduction.html#data-window"),
     "OPBR801": ("A material without a surface shader renders black or with the renderer's fallback shader.",
                 f"{MX_SPEC}; {USD_SHADER}"),
     "OPBR802": ("A dangling reference is dropped by MaterialX and USD: the input falls back to its default or "
@@ -236,6 +249,15 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "unversioned node binds one of them silently.", f"{MX_SPEC}; {MX_NODE}"),
     "OPBR810": ("MaterialX geometry names are '/'-separated paths: a Maya DAG path matches no geometry, so the look "
                 "assigns the material to nothing.", MX_SPEC),
+    "OPBR811": ("MaterialX connects a multi-output graph's first output where the input names none: the input reads "
+                "another map than meant, silently.", MX_SPEC),
+    "OPBR812": ("The shading models take world-space normals and tangents (nodedef defaults Nworld, Tworld): an "
+                "object-space vector shades right only while the object is untransformed.", f"{MX_STDLIB}; {MX_OPENPBR}"),
+    "OPBR813": ("hextiledimage rotates each tile's lookup, not the tangent-space vectors in it: the bumps of each tile "
+                "light from another direction; hextilednormalmap rotates both.", MX_STDLIB),
+    "OPBR814": ("A geometry assignment names geom or a collection; with both, applications pick differently.", MX_SPEC),
+    "OPBR815": ("normalmap's default tangent frame follows UV set 0; a map baked in another set's layout decodes in "
+                "the wrong frame.", MX_STDLIB),
     "OPBR901": ("Real metals reflect at least ~50% at normal incidence; a darker metal reads as plastic under "
                 "image-based light (info: heuristic, some measured alloys come close).",
                 f"{FILAMENT}; https://physicallybased.info/"),

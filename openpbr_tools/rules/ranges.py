@@ -29,6 +29,7 @@ from ..model import Connection, Location, Texture
 from ..optics import F82_COSINE
 from ..values import is_finite
 from . import Rule, for_each_input
+from .units import materialx_converted
 
 HARD_RANGE = Rule(
     "OPBR301", "out-of-hard-range", Severity.ERROR,
@@ -116,6 +117,8 @@ def check(asset, context):
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)
         value = entry.constant
+        converted = materialx_converted(entry, parameter, asset.format) if parameter is not None else None
+        value = converted if converted is not None else value  # (OPBR604/OPBR607 say what the unit does)
         if parameter is not None and parameter.enum is not None and entry.allowed and entry.value is None:
             yield context.diagnostic(
                 ENUM_VALUE, f"{entry.name}: {entry.raw} is not one of {', '.join(entry.allowed)}", entry.location)
@@ -163,7 +166,7 @@ def check(asset, context):
         if parameter.unit == "scene_length":
             continue
         low = _outside(values, parameter.soft_min, below=True)
-        high = _outside(values, parameter.soft_max, below=False)
+        high = _outside(values, parameter.soft_max, below=False) and not parameter.soft_max_exceedable
         if low or high:
             soft_low = parameter.soft_min if parameter.soft_min is not None else parameter.hard_min
             soft_high = parameter.soft_max if parameter.soft_max is not None else parameter.hard_max

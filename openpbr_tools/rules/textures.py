@@ -21,6 +21,7 @@ from ..io.image_files import damage
 from ..io.images import channel_count, image_size
 from ..io.paths import Kind, classify, leaves
 from ..io.usd.types import is_eight_bit
+from ..model import Texture
 from . import Rule, for_each_input
 
 MISSING_TEXTURE = Rule(
@@ -61,6 +62,23 @@ UNSAFE_PATH = Rule(
     passing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
     failing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="../shared/albedo.png" colorspace="srgb_texture" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
     example_files=("albedo.png",),
+)
+_ALBEDO = ('<image name="albedo" type="color3">\n  <input name="file" type="filename" value="{}" colorspace="srgb_texture" />'
+           '\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" '
+           'nodename="albedo" />\n</open_pbr_surface>')
+SHARED_FOLDER = Rule(
+    "OPBR723", "texture-path-shared-folder", Severity.INFO,
+    "A MaterialX or USD texture path climbs out of the asset's folder with '..' to an image that is there (a "
+    "studio's shared texture folder, MaterialX's ../../../Images): not read.",
+    "Relative paths into a shared folder are how MaterialX's own example library and USD asset repositories "
+    "(usd-wg's ../_common) are laid out, and they resolve wherever the tree is checked out, so this is no "
+    "defect. The validator still reads nothing outside the asset's folder: the image's content is not checked "
+    "unless the folder that holds both is validated (a folder named on the command line is the tree its files "
+    "may read from) or --allow-outside names it. glTF, a delivery format, keeps OPBR704; an absolute path, a "
+    "URL, a symbolic link or a '..' to nothing is OPBR704 too.",
+    passing=_ALBEDO.format("albedo.png"), failing=_ALBEDO.format("../shared/albedo.png"),
+    passing_name="looks/doc.mtlx", failing_name="looks/doc.mtlx",
+    example_files=("looks/albedo.png", "shared/albedo.png"),
 )
 EMPTY_PATH = Rule(
     "OPBR705", "empty-texture-path", Severity.ERROR,
@@ -180,8 +198,8 @@ TEXTURE_TOO_LARGE = Rule(
     failing_files=(("huge.png", b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\x00\x00N \x00\x00\x00\x04\x08\x02\x00\x00\x00"),),
 )
 
-RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, EMPTY_PATH, PLACE2D_WITHOUT_TEXCOORD,
-         UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, GREY_NORMAL_MAP, FLOAT_NORMAL_WITHOUT_DECODE, ZERO_UV_SCALE,
+RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PATH, SHARED_FOLDER, EMPTY_PATH,
+         PLACE2D_WITHOUT_TEXCOORD, UNREADABLE_TEXTURE, UNRECOGNISED_TEXTURE, GREY_NORMAL_MAP, FLOAT_NORMAL_WITHOUT_DECODE, ZERO_UV_SCALE,
          COLOUR_IMAGE_AS_DATA, TEXTURE_TOO_LARGE)
 
 # Case-sensitive, as MaterialX (UDIM_TOKEN, UV_TILE_TOKEN) and OpenUSD (UsdShadeUdimUtils) substitute them:
@@ -285,6 +303,11 @@ def check(asset, context):
                     GREY_NORMAL_MAP, f"{entry.name}: the normal map {texture.file!r} is a greyscale image "
                     f"({channels} channel{'s' if channels > 1 else ''}), not a normal map", where,
                     hint="use the normal map, or turn a height map into normals with a heighttonormal node")
+    for observation in (o for o in asset.observations if o.kind == "mtlx_image_file"):
+        # the files of images no input reads as a texture (a computed texcoord, a procedural graph): the same checks
+        file, node = observation.detail["file"], observation.detail["node"]
+        if (node, file) not in checked_files:
+            yield from _check_path(asset, Texture(file=file, node=node), observation.location, context, checked_files)
 
 
 def _check_path(asset, texture, where, context, checked_files):
@@ -306,6 +329,13 @@ def _check_path(asset, texture, where, context, checked_files):
     guard = context.guard(asset.path)
     resolved = guard.resolve(file)
     allowed_elsewhere = resolved.inside and resolved.root != guard.own_root  # --allow-outside
+    shared = kind not in _NOT_RELATIVE and leaves(file) and not _gltf(texture) and resolved.path is not None \
+        and os.path.isfile(resolved.path)  # (a stat, nothing read)
+    if shared and not allowed_elsewhere:
+        yield context.diagnostic(
+            SHARED_FOLDER, f"texture path {file!r} climbs out of the asset's folder to an image that is there: not read",
+            where, hint="validate the folder that holds both, or pass --allow-outside to check the image too")
+        return
     if (kind in _NOT_RELATIVE or leaves(file)) and not allowed_elsewhere:
         yield context.diagnostic(
             UNSAFE_PATH, f"texture path {file!r} points outside the asset's folder", where,

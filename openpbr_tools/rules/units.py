@@ -46,9 +46,24 @@ UNIT_IGNORED = Rule(
     "OPBR604", "unit-ignored", Severity.WARNING,
     "A unit attribute on an input whose unit is fixed or that has none.",
     "thin_film_thickness is in micrometres and emission_luminance in nits by definition; weights "
-    "have no unit. Renderers ignore the attribute, so a value authored in other units is misread.",
+    "have no unit. MaterialX's shader generation converts any input carrying unittype=\"distance\" and a "
+    "unit to the renderer's distance unit (metres in its viewer: 500 nanometer becomes 5e-07, where the "
+    "input expects micrometres; a roughness of 0.4 centimeter becomes 0.004); renderers without unit "
+    "conversion ignore the attribute. Either way the value is misread somewhere.",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_thickness" type="float" value="0.5" />\n</open_pbr_surface>',
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_thickness" type="float" value="500" unittype="distance" unit="nanometer" />\n</open_pbr_surface>',
+)
+UNIT_ON_DIMENSIONLESS = Rule(
+    "OPBR607", "unit-converted-into-range", Severity.INFO,
+    "A dimensionless input is written as a distance that MaterialX's unit system converts into its range "
+    "(specular_roughness 250 millimeter: 0.25).",
+    "MaterialX's shader generation converts an input carrying unittype=\"distance\" and a unit to the "
+    "renderer's distance unit, metres in its viewer and test suite (MaterialX's own "
+    "stdlib/units/standard_surface_unit.mtlx writes specular_roughness 250 millimeter), so there it renders as "
+    "meant; a renderer that does no unit conversion (or works in another unit) reads the number as written, "
+    "out of range. The range checks judge the converted value.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_roughness" type="float" value="0.25" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_roughness" type="float" value="250" unittype="distance" unit="millimeter" />\n</open_pbr_surface>',
 )
 THICKNESS_IN_NM = Rule(
     "OPBR605", "thin-film-thickness-nanometres", Severity.WARNING,
@@ -69,7 +84,8 @@ THICKNESS_IN_METRES = Rule(
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="thin_film_weight" type="float" value="1" />\n  <input name="thin_film_thickness" type="float" value="4.5e-07" />\n</open_pbr_surface>',
 )
 
-RULES = (WRONG_UNITTYPE, UNKNOWN_UNIT, LENGTH_WITHOUT_UNIT, UNIT_IGNORED, THICKNESS_IN_NM, THICKNESS_IN_METRES)
+RULES = (WRONG_UNITTYPE, UNKNOWN_UNIT, LENGTH_WITHOUT_UNIT, UNIT_IGNORED, UNIT_ON_DIMENSIONLESS, THICKNESS_IN_NM,
+         THICKNESS_IN_METRES)
 
 # Above this many micrometres a thin-film thickness is read as nanometres (interference colours
 # vanish above a few micrometres; no coating a look-dev artist models is 10 µm thick).
@@ -108,10 +124,22 @@ def check(asset, context):
         elif entry.unit or entry.unittype:
             fixed = {"micrometer": "micrometres", "nanometer": "nanometres", "nit": "nits"}.get(parameter.unit or "")
             why = f"is always in {fixed}" if fixed else "has no unit"
-            yield context.diagnostic(
-                UNIT_IGNORED, f"{entry.name} {why}; its unit attribute ({entry.unit or entry.unittype}) is ignored",
-                entry.location, hint="remove the attribute and author the value in the input's own unit",
-            )
+            converted = materialx_converted(entry, parameter, asset.format)
+            if converted is not None and not fixed and _inside(converted, parameter) and not _inside(entry.constant, parameter):
+                yield context.diagnostic(
+                    UNIT_ON_DIMENSIONLESS, f"{entry.name} has no unit but is written as {entry.constant:g} {entry.unit}: "
+                    f"MaterialX converts it to {converted:g} (metres), renderers without unit conversion read "
+                    f"{entry.constant:g}", entry.location, hint=f"author {converted:g} without the unit attribute")
+            elif converted is not None:
+                yield context.diagnostic(
+                    UNIT_IGNORED, f"{entry.name} {why}, but its unit attribute ({entry.unit}) makes MaterialX convert "
+                    f"{entry.constant:g} to {converted:g} (metres), and renderers without unit conversion ignore it",
+                    entry.location, hint="remove the attribute and author the value in the input's own unit")
+            else:
+                yield context.diagnostic(
+                    UNIT_IGNORED, f"{entry.name} {why}; its unit attribute ({entry.unit or entry.unittype}) is ignored",
+                    entry.location, hint="remove the attribute and author the value in the input's own unit",
+                )
         if parameter.unit == "micrometer" and isinstance(entry.constant, float) and entry.constant > suspicion:
             yield context.diagnostic(
                 THICKNESS_IN_NM,
@@ -133,3 +161,26 @@ def _thickness_in_metres(entry, context):
         f"like metres or millimetres{meant}", entry.location,
         hint=f"did you mean {guesses[0][1]:g}?" if guesses else "write the thickness in micrometres (0.1 to 1 typical)",
     )
+
+
+def materialx_converted(entry, parameter, file_format: str) -> float | None:
+    """The value MaterialX's shader generation gives a float input of fixed or no unit that carries
+    unittype="distance" and a known distance unit, converted to metres (its viewer's and test suite's target
+    distance unit; GlslShaderGenerator emits value * scale); None for anything else (a length input in scene
+    units, no or an unknown unit, a non-float value, a format without unit attributes)."""
+    if file_format != "mtlx" or entry.unittype != "distance" or parameter.unit == "scene_length":
+        return None
+    scale = load_json("units.json")["distance"].get(entry.unit or "")
+    value = entry.constant
+    if scale is None or not isinstance(value, float):
+        return None
+    return value * scale
+
+
+def _inside(value, parameter) -> bool:
+    """Inside the soft range where there is one, else the hard range."""
+    if not isinstance(value, float):
+        return True
+    low = parameter.soft_min if parameter.soft_min is not None else parameter.hard_min
+    high = parameter.soft_max if parameter.soft_max is not None else parameter.hard_max
+    return not ((low is not None and value < low) or (high is not None and value > high))

@@ -12,7 +12,21 @@ observed once per document for the rules of :mod:`openpbr_tools.rules.mtlx_docum
 * ``mtlx_colorspace_on_connection``: a ``colorspace`` on a connected input, which applies to an input's value only:
   the connected texture is not converted;
 * ``mtlx_normalmap_negative``: a normalmap whose float scale is negative, which flips x and y (a DirectX map needs
-  only green flipped: a vector2 scale of (1, -1)).
+  only green flipped: a vector2 scale of (1, -1));
+* ``mtlx_output_unnamed``: an input connected to a node graph (or a multi-output node) with several outputs without
+  naming one (``output``, which the specification requires there); MaterialX connects the first;
+* ``mtlx_normal_space``: a shader's normal or tangent input fed by a ``normal``/``tangent``/``bitangent`` node in object
+  or model space, where the shading models take world space (their nodedefs' Nworld/Tworld defaults);
+* ``mtlx_hextiled_normal``: a ``normalmap`` reading a ``hextiledimage``, whose random per-tile rotation turns the
+  lookup without turning the encoded vectors (MaterialX has ``hextilednormalmap`` for this);
+* ``mtlx_assign_geom_and_collection``: a look assignment naming both ``geom`` and ``collection``, which the
+  specification allows one of;
+* ``mtlx_normalmap_uv_set``: a ``normalmap`` without a tangent whose image reads a UV set other than 0, while its
+  default tangent frame (Tworld) follows the mesh's first UV set;
+* ``mtlx_image_file``: every file a node upstream of a material reads (a ``filename`` input's value, resolved as
+  MaterialX resolves it: the enclosing ``fileprefix`` and tokens applied), so the texture family checks the files
+  of images the graph follower does not turn into textures (an image whose texcoord is computed, as every
+  GPUOpen-library material's is) as it checks the others.
 """
 
 from __future__ import annotations
@@ -53,6 +67,13 @@ def observe_document(document, asset: Asset, path: str, guard) -> None:
                     and not port.hasValueString():
                 asset.observe("mtlx_colorspace_on_connection", where(node, port.getName()), input=port.getName(),
                               colorspace=port.getColorSpace(), node=node.getNamePath())
+    _image_files(document, nodes, asset, where)
+    _connections(nodes, asset, where)
+    for look in document.getLooks():
+        for assignment in look.getMaterialAssigns():
+            if assignment.getGeom() and assignment.getCollectionString():
+                asset.observe("mtlx_assign_geom_and_collection", where(assignment), look=look.getName(),
+                              geom=assignment.getGeom(), collection=assignment.getCollectionString())
     defaults: dict[tuple, list[str]] = {}
     for nodedef in document.getNodeDefs():
         if nodedef.getDefaultVersion():
@@ -84,6 +105,88 @@ def observe_document(document, asset: Asset, path: str, guard) -> None:
             geom = assignment.getGeom()
             if "|" in geom:
                 asset.observe("mtlx_look_geometry", where(assignment), look=look.getName(), geom=geom)
+
+
+_SHADER_NORMALS = ("geometry_normal", "geometry_coat_normal", "geometry_tangent", "geometry_coat_tangent", "normal",
+                   "coat_normal", "tangent")  # (OpenPBR's, Standard Surface's)
+_GEOMETRIC_VECTORS = ("normal", "tangent", "bitangent")
+
+
+def _upstream(port):
+    """The node ``port`` reads through a node graph's output (its connected node), or None."""
+    try:
+        return port.getConnectedNode()
+    except Exception:  # noqa: BLE001 - MaterialX raises on some broken references (reported elsewhere)
+        return None
+
+
+def _connections(nodes, asset, where) -> None:
+    for node in nodes:
+        for port in node.getInputs():
+            if not (port.getNodeGraphString() or port.getNodeName()) or port.getOutputString():
+                continue
+            target = port.getConnectedOutput()
+            owner = target.getParent() if target is not None else None
+            if owner is not None and owner.getCategory() == "nodegraph" and len(owner.getOutputs()) > 1:
+                asset.observe("mtlx_output_unnamed", where(node, port.getName()), input=port.getName(),
+                              node=node.getNamePath(), graph=owner.getNamePath(), chosen=target.getName(),
+                              outputs=[o.getName() for o in owner.getOutputs()])
+        if node.getType() == "surfaceshader":
+            for port in node.getInputs():
+                source = _upstream(port) if port.getName() in _SHADER_NORMALS else None
+                space = source.getInput("space") if source is not None and source.getCategory() in _GEOMETRIC_VECTORS \
+                    else None
+                if space is not None and space.getValueString() in ("object", "model"):
+                    asset.observe("mtlx_normal_space", where(node, port.getName()), input=port.getName(),
+                                  node=source.getNamePath(), category=source.getCategory(), space=space.getValueString())
+        if node.getCategory() == "normalmap":
+            image = _image_behind(node.getInput("in"))
+            if image is not None and image.getCategory() == "hextiledimage":
+                asset.observe("mtlx_hextiled_normal", where(node, "in"), node=node.getNamePath(), image=image.getNamePath())
+            tangent = node.getInput("tangent")
+            texcoord = image.getInput("texcoord") if image is not None else None
+            reader = _upstream(texcoord) if texcoord is not None else None
+            index = reader.getInput("index") if reader is not None and reader.getCategory() == "texcoord" else None
+            if index is not None and index.getValueString().strip() not in ("", "0") and (
+                    tangent is None or not (tangent.getNodeName() or tangent.getNodeGraphString()
+                                            or tangent.getInterfaceName())):
+                asset.observe("mtlx_normalmap_uv_set", where(node), node=node.getNamePath(), image=image.getNamePath(),
+                              index=index.getValueString().strip())
+
+
+def _image_behind(port, depth: int = 0):
+    """The image-like node (a node with a ``file`` input) behind ``port`` through ``convert``/``dot``/``extract``
+    nodes, or None."""
+    node = _upstream(port) if port is not None else None
+    if node is None or depth > 4:
+        return None
+    if node.getInput("file") is not None:
+        return node
+    if node.getCategory() in ("convert", "dot", "extract", "swizzle"):
+        return _image_behind(node.getInput("in"), depth + 1)
+    return None
+
+
+def _image_files(document, nodes, asset, where) -> None:
+    """``mtlx_image_file`` for each filename input with a value on a node a material reads (none in a document
+    without materials: a library of graphs renders nothing by itself, and its file names may be placeholders)."""
+    materials = [node for node in nodes if node.getType() == "material"]
+    upstream: set[str] = set()
+    for material in materials:
+        for edge in material.traverseGraph():
+            element = edge.getUpstreamElement()
+            if element is not None:
+                upstream.add(element.getNamePath())
+            graph = element.getParent() if element is not None else None
+            if graph is not None and graph.getCategory() == "nodegraph":
+                upstream.update(node.getNamePath() for node in graph.getNodes())  # (a graph's interface-fed nodes)
+    for node in nodes:
+        if node.getNamePath() not in upstream:
+            continue
+        for port in node.getInputs():
+            if port.getType() == "filename" and port.hasValueString() and port.getValueString().strip():
+                asset.observe("mtlx_image_file", where(node, port.getName()), file=port.getResolvedValueString(),
+                              node=node.getNamePath())
 
 
 def _extract(node, asset, where) -> None:

@@ -56,7 +56,7 @@ class GraphFollower:
     def follow(self, port):
         """Interpret what feeds ``port``: a :class:`Texture` for an image chain, else a
         :class:`Connection` (dangling when the reference does not resolve)."""
-        self.followed_space = None
+        self.followed_space = self.followed_unit = None
         if port.hasAttribute("interfacename"):
             graph_input = port.getInterfaceInput()
             if graph_input is None:
@@ -65,6 +65,7 @@ class GraphFollower:
                 if graph_input.hasAttribute("value"):
                     try:
                         self.followed_space = graph_input.getActiveColorSpace() or None
+                        self.followed_unit = (graph_input.getUnitType() or None, graph_input.getUnit() or None)
                         return Constant(parse_value(graph_input.getValueString(), graph_input.getType()))
                     except ValueSyntaxError as error:
                         return Connection(graph_input.getNamePath(), None, str(error))
@@ -80,6 +81,7 @@ class GraphFollower:
         if constant is not None:
             constant, held = constant
             self.followed_space = held.getActiveColorSpace() or None  # the colour space the value is in
+            self.followed_unit = (held.getUnitType() or None, held.getUnit() or None)  # and the unit MaterialX converts
             return constant
         texture = self.texture_chain(node, read_output(port))
         if texture is not None:
@@ -155,6 +157,8 @@ class GraphFollower:
     #: the colour space of the constant :meth:`follow` last returned (a constant node's or an interface
     #: input's value is in its own, which may not be the shader input's)
     followed_space = None
+    #: (unittype, unit) of that constant's value, which MaterialX's unit system converts as the shader input's
+    followed_unit = None
 
     def bound_file(self, file_input):
         """The element holding an image's file name: its ``file`` input or, where that is bound to an
@@ -178,6 +182,7 @@ class GraphFollower:
             image_type=image_type or node.getType(),
             channels=channels,
             colorspace=(file_input.getActiveColorSpace() if file_input is not None else node.getActiveColorSpace()) or None,
+            colorspace_on_image=(file_input is not None and file_input.hasColorSpace()) or node.hasColorSpace(),
             normal_map=normal_scale,
             node=node.getNamePath(),
             node_category=node.getCategory(),

@@ -380,6 +380,8 @@ class _Reader(GraphFollower):
             entry.value = self.follow_shader_input(port)
             if isinstance(entry.value, Constant) and self.followed_space and self.followed_space != entry.colorspace:
                 entry.colorspace = entry.authored_colorspace = self.followed_space
+            if isinstance(entry.value, Constant) and self.followed_unit and self.followed_unit[1] and not entry.unit:
+                entry.unittype, entry.unit = self.followed_unit
             return entry
         text = port.getValueString()
         entry.raw = text
