@@ -428,3 +428,26 @@ def test_a_floating_point_bake_with_nan_and_infinite_texels_and_a_cropped_data_w
         path.write_text(_document(body))
         found = {k: v for k, v in _codes(path).items() if k in ("OPBR726", "OPBR727")}
         assert found == expected, file
+
+
+@pytest.mark.parametrize("scale, expected", [(None, "warning"), (400.0, None)])
+def test_an_emission_luminance_read_from_a_mask_as_it_is(tmp_path, scale, expected):
+    """Set I's mb13: a neon sign's 0-1 emission mask wired to emission_luminance, which OpenPBR gives in nits
+    (cd/m^2; ND_open_pbr_surface's uisoftmax 1000): at most 1 nit. Scaled by the luminance meant, it is no finding."""
+    import MaterialX as mx
+
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    assert library.getNodeDef("ND_open_pbr_surface_surfaceshader").getInput("emission_luminance").getAttribute(
+        "uisoftmax") == "1000.0"
+    Image.new("L", (4, 4), 255).save(tmp_path / "mask.png")
+    node = "mask" if scale is None else "nits"
+    multiply = "" if scale is None else (f'<multiply name="nits" type="float">\n  <input name="in1" type="float" '
+                                         f'nodename="mask" />\n  <input name="in2" type="float" value="{scale}" />\n</multiply>\n')
+    body = ('<image name="mask" type="float">\n  <input name="file" type="filename" value="mask.png" />\n</image>\n'
+            + multiply + '<open_pbr_surface name="S" type="surfaceshader">\n  <input name="emission_luminance" '
+            f'type="float" nodename="{node}" />\n</open_pbr_surface>\n<surfacematerial name="M" type="material">\n'
+            '  <input name="surfaceshader" type="surfaceshader" nodename="S" />\n</surfacematerial>')
+    path = tmp_path / "sign.mtlx"
+    path.write_text(_document(body))
+    assert _codes(path).get("OPBR910") == expected

@@ -10,6 +10,8 @@ from __future__ import annotations
 
 from .. import colorspaces, tables
 from ..diagnostics import Severity
+from ..io.usd.types import is_eight_bit
+from ..model import Texture
 from ..resources import load_json
 from . import Rule
 
@@ -102,8 +104,26 @@ METAL_BLACK = Rule(
     failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_metalness" type="float" value="1" />\n  <input name="base_color" type="color3" value="0, 0, 0" />\n</open_pbr_surface>',
 )
 
+_LUMINANCE = ('<image name="mask" type="float">\n  <input name="file" type="filename" value="mask.png" />\n</image>\n'
+              '{scaled}<open_pbr_surface name="S" type="surfaceshader">\n  <input name="emission_color" type="color3" '
+              'value="1, 0.25, 0.6" />\n  <input name="emission_luminance" type="float" nodename="{node}" />\n'
+              '</open_pbr_surface>')
+LUMINANCE_FROM_MASK = Rule(
+    "OPBR910", "emission-luminance-from-mask", Severity.WARNING,
+    "emission_luminance reads an 8-bit image as it is: at most 1 nit, a glow no display shows.",
+    "OpenPBR's emission_luminance is in nits (cd/m^2; its nodedef's soft range is 0-1000, a lit screen is a few "
+    "hundred): an 8-bit image holds 0-1, so read directly the surface emits at most 1 nit and looks unlit. It is "
+    "what a translation of Standard Surface's emission (a 0-1 weight) or glTF's emissiveTexture gives when the "
+    "luminance is wired to the mask: scale the mask by the luminance meant (a multiply node), or feed the mask to "
+    "emission_color and set emission_luminance.",
+    passing=_LUMINANCE.format(scaled='<multiply name="nits" type="float">\n  <input name="in1" type="float" '
+                              'nodename="mask" />\n  <input name="in2" type="float" value="400" />\n</multiply>\n',
+                              node="nits"),
+    failing=_LUMINANCE.format(scaled="", node="mask"), example_files=("mask.png",),
+)
+
 RULES = (METAL_TOO_DARK, DIELECTRIC_OUT_OF_RANGE, TRANSMISSIVE_METAL, FILM_WITHOUT_THICKNESS,
-         IOR_BELOW_ONE, PARTIAL_METALNESS, EMISSION_OFF, INVISIBLE, METAL_BLACK)
+         IOR_BELOW_ONE, PARTIAL_METALNESS, EMISSION_OFF, INVISIBLE, METAL_BLACK, LUMINANCE_FROM_MASK)
 
 
 class _Values:
@@ -222,6 +242,13 @@ def check(asset, context):
                 and limits["metalness_dielectric_below"] < metalness < limits["metalness_metal_above"]):
             yield context.diagnostic(PARTIAL_METALNESS, f"{material.name}: base_metalness {metalness:g} is neither metal nor dielectric",
                                      material.inputs["base_metalness"].location)
+        emitted = material.inputs.get("emission_luminance")
+        mask = emitted.value if emitted is not None and isinstance(emitted.value, Texture) else None
+        if mask is not None and is_eight_bit(mask.file) and _at_most_one(mask):
+            yield context.diagnostic(
+                LUMINANCE_FROM_MASK, f"{material.name}: emission_luminance reads the 8-bit image {mask.file!r} as it is, "
+                "so the surface emits at most 1 nit (emission_luminance is in nits)", emitted.location,
+                hint="multiply the mask by the luminance meant (e.g. 400 nits), or feed it to emission_color")
         luminance = value("emission_luminance")
         color = value("emission_color")
         if isinstance(luminance, float) and isinstance(color, tuple):
@@ -235,6 +262,13 @@ def check(asset, context):
         if value.authored("geometry_opacity") and opacity == 0:
             yield context.diagnostic(INVISIBLE, f"{material.name}: geometry_opacity is 0 (invisible)",
                                      material.inputs["geometry_opacity"].location)
+
+
+def _at_most_one(texture) -> bool:
+    """Whether a texture's scale and bias keep an 8-bit image's [0, 1] at or below 1 (none: as it is)."""
+    def number(value, default):
+        return float(max(value)) if isinstance(value, tuple) else float(value) if isinstance(value, (int, float)) else default
+    return number(texture.scale, 1.0) + max(number(texture.bias, 0.0), 0.0) <= 1.0
 
 
 def _invisible_gltf(material, context):

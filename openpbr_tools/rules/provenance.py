@@ -296,6 +296,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "mx_radians); glTF's is in radians, so a value copied across turns the texture by 1/57 of what "
                 "was meant, and a degree value typed into a glTF file (90) by 57 times it.",
                 f"{MX_NODES}; {USD_PREVIEW}; {GLTF}; {_GLTF}extensions/2.0/Khronos/KHR_texture_transform/README.md"),
+    "OPBR910": ("An 8-bit image read as a luminance in nits emits at most 1 nit: the surface looks unlit.",
+                f"{OPENPBR}; {MX_OPENPBR}"),
     "OPBR1001": ("Without info:id (or a source asset/code) Sdr cannot find the shader's definition: Hydra "
                  "renders the material with its fallback.", f"{USD_SHADER}; {_USD}pxr/usd/sdr/shaderNode.h"),
     "OPBR1002": ("Hydra and UsdMtlx type MaterialX inputs from the USD type (role and precision): a wrong role "
