@@ -36,6 +36,7 @@ from typing import Iterator
 from . import slots
 from .accessors import MAX_ELEMENTS
 from .document import GLB_BIN, GLB_JSON, GltfDocument, ResourceError, data_uri_mime
+from .schema import uri_syntax_error
 from .textures import json_text
 
 COMPONENT_SIZES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
@@ -69,6 +70,9 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
                 yield ("gltf_resource", pointer + "/uri", f"the buffer's data URI declares {json_text(media_type or '')}, "
                        f"not {' or '.join(BUFFER_MEDIA_TYPES)}: loaders that check the media type refuse the buffer", None)
         elif isinstance(uri, str):
+            syntax = uri_syntax_error(uri)
+            if syntax is not None:
+                yield "gltf_invalid", pointer, f"uri {json_text(uri)} is no valid URI: {syntax}", "uri"
             try:
                 local = document.resolve(uri, pointer + "/uri")
             except ResourceError as error:

@@ -23,6 +23,7 @@ from ...model import Connection, Texture
 from ..image_files import ALPHA_MODES, ResourceFile, damage, head_of, pillow_format, png_bit_depth
 from . import slots
 from .document import ResourceError, data_uri_mime
+from .schema import TEXTURE_OBJECT_PROPERTIES, uri_syntax_error
 from .uv import from_texture_transform
 
 KTX2, KTX2_IDENTIFIER = "image/ktx2", b"\xabKTX 20\xbb\r\n\x1a\n"
@@ -59,6 +60,9 @@ class TextureReading:
                          "image data must not have (only vertex attributes are strided)", "bufferView")
         if isinstance(uri, str) and not uri.startswith("data:"):
             info["file"], info["packaged"] = unquote(uri), False
+            syntax = uri_syntax_error(uri)
+            if syntax is not None:
+                self.invalid(pointer, f"uri {json_text(uri)} is no valid URI: {syntax}; loaders cannot resolve it", "uri")
             if "\x00" in info["file"]:  # no file system takes it; path functions raise ValueError on it
                 info["file"] = info["file"].replace("\x00", "\ufffd")
                 self.invalid(pointer, "uri holds a NUL character (U+0000), which no file name can; read as U+FFFD", "uri")
@@ -90,6 +94,13 @@ class TextureReading:
         where = "bufferView" if "bufferView" in image else "uri"  # where the bytes are, as the Khronos validator points
         _declared_type(info, declared if isinstance(declared, str) else data_uri_mime(uri or ""), where)
         return info
+
+    def unexpected_texture_properties(self) -> None:
+        """Properties of images, textures and samplers that their schemas do not define (UNEXPECTED_PROPERTY)."""
+        for array, names in TEXTURE_OBJECT_PROPERTIES.items():
+            for index, found in enumerate(self.document.array(array)):
+                if isinstance(found, dict):
+                    self.unexpected(found, names + slots.COMMON_PROPERTIES, f"/{array}/{index}", array[:-1])
 
     def texture(self, slot: slots.Slot, info, pointer: str, factor, container: dict):
         if not isinstance(info, dict) or isinstance(info.get("index"), bool) or not isinstance(info.get("index"), int):

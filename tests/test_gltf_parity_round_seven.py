@@ -1,0 +1,209 @@
+"""Parity with the Khronos glTF-Validator, round seven (session 20's audit, KP): defects on materials, textures,
+images, samplers and the structure needed to read them that the validator reports and the toolkit did not.
+
+Each case is a small document built here, a broken one and its repaired twin. All of them are run through the
+validator in one node process (:func:`khronos`); each test asserts the validator's code and severity on the broken
+file and not on the twin, and the toolkit's finding (code and severity: an error where the validator has an error, a
+warning or an error where it has a warning) on the broken file and not on the twin."""
+
+from __future__ import annotations
+
+import base64
+import copy
+import io
+import json
+import struct
+from pathlib import Path
+
+import pytest
+from PIL import Image
+
+from gltf_support import validate_many_with_khronos
+from redteam_support import findings
+
+_QUAD = {"POSITION": ("12f", (-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0), "VEC3"),
+         "NORMAL": ("12f", (0, 0, 1) * 4, "VEC3"),
+         "TANGENT": ("16f", (1, 0, 0, 1) * 4, "VEC4"),
+         "TEXCOORD_0": ("8f", (0, 1, 1, 1, 1, 0, 0, 0), "VEC2"),
+         "TEXCOORD_1": ("8f", (0, 0.5, 0.5, 0.5, 0.5, 0, 0, 0), "VEC2")}
+
+
+def png(mode: str = "RGB", colour=(200, 120, 40), size=(4, 4)) -> bytes:
+    handle = io.BytesIO()
+    Image.new(mode, size, colour).save(handle, "PNG")
+    return handle.getvalue()
+
+
+def data_uri(data: bytes, mime: str = "image/png") -> str:
+    return f"data:{mime};base64," + base64.b64encode(data).decode("ascii")
+
+
+def quad(attributes=("POSITION", "NORMAL", "TEXCOORD_0"), material: dict | None = None, images=None) -> dict:
+    """A quad drawn with material 0 (a base colour texture on TEXCOORD_0 unless ``material`` is given), its vertex data
+    in one data-URI buffer, one bufferView per attribute (with its target); ``images`` replace the one PNG image."""
+    data, views, accessors, named = b"", [], [], {}
+    for name in attributes:
+        layout, values, kind = _QUAD[name]
+        packed = struct.pack("<" + layout, *values)
+        views.append({"buffer": 0, "byteOffset": len(data), "byteLength": len(packed), "target": 34962})
+        accessor = {"bufferView": len(views) - 1, "componentType": 5126, "count": 4, "type": kind}
+        if name == "POSITION":
+            accessor.update({"min": [-1, -1, 0], "max": [1, 1, 0]})
+        named[name] = len(accessors)
+        accessors.append(accessor)
+        data += packed
+    return {
+        "asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+        "buffers": [{"byteLength": len(data), "uri": data_uri(data, "application/octet-stream")}],
+        "bufferViews": views, "accessors": accessors,
+        "images": images if images is not None else [{"uri": data_uri(png())}],
+        "samplers": [{"magFilter": 9729}], "textures": [{"source": 0, "sampler": 0}],
+        "materials": [material if material is not None else
+                      {"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}],
+        "meshes": [{"primitives": [{"attributes": named, "material": 0}]}],
+    }
+
+
+def _without(document: dict, *keys: str) -> dict:
+    changed = copy.deepcopy(document)
+    for key in keys:
+        changed.pop(key, None)
+    return changed
+
+
+def _extensions_used_number():
+    broken = quad()
+    broken["extensionsUsed"] = [5]
+    return broken, quad()
+
+
+def _samplers_empty():
+    broken, fixed = quad(), quad()
+    broken["samplers"], broken["textures"] = [], [{"source": 0}]
+    fixed["textures"] = [{"source": 0}]
+    return broken, _without(fixed, "samplers")
+
+
+def _textures_empty():
+    plain = {"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.2, 0.2, 1]}}
+    broken = _without(quad(material=plain), "images", "samplers")
+    broken["textures"] = []
+    return broken, _without(broken, "textures")
+
+
+def _image_uri(uri: str):
+    def build():
+        broken, fixed = quad(), quad()
+        broken["images"] = [{"uri": uri}]
+        fixed["images"] = [{"uri": uri.replace("[::1", "[::1]")}]
+        return broken, fixed
+    return build
+
+
+def _buffer_uri():
+    broken, fixed = quad(), quad()
+    broken["buffers"].append({"byteLength": 4, "uri": "1http://example.com/a.bin"})
+    fixed["buffers"].append({"byteLength": 4, "uri": "http://example.com/a.bin"})
+    return broken, fixed
+
+
+def _unexpected(array: str, name: str, value):
+    def build():
+        broken = quad()
+        broken[array][0][name] = value
+        return broken, quad()
+    return build
+
+
+def _extension_name(name: str):
+    def build():
+        documents = []
+        for used in (name, "KHR_materials_clearcoat"):
+            document = quad(material={"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}},
+                                      "extensions": {used: {"clearcoatFactor": 1}}})
+            document["extensionsUsed"] = [used]
+            documents.append(document)
+        return tuple(documents)
+    return build
+
+
+def _image_view(shared: bool):
+    """The PNG in a bufferView of its own (the twin), or in one with target 34962; or (``shared``) in TEXCOORD_0's
+    bufferView, an accessor on which the primitive draws with."""
+    def build():
+        documents = []
+        for broken in (True, False):
+            document = quad()
+            image = png()
+            buffer = base64.b64decode(document["buffers"][0]["uri"].split(",", 1)[1])
+            view = {"buffer": 0, "byteOffset": len(buffer), "byteLength": len(image)}
+            if broken and not shared:
+                view["target"] = 34962
+            document["bufferViews"].append(view)
+            buffer += image + bytes(-len(image) % 4)
+            document["buffers"][0] = {"byteLength": len(buffer), "uri": data_uri(buffer, "application/octet-stream")}
+            document["images"] = [{"bufferView": len(document["bufferViews"]) - 1, "mimeType": "image/png"}]
+            if broken and shared:
+                texcoord = document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"]
+                document["accessors"].append({**document["accessors"][texcoord], "bufferView": len(document["bufferViews"]) - 1})
+                document["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = len(document["accessors"]) - 1
+                # the image's view is the TEXCOORD_0 accessor's now; keep it free of a target, as an image view is
+                document["accessors"][-1]["count"] = 4
+            documents.append(document)
+        return tuple(documents)
+    return build
+
+
+# name: (builder, Khronos code, Khronos severity (0 error, 1 warning), toolkit code, toolkit severity)
+CASES = {
+    "extensions_used_number": (_extensions_used_number, "ARRAY_TYPE_MISMATCH", 0, "OPBR1210", "error"),
+    "samplers_empty": (_samplers_empty, "EMPTY_ENTITY", 0, "OPBR1210", "error"),
+    "textures_empty": (_textures_empty, "EMPTY_ENTITY", 0, "OPBR1210", "error"),
+    "image_uri_unclosed_ipv6": (_image_uri("http://[::1/a.png"), "INVALID_URI", 0, "OPBR1210", "error"),
+    "buffer_uri_bad_scheme": (_buffer_uri, "INVALID_URI", 0, "OPBR1210", "error"),
+    "sampler_unexpected_property": (_unexpected("samplers", "wrapR", 33071), "UNEXPECTED_PROPERTY", 1, "OPBR1213", "warning"),
+    "image_unexpected_property": (_unexpected("images", "width", 4), "UNEXPECTED_PROPERTY", 1, "OPBR1213", "warning"),
+    "texture_unexpected_property": (_unexpected("textures", "wrapS", 33071), "UNEXPECTED_PROPERTY", 1, "OPBR1213", "warning"),
+    "extension_without_vendor_prefix": (_extension_name("clearcoat"), "INVALID_EXTENSION_NAME_FORMAT", 1, "OPBR1216",
+                                        "warning"),
+    "image_view_with_target": (_image_view(shared=False), "BUFFER_VIEW_TARGET_OVERRIDE", 0, "OPBR1210", "error"),
+    "image_view_shared_with_texcoords": (_image_view(shared=True), "BUFFER_VIEW_TARGET_OVERRIDE", 0, "OPBR1210", "error"),
+}
+
+
+def _write(path: Path, document) -> Path:
+    if isinstance(document, (bytes, bytearray)):
+        path.write_bytes(document)
+    else:
+        path.write_text(json.dumps(document, indent=1), encoding="utf-8")
+    return path
+
+
+@pytest.fixture(scope="module")
+def cases(tmp_path_factory) -> dict[str, tuple[Path, Path]]:
+    folder = tmp_path_factory.mktemp("parity")
+    written = {}
+    for name, (build, *_) in CASES.items():
+        broken, fixed = build()
+        suffix = ".glb" if isinstance(broken, (bytes, bytearray)) else ".gltf"
+        written[name] = (_write(folder / f"{name}{suffix}", broken), _write(folder / f"{name}_fixed{suffix}", fixed))
+    return written
+
+
+@pytest.fixture(scope="module")
+def khronos(cases, tmp_path_factory) -> dict[Path, set[tuple[str, int]]]:
+    """(code, severity) of every error and warning the Khronos glTF-Validator reports, per file, in one node run."""
+    paths = [p for pair in cases.values() for p in pair]
+    reports = validate_many_with_khronos(paths, tmp_path_factory.mktemp("khronos"))
+    return {Path(file): {(m["code"], m["severity"]) for m in report["issues"]["messages"] if m["severity"] <= 1}
+            for file, report in reports.items()}
+
+
+@pytest.mark.parametrize("name", sorted(CASES))
+def test_the_toolkit_reports_what_the_khronos_validator_reports(name, cases, khronos):
+    _, code, severity, tool_code, tool_severity = CASES[name]
+    broken, fixed = cases[name]
+    assert (code, severity) in khronos[broken.resolve()], khronos[broken.resolve()]
+    assert code not in {c for c, _ in khronos[fixed.resolve()]}, khronos[fixed.resolve()]
+    assert (tool_code, tool_severity) in {(c, s) for c, s, _, _ in findings(broken)}, findings(broken)
+    assert tool_code not in {c for c, _, _, _ in findings(fixed)}, findings(fixed)
