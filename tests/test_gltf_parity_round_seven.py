@@ -154,6 +154,30 @@ def _image_view(shared: bool):
     return build
 
 
+def _normal_map_without_tangents(with_normals: bool):
+    """A normal-mapped quad without TANGENT (and, unless ``with_normals``, without NORMAL), and the quad with both."""
+    def build():
+        material = {"name": "M", "normalTexture": {"index": 0}}
+        attributes = ("POSITION", "NORMAL", "TEXCOORD_0") if with_normals else ("POSITION", "TEXCOORD_0")
+        return (quad(attributes, material=material),
+                quad(("POSITION", "NORMAL", "TANGENT", "TEXCOORD_0"), material=material))
+    return build
+
+
+def _tangent_texture_uv_set(extension: str, texture: str, factors: dict):
+    """A normalTexture on UV set 0 beside ``texture`` of ``extension`` on set 1 (the twin: on set 0)."""
+    def build():
+        documents = []
+        for texcoord in (1, 0):
+            material = {"name": "M", "normalTexture": {"index": 0},
+                        "extensions": {extension: {**factors, texture: {"index": 0, "texCoord": texcoord}}}}
+            document = quad(("POSITION", "NORMAL", "TANGENT", "TEXCOORD_0", "TEXCOORD_1"), material=material)
+            document["extensionsUsed"] = [extension]
+            documents.append(document)
+        return tuple(documents)
+    return build
+
+
 # name: (builder, Khronos code, Khronos severity (0 error, 1 warning), toolkit code, toolkit severity)
 CASES = {
     "extensions_used_number": (_extensions_used_number, "ARRAY_TYPE_MISMATCH", 0, "OPBR1210", "error"),
@@ -168,6 +192,16 @@ CASES = {
                                         "warning"),
     "image_view_with_target": (_image_view(shared=False), "BUFFER_VIEW_TARGET_OVERRIDE", 0, "OPBR1210", "error"),
     "image_view_shared_with_texcoords": (_image_view(shared=True), "BUFFER_VIEW_TARGET_OVERRIDE", 0, "OPBR1210", "error"),
+    "normal_map_without_tangents": (_normal_map_without_tangents(True), "MESH_PRIMITIVE_GENERATED_TANGENT_SPACE", 1,
+                                    "OPBR1235", "warning"),
+    "normal_map_without_normals_or_tangents": (_normal_map_without_tangents(False),
+                                               "MESH_PRIMITIVE_GENERATED_TANGENT_SPACE", 1, "OPBR1235", "warning"),
+    "anisotropy_texture_on_another_uv_set": (
+        _tangent_texture_uv_set("KHR_materials_anisotropy", "anisotropyTexture", {"anisotropyStrength": 0.5}),
+        "KHR_MATERIALS_ANISOTROPY_ANISOTROPY_TEXTURE_TEXCOORD", 1, "OPBR1236", "warning"),
+    "clearcoat_normal_texture_on_another_uv_set": (
+        _tangent_texture_uv_set("KHR_materials_clearcoat", "clearcoatNormalTexture", {"clearcoatFactor": 1}),
+        "KHR_MATERIALS_CLEARCOAT_CLEARCOAT_NORMAL_TEXTURE_TEXCOORD", 1, "OPBR1236", "warning"),
 }
 
 

@@ -371,6 +371,15 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1234": ("glTF reads each data texture from fixed channels; an image packed for another engine renders its "
                  "flat channel (a mirror coat, a dielectric where the mask says metal), and no validator reads texels.",
                  f"{GLTF}; {khr('KHR_materials_clearcoat')}"),
+    "OPBR1235": ("A normal map read in a tangent space the viewer generates shades as baked only where the baker used "
+                 "the same (MikkTSpace on the same mesh); viewers without MikkTSpace differ (the glTF-Validator's "
+                 "MESH_PRIMITIVE_GENERATED_TANGENT_SPACE, a warning). Legal and common: most Khronos samples do it.",
+                 f"{GLTF}; mmikk/MikkTSpace:mikktspace.h; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
+    "OPBR1236": ("The anisotropy direction and a clear-coat normal map are read in the tangent space of the normal "
+                 "texture's UV set; painted on another set they point the wrong way where the layouts differ (the "
+                 "glTF-Validator's KHR_MATERIALS_ANISOTROPY_ANISOTROPY_TEXTURE_TEXCOORD, "
+                 "KHR_MATERIALS_CLEARCOAT_CLEARCOAT_NORMAL_TEXTURE_TEXCOORD, warnings).",
+                 f"{GLTF}; {khr('KHR_materials_anisotropy')}; {khr('KHR_materials_clearcoat')}"),
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
                  "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
                  "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),
