@@ -178,6 +178,43 @@ def _tangent_texture_uv_set(extension: str, texture: str, factors: dict):
     return build
 
 
+_JSON, _BIN = 0x4E4F534A, 0x004E4942
+
+
+def glb(document: dict, extra_chunks=(), bin_padding: int = 0) -> bytes:
+    """``document`` as a GLB: its data-URI buffer 0 moved into the BIN chunk (with ``bin_padding`` more zero bytes),
+    then ``extra_chunks`` ((type, bytes), ...)."""
+    document = copy.deepcopy(document)
+    binary = base64.b64decode(document["buffers"][0].pop("uri").split(",", 1)[1])
+    binary += bytes(-len(binary) % 4 + bin_padding)
+    text = json.dumps(document).encode("utf-8")
+    text += b" " * (-len(text) % 4)
+    body = b"".join(struct.pack("<II", len(data), kind) + data
+                    for kind, data in ((_JSON, text), (_BIN, binary), *extra_chunks))
+    return b"glTF" + struct.pack("<II", 2, 12 + len(body)) + body
+
+
+def image_in_buffer(document: dict) -> dict:
+    """``document`` with its PNG moved from a data URI into buffer 0, through a bufferView of its own."""
+    image = png()
+    binary = base64.b64decode(document["buffers"][0]["uri"].split(",", 1)[1])
+    document["bufferViews"].append({"buffer": 0, "byteOffset": len(binary), "byteLength": len(image)})
+    binary += image + bytes(-len(image) % 4)
+    document["buffers"][0] = {"byteLength": len(binary), "uri": data_uri(binary, "application/octet-stream")}
+    document["images"] = [{"bufferView": len(document["bufferViews"]) - 1, "mimeType": "image/png"}]
+    return document
+
+
+def _glb_case(**options):
+    def build():
+        return glb(image_in_buffer(quad()), **options), glb(image_in_buffer(quad()))
+    return build
+
+
+def _glb_image_data_uri():
+    return glb(quad()), glb(image_in_buffer(quad()))
+
+
 # name: (builder, Khronos code, Khronos severity (0 error, 1 warning), toolkit code, toolkit severity)
 CASES = {
     "extensions_used_number": (_extensions_used_number, "ARRAY_TYPE_MISMATCH", 0, "OPBR1210", "error"),
@@ -202,6 +239,13 @@ CASES = {
     "clearcoat_normal_texture_on_another_uv_set": (
         _tangent_texture_uv_set("KHR_materials_clearcoat", "clearcoatNormalTexture", {"clearcoatFactor": 1}),
         "KHR_MATERIALS_CLEARCOAT_CLEARCOAT_NORMAL_TEXTURE_TEXCOORD", 1, "OPBR1236", "warning"),
+    "glb_bin_chunk_too_big": (_glb_case(bin_padding=16), "BUFFER_GLB_CHUNK_TOO_BIG", 1, "OPBR1237", "warning"),
+    "glb_unknown_chunk": (_glb_case(extra_chunks=((0x41525458, b"abcd"),)), "GLB_UNKNOWN_CHUNK_TYPE", 1, "OPBR1237",
+                          "warning"),
+    "glb_second_bin_chunk": (_glb_case(extra_chunks=((_BIN, b"abcd"),)), "GLB_DUPLICATE_CHUNK", 0, "OPBR1209", "error"),
+    "glb_second_json_chunk": (_glb_case(extra_chunks=((_JSON, b"{}  "),)), "GLB_DUPLICATE_CHUNK", 0, "OPBR1209",
+                              "error"),
+    "glb_image_data_uri": (_glb_image_data_uri, "DATA_URI_GLB", 1, "OPBR1237", "warning"),
 }
 
 

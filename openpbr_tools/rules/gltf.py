@@ -205,13 +205,15 @@ BROKEN_RESOURCE = Rule(
     "OPBR1209", "gltf-broken-resource", Severity.ERROR,
     "A buffer or embedded image cannot be loaded: invalid base64, above the size limit, missing, shorter than its "
     "byteLength, or outside its buffer; a buffer's data URI declares a media type other than application/octet-stream "
-    "or application/gltf-buffer; or a GLB chunk is not 4-byte aligned.",
+    "or application/gltf-buffer; or a GLB chunk is not 4-byte aligned, or is a second JSON or BIN chunk.",
     "A data URI that is not valid base64, a buffer file that does not exist or holds fewer bytes than its "
     "byteLength (3.6.1; a truncated copy: the validator's BUFFER_BYTE_LENGTH_MISMATCH), a bufferView past the "
     "end of its buffer or a GLB without the binary chunk its buffer needs: loaders fail on the whole "
     "file or show the mesh without the texture. A GLB chunk whose length is no multiple of 4 (4.4.3: chunks "
     "\"MUST be aligned to a 4-byte boundary\", the JSON padded with spaces; GLB_CHUNK_LENGTH_UNALIGNED) leaves "
-    "the binary data unaligned for loaders that map it in place. A buffer's data URI \"MUST\" declare "
+    "the binary data unaligned for loaders that map it in place; a GLB has one JSON chunk and at most one BIN chunk "
+    "(4.4.3; a second of either: GLB_DUPLICATE_CHUNK), and loaders read the first, the last or refuse the file. A "
+    "buffer's data URI \"MUST\" declare "
     "application/octet-stream or application/gltf-buffer (3.6.1; BUFFER_DATA_URI_MIME_TYPE_INVALID): a text/plain "
     "one is refused by loaders that check. A data URI whose decoded size is above "
     "OPENPBR_MAX_DATA_URI_MB (default: the file limit OPENPBR_MAX_FILE_MB, 64 MiB) is reported "

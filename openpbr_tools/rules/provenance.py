@@ -380,6 +380,11 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "glTF-Validator's KHR_MATERIALS_ANISOTROPY_ANISOTROPY_TEXTURE_TEXCOORD, "
                  "KHR_MATERIALS_CLEARCOAT_CLEARCOAT_NORMAL_TEXTURE_TEXCOORD, warnings).",
                  f"{GLTF}; {khr('KHR_materials_anisotropy')}; {khr('KHR_materials_clearcoat')}"),
+    "OPBR1237": ("Bytes a GLB carries for nothing (an unknown chunk, which loaders must ignore; a BIN chunk beyond "
+                 "buffer 0; base64 data URIs a third larger than the bytes in a binary container): no wrong render, but "
+                 "dead weight or a tool that lost track of its buffer (the glTF-Validator's GLB_UNKNOWN_CHUNK_TYPE, "
+                 "BUFFER_GLB_CHUNK_TOO_BIG, DATA_URI_GLB, warnings).",
+                 f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
                  "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
                  "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),
