@@ -13,10 +13,11 @@ import copy
 import io
 import json
 import struct
+import zlib
 from pathlib import Path
 
 import pytest
-from PIL import Image
+from PIL import Image, ImageCms
 
 from gltf_support import validate_many_with_khronos
 from redteam_support import findings
@@ -215,6 +216,56 @@ def _glb_image_data_uri():
     return glb(quad()), glb(image_in_buffer(quad()))
 
 
+def png_chunk(kind: bytes, data: bytes) -> bytes:
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+
+def png_with(chunks=(), ihdr_length: int = 13) -> bytes:
+    """A 4 x 4 RGB PNG with ``chunks`` ((type, data), ...) after its IHDR, whose data is cut to ``ihdr_length``."""
+    plain = png()
+    ihdr = plain[16:16 + 13][:ihdr_length]
+    return plain[:8] + png_chunk(b"IHDR", ihdr) + b"".join(png_chunk(k, d) for k, d in chunks) + plain[33:]
+
+
+def _image_case(broken_image: bytes, fixed_image: bytes, mime: str = "image/png"):
+    def build():
+        return tuple(quad(images=[{"uri": data_uri(image, mime)}]) for image in (broken_image, fixed_image))
+    return build
+
+
+def jpeg(app0_length: int | None = None) -> bytes:
+    handle = io.BytesIO()
+    Image.new("RGB", (8, 8), (200, 120, 40)).save(handle, "JPEG")
+    data = handle.getvalue()
+    assert data[2:4] == b"\xff\xe0"  # JFIF's APP0 first
+    return data if app0_length is None else data[:4] + struct.pack(">H", app0_length) + data[6:]
+
+
+def webp(**options) -> bytes:
+    """A 4 x 4 WebP (Pillow's encoder; ``save_all`` with ``append_images`` for an animation, ``icc_profile``)."""
+    handle = io.BytesIO()
+    Image.new("RGB", (4, 4), (200, 120, 40)).save(handle, "WEBP", **options)
+    return handle.getvalue()
+
+
+def _webp_case(broken_image, fixed_image):
+    """A texture whose EXT_texture_webp source is the WebP (its core source the PNG fallback)."""
+    def build():
+        documents = []
+        for image in (broken_image, fixed_image):
+            document = quad(images=[{"uri": data_uri(png())}, {"uri": data_uri(image, "image/webp")}])
+            document["textures"] = [{"source": 0, "extensions": {"EXT_texture_webp": {"source": 1}}}]
+            document["extensionsUsed"] = ["EXT_texture_webp"]
+            documents.append(document)
+        return tuple(documents)
+    return build
+
+
+_SRGB_CHRM = struct.pack(">8I", 31270, 32900, 64000, 33000, 30000, 60000, 15000, 6000)
+_WIDE_CHRM = struct.pack(">8I", 31270, 32900, 70800, 29200, 17000, 79700, 13100, 4600)  # Rec. 2020 primaries
+_GAMMA_22 = struct.pack(">I", 45455)
+
+
 # name: (builder, Khronos code, Khronos severity (0 error, 1 warning), toolkit code, toolkit severity)
 CASES = {
     "extensions_used_number": (_extensions_used_number, "ARRAY_TYPE_MISMATCH", 0, "OPBR1210", "error"),
@@ -246,6 +297,37 @@ CASES = {
     "glb_second_json_chunk": (_glb_case(extra_chunks=((_JSON, b"{}  "),)), "GLB_DUPLICATE_CHUNK", 0, "OPBR1209",
                               "error"),
     "glb_image_data_uri": (_glb_image_data_uri, "DATA_URI_GLB", 1, "OPBR1237", "warning"),
+    "png_ihdr_12_bytes": (_image_case(png_with(ihdr_length=12), png()), "IMAGE_DATA_INVALID", 0, "OPBR707", "error"),
+    "png_phys_8_bytes": (_image_case(png_with([(b"pHYs", bytes(8))]), png_with([(b"pHYs", bytes(9))])),
+                         "IMAGE_DATA_INVALID", 0, "OPBR707", "error"),
+    "png_srgb_2_bytes": (_image_case(png_with([(b"sRGB", bytes(2))]), png_with([(b"sRGB", bytes(1))])),
+                         "IMAGE_DATA_INVALID", 0, "OPBR707", "error"),
+    "png_gama_3_bytes": (_image_case(png_with([(b"gAMA", _GAMMA_22[:3])]), png_with([(b"gAMA", _GAMMA_22)])),
+                         "IMAGE_DATA_INVALID", 0, "OPBR707", "error"),
+    "png_chrm_28_bytes": (_image_case(png_with([(b"cHRM", _SRGB_CHRM[:28])]), png_with([(b"cHRM", _SRGB_CHRM)])),
+                          "IMAGE_DATA_INVALID", 0, "OPBR707", "error"),
+    "jpeg_app0_length_1": (_image_case(jpeg(app0_length=1), jpeg(), "image/jpeg"), "IMAGE_DATA_INVALID", 0, "OPBR707",
+                           "error"),
+    "webp_unknown_first_chunk": (_webp_case(webp()[:12] + b"VP8Q" + webp()[16:], webp()), "IMAGE_DATA_INVALID", 0,
+                                 "OPBR707", "error"),
+    "webp_cut_in_its_header": (_webp_case(webp()[:20], webp()), "IMAGE_UNEXPECTED_EOS", 0, "OPBR707", "error"),
+    "png_wide_gamut_chromaticities": (_image_case(png_with([(b"cHRM", _WIDE_CHRM)]), png_with([(b"cHRM", _SRGB_CHRM)])),
+                                      "IMAGE_FEATURES_UNSUPPORTED", 1, "OPBR1233", "warning"),
+    "png_gamma_1_8": (_image_case(png_with([(b"gAMA", struct.pack(">I", 55555))]), png_with([(b"gAMA", _GAMMA_22)])),
+                      "IMAGE_FEATURES_UNSUPPORTED", 1, "OPBR1233", "warning"),
+    "webp_animation": (_webp_case(webp(save_all=True, append_images=[Image.new("RGB", (4, 4))]), webp()),
+                       "IMAGE_FEATURES_UNSUPPORTED", 1, "OPBR1233", "warning"),
+    "webp_icc_profile": (_webp_case(webp(icc_profile=ImageCms.ImageCmsProfile(ImageCms.createProfile("sRGB")).tobytes()),
+                                    webp()), "IMAGE_FEATURES_UNSUPPORTED", 1, "OPBR1233", "warning"),
+}
+
+#: Images the validator accepts without IMAGE_FEATURES_UNSUPPORTED (probed), and the toolkit must too: a linear gAMA, a
+#: gAMA or cHRM after or before an sRGB chunk (which decoders take instead), an APNG, a plain extended WebP.
+CLEAN_IMAGES = {
+    "png_gamma_linear": (png_with([(b"gAMA", struct.pack(">I", 100000))]), "image/png"),
+    "png_gamma_1_8_after_srgb": (png_with([(b"sRGB", b"\x00"), (b"gAMA", struct.pack(">I", 55555))]), "image/png"),
+    "png_wide_gamut_before_srgb": (png_with([(b"cHRM", _WIDE_CHRM), (b"sRGB", b"\x00")]), "image/png"),
+    "apng": (png_with([(b"acTL", struct.pack(">II", 1, 0))]), "image/png"),
 }
 
 
@@ -269,9 +351,16 @@ def cases(tmp_path_factory) -> dict[str, tuple[Path, Path]]:
 
 
 @pytest.fixture(scope="module")
-def khronos(cases, tmp_path_factory) -> dict[Path, set[tuple[str, int]]]:
+def clean(tmp_path_factory) -> dict[str, Path]:
+    folder = tmp_path_factory.mktemp("clean")
+    return {name: _write(folder / f"{name}.gltf", quad(images=[{"uri": data_uri(image, mime)}]))
+            for name, (image, mime) in CLEAN_IMAGES.items()}
+
+
+@pytest.fixture(scope="module")
+def khronos(cases, clean, tmp_path_factory) -> dict[Path, set[tuple[str, int]]]:
     """(code, severity) of every error and warning the Khronos glTF-Validator reports, per file, in one node run."""
-    paths = [p for pair in cases.values() for p in pair]
+    paths = [p for pair in cases.values() for p in pair] + list(clean.values())
     reports = validate_many_with_khronos(paths, tmp_path_factory.mktemp("khronos"))
     return {Path(file): {(m["code"], m["severity"]) for m in report["issues"]["messages"] if m["severity"] <= 1}
             for file, report in reports.items()}
@@ -285,3 +374,10 @@ def test_the_toolkit_reports_what_the_khronos_validator_reports(name, cases, khr
     assert code not in {c for c, _ in khronos[fixed.resolve()]}, khronos[fixed.resolve()]
     assert (tool_code, tool_severity) in {(c, s) for c, s, _, _ in findings(broken)}, findings(broken)
     assert tool_code not in {c for c, _, _, _ in findings(fixed)}, findings(fixed)
+
+
+@pytest.mark.parametrize("name", sorted(CLEAN_IMAGES))
+def test_images_the_khronos_validator_accepts_stay_clean(name, clean, khronos):
+    path = clean[name]
+    assert not {c for c, _ in khronos[path.resolve()]} & {"IMAGE_FEATURES_UNSUPPORTED", "IMAGE_DATA_INVALID"}
+    assert findings(path) == [], findings(path)

@@ -73,15 +73,21 @@ _PNG_SQUARE_PIXELS = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAI
 
 IMAGE_FEATURES = Rule(
     "OPBR1233", "gltf-png-unsupported-features", Severity.WARNING,
-    "A PNG image holds what glTF says it should not: an embedded ICC profile (iCCP) or non-square pixels "
-    "(pHYs).",
+    "A PNG image holds what glTF says it should not: an embedded ICC profile (iCCP), chromaticities other than "
+    "sRGB's (cHRM), a gamma other than sRGB's or linear (gAMA), non-square pixels (pHYs); or a WebP an ICC profile or "
+    "an animation.",
     "glTF 2.0, section 2: \"PNG images SHOULD NOT contain animations, non-square pixel ratios, or embedded ICC "
     "profiles. Such features, if present, MUST be ignored by client implementations\", and 3.8.4: \"any "
     "colorspace information (such as ICC profiles ...) MUST be ignored\". Clients that decode through the "
     "browser's image pipeline without UNPACK_COLORSPACE_CONVERSION_WEBGL = NONE (or colorSpaceConversion "
     "'none') apply the profile anyway, which bends a normal map's or a metallic-roughness map's values; image "
-    "tools that honour pHYs resample the texture on the next save. The Khronos glTF-Validator reports it "
-    "(IMAGE_FEATURES_UNSUPPORTED). Re-save the PNG without the chunk.",
+    "tools that honour pHYs resample the texture on the next save. Likewise a gAMA other than sRGB's 45455 "
+    "(1/2.2) or linear's 100000 and a cHRM other than sRGB's primaries, which browsers apply when they colour-manage "
+    "the PNG, unless an sRGB chunk came first; an ICC profile or an animation in a WebP (EXT_texture_webp): "
+    "glTF plays no animation, viewers show one frame. The Khronos glTF-Validator reports each "
+    "(IMAGE_FEATURES_UNSUPPORTED; which gAMA and cHRM values it accepts was probed against it, version "
+    "2.0.0-dev.3.10). An APNG (acTL) is left alone, as there: clients show its default image. Re-save the image "
+    "without the chunk.",
     passing=_emissive(_PNG_SQUARE_PIXELS), failing=_emissive(_PNG_TALL_PIXELS),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
@@ -115,7 +121,13 @@ DATA_IN_UNREAD_CHANNEL = Rule(
 
 RULES = (IMAGE_ENCODING, IMAGE_ORIENTATION, IMAGE_FEATURES, DATA_IN_UNREAD_CHANNEL)
 
-_FEATURE_WORDS = {"icc_profile": "an embedded ICC profile (iCCP)", "non_square_pixels": "non-square pixels (pHYs)"}
+#: What each feature of the reader's (io/gltf/image_features.py) is called, per format.
+_FEATURE_WORDS = {"image/png": {"icc_profile": "an embedded ICC profile (iCCP)", "non_square_pixels": "non-square pixels (pHYs)",
+                                "chromaticities": "chromaticities other than sRGB's (cHRM)",
+                                "gamma": "a gamma other than sRGB's 1/2.2 or linear (gAMA)"},
+                  "image/webp": {"icc_profile": "an embedded ICC profile (VP8X's ICC flag)",
+                                 "animation": "an animation (VP8X's animation flag)"}}
+_FORMAT_NAMES = {"image/png": "PNG", "image/webp": "WebP"}
 
 #: The channel content of an image is inspected up to this many pixels (4096 x 4096); a larger image is not.
 MAX_INSPECTED_PIXELS = 4096 * 4096
@@ -152,14 +164,18 @@ def _encodings(asset, facts, images, context):
                 f"{orientation}: browsers rotate it, most engines do not", Location(asset.path, None, image["pointer"]),
                 hint="re-export it with the rotation applied to the pixels and no Orientation tag")
     for image in images:
-        features = [_FEATURE_WORDS[f] for f in image.get("png_features", ()) if f in _FEATURE_WORDS]
-        if features:
+        kind = image.get("detected_mime") or image.get("mime")
+        words = _FEATURE_WORDS.get(kind, {})
+        features = [words[f] for f in image.get("features", ()) if f in words]
+        if features and image.get("damage") is None:
+            colour = {"icc_profile", "chromaticities", "gamma"}.intersection(image["features"])
             yield context.diagnostic(
-                IMAGE_FEATURES, f"image {image['index']} ({image['file']}) is a PNG with {' and '.join(features)}, which glTF "
-                "says a PNG should not hold" + ("; a browser that decodes it with colour conversion on bends its values"
-                                                if "icc_profile" in image["png_features"] else ""),
+                IMAGE_FEATURES, f"image {image['index']} ({image['file']}) is a {_FORMAT_NAMES[kind]} with "
+                f"{' and '.join(features)}, which glTF says an image should not hold" +
+                ("; a browser that decodes it with colour conversion on bends its values" if colour else "") +
+                ("; viewers show one frame of it" if "animation" in image["features"] else ""),
                 Location(asset.path, None, image["pointer"]),
-                hint="re-save the PNG without the iCCP or pHYs chunk")
+                hint="re-save the image without the colour-space, pixel-aspect or animation data")
     for use in facts.get("texture_uses", ()):
         image = images[use["image"]] if isinstance(use.get("image"), int) and 0 <= use["image"] < len(images) else None
         if image is None or image.get("bit_depth") != 16 or not use["pointer"].endswith(_COLOUR_TEXTURES):

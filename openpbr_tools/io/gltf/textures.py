@@ -20,8 +20,9 @@ import warnings
 from urllib.parse import unquote
 
 from ...model import Connection, Texture
-from ..image_files import ALPHA_MODES, ResourceFile, damage, head_of, pillow_format, png_bit_depth
+from ..image_files import ALPHA_MODES, ResourceFile, damage, head_of, is_webp, pillow_format, png_bit_depth
 from . import slots
+from .image_features import png_features, png_header_chunks, webp_features
 from .document import ResourceError, data_uri_mime
 from .schema import TEXTURE_OBJECT_PROPERTIES, uri_syntax_error
 from .uv import from_texture_transform
@@ -300,25 +301,12 @@ def _measure(source, info: dict, head: bytes | None = None) -> None:
                 info["alpha"] = image.mode in ALPHA_MODES or "transparency" in image.info
                 if detected == "image/jpeg":  # EXIF Orientation (tag 274): from the header, nothing decoded
                     info["orientation"] = image.getexif().get(0x0112)
-                if detected == "image/png":
-                    info["png_features"] = _png_features(image)
     except Exception:  # noqa: BLE001 - Pillow raises many exception types for images it cannot identify
         pass  # (io.images.damage says why)
-
-
-def _png_features(image) -> list[str]:
-    """What a PNG holds that glTF 2.0 (section 2) says it SHOULD NOT and the Khronos glTF-Validator reports
-    (IMAGE_FEATURES_UNSUPPORTED): an embedded ICC profile ("icc_profile", iCCP) or non-square pixels
-    ("non_square_pixels", pHYs), from the chunks Pillow reads before the image data; nothing is decoded. An
-    animation (acTL), which the spec names too, is left alone as the validator leaves it: clients show its
-    default image, which is the PNG's first."""
-    found = []
-    if image.info.get("icc_profile"):
-        found.append("icc_profile")
-    ratio = image.info.get("dpi") or image.info.get("aspect")  # pHYs in pixels per metre, or unitless
-    if isinstance(ratio, tuple) and len(ratio) == 2 and all(ratio) and abs(ratio[0] - ratio[1]) > 1e-6 * max(ratio):
-        found.append("non_square_pixels")
-    return found
+    if info.get("detected_mime") == "image/png":
+        info["features"] = png_features(png_header_chunks(source.data if isinstance(source, ResourceFile) else source))
+    elif head is not None and is_webp(head):
+        info["features"] = webp_features(head)
 
 
 def json_numbers(value, count: int) -> bool:
