@@ -385,6 +385,14 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "dead weight or a tool that lost track of its buffer (the glTF-Validator's GLB_UNKNOWN_CHUNK_TYPE, "
                  "BUFFER_GLB_CHUNK_TOO_BIG, DATA_URI_GLB, warnings).",
                  f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
+    "OPBR1238": ("A greyscale roughness map in the packed metallicRoughnessTexture is read as metalness (B) too: the "
+                 "surface renders metallic wherever it is rough, a dielectric as patchy rough metal; no validator "
+                 "reads texels.", GLTF),
+    "OPBR1239": ("An occlusion texture black in R removes all indirect light: under image-based lighting, the usual "
+                 "glTF viewer set-up, the object renders near black (a failed bake); no validator reads texels.", GLTF),
+    "OPBR1240": ("An untextured white emission on a textured material adds full white at every texel: the surface "
+                 "renders flat white and its texture never shows (an exporter's default emission colour); the "
+                 "glTF-Validator does not judge values.", GLTF),
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
                  "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
                  "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),
