@@ -366,13 +366,17 @@ JUDGED = {
 }
 
 
-#: Images the validator accepts without IMAGE_FEATURES_UNSUPPORTED (probed), and the toolkit must too: a linear gAMA, a
-#: gAMA or cHRM after or before an sRGB chunk (which decoders take instead), an APNG, a plain extended WebP.
+#: Base colour images the validator accepts without a warning (probed), and the toolkit must too: a linear gAMA, a gAMA
+#: or cHRM after or before an sRGB chunk (which decoders take instead), an APNG, an RGBA image whose alpha is 0 under
+#: alphaMode OPAQUE.
 CLEAN_IMAGES = {
     "png_gamma_linear": (png_with([(b"gAMA", struct.pack(">I", 100000))]), "image/png"),
     "png_gamma_1_8_after_srgb": (png_with([(b"sRGB", b"\x00"), (b"gAMA", struct.pack(">I", 55555))]), "image/png"),
     "png_wide_gamut_before_srgb": (png_with([(b"cHRM", _WIDE_CHRM), (b"sRGB", b"\x00")]), "image/png"),
     "apng": (png_with([(b"acTL", struct.pack(">II", 1, 0))]), "image/png"),
+    # (the red team's session-20 good gg01: alpha is not read under alphaMode OPAQUE, so a flat A is no unread data)
+    "rgba_base_colour_alpha_0_under_opaque": (_grey("RGBA", [(200, 40, 40, 0), (40, 200, 40, 0), (40, 40, 200, 0),
+                                                              (120, 120, 120, 0)]), "image/png"),
 }
 
 

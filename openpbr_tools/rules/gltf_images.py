@@ -264,9 +264,11 @@ def _missing_channels(asset, material, image_by_texture, decoded, context):
 #: The channels each data texture property reads (the slots' own, io/gltf/slots.py); an image any other
 #: property reads (a colour, a normal map, the anisotropy direction, an extension the toolkit does not
 #: interpret) is left alone: every channel may be read there.
+_COLOUR_READS = {_slot.texture for _slot in slots.SLOTS if _slot.texture and _slot.colour}
 _DATA_READS: dict[str, set[int]] = {}
-for _slot in slots.SLOTS:
-    if _slot.texture and _slot.channels and not _slot.colour and _slot.texture != "anisotropyTexture":
+for _slot in slots.SLOTS:  # (baseColorTexture is a colour one, though alpha's slot reads its A as data)
+    if _slot.texture and _slot.channels and not _slot.colour and _slot.texture not in _COLOUR_READS \
+            and _slot.texture != "anisotropyTexture":
         _DATA_READS.setdefault(_slot.texture, set()).update(_slot.channels)
 _CHANNEL_NAMES = "RGBA"
 _SUBSTANTIAL = 64  # 8-bit levels: a channel that spans a quarter of the range carries data
