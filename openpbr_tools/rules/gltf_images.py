@@ -160,8 +160,8 @@ def _occluded(uri: str) -> str:
 
 OCCLUSION_BLACK = Rule(
     "OPBR1239", "gltf-occlusion-texture-black", Severity.WARNING,
-    "An occlusionTexture's red channel is 0 everywhere (and its strength above 0): the surface gets no indirect "
-    "light at all.",
+    "An occlusionTexture's red channel is 0 everywhere (and its strength above 0, at most 1): the surface gets no "
+    "indirect light at all.",
     "glTF 2.0 (3.9.3): occlusion is sampled from R, \"0.0 means fully-occluded area (no indirect lighting)\", and "
     "the strength scales it as 1 + strength (R - 1). An image black in R (a failed ambient-occlusion bake, or one "
     "whose occlusion sits in another channel) leaves the object lit only by direct lights: near black under image-"
@@ -345,7 +345,7 @@ def _flat_data(asset, material, image_by_texture, decoded, context):
     occlusion = material.inputs.get("occlusion")
     texture = occlusion.texture if occlusion is not None else None
     strength = 1.0 if texture is None or texture.scale is None else texture.scale
-    if texture is not None and isinstance(strength, float) and strength > 0:
+    if texture is not None and isinstance(strength, float) and 0 < strength <= 1:  # (outside [0, 1]: OPBR1210's)
         maxima = _maxima(asset, texture, decoded, context)
         if maxima is not None and maxima[0] == 0:
             image = image_by_texture.get(texture.node, {})
