@@ -1,7 +1,8 @@
 """Image files as bytes: whether a file (or the bytes of an embedded image) is a readable image at
 all (:func:`damage`), and :class:`ResourceFile`, a file over bytes or a view that copies only what is read.
 
-Pillow reads PNG and JPEG (their data checked, not only their header); formats Pillow does not open
+Pillow reads PNG and JPEG (their data checked, not only their header: a PNG's chunks and the lengths the PNG
+specification fixes, a JPEG's marker segments); a WebP's header is checked by its bytes; formats Pillow does not open
 are known by their signature. Which files may be read at all is :mod:`openpbr_tools.io.paths`'s
 decision; decoding pixels is :mod:`openpbr_tools.io.images`'.
 """
@@ -71,6 +72,15 @@ OTHER_SIGNATURES = (b"v/1\x01", b"#?RADIANCE", b"#?RGBE", b"\xabKTX 20\xbb", b"\
                     b"PF\n", b"Pf\n", b"PF\r", b"Pf\r")
 _ISO_MEDIA_BRANDS = (b"avif", b"avis", b"heic", b"heix", b"mif1", b"msf1")  # AVIF / HEIF: "ftyp" at byte 4
 _SIGNATURES = ((b"\x89PNG", "PNG"), (b"\xff\xd8\xff", "JPEG"))  # enough of each to know a file cut short
+#: The chunks whose length the PNG specification fixes (11.2.2 IHDR, 11.3.3.2 cHRM, 11.3.3.3 gAMA, 11.3.3.5 sRGB,
+#: 11.3.5.3 pHYs): decoders refuse the image (IHDR) or drop the chunk, and the Khronos glTF-Validator calls the image
+#: invalid (IMAGE_DATA_INVALID).
+PNG_CHUNK_LENGTHS = {b"IHDR": 13, b"cHRM": 32, b"gAMA": 4, b"sRGB": 1, b"pHYs": 9}
+#: The first chunk of a WebP file (RIFF container, "WEBP" form): lossy, lossless or extended; and the bytes a header
+#: needs (the extended header's canvas size ends at byte 30; a lossless one's at 25).
+WEBP_FIRST_CHUNKS = (b"VP8 ", b"VP8L", b"VP8X")
+_WEBP_HEADER = {b"VP8L": 25}
+_WEBP_HEADER_DEFAULT = 30
 
 
 def pillow_format(opened) -> str | None:
@@ -157,6 +167,13 @@ def _damage(image: str | memoryview) -> Damage | None:
             kind = None
         if kind in ("PNG", "JPEG"):
             return _decoded(image, kind)
+    if is_webp(head):
+        problem = webp_header_problem(head, size)
+        if problem is not None:
+            return Damage("corrupt", f"a WebP file {problem}")
+        if kind is None and _pillow_reads_webp():
+            return Damage("corrupt", f"a WebP file with damaged data ({size} bytes)")
+        return None
     if kind is not None or head.startswith(OTHER_SIGNATURES) or (head[4:8] == b"ftyp" and head[8:12] in _ISO_MEDIA_BRANDS):
         return None
     known = next((name for signature, name in _SIGNATURES if head.startswith(signature)), None)
@@ -187,9 +204,64 @@ def _damage(image: str | memoryview) -> Damage | None:
 MAX_DECODED_PIXELS = 8192 * 8192
 
 
+def is_webp(head: bytes) -> bool:
+    """Whether ``head`` begins a WebP file: a RIFF container of form ``WEBP``."""
+    return head[:4] == b"RIFF" and head[8:12] == b"WEBP"
+
+
+def webp_header_problem(head: bytes, size: int) -> str | None:
+    """What is wrong with a WebP file's header (its first 30 bytes), or ``None``: cut short before its image size,
+    or a first chunk that is none of ``VP8 ``, ``VP8L`` and ``VP8X`` (the WebP container specification, "Simple File
+    Format" and "Extended File Format"), which decoders refuse."""
+    first = head[12:16]
+    if len(first) == 4 and first not in WEBP_FIRST_CHUNKS:
+        return f"whose first chunk is {first.decode('latin-1')!r}, none of 'VP8 ', 'VP8L', 'VP8X'"
+    if size < _WEBP_HEADER.get(first, _WEBP_HEADER_DEFAULT):
+        return f"cut short in its header ({size} bytes)"
+    return None
+
+
+@functools.cache
+def _pillow_reads_webp() -> bool:
+    from PIL import features  # lazy: as in load_pixels
+
+    return bool(features.check("webp"))
+
+
+def _jpeg_segments(image: str | memoryview) -> str | None:
+    """What is wrong with a JPEG's marker segments up to its first scan, or ``None``: a segment whose length is below
+    2, the length field's own bytes (ITU T.81, B.1.1.4), which libjpeg refuses (JERR_BAD_LENGTH) and the Khronos
+    glTF-Validator calls invalid. Read by seeking from marker to marker, never whole."""
+    with _open(image) as handle:
+        handle.read(2)  # SOI, already identified
+        for _ in range(4096):  # a header of more segments than this is not read further
+            byte = handle.read(1)
+            if byte != b"\xff":
+                return None  # cut short or entropy data: the decoder's question
+            marker = handle.read(1)
+            while marker == b"\xff":  # fill bytes
+                marker = handle.read(1)
+            if not marker or marker[0] in (0xD9, 0xDA):
+                return None  # end of image, or the first scan: its entropy-coded data follows
+            if marker[0] == 0x01 or 0xD0 <= marker[0] <= 0xD8:
+                continue  # TEM, RSTn, SOI: no length
+            length = handle.read(2)
+            if len(length) < 2:
+                return None
+            value = int.from_bytes(length, "big")
+            if value < 2:
+                return f"with a marker segment (0xFF{marker[0]:02X}) of length {value}, less than its own 2 length bytes"
+            handle.seek(value - 2, io.SEEK_CUR)
+    return None
+
+
 def _decoded(image: str | memoryview, kind: str) -> Damage | None:
     from PIL import Image  # lazy: as in load_pixels
 
+    if kind == "JPEG":
+        problem = _jpeg_segments(image)
+        if problem is not None:
+            return Damage("corrupt", f"a JPEG {problem}")
     if kind == "PNG":
         problem, ended = _png_chunks(image)
         if problem is not None:
@@ -220,6 +292,7 @@ def _png_chunks(image: str | memoryview) -> tuple[str | None, bool]:
     gAMA...) is not, as libpng drops the chunk with a warning. Read in pieces, never whole."""
     with _open(image) as handle:
         handle.read(8)  # the signature, already identified
+        first = True
         while True:
             header = handle.read(8)
             if not header:
@@ -230,6 +303,12 @@ def _png_chunks(image: str | memoryview) -> tuple[str | None, bool]:
             name = kind.decode("latin-1")
             if length > 0x7FFFFFFF:
                 return f"with a {name} chunk of impossible length {length}", False
+            if first and kind != b"IHDR":
+                return f"whose first chunk is {name}, not IHDR", False
+            first = False
+            if kind in PNG_CHUNK_LENGTHS and length != PNG_CHUNK_LENGTHS[kind]:
+                return (f"with a {name} chunk of {length} bytes, where the PNG specification fixes "
+                        f"{PNG_CHUNK_LENGTHS[kind]}"), False
             crc, left = zlib.crc32(kind), length
             while left:
                 piece = handle.read(min(left, 1 << 20))

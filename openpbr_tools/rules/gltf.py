@@ -18,6 +18,7 @@ its builders; split, each half would import the other's.
 from __future__ import annotations
 
 import difflib
+import re
 from functools import lru_cache
 
 from .. import tables
@@ -204,13 +205,15 @@ BROKEN_RESOURCE = Rule(
     "OPBR1209", "gltf-broken-resource", Severity.ERROR,
     "A buffer or embedded image cannot be loaded: invalid base64, above the size limit, missing, shorter than its "
     "byteLength, or outside its buffer; a buffer's data URI declares a media type other than application/octet-stream "
-    "or application/gltf-buffer; or a GLB chunk is not 4-byte aligned.",
+    "or application/gltf-buffer; or a GLB chunk is not 4-byte aligned, or is a second JSON or BIN chunk.",
     "A data URI that is not valid base64, a buffer file that does not exist or holds fewer bytes than its "
     "byteLength (3.6.1; a truncated copy: the validator's BUFFER_BYTE_LENGTH_MISMATCH), a bufferView past the "
     "end of its buffer or a GLB without the binary chunk its buffer needs: loaders fail on the whole "
     "file or show the mesh without the texture. A GLB chunk whose length is no multiple of 4 (4.4.3: chunks "
     "\"MUST be aligned to a 4-byte boundary\", the JSON padded with spaces; GLB_CHUNK_LENGTH_UNALIGNED) leaves "
-    "the binary data unaligned for loaders that map it in place. A buffer's data URI \"MUST\" declare "
+    "the binary data unaligned for loaders that map it in place; a GLB has one JSON chunk and at most one BIN chunk "
+    "(4.4.3; a second of either: GLB_DUPLICATE_CHUNK), and loaders read the first, the last or refuse the file. A "
+    "buffer's data URI \"MUST\" declare "
     "application/octet-stream or application/gltf-buffer (3.6.1; BUFFER_DATA_URI_MIME_TYPE_INVALID): a text/plain "
     "one is refused by loaders that check. A data URI whose decoded size is above "
     "OPENPBR_MAX_DATA_URI_MB (default: the file limit OPENPBR_MAX_FILE_MB, 64 MiB) is reported "
@@ -232,11 +235,18 @@ INVALID_PROPERTY = Rule(
     "a uri and a bufferView, or in a bufferView without a mimeType; a name listed twice in extensionsUsed or "
     "extensionsRequired; a KHR_materials_variants object on a material (it belongs on the root and on mesh "
     "primitives), a variant that is not an object with a string name, or a variants mapping that lists no variant; "
-    "an image in a bufferView with a byteStride; a KHR_draco_mesh_compression object without its bufferView or "
-    "attributes.",
+    "an image in a bufferView with a byteStride or a target, or in one a mesh primitive draws with; a "
+    "KHR_draco_mesh_compression object without its bufferView or attributes; an empty array at the root "
+    "(\"samplers\": []), an extensionsUsed item that is no string, or an image or buffer uri that is no URI "
+    "(http://[::1/a.png).",
     "The glTF schema rejects the file; lenient loaders skip the property, so the texture or extension "
     "silently disappears. A bufferView of image data \"MUST NOT\" define byteStride (glTF 2.0, 3.6.1.1; the "
-    "Khronos glTF-Validator's IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE). KHR_draco_mesh_compression's schema requires "
+    "Khronos glTF-Validator's IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE), nor a target (34962 vertices, 34963 indices), and "
+    "it is no mesh data: loaders that honour the target, or share the view with a primitive's accessor, upload the "
+    "image's bytes to the GPU as vertices (BUFFER_VIEW_TARGET_OVERRIDE). The root's arrays have at least one item "
+    "and extensionsUsed names strings (EMPTY_ENTITY, ARRAY_TYPE_MISMATCH); a uri that a URI parser refuses (a "
+    "scheme not starting with a letter, an unclosed IPv6 bracket, a port that is no number) names nothing a loader "
+    "can fetch (INVALID_URI). KHR_draco_mesh_compression's schema requires "
     "bufferView (the compressed stream) and attributes: without them a required Draco extension leaves the decoder "
     "nothing to decode, and the mesh is not drawn (the validator does not look into the extension). Factors of the "
     "wrong type are OPBR202. A string holding an unpaired "
@@ -282,9 +292,9 @@ NO_EFFECT = Rule(
 
 UNEXPECTED_PROPERTY = Rule(
     "OPBR1213", "gltf-unexpected-property", Severity.WARNING,
-    "A material, pbrMetallicRoughness, textureInfo, KHR_texture_transform or known material extension "
-    "object holds a property its JSON schema does not define (often a misspelling: iridescenceIOR for "
-    "iridescenceIor).",
+    "A material, pbrMetallicRoughness, textureInfo, KHR_texture_transform, known material extension, texture, "
+    "image or sampler object holds a property its JSON schema does not define (often a misspelling: iridescenceIOR "
+    "for iridescenceIor; wrapS on a texture, where it belongs on the sampler).",
     "glTF's schemas name every property of these objects; viewers ignore any other, so a misspelt factor "
     "silently renders as its default. The Khronos glTF-Validator reports it (UNEXPECTED_PROPERTY) as a "
     "warning; so does this rule, with the property most likely meant. Extensions the toolkit does not know "
@@ -327,10 +337,13 @@ ARCHIVED_WITH_FALLBACK = Rule(
 )
 MISSPELT_EXTENSION = Rule(
     "OPBR1216", "gltf-extension-name-misspelt", Severity.WARNING,
-    "An extension name that no registry defines is one or two letters away from one that it does.",
+    "An extension name that no registry defines is one or two letters away from one that it does, or is not "
+    "written as one (VENDOR_name: clearcoat without a prefix).",
     "KHR_material_clearcoat (without the s) is an unknown extension to every viewer, which ignore it "
     "silently: the clear coat never renders, though extensionsUsed and the material agree with each "
-    "other. The Khronos glTF-Validator reports only that it cannot validate the extension (an info). "
+    "other. The Khronos glTF-Validator reports only that it cannot validate the extension (an info), and a name "
+    "without the upper-case vendor prefix and underscore of the registry's convention as a warning "
+    "(INVALID_EXTENSION_NAME_FORMAT). "
     "Known names: the Khronos registry's (schemas/gltf_extensions.json) and the drafts the toolkit reads.",
     passing=_gltf('"extensionsUsed": ["KHR_materials_clearcoat"]', _CLEARCOAT),
     failing=_gltf('"extensionsUsed": ["KHR_material_clearcoat"]',
@@ -380,12 +393,23 @@ def _registry_name_near(name: str) -> str | None:
     return best[1] if best[0] <= 2 else None
 
 
+#: An extension's name: an upper-case vendor prefix, an underscore and the rest (the glTF extension registry's
+#: naming convention; the Khronos glTF-Validator's pattern for INVALID_EXTENSION_NAME_FORMAT).
+EXTENSION_NAME = re.compile(r"[A-Z0-9]+_[A-Za-z0-9_]+")
+
+
 def _misspelt(asset, facts, context):
     known = known_extension_names()
     unknown = [(index, name) for index, name in enumerate(facts.get("extensions_used", ()))
                if isinstance(name, str) and name not in known]
     for index, name in unknown[:MISSPELLING_CHECKS]:
         meant = _registry_name_near(name)
+        if meant is None and not EXTENSION_NAME.fullmatch(name):
+            yield context.diagnostic(
+                MISSPELT_EXTENSION, f"{name!r} is no extension name: names are a vendor prefix in capitals, an "
+                "underscore and the rest (KHR_materials_clearcoat), and viewers ignore an extension they do not know",
+                Location(asset.path, None, f"/extensionsUsed/{index}"),
+                hint="name the extension by its registered name (KHR_..., EXT_..., or your own vendor prefix)")
         if meant is not None:
             yield context.diagnostic(
                 MISSPELT_EXTENSION, f"{name} is no known extension: viewers ignore it (a misspelling of {meant}?)",

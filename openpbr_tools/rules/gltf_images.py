@@ -13,6 +13,11 @@ it has the channel the slot reads.
   base colour texture under ``alphaMode`` MASK (nothing is cut out) is not reported: Khronos' CompareIor
   sample does it and renders as its author meant, so it is no defect there.
 
+* 3.9.2 and 3.9.3: metalness is read from B and roughness from G of the metallicRoughnessTexture, occlusion from R
+  of the occlusionTexture (0: no indirect light). A one-channel greyscale image (a roughness map alone) in the packed
+  slot reads its grey as both, so the surface is metal wherever it is rough (OPBR1238, under metallicFactor > 0); an
+  occlusion image black in R leaves the surface without indirect light (OPBR1239, under a strength above 0).
+
 Every fact but the last is the reader's, from the image header (Pillow's mode and transparency, a PNG's
 IHDR bit depth): nothing is decoded. The anisotropy texture's blue channel is decoded once per image, a
 JPEG at 1/8 scale, and only up to :data:`MAX_INSPECTED_PIXELS`.
@@ -73,15 +78,21 @@ _PNG_SQUARE_PIXELS = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAI
 
 IMAGE_FEATURES = Rule(
     "OPBR1233", "gltf-png-unsupported-features", Severity.WARNING,
-    "A PNG image holds what glTF says it should not: an embedded ICC profile (iCCP) or non-square pixels "
-    "(pHYs).",
+    "A PNG image holds what glTF says it should not: an embedded ICC profile (iCCP), chromaticities other than "
+    "sRGB's (cHRM), a gamma other than sRGB's or linear (gAMA), non-square pixels (pHYs); or a WebP an ICC profile or "
+    "an animation.",
     "glTF 2.0, section 2: \"PNG images SHOULD NOT contain animations, non-square pixel ratios, or embedded ICC "
     "profiles. Such features, if present, MUST be ignored by client implementations\", and 3.8.4: \"any "
     "colorspace information (such as ICC profiles ...) MUST be ignored\". Clients that decode through the "
     "browser's image pipeline without UNPACK_COLORSPACE_CONVERSION_WEBGL = NONE (or colorSpaceConversion "
     "'none') apply the profile anyway, which bends a normal map's or a metallic-roughness map's values; image "
-    "tools that honour pHYs resample the texture on the next save. The Khronos glTF-Validator reports it "
-    "(IMAGE_FEATURES_UNSUPPORTED). Re-save the PNG without the chunk.",
+    "tools that honour pHYs resample the texture on the next save. Likewise a gAMA other than sRGB's 45455 "
+    "(1/2.2) or linear's 100000 and a cHRM other than sRGB's primaries, which browsers apply when they colour-manage "
+    "the PNG, unless an sRGB chunk came first; an ICC profile or an animation in a WebP (EXT_texture_webp): "
+    "glTF plays no animation, viewers show one frame. The Khronos glTF-Validator reports each "
+    "(IMAGE_FEATURES_UNSUPPORTED; which gAMA and cHRM values it accepts was probed against it, version "
+    "2.0.0-dev.3.10). An APNG (acTL) is left alone, as there: clients show its default image. Re-save the image "
+    "without the chunk.",
     passing=_emissive(_PNG_SQUARE_PIXELS), failing=_emissive(_PNG_TALL_PIXELS),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
@@ -113,9 +124,62 @@ DATA_IN_UNREAD_CHANNEL = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (IMAGE_ENCODING, IMAGE_ORIENTATION, IMAGE_FEATURES, DATA_IN_UNREAD_CHANNEL)
+_GREY_ROUGHNESS = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAAAAABX3VL4AAAADklEQVR4nGNgcGBo+A8AAwUBwE4zW+kAAAAASUVORK5CYII="
+_RGB_ROUGHNESS = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAAD91JpzAAAAFklEQVR4nGNgYGBgcGBgYGhgYPjPAAAGzAHAgjF6XgAAAABJRU5ErkJggg=="
 
-_FEATURE_WORDS = {"icc_profile": "an embedded ICC profile (iCCP)", "non_square_pixels": "non-square pixels (pHYs)"}
+
+def _metal_rough(uri: str) -> str:
+    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]',
+                 '"materials": [{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 1.0, '
+                 '"metallicRoughnessTexture": {"index": 0}}}]')
+
+
+GREY_METAL_ROUGH = Rule(
+    "OPBR1238", "gltf-greyscale-metallic-roughness", Severity.ERROR,
+    "A metallicRoughnessTexture is a one-channel greyscale image and metallicFactor is above 0: metalness (B) equals "
+    "roughness (G) at every texel.",
+    "glTF 2.0 (3.9.2): \"The metalness values are sampled from the B channel. The roughness values are sampled from "
+    "the G channel\", and a greyscale image is read with its one channel in R, G and B alike. A roughness map exported "
+    "alone and plugged into the packed slot therefore makes the surface metallic exactly where it is rough: a "
+    "dielectric (wood, plastic) renders as patchy rough metal, dark and tinted by its base colour. Neither the schema "
+    "nor the Khronos glTF-Validator looks at it. Not reported when metallicFactor is 0 (metalness off: the grey is "
+    "roughness only) or the grey is 0 everywhere. Pack roughness in G and metalness in B of an RGB image, or set "
+    "metallicFactor 0 for a dielectric.",
+    passing=_metal_rough(_RGB_ROUGHNESS), failing=_metal_rough(_GREY_ROUGHNESS),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+_BLACK = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAAAAABX3VL4AAAADklEQVR4nGNgYGBgYAAAAAYAAXKCmeoAAAAASUVORK5CYII="
+_GREY = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAAAAABX3VL4AAAADklEQVR4nGM8wcDEwAAAA/oAzIAKlEUAAAAASUVORK5CYII="
+
+
+def _occluded(uri: str) -> str:
+    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]',
+                 '"materials": [{"name": "M", "occlusionTexture": {"index": 0}}]')
+
+
+OCCLUSION_BLACK = Rule(
+    "OPBR1239", "gltf-occlusion-texture-black", Severity.WARNING,
+    "An occlusionTexture's red channel is 0 everywhere (and its strength above 0, at most 1): the surface gets no "
+    "indirect light at all.",
+    "glTF 2.0 (3.9.3): occlusion is sampled from R, \"0.0 means fully-occluded area (no indirect lighting)\", and "
+    "the strength scales it as 1 + strength (R - 1). An image black in R (a failed ambient-occlusion bake, or one "
+    "whose occlusion sits in another channel) leaves the object lit only by direct lights: near black under image-"
+    "based lighting, the usual glTF viewer set-up. The Khronos glTF-Validator does not read texels. Re-bake the "
+    "occlusion (or set the strength to 0, or remove the texture).",
+    passing=_occluded(_GREY), failing=_occluded(_BLACK),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+RULES = (IMAGE_ENCODING, IMAGE_ORIENTATION, IMAGE_FEATURES, DATA_IN_UNREAD_CHANNEL, GREY_METAL_ROUGH, OCCLUSION_BLACK)
+
+#: What each feature of the reader's (io/gltf/image_features.py) is called, per format.
+_FEATURE_WORDS = {"image/png": {"icc_profile": "an embedded ICC profile (iCCP)", "non_square_pixels": "non-square pixels (pHYs)",
+                                "chromaticities": "chromaticities other than sRGB's (cHRM)",
+                                "gamma": "a gamma other than sRGB's 1/2.2 or linear (gAMA)"},
+                  "image/webp": {"icc_profile": "an embedded ICC profile (VP8X's ICC flag)",
+                                 "animation": "an animation (VP8X's animation flag)"}}
+_FORMAT_NAMES = {"image/png": "PNG", "image/webp": "WebP"}
 
 #: The channel content of an image is inspected up to this many pixels (4096 x 4096); a larger image is not.
 MAX_INSPECTED_PIXELS = 4096 * 4096
@@ -134,6 +198,7 @@ def check(asset, context):
     decoded: dict = {}
     for material in asset.materials:
         yield from _missing_channels(asset, material, image_by_texture, decoded, context)
+        yield from _flat_data(asset, material, image_by_texture, decoded, context)
     yield from _unread_channels(asset, facts, images, context)
 
 
@@ -152,14 +217,18 @@ def _encodings(asset, facts, images, context):
                 f"{orientation}: browsers rotate it, most engines do not", Location(asset.path, None, image["pointer"]),
                 hint="re-export it with the rotation applied to the pixels and no Orientation tag")
     for image in images:
-        features = [_FEATURE_WORDS[f] for f in image.get("png_features", ()) if f in _FEATURE_WORDS]
-        if features:
+        kind = image.get("detected_mime") or image.get("mime")
+        words = _FEATURE_WORDS.get(kind, {})
+        features = [words[f] for f in image.get("features", ()) if f in words]
+        if features and image.get("damage") is None:
+            colour = {"icc_profile", "chromaticities", "gamma"}.intersection(image["features"])
             yield context.diagnostic(
-                IMAGE_FEATURES, f"image {image['index']} ({image['file']}) is a PNG with {' and '.join(features)}, which glTF "
-                "says a PNG should not hold" + ("; a browser that decodes it with colour conversion on bends its values"
-                                                if "icc_profile" in image["png_features"] else ""),
+                IMAGE_FEATURES, f"image {image['index']} ({image['file']}) is a {_FORMAT_NAMES[kind]} with "
+                f"{' and '.join(features)}, which glTF says an image should not hold" +
+                ("; a browser that decodes it with colour conversion on bends its values" if colour else "") +
+                ("; viewers show one frame of it" if "animation" in image["features"] else ""),
                 Location(asset.path, None, image["pointer"]),
-                hint="re-save the PNG without the iCCP or pHYs chunk")
+                hint="re-save the image without the colour-space, pixel-aspect or animation data")
     for use in facts.get("texture_uses", ()):
         image = images[use["image"]] if isinstance(use.get("image"), int) and 0 <= use["image"] < len(images) else None
         if image is None or image.get("bit_depth") != 16 or not use["pointer"].endswith(_COLOUR_TEXTURES):
@@ -184,10 +253,7 @@ def _missing_channels(asset, material, image_by_texture, decoded, context):
     strength = material.inputs.get("anisotropy_strength")
     if strength is not None and isinstance(strength.value, Texture) and strength.value.scale != 0.0:
         texture = strength.value
-        if texture.file not in decoded:
-            source = image_of(asset, texture, context, {})
-            decoded[texture.file] = channel_maxima(source, MAX_INSPECTED_PIXELS) if source is not None else None
-        maxima = decoded[texture.file]
+        maxima = _maxima(asset, texture, decoded, context)
         if maxima is not None and len(maxima) >= 3 and maxima[2] == 0:
             yield context.diagnostic(
                 NO_EFFECT, f"{material.name}: the anisotropyTexture's blue channel, the anisotropy strength, is 0 "
@@ -198,9 +264,11 @@ def _missing_channels(asset, material, image_by_texture, decoded, context):
 #: The channels each data texture property reads (the slots' own, io/gltf/slots.py); an image any other
 #: property reads (a colour, a normal map, the anisotropy direction, an extension the toolkit does not
 #: interpret) is left alone: every channel may be read there.
+_COLOUR_READS = {_slot.texture for _slot in slots.SLOTS if _slot.texture and _slot.colour}
 _DATA_READS: dict[str, set[int]] = {}
-for _slot in slots.SLOTS:
-    if _slot.texture and _slot.channels and not _slot.colour and _slot.texture != "anisotropyTexture":
+for _slot in slots.SLOTS:  # (baseColorTexture is a colour one, though alpha's slot reads its A as data)
+    if _slot.texture and _slot.channels and not _slot.colour and _slot.texture not in _COLOUR_READS \
+            and _slot.texture != "anisotropyTexture":
         _DATA_READS.setdefault(_slot.texture, set()).update(_slot.channels)
 _CHANNEL_NAMES = "RGBA"
 _SUBSTANTIAL = 64  # 8-bit levels: a channel that spans a quarter of the range carries data
@@ -244,3 +312,46 @@ def _unread_channels(asset, facts, images, context):
                 f"blue channel, 0 everywhere, while its {_CHANNEL_NAMES[masks[0]]} channel, which no slot reads, is a "
                 "black-and-white mask: a metal mask packed in another channel (Unity's mask maps put it in R) renders "
                 "as a dielectric", where, hint="move the metal mask into the blue channel")
+
+
+#: Pillow modes of a one-channel greyscale image (with or without alpha, 8 or 16 bits).
+GREY_MODES = frozenset({"L", "LA", "La", "I", "I;16", "I;16B", "I;16L"})
+
+
+def _maxima(asset, texture, decoded, context):
+    if texture.file not in decoded:
+        source = image_of(asset, texture, context, {})
+        decoded[texture.file] = channel_maxima(source, MAX_INSPECTED_PIXELS) if source is not None else None
+    return decoded[texture.file]
+
+
+def _flat_data(asset, material, image_by_texture, decoded, context):
+    """OPBR1238 (a greyscale metallicRoughnessTexture under metallicFactor > 0) and OPBR1239 (an occlusion texture
+    black in R under a strength above 0)."""
+    metallic = material.inputs.get("metallic")
+    texture = metallic.texture if metallic is not None else None
+    factor = 1.0 if texture is None or texture.scale is None else texture.scale
+    if texture is not None and isinstance(factor, float) and factor > 0 and \
+            image_by_texture.get(texture.node, {}).get("mode") in GREY_MODES:
+        maxima = _maxima(asset, texture, decoded, context)
+        if maxima is not None and maxima[0] > 0:
+            image = image_by_texture[texture.node]
+            yield context.diagnostic(
+                GREY_METAL_ROUGH, f"{material.name}: metallicRoughnessTexture reads image {image['index']} "
+                f"({image['file']}), a one-channel greyscale image, under metallicFactor {factor:g}: its grey is read as "
+                "roughness (G) and as metalness (B) alike, so the surface is metallic wherever it is rough",
+                Location(asset.path, None, texture.node, "index"),
+                hint="pack roughness in G and metalness in B of an RGB image, or set metallicFactor 0 for a dielectric")
+    occlusion = material.inputs.get("occlusion")
+    texture = occlusion.texture if occlusion is not None else None
+    strength = 1.0 if texture is None or texture.scale is None else texture.scale
+    if texture is not None and isinstance(strength, float) and 0 < strength <= 1:  # (outside [0, 1]: OPBR1210's)
+        maxima = _maxima(asset, texture, decoded, context)
+        if maxima is not None and maxima[0] == 0:
+            image = image_by_texture.get(texture.node, {})
+            yield context.diagnostic(
+                OCCLUSION_BLACK, f"{material.name}: occlusionTexture (image {image.get('index')}, {image.get('file')}) is "
+                f"0 everywhere in R, the occlusion: with strength {strength:g} the surface receives "
+                f"{'no' if strength == 1 else f'{1 - strength:.0%} of its'} indirect light",
+                Location(asset.path, None, texture.node, "index"),
+                hint="re-bake the ambient occlusion (white where unoccluded), or remove the texture")

@@ -29,6 +29,14 @@ and, on the primitive too,
   or variant index that names nothing is OPBR802. Variants are presented to users and selected by name, so
   two variants of one name are reported too.
 
+and, where the material has a normalTexture, whether the primitive provides the tangent space it is read in (NORMAL
+and TANGENT; else the viewer generates one: OPBR1235, the validator's MESH_PRIMITIVE_GENERATED_TANGENT_SPACE), and
+whether the anisotropy and clear-coat normal textures read the normal texture's UV set, whose tangent space theirs is
+(OPBR1236).
+
+One module because every rule here judges a primitive against the material it draws (the reader's primitive facts),
+and their examples share its mesh builders; split, each half would import the other's.
+
 A missing UV set, or UV sets not numbered 0, 1, 2 ..., is OPBR1205 (the glTF family); NaN values and normals not of unit length are OPBR1231 (the
 gltf_structure family). Apart from the tangent signs only the JSON is read.
 """
@@ -181,18 +189,78 @@ TANGENT_SIGN = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (ATTRIBUTE_FORMAT, NO_TANGENT_SPACE, VARIANT_MAPPED_TWICE, VARIANT_NAME_TWICE, TANGENT_SIGN)
+
+
+def _normal_mapped(tangents: bool) -> str:
+    tangent = ', "TANGENT": 2' if tangents else ""
+    return _gltf(
+        f'"images": [{{"uri": "{_PNG_4X4}"}}]', '"textures": [{"source": 0}]',
+        '"materials": [{"name": "M", "normalTexture": {"index": 0}}]',
+        '"accessors": [{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [0, 0, 0]}, '
+        '{"componentType": 5126, "count": 3, "type": "VEC2"}, {"componentType": 5126, "count": 3, "type": "VEC4"}, '
+        '{"componentType": 5126, "count": 3, "type": "VEC3"}]',
+        f'"meshes": [{{"primitives": [{{"attributes": {{"POSITION": 0, "NORMAL": 3, "TEXCOORD_0": 1{tangent}}}, '
+        '"material": 0}]}]',
+    )
+
+
+GENERATED_TANGENTS = Rule(
+    "OPBR1235", "gltf-tangent-space-generated", Severity.WARNING,
+    "A primitive draws a normal-mapped material (normalTexture) without TANGENT (or NORMAL) attributes: the viewer "
+    "generates the tangent space the normal map is read in.",
+    "glTF 2.0 (3.7.2.1): \"When tangents are not specified, client implementations SHOULD calculate tangents using "
+    "default MikkTSpace algorithms with the specified vertex positions, normals, and texture coordinates associated "
+    "with the normal texture\" (and flat normals first when NORMAL is missing). Common and legal, most of Khronos' "
+    "own sample models do it; but a normal map reads as baked only where the baker's tangents are the viewer's, so a "
+    "map baked in another tangent space (or on another triangulation) shows seams and wrongly lit bumps, and viewers "
+    "that do not implement MikkTSpace differ from those that do. The Khronos glTF-Validator warns "
+    "(MESH_PRIMITIVE_GENERATED_TANGENT_SPACE: \"runtime-generated tangent space may be non-portable across "
+    "implementations\"). Export the tangents the map was baked with (MikkTSpace) to pin it down.",
+    passing=_normal_mapped(True), failing=_normal_mapped(False),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+
+def _anisotropic(texcoord: int) -> str:
+    return _gltf(
+        '"extensionsUsed": ["KHR_materials_anisotropy"]',
+        f'"images": [{{"uri": "{_PNG_4X4}"}}]', '"textures": [{"source": 0}]',
+        '"materials": [{"name": "M", "normalTexture": {"index": 0}, "extensions": {"KHR_materials_anisotropy": '
+        f'{{"anisotropyStrength": 0.5, "anisotropyTexture": {{"index": 0, "texCoord": {texcoord}}}}}}}}}]',
+    )
+
+
+TANGENT_UV_SET = Rule(
+    "OPBR1236", "gltf-tangent-texture-uv-set", Severity.WARNING,
+    "An anisotropyTexture or clearcoatNormalTexture reads another UV set (texCoord) than the material's "
+    "normalTexture.",
+    "A mesh has one tangent space, the one of the normal texture's UV set: glTF 2.0 (3.7.2.1) computes missing "
+    "tangents from \"the texture coordinates associated with the normal texture\", and exported TANGENTs follow "
+    "that UV layout too. The anisotropy direction (KHR_materials_anisotropy: red and green \"in tangent, bitangent "
+    "space\") and a clear-coat normal map are read in that tangent space, so painted on another UV set they point "
+    "wherever the two layouts differ in orientation: a rotated or mirrored highlight, a coat lit from the wrong side. "
+    "The Khronos glTF-Validator warns (KHR_MATERIALS_ANISOTROPY_ANISOTROPY_TEXTURE_TEXCOORD, "
+    "KHR_MATERIALS_CLEARCOAT_CLEARCOAT_NORMAL_TEXTURE_TEXCOORD). Without a normalTexture nothing is compared.",
+    passing=_anisotropic(0), failing=_anisotropic(1),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+RULES = (ATTRIBUTE_FORMAT, NO_TANGENT_SPACE, VARIANT_MAPPED_TWICE, VARIANT_NAME_TWICE, TANGENT_SIGN, GENERATED_TANGENTS,
+         TANGENT_UV_SET)
 
 
 def check(asset, context):
     """Runs on glTF assets only (rules.FAMILY_FORMATS)."""
     facts = asset.extra.get("gltf", {})
     yield from _variant_names(asset, facts, context)
+    for material in asset.materials:
+        yield from _tangent_uv_sets(material, context)
     primitives = facts.get("primitives", ())
     if not primitives:
         return
     yield from _attribute_formats(asset, facts, primitives, context)
     yield from _tangent_space(asset, primitives, context)
+    yield from _generated_tangents(asset, primitives, context)
     yield from _tangents_without_normals(asset, primitives, context)
     yield from _tangent_signs(asset, primitives, context)
 
@@ -329,3 +397,50 @@ def _tangent_space(asset, primitives, context):
             Location(asset.path, None, primitive["pointer"], "attributes"),
             hint="export tangents (MikkTSpace) with the mesh, or give the material a normalTexture",
         )
+
+
+def _generated_tangents(asset, primitives, context):
+    """OPBR1235: one finding per normal-mapped material, at the first primitive drawing it without a tangent space."""
+    mapped = {material.extra.get("gltf", {}).get("index"): material for material in asset.materials
+              if material.inputs.get("normal") is not None and material.inputs["normal"].texture is not None}
+    lacking: dict[int, list[dict]] = {}
+    for primitive in primitives:
+        index = primitive["material"]
+        if isinstance(index, int) and not isinstance(index, bool) and index in mapped and \
+                not (primitive.get("tangents") and primitive.get("normals")):
+            lacking.setdefault(index, []).append(primitive)
+    for index, found in lacking.items():
+        first = found[0]
+        more = f" (and {len(found) - 1} more)" if len(found) > 1 else ""
+        if not first.get("normals"):
+            lacks = ("has TANGENT but no NORMAL, so loaders ignore its tangents and compute flat normals" if
+                     first.get("tangents") else "has neither NORMAL nor TANGENT (flat normals are computed first)")
+        else:
+            lacks = "has no TANGENT attribute"
+        yield context.diagnostic(
+            GENERATED_TANGENTS, f"material {mapped[index].name!r} has a normalTexture, but primitive {first['pointer']}{more} "
+            f"{lacks}: the viewer generates the tangent space (MikkTSpace, as glTF asks), and the normal map shades as "
+            "baked only if it was baked in that same tangent space",
+            Location(asset.path, None, first["pointer"], "material"),
+            hint="export the tangents the normal map was baked with (MikkTSpace) with the mesh")
+
+
+_TANGENT_SPACE_TEXTURES = (("anisotropy_strength", "anisotropyTexture"), ("clearcoat_normal", "clearcoatNormalTexture"))
+
+
+def _tangent_uv_sets(material, context):
+    """OPBR1236: an anisotropy or clear-coat normal texture on another UV set than the normalTexture."""
+    normal = material.inputs.get("normal")
+    if normal is None or normal.texture is None:
+        return
+    normal_set = normal.texture.texcoord or 0
+    for parameter, name in _TANGENT_SPACE_TEXTURES:
+        entry = material.inputs.get(parameter)
+        if entry is None or entry.texture is None or (entry.texture.texcoord or 0) == normal_set:
+            continue
+        yield context.diagnostic(
+            TANGENT_UV_SET, f"{material.name}: {name} reads UV set {entry.texture.texcoord or 0} but normalTexture UV set "
+            f"{normal_set}, whose tangent space the {'anisotropy direction' if parameter.startswith('anisotropy') else 'coat normal map'} "
+            "is read in: where the two UV layouts differ in orientation it points the wrong way",
+            Location(material.location.file, None, entry.texture.node, "texCoord"),
+            hint=f"paint {name} on UV set {normal_set}, as the normal texture")

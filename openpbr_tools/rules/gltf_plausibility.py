@@ -18,6 +18,10 @@ render nothing like what was meant, usually a unit or a field mixed up on export
   distance"): a black colour, or a ratio that leaves less than :data:`TRANSMITTANCE_FLOOR` in every channel,
   makes the glass black.
 
+* glTF 2.0 (3.9.3): the emission, ``emissiveFactor`` times the emissive texture, is added to the reflected light; a
+  factor of [1, 1, 1] without a texture on a material whose base colour is textured makes the surface flat white and
+  the texture invisible (an exporter's default emission colour, its strength of 0 lost).
+
 Only constants are judged (a textured thickness varies, and a textured alpha is coverage).
 """
 
@@ -106,13 +110,37 @@ INVERTED_RANGE = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (DOUBLE_TRANSPARENCY, LENGTH_UNIT, OPAQUE_VOLUME, INVERTED_RANGE)
 
 #: A volume letting less than this fraction of every channel through its thickness is black.
 TRANSMITTANCE_FLOOR = 1e-4
 #: A volume thickness more than this many times the largest mesh using the material is in the wrong unit.
 THICKNESS_TO_EXTENT = 10.0
 _FILM_MINIMUM_NM = 1.0
+
+
+def _emitting(factor: str) -> str:
+    return _gltf('"images": [{"uri": "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAQAAAAECAIAAAAmkwkpAAAAFElEQVR42mM8'
+                 'kWLEAANMDEgANwcARfYBZsiXQosAAAAASUVORK5CYII="}]', '"textures": [{"source": 0}]',
+                 '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}, '
+                 f'"emissiveFactor": {factor}}}]')
+
+
+WHITE_EMISSION = Rule(
+    "OPBR1240", "gltf-emissive-white-without-texture", Severity.WARNING,
+    "A material with a base colour texture has emissiveFactor [1, 1, 1] and no emissiveTexture (nor emissive "
+    "strength): the whole surface glows white and the texture never shows.",
+    "glTF 2.0 (3.9.3): the emission is emissiveFactor times the emissive texture, default [0, 0, 0], added to the "
+    "reflected light; [1, 1, 1] without a texture adds full white at every texel, so the surface renders a flat white "
+    "(display-referred viewers clip it) whatever its base colour texture holds. Exporters write it when a "
+    "DCC's emission colour defaults to white with a strength of 0 that glTF core cannot carry. The Khronos "
+    "glTF-Validator does not judge values. Not reported with an emissiveTexture (the factor lets it through), with "
+    "KHR_materials_emissive_strength or KHR_materials_unlit (a deliberate emitter), or on an untextured material (a "
+    "white lamp). Remove emissiveFactor, or give it the colour meant.",
+    passing=_emitting("[0, 0, 0]"), failing=_emitting("[1, 1, 1]"),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+RULES = (DOUBLE_TRANSPARENCY, LENGTH_UNIT, OPAQUE_VOLUME, INVERTED_RANGE, WHITE_EMISSION)
 
 
 def check(asset, context):
@@ -126,6 +154,7 @@ def check(asset, context):
     for material in asset.materials:
         present = set((material.extra.get("gltf") or {}).get("material_extensions") or ())
         yield from _double_transparency(material, present, context)
+        yield from _white_emission(material, present, context)
         if slots.IRIDESCENCE in present:
             yield from _iridescence(material, context)
         if slots.VOLUME in present:
@@ -215,3 +244,15 @@ def _volume_checks(material, extent: float | None, context):
             _at(material, slots.VOLUME, "attenuationDistance"),
             hint="attenuationDistance is the distance at which white light has turned into attenuationColor: "
                  "about the object's size for a tint")
+
+
+def _white_emission(material, present: set, context):
+    """OPBR1240: emissiveFactor [1, 1, 1], untextured, on a material whose base colour is textured."""
+    emissive, base = material.inputs.get("emissive"), material.inputs.get("base_color")
+    if emissive is None or emissive.texture is not None or emissive.constant != (1.0, 1.0, 1.0) or base is None \
+            or base.texture is None or present & {slots.EMISSIVE_STRENGTH, slots.UNLIT}:
+        return
+    yield context.diagnostic(
+        WHITE_EMISSION, f"{material.name}: emissiveFactor [1, 1, 1] without an emissiveTexture adds full white at every "
+        "texel: the surface renders flat white and its baseColorTexture never shows (an exporter's default emission "
+        "colour?)", emissive.location, hint="remove emissiveFactor (default [0, 0, 0]), or set the emission colour meant")

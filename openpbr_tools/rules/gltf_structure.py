@@ -27,20 +27,23 @@ Also, as OPBR1220 (the core source's counterpart, in the glTF family): a texture
 names an image of another format (EXT_texture_webp's a PNG; the validator's TEXTURE_INVALID_IMAGE_MIME_TYPE), or
 KHR_texture_basisu's a file declared KTX2 that holds no Basis Universal payload (a legacy ``.basis`` file, a KTX2 of
 raw texels: the reader's ``not_basis_universal``, from the file's header).
-Buffers shorter than their byteLength, data URIs of another media type and unaligned GLB chunks are OPBR1209, a
+A GLB chunk that is neither JSON nor BIN, a BIN chunk longer than buffer 0 and its padding, and a data URI inside a
+GLB are OPBR1237 (waste, a warning; from the reader's layout facts). Buffers shorter than their byteLength, data URIs
+of another media type, unaligned GLB chunks and a second JSON or BIN chunk are OPBR1209, a
 ``scene`` naming no scene OPBR802.
 """
 
 from __future__ import annotations
 
 import base64
+import json
 import struct
 
 from ..diagnostics import Severity
 from ..io.gltf.accessors import UNIT_TOLERANCE
 from ..model import Location
 from . import Rule
-from .gltf import _WEBP, IMAGE_NEEDS_EXTENSION, _gltf
+from .gltf import _PNG_4X4, _WEBP, IMAGE_NEEDS_EXTENSION, _gltf
 
 
 def _counted(texcoords: int) -> str:
@@ -142,7 +145,41 @@ VERTEX_VALUES = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (ACCESSOR_STRUCTURE, EXTENSION_WITHOUT_FALLBACK, NAME_REPEATED, VERTEX_VALUES)
+
+def _glb_with_data_uri(data_uri: bool) -> bytes:
+    """A GLB whose PNG is a data URI, or in the BIN chunk through a bufferView."""
+    png = base64.b64decode(_PNG_4X4.split(",", 1)[1])
+    png += bytes(-len(png) % 4)
+    document = {"asset": {"version": "2.0"}, "textures": [{"source": 0}],
+                "materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]}
+    if data_uri:
+        document["images"] = [{"uri": _PNG_4X4}]
+    else:
+        document.update({"buffers": [{"byteLength": len(png)}], "bufferViews": [{"buffer": 0, "byteLength": len(png)}],
+                         "images": [{"bufferView": 0, "mimeType": "image/png"}]})
+    text = json.dumps(document).encode("utf-8")
+    text += b" " * (-len(text) % 4)
+    chunks = struct.pack("<II", len(text), 0x4E4F534A) + text
+    if not data_uri:
+        chunks += struct.pack("<II", len(png), 0x004E4942) + png
+    return b"glTF" + struct.pack("<II", 2, 12 + len(chunks)) + chunks
+
+
+GLB_CONTAINER = Rule(
+    "OPBR1237", "gltf-glb-container-waste", Severity.WARNING,
+    "A GLB holds what its container does not need: a chunk that is neither JSON nor BIN, a BIN chunk longer than "
+    "buffer 0 and its padding, or a buffer or image as a data URI.",
+    "glTF 2.0, 4.4.3: a GLB has one JSON chunk and an optional BIN chunk, whose length may exceed buffer 0's byteLength "
+    "only by the padding to 4 bytes; clients \"MUST ignore chunks with unknown types\" (4.4.3.1), and a GLB exists to "
+    "carry resources as bytes, not as base64 text a third larger that the loader must decode. Nothing renders wrong, "
+    "but the bytes are dead weight or the file was assembled by a tool that lost track of its buffer (a byteLength "
+    "shrunk without the chunk). The Khronos glTF-Validator warns (GLB_UNKNOWN_CHUNK_TYPE, BUFFER_GLB_CHUNK_TOO_BIG, "
+    "DATA_URI_GLB). A second JSON or BIN chunk is OPBR1209.",
+    passing=_glb_with_data_uri(False), failing=_glb_with_data_uri(True),
+    passing_name="example.glb", failing_name="example.glb", formats=("gltf",),
+)
+
+RULES = (ACCESSOR_STRUCTURE, EXTENSION_WITHOUT_FALLBACK, NAME_REPEATED, VERTEX_VALUES, GLB_CONTAINER)
 
 
 def _offset_alignment(p):
@@ -224,6 +261,9 @@ def check(asset, context):
         yield context.diagnostic(rule, f"{where}: {message}",
                                  Location(asset.path, None, problem["pointer"], problem["property"]), hint=hint)
     yield from _fallbacks(asset, facts, context)
+    for observation in asset.observations:
+        if observation.kind == "gltf_container":
+            yield context.diagnostic(GLB_CONTAINER, observation.detail["message"], observation.location)
     for pointer, times in facts.get("repeated_names", ()):
         name = pointer.rsplit("/", 1)[-1].replace("~1", "/").replace("~0", "~")
         yield context.diagnostic(

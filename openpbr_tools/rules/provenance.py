@@ -395,6 +395,28 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1234": ("glTF reads each data texture from fixed channels; an image packed for another engine renders its "
                  "flat channel (a mirror coat, a dielectric where the mask says metal), and no validator reads texels.",
                  f"{GLTF}; {khr('KHR_materials_clearcoat')}"),
+    "OPBR1235": ("A normal map read in a tangent space the viewer generates shades as baked only where the baker used "
+                 "the same (MikkTSpace on the same mesh); viewers without MikkTSpace differ (the glTF-Validator's "
+                 "MESH_PRIMITIVE_GENERATED_TANGENT_SPACE, a warning). Legal and common: most Khronos samples do it.",
+                 f"{GLTF}; mmikk/MikkTSpace:mikktspace.h; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
+    "OPBR1236": ("The anisotropy direction and a clear-coat normal map are read in the tangent space of the normal "
+                 "texture's UV set; painted on another set they point the wrong way where the layouts differ (the "
+                 "glTF-Validator's KHR_MATERIALS_ANISOTROPY_ANISOTROPY_TEXTURE_TEXCOORD, "
+                 "KHR_MATERIALS_CLEARCOAT_CLEARCOAT_NORMAL_TEXTURE_TEXCOORD, warnings).",
+                 f"{GLTF}; {khr('KHR_materials_anisotropy')}; {khr('KHR_materials_clearcoat')}"),
+    "OPBR1237": ("Bytes a GLB carries for nothing (an unknown chunk, which loaders must ignore; a BIN chunk beyond "
+                 "buffer 0; base64 data URIs a third larger than the bytes in a binary container): no wrong render, but "
+                 "dead weight or a tool that lost track of its buffer (the glTF-Validator's GLB_UNKNOWN_CHUNK_TYPE, "
+                 "BUFFER_GLB_CHUNK_TOO_BIG, DATA_URI_GLB, warnings).",
+                 f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
+    "OPBR1238": ("A greyscale roughness map in the packed metallicRoughnessTexture is read as metalness (B) too: the "
+                 "surface renders metallic wherever it is rough, a dielectric as patchy rough metal; no validator "
+                 "reads texels.", GLTF),
+    "OPBR1239": ("An occlusion texture black in R removes all indirect light: under image-based lighting, the usual "
+                 "glTF viewer set-up, the object renders near black (a failed bake); no validator reads texels.", GLTF),
+    "OPBR1240": ("An untextured white emission on a textured material adds full white at every texel: the surface "
+                 "renders flat white and its texture never shows (an exporter's default emission colour); the "
+                 "glTF-Validator does not judge values.", GLTF),
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
                  "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
                  "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),

@@ -36,6 +36,7 @@ from typing import Iterator
 from . import slots
 from .accessors import MAX_ELEMENTS
 from .document import GLB_BIN, GLB_JSON, GltfDocument, ResourceError, data_uri_mime
+from .schema import uri_syntax_error
 from .textures import json_text
 
 COMPONENT_SIZES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
@@ -49,12 +50,7 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
     """``(observation kind, JSON pointer, message, property)`` for every buffer that cannot provide its
     ``byteLength`` bytes and every GLB chunk that is not 4-byte aligned; kind ``gltf_resource`` (a broken
     resource) or ``gltf_invalid`` (a uri that is no string). Files are measured, not read."""
-    for number, (kind, length) in enumerate(document.chunks):
-        if length % 4:
-            name = _CHUNK_NAMES.get(kind, f"0x{kind:08x}")
-            yield ("gltf_resource", "", f"GLB chunk {number} ({name}) is {length} bytes long, not a multiple of 4: "
-                   "every chunk must start and end on a 4-byte boundary (pad the JSON chunk with spaces, the BIN "
-                   "chunk with zeros), and loaders that map the binary data in place read it misaligned", None)
+    yield from _glb_chunks(document)
     for index, buffer in enumerate(document.array("buffers")):
         uri = buffer.get("uri") if isinstance(buffer, dict) else None
         length = buffer.get("byteLength") if isinstance(buffer, dict) else None
@@ -69,6 +65,9 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
                 yield ("gltf_resource", pointer + "/uri", f"the buffer's data URI declares {json_text(media_type or '')}, "
                        f"not {' or '.join(BUFFER_MEDIA_TYPES)}: loaders that check the media type refuse the buffer", None)
         elif isinstance(uri, str):
+            syntax = uri_syntax_error(uri)
+            if syntax is not None:
+                yield "gltf_invalid", pointer, f"uri {json_text(uri)} is no valid URI: {syntax}", "uri"
             try:
                 local = document.resolve(uri, pointer + "/uri")
             except ResourceError as error:
@@ -88,6 +87,44 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
         elif _natural(length) and len(document.binary) < length:
             yield ("gltf_resource", pointer, f"the GLB binary chunk holds {len(document.binary)} bytes, fewer than the "
                    f"buffer's byteLength {length}: the data at its end is missing", None)
+
+
+def _glb_chunks(document: GltfDocument) -> Iterator[tuple[str, str, str, str | None]]:
+    """A GLB's chunks as 4.4.3 lays them out: 4-byte aligned, one JSON chunk and at most one BIN chunk (a second of either
+    is the validator's GLB_DUPLICATE_CHUNK, a broken resource); and, kind ``gltf_container`` (what the container does
+    not need), a chunk of another type (4.4.3.1: clients "MUST ignore" it; GLB_UNKNOWN_CHUNK_TYPE), a BIN chunk longer
+    than buffer 0 plus its padding to 4 bytes (BUFFER_GLB_CHUNK_TOO_BIG) and a buffer or image that is a data URI
+    (DATA_URI_GLB: base64 text where the BIN chunk holds bytes)."""
+    seen: set[int] = set()
+    for number, (kind, length) in enumerate(document.chunks):
+        tag = kind.to_bytes(4, "little").decode("latin-1")
+        name = _CHUNK_NAMES.get(kind, f"0x{kind:08x}" + (f" ({tag!r})" if tag.isprintable() else ""))
+        if length % 4:
+            yield ("gltf_resource", "", f"GLB chunk {number} ({name}) is {length} bytes long, not a multiple of 4: "
+                   "every chunk must start and end on a 4-byte boundary (pad the JSON chunk with spaces, the BIN "
+                   "chunk with zeros), and loaders that map the binary data in place read it misaligned", None)
+        if kind in seen:
+            yield ("gltf_resource", "", f"GLB chunk {number} is a second {name} chunk: a GLB holds one JSON chunk and at "
+                   "most one BIN chunk, and loaders read the first, the last or refuse the file", None)
+        elif kind not in _CHUNK_NAMES:
+            yield ("gltf_container", "", f"GLB chunk {number} has type {name}, neither JSON nor BIN: loaders must ignore "
+                   "it (no ratified extension defines another chunk), so whatever it holds is dead weight", None)
+        seen.add(kind)
+    if not document.is_glb:
+        return
+    buffer = document.item("buffers", 0)
+    length = buffer.get("byteLength") if buffer is not None and "uri" not in buffer else None
+    if document.binary is not None and _natural(length) and len(document.binary) > length + (-length % 4):
+        yield ("gltf_container", "/buffers/0", f"the GLB's BIN chunk holds {len(document.binary)} bytes, "
+               f"{len(document.binary) - length - (-length % 4)} more than buffer 0's byteLength {length} and its padding to "
+               "4 bytes: the rest is data no view can reach (a buffer shrunk without its chunk?)", "byteLength")
+    for array in ("buffers", "images"):
+        for index, item in enumerate(document.array(array)):
+            uri = item.get("uri") if isinstance(item, dict) else None
+            if isinstance(uri, str) and uri.startswith("data:"):
+                yield ("gltf_container", f"/{array}/{index}", f"a GLB's {array[:-1]} {index} is a data URI: base64 text "
+                       "a third larger than the bytes, where the BIN chunk (a bufferView) holds them as they are",
+                       "uri")
 
 
 def compression_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str | None]]:

@@ -50,7 +50,7 @@ import re
 from ... import tables, versioning
 from ...model import Asset, Constant, Input, Location, Material, Texture
 from .. import ReadError
-from . import accessors, drafts, layout, slots
+from . import accessors, drafts, layout, schema, slots
 from .document import GltfDocument, ResourceError, load_document
 from .extension_reader import ExtensionReading, thin_diffuse_transmission
 from .textures import TextureReading, json_float, json_numbers, json_text
@@ -144,11 +144,12 @@ class _Reader(TextureReading, ExtensionReading):
 
     # -- resources and layout ------------------------------------------------------------------
     def check_layout(self) -> None:
-        """Buffers that cannot provide their bytes, unaligned GLB chunks, Draco objects without their stream, a default
-        scene that names nothing, and the accessor and texture-source facts for the structure rules (:mod:`.layout`)."""
-        for kind, pointer, message, name in (*layout.buffer_problems(self.document),
-                                             *layout.compression_problems(self.document)):
+        """Buffers, GLB chunks, Draco objects, the default scene, accessor and texture-source facts (:mod:`.layout`);
+        the root's arrays and images in bufferViews of mesh data (:mod:`.schema`); texture objects' properties."""
+        for kind, pointer, message, name in (*layout.buffer_problems(self.document), *layout.compression_problems(self.document),
+                                             *schema.root_problems(self.document), *schema.image_view_problems(self.document)):
             self.observe_once(kind, pointer, message, name)
+        self.unexpected_texture_properties()
         scene = layout.missing_scene(self.document)
         if scene is not None:
             self.asset.observe("dangling_reference", self.location("/scene"), attribute="scene", target=scene)

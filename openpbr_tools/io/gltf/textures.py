@@ -20,9 +20,11 @@ import warnings
 from urllib.parse import unquote
 
 from ...model import Connection, Texture
-from ..image_files import ALPHA_MODES, ResourceFile, damage, head_of, pillow_format, png_bit_depth
+from ..image_files import ALPHA_MODES, ResourceFile, damage, head_of, is_webp, pillow_format, png_bit_depth
 from . import slots
+from .image_features import png_features, png_header_chunks, webp_features
 from .document import ResourceError, data_uri_mime
+from .schema import TEXTURE_OBJECT_PROPERTIES, uri_syntax_error
 from .uv import from_texture_transform
 
 KTX2, KTX2_IDENTIFIER = "image/ktx2", b"\xabKTX 20\xbb\r\n\x1a\n"
@@ -59,6 +61,9 @@ class TextureReading:
                          "image data must not have (only vertex attributes are strided)", "bufferView")
         if isinstance(uri, str) and not uri.startswith("data:"):
             info["file"], info["packaged"] = unquote(uri), False
+            syntax = uri_syntax_error(uri)
+            if syntax is not None:
+                self.invalid(pointer, f"uri {json_text(uri)} is no valid URI: {syntax}; loaders cannot resolve it", "uri")
             if "\x00" in info["file"]:  # no file system takes it; path functions raise ValueError on it
                 info["file"] = info["file"].replace("\x00", "\ufffd")
                 self.invalid(pointer, "uri holds a NUL character (U+0000), which no file name can; read as U+FFFD", "uri")
@@ -90,6 +95,13 @@ class TextureReading:
         where = "bufferView" if "bufferView" in image else "uri"  # where the bytes are, as the Khronos validator points
         _declared_type(info, declared if isinstance(declared, str) else data_uri_mime(uri or ""), where)
         return info
+
+    def unexpected_texture_properties(self) -> None:
+        """Properties of images, textures and samplers that their schemas do not define (UNEXPECTED_PROPERTY)."""
+        for array, names in TEXTURE_OBJECT_PROPERTIES.items():
+            for index, found in enumerate(self.document.array(array)):
+                if isinstance(found, dict):
+                    self.unexpected(found, names + slots.COMMON_PROPERTIES, f"/{array}/{index}", array[:-1])
 
     def texture(self, slot: slots.Slot, info, pointer: str, factor, container: dict):
         if not isinstance(info, dict) or isinstance(info.get("index"), bool) or not isinstance(info.get("index"), int):
@@ -289,25 +301,12 @@ def _measure(source, info: dict, head: bytes | None = None) -> None:
                 info["alpha"] = image.mode in ALPHA_MODES or "transparency" in image.info
                 if detected == "image/jpeg":  # EXIF Orientation (tag 274): from the header, nothing decoded
                     info["orientation"] = image.getexif().get(0x0112)
-                if detected == "image/png":
-                    info["png_features"] = _png_features(image)
     except Exception:  # noqa: BLE001 - Pillow raises many exception types for images it cannot identify
         pass  # (io.images.damage says why)
-
-
-def _png_features(image) -> list[str]:
-    """What a PNG holds that glTF 2.0 (section 2) says it SHOULD NOT and the Khronos glTF-Validator reports
-    (IMAGE_FEATURES_UNSUPPORTED): an embedded ICC profile ("icc_profile", iCCP) or non-square pixels
-    ("non_square_pixels", pHYs), from the chunks Pillow reads before the image data; nothing is decoded. An
-    animation (acTL), which the spec names too, is left alone as the validator leaves it: clients show its
-    default image, which is the PNG's first."""
-    found = []
-    if image.info.get("icc_profile"):
-        found.append("icc_profile")
-    ratio = image.info.get("dpi") or image.info.get("aspect")  # pHYs in pixels per metre, or unitless
-    if isinstance(ratio, tuple) and len(ratio) == 2 and all(ratio) and abs(ratio[0] - ratio[1]) > 1e-6 * max(ratio):
-        found.append("non_square_pixels")
-    return found
+    if info.get("detected_mime") == "image/png":
+        info["features"] = png_features(png_header_chunks(source.data if isinstance(source, ResourceFile) else source))
+    elif head is not None and is_webp(head):
+        info["features"] = webp_features(head)
 
 
 def json_numbers(value, count: int) -> bool:
