@@ -132,6 +132,9 @@ def _glb(path: Path, padded: bool) -> Path:
     data = _POSITIONS + _UVS
     document = _planar({})
     document["buffers"] = [{"byteLength": len(data)}]
+    # (no data-URI image inside the GLB: that is a warning of its own, DATA_URI_GLB / OPBR1237)
+    del document["images"], document["textures"]
+    document["materials"] = [{"name": "M"}]
     text = json.dumps(document, separators=(",", ":")).encode("utf-8")
     text += b" " * ((-len(text)) % 4 if padded else (1 if len(text) % 4 == 0 else 0))
     chunks = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(data), 0x004E4942) + data
