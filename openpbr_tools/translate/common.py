@@ -34,7 +34,7 @@ from ..diagnostics import Diagnostic
 from ..io.gltf.slots import SLOT_BY_PARAMETER
 from ..model import Connection, Constant, Input, Material, Texture
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
-from . import expressed as expressed_module, probes
+from . import expressed as expressed_module, normal_graphs, probes
 from .settings import Settings
 from .target import WorkingSpace, inside
 
@@ -252,7 +252,15 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         source_name = textured[0]
         entry = material.inputs[source_name]
         if _carriable(entry) and len(textured) == 1 and probes.is_identity(mapping, source_name, values):
-            result.inputs[mapping.target] = _carried(entry, mapping.target, parameter.type)  # rewired as is
+            carried = _carried(entry, mapping.target, parameter.type)  # rewired as is
+            if parameter.role == "normal":  # (a graph between tangent- and world-space normals: re-expressed)
+                carried, done = normal_graphs.carried_normal(carried, material.model, target_model)
+                if carried is None:
+                    say(NOT_CARRIED, f"{mapping.target}: {done}", source_name)
+                elif done:
+                    say(CONVERTED, f"{mapping.target}: {done}", source_name)
+            if carried is not None:
+                result.inputs[mapping.target] = carried
             handled.add(source_name)
             continue
         if settings.node_graphs and mapping.formula is not None and expressed_module.one_graph(material, textured):

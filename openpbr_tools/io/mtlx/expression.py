@@ -121,3 +121,45 @@ class _Builder:
 def _constant(components: np.ndarray, t: str) -> tuple:
     """(value, type) of a constant operand of type ``t`` from its per-channel ``components``."""
     return (float(components[0]), "float") if t == "float" else (tuple(float(v) for v in components), "color3")
+
+
+def normal_to_world(graph_xml: str, output: str) -> tuple[str, str]:
+    """A UsdPreviewSurface ``normal`` graph (a tangent-space vector in [-1, 1]) as the world-space normal
+    OpenPBR's and Standard Surface's normal inputs take: re-encoded to [0, 1] (``x * 0.5 + 0.5``) and decoded by a
+    ``normalmap`` node (ND_normalmap_float: the mesh's tangent frame), as MaterialX's own
+    ND_UsdPreviewSurface_surfaceshader graph treats its normal input."""
+    document = mx.createDocument()
+    mx.readFromXmlString(document, graph_xml)
+    node = document.getNode(output)
+    if node is None or node.getType() != "vector3" or len(node.getOutputs()) > 1:
+        raise ExpressionError(f"the graph's output {output!r} is not a single vector3 node")
+    builder = _Builder(document, output)
+    half = builder.node("multiply", "vector3", in1=output, in2=(0.5, "float"))
+    encoded = builder.node("add", "vector3", in1=half, in2=(0.5, "float"))
+    decoded = builder.node("normalmap", "vector3", **{"in": encoded})
+    return document_text(document), decoded
+
+
+def normal_to_tangent(graph_xml: str, output: str) -> tuple[str, str]:
+    """A world-space normal graph that ends in a ``normalmap`` (its tangent frame the mesh's) as the tangent-space
+    vector in [-1, 1] UsdPreviewSurface's ``normal`` takes: the normalmap's input decoded (``t * 2 - 1``, x and y
+    scaled by its strength), the normalmap itself left out. Any other graph raises :class:`ExpressionError`."""
+    document = mx.createDocument()
+    mx.readFromXmlString(document, graph_xml)
+    node = document.getNode(output)
+    if node is None or node.getCategory() != "normalmap":
+        raise ExpressionError(f"the graph's output {output!r} is not a normalmap node")
+    source = node.getInput("in")
+    if source is None or not source.getNodeName() or any(
+            node.getInput(name) is not None and (node.getInput(name).getNodeName() or node.getInput(name).hasValueString())
+            for name in ("normal", "tangent", "bitangent")):
+        raise ExpressionError("the normalmap decodes in a tangent frame of its own")
+    scale = node.getInput("scale")
+    strength = scale.getValue() if scale is not None and scale.hasValueString() else 1.0
+    builder = _Builder(document, output)
+    doubled = builder.node("multiply", "vector3", in1=source.getNodeName(), in2=(2.0, "float"))
+    decoded = builder.node("subtract", "vector3", in1=doubled, in2=(1.0, "float"))
+    if strength != 1.0:
+        factor = (strength, strength, 1.0) if isinstance(strength, float) else (strength[0], strength[1], 1.0)
+        decoded = builder.node("multiply", "vector3", in1=decoded, in2=(factor, "vector3"))
+    return document_text(document), decoded
