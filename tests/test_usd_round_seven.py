@@ -1,0 +1,63 @@
+"""USD, round seven: false alarms on published OpenUSD and usd-wg assets (red-team session 20, P), and misses of
+its USD set (I). Each case is built here and judged twice: by usd-core (Stage.Open, ComputeBoundMaterial,
+UsdGeom's primvar API, UsdValidation) or a quoted line of the schema, and by the tool.
+"""
+
+from __future__ import annotations
+
+import struct
+
+import pytest
+
+from openpbr_tools.validate import Options, validate_paths
+
+HEAD = '#usda 1.0\n(\n    defaultPrim = "World"\n    metersPerUnit = 1\n    upAxis = "Y"\n)\n\n'
+
+
+def _diagnostics(path):
+    return validate_paths([str(path)], options=Options(use_config=False)).diagnostics
+
+
+def _codes(path, severity=None):
+    return sorted(d.code for d in _diagnostics(path) if severity is None or d.severity.name == severity)
+
+
+# -- F3: a crate file with no fields (an empty layer) ------------------------------------------------------------
+
+def _section(data: bytes, wanted: bytes) -> tuple[int, int]:
+    (toc,) = struct.unpack_from("<q", data, 16)
+    (count,) = struct.unpack_from("<Q", data, toc)
+    for index in range(count):
+        name, start, size = struct.unpack_from("<16sqq", data, toc + 8 + 32 * index)
+        if name.rstrip(b"\0") == wanted:
+            return start, size
+    raise AssertionError(f"no {wanted!r} section")
+
+
+def test_an_empty_crate_layer_opens_in_usd_core_and_is_no_corrupt_file(tmp_path):
+    from pxr import Sdf, Usd
+
+    from openpbr_tools.io.usd.crate import crate_problem
+
+    path = tmp_path / "foo.usd"
+    Sdf.Layer.CreateNew(str(path), args={"format": "usdc"}).Save()  # as testUsdviewDetachedLayers/foo.usd
+    data = path.read_bytes()
+    start, _ = _section(data, b"FIELDS")
+    count, stored = struct.unpack_from("<QQ", data, start)
+    assert data[:8] == b"PXR-USDC" and (count, stored) == (0, 2)  # no fields, still an LZ4 block of 2 bytes
+    assert Usd.Stage.Open(str(path))  # the anchor: usd-core reads it
+    assert crate_problem(data) is None
+    assert "OPBR002" not in _codes(path)
+
+
+@pytest.mark.parametrize("stored, refused", [(2, False), (17, False), (18, True)])
+def test_no_field_names_may_store_up_to_usd_cores_buffer_for_them(stored, refused):
+    """crateFile.cpp _ReadCompressedInts reads ``compSize`` bytes into a buffer of
+    Usd_IntegerCompression::GetCompressedBufferSize(0) = TfFastCompression::GetCompressedBufferSize(0) =
+    LZ4_compressBound(0) + 1 = 17 bytes ("If it fits in one chunk then it's just the compress bound plus 1"):
+    up to 17 stored bytes are read safely, 18 overrun it."""
+    from openpbr_tools.io.usd.crate import _crate_section_problem
+
+    section = struct.pack("<QQ", 0, stored) + bytes(stored) + struct.pack("<Q", 2) + bytes(2)
+    problem = _crate_section_problem("FIELDS", section, True, 1 << 20)
+    assert (problem is not None) == refused
