@@ -61,3 +61,68 @@ def test_no_field_names_may_store_up_to_usd_cores_buffer_for_them(stored, refuse
     section = struct.pack("<QQ", 0, stored) + bytes(stored) + struct.pack("<Q", 2) + bytes(2)
     problem = _crate_section_problem("FIELDS", section, True, 1 << 20)
     assert (problem is not None) == refused
+
+
+# -- F4: a collection binding to a GeomSubset --------------------------------------------------------------------
+
+_SUBSET_COLLECTION = HEAD + '''def Xform "World" (
+    prepend apiSchemas = ["MaterialBindingAPI"]
+)
+{
+    rel material:binding:collection:preview:subsets = [</World/Geom.collection:subsetColl>, </World/Mat>]
+    def Material "Mat"
+    {
+        token outputs:surface.connect = </World/Mat/P.outputs:surface>
+        def Shader "P"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            color3f inputs:diffuseColor = (0.8, 0.2, 0.1)
+            token outputs:surface
+        }
+    }
+    def Xform "Geom" (
+        prepend apiSchemas = ["CollectionAPI:subsetColl"]
+    )
+    {
+        uniform token collection:subsetColl:expansionRule = "RULE"
+        rel collection:subsetColl:includes = <INCLUDES>
+        def Mesh "Mesh"
+        {
+            int[] faceVertexCounts = [3, 3]
+            int[] faceVertexIndices = [0, 1, 2, 0, 2, 3]
+            point3f[] points = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+            uniform token subsetFamily:materialBind:familyType = "nonOverlapping"
+            def GeomSubset "Subset"
+            {
+                uniform token elementType = "face"
+                uniform token familyName = "materialBind"
+                int[] indices = [0]
+            }
+        }
+    }
+}
+'''
+
+
+@pytest.mark.parametrize("rule", ["expandPrims", "explicitOnly"])
+def test_a_collection_binding_that_includes_a_geomsubset_binds_geometry(tmp_path, rule):
+    from pxr import Usd, UsdShade
+
+    path = tmp_path / "subsets.usda"
+    path.write_text(_SUBSET_COLLECTION.replace("RULE", rule).replace("INCLUDES", "/World/Geom/Mesh/Subset"))
+    stage = Usd.Stage.Open(str(path))
+    material, _ = UsdShade.MaterialBindingAPI(stage.GetPrimAtPath("/World/Geom/Mesh/Subset")).ComputeBoundMaterial("preview")
+    assert material and material.GetPath() == "/World/Mat"  # the anchor: usd-core binds the subset
+    assert "OPBR1026" not in _codes(path)
+
+
+def test_an_explicit_only_collection_of_the_group_still_binds_no_geometry(tmp_path):
+    from pxr import Usd, UsdShade
+
+    path = tmp_path / "group.usda"
+    path.write_text(_SUBSET_COLLECTION.replace("RULE", "explicitOnly").replace("INCLUDES", "/World/Geom"))
+    stage = Usd.Stage.Open(str(path))
+    for prim in ("/World/Geom/Mesh", "/World/Geom/Mesh/Subset"):
+        material, _ = UsdShade.MaterialBindingAPI(stage.GetPrimAtPath(prim)).ComputeBoundMaterial("preview")
+        assert not material  # the anchor: nothing that renders is bound
+    assert _codes(path, "ERROR").count("OPBR1026") == 1

@@ -175,12 +175,13 @@ def Xform "Deck" (
 """
 COLLECTION_NO_GEOMETRY = Rule(
     "OPBR1026", "usd-binding-collection-binds-no-geometry", Severity.ERROR,
-    "A collection-based material binding's collection includes prims, but no geometry (no Gprim): an explicitOnly "
-    "collection that lists the parent Xform of the meshes meant, which it then leaves out.",
+    "A collection-based material binding's collection includes prims, but no geometry (no Gprim, no GeomSubset): an "
+    "explicitOnly collection that lists the parent Xform of the meshes meant, which it then leaves out.",
     "Usd.CollectionAPI with expansionRule explicitOnly includes exactly the listed prims, not their descendants, and "
     "UsdShade.MaterialBindingAPI binds a collection's material only to the prims the collection includes: listing "
     "the group instead of its meshes binds nothing that renders (ComputeBoundMaterial on the meshes finds nothing "
-    "through it). With expandPrims (the default) the same list would include the meshes.",
+    "through it). With expandPrims (the default) the same list would include the meshes. A collection of GeomSubsets "
+    "binds their faces (ComputeBoundMaterial on the subset finds the material) and is no finding.",
     passing=_PLANKS.replace("INCLUDES", "</Deck/Plank>"), failing=_PLANKS.replace("INCLUDES", "</Deck>"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )

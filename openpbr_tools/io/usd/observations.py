@@ -186,7 +186,9 @@ def _observe_collection(path, binding, stage, observe, where) -> None:
         from pxr import UsdGeom  # lazy: as above
 
         included = Usd.CollectionAPI.ComputeIncludedPaths(collection.ComputeMembershipQuery(), stage)
-        if not any(stage.GetPrimAtPath(p).IsA(UsdGeom.Gprim) for p in included[:100_000]):
+        # a GeomSubset is geometry too: ComputeBoundMaterial binds a collection's material to a subset it includes
+        if not any(stage.GetPrimAtPath(p).IsA(UsdGeom.Gprim) or stage.GetPrimAtPath(p).IsA(UsdGeom.Subset)
+                   for p in included[:100_000]):
             observe("usd_collection_no_geometry", where, relationship=binding, collection=str(path),
                     includes=[str(p) for p in includes], rule=str(collection.GetExpansionRuleAttr().Get() or "expandPrims"))
 
