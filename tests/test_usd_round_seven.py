@@ -126,3 +126,65 @@ def test_an_explicit_only_collection_of_the_group_still_binds_no_geometry(tmp_pa
         material, _ = UsdShade.MaterialBindingAPI(stage.GetPrimAtPath(prim)).ComputeBoundMaterial("preview")
         assert not material  # the anchor: nothing that renders is bound
     assert _codes(path, "ERROR").count("OPBR1026") == 1
+
+
+# -- F5: an output authored with another type than the node's definition -----------------------------------------
+
+def _reader_stage(reader_id: str, output_type: str) -> str:
+    return HEAD + f'''def Xform "World"
+{{
+    def Material "M"
+    {{
+        token outputs:surface.connect = </World/M/P.outputs:surface>
+        def Shader "P"
+        {{
+            uniform token info:id = "UsdPreviewSurface"
+            color3f inputs:diffuseColor.connect = </World/M/Colour.outputs:result>
+            token outputs:surface
+        }}
+        def Shader "Colour"
+        {{
+            uniform token info:id = "{reader_id}"
+            string inputs:varname = "displayColor"
+            {output_type} outputs:result
+        }}
+    }}
+}}
+'''
+
+
+def test_a_connection_is_judged_on_the_node_definitions_output_type(tmp_path):
+    from pxr import Sdr
+
+    # the anchor: Sdr's definition of the reader (usd-core's shaderDefs.usda) gives its result float3
+    output = Sdr.Registry().GetShaderNodeByIdentifier("UsdPrimvarReader_float3").GetShaderOutput("result")
+    assert str(output.GetTypeAsSdfType().GetSdfType()) == "float3"
+    path = tmp_path / "reader.usda"
+    path.write_text(_reader_stage("UsdPrimvarReader_float3", "float2"))  # as testUsdImagingGLGeomSubsets.usda
+    found = _diagnostics(path)
+    assert "OPBR1005" not in [d.code for d in found]
+    [mistyped] = [d for d in found if d.code == "OPBR1030"]
+    assert mistyped.severity.name == "INFO"
+    assert (mistyped.location.path, mistyped.location.input) == ("/World/M/Colour", "outputs:result")
+    assert "float2" in mistyped.message and "float3" in mistyped.message
+
+
+def test_a_definition_whose_output_is_another_shape_than_the_input_is_still_a_mismatch(tmp_path):
+    from pxr import Sdr
+
+    output = Sdr.Registry().GetShaderNodeByIdentifier("UsdPrimvarReader_float2").GetShaderOutput("result")
+    assert str(output.GetTypeAsSdfType().GetSdfType()) == "float2"  # the anchor: two components, not three
+    path = tmp_path / "reader.usda"
+    path.write_text(_reader_stage("UsdPrimvarReader_float2", "float3"))  # authored to match, defined otherwise
+    codes = _codes(path)
+    assert "OPBR1005" in codes and "OPBR1030" in codes
+
+
+def test_an_output_of_a_node_with_no_known_definition_is_judged_as_authored(tmp_path):
+    from pxr import Sdr
+
+    assert not Sdr.Registry().GetShaderNodeByIdentifier("StudioColourReader")  # the anchor: no definition
+    path = tmp_path / "reader.usda"
+    path.write_text(_reader_stage("StudioColourReader", "float2"))
+    codes = _codes(path)
+    assert "OPBR1005" in codes and "OPBR1030" not in codes

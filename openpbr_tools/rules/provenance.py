@@ -311,6 +311,11 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1029": ("The mtlx render context is read through MaterialX's node definitions, where the preview surface "
                  "is ND_UsdPreviewSurface_surfaceshader; the glslfx id UsdPreviewSurface names none there.",
                  f"{MX_PREVIEW}; {HD_MTLX}"),
+    "OPBR1030": ("Storm builds a shading network from Sdr's node definitions and hdMtlx from MaterialX's, not from "
+                 "the type authored on a shader's output: a mistyped output renders as its definition says (OpenUSD's "
+                 "testUsdImagingGLGeomSubsets baseline), and only tools reading authored types see it wrong.",
+                 f"{_USD}pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLGeomSubsets/testUsdImagingGLGeomSubsets.usda; "
+                 f"{_USD}pxr/usdImaging/plugin/usdShaders/shaders/shaderDefs.usda; {HD_MTLX}"),
     "OPBR1011": ("An arc outside the asset breaks when the asset moves or is packaged, and reads files the "
                  "asset's owner did not ship; the toolkit never opens it.", f"{USDZ}; {USD_COMPLIANCE}"),
     "OPBR1012": ("The USDZ specification requires stored (uncompressed), relative, aligned entries; ARKit and "

@@ -114,6 +114,26 @@ CONNECTION_TYPE_MISMATCH = Rule(
     ),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
+_PRIMVAR_COLOUR = (
+    "color3f inputs:base_color.connect = </M/Colour.outputs:result>",
+)
+_PRIMVAR_READER = ('\n    def Shader "Colour"\n    {\n        uniform token info:id = "UsdPrimvarReader_float3"\n'
+                   '        string inputs:varname = "displayColor"\n        TYPE outputs:result\n    }\n')
+OUTPUT_TYPE_DIFFERS = Rule(
+    "OPBR1030", "usd-output-type-differs-from-definition", Severity.INFO,
+    "A shader's output is authored with another type than its node definition gives it (a "
+    "UsdPrimvarReader_float3's result authored as float2).",
+    "Renderers build the network from the node's definition, not from the type authored on the prim: Storm takes "
+    "Sdr's (usd-core's shaderDefs.usda gives UsdPrimvarReader_float3 a float3 result), hdMtlx MaterialX's. So a "
+    "connection is judged on the definition's type (OPBR1005 only where the definition's shape differs from the "
+    "input's), and the stage renders as meant (OpenUSD's testUsdImagingGLGeomSubsets authors float2 on a float3 "
+    "reader and its baseline renders the colours). What remains is a mistyped declaration that tools reading the "
+    "authored types (UsdShade's connection API, exporters) see wrong: an info. Where the id names no known "
+    "definition, the authored type is all there is, and connections are judged on it.",
+    passing=openpbr_example(*_PRIMVAR_COLOUR, extra=_PRIMVAR_READER.replace("TYPE", "float3")),
+    failing=openpbr_example(*_PRIMVAR_COLOUR, extra=_PRIMVAR_READER.replace("TYPE", "float2")),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
 USD_CORE = Rule(
     "OPBR1010", "usd-core-validation", Severity.WARNING,
     "usd-core's own validators (UsdValidation) report a problem the other rules do not cover.",
@@ -256,7 +276,7 @@ MTLX_REFERENCE = Rule(
 
 
 RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
-         USD_CORE, USD_CORE_BINDING, ARC_OUTSIDE, PACKAGE_ENTRY, MTLX_REFERENCE, REMAPPED_NAME)
+         OUTPUT_TYPE_DIFFERS, USD_CORE, USD_CORE_BINDING, ARC_OUTSIDE, PACKAGE_ENTRY, MTLX_REFERENCE, REMAPPED_NAME)
 
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
@@ -321,6 +341,12 @@ def _observations(asset, context):
                 CONNECTION_TYPE_MISMATCH,
                 f"{detail['input']} ({detail['input_type']}) is connected to {detail['source']} ({detail['source_type']})",
                 where, hint=f"connect a source of type {detail['input_type']}, or change the input's type",
+            )
+        elif observation.kind == "usd_output_type_differs":
+            yield context.diagnostic(
+                OUTPUT_TYPE_DIFFERS, f"{detail['output']} is authored as {detail['authored']}, but the definition of "
+                f"{detail['id']} gives it {detail['defined']}: renderers use the definition's type", where,
+                hint=f"author it as {detail['defined']} outputs:{where.input.removeprefix('outputs:')}",
             )
         elif observation.kind == "usd_colorspace":
             yield from colorspace_name(detail, where, context)

@@ -105,6 +105,7 @@ class _Reader(NetworkReader):
         self.observed_colorspaces: set[tuple] = set()
         self.shaders: dict[str, Material] = {}
         self.mtlx_context_shaders: set[str] = set()
+        self.mistyped_outputs: set[tuple[str, str]] = set()  # (prim, output) observed once
         self.UsdGeom = UsdGeom
         asset.extra["usd_sdr_ids"] = tuple(sorted(str(i) for i in Sdr.Registry().GetShaderNodeIdentifiers()))
 
