@@ -188,3 +188,70 @@ def test_an_output_of_a_node_with_no_known_definition_is_judged_as_authored(tmp_
     path.write_text(_reader_stage("StudioColourReader", "float2"))
     codes = _codes(path)
     assert "OPBR1005" in codes and "OPBR1030" not in codes
+
+
+# -- F6: a packaged layer's texture that usd-core finds beside the package -----------------------------------------
+
+def _package_with_texture(tmp_path, file: str, tiles=()):
+    from PIL import Image
+    from pxr import Sdf
+
+    folder = tmp_path / "src"
+    folder.mkdir()
+    (folder / "root.usda").write_text(HEAD.replace('"World"', '"M"', 1) + f'''def Material "M"
+{{
+    token outputs:surface.connect = </M/P.outputs:surface>
+    def Shader "P"
+    {{
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor.connect = </M/T.outputs:rgb>
+        token outputs:surface
+    }}
+    def Shader "T"
+    {{
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @{file}@
+        token inputs:sourceColorSpace = "sRGB"
+        float3 outputs:rgb
+    }}
+}}
+''')
+    for name in tiles:  # beside the package, not in it
+        Image.new("RGB", (4, 4), (200, 100, 50)).save(tmp_path / name)
+    package = tmp_path / "asset.usdz"
+    with Sdf.ZipFileWriter.CreateNew(str(package)) as writer:
+        writer.AddFile(str(folder / "root.usda"), "root.usda")
+    return package
+
+
+def _texture_file(package):
+    from pxr import Usd
+
+    stage = Usd.Stage.Open(str(package))
+    return stage.GetPrimAtPath("/M/T").GetAttribute("inputs:file").Get()
+
+
+def test_a_texture_usd_core_finds_beside_the_package_is_no_missing_texture(tmp_path):
+    package = _package_with_texture(tmp_path, "albedo.png", tiles=["albedo.png"])
+    # the anchor: ArDefaultResolver looks a search-path name up beside the package when the package lacks it
+    assert _texture_file(package).resolvedPath == str(tmp_path / "albedo.png")
+    found = _diagnostics(package)
+    assert "OPBR701" not in [d.code for d in found]
+    assert any("AssetNotInPackage" in d.message for d in found if d.code == "OPBR1010")  # usd-core says it
+
+
+def test_udim_tiles_usd_core_finds_beside_the_package_are_no_missing_texture(tmp_path):
+    from pxr import Sdf, UsdShade
+
+    package = _package_with_texture(tmp_path, "albedo.<UDIM>.png", tiles=["albedo.1001.png", "albedo.1002.png"])
+    tiles = UsdShade.UdimUtils.ResolveUdimTilePaths("albedo.<UDIM>.png", Sdf.Layer.FindOrOpen(str(package)))
+    assert [path for path, _ in tiles] == [str(tmp_path / "albedo.1001.png"), str(tmp_path / "albedo.1002.png")]
+    assert "OPBR701" not in _codes(package)
+
+
+@pytest.mark.parametrize("file", ["./albedo.png", "missing.png"])
+def test_a_texture_usd_core_cannot_resolve_is_still_not_found_in_the_package(tmp_path, file):
+    package = _package_with_texture(tmp_path, file, tiles=["albedo.png"])
+    assert _texture_file(package).resolvedPath == ""  # the anchor: "./" anchors inside the package only
+    [missing] = [d for d in _diagnostics(package) if d.code == "OPBR701"]
+    assert "not found in the package" in missing.message

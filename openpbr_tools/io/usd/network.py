@@ -204,6 +204,10 @@ class NetworkReader(TextureNodeReader):
                 return authored, True
             for package in reversed(packages):  # a nested package's member: "parts/bolt.usdz[textures/a.png]"
                 member = f"{package}[{member}]"
+            if not packages and member not in self.asset.extra.get("package_files", ()):
+                outside = self.resolved_beside_package(value, authored, layer)
+                if outside is not None:  # not in the package, but usd-core finds it on disk: a file, not a member
+                    return os.path.relpath(outside, self.root_dir).replace(os.sep, "/"), False
             return member, True
         if packaged or layer.identifier == self.root_layer.identifier or classify(authored) is not Kind.RELATIVE:
             return authored, packaged  # as authored: a URL, an absolute, drive or UNC path is not re-anchored
@@ -213,6 +217,18 @@ class NetworkReader(TextureNodeReader):
         # relative to the root layer's folder (whether that stays inside is the texture rules' call)
         anchored = os.path.normpath(os.path.join(os.path.dirname(layer.realPath), authored))
         return os.path.relpath(anchored, self.root_dir).replace(os.sep, "/"), False
+
+    def resolved_beside_package(self, value, authored: str, layer) -> str | None:
+        """Where usd-core resolves a packaged layer's relative asset path that the package does not hold, when
+        that is a file on disk: a search-path style name (``texture.png``, not ``./texture.png``) is looked up in
+        the package first, then beside it (ArDefaultResolver), and UDIM tiles likewise
+        (UsdShade.UdimUtils.ResolveUdimTilePaths). ``None`` where usd-core finds nothing or a package member."""
+        if self.UsdShade.UdimUtils.IsUdimIdentifier(authored):
+            tiles = self.UsdShade.UdimUtils.ResolveUdimTilePaths(authored, layer)
+            found = os.path.join(os.path.dirname(tiles[0][0]), os.path.basename(authored)) if tiles else ""
+        else:
+            found = getattr(value, "resolvedPath", "") or ""
+        return found if found and "[" not in found and os.path.isabs(found) else None
 
 
 def _package_chain(identifier: str) -> tuple[list[str], str]:
