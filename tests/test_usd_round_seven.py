@@ -255,3 +255,78 @@ def test_a_texture_usd_core_cannot_resolve_is_still_not_found_in_the_package(tmp
     assert _texture_file(package).resolvedPath == ""  # the anchor: "./" anchors inside the package only
     [missing] = [d for d in _diagnostics(package) if d.code == "OPBR701"]
     assert "not found in the package" in missing.message
+
+
+# -- F14: a binding to a material a referenced MaterialX document composes ----------------------------------------
+
+_LOOK_MTLX = '''<?xml version="1.0"?>
+<materialx version="1.39">
+  <open_pbr_surface name="SR_bishop" type="surfaceshader" />
+  <surfacematerial name="M_Bishop" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR_bishop" />
+  </surfacematerial>
+</materialx>
+'''
+
+
+def _chess_piece(tmp_path, target: str):
+    """usd-wg's OpenChessSet in small: the piece's look layer references the .mtlx under /Bishop/Materials, and
+    the set references the piece under another name, binding the material there."""
+    (tmp_path / "Bishop_mat.mtlx").write_text(_LOOK_MTLX)
+    (tmp_path / "Bishop.usda").write_text('''#usda 1.0
+(
+    defaultPrim = "Bishop"
+)
+def Xform "Bishop"
+{
+    def Scope "Materials" (
+        prepend references = @./Bishop_mat.mtlx@</MaterialX/Materials>
+    )
+    {
+    }
+    def Mesh "Geom" (
+        prepend apiSchemas = ["MaterialBindingAPI"]
+    )
+    {
+        int[] faceVertexCounts = [3]
+        int[] faceVertexIndices = [0, 1, 2]
+        point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]
+        rel material:binding = <TARGET>
+    }
+}
+'''.replace("TARGET", target))
+    path = tmp_path / "chess_set.usda"
+    path.write_text(HEAD.replace('"World"', '"ChessSet"', 1) + '''def Xform "ChessSet"
+{
+    def "BishopL" (
+        prepend references = @./Bishop.usda@
+    )
+    {
+    }
+}
+''')
+    return path
+
+
+def test_a_binding_to_a_material_of_a_referenced_materialx_document_is_an_info_not_a_missing_target(tmp_path):
+    from pxr import Sdf
+
+    assert Sdf.FileFormat.FindByExtension("mtlx") is None  # the anchor: usd-core on PyPI has no usdMtlx plugin
+    path = _chess_piece(tmp_path, "/Bishop/Materials/M_Bishop")
+    found = [d for d in _diagnostics(path) if d.location.file.endswith("chess_set.usda")]
+    assert "OPBR1017" not in [d.code for d in found]
+    [note] = [d for d in found if d.code == "OPBR1013" and "material:binding" in d.message]
+    assert note.severity.name == "INFO" and "/ChessSet/BishopL/Materials/M_Bishop" in note.message
+    assert "cannot be checked without the usdMtlx plugin" in note.message
+
+
+def test_a_binding_to_a_missing_prim_outside_the_documents_scope_is_still_an_error(tmp_path):
+    from pxr import Usd, UsdShade
+
+    path = _chess_piece(tmp_path, "/Bishop/Looks/M_Bishop")  # no Looks prim, and no MaterialX behind one
+    found = [d for d in _diagnostics(path) if d.location.file.endswith("chess_set.usda")]  # (before usd-core opens
+    assert [d.severity.name for d in found if d.code == "OPBR1017"] == ["ERROR"]  # the layers: the guard edits them)
+    stage = Usd.Stage.Open(str(path))
+    assert not stage.GetPrimAtPath("/ChessSet/BishopL/Looks")
+    material, _ = UsdShade.MaterialBindingAPI(stage.GetPrimAtPath("/ChessSet/BishopL/Geom")).ComputeBoundMaterial()
+    assert not material  # the anchor: nothing bound, and nothing a document would compose

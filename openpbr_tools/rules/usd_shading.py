@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from ..diagnostics import Severity
 from . import Rule
-from .usd import set_aside, under
+from .usd import MTLX_REFERENCE, set_aside, under
 from .usd_examples import stage_example
 
 _MESH = ('def Mesh "Plane" (\n    prepend apiSchemas = ["MaterialBindingAPI"]\n)\n{\n'
@@ -274,6 +274,12 @@ def check(asset, context):
     for observation in asset.observations:
         detail, where = observation.detail, observation.location
         if observation.kind == "usd_binding_invalid":
+            if detail.get("mtlx_document"):  # a reference to the document sits behind the missing target's parent
+                yield context.diagnostic(
+                    MTLX_REFERENCE, f"{detail['relationship']} targets <{detail['target']}>, which the MaterialX "
+                    f"document @{detail['mtlx_document']}@ would compose: it cannot be checked without the usdMtlx "
+                    "plugin", where, hint="validate the .mtlx file itself: openpbr validate reads MaterialX")
+                continue
             if under(detail["target"], composed_elsewhere):
                 continue  # with usdMtlx the MaterialX document would provide it
             yield context.diagnostic(

@@ -128,6 +128,9 @@ class _Reader(NetworkReader):
                 asset.colorspace_location = self.location(default_prim.GetPath(), "colorSpace:name")
         shader_prims, meshes = [], []
         prototypes_read: set = set()
+        # references and payloads to MaterialX documents the guard set aside, by the prim spec that held them
+        set_aside = {(o.detail["layer"], o.detail["spec"]): o.detail["asset"] for o in asset.observations
+                     if o.kind == "usd_mtlx_reference" and o.detail.get("spec")}
         prims = iter(self.Usd.PrimRange.Stage(stage, self.Usd.TraverseInstanceProxies()))
         for prim in prims:
             if prim.IsInstance():  # an instanceable prim: its prototype's prims are read once, at its first instance
@@ -135,7 +138,7 @@ class _Reader(NetworkReader):
                 if prototype in prototypes_read:
                     prims.PruneChildren()
                 prototypes_read.add(prototype)
-            if observe_structure(prim, self.stage, self.asset.observe, self.location):  # (a bound prim: convert notes them)
+            if observe_structure(prim, self.stage, self.asset.observe, self.location, set_aside):  # (a bound prim: convert notes them)
                 self.asset.extra["usd_bindings"] = self.asset.extra.get("usd_bindings", 0) + 1
             if prim.HasAPI(self.Usd.ColorSpaceAPI):
                 name = self.authored_prim_colorspace(prim)
