@@ -330,3 +330,43 @@ def test_a_binding_to_a_missing_prim_outside_the_documents_scope_is_still_an_err
     assert not stage.GetPrimAtPath("/ChessSet/BishopL/Looks")
     material, _ = UsdShade.MaterialBindingAPI(stage.GetPrimAtPath("/ChessSet/BishopL/Geom")).ComputeBoundMaterial()
     assert not material  # the anchor: nothing bound, and nothing a document would compose
+
+
+# -- ug01: other renderers' nodes under their render contexts -------------------------------------------------------
+
+def _renderman_material(output: str) -> str:
+    return HEAD.replace('"World"', '"M"', 1) + f'''def Material "M"
+{{
+    token outputs:mtlx:surface.connect = </M/S.outputs:out>
+    token outputs:{output}.connect = </M/Pxr.outputs:bxdf_out>
+    def Shader "S"
+    {{
+        uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+        token outputs:out
+    }}
+    def Shader "Pxr"
+    {{
+        uniform token info:id = "PxrSurface"
+        token outputs:bxdf_out
+    }}
+}}
+'''
+
+
+def _usd_core_missing_ids(path):
+    from pxr import Usd, UsdValidation
+
+    stage = Usd.Stage.Open(str(path))
+    validator = UsdValidation.ValidationRegistry().GetOrLoadValidatorByName("usdShadeValidators:ShaderSdrCompliance")
+    return [e.GetMessage() for e in validator.Validate(stage.GetPrimAtPath("/M/Pxr"))
+            if e.GetName() == "MissingShaderIdInRegistry"]
+
+
+@pytest.mark.parametrize("output, reported", [("ri:surface", False), ("surface", True)])
+def test_a_missing_registry_id_is_dropped_only_under_another_renderers_context(tmp_path, output, reported):
+    path = tmp_path / "m.usda"
+    path.write_text(_renderman_material(output))
+    found = [d for d in _diagnostics(path) if d.code == "OPBR1010" and "MissingShaderIdInRegistry" in d.message]
+    # the anchor: usd-core's validator reports PxrSurface either way (pip usd-core has no RenderMan plugin)
+    assert len(_usd_core_missing_ids(path)) == 1
+    assert bool(found) == reported

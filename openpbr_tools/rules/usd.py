@@ -142,7 +142,9 @@ USD_CORE = Rule(
     "nodes this toolkit does not model. Findings about shader types, ids, normal maps and texture "
     "files that OPBR201/OPBR1002/OPBR1003/OPBR1006/OPBR701 already report more precisely are left out. "
     "The MaterialX node definitions are registered with usd-core first, so OpenPBR shaders raise no "
-    "'not found in sdrRegistry' error.",
+    "'not found in sdrRegistry' error; the nodes of other renderers' render contexts (PxrSurface under "
+    "outputs:ri:surface, arnold:standard_surface under outputs:arnold:surface) raise none either, as usd-core "
+    "on PyPI ships no renderer's plugin to define them.",
     passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
     failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace('    upAxis = "Y"\n', ""),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
@@ -476,6 +478,7 @@ def _usd_core(asset, context):
     reported_ids = {o.location.path for o in asset.observations
                     if o.kind == "usd_unknown_shader_id" and _judge_unknown_id(asset, o) is not None}
     texture_files = {t.file for m in asset.materials for _, t in m.textures()}
+    renderer_nodes = set(asset.extra.get("usd_renderer_context_shaders", ()))
     # prims whose MaterialX arc was deleted (OPBR1013): usd-core finds them empty, as it would not with usdMtlx
     composed_elsewhere = set_aside(asset)
     invalid_bindings = {o.detail["target"] for o in asset.observations if o.kind == "usd_binding_invalid"}
@@ -492,6 +495,8 @@ def _usd_core(asset, context):
             continue
         if name == "MissingShaderIdInRegistry" and prims and prims <= reported_ids:
             continue
+        if name == "MissingShaderIdInRegistry" and prims and prims <= renderer_nodes:
+            continue  # another renderer's node (PxrSurface under ri): pip usd-core ships no renderer's definitions
         bound = _BINDING_TARGET.search(finding["message"]) if name == "InvalidResourcePath" else None
         if bound and under(bound.group(1), composed_elsewhere):
             continue  # a binding to a material composed from a MaterialX document this usd-core cannot open

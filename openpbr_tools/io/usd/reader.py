@@ -56,6 +56,7 @@ from .sdr import materialx_nodedef
 from .validators import usd_core_findings
 from .types import (
     MATERIALX_CONTEXT,
+    UNIVERSAL_CONTEXTS,
     OPACITY_MODE_TOKENS,
     materialx_type_of,
     surface_shader_ids,
@@ -105,6 +106,7 @@ class _Reader(NetworkReader):
         self.observed_colorspaces: set[tuple] = set()
         self.shaders: dict[str, Material] = {}
         self.mtlx_context_shaders: set[str] = set()
+        self.renderer_context_shaders: set[str] = set()  # upstream of another renderer's context (ri, arnold, ...)
         self.mistyped_outputs: set[tuple[str, str]] = set()  # (prim, output) observed once
         self.UsdGeom = UsdGeom
         asset.extra["usd_sdr_ids"] = tuple(sorted(str(i) for i in Sdr.Registry().GetShaderNodeIdentifiers()))
@@ -153,6 +155,7 @@ class _Reader(NetworkReader):
                 meshes.append(prim)
         for prim in shader_prims:
             self.observe_shader_id(prim)
+        asset.extra["usd_renderer_context_shaders"] = tuple(sorted(self.renderer_context_shaders))
         self.bound_primvars(meshes)
 
     def bound_primvars(self, meshes) -> None:
@@ -266,23 +269,26 @@ class _Reader(NetworkReader):
                 continue
             shader_prim, output_name, _ = found
             if context == MATERIALX_CONTEXT:
-                self.mark_mtlx_context(shader_prim)
+                self.mark_context(shader_prim, self.mtlx_context_shaders)
+            elif context not in UNIVERSAL_CONTEXTS:
+                self.mark_context(shader_prim, self.renderer_context_shaders)
             self.read_surface(shader_prim, output_name, prim, context, where)
         if not connected:
             self.asset.observe("usd_material_without_surface", location, material=material_path,
                                reason=f"{', '.join('outputs:' + o.GetBaseName() for o in outputs)} is not connected")
 
-    def mark_mtlx_context(self, prim, depth: int = 0) -> None:
-        """Remember every shader upstream of a MaterialX surface output (their ids must be
-        MaterialX node definitions)."""
+    def mark_context(self, prim, shaders: set[str], depth: int = 0) -> None:
+        """Remember every shader upstream of a render context's surface output in ``shaders``: under MaterialX's
+        their ids must be MaterialX node definitions; under another renderer's (ri, arnold) they are that
+        renderer's nodes, which usd-core's registry knows only with the renderer's plugin."""
         path = str(prim.GetPath())
-        if path in self.mtlx_context_shaders or depth > MAX_DEPTH:
+        if path in shaders or depth > MAX_DEPTH:
             return
-        self.mtlx_context_shaders.add(path)
+        shaders.add(path)
         for shader_input in self.UsdShade.Shader(prim).GetInputs():
             kind, *found = self.source(shader_input.GetAttr())
             if kind == "shader":
-                self.mark_mtlx_context(found[0], depth + 1)
+                self.mark_context(found[0], shaders, depth + 1)
 
     def read_surface(self, shader_prim, output_name: str, material_prim, context: str, where: Location) -> None:
         shader = self.UsdShade.Shader(shader_prim)
