@@ -370,3 +370,64 @@ def test_a_missing_registry_id_is_dropped_only_under_another_renderers_context(t
     # the anchor: usd-core's validator reports PxrSurface either way (pip usd-core has no RenderMan plugin)
     assert len(_usd_core_missing_ids(path)) == 1
     assert bool(found) == reported
+
+
+# -- ub12: a materialBind family authored 'unrestricted' -----------------------------------------------------------
+
+_CRATE = HEAD + '''def Xform "World"
+{
+    def Material "Oak"
+    {
+    }
+    def Material "Steel"
+    {
+    }
+    def Mesh "Crate" (
+        prepend apiSchemas = ["MaterialBindingAPI"]
+    )
+    {
+        int[] faceVertexCounts = [3, 3]
+        int[] faceVertexIndices = [0, 1, 2, 0, 2, 3]
+        point3f[] points = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+        rel material:binding = </World/Oak>
+FAMILY        def GeomSubset "band" (
+            prepend apiSchemas = ["MaterialBindingAPI"]
+        )
+        {
+            uniform token elementType = "face"
+            uniform token familyName = "materialBind"
+            int[] indices = [1]
+            rel material:binding = </World/Steel>
+        }
+    }
+}
+'''
+
+
+def _family_errors(path):
+    from pxr import Usd, UsdValidation
+
+    stage = Usd.Stage.Open(str(path))
+    validator = UsdValidation.ValidationRegistry().GetOrLoadValidatorByName("usdShadeValidators:SubsetsMaterialBindFamily")
+    return [str(e.GetType()).rsplit(".", 1)[-1] for e in validator.Validate(stage.GetPrimAtPath("/World/Crate"))]
+
+
+@pytest.mark.parametrize("family, code, severity", [
+    ('        uniform token subsetFamily:materialBind:familyType = "unrestricted"\n', "OPBR1025", "ERROR"),
+    ("", "OPBR1010", "WARNING"),  # unauthored: UsdShade documents the default as nonOverlapping
+])
+def test_an_authored_unrestricted_material_bind_family_is_an_error(tmp_path, family, code, severity):
+    path = tmp_path / "crate.usda"
+    path.write_text(_CRATE.replace("FAMILY", family))
+    [found] = [d for d in _diagnostics(path) if "SubsetsMaterialBindFamily" in d.message]
+    assert _family_errors(path) == ["Error"]  # the anchor reports both as an error
+    assert (found.code, found.severity.name) == (code, severity)
+
+
+def test_usd_shade_refuses_to_author_an_unrestricted_material_bind_family():
+    from pxr import Tf, Usd, UsdGeom, UsdShade
+
+    stage = Usd.Stage.CreateInMemory()
+    mesh = UsdGeom.Mesh.Define(stage, "/Crate").GetPrim()
+    with pytest.raises(Tf.ErrorException):  # "a coding error is issued if familyType is unrestricted"
+        UsdShade.MaterialBindingAPI.Apply(mesh).SetMaterialBindSubsetsFamilyType(UsdGeom.Tokens.unrestricted)

@@ -195,14 +195,19 @@ COMPOSITION_VALIDATORS = frozenset(("CompositionErrorTest",))
 USD_CORE_BINDING = Rule(
     "OPBR1025", "usd-core-binding-error", Severity.ERROR,
     "usd-core's validators report an error in how materials are bound: a GeomSubset with a material binding but "
-    "no familyName \"materialBind\", subsets of that family that share a face, a binding whose target composition "
-    "dropped (outside the scope of a reference), a binding that is no relationship.",
+    "no familyName \"materialBind\", subsets of that family that share a face, a materialBind family authored as "
+    "'unrestricted', a binding whose target composition dropped (outside the scope of a reference), a binding that "
+    "is no relationship.",
     "UsdShadeMaterialBindingAPI only honours a GeomSubset's binding when the subset is in the materialBind family "
     "(GetMaterialBindSubsets returns nothing otherwise), and a family whose subsets overlap is invalid "
     "(UsdGeomSubset.ValidateFamily); a target outside the referenced prim's scope is ignored by composition "
     "(\"outside the scope of the reference\"), which leaves the binding empty. usd-core's validators (the anchor) "
-    "call each an error, and the geometry renders with another material than the file says, or with none. Other "
-    "usd-core findings are OPBR1010.",
+    "call each an error, and the geometry renders with another material than the file says, or with none. A "
+    "materialBind family whose familyType is authored 'unrestricted' declares that its subsets may overlap, which "
+    "UsdShade forbids (SetMaterialBindSubsetsFamilyType refuses the token; SubsetsMaterialBindFamily is an error); "
+    "one whose familyType is not authored reads as 'unrestricted' through UsdGeomSubset's fallback, but UsdShade "
+    "documents materialBind subsets as nonOverlapping by default and OpenUSD's own GeomSubsets render test authors "
+    "none, so that stays usd-core's OPBR1010 warning. Other usd-core findings are OPBR1010.",
     passing=_SUBSET_MESH.replace("FAMILY", '            uniform token familyName = "materialBind"\n'),
     failing=_SUBSET_MESH.replace("FAMILY", ""),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
@@ -510,7 +515,8 @@ def _usd_core(asset, context):
         validator = finding["identifier"].rsplit(":", 1)[-1].split(".")[0]
         rule = USD_CORE
         if finding["severity"] == "error":  # usd-core's errors where the stage then renders wrong: as the anchor says
-            rule = (USD_CORE_BINDING if validator in BINDING_VALIDATORS else PACKAGE_ENTRY if validator in PACKAGE_VALIDATORS
+            binding = validator in BINDING_VALIDATORS or (validator == "SubsetsMaterialBindFamily" and finding.get("authored"))
+            rule = (USD_CORE_BINDING if binding else PACKAGE_ENTRY if validator in PACKAGE_VALIDATORS
                     else NOT_MATERIALX if validator in COMPOSITION_VALIDATORS else USD_CORE)
         yield context.diagnostic(
             rule, f"usd-core {finding['identifier']}: {finding['message']}",
