@@ -431,3 +431,120 @@ def test_usd_shade_refuses_to_author_an_unrestricted_material_bind_family():
     mesh = UsdGeom.Mesh.Define(stage, "/Crate").GetPrim()
     with pytest.raises(Tf.ErrorException):  # "a coding error is issued if familyType is unrestricted"
         UsdShade.MaterialBindingAPI.Apply(mesh).SetMaterialBindSubsetsFamilyType(UsdGeom.Tokens.unrestricted)
+
+
+# -- ub05, ub14, ub13: a textured mesh's UVs as UsdGeom reads them ---------------------------------------------------
+
+_FACE_UVS = ('texCoord2f[] primvars:st = [(0, 0), (1, 0), (1, 1), (0, 1), (0, 0), (1, 0), (1, 1), (0, 1)] (\n'
+             '    interpolation = "INTERPOLATION"\n)\n')
+
+
+def _board(tmp_path, on_xform: str = "", on_mesh: str = "", mesh_extra: str = ""):
+    from openpbr_tools.rules.usd_texcoords import _board as board_stage, _indent
+
+    (tmp_path / "albedo.png").write_bytes(b"")
+    path = tmp_path / "board.usda"
+    path.write_text(board_stage(_indent(on_xform, 4), mesh=_indent(on_mesh, 8), subdivision=_indent(mesh_extra, 8)))
+    return path
+
+
+def _mesh(path):
+    from pxr import Usd
+
+    stage = Usd.Stage.Open(str(path))
+    return stage, stage.GetPrimAtPath("/Board/Geo")
+
+
+@pytest.mark.parametrize("interpolation, reported", [("faceVarying", True), ("vertex", True), ("constant", False)])
+def test_uvs_authored_on_the_parent_xform_reach_the_mesh_only_when_constant(tmp_path, interpolation, reported):
+    from pxr import UsdGeom
+
+    uvs = _FACE_UVS.replace("INTERPOLATION", interpolation)
+    if interpolation == "constant":
+        uvs = 'texCoord2f[] primvars:st = [(0.5, 0.5)] (\n    interpolation = "constant"\n)\n'
+    path = _board(tmp_path, on_xform=uvs)
+    found = [d for d in _diagnostics(path) if d.code == "OPBR1031"]
+    stage, mesh = _mesh(path)
+    inherited = UsdGeom.PrimvarsAPI(mesh).FindPrimvarWithInheritance("st")  # the anchor
+    assert bool(inherited) != reported
+    assert [d.severity.name for d in found] == (["ERROR"] if reported else [])
+    if reported:
+        assert (found[0].location.path, found[0].location.input) == ("/Board", "primvars:st")
+
+
+def test_uvs_on_the_mesh_itself_are_not_judged_by_the_parents(tmp_path):
+    uvs = _FACE_UVS.replace("INTERPOLATION", "faceVarying")
+    path = _board(tmp_path, on_xform=uvs, on_mesh=uvs)  # the mesh's own st wins; the parent's reaches nothing
+    assert "OPBR1031" not in _codes(path)
+
+
+@pytest.mark.parametrize("indices_type, reported", [("uint[]", True), ("int[]", False)])
+def test_uv_indices_of_another_type_than_int_are_unreadable(tmp_path, indices_type, reported):
+    from pxr import Tf, UsdGeom
+
+    uvs = _FACE_UVS.replace("INTERPOLATION", "faceVarying") + f"{indices_type} primvars:st:indices = [0, 1, 2, 3, 4, 5, 6, 7]\n"
+    path = _board(tmp_path, on_mesh=uvs)
+    found = [d.severity.name for d in _diagnostics(path) if d.code == "OPBR1032"]
+    stage, mesh = _mesh(path)
+    primvar = UsdGeom.PrimvarsAPI(mesh).GetPrimvar("st")
+    assert primvar.IsIndexed()
+    if reported:  # the anchor: indexed, yet no indices are read and flattening fails
+        assert len(primvar.GetIndices()) == 0
+        with pytest.raises(Tf.ErrorException, match="No indices"):
+            primvar.ComputeFlattened()
+    else:
+        assert len(primvar.ComputeFlattened()) == 8
+    assert found == (["ERROR"] if reported else [])
+
+
+@pytest.mark.parametrize("mesh_extra, reported", [
+    ('uniform token faceVaryingLinearInterpolation = "none"\n', True),
+    ('uniform token faceVaryingLinearInterpolation = "none"\nuniform token subdivisionScheme = "none"\n', False),
+    ('uniform token faceVaryingLinearInterpolation = "cornersPlus1"\n', False),
+    ("", False),
+])
+def test_faceVarying_uvs_smoothed_everywhere_on_a_subdivided_mesh_are_a_warning(tmp_path, mesh_extra, reported):
+    from pathlib import Path
+
+    import pxr
+    from pxr import Usd, UsdGeom
+
+    path = _board(tmp_path, on_mesh=_FACE_UVS.replace("INTERPOLATION", "faceVarying"), mesh_extra=mesh_extra)
+    found = [d.severity.name for d in _diagnostics(path) if d.code == "OPBR1033"]
+    # the anchor: usd-core's UsdGeom schema, its fallbacks and what "none" means
+    schema = Path(pxr.__file__).parent / "pluginfo" / "usdGeom" / "resources" / "usdGeom" / "schema.usda"
+    assert "- __none__: No linear constraints or sharpening, smooth everywhere" in schema.read_text()
+    definition = Usd.SchemaRegistry().FindConcretePrimDefinition("Mesh")
+    assert definition.GetAttributeFallbackValue("subdivisionScheme") == "catmullClark"
+    assert definition.GetAttributeFallbackValue("faceVaryingLinearInterpolation") == "cornersPlus1"
+    stage, mesh = _mesh(path)
+    geometry = UsdGeom.Mesh(mesh)
+    smoothed = (geometry.GetSubdivisionSchemeAttr().Get() != "none"
+                and geometry.GetFaceVaryingLinearInterpolationAttr().Get() == "none")
+    assert smoothed == reported
+    assert found == (["WARNING"] if reported else [])
+
+
+def test_meshes_showing_several_linear_interpolations_side_by_side_are_a_comparison_not_reported(tmp_path):
+    """OpenUSD's testUsdImagingGLFaceVarying scenes bind one material to a row of meshes, one per setting."""
+    path = _board(tmp_path, on_mesh=_FACE_UVS.replace("INTERPOLATION", "faceVarying"),
+                  mesh_extra='uniform token faceVaryingLinearInterpolation = "none"\n')
+    text = path.read_text()
+    start = text.index('    def Mesh "Geo"')
+    end = text.index("    }\n", start) + len("    }\n")
+    twin = text[start:end].replace('"Geo"', '"GeoAll"').replace('"none"', '"all"')
+    path.write_text(text[:end] + twin + text[end:])
+    assert "OPBR1033" not in _codes(path)
+
+
+def test_a_binding_usd_core_refuses_to_resolve_leaves_the_stage_readable(tmp_path):
+    """The red team's ub04 (session 20): material:binding authored as an attribute beside a textured material."""
+    from pxr import Tf, Usd, UsdShade
+
+    path = _board(tmp_path, on_mesh=_FACE_UVS.replace("INTERPOLATION", "faceVarying"))
+    path.write_text(path.read_text().replace("rel material:binding = </M>", "token material:binding = \"/M\""))
+    codes = _codes(path)
+    stage = Usd.Stage.Open(str(path))
+    with pytest.raises(Tf.ErrorException):  # the anchor: usd-core refuses to resolve it
+        UsdShade.MaterialBindingAPI.ComputeBoundMaterials([stage.GetPrimAtPath("/Board/Geo")])
+    assert "OPBR002" not in codes and "OPBR1025" in codes

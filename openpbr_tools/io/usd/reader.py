@@ -49,7 +49,7 @@ from ...model import Asset, Constant, Input, Location, Material
 from .. import ReadError
 from .network import MAX_DEPTH, NetworkReader
 from .observations import observe_layer_units, observe_structure, observe_variant_values, scene_length_inputs
-from .primvars import primvar_problem
+from .primvars import observe_textured_uvs, primvar_problem
 from .errors import quiet, tf_error_text, usd_error_message
 from .guard import StageGuard
 from .sdr import materialx_nodedef
@@ -107,6 +107,7 @@ class _Reader(NetworkReader):
         self.shaders: dict[str, Material] = {}
         self.mtlx_context_shaders: set[str] = set()
         self.renderer_context_shaders: set[str] = set()  # upstream of another renderer's context (ri, arnold, ...)
+        self._bound: dict[str, set] | None = None  # bound_meshes
         self.mistyped_outputs: set[tuple[str, str]] = set()  # (prim, output) observed once
         self.UsdGeom = UsdGeom
         asset.extra["usd_sdr_ids"] = tuple(sorted(str(i) for i in Sdr.Registry().GetShaderNodeIdentifiers()))
@@ -156,27 +157,43 @@ class _Reader(NetworkReader):
         for prim in shader_prims:
             self.observe_shader_id(prim)
         asset.extra["usd_renderer_context_shaders"] = tuple(sorted(self.renderer_context_shaders))
-        self.bound_primvars(meshes)
+        if meshes and not self.stage.GetCompositionErrors() and not any(
+                o.kind in ("usd_arc_outside", "usd_mtlx_reference") for o in asset.observations):
+            # (a stage composed without some of its layers may lack the primvars they carry: not judged)
+            self.bound_primvars(meshes)
+            textured = {m.material_location.path for m in asset.materials
+                        if m.material_location is not None and any(True for _ in m.textures())}
+            if textured:
+                bound = self.bound_meshes(meshes)
+                observe_textured_uvs(self.UsdGeom, sorted({mesh for material in textured for mesh in bound.get(material, ())},
+                                                          key=lambda prim: str(prim.GetPath())),
+                                     self.asset.observe, self.location)
+
+    def bound_meshes(self, meshes) -> dict[str, set]:
+        """Material path -> the meshes bound to it in any purpose, as usd-core resolves bindings (computed once)."""
+        if self._bound is None:
+            from pxr import Tf  # lazy: as in _read_stage
+
+            Tokens, Binding = self.UsdShade.Tokens, self.UsdShade.MaterialBindingAPI
+            self._bound = {}
+            try:
+                for purpose in (Tokens.allPurpose, Tokens.full, Tokens.preview):
+                    materials, _ = Binding.ComputeBoundMaterials(meshes, purpose)
+                    for mesh, material in zip(meshes, materials):
+                        if material:
+                            self._bound.setdefault(str(material.GetPath()), set()).add(mesh)
+            except Tf.ErrorException:  # a binding usd-core refuses to resolve (an attribute named material:binding):
+                self._bound = {}  # its validators report it (OPBR1025), and no mesh is judged by what it binds
+        return self._bound
 
     def bound_primvars(self, meshes) -> None:
         """For each Material whose textures read a named primvar: the meshes bound to it (in any purpose,
         as usd-core resolves bindings) and the primvars each has (its own and those inherited), in
-        ``asset.extra["usd_bound_primvars"]``. Nothing is computed for a stage whose textures read none,
-        nor for one composed without some of its layers (an arc the guard removed, a MaterialX reference, a
-        layer that cannot be opened)."""
+        ``asset.extra["usd_bound_primvars"]``. Nothing is computed for a stage whose textures read none."""
         reads = self.asset.extra.get("usd_uv_reads", {})
-        if not meshes or not any(read.get("primvar") for read in reads.values()):
+        if not any(read.get("primvar") for read in reads.values()):
             return
-        if self.stage.GetCompositionErrors() or any(
-                o.kind in ("usd_arc_outside", "usd_mtlx_reference") for o in self.asset.observations):
-            return  # a stage composed without some of its layers may lack the primvars they carry: not judged
-        Tokens, Binding = self.UsdShade.Tokens, self.UsdShade.MaterialBindingAPI
-        bound: dict[str, set] = {}
-        for purpose in (Tokens.allPurpose, Tokens.full, Tokens.preview):
-            materials, _ = Binding.ComputeBoundMaterials(meshes, purpose)
-            for mesh, material in zip(meshes, materials):
-                if material:
-                    bound.setdefault(str(material.GetPath()), set()).add(mesh)
+        bound = self.bound_meshes(meshes)
         found, sizes = {}, {}
         read_names = {read.get("primvar") for read in reads.values() if read.get("primvar")}
         for material_path, bound_meshes in bound.items():
