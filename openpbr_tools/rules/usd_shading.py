@@ -271,14 +271,24 @@ RULES = (BINDING_TARGET, INPUT_RELATIONSHIP, CONNECTION_REFUSED, LAYER_UNITS, BI
 def check(asset, context):
     """Runs on USD assets only (rules.FAMILY_FORMATS)."""
     composed_elsewhere = set_aside(asset)
+    unchecked: dict[str, list] = {}  # MaterialX document -> bindings to materials it would compose
+    yield from _observed(asset, context, composed_elsewhere, unchecked)
+    for document, bindings in unchecked.items():  # one note per document, at its first binding
+        first = bindings[0].detail
+        others = f" and {len(bindings) - 1} more binding{'s' if len(bindings) > 2 else ''}" if len(bindings) > 1 else ""
+        yield context.diagnostic(
+            MTLX_REFERENCE, f"{first['relationship']} targets <{first['target']}>{others}, which the MaterialX document "
+            f"@{document}@ would compose: {'they' if others else 'it'} cannot be checked without the usdMtlx plugin",
+            bindings[0].location,
+            hint="validate the .mtlx file itself: openpbr validate reads MaterialX")
+
+
+def _observed(asset, context, composed_elsewhere, unchecked):
     for observation in asset.observations:
         detail, where = observation.detail, observation.location
         if observation.kind == "usd_binding_invalid":
             if detail.get("mtlx_document"):  # a reference to the document sits behind the missing target's parent
-                yield context.diagnostic(
-                    MTLX_REFERENCE, f"{detail['relationship']} targets <{detail['target']}>, which the MaterialX "
-                    f"document @{detail['mtlx_document']}@ would compose: it cannot be checked without the usdMtlx "
-                    "plugin", where, hint="validate the .mtlx file itself: openpbr validate reads MaterialX")
+                unchecked.setdefault(detail["mtlx_document"], []).append(observation)
                 continue
             if under(detail["target"], composed_elsewhere):
                 continue  # with usdMtlx the MaterialX document would provide it
