@@ -548,3 +548,13 @@ def test_a_binding_usd_core_refuses_to_resolve_leaves_the_stage_readable(tmp_pat
     with pytest.raises(Tf.ErrorException):  # the anchor: usd-core refuses to resolve it
         UsdShade.MaterialBindingAPI.ComputeBoundMaterials([stage.GetPrimAtPath("/Board/Geo")])
     assert "OPBR002" not in codes and "OPBR1025" in codes
+
+
+def test_uvs_on_a_parent_of_several_textured_meshes_are_reported_once_naming_them(tmp_path):
+    path = _board(tmp_path, on_xform=_FACE_UVS.replace("INTERPOLATION", "faceVarying"))
+    text = path.read_text()
+    start = text.index('    def Mesh "Geo"')
+    end = text.index("    }\n", start) + len("    }\n")
+    path.write_text(text[:end] + text[start:end].replace('"Geo"', '"Geo2"') + text[end:])
+    [found] = [d for d in _diagnostics(path) if d.code == "OPBR1031"]
+    assert "/Board/Geo," in found.message and "/Board/Geo2" in found.message

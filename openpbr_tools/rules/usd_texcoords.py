@@ -210,11 +210,14 @@ def _authored_uvs(asset, context):
     for observation in asset.observations:
         detail, where = observation.detail, observation.location
         if observation.kind == "usd_uv_not_inherited":
+            meshes = detail["meshes"]
+            shown = ", ".join(meshes[:_SHOWN]) + (f" and {len(meshes) - _SHOWN} more" if len(meshes) > _SHOWN else "")
             yield context.diagnostic(
                 UV_NOT_INHERITED, f"primvars:{detail['primvar']} is {detail['interpolation']} on {detail['owner']}, "
-                f"not on the textured mesh {detail['mesh']}: only constant primvars inherit, so the mesh has no "
-                f"{detail['primvar']} and its textures read the fallback coordinate", where,
-                hint=f"author primvars:{detail['primvar']} on {detail['mesh']}")
+                f"not on the textured {'mesh' if len(meshes) == 1 else 'meshes'} {shown} below it: only constant "
+                f"primvars inherit, so {'it has' if len(meshes) == 1 else 'they have'} no {detail['primvar']} and the "
+                "textures read the fallback coordinate", where,
+                hint=f"author primvars:{detail['primvar']} on each mesh")
         elif observation.kind == "usd_uv_indices_type":
             yield context.diagnostic(
                 UV_INDICES_TYPE, f"{detail['mesh']}: primvars:{detail['primvar']}:indices is {detail['type']}, not "

@@ -57,6 +57,7 @@ def observe_textured_uvs(UsdGeom, meshes, observe, location) -> None:
       stage show several faceVaryingLinearInterpolation values side by side (a comparison of the settings, as
       OpenUSD's testUsdImagingGLFaceVarying scenes are)."""
     ancestors: dict = {}
+    uninherited: dict[tuple[str, str, str], list[str]] = {}  # (owner, primvar, interpolation) -> meshes without it
     smoothed = []
     settings = set()
     for mesh in meshes:
@@ -64,8 +65,7 @@ def observe_textured_uvs(UsdGeom, meshes, observe, location) -> None:
         own = {str(p.GetPrimvarName()): p for p in api.GetPrimvarsWithAuthoredValues() if str(p.GetTypeName()) in UV_TYPES}
         for name, (owner, interpolation) in _ancestor_uvs(UsdGeom, mesh.GetParent(), ancestors).items():
             if name not in own and not api.FindPrimvarWithInheritance(name):
-                observe("usd_uv_not_inherited", location(owner, f"primvars:{name}"), mesh=str(mesh.GetPath()),
-                        primvar=name, owner=owner, interpolation=interpolation)
+                uninherited.setdefault((owner, name, interpolation), []).append(str(mesh.GetPath()))
         for name, primvar in own.items():
             indices = mesh.GetAttribute(f"{primvar.GetAttr().GetName()}:indices")
             if indices and indices.HasAuthoredValue() and str(indices.GetTypeName()) != "int[]":
@@ -77,6 +77,9 @@ def observe_textured_uvs(UsdGeom, meshes, observe, location) -> None:
         face_varying = sorted(n for n, p in own.items() if p.GetInterpolation() == UsdGeom.Tokens.faceVarying)
         if linear == "none" and face_varying and str(geometry.GetSubdivisionSchemeAttr().Get() or "") != "none":
             smoothed.append((mesh, face_varying[0], str(geometry.GetSubdivisionSchemeAttr().Get())))
+    for (owner, name, interpolation), without in uninherited.items():  # once per primvar, naming its meshes
+        observe("usd_uv_not_inherited", location(owner, f"primvars:{name}"), meshes=without, primvar=name, owner=owner,
+                interpolation=interpolation)
     if len(settings) > 1:
         return  # the stage compares the settings side by side
     for mesh, name, scheme in smoothed:
