@@ -335,6 +335,21 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1029": ("The mtlx render context is read through MaterialX's node definitions, where the preview surface "
                  "is ND_UsdPreviewSurface_surfaceshader; the glslfx id UsdPreviewSurface names none there.",
                  f"{MX_PREVIEW}; {HD_MTLX}"),
+    "OPBR1030": ("Storm builds a shading network from Sdr's node definitions and hdMtlx from MaterialX's, not from "
+                 "the type authored on a shader's output: a mistyped output renders as its definition says (OpenUSD's "
+                 "testUsdImagingGLGeomSubsets baseline), and only tools reading authored types see it wrong.",
+                 f"{_USD}pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLGeomSubsets/testUsdImagingGLGeomSubsets.usda; "
+                 f"{_USD}pxr/usdImaging/plugin/usdShaders/shaders/shaderDefs.usda; {HD_MTLX}"),
+    "OPBR1031": ("Only constant primvars inherit (UsdGeomPrimvarsAPI.FindPrimvarWithInheritance): a faceVarying UV set "
+                 "on the transform above a mesh belongs to no geometry, and the mesh's textures read the fallback "
+                 "coordinate (checked on the red team's session-20 ub05).", _USD + "pxr/usd/usdGeom/primvarsAPI.h"),
+    "OPBR1032": ("UsdGeomPrimvar reads indices as int[]: authored as uint[] the primvar is indexed with no readable "
+                 "indices and ComputeFlattened fails, so its UVs are dropped (checked on the red team's session-20 "
+                 "ub14).", _USD + "pxr/usd/usdGeom/primvar.h"),
+    "OPBR1033": ("UsdGeomMesh's faceVaryingLinearInterpolation \"none\" smooths faceVarying data everywhere (OpenSubdiv's "
+                 "FVAR_LINEAR_NONE): UV corners and borders move under subdivision and the texture shrinks and swims "
+                 "there (the red team's session-20 ub13).",
+                 f"{_USD}pxr/usd/usdGeom/schema.usda; https://graphics.pixar.com/opensubdiv/docs/subdivision_surfaces.html"),
     "OPBR1011": ("An arc outside the asset breaks when the asset moves or is packaged, and reads files the "
                  "asset's owner did not ship; the toolkit never opens it.", f"{USDZ}; {USD_COMPLIANCE}"),
     "OPBR1012": ("The USDZ specification requires stored (uncompressed), relative, aligned entries; ARKit and "

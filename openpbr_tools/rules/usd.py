@@ -114,6 +114,26 @@ CONNECTION_TYPE_MISMATCH = Rule(
     ),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
+_PRIMVAR_COLOUR = (
+    "color3f inputs:base_color.connect = </M/Colour.outputs:result>",
+)
+_PRIMVAR_READER = ('\n    def Shader "Colour"\n    {\n        uniform token info:id = "UsdPrimvarReader_float3"\n'
+                   '        string inputs:varname = "displayColor"\n        TYPE outputs:result\n    }\n')
+OUTPUT_TYPE_DIFFERS = Rule(
+    "OPBR1030", "usd-output-type-differs-from-definition", Severity.INFO,
+    "A shader's output is authored with another type than its node definition gives it (a "
+    "UsdPrimvarReader_float3's result authored as float2).",
+    "Renderers build the network from the node's definition, not from the type authored on the prim: Storm takes "
+    "Sdr's (usd-core's shaderDefs.usda gives UsdPrimvarReader_float3 a float3 result), hdMtlx MaterialX's. So a "
+    "connection is judged on the definition's type (OPBR1005 only where the definition's shape differs from the "
+    "input's), and the stage renders as meant (OpenUSD's testUsdImagingGLGeomSubsets authors float2 on a float3 "
+    "reader and its baseline renders the colours). What remains is a mistyped declaration that tools reading the "
+    "authored types (UsdShade's connection API, exporters) see wrong: an info. Where the id names no known "
+    "definition, the authored type is all there is, and connections are judged on it.",
+    passing=openpbr_example(*_PRIMVAR_COLOUR, extra=_PRIMVAR_READER.replace("TYPE", "float3")),
+    failing=openpbr_example(*_PRIMVAR_COLOUR, extra=_PRIMVAR_READER.replace("TYPE", "float2")),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
 USD_CORE = Rule(
     "OPBR1010", "usd-core-validation", Severity.WARNING,
     "usd-core's own validators (UsdValidation) report a problem the other rules do not cover.",
@@ -122,7 +142,9 @@ USD_CORE = Rule(
     "nodes this toolkit does not model. Findings about shader types, ids, normal maps and texture "
     "files that OPBR201/OPBR1002/OPBR1003/OPBR1006/OPBR701 already report more precisely are left out. "
     "The MaterialX node definitions are registered with usd-core first, so OpenPBR shaders raise no "
-    "'not found in sdrRegistry' error.",
+    "'not found in sdrRegistry' error; the nodes of other renderers' render contexts (PxrSurface under "
+    "outputs:ri:surface, arnold:standard_surface under outputs:arnold:surface) raise none either, as usd-core "
+    "on PyPI ships no renderer's plugin to define them.",
     passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
     failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace('    upAxis = "Y"\n', ""),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
@@ -173,14 +195,19 @@ COMPOSITION_VALIDATORS = frozenset(("CompositionErrorTest",))
 USD_CORE_BINDING = Rule(
     "OPBR1025", "usd-core-binding-error", Severity.ERROR,
     "usd-core's validators report an error in how materials are bound: a GeomSubset with a material binding but "
-    "no familyName \"materialBind\", subsets of that family that share a face, a binding whose target composition "
-    "dropped (outside the scope of a reference), a binding that is no relationship.",
+    "no familyName \"materialBind\", subsets of that family that share a face, a materialBind family authored as "
+    "'unrestricted', a binding whose target composition dropped (outside the scope of a reference), a binding that "
+    "is no relationship.",
     "UsdShadeMaterialBindingAPI only honours a GeomSubset's binding when the subset is in the materialBind family "
     "(GetMaterialBindSubsets returns nothing otherwise), and a family whose subsets overlap is invalid "
     "(UsdGeomSubset.ValidateFamily); a target outside the referenced prim's scope is ignored by composition "
     "(\"outside the scope of the reference\"), which leaves the binding empty. usd-core's validators (the anchor) "
-    "call each an error, and the geometry renders with another material than the file says, or with none. Other "
-    "usd-core findings are OPBR1010.",
+    "call each an error, and the geometry renders with another material than the file says, or with none. A "
+    "materialBind family whose familyType is authored 'unrestricted' declares that its subsets may overlap, which "
+    "UsdShade forbids (SetMaterialBindSubsetsFamilyType refuses the token; SubsetsMaterialBindFamily is an error); "
+    "one whose familyType is not authored reads as 'unrestricted' through UsdGeomSubset's fallback, but UsdShade "
+    "documents materialBind subsets as nonOverlapping by default and OpenUSD's own GeomSubsets render test authors "
+    "none, so that stays usd-core's OPBR1010 warning. Other usd-core findings are OPBR1010.",
     passing=_SUBSET_MESH.replace("FAMILY", '            uniform token familyName = "materialBind"\n'),
     failing=_SUBSET_MESH.replace("FAMILY", ""),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
@@ -256,7 +283,7 @@ MTLX_REFERENCE = Rule(
 
 
 RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
-         USD_CORE, USD_CORE_BINDING, ARC_OUTSIDE, PACKAGE_ENTRY, MTLX_REFERENCE, REMAPPED_NAME)
+         OUTPUT_TYPE_DIFFERS, USD_CORE, USD_CORE_BINDING, ARC_OUTSIDE, PACKAGE_ENTRY, MTLX_REFERENCE, REMAPPED_NAME)
 
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
@@ -321,6 +348,12 @@ def _observations(asset, context):
                 CONNECTION_TYPE_MISMATCH,
                 f"{detail['input']} ({detail['input_type']}) is connected to {detail['source']} ({detail['source_type']})",
                 where, hint=f"connect a source of type {detail['input_type']}, or change the input's type",
+            )
+        elif observation.kind == "usd_output_type_differs":
+            yield context.diagnostic(
+                OUTPUT_TYPE_DIFFERS, f"{detail['output']} is authored as {detail['authored']}, but the definition of "
+                f"{detail['id']} gives it {detail['defined']}: renderers use the definition's type", where,
+                hint=f"author it as {detail['defined']} outputs:{where.input.removeprefix('outputs:')}",
             )
         elif observation.kind == "usd_colorspace":
             yield from colorspace_name(detail, where, context)
@@ -450,6 +483,7 @@ def _usd_core(asset, context):
     reported_ids = {o.location.path for o in asset.observations
                     if o.kind == "usd_unknown_shader_id" and _judge_unknown_id(asset, o) is not None}
     texture_files = {t.file for m in asset.materials for _, t in m.textures()}
+    renderer_nodes = set(asset.extra.get("usd_renderer_context_shaders", ()))
     # prims whose MaterialX arc was deleted (OPBR1013): usd-core finds them empty, as it would not with usdMtlx
     composed_elsewhere = set_aside(asset)
     invalid_bindings = {o.detail["target"] for o in asset.observations if o.kind == "usd_binding_invalid"}
@@ -466,6 +500,8 @@ def _usd_core(asset, context):
             continue
         if name == "MissingShaderIdInRegistry" and prims and prims <= reported_ids:
             continue
+        if name == "MissingShaderIdInRegistry" and prims and prims <= renderer_nodes:
+            continue  # another renderer's node (PxrSurface under ri): pip usd-core ships no renderer's definitions
         bound = _BINDING_TARGET.search(finding["message"]) if name == "InvalidResourcePath" else None
         if bound and under(bound.group(1), composed_elsewhere):
             continue  # a binding to a material composed from a MaterialX document this usd-core cannot open
@@ -479,7 +515,8 @@ def _usd_core(asset, context):
         validator = finding["identifier"].rsplit(":", 1)[-1].split(".")[0]
         rule = USD_CORE
         if finding["severity"] == "error":  # usd-core's errors where the stage then renders wrong: as the anchor says
-            rule = (USD_CORE_BINDING if validator in BINDING_VALIDATORS else PACKAGE_ENTRY if validator in PACKAGE_VALIDATORS
+            binding = validator in BINDING_VALIDATORS or (validator == "SubsetsMaterialBindFamily" and finding.get("authored"))
+            rule = (USD_CORE_BINDING if binding else PACKAGE_ENTRY if validator in PACKAGE_VALIDATORS
                     else NOT_MATERIALX if validator in COMPOSITION_VALIDATORS else USD_CORE)
         yield context.diagnostic(
             rule, f"usd-core {finding['identifier']}: {finding['message']}",

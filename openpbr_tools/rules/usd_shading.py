@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from ..diagnostics import Severity
 from . import Rule
-from .usd import set_aside, under
+from .usd import MTLX_REFERENCE, set_aside, under
 from .usd_examples import stage_example
 
 _MESH = ('def Mesh "Plane" (\n    prepend apiSchemas = ["MaterialBindingAPI"]\n)\n{\n'
@@ -175,12 +175,13 @@ def Xform "Deck" (
 """
 COLLECTION_NO_GEOMETRY = Rule(
     "OPBR1026", "usd-binding-collection-binds-no-geometry", Severity.ERROR,
-    "A collection-based material binding's collection includes prims, but no geometry (no Gprim): an explicitOnly "
-    "collection that lists the parent Xform of the meshes meant, which it then leaves out.",
+    "A collection-based material binding's collection includes prims, but no geometry (no Gprim, no GeomSubset): an "
+    "explicitOnly collection that lists the parent Xform of the meshes meant, which it then leaves out.",
     "Usd.CollectionAPI with expansionRule explicitOnly includes exactly the listed prims, not their descendants, and "
     "UsdShade.MaterialBindingAPI binds a collection's material only to the prims the collection includes: listing "
     "the group instead of its meshes binds nothing that renders (ComputeBoundMaterial on the meshes finds nothing "
-    "through it). With expandPrims (the default) the same list would include the meshes.",
+    "through it). With expandPrims (the default) the same list would include the meshes. A collection of GeomSubsets "
+    "binds their faces (ComputeBoundMaterial on the subset finds the material) and is no finding.",
     passing=_PLANKS.replace("INCLUDES", "</Deck/Plank>"), failing=_PLANKS.replace("INCLUDES", "</Deck>"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
@@ -270,9 +271,25 @@ RULES = (BINDING_TARGET, INPUT_RELATIONSHIP, CONNECTION_REFUSED, LAYER_UNITS, BI
 def check(asset, context):
     """Runs on USD assets only (rules.FAMILY_FORMATS)."""
     composed_elsewhere = set_aside(asset)
+    unchecked: dict[str, list] = {}  # MaterialX document -> bindings to materials it would compose
+    yield from _observed(asset, context, composed_elsewhere, unchecked)
+    for document, bindings in unchecked.items():  # one note per document, at its first binding
+        first = bindings[0].detail
+        others = f" and {len(bindings) - 1} more binding{'s' if len(bindings) > 2 else ''}" if len(bindings) > 1 else ""
+        yield context.diagnostic(
+            MTLX_REFERENCE, f"{first['relationship']} targets <{first['target']}>{others}, which the MaterialX document "
+            f"@{document}@ would compose: {'they' if others else 'it'} cannot be checked without the usdMtlx plugin",
+            bindings[0].location,
+            hint="validate the .mtlx file itself: openpbr validate reads MaterialX")
+
+
+def _observed(asset, context, composed_elsewhere, unchecked):
     for observation in asset.observations:
         detail, where = observation.detail, observation.location
         if observation.kind == "usd_binding_invalid":
+            if detail.get("mtlx_document"):  # a reference to the document sits behind the missing target's parent
+                unchecked.setdefault(detail["mtlx_document"], []).append(observation)
+                continue
             if under(detail["target"], composed_elsewhere):
                 continue  # with usdMtlx the MaterialX document would provide it
             yield context.diagnostic(

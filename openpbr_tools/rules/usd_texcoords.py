@@ -74,13 +74,76 @@ ST_UNCONNECTED = Rule(
     failing_files=_CHECKER,
 )
 
-RULES = (PRIMVAR_MISSING, ST_UNCONNECTED)
+
+def _board(uvs: str, mesh: str = "", subdivision: str = "") -> str:
+    """A textured board: the UVs (``uvs``) on the parent Xform, or (``mesh``) on the mesh itself."""
+    return stage_example(
+        'def Xform "Board"\n{\n' + uvs +
+        '    def Mesh "Geo" (\n        prepend apiSchemas = ["MaterialBindingAPI"]\n    )\n    {\n' + subdivision +
+        "        int[] faceVertexCounts = [4, 4]\n        int[] faceVertexIndices = [0, 1, 4, 3, 1, 2, 5, 4]\n"
+        "        point3f[] points = [(-1, 0, 0), (0, 0, 0), (1, 0, 0), (-1, 0, 1), (0, 0, 1), (1, 0, 1)]\n" + mesh +
+        "        rel material:binding = </M>\n    }\n}\n\n"
+        'def Material "M"\n{\n    token outputs:mtlx:surface.connect = </M/S.outputs:out>\n\n'
+        '    def Shader "S"\n    {\n        uniform token info:id = "ND_open_pbr_surface_surfaceshader"\n'
+        "        color3f inputs:base_color.connect = </M/albedo.outputs:out>\n        token outputs:out\n    }\n\n"
+        '    def Shader "albedo"\n    {\n        uniform token info:id = "ND_image_color3"\n'
+        '        asset inputs:file = @albedo.png@\n        color3f outputs:out\n    }\n}',
+        metadata='defaultPrim = "Board"\n    metersPerUnit = 1\n    upAxis = "Y"')
+
+
+_UVS = ("texCoord2f[] primvars:st = [(0, 0), (1, 0), (1, 1), (0, 1), (0, 0), (1, 0), (1, 1), (0, 1)] (\n"
+        '    interpolation = "faceVarying"\n)\n')
+_UV_INDICES = "int[] primvars:st:indices = [0, 1, 2, 3, 4, 5, 6, 7]\n"
+
+
+def _indent(text: str, depth: int) -> str:
+    return "".join(" " * depth + line + "\n" for line in text.splitlines())
+
+
+UV_NOT_INHERITED = Rule(
+    "OPBR1031", "usd-primvar-not-inherited", Severity.ERROR,
+    "A texture-coordinate primvar of a textured mesh is authored on a parent prim (an Xform) with an interpolation "
+    "other than constant, and not on the mesh: the mesh has no UVs.",
+    "Only constant primvars inherit down the namespace (UsdGeomPrimvarsAPI: FindPrimvarWithInheritance, "
+    "FindInheritablePrimvars): a faceVarying or vertex st on the transform above a mesh, as an exporter that writes "
+    "attributes on the transform leaves it, belongs to no geometry, so the textures bound to the mesh are sampled at "
+    "the reader's fallback coordinate. Move the primvar onto the mesh.",
+    passing=_board("", mesh=_indent(_UVS, 8)), failing=_board(_indent(_UVS, 4)),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
+)
+UV_INDICES_TYPE = Rule(
+    "OPBR1032", "usd-primvar-indices-type", Severity.ERROR,
+    "A textured mesh's texture-coordinate primvar has its indices (primvars:st:indices) authored as another type "
+    "than int[] (uint[], int64[]).",
+    "UsdGeomPrimvar reads indices as int[] only: with another type the primvar reports itself indexed (IsIndexed) "
+    "but GetIndices reads nothing and ComputeFlattened fails ('No indices authored'), so renderers drop the UVs and "
+    "the textures are sampled at the fallback coordinate. Author the indices as int[].",
+    passing=_board("", mesh=_indent(_UVS + _UV_INDICES, 8)),
+    failing=_board("", mesh=_indent(_UVS + "u" + _UV_INDICES, 8)),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
+)
+UV_SMOOTHED = Rule(
+    "OPBR1033", "usd-facevarying-uvs-smoothed", Severity.WARNING,
+    "A subdivided textured mesh with faceVarying UVs sets faceVaryingLinearInterpolation = \"none\": its UVs are "
+    "smoothed everywhere, borders and corners included.",
+    "UsdGeomMesh: faceVaryingLinearInterpolation \"none\" means 'No linear constraints or sharpening, smooth "
+    "everywhere', so subdivision moves the UV corners and borders inward like positions, and the texture shrinks and "
+    "swims at the mesh's boundary and UV seams. The fallback, cornersPlus1, keeps them pinned (\"all\" keeps the "
+    "UVs linear). subdivisionScheme's fallback is catmullClark, so a mesh is subdivided unless it says none. A stage "
+    "that sets several values side by side (a comparison of the settings) is not reported.",
+    passing=_board("", mesh=_indent(_UVS, 8)),
+    failing=_board("", mesh=_indent(_UVS, 8), subdivision='        uniform token faceVaryingLinearInterpolation = "none"\n'),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
+)
+
+RULES = (PRIMVAR_MISSING, ST_UNCONNECTED, UV_NOT_INHERITED, UV_INDICES_TYPE, UV_SMOOTHED)
 
 _SHOWN = 3  # meshes named in a message
 
 
 def check(asset, context):
     """Runs on USD assets only (rules.FAMILY_FORMATS)."""
+    yield from _authored_uvs(asset, context)
     reads = asset.extra.get("usd_uv_reads", {})
     if not reads:
         return
@@ -141,3 +204,28 @@ def _varies(asset, texture, context, containers: dict) -> bool:
     (outside the asset's folder, missing, undecodable: nothing then shows that the coordinates matter)."""
     image = image_of(asset, texture, context, containers)
     return image is not None and varies(image)
+
+
+def _authored_uvs(asset, context):
+    for observation in asset.observations:
+        detail, where = observation.detail, observation.location
+        if observation.kind == "usd_uv_not_inherited":
+            meshes = detail["meshes"]
+            shown = ", ".join(meshes[:_SHOWN]) + (f" and {len(meshes) - _SHOWN} more" if len(meshes) > _SHOWN else "")
+            yield context.diagnostic(
+                UV_NOT_INHERITED, f"primvars:{detail['primvar']} is {detail['interpolation']} on {detail['owner']}, "
+                f"not on the textured {'mesh' if len(meshes) == 1 else 'meshes'} {shown} below it: only constant "
+                f"primvars inherit, so {'it has' if len(meshes) == 1 else 'they have'} no {detail['primvar']} and the "
+                "textures read the fallback coordinate", where,
+                hint=f"author primvars:{detail['primvar']} on each mesh")
+        elif observation.kind == "usd_uv_indices_type":
+            yield context.diagnostic(
+                UV_INDICES_TYPE, f"{detail['mesh']}: primvars:{detail['primvar']}:indices is {detail['type']}, not "
+                "int[]: the primvar reads as indexed with no indices, so renderers drop its UVs", where,
+                hint=f"author int[] primvars:{detail['primvar']}:indices")
+        elif observation.kind == "usd_uv_smoothed":
+            yield context.diagnostic(
+                UV_SMOOTHED, f"{detail['mesh']} is subdivided ({detail['scheme']}) with faceVaryingLinearInterpolation "
+                f"\"none\": its faceVarying {detail['primvar']} is smoothed at borders and corners too, so the texture "
+                "shrinks and swims there", where,
+                hint="remove it (the fallback cornersPlus1 pins UV corners), or use \"all\" for linear UVs")

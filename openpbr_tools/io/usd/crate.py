@@ -317,12 +317,14 @@ def _crate_section_problem(name: str, section: bytes, compressed: bool, budget: 
         offset += stored
 
     def integers(count: int, what: str) -> None:
-        """usd-core's compressed integers: 2 bits of code per integer plus the values, then LZ4."""
+        """usd-core's compressed integers: 2 bits of code per integer plus the values, then LZ4. usd-core reads
+        them into a buffer of TfFastCompression::GetCompressedBufferSize of the encoded size (LZ4's bound, plus
+        one byte), so more stored bytes would overrun it; no integers still store a compressed empty block
+        (2 bytes: usd-core writes them for an empty layer's fields)."""
         nonlocal offset
         stored = number()
-        encoded = 4 + (2 * count + 7) // 8 + 4 * count
-        if stored > len(section) - offset or (count and stored > encoded + encoded // 255 + 16) or (
-                not count and stored):
+        encoded = 4 + (2 * count + 7) // 8 + 4 * count if count else 0  # integerCoding's _GetEncodedBufferSize
+        if stored > len(section) - offset or stored > encoded + encoded // 255 + 16 + 1:
             raise ValueError(f"{count} {what} cannot take {stored} compressed bytes")
         if count > 1020 * stored + 64 or 8 * count > budget:
             raise ValueError(f"{count} {what} cannot come from {stored} compressed bytes")

@@ -273,7 +273,8 @@ class StageGuard:
         for prim_path, arc in arcs:
             namespace = _VARIANT_SELECTION.sub("/", prim_path) if prim_path else None  # /World{look=a}M: /World/M
             self.observe("usd_mtlx_reference", self.where(file, None, namespace), arc=arc, asset=asset_path,
-                         document=self.where(target).file if exists and not packaged else None)
+                         document=self.where(target).file if exists and not packaged else None,
+                         layer=layer.identifier, spec=prim_path)  # (the prim spec that held the arc, for bindings)
         self.editable(layer).UpdateCompositionAssetDependency(asset_path, "")
 
     def drop_value_clips(self, layer) -> None:

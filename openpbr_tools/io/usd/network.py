@@ -17,9 +17,8 @@ import posixpath
 from ...model import Connection, Input, Texture
 from ..paths import Kind, classify
 from .attributes import MAX_SAMPLES, input_name, read_constant, read_constant_at, value_shape
-from .sdr import materialx_nodedef
+from .sdr import defined_output_type
 from .texture_nodes import TextureNodeReader
-from .types import MATERIALX_TO_USD, UV_TEXTURE_ID, UV_TEXTURE_OUTPUTS
 
 MAX_DEPTH = 32
 
@@ -152,18 +151,22 @@ class NetworkReader(TextureNodeReader):
         return False
 
     def declared_output_type(self, prim, output_name: str) -> str | None:
+        """The type of a shader's output as renderers take it: the node definition's where the id names one
+        (Storm builds the network from Sdr's definition, hdMtlx from MaterialX's; OpenUSD's
+        testUsdImagingGLGeomSubsets authors a UsdPrimvarReader_float3's result as float2 and renders its colours),
+        else the type authored on the prim. An authored type of another shape than the definition's is observed."""
         attribute = prim.GetAttribute(f"outputs:{output_name}")
-        if attribute:
-            return str(attribute.GetTypeName())
+        authored = str(attribute.GetTypeName()) if attribute else None
         shader_id = str(self.UsdShade.Shader(prim).GetShaderId() or "")
-        if shader_id == UV_TEXTURE_ID:
-            return {"rgb": "float3"}.get(output_name, "float") if output_name in UV_TEXTURE_OUTPUTS else None
-        nodedef = materialx_nodedef(shader_id)
-        if nodedef is not None:
-            port = nodedef.getActiveOutput(output_name)
-            if port is not None:
-                return MATERIALX_TO_USD.get(port.getType())
-        return None
+        defined = defined_output_type(shader_id, output_name)
+        if defined is None:
+            return authored
+        key = str(prim.GetPath()), output_name
+        if authored and value_shape(authored) != value_shape(defined) and key not in self.mistyped_outputs:
+            self.mistyped_outputs.add(key)
+            self.asset.observe("usd_output_type_differs", self.location(prim.GetPath(), f"outputs:{output_name}"),
+                               output=str(attribute.GetPath()), id=shader_id, authored=authored, defined=defined)
+        return defined
 
     def upstream(self, prim, input_name: str):
         attribute = prim.GetAttribute(f"inputs:{input_name}")
@@ -201,6 +204,10 @@ class NetworkReader(TextureNodeReader):
                 return authored, True
             for package in reversed(packages):  # a nested package's member: "parts/bolt.usdz[textures/a.png]"
                 member = f"{package}[{member}]"
+            if not packages and member not in self.asset.extra.get("package_files", ()):
+                outside = self.resolved_beside_package(value, authored, layer)
+                if outside is not None:  # not in the package, but usd-core finds it on disk: a file, not a member
+                    return os.path.relpath(outside, self.root_dir).replace(os.sep, "/"), False
             return member, True
         if packaged or layer.identifier == self.root_layer.identifier or classify(authored) is not Kind.RELATIVE:
             return authored, packaged  # as authored: a URL, an absolute, drive or UNC path is not re-anchored
@@ -210,6 +217,18 @@ class NetworkReader(TextureNodeReader):
         # relative to the root layer's folder (whether that stays inside is the texture rules' call)
         anchored = os.path.normpath(os.path.join(os.path.dirname(layer.realPath), authored))
         return os.path.relpath(anchored, self.root_dir).replace(os.sep, "/"), False
+
+    def resolved_beside_package(self, value, authored: str, layer) -> str | None:
+        """Where usd-core resolves a packaged layer's relative asset path that the package does not hold, when
+        that is a file on disk: a search-path style name (``texture.png``, not ``./texture.png``) is looked up in
+        the package first, then beside it (ArDefaultResolver), and UDIM tiles likewise
+        (UsdShade.UdimUtils.ResolveUdimTilePaths). ``None`` where usd-core finds nothing or a package member."""
+        if self.UsdShade.UdimUtils.IsUdimIdentifier(authored):
+            tiles = self.UsdShade.UdimUtils.ResolveUdimTilePaths(authored, layer)
+            found = os.path.join(os.path.dirname(tiles[0][0]), os.path.basename(authored)) if tiles else ""
+        else:
+            found = getattr(value, "resolvedPath", "") or ""
+        return found if found and "[" not in found and os.path.isabs(found) else None
 
 
 def _package_chain(identifier: str) -> tuple[list[str], str]:

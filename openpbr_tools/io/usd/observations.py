@@ -49,7 +49,7 @@ def observe_layer_units(stage, observe, location, length_inputs) -> None:
                     layer=layer.GetDisplayName(), layer_unit=float(unit), stage_unit=stage_unit, attribute=found[0])
 
 
-def observe_structure(prim, stage, observe, location) -> bool:
+def observe_structure(prim, stage, observe, location, set_aside=None) -> bool:
     """What UsdShade refuses or ignores in ``prim``'s scene description: a direct material binding
     whose target is no active (defined, concrete) Material (USD renders the prim unbound), an ``inputs:``
     relationship on a shading prim (a relationship is no input: the value is never connected), a connection
@@ -57,7 +57,9 @@ def observe_structure(prim, stage, observe, location) -> bool:
     output fed from outside the Material; not a shader input fed across a Material's boundary, which
     OpenUSD's own preview-surface tests do and Storm renders), opinions below an instance, and a variant
     selection that names no variant. Returns whether the prim has a material binding with a target (convert
-    notes the bindings an output does not hold)."""
+    notes the bindings an output does not hold). ``set_aside`` maps (layer identifier, prim spec path) of each
+    reference or payload to a MaterialX document the guard deleted to the document's path: a binding target
+    missing below such a prim is one the document would compose (usdMtlx), noted with it."""
     from pxr import UsdShade  # lazy: as in observe_layer_units
 
     if prim.IsInstance():
@@ -92,8 +94,9 @@ def observe_structure(prim, stage, observe, location) -> bool:
                           else None if bound.IsA(UsdShade.Material) else f"is a {bound.GetTypeName() or 'typeless prim'}, "
                           "not a Material")
                 if reason is not None:
+                    document = _composed_from_materialx(stage, target, set_aside) if not bound else None
                     observe("usd_binding_invalid", location(prim.GetPath(), None),
-                            relationship=name, target=str(target), reason=reason)
+                            relationship=name, target=str(target), reason=reason, mtlx_document=document)
         elif name.startswith("inputs:") and (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):
             observe("usd_input_relationship", location(prim.GetPath(), name[len("inputs:"):]),
                     input=name, targets=[str(t) for t in relationship.GetTargets()])
@@ -102,6 +105,27 @@ def observe_structure(prim, stage, observe, location) -> bool:
     if prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph):  # (a Material is a NodeGraph)
         _observe_connections(prim, observe, location)
     return bound
+
+
+def _composed_from_materialx(stage, target, set_aside) -> str | None:
+    """The MaterialX document (set aside: this usd-core has no usdMtlx plugin) that would compose the missing
+    prim ``target``: the one referenced by a prim spec in the nearest existing ancestor's prim stack, wherever
+    composition placed that spec (usd-wg's OpenChessSet references Bishop_look.usd's /Bishop, whose Materials
+    reference Bishop_mat.mtlx, as /ChessSet/Black/BishopL). ``None`` when no such arc is behind it."""
+    if not set_aside:
+        return None
+    ancestor = stage.GetPrimAtPath(target.GetPrimPath().GetParentPath())
+    path = target.GetPrimPath().GetParentPath()
+    while not ancestor and path.pathElementCount > 1:
+        path = path.GetParentPath()
+        ancestor = stage.GetPrimAtPath(path)
+    if not ancestor:
+        return None
+    for spec in ancestor.GetPrimStack():
+        document = set_aside.get((spec.layer.identifier, str(spec.path)))
+        if document is not None:
+            return document
+    return None
 
 
 def _observe_connections(prim, observe, location) -> None:
@@ -186,7 +210,9 @@ def _observe_collection(path, binding, stage, observe, where) -> None:
         from pxr import UsdGeom  # lazy: as above
 
         included = Usd.CollectionAPI.ComputeIncludedPaths(collection.ComputeMembershipQuery(), stage)
-        if not any(stage.GetPrimAtPath(p).IsA(UsdGeom.Gprim) for p in included[:100_000]):
+        # a GeomSubset is geometry too: ComputeBoundMaterial binds a collection's material to a subset it includes
+        if not any(stage.GetPrimAtPath(p).IsA(UsdGeom.Gprim) or stage.GetPrimAtPath(p).IsA(UsdGeom.Subset)
+                   for p in included[:100_000]):
             observe("usd_collection_no_geometry", where, relationship=binding, collection=str(path),
                     includes=[str(p) for p in includes], rule=str(collection.GetExpansionRuleAttr().Get() or "expandPrims"))
 

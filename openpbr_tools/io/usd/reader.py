@@ -49,13 +49,14 @@ from ...model import Asset, Constant, Input, Location, Material
 from .. import ReadError
 from .network import MAX_DEPTH, NetworkReader
 from .observations import observe_layer_units, observe_structure, observe_variant_values, scene_length_inputs
-from .primvars import primvar_problem
+from .primvars import observe_textured_uvs, primvar_problem
 from .errors import quiet, tf_error_text, usd_error_message
 from .guard import StageGuard
 from .sdr import materialx_nodedef
 from .validators import usd_core_findings
 from .types import (
     MATERIALX_CONTEXT,
+    UNIVERSAL_CONTEXTS,
     OPACITY_MODE_TOKENS,
     materialx_type_of,
     surface_shader_ids,
@@ -105,6 +106,9 @@ class _Reader(NetworkReader):
         self.observed_colorspaces: set[tuple] = set()
         self.shaders: dict[str, Material] = {}
         self.mtlx_context_shaders: set[str] = set()
+        self.renderer_context_shaders: set[str] = set()  # upstream of another renderer's context (ri, arnold, ...)
+        self._bound: dict[str, set] | None = None  # bound_meshes
+        self.mistyped_outputs: set[tuple[str, str]] = set()  # (prim, output) observed once
         self.UsdGeom = UsdGeom
         asset.extra["usd_sdr_ids"] = tuple(sorted(str(i) for i in Sdr.Registry().GetShaderNodeIdentifiers()))
 
@@ -127,6 +131,9 @@ class _Reader(NetworkReader):
                 asset.colorspace_location = self.location(default_prim.GetPath(), "colorSpace:name")
         shader_prims, meshes = [], []
         prototypes_read: set = set()
+        # references and payloads to MaterialX documents the guard set aside, by the prim spec that held them
+        set_aside = {(o.detail["layer"], o.detail["spec"]): o.detail["asset"] for o in asset.observations
+                     if o.kind == "usd_mtlx_reference" and o.detail.get("spec")}
         prims = iter(self.Usd.PrimRange.Stage(stage, self.Usd.TraverseInstanceProxies()))
         for prim in prims:
             if prim.IsInstance():  # an instanceable prim: its prototype's prims are read once, at its first instance
@@ -134,7 +141,7 @@ class _Reader(NetworkReader):
                 if prototype in prototypes_read:
                     prims.PruneChildren()
                 prototypes_read.add(prototype)
-            if observe_structure(prim, self.stage, self.asset.observe, self.location):  # (a bound prim: convert notes them)
+            if observe_structure(prim, self.stage, self.asset.observe, self.location, set_aside):  # (a bound prim: convert notes them)
                 self.asset.extra["usd_bindings"] = self.asset.extra.get("usd_bindings", 0) + 1
             if prim.HasAPI(self.Usd.ColorSpaceAPI):
                 name = self.authored_prim_colorspace(prim)
@@ -149,27 +156,44 @@ class _Reader(NetworkReader):
                 meshes.append(prim)
         for prim in shader_prims:
             self.observe_shader_id(prim)
-        self.bound_primvars(meshes)
+        asset.extra["usd_renderer_context_shaders"] = tuple(sorted(self.renderer_context_shaders))
+        if meshes and not self.stage.GetCompositionErrors() and not any(
+                o.kind in ("usd_arc_outside", "usd_mtlx_reference") for o in asset.observations):
+            # (a stage composed without some of its layers may lack the primvars they carry: not judged)
+            self.bound_primvars(meshes)
+            textured = {m.material_location.path for m in asset.materials
+                        if m.material_location is not None and any(True for _ in m.textures())}
+            if textured:
+                bound = self.bound_meshes(meshes)
+                observe_textured_uvs(self.UsdGeom, sorted({mesh for material in textured for mesh in bound.get(material, ())},
+                                                          key=lambda prim: str(prim.GetPath())),
+                                     self.asset.observe, self.location)
+
+    def bound_meshes(self, meshes) -> dict[str, set]:
+        """Material path -> the meshes bound to it in any purpose, as usd-core resolves bindings (computed once)."""
+        if self._bound is None:
+            from pxr import Tf  # lazy: as in _read_stage
+
+            Tokens, Binding = self.UsdShade.Tokens, self.UsdShade.MaterialBindingAPI
+            self._bound = {}
+            try:
+                for purpose in (Tokens.allPurpose, Tokens.full, Tokens.preview):
+                    materials, _ = Binding.ComputeBoundMaterials(meshes, purpose)
+                    for mesh, material in zip(meshes, materials):
+                        if material:
+                            self._bound.setdefault(str(material.GetPath()), set()).add(mesh)
+            except Tf.ErrorException:  # a binding usd-core refuses to resolve (an attribute named material:binding):
+                self._bound = {}  # its validators report it (OPBR1025), and no mesh is judged by what it binds
+        return self._bound
 
     def bound_primvars(self, meshes) -> None:
         """For each Material whose textures read a named primvar: the meshes bound to it (in any purpose,
         as usd-core resolves bindings) and the primvars each has (its own and those inherited), in
-        ``asset.extra["usd_bound_primvars"]``. Nothing is computed for a stage whose textures read none,
-        nor for one composed without some of its layers (an arc the guard removed, a MaterialX reference, a
-        layer that cannot be opened)."""
+        ``asset.extra["usd_bound_primvars"]``. Nothing is computed for a stage whose textures read none."""
         reads = self.asset.extra.get("usd_uv_reads", {})
-        if not meshes or not any(read.get("primvar") for read in reads.values()):
+        if not any(read.get("primvar") for read in reads.values()):
             return
-        if self.stage.GetCompositionErrors() or any(
-                o.kind in ("usd_arc_outside", "usd_mtlx_reference") for o in self.asset.observations):
-            return  # a stage composed without some of its layers may lack the primvars they carry: not judged
-        Tokens, Binding = self.UsdShade.Tokens, self.UsdShade.MaterialBindingAPI
-        bound: dict[str, set] = {}
-        for purpose in (Tokens.allPurpose, Tokens.full, Tokens.preview):
-            materials, _ = Binding.ComputeBoundMaterials(meshes, purpose)
-            for mesh, material in zip(meshes, materials):
-                if material:
-                    bound.setdefault(str(material.GetPath()), set()).add(mesh)
+        bound = self.bound_meshes(meshes)
         found, sizes = {}, {}
         read_names = {read.get("primvar") for read in reads.values() if read.get("primvar")}
         for material_path, bound_meshes in bound.items():
@@ -262,23 +286,26 @@ class _Reader(NetworkReader):
                 continue
             shader_prim, output_name, _ = found
             if context == MATERIALX_CONTEXT:
-                self.mark_mtlx_context(shader_prim)
+                self.mark_context(shader_prim, self.mtlx_context_shaders)
+            elif context not in UNIVERSAL_CONTEXTS:
+                self.mark_context(shader_prim, self.renderer_context_shaders)
             self.read_surface(shader_prim, output_name, prim, context, where)
         if not connected:
             self.asset.observe("usd_material_without_surface", location, material=material_path,
                                reason=f"{', '.join('outputs:' + o.GetBaseName() for o in outputs)} is not connected")
 
-    def mark_mtlx_context(self, prim, depth: int = 0) -> None:
-        """Remember every shader upstream of a MaterialX surface output (their ids must be
-        MaterialX node definitions)."""
+    def mark_context(self, prim, shaders: set[str], depth: int = 0) -> None:
+        """Remember every shader upstream of a render context's surface output in ``shaders``: under MaterialX's
+        their ids must be MaterialX node definitions; under another renderer's (ri, arnold) they are that
+        renderer's nodes, which usd-core's registry knows only with the renderer's plugin."""
         path = str(prim.GetPath())
-        if path in self.mtlx_context_shaders or depth > MAX_DEPTH:
+        if path in shaders or depth > MAX_DEPTH:
             return
-        self.mtlx_context_shaders.add(path)
+        shaders.add(path)
         for shader_input in self.UsdShade.Shader(prim).GetInputs():
             kind, *found = self.source(shader_input.GetAttr())
             if kind == "shader":
-                self.mark_mtlx_context(found[0], depth + 1)
+                self.mark_context(found[0], shaders, depth + 1)
 
     def read_surface(self, shader_prim, output_name: str, material_prim, context: str, where: Location) -> None:
         shader = self.UsdShade.Shader(shader_prim)

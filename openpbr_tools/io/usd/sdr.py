@@ -6,7 +6,8 @@ sdrRegistry". :func:`register_materialx_nodes` fills that gap: it describes each
 definition as a USD shader definition (inputs typed as UsdMtlx types them) in an in-memory layer and
 hands it to Sdr through UsdShade's own shader-definition parser, the same route usd-core uses for
 ``UsdPreviewSurface``. :func:`materialx_nodedef` looks a definition up (MaterialX's standard
-libraries plus the toolkit's legacy OpenPBR definitions).
+libraries plus the toolkit's legacy OpenPBR definitions); :func:`defined_output_type` says what type a
+node's definition gives one of its outputs.
 """
 
 from __future__ import annotations
@@ -50,6 +51,28 @@ def materialx_nodedef(name: str):
     """The MaterialX node definition called ``name`` (standard libraries or the toolkit's legacy
     OpenPBR definitions), or ``None``."""
     return _materialx_nodedefs().get(name)
+
+
+def defined_output_type(shader_id: str, output_name: str) -> str | None:
+    """The USD type a shader node's definition gives its output ``output_name`` (a MaterialX node definition, as
+    UsdMtlx types it, else the Sdr registry's, where UsdPreviewSurface's nodes are defined), or ``None`` when no
+    definition is known. Renderers build the network from the definition (Storm from Sdr, hdMtlx from MaterialX),
+    not from the type authored on the prim's output."""
+    nodedef = materialx_nodedef(shader_id)
+    if nodedef is not None:
+        port = nodedef.getActiveOutput(output_name)
+        return MATERIALX_TO_USD.get(port.getType()) if port is not None else None
+    if not shader_id:
+        return None
+    from pxr import Sdr  # lazy: as in register_materialx_nodes
+
+    with quiet():
+        node = Sdr.Registry().GetShaderNodeByIdentifier(shader_id)
+    output = node.GetShaderOutput(output_name) if node else None
+    if output is None:
+        return None
+    indicator = output.GetTypeAsSdfType()
+    return str(indicator.GetSdfType()) if indicator.HasSdfType() else None
 
 
 def register_materialx_nodes(ids) -> list[str]:

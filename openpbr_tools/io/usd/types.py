@@ -85,6 +85,8 @@ EIGHT_BIT_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".tga", ".gif")
 
 #: Surface outputs of a Material, by render context ("" is the universal one).
 MATERIALX_CONTEXT = "mtlx"
+#: render contexts whose nodes usd-core's own registry defines: the universal one (""), Storm's glslfx
+UNIVERSAL_CONTEXTS = ("", "glslfx")
 
 _VERSION_SUFFIX = re.compile(r"^(ND_[A-Za-z0-9_]+_surfaceshader)_(\d+)$")
 

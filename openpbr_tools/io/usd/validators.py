@@ -45,14 +45,27 @@ def usd_core_findings(stage) -> list[dict]:
             message = str(error.GetMessage())
         except UnicodeDecodeError:  # a name or value from a crate file that is not UTF-8
             sites, message = [], "(a message quoting text that is not valid UTF-8)"
-        findings.append({
+        finding = {
             "identifier": str(error.GetIdentifier()),
             "name": str(error.GetName()),
             "severity": {"error": "error", "warn": "warning", "info": "info"}.get(kind, "warning"),
             "message": message,
             "sites": sites,
-        })
+        }
+        if finding["name"] == "InvalidFamilyType" and sites:
+            finding["authored"] = _family_type_authored(stage, sites[0])
+        findings.append(finding)
     return findings
+
+
+def _family_type_authored(stage, prim_path: str) -> bool:
+    """Whether the prim authors its materialBind family's type (``subsetFamily:materialBind:familyType``): an
+    unauthored one reads as 'unrestricted' (UsdGeomSubset's fallback) though UsdShade documents materialBind
+    subsets as nonOverlapping by default; an authored 'unrestricted' is a declaration no UsdShade API makes
+    (SetMaterialBindSubsetsFamilyType refuses it)."""
+    prim = stage.GetPrimAtPath(prim_path)
+    attribute = prim.GetAttribute("subsetFamily:materialBind:familyType") if prim else None
+    return bool(attribute and attribute.HasAuthoredValue())
 
 
 def _all_validators():
