@@ -73,7 +73,7 @@ def _codes(path, allow=()) -> set[str]:
 
 
 @pytest.mark.parametrize("name, refused", [
-    ("look.mtlx", {"OPBR704", "OPBR009"}),  # the texture, the include
+    ("look.mtlx", {"OPBR009"}),  # the include (the texture, an image that is there, is OPBR723: information)
     ("stage.usda", {"OPBR1011"}),
     ("m.gltf", {"OPBR704"}),
 ])
@@ -84,7 +84,10 @@ def test_outside_references_are_reported_and_allowed_folders_are_read(tree, name
 
 def test_allowing_one_folder_does_not_allow_its_neighbours(tree):
     (tree / "other").mkdir()
-    assert {"OPBR704", "OPBR009"} <= _codes(tree / "asset" / "look.mtlx", allow=[tree / "other"])
+    assert {"OPBR009"} <= _codes(tree / "asset" / "look.mtlx", allow=[tree / "other"])
+    report = validate_paths([str(tree / "asset" / "look.mtlx")],
+                            options=Options(use_config=False, jobs=1, allow_outside=(str(tree / "other"),)))
+    assert "OPBR723" in {d.code for d in report.diagnostics}  # the texture in ../shared: not read
 
 
 def test_the_configuration_allows_folders_relative_to_itself(tree):

@@ -484,7 +484,7 @@ def test_the_edited_layer_does_not_outlive_the_read(outside):
 
 @pytest.mark.parametrize("file, says", [
     ("{root}/outside/albedo.png", "points outside"),
-    ("../outside/albedo.png", "points outside"),
+    ("../outside/gone.png", "points outside"),  # a '..' to nothing (to an image that is there: OPBR723, below)
     ("https://example.com/albedo.png", "points outside"),
     ("linked/albedo.png", "symbolic link"),
 ])
@@ -500,3 +500,19 @@ def test_texture_paths_leaving_the_asset_folder_are_reported(outside, file, says
     found = diagnostics(validate(path), "OPBR704")
     assert len(found) == 1 and says in found[0]["message"]
     assert (found[0]["location"]["path"], found[0]["location"]["input"]) == ("/M/img", "file")
+
+
+def test_a_texture_path_into_a_shared_folder_is_information(outside):
+    """A relative '..' to an image that is there (usd-wg's assets read ../_common): OPBR723, an info, and the image
+    is not opened; the folder that holds both, validated, reads it."""
+    (outside / "outside" / "albedo.png").write_bytes(b"\x89PNG\r\n\x1a\n")
+    path = outside / "asset" / "textured.usda"
+    path.write_text(GOOD.replace(
+        "color3f inputs:base_color = (0.5, 0.4, 0.3)", "color3f inputs:base_color.connect = </M/img.outputs:out>")
+        .replace("        token outputs:surface\n    }\n", "        token outputs:surface\n    }\n\n"
+                 '    def Shader "img"\n    {\n        uniform token info:id = "ND_image_color3"\n'
+                 '        asset inputs:file = @../outside/albedo.png@\n        color3f outputs:out\n    }\n', 1))
+    report = validate(path)
+    assert not diagnostics(report, "OPBR704")
+    [shared] = diagnostics(report, "OPBR723")
+    assert shared["severity"] == "info" and (shared["location"]["path"], shared["location"]["input"]) == ("/M/img", "file")

@@ -451,3 +451,117 @@ def test_an_emission_luminance_read_from_a_mask_as_it_is(tmp_path, scale, expect
     path = tmp_path / "sign.mtlx"
     path.write_text(_document(body))
     assert _codes(path).get("OPBR910") == expected
+
+
+# -- the converter red team's set K ----------------------------------------------------------------------------------
+
+_SHARED_SURFACE = """#usda 1.0
+def Scope "Looks"
+{
+    def Material "Red"
+    {
+        token outputs:surface.connect = </Looks/Red/Preview.outputs:surface>
+        def Shader "Preview"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            color3f inputs:diffuseColor = (0.8, 0.1, 0.1)
+            float inputs:roughness = 0.3
+            token outputs:surface
+        }
+    }
+    def Material "RedAlias"
+    {
+        token outputs:surface.connect = </Looks/Red/Preview.outputs:surface>
+    }
+}
+"""
+
+
+def test_a_material_whose_surface_is_another_materials_shader_is_converted_too(tmp_path):
+    """K-03: Pixar's sphereGrid_specwf.usda points Material_39's surface at Material_19's shader; usd-core's
+    ComputeSurfaceSource resolves it (Storm renders it), but the reader kept one material per shader and the
+    conversion dropped the second Material without a word (99 of 100 written)."""
+    from pxr import Usd, UsdShade
+
+    from openpbr_tools.convert import convert_file
+
+    path = tmp_path / "shared.usda"
+    path.write_text(_SHARED_SURFACE)
+    stage = Usd.Stage.Open(str(path))
+    sources = {p: UsdShade.Material(stage.GetPrimAtPath(p)).ComputeSurfaceSource()[0].GetPath()
+               for p in ("/Looks/Red", "/Looks/RedAlias")}
+    assert set(map(str, sources.values())) == {"/Looks/Red/Preview"}
+    assert validate_file(str(path)).materials == 2
+    conversion = convert_file(str(path), str(tmp_path / "out" / "shared.mtlx"), "open_pbr_surface")
+    assert sorted(m.material_name for m in conversion.materials) == ["Red", "RedAlias"]
+    document = _mx_document(tmp_path / "out" / "shared.mtlx")
+    assert sorted(m.getName() for m in document.getMaterialNodes()) == ["Red", "RedAlias"]
+
+
+_GRAPH_NORMAL = ('<nodegraph name="NG">\n  <texcoord name="tc" type="vector2" />\n  <multiply name="tile" type="vector2">\n'
+                 '    <input name="in1" type="vector2" nodename="tc" />\n    <input name="in2" type="float" value="3" />\n'
+                 '  </multiply>\n  <image name="nmap" type="vector3">\n    <input name="file" type="filename" '
+                 'value="normal.png" />\n    <input name="texcoord" type="vector2" nodename="tile" />\n  </image>\n'
+                 '  <normalmap name="nm" type="vector3">\n    <input name="in" type="vector3" nodename="nmap" />\n'
+                 '  </normalmap>\n  <output name="out" type="vector3" nodename="nm" />\n</nodegraph>\n'
+                 + _SHADED.format(inputs='<input name="normal" type="vector3" nodegraph="NG" output="out" />'))
+_PREVIEW_NORMAL = ('<texcoord name="tc" type="vector2" />\n<multiply name="tile" type="vector2">\n  <input name="in1" '
+                   'type="vector2" nodename="tc" />\n  <input name="in2" type="float" value="3" />\n</multiply>\n'
+                   '<image name="nmap" type="vector3">\n  <input name="file" type="filename" value="normal.png" />\n'
+                   '  <input name="texcoord" type="vector2" nodename="tile" />\n</image>\n<multiply name="n2" '
+                   'type="vector3">\n  <input name="in1" type="vector3" nodename="nmap" />\n  <input name="in2" '
+                   'type="float" value="2" />\n</multiply>\n<subtract name="n1" type="vector3">\n  <input name="in1" '
+                   'type="vector3" nodename="n2" />\n  <input name="in2" type="float" value="1" />\n</subtract>\n'
+                   '<UsdPreviewSurface name="SR" type="surfaceshader">\n  <input name="normal" type="vector3" '
+                   'nodename="n1" />\n</UsdPreviewSurface>\n<surfacematerial name="M" type="material">\n  <input '
+                   'name="surfaceshader" type="surfaceshader" nodename="SR" />\n</surfacematerial>')
+
+
+def _upstream_categories(document, shader_category: str, input_name: str) -> list[str]:
+    shader = next(n for n in document.getNodes() if n.getCategory() == shader_category)
+    found, node = [], shader.getInput(input_name).getConnectedNode()
+    while node is not None and len(found) < 8:
+        found.append(node.getCategory())
+        port = node.getInput("in1") or node.getInput("in")
+        node = port.getConnectedNode() if port is not None else None
+    return found
+
+
+def test_a_normal_graph_goes_to_the_preview_surface_in_tangent_space(tmp_path):
+    """K-01: a GPUOpen wood's normal map behind a computed texcoord (a kept graph ending in normalmap, a world-space
+    normal) was wired into UsdPreviewSurface's normal, which takes a tangent-space vector in [-1, 1] and applies its
+    own normalmap (MaterialX's NG_UsdPreviewSurface: normal * 0.5 + 0.5 into normalmap): decoded twice, 7.5 mean
+    CIEDE2000 in MaterialX's renderer where MaterialX's chain gave 0.41. Now the normalmap's input, t * 2 - 1
+    (0.41 there too)."""
+    from openpbr_tools.convert import convert_file
+
+    import MaterialX as mx
+
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    nodes = [n.getCategory() for n in library.getNodeGraph("IMP_UsdPreviewSurface_surfaceshader").getNodes()]
+    assert "normalmap" in nodes  # the preview decodes its normal input itself
+    Image.new("RGB", (4, 4), (150, 110, 240)).save(tmp_path / "normal.png")
+    source = tmp_path / "wood.mtlx"
+    source.write_text(_document(_GRAPH_NORMAL))
+    conversion = convert_file(str(source), str(tmp_path / "out" / "wood.mtlx"), "UsdPreviewSurface")
+    document = _mx_document(tmp_path / "out" / "wood.mtlx")
+    assert document.validate()[0]
+    assert _upstream_categories(document, "UsdPreviewSurface", "normal")[:3] == ["subtract", "multiply", "image"]
+    assert any(d.code == "OPBR1102" and "tangent-space" in d.message for d in conversion.diagnostics)
+
+
+def test_a_preview_surfaces_tangent_space_normal_graph_is_decoded_for_openpbr(tmp_path):
+    """K-07: a UsdPreviewSurface's normal graph (texel * 2 - 1, tangent space) was copied into OpenPBR's
+    geometry_normal, a world-space vector, without a note: 12.4 mean CIEDE2000 in MaterialX's renderer. Now decoded
+    as MaterialX's own NG_UsdPreviewSurface does (x * 0.5 + 0.5 into a normalmap): 0.22."""
+    from openpbr_tools.convert import convert_file
+
+    Image.new("RGB", (4, 4), (150, 110, 240)).save(tmp_path / "normal.png")
+    source = tmp_path / "preview.mtlx"
+    source.write_text(_document(_PREVIEW_NORMAL))
+    conversion = convert_file(str(source), str(tmp_path / "out" / "preview.mtlx"), "open_pbr_surface")
+    document = _mx_document(tmp_path / "out" / "preview.mtlx")
+    assert document.validate()[0]
+    assert _upstream_categories(document, "open_pbr_surface", "geometry_normal")[:3] == ["normalmap", "add", "multiply"]
+    assert any(d.code == "OPBR1102" and "normalmap" in d.message for d in conversion.diagnostics)

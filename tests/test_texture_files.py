@@ -165,7 +165,8 @@ def test_a_file_outside_the_asset_is_never_opened_to_be_judged(tmp_path):
     path = tmp_path / "asset" / "m.mtlx"
     path.write_text(MTLX.format(file="../shared/a.png"))
     codes = _codes(path)
-    assert "OPBR704" in codes and "OPBR707" not in codes
+    # a '..' to a file that is there: a shared folder (OPBR723), the file not opened, so not judged (OPBR707)
+    assert "OPBR723" in codes and "OPBR707" not in codes
 
 
 USDA = """#usda 1.0

@@ -306,7 +306,7 @@ def check(asset, context):
     for observation in (o for o in asset.observations if o.kind == "mtlx_image_file"):
         # the files of images no input reads as a texture (a computed texcoord, a procedural graph): the same checks
         file, node = observation.detail["file"], observation.detail["node"]
-        if not any(checked == file for _, checked in checked_files):  # (checked as some input's texture)
+        if not any(checked == file or checked_node == node for checked_node, checked in checked_files):  # (as a texture)
             yield from _check_path(asset, Texture(file=file, node=node), observation.location, context, checked_files)
 
 

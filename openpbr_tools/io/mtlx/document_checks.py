@@ -173,13 +173,16 @@ def _image_files(document, nodes, asset, where) -> None:
     materials = [node for node in nodes if node.getType() == "material"]
     upstream: set[str] = set()
     for material in materials:
-        for edge in material.traverseGraph():
-            element = edge.getUpstreamElement()
-            if element is not None:
-                upstream.add(element.getNamePath())
-            graph = element.getParent() if element is not None else None
-            if graph is not None and graph.getCategory() == "nodegraph":
-                upstream.update(node.getNamePath() for node in graph.getNodes())  # (a graph's interface-fed nodes)
+        try:
+            for edge in material.traverseGraph():
+                element = edge.getUpstreamElement()
+                if element is not None:
+                    upstream.add(element.getNamePath())
+                graph = element.getParent() if element is not None else None
+                if graph is not None and graph.getCategory() == "nodegraph":
+                    upstream.update(node.getNamePath() for node in graph.getNodes())  # (interface-fed nodes)
+        except LookupError:  # a cycle (MaterialX: "Encountered cycle"; OPBR004 reports it): what was reached so far
+            continue
     for node in nodes:
         if node.getNamePath() not in upstream:
             continue

@@ -42,6 +42,8 @@ usd-core's own validators run too and their findings go to ``asset.extra["usd_co
 
 from __future__ import annotations
 
+import copy
+
 import os
 
 from ... import colorspaces, gltf_state, tables, versioning
@@ -339,6 +341,15 @@ class _Reader(NetworkReader):
         if material is None:
             material = self.read_shader(shader_prim, shader_id, model, id_version, flavour)
             self.shaders[path] = material
+            self.asset.materials.append(material)
+        elif material.material_name is not None and material.material_location != self.location(material_prim.GetPath()):
+            # another Material's surface is this shader too (Pixar's sphereGrid stages share one among 100 Materials):
+            # each Material is a material of its own, with the shader's inputs (findings on them are the shader's,
+            # reported once: rules.dedupe)
+            material = copy.deepcopy(material)
+            material.material_name = None
+            material.extra.pop("gltf", None)
+            material.extra["shared_surface_of"] = str(shader_prim.GetPath())
             self.asset.materials.append(material)
         if material.material_name is None:
             material.material_name = material_prim.GetName()  # the prim's name; its path is material_location

@@ -184,6 +184,7 @@ TEXTURES = {
     "textures/albedo_cmyk.jpg": encoded("CMYK", "JPEG", (0, 60, 120, 0)),
     "textures/albedo.webp": encoded("RGB", "WEBP", (120, 80, 40)),
     "textures/flow_rg.png": encoded("RGB", "PNG", (255, 128, 0)),
+    "textures/normal_inward.png": encoded("RGB", "PNG", (128, 128, 0)),
 }
 
 
@@ -329,8 +330,9 @@ case("OPBR301_usd_openpbr_weight.usda", "OPBR301", "A USD OpenPBR shader with co
      usda('float inputs:coat_weight = -1'))
 case("OPBR302_specular_ior_4_5.mtlx", "OPBR302", "specular_ior 4.5, valid but above the recommended range.",
      opbr('<input name="specular_ior" type="float" value="4.5" />'))
-case("OPBR302_specular_weight_above_one.mtlx", "OPBR302", "specular_weight 1.8, allowed (unbounded above) but outside the soft range.",
-     opbr('<input name="specular_weight" type="float" value="1.8" />'))
+# (specular_weight 1.8 was a case here until session 20: OpenPBR explicitly allows it above 1, the slider's end)
+case("OPBR302_abbe_number_below_soft_range.mtlx", "OPBR302", "transmission_dispersion_abbe_number 5, valid but below the recommended 9-91 (no glass disperses that much).",
+     opbr('<input name="transmission_weight" type="float" value="1" />\n  <input name="transmission_dispersion_scale" type="float" value="1" />\n  <input name="transmission_dispersion_abbe_number" type="float" value="5" />'))
 case("OPBR303_image_address_mode_repeat.mtlx", "OPBR303", "An image's uaddressmode 'repeat' (the OpenGL word): MaterialX's enum is constant, clamp, periodic, mirror.",
      opbr('<input name="base_color" type="color3" nodename="albedo" />',
           before='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n  <input name="uaddressmode" type="string" value="repeat" />\n</image>'))
@@ -527,8 +529,9 @@ case("OPBR710_tiff_normal_without_normalmap.mtlx", "OPBR710", "A TIFF normal map
 case("OPBR704_absolute_texture_path.mtlx", "OPBR704", "An absolute path from the artist's machine.",
      opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", os.path.join(HERE, "textures", "albedo.png").replace(os.sep, "/").replace(HERE.replace(os.sep, "/"), "/home/artist/project/tex"))),
      also={"OPBR701": "an absolute path from another machine does not exist here either"})
-case("OPBR704_parent_folder_texture.mtlx", "OPBR704", "A texture path that climbs out of the asset's folder with '..'.",
-     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "../broken/textures/albedo.png")))
+case("OPBR704_parent_folder_texture.mtlx", "OPBR704", "A texture path that climbs out of the asset's folder with '..' to nothing (to an image that is there, a shared folder, it is OPBR723, information).",
+     opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "../shared/textures/albedo.png")),
+     also={"OPBR701": "nothing is there either"})
 case("OPBR704_url_texture.mtlx", "OPBR704", "A texture referenced by an http URL.",
      opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "https://cdn.example.com/albedo.png")))
 case("OPBR704_gltf_absolute_uri.gltf", "OPBR704", "A glTF image URI that is an absolute Windows path.",
@@ -537,6 +540,9 @@ case("OPBR705_empty_file.mtlx", "OPBR705", "An image node whose file input is em
      opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "")))
 case("OPBR705_gltf_empty_uri.gltf", "OPBR705", "A glTF image with an empty URI.",
      json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri=""), indent=2))
+case("OPBR724_normal_map_inward.mtlx", "OPBR724", "A normal map whose blue channel is 0 (inverted with the green): decoded, its normals face into the surface.",
+     opbr('<input name="geometry_normal" type="vector3" nodename="nm" />',
+          before=image("nmap", "textures/normal_inward.png", "vector3", None) + '\n<normalmap name="nm" type="vector3">\n  <input name="in" type="vector3" nodename="nmap" />\n</normalmap>'))
 
 # ================================================================ structure
 case("OPBR801_material_without_shader.mtlx", "OPBR801", "A surfacematerial with no surfaceshader input.",
