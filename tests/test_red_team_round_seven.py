@@ -565,3 +565,50 @@ def test_a_preview_surfaces_tangent_space_normal_graph_is_decoded_for_openpbr(tm
     assert document.validate()[0]
     assert _upstream_categories(document, "open_pbr_surface", "geometry_normal")[:3] == ["normalmap", "add", "multiply"]
     assert any(d.code == "OPBR1102" and "normalmap" in d.message for d in conversion.diagnostics)
+
+
+def test_a_tiledimages_real_world_sizes_survive_as_its_tiling(tmp_path):
+    """K-02: MaterialX's TestSuite normalmapped_surfaceshader tiles by uvtiling (12, 10) with realworldimagesize
+    (1, 2) cm and realworldtilesize (3, 2) cm; NG_tiledimage computes ((uv * uvtiling - uvoffset) /
+    realworldimagesize) * realworldtilesize, so the texture repeats 36 x 10 times. The conversion kept (12, 10) and
+    dropped both sizes without a note; the tiling now carries their ratio."""
+    import MaterialX as mx
+
+    from openpbr_tools.convert import convert_file
+
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    graph = library.getNodeGraph("NG_tiledimage_color3")
+    steps = [(n.getCategory(), [i.getInterfaceName() for i in n.getInputs() if i.getInterfaceName()])
+             for n in graph.getNodes() if n.getCategory() in ("multiply", "subtract", "divide")]
+    assert ("divide", ["realworldimagesize"]) in steps and ("multiply", ["realworldtilesize"]) in steps
+    Image.new("RGB", (4, 4), (200, 120, 40)).save(tmp_path / "wood.png")
+    body = ('<tiledimage name="tiled" type="color3">\n  <input name="file" type="filename" value="wood.png" />\n'
+            '  <input name="uvtiling" type="vector2" value="12, 10" />\n  <input name="realworldimagesize" '
+            'type="vector2" value="1.0, 2.0" unit="centimeter" unittype="distance" />\n  <input name="realworldtilesize" '
+            'type="vector2" value="3.0, 2.0" unit="centimeter" unittype="distance" />\n</tiledimage>\n'
+            + _SHADED.format(inputs='<input name="base_color" type="color3" nodename="tiled" />'))
+    source = tmp_path / "tiled.mtlx"
+    source.write_text(_document(body))
+    convert_file(str(source), str(tmp_path / "out" / "tiled.mtlx"), "open_pbr_surface")
+    document = _mx_document(tmp_path / "out" / "tiled.mtlx")
+    [tiled] = [n for n in document.getNodes() if n.getCategory() == "tiledimage"]
+    assert tuple(tiled.getInputValue("uvtiling")) == pytest.approx((36.0, 10.0))
+
+
+@pytest.mark.parametrize("anisotropy, noted", [(0.5, True), (0.0, False)])
+def test_a_coat_roughness_rescaled_for_anisotropy_is_noted(tmp_path, anisotropy, noted):
+    """K-06: Standard Surface's coat_anisotropy 0.5 changed coat_roughness 0.2 to 0.2115 in OpenPBR (the models
+    split alpha differently) with no note, where the specular_roughness twin was noted. Without anisotropy the value
+    is carried as it is, and nothing is said."""
+    from openpbr_tools.convert import convert_file
+
+    source = tmp_path / "coat.mtlx"
+    source.write_text(_document(_SHADED.format(
+        inputs=f'<input name="coat" type="float" value="1" />\n  <input name="coat_roughness" type="float" value="0.2" />\n'
+               f'  <input name="coat_anisotropy" type="float" value="{anisotropy}" />')))
+    conversion = convert_file(str(source), str(tmp_path / "out" / "coat.mtlx"), "open_pbr_surface")
+    [material] = conversion.materials
+    changed = abs(material.inputs["coat_roughness"].value.value - 0.2) > 1e-9
+    assert changed == noted
+    assert any("coat_roughness: roughness rescaled" in d.message for d in conversion.diagnostics) == noted

@@ -402,7 +402,9 @@ TO_SS = (
             converted="Conty-Kulla roughness fitted to the fuzz's albedo"),
     Mapping("coat", ("coat_weight",)),
     Mapping("coat_color", ("coat_color",)),
-    Mapping("coat_roughness", ("coat_roughness", "coat_roughness_anisotropy"), openpbr_roughness_to_ss),
+    Mapping("coat_roughness", ("coat_roughness", "coat_roughness_anisotropy"), openpbr_roughness_to_ss,
+            converted="roughness rescaled to keep the anisotropic alpha_x * alpha_y (the models square and split it "
+                      "differently)"),
     Mapping("coat_anisotropy", ("coat_roughness_anisotropy",)),
     Mapping("coat_IOR", ("coat_ior",)),
     Mapping("coat_affect_roughness", ("specular_roughness", "specular_roughness_anisotropy") + COAT_ROUGHENING,
@@ -479,7 +481,9 @@ FROM_SS = (
     Mapping("coat_darkening", ("coat",), lambda w: 0.0, when=lambda w: w > 0,
             converted="Standard Surface does not darken under a coat: OpenPBR's darkening switched off"),
     Mapping("coat_color", ("coat_color",)),
-    Mapping("coat_roughness", ("coat_roughness", "coat_anisotropy"), ss_roughness_to_openpbr),
+    Mapping("coat_roughness", ("coat_roughness", "coat_anisotropy"), ss_roughness_to_openpbr,
+            converted="roughness rescaled to keep the anisotropic alpha_x * alpha_y (the models square and split it "
+                      "differently)"),
     Mapping("coat_roughness_anisotropy", ("coat_anisotropy",)),
     Mapping("coat_ior", ("coat_IOR",)),
     Mapping("thin_film_weight", ("thin_film_thickness",), lambda t: np.where(t > 0, 1.0, 0.0)),

@@ -281,10 +281,14 @@ class GraphFollower:
         if node.getCategory() == "tiledimage":
             tiling = self.resolved_vector2(node.getInput("uvtiling"))
             offset = self.resolved_vector2(node.getInput("uvoffset"))
-            if tiling:  # uv * tiling - offset (NG_tiledimage): place2d's scale divides (a tiling of 0: one texel)
+            # NG_tiledimage: ((uv * tiling - offset) / realworldimagesize) * realworldtilesize, each size in its unit
+            # (MaterialX converts both to the renderer's): a tiling and an offset times tilesize / imagesize
+            ratio = _real_world_ratio(node)
+            if tiling or ratio != (1.0, 1.0):
+                tiling = tuple(t * r for t, r in zip(tiling or (1.0, 1.0), ratio))
                 transform.scale = tuple(1.0 / v if v else float("inf") for v in tiling)
             if offset:
-                transform.offset = offset
+                transform.offset = tuple(o * r for o, r in zip(offset, ratio))
         texcoord = _coordinates(node)
         place = self.upstream_node(texcoord) if texcoord is not None else None
         if place is not None and place.getCategory() == "place2d":
@@ -359,6 +363,27 @@ def _constant_value(follower, node, type_name: str):
         except ValueSyntaxError:
             return None
     return None
+
+
+def _real_world_ratio(node) -> tuple[float, float]:
+    """A tiledimage's realworldtilesize / realworldimagesize per axis, each size in metres where it carries a
+    distance unit (ND_tiledimage's defaults are (1, 1) both); (1, 1) where either is unusable."""
+    from ...resources import load_json  # lazy: only for a tiledimage
+
+    metres = load_json("units.json")["distance"]
+    sizes = []
+    for name in ("realworldimagesize", "realworldtilesize"):
+        port = node.getInput(name)
+        value = _vector2(port) if port is not None else (1.0, 1.0)
+        if value is None:
+            return (1.0, 1.0)
+        unit = port.getUnit() if port is not None and port.getUnitType() == "distance" else ""
+        factor = metres.get(unit, 1.0) if unit else 1.0
+        sizes.append(tuple(v * factor for v in value))
+    image, tile = sizes
+    if not all(image) or not all(tile):
+        return (1.0, 1.0)
+    return (tile[0] / image[0], tile[1] / image[1])
 
 
 def _broadcast(port) -> tuple[float, float] | None:
