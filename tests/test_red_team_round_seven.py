@@ -612,3 +612,16 @@ def test_a_coat_roughness_rescaled_for_anisotropy_is_noted(tmp_path, anisotropy,
     changed = abs(material.inputs["coat_roughness"].value.value - 0.2) > 1e-9
     assert changed == noted
     assert any("coat_roughness: roughness rescaled" in d.message for d in conversion.diagnostics) == noted
+
+
+def test_no_note_speaks_of_a_source_gltf_the_material_did_not_come_from(tmp_path):
+    """K-05: PhysicallyBased's Standard Surface soap bubble converted to glTF was told its thickness was "the source
+    glTF's volume thickness", a note meant for materials that came from glTF."""
+    from openpbr_tools.convert import convert_file
+
+    source = tmp_path / "bubble.mtlx"
+    source.write_text(_document(_SHADED.format(
+        inputs='<input name="transmission" type="float" value="1" />\n  <input name="thin_walled" type="boolean" '
+               'value="true" />\n  <input name="thin_film_thickness" type="float" value="500" />')))
+    conversion = convert_file(str(source), str(tmp_path / "out" / "bubble.gltf"))
+    assert not [d for d in conversion.diagnostics if "source glTF" in d.message]

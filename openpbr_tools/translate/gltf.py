@@ -521,7 +521,8 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
         Mapping("thickness", ("transmission_depth", "geometry_thin_walled", "transmission_weight"),
                 lambda d, thin, t: np.where((thin > 0.5) | (t <= 0), 0.0, thickness or mpu) + 0.0 * d,
                 exact=thickness is not None, matters=lambda d, thin, t: d > 0 and thin < 0.5 and t > 0,
-                converted="the source glTF's volume thickness, kept in the side channel (gltf_state)",
+                converted="the source glTF's volume thickness, kept in the side channel (gltf_state)"
+                if thickness is not None else "",
                 note="glTF's volume thickness is the mesh's; set to one scene unit, the path MaterialX's "
                      "reference renders OpenPBR's absorption over"),
         Mapping("dispersion", ("transmission_dispersion_scale", "transmission_dispersion_abbe_number"),
