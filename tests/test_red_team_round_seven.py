@@ -621,7 +621,7 @@ def test_no_note_speaks_of_a_source_gltf_the_material_did_not_come_from(tmp_path
 
     source = tmp_path / "bubble.mtlx"
     source.write_text(_document(_SHADED.format(
-        inputs='<input name="transmission" type="float" value="1" />\n  <input name="thin_walled" type="boolean" '
-               'value="true" />\n  <input name="thin_film_thickness" type="float" value="500" />')))
+        inputs='<input name="transmission" type="float" value="1" />\n  <input name="thin_film_thickness" type="float" '
+               'value="500" />')))  # (solid, no transmission depth: glTF gets a thickness of one scene unit)
     conversion = convert_file(str(source), str(tmp_path / "out" / "bubble.gltf"))
     assert not [d for d in conversion.diagnostics if "source glTF" in d.message]
