@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import base64
 import json
+import math
 import re
 import struct
 
@@ -211,7 +212,8 @@ def check(asset, context):
                 if isinstance(use.get("image"), int) and use["image"] < len(images)}
     reported: set = set()
     for primitive in facts.get("primitives", ()):
-        material = materials.get(primitive.get("material")) if not isinstance(primitive.get("material"), bool) else None
+        index = primitive.get("material")
+        material = materials.get(index) if isinstance(index, int) and not isinstance(index, bool) else None
         geometry = primitive.get("geometry")
         if material is None or not geometry:
             continue
@@ -264,6 +266,14 @@ def _transformed(texture) -> bool:
     return texture.uv is not None and not texture.uv.is_identity
 
 
+def _gltf_scale(uv) -> tuple[float, float]:
+    """KHR_texture_transform's scale from the place2d one (its reciprocal, :mod:`openpbr_tools.io.gltf.uv`); a place2d
+    scale of 0 (a glTF scale beyond float range) is an infinite glTF scale."""
+    if uv is None:
+        return 1.0, 1.0
+    return tuple(1.0 / s if s else float("inf") for s in uv.scale)
+
+
 def _texture_set_transform(material, context):
     base = material.inputs.get("base_color")
     if base is None or base.texture is None or not _transformed(base.texture):
@@ -274,8 +284,8 @@ def _texture_set_transform(material, context):
               and (material.inputs[p].texture.texcoord or 0) == texcoord}
     if not others or any(_transformed(texture) for texture in others.values()):
         return
-    uv, names = base.texture.uv, sorted(others)
-    scale = (1.0 / uv.scale[0], 1.0 / uv.scale[1])
+    names = sorted(others)
+    scale = _gltf_scale(base.texture.uv)
     yield context.diagnostic(
         BASE_COLOUR_TRANSFORM_ONLY, f"{material.name}: baseColorTexture has a KHR_texture_transform (scale "
         f"{scale[0]:g} x {scale[1]:g}) but {', '.join(names)} on the same UV set {texcoord} ha{'s' if len(names) == 1 else 've'} "
@@ -321,7 +331,9 @@ def _uv_precision(asset, primitive, number, uv_set, textures, image_of, reported
         size = (image.get("width"), image.get("height"))
         if not all(isinstance(s, int) and s > 0 for s in size):
             continue
-        scale = (1.0, 1.0) if texture.uv is None else (abs(1.0 / texture.uv.scale[0]), abs(1.0 / texture.uv.scale[1]))
+        scale = tuple(abs(s) for s in _gltf_scale(texture.uv))
+        if not all(math.isfinite(s) for s in scale):
+            continue  # (a scale beyond float range is an invalid property, OPBR1210's)
         if texture.uv is not None and texture.uv.rotate:
             scale = (max(scale),) * 2  # (rotated, either axis of the image may run along u)
             size = (max(size),) * 2
