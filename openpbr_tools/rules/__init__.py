@@ -40,6 +40,7 @@ FAMILIES = (
     "usd_shading",
     "gltf",
     "gltf_meshes",
+    "gltf_geometry",
     "gltf_images",
     "gltf_plausibility",
     "gltf_structure",
@@ -48,7 +49,7 @@ FAMILIES = (
 
 #: Families that check one input format only (their modules, and what they import, load only for it).
 FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "usd_shading": "usd", "gltf": "gltf",
-                "gltf_meshes": "gltf", "gltf_images": "gltf", "gltf_plausibility": "gltf",
+                "gltf_meshes": "gltf", "gltf_geometry": "gltf", "gltf_images": "gltf", "gltf_plausibility": "gltf",
                 "gltf_structure": "gltf", "mtlx_document": "mtlx", "translation": None}
 
 

@@ -432,6 +432,18 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1240": ("An untextured white emission on a textured material adds full white at every texel: the surface "
                  "renders flat white and its texture never shows (an exporter's default emission colour); the "
                  "glTF-Validator does not judge values.", GLTF),
+    "OPBR1241": ("COLOR_0 multiplies the base colour in every glTF viewer: all zeros (an empty vertex-colour layer "
+                 "exported by default) renders the material black; the glTF-Validator does not read vertex colours.", GLTF),
+    "OPBR1242": ("A KHR_animation_pointer channel whose pointer names no defined property animates nothing (the "
+                 "extension's MUST); the glTF-Validator does not resolve material pointers.",
+                 f"{khr('KHR_animation_pointer')}; {_GLTF}specification/2.0/ObjectModel.adoc"),
+    "OPBR1243": ("A texture transform is per textureInfo: tiling the base colour alone slides it off the normal, "
+                 "metallic-roughness and occlusion maps of its texture set; no validator compares transforms.",
+                 f"{khr('KHR_texture_transform')}; {GLTF}"),
+    "OPBR1244": ("glTF samples one image per texture and wraps or clamps coordinates: a UDIM layout shows tile 1001's "
+                 "image on every tile's islands; no validator reads UV layouts.", f"{GLTF}; {khr('KHR_texture_transform')}"),
+    "OPBR1245": ("float32 texture coordinates far from 0 are quantised coarser than a texel: the texture renders blocky "
+                 "and swims; no validator judges magnitudes.", GLTF),
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
                  "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
                  "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),

@@ -8,7 +8,8 @@ zeros, and a sparse one replaces some of them; neither is read here (the caller 
 
 What is read: a TANGENT's w (:func:`tangent_signs`), and for a primitive with a material (:func:`primitive_problems`)
 its POSITION, NORMAL, TANGENT, TEXCOORD_n and COLOR_n values (finite? NORMAL and TANGENT xyz of unit length?) and
-its indices (below the vertex count?).
+its indices (below the vertex count?); :mod:`.geometry` reads whole attributes (:func:`vectors`) and triangle
+indices (:func:`indices`).
 
 Cost is bounded: at most :data:`MAX_ELEMENTS` elements of one accessor are read, as one strided NumPy
 view of the buffer (no copy of the buffer, no Python loop over vertices).
@@ -36,6 +37,9 @@ _COMPONENTS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}
 _FORMATS = {5126: ("<f4", None), 5122: ("<i2", 32767.0), 5120: ("i1", 127.0)}  # dtype, normalisation divisor
 _FLOATS = {5126: ("<f4", None)}
 _INDICES = {5121: ("u1", None), 5123: ("<u2", None), 5125: ("<u4", None)}  # 3.7.2.1: indices are unsigned integers
+#: FLOAT, and the normalised integers glTF 2.0 (3.11) maps to [0, 1] (unsigned: ``c / 255``, ``c / 65535``, COLOR_n and
+#: TEXCOORD_n) or [-1, 1] (signed, the KHR_mesh_quantization formats): every attribute format whose values are fractions.
+_FRACTIONS = {**_FORMATS, 5121: ("u1", 255.0), 5123: ("<u2", 65535.0)}
 
 
 def component(document: GltfDocument, index, which: int):
@@ -48,6 +52,23 @@ def component(document: GltfDocument, index, which: int):
         return None
     values, divisor = found[0][:, which].astype("float64"), found[1]
     return values if divisor is None else _dequantised(values, divisor)
+
+
+def vectors(document: GltfDocument, index):
+    """Every element (up to :data:`MAX_ELEMENTS`) of accessor ``index`` as a float64 ``(count, width)`` NumPy array,
+    dequantised when it is a normalised integer accessor; ``None`` when it cannot be read so (as :func:`component`;
+    unnormalised integers too, whose meaning depends on KHR_mesh_quantization's node transform)."""
+    found = _elements(document, index, _FRACTIONS)
+    if found is None:
+        return None
+    values = found[0].astype("float64")
+    return values if found[1] is None else _dequantised(values, found[1])
+
+
+def indices(document: GltfDocument, index):
+    """The vertex indices of accessor ``index`` (up to :data:`MAX_ELEMENTS`) as an int64 array, ``None`` unreadable."""
+    found = _elements(document, index, _INDICES)
+    return None if found is None else found[0][:, 0].astype("int64")
 
 
 def _dequantised(values, divisor: float):

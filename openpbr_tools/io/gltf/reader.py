@@ -29,7 +29,8 @@ the translation; reported as archived), unknown ones). Every value's :class:`Loc
 and the glTF property name.
 
 Facts for the glTF rules (extensions, images, each primitive's UV sets, attribute formats, extent and tangent signs, the
-values of primitives with a material: :mod:`.accessors`; variants; repeated JSON names) are in
+values of primitives with a material: :mod:`.accessors`, and their vertex colour and UV layout: :mod:`.geometry`;
+variants; repeated JSON names; animation pointers to undefined material properties: :mod:`.animation_pointers`) are in
 ``Asset.extra["gltf"]``; broken references and resources are :class:`Observation` s, each reported once.
 Only a file that is not glTF at all raises :class:`ReadError` (the container's limits are :mod:`.document`'s).
 
@@ -50,7 +51,7 @@ import re
 from ... import tables, versioning
 from ...model import Asset, Constant, Input, Location, Material, Texture
 from .. import ReadError
-from . import accessors, drafts, layout, schema, slots
+from . import accessors, animation_pointers, drafts, geometry, layout, schema, slots
 from .document import GltfDocument, ResourceError, load_document
 from .extension_reader import ExtensionReading, thin_diffuse_transmission
 from .textures import TextureReading, json_float, json_numbers, json_text
@@ -87,7 +88,7 @@ class _Reader(TextureReading, ExtensionReading):
         self.observed: set = set()  # (kind, pointer, message): the same problem reached twice is reported once
         self.texture_pointers: set[str] = set()
         self.tangent_cache: dict[int, dict | None] = {}
-        self.data_cache: dict = {}  # the accessors whose values accessors.primitive_problems judged
+        self.data_cache: dict = {}  # the accessors whose values accessors.primitive_problems and geometry judged
         self.package_files: set[str] = set()  # embedded images that decode: the textures rule looks them up here
         self.facts: dict = {"extensions_used": _names(document.json.get("extensionsUsed")),
                             "extensions_required": _names(document.json.get("extensionsRequired")),
@@ -155,6 +156,7 @@ class _Reader(TextureReading, ExtensionReading):
             self.asset.observe("dangling_reference", self.location("/scene"), attribute="scene", target=scene)
         self.facts["accessor_problems"] = layout.accessor_problems(self.document)
         self.facts["extension_sources"] = layout.extension_sources(self.document)
+        self.facts["animation_pointers"] = animation_pointers.material_pointer_problems(self.document)
 
     def read_primitives(self) -> None:
         for mesh_index, mesh in enumerate(self.document.array("meshes")):
@@ -166,24 +168,22 @@ class _Reader(TextureReading, ExtensionReading):
                 sets = sorted(n for n in (_set_of(name, "TEXCOORD_") for name in attributes) if n is not None)
                 formats = {name: self.accessor_format(accessor) for name, accessor in attributes.items()  # (rules.gltf_meshes)
                            if name in ("NORMAL", "TANGENT") or any(_set_of(name, s) is not None for s in ("TEXCOORD_", "COLOR_"))}
-                self.facts["primitives"].append({"pointer": f"/meshes/{mesh_index}/primitives/{index}",
-                                                 "material": primitive.get("material"), "texcoords": sets,
+                material, where = primitive.get("material"), f"/meshes/{mesh_index}/primitives/{index}"
+                self.facts["primitives"].append({"pointer": where, "material": material, "texcoords": sets,
                                                  "tangents": "TANGENT" in attributes, "normals": "NORMAL" in attributes,
                                                  "attribute_formats": {n: f for n, f in formats.items() if f},
                                                  "extent": accessors.position_extent(self.document, attributes.get("POSITION")),
                                                  "tangent_signs": accessors.tangent_signs(self.document, attributes.get("TANGENT"),
                                                                                           self.tangent_cache)})
-                material, where = primitive.get("material"), f"/meshes/{mesh_index}/primitives/{index}"
                 if material is not None and self.document.item("materials", material) is None:
                     self.asset.observe("dangling_reference", self.location(where, "material"), attribute="material",
                                        target=material)
                 elif material is not None:  # the data of the primitives the file's materials shade
-                    self.facts["accessor_problems"] += accessors.primitive_problems(self.document, where, primitive,
-                                                                                    self.data_cache)
+                    self.facts["accessor_problems"] += accessors.primitive_problems(self.document, where, primitive, self.data_cache)
+                    self.facts["primitives"][-1]["geometry"] = geometry.primitive_geometry(self.document, primitive, self.data_cache)
 
     def accessor_format(self, index) -> tuple | None:
-        """``(type, componentType, normalized)`` of the accessor at ``index``, or ``None`` when there is
-        none (a dangling index is judged elsewhere)."""
+        """``(type, componentType, normalized)`` of accessor ``index``, or ``None`` (a dangling index is judged elsewhere)."""
         accessor = self.document.item("accessors", index)
         if accessor is None:
             return None

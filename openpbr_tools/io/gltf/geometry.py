@@ -1,0 +1,134 @@
+"""What a primitive's vertex data does to the material drawn on it: its vertex colour and its texture coordinates.
+
+glTF 2.0, 3.7.2.1 Meshes: "if a primitive specifies a vertex color using the attribute semantic property COLOR_0,
+then this value acts as an additional linear multiplier to base color", so a COLOR_0 that is black on every vertex
+draws the material black whatever its base colour (:func:`primitive_geometry`'s ``black_colour``). Texture
+coordinates are float32 (or normalised integers in [0, 1]); two facts of each UV set a texture reads are kept:
+
+* ``largest``: the largest magnitude of u and of v, which fixes the coarsest step float32 can take there
+  (``numpy.spacing``): far from 0, neighbouring texels can no longer be told apart;
+* ``udim_tiles``: for a *tile-per-triangle* layout, ``{"tiles", "tiles_with_own_islands"}``, else ``None``: every
+  triangle lies within one unit square of UV space and the triangles lie in two or more of them, all in UDIM's ten
+  columns; ``tiles`` are those squares as UDIM numbers (1001 + u + 10 v', v' = -floor(v), glTF's V pointing down the
+  image), ``tiles_with_own_islands`` those holding a UV island confined to them (islands: triangles joined by edges
+  whose ends share position and coordinates). A mapping continuous across squares, a floor repeated 0..4 with
+  REPEAT wrap, is one island over many squares; UDIM islands keep to their tiles. glTF has no UDIM: a texture
+  repeats, so every tile shows the one image.
+
+Only triangle lists (mode 4, the default) are laid out; an accessor that is sparse or not FLOAT or normalised is
+not read (:mod:`.accessors`, bounded to its first :data:`~.accessors.MAX_ELEMENTS` elements), nor one without a
+bufferView (zeros by 3.6.2.2, but in practice a stub: no verdict on data that is not there). Each accessor's facts are
+computed once (``cache``).
+"""
+
+from __future__ import annotations
+
+from . import accessors
+from .document import GltfDocument
+
+_TRIANGLES = 4
+_TILE_SLACK = 1e-6  # a vertex on a tile's far edge (u = 2.0 for tile 1001 + 1) still lies in that tile
+_WELD = 1e5  # positions and coordinates equal to 1e-5 are one vertex when edges are matched
+UDIM_COLUMNS = 10
+
+
+def primitive_geometry(document: GltfDocument, primitive: dict, cache: dict) -> dict:
+    """``{"black_colour": {"accessor", "count"} or None, "uv_sets": {n: {"accessor", "largest", "udim_tiles"}}}`` for one
+    mesh primitive (see the module docstring)."""
+    attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
+    colour = attributes.get("COLOR_0")
+    found = {"black_colour": _cached(cache, ("black", colour), lambda: _black(document, colour)), "uv_sets": {}}
+    mode = primitive.get("mode", _TRIANGLES)
+    position, index = attributes.get("POSITION"), primitive.get("indices")
+    for name, accessor in attributes.items():
+        if not name.startswith("TEXCOORD_") or not name[9:].isdigit() or not _natural(accessor):
+            continue
+        key = ("uv", accessor, position, index, mode)
+        facts = _cached(cache, key, lambda: _uv_set(document, accessor, position, index, mode))
+        if facts is not None:
+            found["uv_sets"][int(name[9:])] = facts
+    return found
+
+
+def _cached(cache: dict, key, compute):
+    if key not in cache:
+        cache[key] = compute()
+    return cache[key]
+
+
+def _black(document: GltfDocument, index) -> dict | None:
+    accessor = document.item("accessors", index) if _natural(index) else None
+    if accessor is None or accessor.get("type") not in ("VEC3", "VEC4") or not _natural(accessor.get("count")):
+        return None
+    values = accessors.vectors(document, index)
+    if values is None or values.shape[0] < accessor["count"] or not values.size:  # (not read whole: no verdict)
+        return None
+    return {"accessor": index, "count": accessor["count"]} if not values[:, :3].any() else None
+
+
+def _uv_set(document: GltfDocument, index, position, indices, mode) -> dict | None:
+    import numpy  # lazy: only for a file with mesh data
+
+    uv = accessors.vectors(document, index)
+    if uv is None or uv.shape[1] != 2:
+        return None
+    finite = numpy.isfinite(uv).all(axis=1)
+    largest = numpy.abs(uv[finite]).max(axis=0).tolist() if finite.any() else [0.0, 0.0]
+    tiles = _udim_tiles(document, uv, position, indices) if mode == _TRIANGLES and finite.all() else None
+    return {"accessor": index, "largest": largest, "udim_tiles": tiles}
+
+
+def _udim_tiles(document: GltfDocument, uv, position, index) -> dict | None:
+    import numpy  # lazy: as in _uv_set
+
+    if numpy.floor(uv.min(axis=0)).tolist() == numpy.floor(uv.max(axis=0) - _TILE_SLACK).tolist():
+        return None  # one unit square holds all: no layout across tiles (the common case, decided without indices)
+    corners = numpy.arange(uv.shape[0]) if index is None else accessors.indices(document, index)
+    if corners is None or corners.size < 3 or corners.max() >= uv.shape[0]:
+        return None
+    triangles = corners[: corners.size - corners.size % 3].reshape(-1, 3)
+    coordinates = uv[triangles]  # (triangles, 3 corners, u v)
+    low = numpy.floor(coordinates.min(axis=1))
+    if (coordinates.max(axis=1) > low + 1.0 + _TILE_SLACK).any():
+        return None  # a triangle crosses a tile's edge: a continuous (tiling) mapping
+    squares = numpy.unique(low, axis=0)
+    if len(squares) < 2 or not ((squares[:, 0] >= 0) & (squares[:, 0] < UDIM_COLUMNS) & (squares[:, 1] <= 0)).all():
+        return None
+    positions = accessors.vectors(document, position) if _natural(position) else None
+    if positions is None or positions.shape[0] != uv.shape[0] or positions.shape[1] != 3:
+        return None
+    welded = numpy.round(numpy.hstack([positions, uv]) * _WELD)
+    _, vertex = numpy.unique(welded, axis=0, return_inverse=True)
+    vertex = vertex.reshape(-1)[triangles]
+    island = _components(numpy.concatenate([vertex[:, :2], vertex[:, 1:]]), int(vertex.max()) + 1)[vertex[:, 0]]
+    tile = (low[:, 0] - UDIM_COLUMNS * low[:, 1]).astype("int64")  # (u, -v) -> u + 10 v'
+    pairs = numpy.unique(numpy.column_stack([island, tile]), axis=0)
+    islands, spans = numpy.unique(pairs[:, 0], return_counts=True)
+    confined = pairs[numpy.isin(pairs[:, 0], islands[spans == 1]), 1]
+    return {"tiles": sorted(int(1001 + t) for t in numpy.unique(tile)),
+            "tiles_with_own_islands": sorted(int(1001 + t) for t in numpy.unique(confined))}
+
+
+def _components(edges, count: int):
+    """The connected component of each of ``count`` vertices joined by ``edges`` (pairs), as the smallest vertex of
+    each: hooking every vertex to its smallest neighbour's label, then pointer jumping, until nothing changes."""
+    import numpy  # lazy: as in _uv_set
+
+    label = numpy.arange(count)
+    while True:
+        a, b = label[edges[:, 0]], label[edges[:, 1]]
+        hooked = label.copy()
+        numpy.minimum.at(hooked, a, numpy.minimum(a, b))
+        numpy.minimum.at(hooked, b, numpy.minimum(a, b))
+        while True:
+            jumped = hooked[hooked]
+            if (jumped == hooked).all():
+                break
+            hooked = jumped
+        if (hooked == label).all():
+            return label
+        label = hooked
+
+
+def _natural(value) -> bool:
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
