@@ -252,13 +252,11 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         source_name = textured[0]
         entry = material.inputs[source_name]
         if _carriable(entry) and len(textured) == 1 and probes.is_identity(mapping, source_name, values):
-            carried = _carried(entry, mapping.target, parameter.type)  # rewired as is
-            if parameter.role == "normal":  # (a graph between tangent- and world-space normals: re-expressed)
+            carried, done = _carried(entry, mapping.target, parameter.type), None  # rewired as is, but a normal
+            if parameter.role == "normal":  # graph between tangent- and world-space normals: re-expressed
                 carried, done = normal_graphs.carried_normal(carried, material.model, target_model)
-                if carried is None:
-                    say(NOT_CARRIED, f"{mapping.target}: {done}", source_name)
-                elif done:
-                    say(CONVERTED, f"{mapping.target}: {done}", source_name)
+            if done:
+                say(CONVERTED if carried is not None else NOT_CARRIED, f"{mapping.target}: {done}", source_name)
             if carried is not None:
                 result.inputs[mapping.target] = carried
             handled.add(source_name)

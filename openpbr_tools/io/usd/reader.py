@@ -6,7 +6,8 @@ resolved (sublayers, references, payloads loaded, variants as selected) by
 :class:`~.guard.StageGuard`, which refuses files that would crash usd-core and never opens a
 layer outside the asset's folder (such arcs are reported, ``usd_arc_outside``); every ``Material`` prim is
 visited and each of its surface outputs (``outputs:surface``, ``outputs:mtlx:surface``,
-``outputs:<context>:surface``) is followed, through node graphs, to a shader. Shaders with the id of
+``outputs:<context>:surface``) is followed, through node graphs, to a shader (a shader two Materials share
+is a material of each). Shaders with the id of
 a model the toolkit knows become :class:`~openpbr_tools.model.Material` objects: OpenPBR
 (``ND_open_pbr_surface_surfaceshader`` and versioned ids), Standard Surface, glTF PBR and
 UsdPreviewSurface (USD's ``UsdPreviewSurface`` and MaterialX's ``ND_UsdPreviewSurface_surfaceshader``).
@@ -30,20 +31,17 @@ Each shader input becomes an :class:`~openpbr_tools.model.Input`:
   ColorSpaceAPI space under its MaterialX name (``lin_ap1_scene`` -> ``acescg``) so colour maths
   elsewhere can use it; ``Asset.colorspace`` is the default prim's, as authored.
 
-The version: a versioned id (``..._surfaceshader_05``) or the ``customData`` the writer records
-(``openpbr:version``) states it; an unversioned id only says "whatever was current", so the version
-is inferred from the input names as for MaterialX. ``Asset.meters_per_unit`` is ``None`` when the
-stage does not author ``metersPerUnit`` (USD then means 0.01).
+The version: a versioned id (``..._surfaceshader_05``) or the writer's ``customData`` (``openpbr:version``);
+an unversioned id only says "whatever was current", so it is inferred from the input names as for MaterialX.
+``Asset.meters_per_unit`` is ``None`` when the stage does not author ``metersPerUnit`` (USD then means 0.01).
 
-USD has no reliable line numbers: a :class:`Location` is the prim path plus the attribute name
-(without ``inputs:``). Facts the USD rules judge are recorded as observations (``usd_*`` kinds);
-usd-core's own validators run too and their findings go to ``asset.extra["usd_core_findings"]``.
+A :class:`Location` is the prim path plus the attribute name (USD has no reliable line numbers). Facts the
+USD rules judge are observations (``usd_*``); usd-core's validators' findings: ``asset.extra["usd_core_findings"]``.
 """
 
 from __future__ import annotations
 
 import copy
-
 import os
 
 from ... import colorspaces, gltf_state, tables, versioning
@@ -326,9 +324,7 @@ class _Reader(NetworkReader):
         if flavour == "usd" and context == MATERIALX_CONTEXT:  # the glslfx id under MaterialX's render context
             self.asset.observe("usd_preview_in_mtlx_context", where, id=shader_id, shader=str(shader_prim.GetPath()))
         accepted = ("surface",) if flavour == "usd" else ("out", "surface")
-        # a connection to another output the shader prim declares (Pixar's own test stages connect a
-        # UsdPreviewSurface's outputs:out) still names the shader: UsdShade's ComputeSurfaceSource and Storm
-        # render it
+        # another output the shader declares (Pixar's stages connect outputs:out) still names it, as in Storm
         if output_name not in accepted and not shader_prim.GetAttribute(f"outputs:{output_name}"):
             self.asset.observe(
                 "dangling_reference", where, attribute=where.input,
@@ -343,13 +339,8 @@ class _Reader(NetworkReader):
             self.shaders[path] = material
             self.asset.materials.append(material)
         elif material.material_name is not None and material.material_location != self.location(material_prim.GetPath()):
-            # another Material's surface is this shader too (Pixar's sphereGrid stages share one among 100 Materials):
-            # each Material is a material of its own, with the shader's inputs (findings on them are the shader's,
-            # reported once: rules.dedupe)
-            material = copy.deepcopy(material)
-            material.material_name = None
-            material.extra.pop("gltf", None)
-            material.extra["shared_surface_of"] = str(shader_prim.GetPath())
+            material = copy.deepcopy(material)  # another Material's surface too (Pixar's sphereGrid): one of its own
+            material.material_name, material.extra = None, {k: v for k, v in material.extra.items() if k != "gltf"}
             self.asset.materials.append(material)
         if material.material_name is None:
             material.material_name = material_prim.GetName()  # the prim's name; its path is material_location
@@ -363,8 +354,7 @@ class _Reader(NetworkReader):
                          if str(o.GetBaseName()).endswith("displacement") and o.GetAttr().GetConnections()]
             if displaced:  # a displacement shader: no conversion carries it (convert notes it)
                 material.extra["displacement"] = displaced[0]
-            # MaterialX's name for it, so colour maths elsewhere (plausibility) can use it
-            space = self.inherited_colorspace(material_prim)
+            space = self.inherited_colorspace(material_prim)  # under MaterialX's name, for colour maths elsewhere
             material.colorspace = (colorspaces.materialx_equivalent(space) or space) if space else None
 
     # -- shaders ----------------------------------------------------------------------------

@@ -540,6 +540,8 @@ case("OPBR705_empty_file.mtlx", "OPBR705", "An image node whose file input is em
      opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "")))
 case("OPBR705_gltf_empty_uri.gltf", "OPBR705", "A glTF image with an empty URI.",
      json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri=""), indent=2))
+case("OPBR1243_gltf_transform_on_base_colour_only.gltf", "OPBR1243", "KHR_texture_transform tiles the base colour 4 x 4 while the normal map on the same UV set stays at 1 x: the texture set slides apart.",
+     all_rules()["OPBR1243"].failing)
 case("OPBR724_normal_map_inward.mtlx", "OPBR724", "A normal map whose blue channel is 0 (inverted with the green): decoded, its normals face into the surface.",
      opbr('<input name="geometry_normal" type="vector3" nodename="nm" />',
           before=image("nmap", "textures/normal_inward.png", "vector3", None) + '\n<normalmap name="nm" type="vector3">\n  <input name="in" type="vector3" nodename="nmap" />\n</normalmap>'))
