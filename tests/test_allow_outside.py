@@ -74,12 +74,18 @@ def _codes(path, allow=()) -> set[str]:
 
 @pytest.mark.parametrize("name, refused", [
     ("look.mtlx", {"OPBR009"}),  # the include (the texture, an image that is there, is OPBR723: information)
-    ("stage.usda", {"OPBR1011"}),
+    ("stage.usda", set()),  # its ../shared/geometry.usda is there: OPBR1039, an info (not opened), below
     ("m.gltf", {"OPBR704"}),
 ])
 def test_outside_references_are_reported_and_allowed_folders_are_read(tree, name, refused):
     assert refused <= _codes(tree / "asset" / name)
     assert not _codes(tree / "asset" / name, allow=[tree / "shared"])
+    if name == "stage.usda":
+        shared = validate_paths([str(tree / "asset" / name)], options=Options(use_config=False, jobs=1))
+        assert "OPBR1039" in {d.code for d in shared.diagnostics}
+        allowed = validate_paths([str(tree / "asset" / name)],
+                                 options=Options(use_config=False, jobs=1, allow_outside=(str(tree / "shared"),)))
+        assert "OPBR1039" not in {d.code for d in allowed.diagnostics}
 
 
 def test_allowing_one_folder_does_not_allow_its_neighbours(tree):

@@ -625,3 +625,73 @@ def test_no_note_speaks_of_a_source_gltf_the_material_did_not_come_from(tmp_path
                'value="500" />')))  # (solid, no transmission depth: glTF gets a thickness of one scene unit)
     conversion = convert_file(str(source), str(tmp_path / "out" / "bubble.gltf"))
     assert not [d for d in conversion.diagnostics if "source glTF" in d.message]
+
+
+_LOOKS = """#usda 1.0
+def Scope "Looks"
+{
+    def Material "M_car"
+    {
+        token outputs:surface.connect = </Looks/M_car/S.outputs:surface>
+        def Shader "S"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            color3f inputs:diffuseColor = (0.6, 0.1, 0.1)
+            token outputs:surface
+        }
+    }
+}
+"""
+_VEHICLE = """#usda 1.0
+(
+    defaultPrim = "Car"
+    metersPerUnit = 1
+    upAxis = "Y"
+)
+def Xform "Car"
+{
+    def Scope "Looks" (
+        references = @../materials/looks.usda@</Looks>
+    )
+    {
+    }
+    def Mesh "Body" (
+        prepend apiSchemas = ["MaterialBindingAPI"]
+    )
+    {
+        rel material:binding = </Car/Looks/M_car>
+        int[] faceVertexCounts = [3]
+        int[] faceVertexIndices = [0, 1, 2]
+        point3f[] points = [(0, 0, 0), (1, 0, 0), (0, 1, 0)]
+    }
+}
+"""
+
+
+def test_a_usd_arc_into_a_shared_folder_is_information_and_what_it_brings_is_not_called_missing(tmp_path):
+    """P's F11 and F13: usd-wg's Vehicles kit references ../materials/... and binds the materials it brings; each file
+    validated on its own got an OPBR1011 error per arc (1,939 across usd-wg) and an OPBR1017 error per binding to a
+    material the unopened layer holds. usd-core composes and binds them (the anchor). Now: OPBR1039, an info, no
+    OPBR1017, and the folder that holds both, validated, reads the material."""
+    from pxr import Usd, UsdShade
+
+    from openpbr_tools.validate import validate_paths
+
+    (tmp_path / "materials").mkdir()
+    (tmp_path / "vehicles").mkdir()
+    (tmp_path / "materials" / "looks.usda").write_text(_LOOKS)
+    path = tmp_path / "vehicles" / "car.usda"
+    path.write_text(_VEHICLE)
+    alone = {d.code: str(d.severity) for d in validate_file(str(path)).diagnostics}
+    assert alone.get("OPBR1039") == "info" and "OPBR1011" not in alone and "OPBR1017" not in alone
+    tree = validate_paths([str(tmp_path)])
+    assert not [d for d in tree.diagnostics if d.code in ("OPBR1011", "OPBR1039", "OPBR1017")]
+    assert sum(f.materials for f in tree.files if f.path.endswith("car.usda")) >= 1
+    copy = tmp_path / "vehicles" / "anchor.usda"  # (a copy: a layer usd-core holds open is not read again safely)
+    copy.write_text(_VEHICLE)
+    stage = Usd.Stage.Open(str(copy))
+    bound, _ = UsdShade.MaterialBindingAPI(stage.GetPrimAtPath("/Car/Body")).ComputeBoundMaterial()
+    assert bound and str(bound.GetPath()) == "/Car/Looks/M_car"
+    copy.unlink()
+    (tmp_path / "materials" / "looks.usda").unlink()
+    assert _codes(path).get("OPBR1011") == "error" or "OPBR002" in _codes(path)  # a '..' to nothing stays a defect

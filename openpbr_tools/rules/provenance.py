@@ -352,6 +352,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  f"{_USD}pxr/usd/usdGeom/schema.usda; https://graphics.pixar.com/opensubdiv/docs/subdivision_surfaces.html"),
     "OPBR1011": ("An arc outside the asset breaks when the asset moves or is packaged, and reads files the "
                  "asset's owner did not ship; the toolkit never opens it.", f"{USDZ}; {USD_COMPLIANCE}"),
+    "OPBR1039": ("Nothing renders wrong: a relative arc into a shared folder resolves wherever the tree is checked out "
+                 "(usd-wg's ../_common); the validator only declines to open outside the asset's folder.",
+                 "usd-wg/assets:full_assets/Vehicles; " + USD_COMPLIANCE),
     "OPBR1012": ("The USDZ specification requires stored (uncompressed), relative, aligned entries; ARKit and "
                  "usd-core refuse or mis-read others, and '..' names can write outside on extraction.",
                  f"{USDZ}; {USDZ_FORMAT}"),

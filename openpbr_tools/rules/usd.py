@@ -246,6 +246,22 @@ ARC_OUTSIDE = Rule(
         'defaultPrim = "M"\n', 'defaultPrim = "M"\n    subLayers = [@../shared/looks.usda@]\n'),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
 )
+ARC_SHARED_FOLDER = Rule(
+    "OPBR1039", "usd-arc-shared-folder", Severity.INFO,
+    "A sublayer, reference or payload climbs out of the asset's folder with '..' to a layer that is there (a shared "
+    "folder: usd-wg's ../_common); it is not opened.",
+    "Relative arcs into a shared folder are how USD asset repositories are laid out (the USD working group's assets "
+    "reference ../_common; its Vehicles kit ../materials), and they resolve wherever the tree is checked out, so "
+    "this is no defect. The validator still reads nothing outside the asset's folder: what the layer brings is not "
+    "checked, and a binding to a material it would compose is not reported as missing. Validate the folder that "
+    "holds both (a folder named on the command line is the tree its files may read from) or pass --allow-outside. "
+    "An absolute path, a URL, a variable expression, a symbolic link or a '..' to nothing stays OPBR1011.",
+    passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace(
+        'defaultPrim = "M"\n', 'defaultPrim = "M"\n    subLayers = [@../shared/looks.usda@]\n'),
+    passing_name="assets/example.usda", failing_name="assets/example.usda", formats=("usd",),
+    example_files=("shared/looks.usda",),
+)
 PACKAGE_ENTRY = Rule(
     "OPBR1012", "usdz-unsafe-entry", Severity.ERROR,
     "A USDZ package holds an entry whose name is absolute, climbs out with '..' or contains a "
@@ -283,7 +299,8 @@ MTLX_REFERENCE = Rule(
 
 
 RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
-         OUTPUT_TYPE_DIFFERS, USD_CORE, USD_CORE_BINDING, ARC_OUTSIDE, PACKAGE_ENTRY, MTLX_REFERENCE, REMAPPED_NAME)
+         OUTPUT_TYPE_DIFFERS, USD_CORE, USD_CORE_BINDING, ARC_OUTSIDE, ARC_SHARED_FOLDER, PACKAGE_ENTRY, MTLX_REFERENCE,
+         REMAPPED_NAME)
 
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
@@ -308,7 +325,8 @@ def set_aside(asset) -> set[str]:
     """The prims whose MaterialX arc was set aside (OPBR1013), as their layers name them; a sublayered
     document's prims sit under /MaterialX (UsdMtlx's root)."""
     arcs = [o for o in asset.observations if o.kind == "usd_mtlx_reference"]
-    return {o.location.path or "/MaterialX" for o in arcs}
+    shared = [o for o in asset.observations if o.kind == "usd_arc_outside" and o.detail.get("shared") and o.location.path]
+    return {o.location.path or "/MaterialX" for o in arcs} | {o.location.path for o in shared}
 
 
 def under(path: str, prims: set[str]) -> bool:
@@ -357,6 +375,11 @@ def _observations(asset, context):
             )
         elif observation.kind == "usd_colorspace":
             yield from colorspace_name(detail, where, context)
+        elif observation.kind == "usd_arc_outside" and detail.get("shared"):
+            yield context.diagnostic(
+                ARC_SHARED_FOLDER, f"{detail['arc']} @{detail['asset']}@ climbs out of the asset's folder to a layer that "
+                "is there: not opened, so what it brings is not validated", where,
+                hint="validate the folder that holds both, or pass --allow-outside to follow it")
         elif observation.kind == "usd_arc_outside":
             yield context.diagnostic(
                 ARC_OUTSIDE, f"{detail['arc']} @{detail['asset']}@ {detail['reason']}: not opened, so not validated",

@@ -290,6 +290,8 @@ def _observed(asset, context, composed_elsewhere, unchecked):
             if detail.get("mtlx_document"):  # a reference to the document sits behind the missing target's parent
                 unchecked.setdefault(detail["mtlx_document"], []).append(observation)
                 continue
+            if detail.get("outside_layer"):  # a layer in a shared folder, not opened (OPBR1039 says so), would
+                continue                    # compose it
             if under(detail["target"], composed_elsewhere):
                 continue  # with usdMtlx the MaterialX document would provide it
             yield context.diagnostic(

@@ -1,8 +1,7 @@
 """Opening a USD stage without trusting it: :class:`StageGuard`.
 
-usd-core is not hardened against hostile files, so :class:`StageGuard` checks every layer before
-usd-core parses it and every arc before usd-core follows it (limits below, all refusals are
-read errors, exit code 2):
+usd-core is not hardened against hostile files, so :class:`StageGuard` checks every layer before usd-core parses
+it and every arc before usd-core follows it (limits below, all refusals are read errors, exit code 2):
 
 * size: a stage file (and every layer it composes) above ``OPENPBR_MAX_FILE_MB`` (64 MiB) is not
   read; a USDZ whose entries declare more than that uncompressed is refused (a zip bomb);
@@ -14,16 +13,15 @@ read errors, exit code 2):
 * packages: read as usd-core reads them (local file headers, :mod:`.package`); more than
   :data:`~.package.MAX_PACKAGE_ENTRIES` entries, or a stored entry declaring a size it does not
   store, is refused; entry names that are absolute or climb out, and compressed entries, are reported;
-* composition: at most :data:`MAX_LAYERS` layers; sublayers, references and payloads that are
-  URLs, absolute paths, variable expressions or that climb (``..``, a symbolic link, the resolver's
-  search path) out of the asset's folder are deleted from the in-memory layers before usd-core
-  composes the stage, and reported: a file outside the folder is never opened. Value clips are
+* composition: at most :data:`MAX_LAYERS` layers; sublayers, references and payloads that are URLs, absolute
+  paths, variable expressions or that climb (``..``, a symbolic link, the resolver's search path) out of the
+  asset's folder are deleted from the in-memory layers before usd-core composes the stage, and reported (a '..'
+  to a layer that is there as a shared folder): a file outside the folder is never opened. Value clips are
   always deleted (usd-core opens them lazily from anywhere, and enumerates a template's files).
 
-What a reference is (URL, drive, UNC, absolute, NUL) and whether a path is inside the asset's folder
-(or an allowed one) is decided by :mod:`openpbr_tools.io.paths`, nowhere else.
-
-``pxr`` is imported inside the functions only (``from pxr import Usd`` costs 0.2-0.5 s).
+What a reference is (URL, drive, UNC, absolute, NUL) and whether a path is inside the asset's folder (or an
+allowed one) is decided by :mod:`openpbr_tools.io.paths`, nowhere else. ``pxr`` is imported inside the functions
+only (``from pxr import Usd`` costs 0.2-0.5 s).
 """
 
 from __future__ import annotations
@@ -45,6 +43,7 @@ _MISSING_LAYER_ERRORS = ("ErrorInvalidSublayerPath", "ErrorInvalidAssetPath", "E
 #: At most this many layers (sublayers, references, payloads, followed recursively) per stage.
 MAX_LAYERS = 1000
 _LAYER_SUFFIXES = (".usd", ".usda", ".usdc")
+_CLIMBS = "climbs out of the asset's folder with '..'"
 
 
 class StageGuard:
@@ -227,7 +226,7 @@ class StageGuard:
         if classify(identifier) in (Kind.ABSOLUTE, Kind.DRIVE, Kind.UNC):
             # where usd-core anchored it, before any symbolic link is followed
             if self.paths.root_of(os.path.normpath(identifier)) is None:
-                return "climbs out of the asset's folder with '..'"
+                return _CLIMBS
         elif climbs(os.path.normpath(identifier)):
             return "climbs out with '..'"  # usd-core would look it up from the working folder
         resolved = _resolve(identifier)
@@ -246,10 +245,13 @@ class StageGuard:
 
     def refuse(self, layer, asset_path: str, reason: str) -> None:
         file = self.layer_file(layer)
+        shared = reason == _CLIMBS and os.path.isfile(os.path.normpath(layer.ComputeAbsolutePath(asset_path)))  # a stat
         if asset_path in layer.subLayerPaths:
-            self.observe("usd_arc_outside", self.where(file), arc="sublayer", asset=asset_path, reason=reason)
+            self.observe("usd_arc_outside", self.where(file), arc="sublayer", asset=asset_path, reason=reason,
+                         shared=shared, layer=layer.identifier, spec=None)
         for prim_path, arc in _arcs_to(layer, asset_path):
-            self.observe("usd_arc_outside", self.where(file, None, prim_path), arc=arc, asset=asset_path, reason=reason)
+            self.observe("usd_arc_outside", self.where(file, None, prim_path), arc=arc, asset=asset_path, reason=reason,
+                         shared=shared, layer=layer.identifier, spec=prim_path)
         self.editable(layer).UpdateCompositionAssetDependency(asset_path, "")
 
     def mtlx_reference(self, layer, asset_path: str) -> None:

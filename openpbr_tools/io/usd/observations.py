@@ -94,9 +94,11 @@ def observe_structure(prim, stage, observe, location, set_aside=None) -> bool:
                           else None if bound.IsA(UsdShade.Material) else f"is a {bound.GetTypeName() or 'typeless prim'}, "
                           "not a Material")
                 if reason is not None:
-                    document = _composed_from_materialx(stage, target, set_aside) if not bound else None
-                    observe("usd_binding_invalid", location(prim.GetPath(), None),
-                            relationship=name, target=str(target), reason=reason, mtlx_document=document)
+                    kind, document = (_composed_from_materialx(stage, target, set_aside) if not bound else None) \
+                        or (None, None)
+                    observe("usd_binding_invalid", location(prim.GetPath(), None), relationship=name, target=str(target),
+                            reason=reason, mtlx_document=document if kind == "usd_mtlx_reference" else None,
+                            outside_layer=document if kind == "usd_arc_outside" else None)
         elif name.startswith("inputs:") and (prim.IsA(UsdShade.Shader) or prim.IsA(UsdShade.NodeGraph)):
             observe("usd_input_relationship", location(prim.GetPath(), name[len("inputs:"):]),
                     input=name, targets=[str(t) for t in relationship.GetTargets()])
@@ -107,7 +109,7 @@ def observe_structure(prim, stage, observe, location, set_aside=None) -> bool:
     return bound
 
 
-def _composed_from_materialx(stage, target, set_aside) -> str | None:
+def _composed_from_materialx(stage, target, set_aside) -> tuple[str, str] | None:
     """The MaterialX document (set aside: this usd-core has no usdMtlx plugin) that would compose the missing
     prim ``target``: the one referenced by a prim spec in the nearest existing ancestor's prim stack, wherever
     composition placed that spec (usd-wg's OpenChessSet references Bishop_look.usd's /Bishop, whose Materials
@@ -122,9 +124,9 @@ def _composed_from_materialx(stage, target, set_aside) -> str | None:
     if not ancestor:
         return None
     for spec in ancestor.GetPrimStack():
-        document = set_aside.get((spec.layer.identifier, str(spec.path)))
-        if document is not None:
-            return document
+        found = set_aside.get((spec.layer.identifier, str(spec.path)))
+        if found is not None:
+            return found  # (the observation kind that set it aside, the arc's asset path)
     return None
 
 

@@ -131,9 +131,9 @@ class _Reader(NetworkReader):
                 asset.colorspace_location = self.location(default_prim.GetPath(), "colorSpace:name")
         shader_prims, meshes = [], []
         prototypes_read: set = set()
-        # references and payloads to MaterialX documents the guard set aside, by the prim spec that held them
-        set_aside = {(o.detail["layer"], o.detail["spec"]): o.detail["asset"] for o in asset.observations
-                     if o.kind == "usd_mtlx_reference" and o.detail.get("spec")}
+        # arcs to MaterialX documents and to shared folders the guard set aside, by the prim spec that held them
+        set_aside = {(o.detail["layer"], o.detail["spec"]): (o.kind, o.detail["asset"]) for o in asset.observations
+                     if o.detail.get("spec") and (o.kind == "usd_mtlx_reference" or o.detail.get("shared"))}
         prims = iter(self.Usd.PrimRange.Stage(stage, self.Usd.TraverseInstanceProxies()))
         for prim in prims:
             if prim.IsInstance():  # an instanceable prim: its prototype's prims are read once, at its first instance
