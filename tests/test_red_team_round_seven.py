@@ -695,3 +695,18 @@ def test_a_usd_arc_into_a_shared_folder_is_information_and_what_it_brings_is_not
     copy.unlink()
     (tmp_path / "materials" / "looks.usda").unlink()
     assert _codes(path).get("OPBR1011") == "error" or "OPBR002" in _codes(path)  # a '..' to nothing stays a defect
+
+
+@pytest.mark.parametrize("mode, expected", [("L", "error"), ("I;16", None)])
+def test_a_greyscale_metallic_roughness_texture(tmp_path, mode, expected):
+    """Set I's gb05 (an 8-bit roughness map dropped in the packed slot: metalness equals roughness) is OPBR1238; a
+    16-bit greyscale one, which glTF 3.9.2 allows ("MAY use more than 8 bits per channel") and the red team's
+    round-one good core_16bit_grayscale_metal_rough uses, is a deliberate precision export: no finding."""
+    image = Image.new(mode, (4, 4))
+    image.putdata([120 if mode == "L" else 30000] * 16)
+    image.save(tmp_path / "mr.png")
+    path = tmp_path / "m.gltf"
+    path.write_text(json.dumps({"asset": {"version": "2.0"}, "images": [{"uri": "mr.png"}], "textures": [{"source": 0}],
+                                "materials": [{"name": "M", "pbrMetallicRoughness": {
+                                    "metallicRoughnessTexture": {"index": 0}}}]}))
+    assert _codes(path).get("OPBR1238") == expected

@@ -315,7 +315,10 @@ def _unread_channels(asset, facts, images, context):
 
 
 #: Pillow modes of a one-channel greyscale image (with or without alpha, 8 or 16 bits).
-GREY_MODES = frozenset({"L", "LA", "La", "I", "I;16", "I;16B", "I;16L"})
+# 8-bit greyscale only: a 16-bit greyscale data map (glTF 3.9.2: the metallic-roughness texture "MAY use more than 8
+# bits per channel") is a deliberate precision export, and the red team's round-one good core_16bit_grayscale_metal_rough
+# is one; an 8-bit grey in the packed slot is a roughness map dropped there (round seven's gb05)
+GREY_MODES = frozenset({"L", "LA", "La"})
 
 
 def _maxima(asset, texture, decoded, context):
