@@ -42,9 +42,13 @@ def _gltf(*members: str) -> str:
     return "{\n  " + body + "\n}\n"
 
 
+def _one_image(uri: str, material: str, *members: str) -> str:
+    """A glTF document whose one material (``material``, JSON text) reads texture 0, image ``uri``."""
+    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]', f'"materials": [{material}]', *members)
+
+
 def _textured(uri: str) -> str:
-    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]',
-                 '"materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]')
+    return _one_image(uri, '{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}')
 
 
 _CLEARCOAT = '"materials": [{"name": "M", "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1.0}}}]'

@@ -30,7 +30,7 @@ from ..io.gltf import slots
 from ..io.image_content import channel_maxima, channel_statistics
 from ..model import Location, Texture
 from . import Rule
-from .gltf import NO_EFFECT, _gltf
+from .gltf import NO_EFFECT, _one_image
 from .textures import image_of
 
 _PNG_16BIT = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAQAAAAEEAIAAAB2A9VqAAAAEElEQVR4nGMoNcAOGagnAQASFh7xh7LOv"
@@ -40,8 +40,7 @@ _PNG_8BIT = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAQAAAAECAIAAAAmkwkp
 
 
 def _emissive(uri: str) -> str:
-    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]',
-                 '"materials": [{"name": "M", "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0}}]')
+    return _one_image(uri, '{"name": "M", "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0}}')
 
 
 IMAGE_ENCODING = Rule(
@@ -104,9 +103,8 @@ _ROUGHNESS_IN_R = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAA
 
 
 def _clearcoat(uri: str) -> str:
-    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]',
-                 '"materials": [{"name": "M", "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1, '
-                 '"clearcoatRoughnessTexture": {"index": 0}}}}]', '"extensionsUsed": ["KHR_materials_clearcoat"]')
+    return _one_image(uri, '{"name": "M", "extensions": {"KHR_materials_clearcoat": {"clearcoatFactor": 1, '
+                           '"clearcoatRoughnessTexture": {"index": 0}}}}', '"extensionsUsed": ["KHR_materials_clearcoat"]')
 
 
 DATA_IN_UNREAD_CHANNEL = Rule(
@@ -129,9 +127,8 @@ _RGB_ROUGHNESS = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAAD9
 
 
 def _metal_rough(uri: str) -> str:
-    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]',
-                 '"materials": [{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 1.0, '
-                 '"metallicRoughnessTexture": {"index": 0}}}]')
+    return _one_image(uri, '{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 1.0, '
+                           '"metallicRoughnessTexture": {"index": 0}}}')
 
 
 GREY_METAL_ROUGH = Rule(
@@ -154,8 +151,7 @@ _GREY = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAAAAABX3VL4AAAAD
 
 
 def _occluded(uri: str) -> str:
-    return _gltf(f'"images": [{{"uri": "{uri}"}}]', '"textures": [{"source": 0}]',
-                 '"materials": [{"name": "M", "occlusionTexture": {"index": 0}}]')
+    return _one_image(uri, '{"name": "M", "occlusionTexture": {"index": 0}}')
 
 
 OCCLUSION_BLACK = Rule(
