@@ -41,6 +41,7 @@ FAMILIES = (
     "gltf",
     "gltf_meshes",
     "gltf_geometry",
+    "gltf_surfaces",
     "gltf_images",
     "gltf_plausibility",
     "gltf_structure",
@@ -49,8 +50,8 @@ FAMILIES = (
 
 #: Families that check one input format only (their modules, and what they import, load only for it).
 FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "usd_shading": "usd", "gltf": "gltf",
-                "gltf_meshes": "gltf", "gltf_geometry": "gltf", "gltf_images": "gltf", "gltf_plausibility": "gltf",
-                "gltf_structure": "gltf", "mtlx_document": "mtlx", "translation": None}
+                "gltf_meshes": "gltf", "gltf_geometry": "gltf", "gltf_surfaces": "gltf", "gltf_images": "gltf",
+                "gltf_plausibility": "gltf", "gltf_structure": "gltf", "mtlx_document": "mtlx", "translation": None}
 
 
 @dataclass(frozen=True, slots=True)

@@ -447,6 +447,13 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "image on every tile's islands; no validator reads UV layouts.", f"{GLTF}; {khr('KHR_texture_transform')}"),
     "OPBR1245": ("float32 texture coordinates far from 0 are quantised coarser than a texel: the texture renders blocky "
                  "and swims; no validator judges magnitudes.", GLTF),
+    "OPBR1246": ("Normals on the back of the triangles light the material from behind (glTF renders back faces with "
+                 "reversed normals, so neither side is right); the glTF-Validator checks unit length only.", GLTF),
+    "OPBR1247": ("A tangent frame that does not flip on mirrored UV islands reads the normal map's green axis inverted "
+                 "there; the glTF-Validator checks that w is a sign, not which sign.",
+                 f"{GLTF}; https://github.com/mmikk/MikkTSpace"),
+    "OPBR1248": ("A volume (thickness above 0) on an open surface has no inside: refraction and attenuation are "
+                 "undefined; the glTF-Validator does not check closure.", f"{khr('KHR_materials_volume')}"),
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
                  "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
                  "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),

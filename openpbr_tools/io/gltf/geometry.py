@@ -23,7 +23,7 @@ computed once (``cache``).
 
 from __future__ import annotations
 
-from . import accessors
+from . import accessors, surfaces
 from .document import GltfDocument
 
 _TRIANGLES = 4
@@ -33,8 +33,9 @@ UDIM_COLUMNS = 10
 
 
 def primitive_geometry(document: GltfDocument, primitive: dict, cache: dict) -> dict:
-    """``{"black_colour": {"accessor", "count"} or None, "uv_sets": {n: {"accessor", "largest", "udim_tiles"}}}`` for one
-    mesh primitive (see the module docstring)."""
+    """``{"black_colour": {"accessor", "count"} or None, "uv_sets": {n: {"accessor", "largest", "udim_tiles"}},
+    "surface": ...}`` for one mesh primitive (see the module docstring; ``surface``: :mod:`.surfaces`, for a primitive
+    with a material)."""
     attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
     colour = attributes.get("COLOR_0")
     found = {"black_colour": _cached(cache, ("black", colour), lambda: _black(document, colour)), "uv_sets": {}}
@@ -47,7 +48,36 @@ def primitive_geometry(document: GltfDocument, primitive: dict, cache: dict) -> 
         facts = _cached(cache, key, lambda: _uv_set(document, accessor, position, index, mode))
         if facts is not None:
             found["uv_sets"][int(name[9:])] = facts
+    material = document.item("materials", primitive.get("material")) if _natural(primitive.get("material")) else None
+    if isinstance(material, dict):
+        key = ("surface", primitive.get("material"), position, index, mode, attributes.get("NORMAL"),
+               attributes.get("TANGENT"))
+        found["surface"] = _cached(cache, key, lambda: surfaces.primitive_surface(
+            document, primitive, _volume_thickness(material), _normal_sets(material)))
     return found
+
+
+def _volume_thickness(material: dict) -> bool:
+    """A KHR_materials_volume with a thickness above 0 (a volume boundary, not a thin wall)."""
+    extensions = material.get("extensions") if isinstance(material.get("extensions"), dict) else {}
+    volume = extensions.get("KHR_materials_volume")
+    thickness = volume.get("thicknessFactor", 0.0) if isinstance(volume, dict) else 0.0
+    return isinstance(thickness, (int, float)) and not isinstance(thickness, bool) and thickness > 0
+
+
+def _normal_sets(material: dict) -> tuple:
+    """The UV sets the material's normal textures read (normalTexture, KHR_materials_clearcoat's
+    clearcoatNormalTexture)."""
+    extensions = material.get("extensions") if isinstance(material.get("extensions"), dict) else {}
+    coat = extensions.get("KHR_materials_clearcoat")
+    coat = coat if isinstance(coat, dict) else {}
+    sets = set()
+    for info in (material.get("normalTexture"), coat.get("clearcoatNormalTexture")):
+        if isinstance(info, dict) and _natural(info.get("index")):
+            texcoord = info.get("texCoord", 0)
+            if _natural(texcoord):
+                sets.add(texcoord)
+    return tuple(sorted(sets))
 
 
 def _cached(cache: dict, key, compute):

@@ -540,6 +540,12 @@ case("OPBR705_empty_file.mtlx", "OPBR705", "An image node whose file input is em
      opbr('<input name="base_color" type="color3" nodename="albedo" />', before=image("albedo", "")))
 case("OPBR705_gltf_empty_uri.gltf", "OPBR705", "A glTF image with an empty URI.",
      json.dumps(textured({"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}, uri=""), indent=2))
+case("OPBR1246_gltf_normals_behind_the_faces.gltf", "OPBR1246", "A sheet whose NORMALs point down while its triangles wind up: lit from behind.",
+     all_rules()["OPBR1246"].failing)
+case("OPBR1247_gltf_mirrored_uvs_tangent_w_not_flipped.gltf", "OPBR1247", "The second quad's UV island is mirrored in u, but its tangents keep w = +1: its normal map reads green inverted.",
+     all_rules()["OPBR1247"].failing)
+case("OPBR1248_gltf_volume_on_open_sheet.gltf", "OPBR1248", "A window pane modelled as one open quad with KHR_materials_volume thickness 0.01: the volume has no inside.",
+     all_rules()["OPBR1248"].failing)
 case("OPBR1243_gltf_transform_on_base_colour_only.gltf", "OPBR1243", "KHR_texture_transform tiles the base colour 4 x 4 while the normal map on the same UV set stays at 1 x: the texture set slides apart.",
      all_rules()["OPBR1243"].failing)
 case("OPBR724_normal_map_inward.mtlx", "OPBR724", "A normal map whose blue channel is 0 (inverted with the green): decoded, its normals face into the surface.",
