@@ -125,10 +125,12 @@ def unreadable(path: str, error: readers.ReadError | OSError) -> FileResult:
     return FileResult(path, [read_error(error, path)], unreadable=True)
 
 
-def validate_file(path: str, context: Context | None = None, keep_asset: bool = False) -> FileResult:
+def validate_file(path: str, context: Context | None = None, keep_asset: bool = False,
+                  composing: frozenset = frozenset()) -> FileResult:
     """The findings of one file. A defect of the toolkit on it (an exception other than a
     :class:`~openpbr_tools.io.ReadError`) is OPBR011 at the file, and the file counts as not checked
-    (exit code 2), so one file never stops a folder's report."""
+    (exit code 2), so one file never stops a folder's report. ``composing``: the documents whose composition
+    led here (an include cycle is the includer's finding, not a recursion)."""
     try:
         asset = readers.read_asset(path, context.allow_outside if context is not None else ())
     except readers.ReadError as error:
@@ -138,9 +140,12 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
     diagnostics = check_asset(asset, context)
     count = sum(1 for m in asset.materials if not m.extra.get("fallback_of"))  # a USD preview fallback is not another material
     documents = []
-    for document in composed_documents(asset):  # (a MaterialX document composes no other document: one level)
+    within = composing | {os.path.realpath(path)}
+    for document in composed_documents(asset):  # (each composed document's own with it)
+        if os.path.realpath(document) in within:
+            continue
         own = context.for_document(document) if context is not None and context.for_document is not None else None
-        composed = validate_file(document, own or context)
+        composed = validate_file(document, own or context, composing=within)
         diagnostics += composed.diagnostics
         count += composed.materials
         documents.append((document, composed.materials))
@@ -153,11 +158,12 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
 
 def composed_documents(asset: Asset) -> tuple[str, ...]:
     """The MaterialX documents a USD stage references, sublayers or loads as a payload (UsdMtlx), which
-    this usd-core cannot compose: their findings are the stage's too, since they hold its materials.
-    Only documents the stage's path guard let through (inside the asset's folder), each once."""
+    this usd-core cannot compose, and the documents a MaterialX document XIncludes (whose materials, shaders and
+    graphs MaterialX reads as its own): their findings are the asset's too. Only documents the asset's path guard
+    let through (inside the asset's folder), each once."""
     found = [o.detail["document"] for o in asset.observations  # named as the stage is (the guard's where())
              if o.kind == "usd_mtlx_reference" and o.detail.get("document")]
-    return tuple(dict.fromkeys(found))
+    return tuple(dict.fromkeys(found + list(asset.extra.get("included_documents", ()))))
 
 
 @dataclass(slots=True)

@@ -673,15 +673,19 @@ def _images(asset, facts, context):
             yield context.diagnostic(NOT_POWER_OF_TWO, f"image {image['index']} is {width} x {height}, not a power of two",
                                      where, hint="resize to a power of two for WebGL 1 and mipmapping")
         found = image.get("damage")
+        declared = image.get("declared")
         if found is not None:  # every image, used or not, as the Khronos validator judges them
             yield damage_diagnostic(context, found, f"image {image['index']} ({image['file']})", where, EMBEDDED_REMEDY)
-            continue
-        declared = image.get("declared")
+            if declared is None:  # (else a data URI declaring an image type whose bytes are none: an error too)
+                continue
         if declared is not None:
             yield context.diagnostic(MIME_MISMATCH, f"image {image['index']} ({image['file']}) is declared "
                                      f"{declared['type']} but its bytes are {declared['found']}",
                                      Location(asset.path, None, image["pointer"], declared["property"]),
-                                     hint=f"declare {declared['found']}, or re-encode the image as {declared['type']}")
+                                     hint=f"declare {declared['found']}, or re-encode the image as {declared['type']}"
+                                     if found is None else f"re-encode the image as {declared['type']}")
+            if found is not None:
+                continue
         mime = image.get("detected_mime") or image.get("mime")
         if mime is None or image["index"] not in used:
             continue

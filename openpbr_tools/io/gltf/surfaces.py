@@ -51,7 +51,7 @@ def primitive_surface(document: GltfDocument, primitive: dict, wants_closed: boo
     triangles = _triangles(document, primitive.get("indices"), positions.shape[0])
     if triangles is None or not len(triangles):
         return None
-    corners = positions[triangles]  # (triangles, 3, xyz)
+    corners = positions.astype("float32")[triangles]  # (triangles, 3, xyz); float32 as stored: signs are asked
     winding = numpy.cross(corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0])
     area = numpy.linalg.norm(winding, axis=1) / 2.0
     found = {"triangles": int(len(triangles)), "facing": None, "closed": None, "handedness": {}}
@@ -86,21 +86,28 @@ def _vertex_vectors(document: GltfDocument, index, count: int, width: int):
     values = accessors.vectors(document, index) if _natural(index) else None
     if values is None or values.shape != (count, width) or not numpy.isfinite(values).all():
         return None
-    return values
+    return values.astype("float32")
 
 
 def _closure(positions, triangles, corners) -> dict:
-    """Welded edges used once (``boundary``), more than twice (``non_manifold``), and the signed volume."""
+    """Welded edges used once (``boundary``), more than twice (``non_manifold``), and the signed volume. Corners weld
+    on their positions quantised to :data:`WELD` of the extent, each packed into one integer key (17 bits an axis),
+    and edges on their two welded ends packed likewise: one-dimensional sorts, not row sorts."""
     import numpy  # lazy: as in primitive_surface
 
-    extent = float((positions.max(axis=0) - positions.min(axis=0)).max()) or 1.0
-    _, vertex = numpy.unique(numpy.round(positions / (extent * WELD)), axis=0, return_inverse=True)
+    low = positions.min(axis=0)
+    extent = float((positions.max(axis=0) - low).max()) or 1.0
+    cells = numpy.rint((positions - low) / (extent * WELD)).astype("int64")  # 0 .. 1 / WELD on every axis
+    keys = (cells[:, 0] << 34) | (cells[:, 1] << 17) | cells[:, 2]
+    _, vertex = numpy.unique(keys, return_inverse=True)
     welded = vertex.reshape(-1)[triangles]
     kept = (welded[:, 0] != welded[:, 1]) & (welded[:, 1] != welded[:, 2]) & (welded[:, 0] != welded[:, 2])
     welded = welded[kept]
-    edges = numpy.sort(numpy.concatenate([welded[:, [0, 1]], welded[:, [1, 2]], welded[:, [2, 0]]]), axis=1)
-    _, uses = numpy.unique(edges, axis=0, return_counts=True)
-    volume = float(numpy.einsum("ij,ij->i", corners[:, 0], numpy.cross(corners[:, 1], corners[:, 2])).sum() / 6.0)
+    ends = numpy.concatenate([welded[:, [0, 1]], welded[:, [1, 2]], welded[:, [2, 0]]])
+    ends.sort(axis=1)
+    _, uses = numpy.unique(ends[:, 0] * (int(vertex.max()) + 1) + ends[:, 1], return_counts=True)
+    volume = float(numpy.einsum("ij,ij->i", corners[:, 0], numpy.cross(corners[:, 1], corners[:, 2]),
+                                dtype="float64").sum() / 6.0)
     return {"edges": int(uses.size), "boundary": int((uses == 1).sum()), "non_manifold": int((uses > 2).sum()),
             "volume": volume}
 

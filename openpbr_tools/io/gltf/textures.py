@@ -93,7 +93,8 @@ class TextureReading:
         if info["mime"] == KTX2:
             _basis_universal(info, bytes(data[:KTX2_HEAD]))
         where = "bufferView" if "bufferView" in image else "uri"  # where the bytes are, as the Khronos validator points
-        _declared_type(info, declared if isinstance(declared, str) else data_uri_mime(uri or ""), where)
+        _declared_type(info, declared if isinstance(declared, str) else data_uri_mime(uri or ""), where,
+                       data_uri=isinstance(uri, str) and uri.startswith("data:"))
         return info
 
     def unexpected_texture_properties(self) -> None:
@@ -243,11 +244,15 @@ def _uv(transform: dict):
     return None if (offset, rotation, scale) == ([0.0, 0.0], 0.0, [1.0, 1.0]) else uv
 
 
-def _declared_type(info: dict, declared: str | None, where: str) -> None:
-    """Record in ``info["declared"]`` a declared MIME type that is not the format of the image's bytes."""
+def _declared_type(info: dict, declared: str | None, where: str, data_uri: bool = False) -> None:
+    """Record in ``info["declared"]`` a declared MIME type that is not the format of the image's bytes; for a data
+    URI, also bytes in no image format at all (the Khronos glTF-Validator's INVALID_URI: "The declared mediatype
+    does not match the embedded content")."""
     found = info.get("detected_mime")
     if declared and found and declared != found and info.get("damage") is None:
         info["declared"] = {"type": declared, "found": found, "property": where}
+    elif declared and data_uri and found is None and getattr(info.get("damage"), "kind", None) == "unrecognised":
+        info["declared"] = {"type": declared, "found": "in no image format", "property": where}
 
 
 def _basis_universal(info: dict, head: bytes) -> None:

@@ -190,6 +190,22 @@ def _image_files(document, nodes, asset, where) -> None:
             if port.getType() == "filename" and port.hasValueString() and port.getValueString().strip():
                 asset.observe("mtlx_image_file", where(node, port.getName()), file=port.getResolvedValueString(),
                               node=node.getNamePath())
+        for port in _defaulted_files(document, node):
+            asset.observe("mtlx_image_file", where(port.getParent(), port.getName()), file=port.getResolvedValueString(),
+                          node=node.getNamePath())
+
+
+def _defaulted_files(document, node) -> list:
+    """The filename inputs of a custom node's nodedef (defined in the document or its includes, not MaterialX's
+    libraries) that the instance does not set: its implementation graph reads their defaults."""
+    try:
+        nodedef = node.getNodeDef()
+    except Exception:  # noqa: BLE001 - MaterialX raises on some broken definitions (reported elsewhere)
+        return []
+    if nodedef is None or document.getChild(nodedef.getName()) is None:
+        return []
+    return [port for port in nodedef.getInputs() if port.getType() == "filename" and port.hasValueString()
+            and port.getValueString().strip() and node.getInput(port.getName()) is None]
 
 
 def _extract(node, asset, where) -> None:

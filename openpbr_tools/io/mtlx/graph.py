@@ -77,7 +77,7 @@ class GraphFollower:
             output = port.getOutputString()
             named = f"{target}.{output}" if target and output else target or output  # a graph's missing output too
             return Connection(named, None, "connection target not found", dangling=True)
-        constant = _constant_value(self, node, port.getType())
+        constant = _constant_value(self, node, port.getType(), port.getOutputString() if port.getNodeName() else "")
         if constant is not None:
             constant, held = constant
             self.followed_space = held.getActiveColorSpace() or None  # the colour space the value is in
@@ -337,18 +337,25 @@ def _normal_scale(port) -> float | None:
         return None
 
 
-def _constant_value(follower, node, type_name: str):
+def _constant_value(follower, node, type_name: str, output_name: str = ""):
     """A ``constant`` node (through ``dot`` nodes) with an authored value of the port's type: its
     value, as :class:`Constant` (MaterialX renders the same; UsdMtlx keeps such networks), and the port
-    holding it (whose colour space the value is in). A constant fed by a connection, or of another type,
+    holding it (whose colour space the value is in), which may be a node graph interface input the node's port is
+    bound to. A custom node (a nodedef implemented by a node graph in the document) is followed into its
+    implementation, where ``interfacename`` reads the instance's input or the nodedef's default. A constant fed by a connection, or of another type,
     stays a connection."""
+    binding = follower.binding
     for _ in range(8):
         if node is None:
             return None
         category = node.getCategory()
         if category not in ("dot", "constant"):
-            return None
-        port = node.getInput("in" if category == "dot" else "value")
+            inner = _implementation_output(node, output_name)
+            if inner is None:
+                return None
+            node, binding, output_name = inner[0], inner[1], ""
+            continue
+        port, binding = _held_by_interface(node.getInput("in" if category == "dot" else "value"), binding)
         if port is None:
             return None
         if _connected(port):
@@ -363,6 +370,33 @@ def _constant_value(follower, node, type_name: str):
         except ValueSyntaxError:
             return None
     return None
+
+
+def _held_by_interface(port, binding):
+    """(``port``, or the interface input it reads through ``interfacename`` (and that one's, in turn): a node graph's
+    input, or in a graph implementing a nodedef the custom node instance's input or the nodedef's default; the
+    binding its own connections are read with). ``None`` when an interface input named is missing."""
+    for _ in range(8):
+        if port is None or not port.hasAttribute("interfacename"):
+            return port, binding
+        port, binding = interface_input(port, binding)
+    return None, None
+
+
+def _implementation_output(node, output_name: str):
+    """(the node behind the output of a custom node's implementation graph, the binding (instance, nodedef) the
+    graph is read with) for a node whose nodedef a node graph implements; ``None`` for any other node."""
+    try:
+        nodedef = node.getNodeDef()
+        implementation = nodedef.getImplementation() if nodedef is not None else None
+    except Exception:  # noqa: BLE001 - MaterialX raises on some broken definitions (reported elsewhere)
+        return None
+    if implementation is None or implementation.getCategory() != "nodegraph":
+        return None
+    outputs = implementation.getOutputs()
+    output = implementation.getOutput(output_name) if output_name else (outputs[0] if len(outputs) == 1 else None)
+    inner = output.getConnectedNode() if output is not None else None
+    return (inner, (node, nodedef)) if inner is not None else None
 
 
 def _real_world_ratio(node) -> tuple[float, float]:

@@ -12,7 +12,7 @@ MAX_XINCLUDE_DEPTH = 8
 
 
 def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[str], depth: int = 0,
-                    shadowed: list | None = None) -> list[tuple]:
+                    shadowed: list | None = None, followed: list | None = None) -> list[tuple]:
     """Follow the XIncludes of ``document`` (read from ``path``) as MaterialX does: each included
     document's elements are imported into it (``importLibrary``), marked with the included file as
     their source URI so the reader uses them to resolve references but does not validate them
@@ -21,7 +21,10 @@ def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[
     ``(line, href, reason, broken)`` for every include not followed; ``broken`` when MaterialX
     could not follow it either (missing, unreadable, a cycle), not merely refused here. ``shadowed``
     collects (name, href) of the document's own elements an include also defines: MaterialX reads the
-    included one and drops the document's own, wherever the include stands (``validate()`` passes)."""
+    included one and drops the document's own, wherever the include stands (``validate()`` passes).
+    ``followed`` collects the files this document includes itself (not their includes), named from ``path`` as
+    the asset is (relative stays relative), so a validation can check each as a file of its own (and theirs with
+    them)."""
     import MaterialX as mx  # lazy: loaded by the reader that calls this
 
     not_followed = []
@@ -47,7 +50,10 @@ def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[
             except Exception as error:  # noqa: BLE001 - ReadError, UnicodeDecodeError, XmlSyntaxError and MaterialX's own types
                 reason = f"cannot be read ({getattr(error, 'message', error)})"
             else:
-                for _, inner, why, inner_broken in follow_includes(included, resolved.real, nested, guard,
+                shown = os.path.normpath(os.path.join(os.path.dirname(path), href))
+                if followed is not None:
+                    followed.append(shown)
+                for _, inner, why, inner_broken in follow_includes(included, shown, nested, guard,
                                                                    seen | {resolved.real}, depth + 1):
                     not_followed.append((line, href, f"includes {inner!r}, which {why}", inner_broken))
                 included.setSourceUri(resolved.real)

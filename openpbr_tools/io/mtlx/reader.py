@@ -129,14 +129,16 @@ def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ..
         raise ReadError("not_materialx", f"MaterialX cannot read the document: {error}", Location(path)) from None
     guard = PathGuard.for_asset(path, allow_outside)
     shadowed: list[tuple[str, str]] = []  # (the document's own element, the include that defines it too)
+    followed: list[str] = []  # every file the includes read: validated as files of their own too
     not_followed = follow_includes(document, path, structure.xincludes, guard,
-                                   {guard.resolve(os.path.abspath(path)).real}, shadowed=shadowed)
+                                   {guard.resolve(os.path.abspath(path)).real}, shadowed=shadowed, followed=followed)
 
     asset = Asset(path=path, format="mtlx", line_of=structure.lines, suppressions=dict(structure.suppressions))
     asset.format_version = structure.root_attributes.get("version")
     asset.extra["upgrade_changes_nothing"] = lenient_error is None and upgrade_changes_nothing(data, document, asset.format_version)
     asset.colorspace = structure.root_attributes.get("colorspace") or None
     asset.colorspace_location = Location(path, line=1, path="", input=None)
+    asset.extra["included_documents"] = tuple(dict.fromkeys(followed))
     if lenient_error is not None:
         asset.observe("malformed_xml", Location(path, lenient_error.line),
                       message=f"{lenient_error} (line {lenient_error.line}, column {lenient_error.column})")

@@ -1,5 +1,6 @@
 """Following USD shading connections: from a shader input to a constant (through Material and
-NodeGraph interfaces), a texture lookup, or a node the toolkit does not interpret.
+NodeGraph interfaces, and MaterialX ``dot`` and ``constant`` nodes, which hand their input on), a texture lookup,
+or a node the toolkit does not interpret.
 
 Part of the USD reader (:mod:`.reader`), kept apart because it is its own idea: how UsdShade
 networks encode what the model calls a :class:`~openpbr_tools.model.Texture`. This module walks
@@ -95,6 +96,10 @@ class NetworkReader(TextureNodeReader):
             if prim.IsA(self.UsdShade.Shader):
                 if not property_name.startswith("outputs:"):
                     return ("dangling", str(target), "a connection must name a shader output")
+                passed = _passed_through(prim, property_name, self.UsdShade)
+                if passed:  # a MaterialX dot or constant node hands its input on unchanged
+                    attribute = passed
+                    continue
                 return ("shader", prim, property_name[len("outputs:"):], interface)
             if prim.IsA(self.UsdShade.NodeGraph):
                 upstream = prim.GetAttribute(property_name)
@@ -176,9 +181,15 @@ class NetworkReader(TextureNodeReader):
 
     def file_of(self, attribute) -> tuple[str, bool]:
         """The texture path relative to the asset's folder (or inside its package), and whether it
-        is packaged. A path authored in another layer is re-anchored at the root layer's folder."""
+        is packaged. A path authored in another layer is re-anchored at the root layer's folder; a file input
+        connected to an interface input reads that input's path (where it was authored)."""
         if not attribute:
             return "", False
+        if attribute.HasAuthoredConnections():  # a file from a Material or NodeGraph interface input: its value
+            kind, *found = self.source(attribute)
+            if kind != "value" or found[0] is None:
+                return "", False
+            attribute = found[0]
         value = attribute.Get()
         if value is None and attribute.GetNumTimeSamples():  # an animated texture: its first file
             from pxr import Usd  # lazy: pxr only once the reader has required it and opened a stage
@@ -229,6 +240,24 @@ class NetworkReader(TextureNodeReader):
         else:
             found = getattr(value, "resolvedPath", "") or ""
         return found if found and "[" not in found and os.path.isabs(found) else None
+
+
+#: MaterialX nodes whose output is their one input (stdlib_defs.mtlx: ND_dot_* "in", ND_constant_* "value").
+_PASS_THROUGH = {"ND_dot_": "inputs:in", "ND_constant_": "inputs:value"}
+
+
+def _passed_through(prim, output: str, usd_shade):
+    """The input of a ``ND_dot_*`` or ``ND_constant_*`` shader whose ``out`` a connection reads, where it is
+    authored (its value or its own connection); ``None`` for any other node."""
+    if output != "outputs:out":
+        return None
+    shader_id = str(usd_shade.Shader(prim).GetShaderId() or "")
+    for prefix, name in _PASS_THROUGH.items():
+        if shader_id.startswith(prefix):
+            attribute = prim.GetAttribute(name)
+            return attribute if attribute and (attribute.HasAuthoredValue() or attribute.HasAuthoredConnections()) \
+                else None
+    return None
 
 
 def _package_chain(identifier: str) -> tuple[list[str], str]:
