@@ -126,13 +126,14 @@ def unreadable(path: str, error: readers.ReadError | OSError) -> FileResult:
 
 
 def validate_file(path: str, context: Context | None = None, keep_asset: bool = False,
-                  composing: frozenset = frozenset()) -> FileResult:
+                  composing: frozenset = frozenset(), included_by: str | None = None) -> FileResult:
     """The findings of one file. A defect of the toolkit on it (an exception other than a
     :class:`~openpbr_tools.io.ReadError`) is OPBR011 at the file, and the file counts as not checked
     (exit code 2), so one file never stops a folder's report. ``composing``: the documents whose composition
-    led here (an include cycle is the includer's finding, not a recursion)."""
+    led here (an include cycle is the includer's finding, not a recursion); ``included_by``: the MaterialX document
+    that XIncludes this one, in whose composition it is read."""
     try:
-        asset = readers.read_asset(path, context.allow_outside if context is not None else ())
+        asset = readers.read_asset(path, context.allow_outside if context is not None else (), included_by=included_by)
     except readers.ReadError as error:
         return unreadable(path, error)
     except Exception as error:  # noqa: BLE001 - a defect of a reader: reported at the file, the batch goes on
@@ -141,11 +142,13 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
     count = sum(1 for m in asset.materials if not m.extra.get("fallback_of"))  # a USD preview fallback is not another material
     documents = []
     within = composing | {os.path.realpath(path)}
+    included = set(asset.extra.get("included_documents", ()))
     for document in composed_documents(asset):  # (each composed document's own with it)
         if os.path.realpath(document) in within:
             continue
         own = context.for_document(document) if context is not None and context.for_document is not None else None
-        composed = validate_file(document, own or context, composing=within)
+        composed = validate_file(document, own or context, composing=within,
+                                 included_by=path if document in included else None)
         diagnostics += composed.diagnostics
         count += composed.materials
         documents.append((document, composed.materials))

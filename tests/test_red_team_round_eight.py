@@ -285,3 +285,52 @@ def test_a_data_uri_jpeg_that_is_no_image_is_an_error_as_khronos_says(tmp_path):
     assert ("INVALID_URI", 0) in khronos["broken"] and not {c for c, s in khronos["good"] if s == 0}
     assert ("OPBR1214", "error", "/images/0", "uri") in findings(paths["broken"])
     assert not [f for f in findings(paths["good"]) if f[1] == "error"]
+
+
+def test_a_library_split_across_included_files_is_read_as_its_includer_composes_it(tmp_path):
+    """The red team's round-four good mg01: a studio library includes its nodedefs from one file and their
+    implementation graphs from another; the implementation file alone names a nodedef it does not hold, which
+    MaterialX resolves only in the composition that includes both. Checked with the file that includes it, the
+    library is clean (it was an OPBR004 error of the implementation file read on its own)."""
+    (tmp_path / "lib" / "defs").mkdir(parents=True)
+    (tmp_path / "lib" / "impl").mkdir()
+    include = '<?xml version="1.0"?>\n<materialx xmlns:xi="http://www.w3.org/2001/XInclude" version="1.39">\n{}</materialx>\n'
+    (tmp_path / "lib" / "studio.mtlx").write_text(include.format(
+        '  <xi:include href="defs/tint.mtlx" />\n  <xi:include href="impl/tint.mtlx" />\n'), encoding="utf-8")
+    (tmp_path / "lib" / "defs" / "tint.mtlx").write_text(HEAD.replace(' colorspace="lin_rec709"', "") + '''\
+  <nodedef name="ND_studio_tint_color3" node="studio_tint">
+    <input name="in" type="color3" value="1, 1, 1" />
+    <output name="out" type="color3" />
+  </nodedef>
+</materialx>
+''', encoding="utf-8")
+    (tmp_path / "lib" / "impl" / "tint.mtlx").write_text(HEAD.replace(' colorspace="lin_rec709"', "") + '''\
+  <nodegraph name="IM_studio_tint_color3" nodedef="ND_studio_tint_color3">
+    <multiply name="m" type="color3">
+      <input name="in1" type="color3" interfacename="in" />
+      <input name="in2" type="float" value="0.9" />
+    </multiply>
+    <output name="out" type="color3" nodename="m" />
+  </nodegraph>
+</materialx>
+''', encoding="utf-8")
+    path = tmp_path / "clay.mtlx"
+    path.write_text(include.format('''  <xi:include href="lib/studio.mtlx" />
+  <studio_tint name="tint" type="color3">
+    <input name="in" type="color3" value="0.7, 0.45, 0.3" />
+  </studio_tint>
+  <open_pbr_surface name="SR" type="surfaceshader">
+    <input name="base_color" type="color3" nodename="tint" />
+  </open_pbr_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR" />
+  </surfacematerial>
+'''), encoding="utf-8")
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    assert document.validate()[0]  # MaterialX: the composition is valid
+    alone = mx.createDocument()
+    mx.readFromXmlFile(alone, str(tmp_path / "lib" / "impl" / "tint.mtlx"))
+    assert not alone.validate()[0]  # and the implementation file alone is not
+    found = report(path)
+    assert [d for d in found.diagnostics if str(d.severity) != "info"] == [] and found.exit_code() == 0

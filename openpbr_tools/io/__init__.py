@@ -66,10 +66,11 @@ def read_bytes(path: str) -> bytes:
         raise ReadError("unreadable", f"cannot read file: {error.strerror or error}", Location(path)) from None
 
 
-def read_asset(path: str | os.PathLike, allow_outside: tuple[str, ...] = ()) -> Asset:
+def read_asset(path: str | os.PathLike, allow_outside: tuple[str, ...] = (), included_by: str | None = None) -> Asset:
     """Read one file into an :class:`Asset`; raises :class:`ReadError` when it cannot. What the file
     pulls in (XIncludes, USD sublayers/references/payloads, glTF buffers and images) is read from the
-    file's folder or a folder in ``allow_outside`` only (:mod:`openpbr_tools.io.paths`)."""
+    file's folder or a folder in ``allow_outside`` only (:mod:`openpbr_tools.io.paths`). ``included_by``: the
+    MaterialX document that XIncludes this one (read in its composition)."""
     path = os.fspath(path)
     suffix = os.path.splitext(path)[1].lower()
     # Each reader is imported when its suffix is met: chosen at run time, and every reader imports
@@ -77,7 +78,7 @@ def read_asset(path: str | os.PathLike, allow_outside: tuple[str, ...] = ()) -> 
     if suffix in MTLX_SUFFIXES:
         from .mtlx.reader import read_mtlx  # lazy: chosen by suffix (see above)
 
-        return read_mtlx(path, allow_outside=tuple(allow_outside))
+        return read_mtlx(path, allow_outside=tuple(allow_outside), included_by=included_by)
     if suffix in USD_SUFFIXES:
         from .usd.reader import read_usd  # imports pxr only when called
 

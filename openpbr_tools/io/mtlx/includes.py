@@ -1,4 +1,5 @@
-"""MaterialX XIncludes, followed as MaterialX follows them, through the one path guard."""
+"""MaterialX XIncludes, followed as MaterialX follows them, through the one path guard; and an included document
+read in the context of the document that includes it."""
 
 from __future__ import annotations
 
@@ -64,3 +65,27 @@ def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[
         if reason is not None:
             not_followed.append((line, href, reason, broken))
     return not_followed
+
+
+def import_includer(document, includer: str, allow_outside: tuple[str, ...]) -> bool:
+    """Import the document that XIncludes this one (``includer``, with its own includes, read through its own path
+    guard) into ``document`` as a library, marked with its source, as MaterialX composes them when it loads the
+    includer: a library split into files (nodedefs in one, their implementation graphs in another) resolves its
+    references only there. The document's own elements stay its own (importLibrary skips names it has). Returns
+    whether the includer was read."""
+    import MaterialX as mx  # lazy: loaded by the reader that calls this
+
+    guard = PathGuard.for_asset(includer, allow_outside)
+    composed = mx.createDocument()
+    options = mx.XmlReadOptions()
+    options.readXIncludeFunction = None
+    try:
+        data = read_bytes(includer)
+        mx.readFromXmlString(composed, decode_document(data), mx.FileSearchPath(), options)
+        follow_includes(composed, includer, scan(data).xincludes, guard,
+                        {guard.resolve(os.path.abspath(includer)).real})
+    except Exception:  # noqa: BLE001 - the includer was read before; a change since is its own finding
+        return False
+    composed.setSourceUri(os.path.abspath(includer))
+    document.importLibrary(composed)
+    return True
