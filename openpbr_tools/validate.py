@@ -141,10 +141,10 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
     diagnostics = check_asset(asset, context)
     count = sum(1 for m in asset.materials if not m.extra.get("fallback_of"))  # a USD preview fallback is not another material
     documents = []
-    within = composing | {os.path.realpath(path)}
+    within = composing | {os.path.abspath(path)}
     included = set(asset.extra.get("included_documents", ()))
     for document in composed_documents(asset):  # (each composed document's own with it)
-        if os.path.realpath(document) in within:
+        if os.path.abspath(document) in within:
             continue
         own = context.for_document(document) if context is not None and context.for_document is not None else None
         composed = validate_file(document, own or context, composing=within,
