@@ -8,7 +8,8 @@ which ``openpbr validate`` reports as OPBR008 (exit code 2). Command-line option
 ``--select`` replaces the configured selection, ``--ignore`` adds to it.
 
 Precedence inside a configuration: the top-level settings, then each matching entry of
-``overrides`` in order (paths are globs relative to the configuration's folder).
+``overrides`` in order (paths are globs relative to the configuration's folder). ``allow-outside`` is honoured
+only from the project the command runs in (:func:`invoking_project`).
 """
 
 from __future__ import annotations
@@ -63,6 +64,8 @@ def load_config_file(path: str) -> Config | None:
             data = tomllib.load(handle)
     except OSError as error:
         raise ConfigError(f"cannot read configuration: {error.strerror or error}", Location(path)) from None
+    except UnicodeDecodeError as error:  # TOML is UTF-8 (toml.io: "A TOML file must be a valid UTF-8 encoded document")
+        raise ConfigError(f"not UTF-8 text (byte {error.start}): a TOML file must be UTF-8", Location(path)) from None
     except tomllib.TOMLDecodeError as error:
         line = re.search(r"line (\d+)", str(error))
         number = int(line.group(1)) if line else None
@@ -192,9 +195,18 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
     context.required_colorspace = settings.get("required-colorspace")
     allowed = settings.get("allowed-texture-colorspaces")
     context.allowed_texture_colorspaces = frozenset(allowed) if allowed is not None else None
-    folders = [os.path.normpath(os.path.join(config.folder, f)) for f in settings.get("allow-outside", ())]
+    folders = [os.path.normpath(os.path.join(config.folder, f)) for f in settings.get("allow-outside", ())] \
+        if config is not None and invoking_project(config) else []
     context.allow_outside = tuple(dict.fromkeys([*folders, *(os.path.abspath(f) for f in allow_outside)]))
     return context
+
+
+def invoking_project(config: Config) -> bool:
+    """Whether ``config`` belongs to the project the command runs in: its folder holds the working directory, or
+    lies inside it. Only such a configuration may widen what assets read (``allow-outside``): one shipped inside
+    a downloaded asset's own folder, validated from elsewhere, would otherwise let the asset grant itself the disk."""
+    folder, here = os.path.abspath(config.folder), os.path.abspath(os.getcwd())
+    return os.path.commonpath([folder, here]) in (folder, here)
 
 
 def configured_fail_on(config: Config | None) -> str | None:

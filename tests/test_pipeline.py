@@ -179,6 +179,17 @@ def test_bad_configuration_exits_two_with_its_location(tmp_path, write_mtlx, con
     assert problem["location"]["file"].endswith(".openpbr.toml") and problem["location"]["line"] == where
 
 
+@pytest.mark.parametrize("name", [".openpbr.toml", "pyproject.toml"])
+def test_a_configuration_that_is_not_utf8_exits_two_without_a_traceback(tmp_path, write_mtlx, name):
+    """The red team's M-16: TOML is UTF-8 ("A TOML file must be a valid UTF-8 encoded document", toml.io), and a
+    Latin-1 or UTF-16 file raised UnicodeDecodeError through the command (exit 1, a traceback)."""
+    (tmp_path / name).write_bytes(b"\xff\xfe bad")
+    result = run("validate", "--format", "json", write_mtlx(BROKEN))
+    assert result.exit_code == 2 and "Traceback" not in result.output
+    (problem,) = [d for d in json.loads(result.stdout)["diagnostics"] if d["code"] == "OPBR008"]
+    assert problem["location"]["file"].endswith(name) and "UTF-8" in problem["message"]
+
+
 def test_config_schema_rejects_unknown_keys():
     with pytest.raises(jsonschema.ValidationError):
         jsonschema.validate({"ignroe": ["OPBR301"]}, load_json("config.schema.json"))

@@ -11,6 +11,16 @@ from ..diagnostics import Severity
 from ..validate import Report
 
 FORMATS = ("text", "json", "jsonl", "sarif", "junit", "github")
+
+
+def printable(text: str) -> str:
+    """``text`` with every control character (C0, DEL, C1: newlines and tabs too) written as a Python escape
+    (``\\n``, ``\\x01``): a name or value taken from an asset then stays on its line of a text report (a newline
+    in a material name could otherwise start a line GitHub Actions runs as a ``::error ::`` workflow command) and
+    is legal in XML 1.0, which allows no C0 control but tab, newline and carriage return (JUnit)."""
+    if text.isprintable():
+        return text
+    return "".join(c if c.isprintable() or c == " " else c.encode("unicode_escape").decode("ascii") for c in text)
 STREAMED = ("text", "jsonl", "github")  # formats that can be written file by file (StreamedReport)
 
 

@@ -1,7 +1,8 @@
 """JUnit XML, for CI systems that show test results (Jenkins, GitLab, Azure, TeamCity).
 
 One ``testcase`` per file; each finding at or above the failing severity is a ``failure`` (an
-unreadable file is an ``error``); findings below it are listed in ``system-out``. Written with the
+unreadable file is an ``error``); findings below it are listed in ``system-out``. Control characters from the
+asset (a material named with one) are escaped: XML 1.0 cannot hold them (:func:`.printable`). Written with the
 standard library's ElementTree; no timestamps, so the output is byte-stable.
 """
 
@@ -11,13 +12,14 @@ import xml.etree.ElementTree as ElementTree
 
 from ..diagnostics import Diagnostic, Severity
 from ..validate import Report
+from . import printable
 
 
 def _line(diagnostic: Diagnostic) -> str:
     location = diagnostic.location
     where = ":".join(str(p) for p in (location.line, ".".join(x for x in (location.path, location.input) if x)) if p)
-    text = f"{where} {diagnostic.severity} {diagnostic.code} {diagnostic.message}".strip()
-    return text + (f"\n  hint: {diagnostic.hint}" if diagnostic.hint else "")
+    text = printable(f"{where} {diagnostic.severity} {diagnostic.code} {diagnostic.message}".strip())
+    return text + (f"\n  hint: {printable(diagnostic.hint)}" if diagnostic.hint else "")
 
 
 def to_junit(report: Report, fail_on: Severity | None = Severity.ERROR) -> str:
@@ -30,15 +32,18 @@ def to_junit(report: Report, fail_on: Severity | None = Severity.ERROR) -> str:
     names = sorted({r.path for r in report.files} | set(by_file))
     unreadable = {r.path for r in report.files if r.unreadable} | {p.location.file for p in report.problems}
     for name in names:
-        case = ElementTree.Element("testcase", {"classname": "openpbr.validate", "name": name, "file": name})
+        case = ElementTree.Element("testcase", {"classname": "openpbr.validate", "name": printable(name),
+                                                "file": printable(name)})
         quiet = []
         for diagnostic in by_file.get(name, []):
             if name in unreadable and diagnostic.severity == Severity.ERROR:
-                element = ElementTree.SubElement(case, "error", {"type": diagnostic.code, "message": diagnostic.message})
+                element = ElementTree.SubElement(case, "error", {"type": diagnostic.code,
+                                                                 "message": printable(diagnostic.message)})
                 element.text = _line(diagnostic)
                 errors += 1
             elif diagnostic.severity >= threshold:
-                element = ElementTree.SubElement(case, "failure", {"type": diagnostic.code, "message": diagnostic.message})
+                element = ElementTree.SubElement(case, "failure", {"type": diagnostic.code,
+                                                                   "message": printable(diagnostic.message)})
                 element.text = _line(diagnostic)
                 failures += 1
             else:

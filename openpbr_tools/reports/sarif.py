@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 from pathlib import PurePath
+from urllib.parse import quote
 
 from .. import __version__
 from ..diagnostics import Diagnostic, Severity
@@ -21,10 +22,12 @@ LEVELS = {Severity.ERROR: "error", Severity.WARNING: "warning", Severity.INFO: "
 
 
 def _uri(file: str) -> str:
+    """``artifactLocation.uri``: a URI reference (SARIF 2.1.0, 3.4.3; RFC 3986), so a relative path is
+    percent-encoded (``hash#x.mtlx`` would otherwise name ``hash`` with a fragment, ``per%25cent`` another file)."""
     path = PurePath(file)
     if path.is_absolute():
         return path.as_uri()
-    return path.as_posix()
+    return quote(path.as_posix(), safe="/")
 
 
 def _descriptor(rule: Rule) -> dict:

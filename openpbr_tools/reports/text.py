@@ -6,6 +6,7 @@ from typing import Callable
 
 from ..diagnostics import Severity
 from ..validate import Report
+from . import printable
 
 Style = Callable[..., str]
 
@@ -40,7 +41,7 @@ def text_sections(diagnostics, style: Style = _plain, min_severity: Severity = S
         if diagnostic.severity >= min_severity:
             groups.setdefault(diagnostic.location.file, []).append(diagnostic)
     for file, found in groups.items():
-        lines.append(style(file, bold=True, underline=True))
+        lines.append(style(printable(file), bold=True, underline=True))
         for d in found:
             where = []
             if d.location.line:
@@ -50,11 +51,11 @@ def text_sections(diagnostics, style: Style = _plain, min_severity: Severity = S
                 element = f"{element}.{d.location.input}" if element else d.location.input
             if element:
                 where.append(element)
-            place = ":".join(where) if where else "-"
+            place = printable(":".join(where) if where else "-")
             severity = style(f"{str(d.severity):7}", **SEVERITY_STYLE[d.severity])
-            lines.append(f"  {place:32} {severity} {style(d.code, bold=True)}  {d.message}")
+            lines.append(f"  {place:32} {severity} {style(d.code, bold=True)}  {printable(d.message)}")
             if d.hint:
-                lines.append(f"  {'':32} {'':7} {'':7}  hint: {d.hint}")
+                lines.append(f"  {'':32} {'':7} {'':7}  hint: {printable(d.hint)}")
         lines.append("")
     return "".join(line + "\n" for line in lines)
 

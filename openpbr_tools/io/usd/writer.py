@@ -306,9 +306,12 @@ class _Writer(TextureNetworkWriter):
     def texture_path(self, texture: Texture, owner: str) -> str:
         file = texture.file
         kind = classify(file) if file else Kind.EMPTY
+        if kind is Kind.URL and self.package:  # (a package carries its textures: as the glTF writer, no URL)
+            raise UsdWriteError(f"{owner}: texture {file!r} is a URL; a .usdz carries its textures and the writer "
+                                "never fetches URLs")
         if kind in (Kind.EMPTY, Kind.URL):
             return file
-        if texture.packaged:
+        if texture.packaged and kind is Kind.RELATIVE:
             self.note(NOT_CARRIED, f"{owner}: {file!r} is inside the source package and is not copied")
             return file
         if not self.package:
