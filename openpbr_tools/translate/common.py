@@ -58,6 +58,7 @@ class Mapping:
     when: Callable[..., bool] | None = None  # given the source values: does the target need this at all?
     converted_to_default: bool = False  # say ``converted`` also where the value lands on the target's default
     keep: str | None = None  # where the formula cannot be applied per texel: this source's texture or graph, as is
+    clips: bool = True  # the formula holds its colours to [0, 1] in linear Rec.709 (a wide-gamut source is noted)
 
 
 @dataclass(frozen=True, slots=True)
@@ -210,7 +211,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                                 if s in source_table)
             if mapping.formula is not None:
                 arrays = [working.into(s, a) for s, a in zip(mapping.sources, arrays)]
-                for name in working.out_of_gamut(mapping.sources, arrays):
+                for name in working.out_of_gamut(mapping.sources, arrays) if mapping.clips else ():
                     say(APPROXIMATED, f"{name} lies outside linear Rec.709's gamut, where the target is shaded: "
                                       "its formulas see it clipped", name)
             if mapping.when is not None and not mapping.when(*arrays):
@@ -232,7 +233,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 # the target's default already says it (source defaults can differ: then written); an
                 # approximation that lands on the default is still one
                 if not mapping.exact and _matters(mapping, arrays):
-                    say(APPROXIMATED, f"{mapping.target}: {mapping.note}", mapping.sources[0])
+                    say(APPROXIMATED, f"{mapping.target}: {mapping.note}", _site(mapping, values))
                 elif mapping.converted_to_default and authored and _changed(arrays[0], value):
                     say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0])  # folded elsewhere
                 continue
@@ -243,7 +244,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             if clamped:
                 say(APPROXIMATED, f"{mapping.target}: {clamped}", mapping.sources[0])
             if not mapping.exact and _matters(mapping, arrays):
-                say(APPROXIMATED, f"{mapping.target}: {mapping.note}", mapping.sources[0])
+                say(APPROXIMATED, f"{mapping.target}: {mapping.note}", _site(mapping, values))
             elif mapping.converted and authored and _changed(arrays[0], value):
                 say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0])
             continue
@@ -323,6 +324,13 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     probes.unreached(material, mappings, handled, failed, source_table, say)
     report.sort(key=Diagnostic.sort_key)
     return Translation(result, report, material)
+
+
+def _site(mapping: Mapping, values: Values) -> str:
+    """Where an approximation's note stands: the first source the material authors (a user filtering the report by
+    the inputs they wrote finds it there: transmission_weight, not the unauthored geometry_opacity that leads the
+    sources of UsdPreviewSurface's opacity), else the first source."""
+    return next((name for name in mapping.sources if values.authored(name)), mapping.sources[0])
 
 
 def _at_defaults(mapping: Mapping, values: Values, source_table) -> list:

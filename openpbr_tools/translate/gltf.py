@@ -125,7 +125,13 @@ def average_alpha_gltf(r_g, s):
 
 def gltf_base_color(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color,
                     metalness=0.0, specular_weight=1.0, coat_weight=0.0, coat_darkening=0.0, coat_ior=1.5,
-                    coat_color=WHITE, specular_color=WHITE, roughness=0.3, anisotropy=0.0, coat_roughness=0.0):
+                    coat_color=WHITE, specular_color=WHITE, roughness=0.3, anisotropy=0.0, coat_roughness=0.0,
+                    clip=True):
+    """glTF's one base colour for OpenPBR's base, subsurface, transmission and metal, in linear Rec.709; ``clip``:
+    held to [0, 1] there, as a glTF file's baseColorFactor is (3.9.2). A gltf_pbr node in a MaterialX document
+    (``clip`` False) is shaded unclamped in the renderer's working space, and only its value in the document's
+    colour space must lie in [0, 1] (the node's range, which the translation holds afterwards): clipping in
+    Rec.709 there darkened a wide-gamut gold by 1.2 mean CIEDE2000 (the red team's L-01)."""
     roughness = coat_roughened(roughness, coat_weight, coat_roughness)  # glTF's base roughness
     darkening = coat_darkening_factor(color, metalness, specular_weight, subsurface, subsurface_color,
                                       coat_weight, coat_darkening, fit.positive_ior(coat_ior))
@@ -139,7 +145,8 @@ def gltf_base_color(weight, color, transmission, transmission_color, depth, subs
     dielectric = diffuse + subsurface * (subsurface_color * darkening * absorption - diffuse)
     tint = np.where(depth > 0, WHITE, transmission_color) * darkening * absorption
     dielectric = dielectric + transmission * (tint - dielectric)
-    return np.clip(dielectric + metalness * (metal - dielectric), 0.0, 1.0)
+    mixed = dielectric + metalness * (metal - dielectric)
+    return np.clip(mixed, 0.0, 1.0) if clip else mixed
 
 
 def gltf_specular(specular_weight, specular_ior, coat_ior, coat_weight, film_weight, color, metalness, subsurface,
@@ -477,13 +484,16 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
         )
     else:
         base_and_specular = (
-            Mapping("base_color", base_sources, gltf_base_color, keep="base_color", exact=False, matters=_base_color_matters,
+            Mapping("base_color", base_sources,
+                    gltf_base_color if settings.gltf_file else lambda *v: gltf_base_color(*v, clip=False),
+                    keep="base_color", exact=False, matters=_base_color_matters, clips=settings.gltf_file,
                     note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed; "
                          "the coat's colour (glTF's clearcoat is colourless) is folded into it, which misses the "
                          f"tint of the dielectric reflection under the coat; a metal's F82 edge tint and specular "
                          f"weight are fitted into its F0 ({METAL_RESIDUAL})"),
             Mapping("specular", SPECULAR_SOURCES + ("transmission_weight",), _relative_specular(gltf_specular),
                     exact=False, matters=lambda *v: v[6] < 1 and differs(_relative_specular(gltf_specular)(*v), 1.0),
+                    clips=False,  # (the base colour only weighs the coat's darkening here, unclipped)
                     note="KHR_materials_specular scales F0 and F90 where OpenPBR's specular_weight and a coat (the base's "
                          f"IOR relative to the coat's) change F0 only: equal at normal incidence ({COAT_RESIDUAL})"),
             Mapping("specular_color", ("specular_color", "base_metalness"), lambda c, m: c, exact=False,
@@ -575,7 +585,14 @@ DROPPED_TO_GLTF = (
     Dropped("transmission_scatter", "glTF has no volume scattering (not ratified): the attenuation colour is the "
                                     "medium's absorption (extinction less scattering, as OpenPBR defines it), and the "
                                     "scattered light's colour is lost", matters=lambda c: np.max(c) > 0),
+    Dropped("subsurface_weight", "glTF has no subsurface scattering: the subsurface colour is mixed into the base "
+                                 "colour and shaded as diffuse (no light travels under the surface)",
+            matters=lambda w: w > 0),
     Dropped("subsurface_radius", "glTF has no subsurface scattering", matters=lambda r, w: w > 0, needs=("subsurface_weight",)),
+    Dropped("subsurface_radius_scale", "glTF has no subsurface scattering", matters=lambda r, w: w > 0,
+            needs=("subsurface_weight",)),
+    Dropped("subsurface_scatter_anisotropy", "glTF has no subsurface scattering", matters=lambda g, w: w > 0 and g != 0,
+            needs=("subsurface_weight",)),
     Dropped("geometry_coat_tangent", "glTF uses the mesh's tangents"),
 )
 
@@ -679,15 +696,22 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
                      "where a depth is set)"),
         Mapping("geometry_thin_walled", ("transmission", "thickness"), lambda t, d: np.where((t > 0) & (d <= 0), 1.0, 0.0),
                 converted="glTF transmission without a volume is thin-walled"),
-        Mapping("transmission_dispersion_scale", ("dispersion",), lambda v: np.where(v > 0, 1.0, 0.0)),
+        # KHR_materials_dispersion: dispersion = 20 / V_d; OpenPBR's V_d is abbe_number / scale (the same optics
+        # from any pair of the same ratio: an OpenPBR pair written to glTF comes back as scale 1 and 20 / dispersion)
+        Mapping("transmission_dispersion_scale", ("dispersion",), lambda v: np.where(v > 0, 1.0, 0.0),
+                converted="glTF's one dispersion number (20 / Abbe number) as scale 1 and the Abbe number it gives"),
         Mapping("transmission_dispersion_abbe_number", ("dispersion",),
-                lambda v: np.where(v > 0, 20.0 / np.where(v > 0, v, 1.0), 20.0)),
+                lambda v: np.where(v > 0, 20.0 / np.where(v > 0, v, 1.0), 20.0),
+                converted="Abbe number 20 / glTF's dispersion, at scale 1"),
         Mapping("fuzz_weight", ("sheen_color", "sheen_roughness"), fuzz_weight_from_gltf, exact=False,
                 matters=lambda c, r: np.max(c) > 0,
                 note=f"glTF sheen (Charlie) as fuzz (Zeltner): weight and roughness fitted to its albedo ({SHEEN_RESIDUAL})"),
         Mapping("fuzz_color", ("sheen_color",), _normalised),
-        Mapping("fuzz_roughness", ("sheen_roughness",), fuzz_roughness_from_gltf,
-                converted="Zeltner roughness fitted to the sheen's albedo"),
+        # a film's and a sheen's other parameters where the material has one: without KHR_materials_iridescence or
+        # KHR_materials_sheen, glTF's defaults (iridescenceIor 1.3, 100 nm, sheenRoughnessFactor 0) are no
+        # authored values, and OpenPBR keeps its own (1.4, 0.5 um, 0.5)
+        Mapping("fuzz_roughness", ("sheen_roughness", "sheen_color"), lambda r, c: fuzz_roughness_from_gltf(r),
+                when=lambda r, c: np.max(c) > 0, converted="Zeltner roughness fitted to the sheen's albedo"),
         Mapping("coat_weight", ("clearcoat",)),
         Mapping("coat_roughness", ("clearcoat_roughness",)),
         Mapping("coat_ior", ("clearcoat",), lambda w: GLTF_CLEARCOAT_IOR, when=lambda w: w > 0,
@@ -695,8 +719,9 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
         Mapping("coat_darkening", ("clearcoat",), lambda w: 0.0, when=lambda w: w > 0,
                 converted="glTF does not darken under a clearcoat"),
         Mapping("thin_film_weight", ("iridescence",)),
-        Mapping("thin_film_thickness", ("iridescence_thickness",), lambda t: t / 1000.0, converted="nanometres to micrometres"),
-        Mapping("thin_film_ior", ("iridescence_ior",)),
+        Mapping("thin_film_thickness", ("iridescence_thickness", "iridescence"), lambda t, w: t / 1000.0,
+                when=lambda t, w: w > 0, converted="nanometres to micrometres"),
+        Mapping("thin_film_ior", ("iridescence_ior", "iridescence"), lambda n, w: n, when=lambda n, w: w > 0),
         Mapping("emission_color", ("emissive", "clearcoat"),
                 lambda c, w: _normalised(c / coat_emission_factor(1.0, w, GLTF_CLEARCOAT_IOR))),
         Mapping("emission_luminance", ("emissive", "emissive_strength", "clearcoat"),

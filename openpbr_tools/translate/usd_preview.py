@@ -183,6 +183,10 @@ DROPPED_TO_USD = (
             matters=lambda c, t: t > 0 and differs(c, WHITE), needs=("transmission_weight",)),
     Dropped("transmission_dispersion_scale", "UsdPreviewSurface has no dispersion", matters=lambda s: s > 0),
     Dropped("base_diffuse_roughness", "UsdPreviewSurface's diffuse is Lambertian", matters=lambda r: r > 0),
+    Dropped("subsurface_weight", "UsdPreviewSurface has no subsurface scattering: the subsurface colour is mixed into "
+                                 "the diffuse colour (no light travels under the surface)", matters=lambda w: w > 0),
+    Dropped("subsurface_radius_scale", "UsdPreviewSurface has no subsurface scattering", matters=lambda r, w: w > 0,
+            needs=("subsurface_weight",)),
     Dropped("geometry_coat_normal", "UsdPreviewSurface's coat uses the base normal"),
     Dropped("geometry_tangent", "UsdPreviewSurface has no tangent input"),
 )

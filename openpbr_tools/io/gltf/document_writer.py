@@ -79,6 +79,11 @@ class DocumentBuilder:
         self._image_keys[key] = len(self.images) - 1
         return len(self.images) - 1
 
+    def image_name(self, index: int) -> str:
+        """How a note names image ``index``: the file it is written to, or where it is embedded."""
+        uri = self.images[index].get("uri", "")
+        return uri if uri and not uri.startswith("data:") else f"image {index} (embedded)"
+
     def place_file(self, name: str, payload: bytes) -> str:
         """The URI of a file holding ``payload`` beside the output (unique name, written at the end)."""
         base, suffix = os.path.splitext(name)

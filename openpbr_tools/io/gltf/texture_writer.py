@@ -13,6 +13,7 @@ factor alone applies there.
 
 from __future__ import annotations
 
+import os
 import re
 
 from ... import colorspaces
@@ -189,9 +190,11 @@ class TextureWriting:
         where = self.where(members[0].parameter)
         data = pack(plan, lambda message: self.notes.append(APPROXIMATED.note(message, where, self.output)), label)
         why = "re-encoded as PNG" if same_image and fitting and covered else "baked: channels packed as glTF reads them"
-        self.note(CONVERTED, f"{prop}: {why}", members[0].parameter)
         name = f"{_safe(self.material.material_name or self.material.name)}_{prop}.png"
-        return self.builder.add_image(("baked", data), data, "image/png", name)
+        index = self.builder.add_image(("baked", data), data, "image/png", name)
+        read = ", ".join(sorted({os.path.basename(sources[s.parameter].name) for s in members}))
+        self.note(CONVERTED, f"{prop}: {why}, from {read} into {self.builder.image_name(index)}", members[0].parameter)
+        return index
 
     def conversion(self, slot: slots.Slot, space: str | None) -> tuple[str | None, bool]:
         """(colour space to decode from, whether to encode sRGB) so texels reach glTF's encoding:

@@ -102,6 +102,11 @@ def _texcoords_of(material: dict) -> set[int]:
 
 # -- one material ------------------------------------------------------------------------------
 
+#: How far past a factor's range a value may lie before its clamp is a loss to report (round trips through a
+#: document colour space leave ~1e-16; 1e-6 is below what an 8- or 16-bit texel or a renderer resolves).
+ROUNDING = 1e-6
+
+
 class _MaterialWriter(TextureWriting, DraftWriting):
     def __init__(self, material: Material, images: ImageResolver, builder, notes: list[Diagnostic], index: int):
         self.material, self.images, self.builder, self.notes = material, images, builder, notes
@@ -213,7 +218,9 @@ class _MaterialWriter(TextureWriting, DraftWriting):
         lows = parameter.hard_min if isinstance(parameter.hard_min, tuple) else (parameter.hard_min,) * count
         highs = parameter.hard_max if isinstance(parameter.hard_max, tuple) else (parameter.hard_max,) * count
         fixed = clamp(value, lows, highs)
-        if fixed != value:
+        moved = max(abs(a - b) for a, b in zip(fixed if isinstance(fixed, list) else [fixed],
+                                                value if isinstance(value, list) else [value]))
+        if moved > ROUNDING:  # (a colour taken through a document's colour space and back lands 1e-16 past 1)
             self.note(NOT_CARRIED, f"{slot.factor} {value} is outside glTF's range; clamped to {fixed}", slot.parameter)
         return fixed
 

@@ -20,6 +20,8 @@ from . import gltf_nodes
 from .arithmetic import ScaleBias, connected as _connected
 from .capture import capture_graph, interface_input, read_output
 
+#: The geometric node categories whose world-space output is a shading model's default (defaultgeomprop).
+_WORLD_GEOMETRY = {"normal": "Nworld", "tangent": "Tworld", "bitangent": "Bworld"}
 IMAGE_CATEGORIES = ("image", "tiledimage", "gltf_image", "gltf_colorimage", "gltf_normalmap", "UsdUVTexture")
 PASS_THROUGH = ("convert", "dot")
 
@@ -42,6 +44,22 @@ class GraphFollower:
         # a multi-output node's own output (an <output> child of the node or of its nodedef): the node
         # itself feeds the port
         return port.getConnectedNode()
+
+    def default_geometry(self, port) -> bool:
+        """Whether a shader input reads the geometric property its node definition defaults to anyway: a ``normal``,
+        ``tangent`` or ``bitangent`` node in world space on an input whose nodedef has ``defaultgeomprop`` Nworld,
+        Tworld or Bworld (as MaterialX's own exports and GPUOpen's materials write them). Such an input is read as
+        unauthored: it changes nothing, and a conversion that cannot hold the node loses nothing."""
+        node = self.upstream_node(port) if port.hasAttribute("nodename") else None
+        default = _WORLD_GEOMETRY.get(node.getCategory()) if node is not None else None
+        if default is None or any(i.getName() != "space" for i in node.getInputs()):
+            return False
+        space = node.getInput("space")
+        if space is None or space.getValueString() != "world":
+            return False  # (the nodes default to object space)
+        nodedef = port.getParent().getNodeDef()
+        declared = nodedef.getActiveInput(port.getName()) if nodedef is not None else None
+        return declared is not None and declared.getDefaultGeomPropString() == default
 
     def follow_shader_input(self, port):
         """:meth:`follow` for an input of a shader node: a texture on a UsdPreviewSurface's ``normal`` is a

@@ -348,22 +348,17 @@ class _Reader(GraphFollower):
         material.extra["type"] = node.getType()
         material.extra["node_path"] = node.getNamePath()
         for port in node.getInputs():
-            entry = self.read_input(port)
-            material.inputs[entry.name] = entry
+            if not self.default_geometry(port):  # (a world-space normal or tangent node: the default, unauthored)
+                entry = self.read_input(port)
+                material.inputs[entry.name] = entry
         prefix = node.getNamePath() + "/"
         for duplicate_path, entries in self.structure.duplicates.items():
             if duplicate_path.startswith(prefix) and "/" not in duplicate_path[len(prefix):]:
                 name = duplicate_path[len(prefix):]
                 for line, attributes in entries:
-                    material.duplicates.append(
-                        Input(
-                            name=name,
-                            type=attributes.get("type"),
-                            value=None,
-                            raw=attributes.get("value"),
-                            location=Location(self.path, line, node.getNamePath(), name),
-                        )
-                    )
+                    material.duplicates.append(Input(name=name, type=attributes.get("type"), value=None,
+                                                     raw=attributes.get("value"),
+                                                     location=Location(self.path, line, node.getNamePath(), name)))
         versioning.settle(material)
         return material
 
