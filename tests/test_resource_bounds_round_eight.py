@@ -1,0 +1,101 @@
+"""Red team session 21, set M: bounded resources and unreadable inputs.
+
+M-12 a texture too large to decode is refused from its header (a 0.5 MB 13000 x 13000 PNG grew a conversion to
+22.7 GB), and Pillow's warning about it never reaches stderr; M-13 a USDZ member is never inflated past a limit (a
+1 MB zip bomb was embedded as a 1 GiB .glb); M-08 a batch's workers end with it (SIGTERM to the parent left them
+writing outputs, then waiting forever); M-01..M-03 a texture that exists but cannot be read is a finding and a
+note naming it, never a traceback or an error blamed on the output.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import signal
+import struct
+import subprocess
+import sys
+import textwrap
+import time
+import zipfile
+import zlib
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SAMPLES = ROOT / "openpbr_tools" / "samples"
+ENVIRONMENT = {**os.environ, "PYTHONPATH": str(ROOT)}
+
+
+def _chunk(kind: bytes, data: bytes) -> bytes:
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+
+def _blank_png(width: int, height: int) -> bytes:
+    """A whole 1-bit greyscale PNG of ``width`` x ``height`` black pixels: a few kilobytes on disk for any size."""
+    row = b"\x00" + bytes((width + 7) // 8)
+    compressor = zlib.compressobj(9)
+    data = b"".join(compressor.compress(row) for _ in range(height)) + compressor.flush()
+    return (b"\x89PNG\r\n\x1a\n" + _chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 1, 0, 0, 0, 0))
+            + _chunk(b"IDAT", data) + _chunk(b"IEND", b""))
+
+
+def _wood(folder: Path, albedo: bytes | None = None) -> Path:
+    """The sample textured_wood.mtlx and its textures in ``folder`` (its albedo replaced by ``albedo``)."""
+    shutil.copytree(SAMPLES / "textures", folder / "textures")
+    shutil.copy(SAMPLES / "textured_wood.mtlx", folder / "textured_wood.mtlx")
+    if albedo is not None:
+        (folder / "textures" / "wood_albedo.png").write_bytes(albedo)
+    return folder / "textured_wood.mtlx"
+
+
+def _capped(script: str, cwd: Path, limit: int = 2 << 30) -> subprocess.CompletedProcess:
+    """``script`` in a new interpreter whose address space is capped at ``limit`` bytes: an image decoded whole
+    fails there instead of taking the machine's memory."""
+    prelude = f"import resource; resource.setrlimit(resource.RLIMIT_AS, ({limit}, {limit}))\n"
+    return subprocess.run([sys.executable, "-c", prelude + textwrap.dedent(script)], capture_output=True, text=True,
+                          cwd=cwd, env=ENVIRONMENT, timeout=300)
+
+
+# -- M-12: one texel budget, checked from the header before decoding ---------------------------------------------
+
+def test_an_image_above_the_texel_budget_is_refused_before_a_texel_is_decoded(tmp_path):
+    """169 million pixels, under Pillow's error limit (179 MP), so Pillow only warned and decoded it: 4 GB of float
+    texels per copy. Refused from its header now, in a process that could not hold one such copy."""
+    from openpbr_tools.io.images import MAX_DECODED_TEXELS
+
+    (tmp_path / "big.png").write_bytes(_blank_png(13000, 13000))
+    assert 13000 * 13000 > MAX_DECODED_TEXELS
+    done = _capped("""
+        from openpbr_tools.io.images import ImageUndecodable, load_pixels
+        try:
+            load_pixels("big.png")
+        except ImageUndecodable as error:
+            print("refused:", error)
+    """, tmp_path)
+    assert "refused:" in done.stdout and "13000 x 13000" in done.stdout, done.stdout + done.stderr
+    assert "DecompressionBombWarning" not in done.stderr  # the library never prints
+
+
+def test_a_texture_above_the_texel_budget_is_a_note_at_its_material_and_input_not_a_bake(tmp_path):
+    path = _wood(tmp_path, _blank_png(13000, 13000))
+    done = _capped(f"""
+        from openpbr_tools.convert import convert_file
+        from openpbr_tools.translate.common import Settings
+        conversion = convert_file({str(path)!r}, "out.glb", None, Settings())
+        for d in conversion.diagnostics:
+            print(d.code, d.location.material, d.location.input, d.message)
+    """, tmp_path)
+    assert done.returncode == 0, done.stderr
+    refused = [line for line in done.stdout.splitlines() if "13000 x 13000" in line]
+    assert refused and all(line.split()[1:3] == ["VarnishedWood_material", "base_color"] for line in refused), done.stdout
+    assert "wood_albedo.png" in refused[0] and "Unable to allocate" not in done.stdout
+    assert "DecompressionBombWarning" not in done.stderr
+
+
+def test_an_image_within_the_texel_budget_is_still_decoded(tmp_path):
+    from openpbr_tools.io.images import load_pixels
+
+    (tmp_path / "small.png").write_bytes(_blank_png(64, 32))
+    assert load_pixels(str(tmp_path / "small.png")).shape == (32, 64, 3)
