@@ -99,3 +99,80 @@ def test_an_image_within_the_texel_budget_is_still_decoded(tmp_path):
 
     (tmp_path / "small.png").write_bytes(_blank_png(64, 32))
     assert load_pixels(str(tmp_path / "small.png")).shape == (32, 64, 3)
+
+
+# -- M-13: a USDZ member is never inflated past a limit ------------------------------------------------------------
+
+def _bomb(path: Path, inflated: int) -> Path:
+    """A USDZ whose texture ``t.png`` is a PNG signature and ``inflated`` zero bytes, deflated (a zip bomb)."""
+    layer = textwrap.dedent("""\
+        #usda 1.0
+        def Material "M"
+        {
+            token outputs:surface.connect = </M/S.outputs:surface>
+            def Shader "S"
+            {
+                uniform token info:id = "UsdPreviewSurface"
+                color3f inputs:diffuseColor.connect = </M/T.outputs:rgb>
+                token outputs:surface
+            }
+            def Shader "T"
+            {
+                uniform token info:id = "UsdUVTexture"
+                asset inputs:file = @t.png@
+                float3 outputs:rgb
+            }
+        }
+        """)
+    member = zipfile.ZipInfo("t.png", (2000, 1, 1, 0, 0, 0))
+    member.compress_type = zipfile.ZIP_DEFLATED
+    with zipfile.ZipFile(path, "w") as package:
+        package.writestr("root.usda", layer)
+        with package.open(member, "w", force_zip64=True) as stream:
+            stream.write(b"\x89PNG\r\n\x1a\n")
+            for _ in range(inflated >> 20):
+                stream.write(bytes(1 << 20))
+    with zipfile.ZipFile(path) as package:
+        assert package.getinfo("t.png").compress_size < inflated // 100
+    return path
+
+
+def test_a_packaged_member_inflating_a_hundredfold_is_refused_unread(tmp_path):
+    from openpbr_tools.io import ReadError, packaged_image
+
+    path = _bomb(tmp_path / "bomb.usdz", 16 << 20)
+    with pytest.raises(ReadError, match="zip bomb"):
+        packaged_image(str(path), "t.png")
+
+
+def test_a_packaged_member_above_the_file_limit_is_refused_unread(tmp_path, monkeypatch):
+    from openpbr_tools.io import ReadError, packaged_image
+
+    path = tmp_path / "big.usdz"
+    with zipfile.ZipFile(path, "w") as package:
+        package.writestr("root.usda", "#usda 1.0\n")
+        package.writestr("t.png", b"\x89PNG\r\n\x1a\n" + os.urandom(3 << 20))  # stored: no ratio to judge
+    monkeypatch.setenv("OPENPBR_MAX_FILE_MB", "2")
+    with pytest.raises(ReadError, match="OPENPBR_MAX_FILE_MB"):
+        packaged_image(str(path), "t.png")
+
+
+def test_a_zip_bomb_texture_is_not_embedded_in_a_converted_glb(tmp_path):
+    from openpbr_tools.convert import convert_file
+    from openpbr_tools.translate.common import Settings
+
+    path = _bomb(tmp_path / "bomb.usdz", 96 << 20)
+    conversion = convert_file(str(path), str(tmp_path / "out.glb"), None, Settings())
+    assert (tmp_path / "out.glb").stat().st_size < 1 << 20  # was the whole inflated member
+    assert any("'t.png'" in d.message and "not read" in d.message for d in conversion.diagnostics)
+
+
+def test_a_small_packaged_texture_is_still_read(tmp_path):
+    from openpbr_tools.io import packaged_image
+
+    png = _blank_png(8, 8)
+    path = tmp_path / "fine.usdz"
+    with zipfile.ZipFile(path, "w") as package:
+        package.writestr("root.usda", "#usda 1.0\n")
+        package.writestr("t.png", png)
+    assert packaged_image(str(path), "t.png") == (png, "image/png")
