@@ -176,3 +176,116 @@ def test_a_small_packaged_texture_is_still_read(tmp_path):
         package.writestr("root.usda", "#usda 1.0\n")
         package.writestr("t.png", png)
     assert packaged_image(str(path), "t.png") == (png, "image/png")
+
+
+# -- M-08: a batch's workers end with it ---------------------------------------------------------------------------
+
+def _children(pid: int) -> list[int]:
+    """The live (not zombie) child processes of ``pid``, from /proc."""
+    found = []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                fields = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()
+            except OSError:
+                continue
+            if int(fields[1]) == pid and fields[0] != "Z":
+                found.append(int(entry))
+    return found
+
+
+def _alive(pid: int) -> bool:
+    try:
+        return Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0] != "Z"
+    except OSError:
+        return False
+
+
+def _tree(folder: Path) -> set[str]:
+    return {str(p.relative_to(folder)) for p in folder.rglob("*") if p.is_file()} if folder.exists() else set()
+
+
+def _interrupted(arguments, cwd: Path, outputs: Path, signum: int):
+    """Start ``openpbr ARGUMENTS``, send ``signum`` once its two pool workers run, and return the ended process, its
+    workers, the outputs at the signal and its stderr (the caller kills what is left of its process group)."""
+    process = subprocess.Popen([sys.executable, "-m", "cli.main", *arguments], cwd=ROOT, env=ENVIRONMENT,
+                               stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True)
+    try:
+        deadline = time.time() + 60
+        while time.time() < deadline and len(_children(process.pid)) < 2 and process.poll() is None:
+            time.sleep(0.05)
+        workers = _children(process.pid)
+        assert len(workers) >= 2, "the pool did not start"
+        time.sleep(1.0)  # the workers are converting
+        process.send_signal(signum)
+        before = _tree(outputs)
+        try:
+            _, stderr = process.communicate(timeout=30)  # returns only once no process holds its pipes
+        except subprocess.TimeoutExpired:
+            raise AssertionError("the command's pipes stayed open: a worker outlived it") from None
+    except BaseException:
+        _kill_group(process)
+        raise
+    return process, workers, before, stderr.decode("utf-8", "replace")
+
+
+def _kill_group(process) -> None:
+    """Whatever is left of the command's process group (the workers of a failed run)."""
+    try:
+        os.killpg(process.pid, signal.SIGKILL)
+    except ProcessLookupError:
+        pass
+    if process.poll() is None:
+        process.wait()
+
+
+def _slow_library(folder: Path, count: int) -> Path:
+    """``count`` materials whose 1024 x 1024 noise textures take a conversion seconds to bake."""
+    import numpy as np
+    from PIL import Image
+
+    noise = np.random.default_rng(0).integers(0, 255, (1024, 1024, 3), dtype=np.uint8)
+    for index in range(count):
+        _wood(folder / f"m{index}")
+        for name in ("wood_albedo", "wood_orm", "wood_normal"):
+            Image.fromarray(noise).save(folder / f"m{index}" / "textures" / f"{name}.png", compress_level=1)
+    return folder
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+@pytest.mark.parametrize("signum", [signal.SIGTERM, signal.SIGINT], ids=["SIGTERM", "SIGINT"])
+def test_a_signalled_batch_convert_leaves_no_worker_and_writes_nothing_after(tmp_path, signum):
+    source, outputs = _slow_library(tmp_path / "in", 6), tmp_path / "out"
+    process, workers, before, stderr = _interrupted(
+        ["convert", str(source), "-o", str(outputs), "--output-format", "glb", "-j", "2", "--no-progress"],
+        tmp_path, outputs, signum)
+    try:
+        assert process.returncode != 0 and "Traceback" not in stderr, stderr
+        deadline = time.time() + 5
+        while time.time() < deadline and any(_alive(pid) for pid in workers):
+            time.sleep(0.1)
+        assert not any(_alive(pid) for pid in workers), "a worker outlived the command"
+        time.sleep(3)  # a surviving worker wrote its output seconds later
+        assert _tree(outputs) == before, "written after the signal"
+        assert not any(name.endswith(".tmp") for name in _tree(outputs))
+    finally:
+        _kill_group(process)
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="reads /proc")
+def test_a_terminated_batch_validate_leaves_no_worker(tmp_path):
+    from openpbr_tools.validate import POOL_THRESHOLD
+
+    source = _slow_library(tmp_path / "in", 1)
+    for index in range(1, 3 * POOL_THRESHOLD):
+        shutil.copytree(source / "m0", source / f"m{index}")
+    process, workers, _, stderr = _interrupted(["validate", str(source), "-j", "2"], tmp_path, tmp_path / "none",
+                                               signal.SIGTERM)
+    try:
+        assert process.returncode != 0 and "Traceback" not in stderr, stderr
+        deadline = time.time() + 5
+        while time.time() < deadline and any(_alive(pid) for pid in workers):
+            time.sleep(0.1)
+        assert not any(_alive(pid) for pid in workers), "a worker outlived the command"
+    finally:
+        _kill_group(process)
