@@ -289,3 +289,52 @@ def test_a_terminated_batch_validate_leaves_no_worker(tmp_path):
         assert not any(_alive(pid) for pid in workers), "a worker outlived the command"
     finally:
         _kill_group(process)
+
+
+# -- M-01..M-03: a texture that exists but cannot be read ----------------------------------------------------------
+
+SETPRIV = ["setpriv", "--bounding-set", "-dac_override,-dac_read_search", "--inh-caps", "-dac_override,-dac_read_search"]
+
+
+def _unprivileged(*arguments, cwd: Path) -> subprocess.CompletedProcess:
+    """``openpbr ARGUMENTS`` as root without the capabilities that let root read any file."""
+    return subprocess.run([*SETPRIV, sys.executable, "-m", "cli.main", *map(str, arguments)], capture_output=True,
+                          text=True, cwd=ROOT, env=ENVIRONMENT, timeout=300)
+
+
+@pytest.fixture
+def unreadable_texture(tmp_path):
+    if not hasattr(os, "geteuid") or os.geteuid() != 0 or shutil.which("setpriv") is None:
+        pytest.skip("needs root and setpriv to make a file unreadable to the process (root reads any file)")
+    path = _wood(tmp_path / "asset")
+    texture = tmp_path / "asset" / "textures" / "wood_albedo.png"
+    texture.chmod(0)
+    probe = subprocess.run([*SETPRIV, "cat", str(texture)], capture_output=True)
+    if probe.returncode == 0:
+        pytest.skip("setpriv could not drop CAP_DAC_OVERRIDE here")
+    yield path
+    texture.chmod(0o644)
+
+
+def test_validate_reports_an_unreadable_texture_as_opbr707(unreadable_texture):
+    done = _unprivileged("validate", unreadable_texture, cwd=unreadable_texture.parent)
+    assert done.returncode == 1, done.stdout + done.stderr
+    assert "OPBR707" in done.stdout and "wood_albedo.png" in done.stdout and "Permission denied" in done.stdout
+
+
+@pytest.mark.parametrize("suffix", [".usda", ".usdz", ".glb"])
+def test_convert_names_the_unreadable_texture_not_the_output(unreadable_texture, suffix):
+    output = unreadable_texture.parent.parent / f"out{suffix}"
+    done = _unprivileged("convert", unreadable_texture, "-o", output, cwd=unreadable_texture.parent)
+    assert "cannot write" not in done.stderr and "Traceback" not in done.stderr, done.stderr
+    assert done.returncode in (0, 1) and output.exists(), done.stdout + done.stderr
+    assert any("wood_albedo.png" in line and "Permission denied" in line for line in done.stdout.splitlines())
+
+
+@pytest.mark.parametrize("command", ["preview", "compare"])
+def test_preview_and_compare_leave_an_unreadable_texture_out_without_a_traceback(unreadable_texture, command):
+    arguments = (["-o", unreadable_texture.parent.parent / "p.png"] if command == "preview"
+                 else [SAMPLES / "textured_wood.mtlx"])
+    done = _unprivileged(command, unreadable_texture, *arguments, cwd=unreadable_texture.parent)
+    assert "Traceback" not in done.stderr and done.returncode == 0, done.stderr
+    assert "wood_albedo.png" in done.stdout + done.stderr and "Permission denied" in done.stdout + done.stderr

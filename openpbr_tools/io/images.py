@@ -117,11 +117,16 @@ class ImageLocator:
         real = resolved.real
         if not os.path.isfile(real):
             raise ImageUnavailable(f"{owner}: texture {file!r} does not exist, not written")
+        try:
+            mime = _mime_of_file(real)
+        except OSError as error:  # permission denied, an I/O error: the texture's fault, not the output's
+            raise ImageUnavailable(f"{owner}: texture {file!r} cannot be read ({error.strerror or error}), "
+                                   "not written") from None
         found = damage(real)
         if found is not None:
             raise ImageUnavailable(f"{owner}: texture {file!r} is {found.detail}, not written")
         name = resolved.relative if resolved.root == guard.own_root else f"textures/{os.path.basename(real)}"
-        return ImageSource(key=("file", real), image=real, name=name, mime=_mime_of_file(real))
+        return ImageSource(key=("file", real), image=real, name=name, mime=mime)
 
     def _packaged(self, texture: Texture, owner: str) -> ImageSource:
         container = texture.location.file if texture.location else self.source_path
