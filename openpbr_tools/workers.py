@@ -66,8 +66,8 @@ def run_task(work, argument):
 
 def pool(jobs: int):
     """A process pool of ``jobs`` workers started as the module docstring says."""
-    import multiprocessing  # lazy: only a pool needs it, as the line below (~4 ms)
-    from concurrent.futures import ProcessPoolExecutor
+    import multiprocessing  # lazy: only a pool needs it (validate's start-up does without)
+    from concurrent.futures import ProcessPoolExecutor  # lazy: as the line above (~4 ms)
 
     direct = multiprocessing.get_start_method() in ("fork", "spawn")  # a fork server starts workers itself
     return ProcessPoolExecutor(max_workers=jobs, initializer=_start_worker, initargs=(os.getpid() if direct else None,))
