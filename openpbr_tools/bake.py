@@ -33,6 +33,7 @@ import io
 import os
 import re
 import tempfile
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -112,7 +113,10 @@ class Baker:
         try:
             from PIL import Image  # lazy: as in load_pixels
 
-            with Image.open(io.BytesIO(located.image) if isinstance(located.image, bytes) else located.image) as opened:
+            with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
+                warnings.simplefilter("ignore")
+                opened = Image.open(io.BytesIO(located.image) if isinstance(located.image, bytes) else located.image)
+            with opened:
                 return opened.size
         except Exception:  # noqa: BLE001 - not an image Pillow opens (EXR...): decode it
             pixels = self._load(texture, owner)

@@ -310,20 +310,26 @@ def run_chunks(tasks: list, work_chunk, options: Options, progress, threshold: i
                 progress(done, total)
         return results
     # lazy: concurrent.futures (~4 ms) is needed only for a process pool; kept off validate's start-up
-    from concurrent.futures import ProcessPoolExecutor, as_completed
+    from concurrent.futures import as_completed
+
+    from . import workers  # lazy: as the line above
 
     chunks = _chunks(tasks, options.jobs * 8)
     ordered: list[list[FileResult] | None] = [None] * len(chunks)
     released = 0  # chunks handed to on_result, in order
     done = 0
-    with ProcessPoolExecutor(max_workers=options.jobs) as pool:
-        futures = {pool.submit(work_chunk, chunk): i for i, chunk in enumerate(chunks)}
-        for future in as_completed(futures):
-            ordered[futures[future]] = future.result()
-            done += len(chunks[futures[future]])
-            while released < len(chunks) and ordered[released] is not None:
-                ordered[released] = [keep(r) for r in ordered[released]]
-                released += 1
-            if progress:
-                progress(done, total)
+    with workers.interruptible(), workers.pool(options.jobs) as pool:
+        try:
+            futures = {pool.submit(workers.run_task, work_chunk, chunk): i for i, chunk in enumerate(chunks)}
+            for future in as_completed(futures):
+                ordered[futures[future]] = future.result()
+                done += len(chunks[futures[future]])
+                while released < len(chunks) and ordered[released] is not None:
+                    ordered[released] = [keep(r) for r in ordered[released]]
+                    released += 1
+                if progress:
+                    progress(done, total)
+        except BaseException:  # SIGTERM, Ctrl-C, a failure: no worker goes on writing once the run has ended
+            workers.stop(pool)
+            raise
     return [result for chunk in ordered for result in chunk]

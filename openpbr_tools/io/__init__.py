@@ -116,6 +116,42 @@ def package_member(path: str) -> str:
     return path.split("[", 1)[-1].rstrip("]") if path.endswith("]") else path
 
 
+#: A compressed USDZ member inflating to more than this many times its stored size (and to more than 1 MiB) is
+#: refused as a zip bomb. USD stores members uncompressed ("compressed files are not supported"), so any ratio above
+#: 1 is already an OPBR1012 finding; a deflated PNG or JPEG hardly shrinks, while a bomb inflates a thousandfold.
+MAX_COMPRESSION_RATIO = 100
+
+
+def _member_bytes(archive, name: str, container) -> bytes:
+    """The bytes of package member ``name``, inflated in chunks and never past :func:`max_file_bytes` or
+    :data:`MAX_COMPRESSION_RATIO` times its stored size (the sizes the archive declares are checked first, and
+    not trusted): :class:`ReadError` for a member beyond either."""
+    import zipfile  # lazy: as in _usdz_member
+
+    info = archive.getinfo(name)
+    limit = max_file_bytes()
+    compressed = info.compress_type != zipfile.ZIP_STORED
+    ceiling = min(limit, max(1 << 20, MAX_COMPRESSION_RATIO * info.compress_size)) if compressed else limit
+
+    def refused(size: int) -> ReadError:
+        why = (f"above the {limit / 2**20:.0f} MiB limit (OPENPBR_MAX_FILE_MB)" if size > limit else
+               f"more than {MAX_COMPRESSION_RATIO} times the {info.compress_size:,} bytes it is compressed to "
+               "(a zip bomb; USD reads only uncompressed members)")
+        return ReadError("unreadable", f"{name!r} inflates to {size:,} bytes or more, {why}: not read", Location(
+            container if isinstance(container, str) else ""))
+
+    if info.file_size > ceiling:
+        raise refused(info.file_size)
+    chunks, total = [], 0
+    with archive.open(info) as stream:
+        while chunk := stream.read(1 << 20):
+            total += len(chunk)
+            if total > ceiling:
+                raise refused(total)
+            chunks.append(chunk)
+    return b"".join(chunks)
+
+
 def _usdz_member(container: str, member: str) -> tuple[bytes, str | None]:
     import zipfile  # lazy: only a texture packaged in a USDZ needs it
 
@@ -125,10 +161,11 @@ def _usdz_member(container: str, member: str) -> tuple[bytes, str | None]:
             if nested.endswith("]") and outer.lower().endswith(".usdz") and outer in archive.namelist():
                 # a member of a package nested in this one: "parts/b.usdz[textures/a.png]"
                 try:
-                    return _usdz_member(io.BytesIO(archive.read(outer)), nested[:-1])  # type: ignore[arg-type]
+                    return _usdz_member(io.BytesIO(_member_bytes(archive, outer, container)),  # type: ignore[arg-type]
+                                        nested[:-1])
                 except ReadError as error:
                     raise ReadError(error.kind, f"{member!r}: {error.message}", Location(container)) from None
-            data = archive.read(package_member(member).lstrip("./"))
+            data = _member_bytes(archive, package_member(member).lstrip("./"), container)
     except KeyError:
         raise ReadError("unreadable", f"{member!r} is not in the package", Location(container)) from None
     except (OSError, zipfile.BadZipFile) as error:

@@ -55,8 +55,9 @@ class ResourceFile(io.RawIOBase):
 
 class Damage(NamedTuple):
     """Why a file is not a readable image. ``kind``: ``"empty"``, ``"text"`` (a Git LFS pointer, an
-    HTML page...), ``"corrupt"`` (a PNG or JPEG cut short or with damaged data) or ``"unrecognised"``
-    (bytes in no image format this machine knows); ``detail`` says what was found."""
+    HTML page...), ``"corrupt"`` (a PNG or JPEG cut short or with damaged data), ``"unrecognised"``
+    (bytes in no image format this machine knows) or ``"unreadable"`` (a file that exists but cannot be
+    opened: permission denied, an I/O error); ``detail`` says what was found."""
 
     kind: str
     detail: str
@@ -121,7 +122,8 @@ def damage(image: str | bytes) -> Damage | None:
     format Pillow identifies is trusted from its header (so is an image above Pillow's decompression-bomb
     limit, about 179 million pixels, which Pillow refuses to open), and one Pillow does not open
     (:data:`OTHER_SIGNATURES`, or OpenImageIO's header reader for a file) from its signature. ``None``
-    too for a path that cannot be opened or is not a regular file: whether it exists is OPBR701's question."""
+    too for a path that does not exist or is not a regular file: whether it exists is OPBR701's question; a regular
+    file that cannot be opened (permission denied) is ``"unreadable"``: no renderer reads it either."""
     if isinstance(image, (bytes, bytearray, memoryview)):
         return _damage(memoryview(image))
     try:
@@ -150,7 +152,9 @@ def _damage(image: str | memoryview) -> Damage | None:
             with open(image, "rb") as handle:
                 head = handle.read(512)
             size = os.path.getsize(image)
-    except (OSError, ValueError):
+    except OSError as error:
+        return Damage("unreadable", f"not readable ({error.strerror or error})")
+    except ValueError:
         return None
     if size == 0:
         return Damage("empty", "empty (0 bytes)")

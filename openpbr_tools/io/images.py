@@ -117,11 +117,16 @@ class ImageLocator:
         real = resolved.real
         if not os.path.isfile(real):
             raise ImageUnavailable(f"{owner}: texture {file!r} does not exist, not written")
+        try:
+            mime = _mime_of_file(real)
+        except OSError as error:  # permission denied, an I/O error: the texture's fault, not the output's
+            raise ImageUnavailable(f"{owner}: texture {file!r} cannot be read ({error.strerror or error}), "
+                                   "not written") from None
         found = damage(real)
         if found is not None:
             raise ImageUnavailable(f"{owner}: texture {file!r} is {found.detail}, not written")
         name = resolved.relative if resolved.root == guard.own_root else f"textures/{os.path.basename(real)}"
-        return ImageSource(key=("file", real), image=real, name=name, mime=_mime_of_file(real))
+        return ImageSource(key=("file", real), image=real, name=name, mime=mime)
 
     def _packaged(self, texture: Texture, owner: str) -> ImageSource:
         container = texture.location.file if texture.location else self.source_path
@@ -160,31 +165,40 @@ def _mime_of_file(path: str) -> str | None:
 
 
 
-def _refuse_huge(width: int, height: int, image) -> None:
-    """An image above Pillow's own decompression-bomb limit (2 x ``Image.MAX_IMAGE_PIXELS``, about 13,400 x
-    13,400), which Pillow refuses, is refused by the OpenImageIO fallback too, before a byte is decoded: a
-    20000 x 20000 scan decoded whole by OpenImageIO exhausted the machine's memory and the process was killed.
-    The validator reports the size of anything beyond what GPUs load (OPBR713)."""
-    from PIL import Image  # lazy: as in load_pixels
+#: The most texels (width x height) an image may have to be decoded for baking, evaluation or packing: 4096 x
+#: 4096. Decoding and baking cost about 220 bytes of peak memory per texel (measured on ``convert`` to ``.glb`` of a
+#: material whose base colour is an RGB PNG: 1.1 GB peak at 2048 x 2048, 3.9 GB at 4096 x 4096; float64 copies
+#: of the image, its colour decoding and each formula's intermediates), so this keeps one bake under about 4 GB.
+#: Pillow's own limit (179 MP) let a 0.5 MB 13000 x 13000 PNG grow a conversion to 22.7 GB before it was killed.
+#: Textures that pass through unchanged are copied, never decoded, and have no such limit.
+MAX_DECODED_TEXELS = 4096 * 4096
 
-    limit = 2 * Image.MAX_IMAGE_PIXELS
-    if width * height > limit:
+
+def _refuse_huge(width: int, height: int, image) -> None:
+    """An image above :data:`MAX_DECODED_TEXELS` is refused from its header, before a byte is decoded (by Pillow or
+    the OpenImageIO fallback). The validator reports the size of anything beyond what GPUs load (OPBR713)."""
+    if width * height > MAX_DECODED_TEXELS:
         name = repr(image) if isinstance(image, str) else "the embedded image"
-        raise ImageUndecodable(f"{name} is {width} x {height} pixels, above the {limit:,} pixels that are "
-                               "decoded (Pillow's decompression-bomb limit): not read")
+        raise ImageUndecodable(f"{name} is {width} x {height} pixels, above the {MAX_DECODED_TEXELS:,} texels "
+                               "(4096 x 4096) that are decoded for baking or evaluation: not read")
 
 
 def load_pixels(image: str | bytes, levels: bool = False):
     """Pixels as float64 ``(height, width, channels)`` in [0, 1] (greyscale expanded to RGB). With
     ``levels``, an 8-bit image comes as its uint8 levels instead (``levels / 255`` is the float
-    image). An image above Pillow's decompression-bomb limit is refused (:class:`ImageUndecodable`)."""
+    image). An image above :data:`MAX_DECODED_TEXELS` is refused from its header (:class:`ImageUndecodable`)."""
     import numpy as np  # lazy: numpy ~60 ms, Pillow ~15 ms; every conversion imports this module (the baker)
 
-
+    size = image_size(image)
+    if size is not None:
+        _refuse_huge(*size, image)
     try:
         from PIL import Image  # lazy: as numpy above
 
-        with Image.open(io.BytesIO(image) if isinstance(image, bytes) else image) as opened:
+        with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
+            warnings.simplefilter("ignore")
+            opened = Image.open(io.BytesIO(image) if isinstance(image, bytes) else image)
+        with opened:
             mode = opened.mode
             if mode in ("I;16", "I;16B", "I;16L", "I"):
                 scale = 65535.0 if mode.startswith("I;16") else float(max(1, np.asarray(opened).max()))
@@ -196,10 +210,7 @@ def load_pixels(image: str | bytes, levels: bool = False):
                 values = np.asarray(opened.convert(target))
                 values = values if levels else values.astype(np.float64) / 255.0
     except Exception:  # Pillow raises many exception types for formats it does not know
-        size = image_size(image)  # (a decompression bomb among them: refused here too, by its header)
-        if size is not None:
-            _refuse_huge(*size, image)
-        values = _load_with_openimageio(image)
+        values = _load_with_openimageio(image)  # (an image too large was refused above, by its header)
     if values.ndim == 2:
         values = values[:, :, None]
     if values.shape[2] in (1, 2):  # L / LA: grey is every colour channel

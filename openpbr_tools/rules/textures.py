@@ -103,8 +103,8 @@ _LFS_POINTER = (b"version https://git-lfs.github.com/spec/v1\n"
                 b"oid sha256:4d7a214614ab2935c943f9e0ff69d22eadbb8f32b1258daaa5e2ca24d17e2393\nsize 1048576\n")
 UNREADABLE_TEXTURE = Rule(
     "OPBR707", "texture-unreadable", Severity.ERROR,
-    "A texture file exists but is no readable image: empty, text (a Git LFS pointer, an HTML page), or a "
-    "PNG or JPEG cut short or with damaged data.",
+    "A texture file exists but is no readable image: empty, text (a Git LFS pointer, an HTML page), a "
+    "PNG or JPEG cut short or with damaged data, or a file that cannot be opened (permission denied).",
     "Renderers show such a texture as black, magenta or a half-grey image, or skip it with a log line, so "
     "the asset renders wrong without failing. A Git LFS pointer is a checkout made without `git lfs pull`; "
     "an HTML page a download that failed. A PNG's chunks and CRCs are checked and a JPEG is decoded at 1/8 "
@@ -440,6 +440,7 @@ def damage_diagnostic(context, found, subject: str, where, remedy: dict):
 
 _LFS_REMEDY = "fetch or re-export the real image (for a Git LFS pointer: git lfs pull)"
 REMEDY = {"text": _LFS_REMEDY, "empty": "re-export the image", "corrupt": "re-export or re-download the image",
+          "unreadable": "give the user running the renderer read permission on the file (chmod a+r)",
           "unrecognised": "re-export the image as PNG, JPEG or OpenEXR", None: "re-export the image"}
 EMBEDDED_REMEDY = {"text": _LFS_REMEDY, None: "re-export or re-embed the image"}  # a glTF's images
 
