@@ -170,17 +170,27 @@ def _mime_of_file(path: str) -> str | None:
 #: material whose base colour is an RGB PNG: 1.1 GB peak at 2048 x 2048, 3.9 GB at 4096 x 4096; float64 copies
 #: of the image, its colour decoding and each formula's intermediates), so this keeps one bake under about 4 GB.
 #: Pillow's own limit (179 MP) let a 0.5 MB 13000 x 13000 PNG grow a conversion to 22.7 GB before it was killed.
-#: Textures that pass through unchanged are copied, never decoded, and have no such limit.
+#: Textures that pass through unchanged are copied, never decoded, and have no such limit. A machine with the
+#: memory for 8K bakes (about 15 GB each) raises it with OPENPBR_MAX_DECODED_MEGATEXELS (67.1 for 8192 x 8192).
 MAX_DECODED_TEXELS = 4096 * 4096
 
 
+def max_decoded_texels() -> int:
+    """:data:`MAX_DECODED_TEXELS`, or OPENPBR_MAX_DECODED_MEGATEXELS million where set (as OPENPBR_MAX_FILE_MB)."""
+    try:
+        return int(float(os.environ.get("OPENPBR_MAX_DECODED_MEGATEXELS", MAX_DECODED_TEXELS / 1e6)) * 1e6)
+    except ValueError:
+        return MAX_DECODED_TEXELS
+
+
 def _refuse_huge(width: int, height: int, image) -> None:
-    """An image above :data:`MAX_DECODED_TEXELS` is refused from its header, before a byte is decoded (by Pillow or
+    """An image above :func:`max_decoded_texels` is refused from its header, before a byte is decoded (by Pillow or
     the OpenImageIO fallback). The validator reports the size of anything beyond what GPUs load (OPBR713)."""
-    if width * height > MAX_DECODED_TEXELS:
+    limit = max_decoded_texels()
+    if width * height > limit:
         name = repr(image) if isinstance(image, str) else "the embedded image"
-        raise ImageUndecodable(f"{name} is {width} x {height} pixels, above the {MAX_DECODED_TEXELS:,} texels "
-                               "(4096 x 4096) that are decoded for baking or evaluation: not read")
+        raise ImageUndecodable(f"{name} is {width} x {height} pixels, above the {limit:,} texels that are decoded "
+                               "for baking or evaluation (OPENPBR_MAX_DECODED_MEGATEXELS raises it): not read")
 
 
 def load_pixels(image: str | bytes, levels: bool = False):
