@@ -10,7 +10,7 @@ import sys
 import click
 
 from cli.validate_cmd import SEVERITIES, _severity
-from cli.validate_run import progress_bar
+from cli.validate_run import progress_bar, refuse_input, selection_named
 from openpbr_tools.reports import FORMATS
 
 MODELS = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPreviewSurface")
@@ -69,8 +69,9 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
     Batch form: several INPUTs, folders (searched recursively) or globs, or --output-format, write one
     output per input under the folder OUTPUT, mirroring the input tree, with one combined report.
 
-    Exit codes: 0 written, 1 written but a report entry reached --fail-on, 2 unreadable input or
-    refused output (existing without --force, or the input itself).
+    Exit codes: 0 written, 1 written but a report entry reached --fail-on, 2 unreadable input, no
+    material to convert, or refused output (existing without --force, the input itself or a file it
+    reads, a batch's output folder holding its input folder); 130 interrupted.
     """
     if batch_format or len(inputs) > 1 or os.path.isdir(inputs[0]) or (glob.has_magic(inputs[0]) and not os.path.exists(inputs[0])):
         if max_delta_e is not None:
@@ -87,6 +88,7 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
     from openpbr_tools.convert import convert_file, output_kind
     from openpbr_tools.diagnostics import Diagnostic
     from openpbr_tools.io import ReadError
+    from openpbr_tools.outputs import InputOverwrite, files_read
     from openpbr_tools.reports import render
     from openpbr_tools.translate.common import Settings
     from openpbr_tools.validate import FileResult, Report, unreadable
@@ -95,8 +97,9 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
         raise click.UsageError(f"cannot write {output}: use .mtlx, .usda, .usdc, .usdz, .gltf or .glb")
     if target and output_kind(output) != "mtlx":
         raise click.UsageError("--to applies to .mtlx output; USD gets OpenPBR plus UsdPreviewSurface, glTF gets glTF PBR")
-    if os.path.exists(output) and os.path.exists(input_path) and os.path.samefile(input_path, output):
-        raise click.UsageError("OUTPUT is the input file: openpbr never modifies its input")
+    refuse_input(output, [input_path])
+    if html_report:
+        refuse_input(html_report, [input_path], option="--report")
     if os.path.exists(output) and not force:
         raise click.UsageError(f"{output} exists; pass --force to overwrite it")
     verify = verify or max_delta_e is not None or bool(delta_e_images) or bool(html_report)
@@ -107,6 +110,9 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
                               allow_outside=tuple(allow_outside))
     except ReadError as error:
         click.echo(render(Report(files=[unreadable(input_path, error)]), output_format), nl=False)
+        sys.exit(2)
+    except InputOverwrite as error:
+        click.echo(f"openpbr: {error}", err=True)
         sys.exit(2)
     except ValueError as error:
         raise click.UsageError(str(error)) from None
@@ -131,9 +137,11 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
             _internal_error(input_path, "verifying", error, result.diagnostics, len(result.pairs), output_format)
         if max_delta_e is not None:
             too_far = sorted({display_name(source) for source, c in measured if c.worst.exceeds(max_delta_e)})
+        read = files_read(result.asset)
         if delta_e_images:
-            write_delta_e_images(delta_e_images, [(display_name(source), c) for source, c in measured])
+            write_delta_e_images(delta_e_images, [(display_name(source), c) for source, c in measured], [input_path], read)
         if html_report:
+            refuse_input(html_report, [input_path], read, option="--report")
             write_html_report(html_report, f"openpbr convert {os.path.basename(input_path)} -> {os.path.basename(output)}",
                               [(display_name(source), c) for source, c in measured], result.diagnostics, limit)
     report = Report(files=[FileResult(input_path, result.diagnostics, materials=len(result.pairs))])
@@ -145,24 +153,31 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
     sys.exit(report.exit_code(fail_on))
 
 
-def write_delta_e_images(folder, comparisons) -> None:
-    """Per material and view: ``NAME_SHAPE.png`` (original | converted) and ``NAME_SHAPE_delta_e.png``."""
+def write_delta_e_images(folder, comparisons, named=(), read=()) -> None:
+    """Per material and view: ``NAME_SHAPE.png`` (original | converted) and ``NAME_SHAPE_delta_e.png``.
+    Refused (exit 2) before any is written when one would replace an input (``named``) or a file an input
+    reads (``read``: a texture in the folder given)."""
     # lazy: Pillow and the evaluator load only when images are asked for
     from openpbr_tools.atomic import write_bytes
     from openpbr_tools.evaluate.visual import view_images
 
+    planned = []  # (path, view) of the side-by-side; its ΔE map beside it
+    used = set()
+    for name, comparison in comparisons:
+        stem = re.sub(r"[^A-Za-z0-9_.-]", "_", comparison.name_b if comparison.name_b != comparison.name_a else name)
+        while stem in used:
+            stem += "_"
+        used.add(stem)
+        planned += [(os.path.join(folder, f"{stem}_{view.shape}"), view) for view in comparison.views]
+    for stem, _ in planned:
+        for path in (f"{stem}.png", f"{stem}_delta_e.png"):
+            refuse_input(path, named, read, option="--delta-e-images")
     try:
         os.makedirs(folder, exist_ok=True)
-        used = set()
-        for name, comparison in comparisons:
-            stem = re.sub(r"[^A-Za-z0-9_.-]", "_", comparison.name_b if comparison.name_b != comparison.name_a else name)
-            while stem in used:
-                stem += "_"
-            used.add(stem)
-            for view in comparison.views:
-                images = view_images(view)
-                write_bytes(os.path.join(folder, f"{stem}_{view.shape}.png"), images["side_by_side"])
-                write_bytes(os.path.join(folder, f"{stem}_{view.shape}_delta_e.png"), images["delta_e"])
+        for stem, view in planned:
+            images = view_images(view)
+            write_bytes(f"{stem}.png", images["side_by_side"])
+            write_bytes(f"{stem}_delta_e.png", images["delta_e"])
     except OSError as error:
         click.echo(f"openpbr: {folder}: {error}", err=True)
         sys.exit(2)
@@ -194,7 +209,7 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
     # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools import batch
     from openpbr_tools.reports import STREAMED, render
-    from openpbr_tools.selection import SelectionError, parse_shard
+    from openpbr_tools.selection import SelectionError, check_ref, parse_shard
     from openpbr_tools.validate import Options
 
     if not batch_format:
@@ -205,6 +220,8 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
         raise click.UsageError(f"{outdir} is a file; the batch form writes into a folder")
     try:
         shard_range = parse_shard(shard) if shard else None
+        if changed_since is not None:
+            check_ref(changed_since)
     except SelectionError as error:
         raise click.UsageError(str(error)) from None
     options = Options(jobs=jobs or os.cpu_count() or 1, changed_since=changed_since, shard=shard_range,
@@ -236,6 +253,9 @@ def _batch(inputs, outdir, batch_format, target, mesh, nits_per_unit, allow_outs
     if show_progress:
         click.echo("", err=True)
     click.echo(stream.end() if streamed else render(report, output_format, fail_on), nl=False)
+    if report.unselected and not planned.jobs and not planned.skipped and not report.problems:
+        click.echo(f"openpbr: note: {selection_named(changed_since, shard)} left none of the {report.unselected} "
+                   "input(s) found; nothing was converted", err=True)
     written = sum(1 for result in report.files if not result.unreadable)
     click.echo(f"wrote {written} file(s) under {outdir}; {len(planned.skipped)} up to date, skipped", err=True)
     sys.exit(report.exit_code(fail_on))

@@ -5,9 +5,12 @@ from __future__ import annotations
 
 import io
 import json
+import os
 import sys
 
 import click
+
+from cli.validate_run import refuse_input
 
 METRICS = ("mean", "p95", "max")
 
@@ -26,7 +29,7 @@ def _read(path):
 
 @click.command()
 @click.argument("file", type=click.Path(dir_okay=False))
-@click.option("--output", "-o", required=True, type=click.Path(dir_okay=False), help="PNG file to write.")
+@click.option("--output", "-o", required=True, type=click.Path(dir_okay=False), help="PNG file to write (.png).")
 @click.option("--size", type=click.IntRange(min=16, max=1024), default=128, show_default=True, help="Swatch size in pixels.")
 @click.option("--columns", type=click.IntRange(min=1), default=None, help="Swatches per row [default: up to 6].")
 @click.option("--shape", type=click.Choice(("sphere", "swatch")), default="sphere", show_default=True,
@@ -36,7 +39,8 @@ def _read(path):
                    "and uniform environment.")
 @click.option("--allow-outside", multiple=True, type=click.Path(file_okay=False),
               help="A folder outside the input's from which textures may be read (repeatable).")
-def preview(file, output, size, columns, shape, environment, allow_outside):
+@click.option("--force", is_flag=True, help="Overwrite OUTPUT if it exists.")
+def preview(file, output, size, columns, shape, environment, allow_outside, force):
     """Render every material in FILE (OpenPBR, Standard Surface, glTF PBR or UsdPreviewSurface)
     on a lit sphere (or a texture-space swatch) and write a contact sheet (sRGB PNG) with each
     material's name under it.
@@ -46,21 +50,30 @@ def preview(file, output, size, columns, shape, environment, allow_outside):
     environment plus one directional key light, or --environment (see
     openpbr_tools.evaluate.preview).
 
-    Exit codes: 0 written, 2 unreadable input or environment, no materials, or output not writable.
+    Exit codes: 0 written, 2 unreadable input or environment, no materials, or refused output (not .png,
+    existing without --force, the input or a file it reads) or output not writable; 130 interrupted.
     """
     # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.atomic import write_bytes
     from openpbr_tools.evaluate.preview import Environment, Rig, contact_sheet
     from openpbr_tools.evaluate.textures import TextureSampler
     from openpbr_tools.evaluate.verify import render_material
+    from openpbr_tools.outputs import files_read
 
+    named = [file] + ([environment] if environment else [])
+    refuse_input(output, named)
+    if not output.lower().endswith(".png"):
+        raise click.UsageError(f"cannot write {output}: preview writes a PNG image; name it .png")
     asset = _read(file)
     if not asset.materials:
         click.echo(f"openpbr: {file}: no materials to preview", err=True)
         sys.exit(2)
+    refuse_input(output, named, files_read(asset))
     lights = None
     if environment:
         lights = _environment(environment, Environment)
+    if os.path.lexists(output) and not force:
+        raise click.UsageError(f"{output} exists; pass --force to overwrite it")
     rig = Rig(size=size)
     sampler = TextureSampler.for_asset(asset.path, tuple(allow_outside))
     swatches = []
@@ -78,8 +91,8 @@ def preview(file, output, size, columns, shape, environment, allow_outside):
     sheet.save(buffer, format="PNG")
     try:
         write_bytes(output, buffer.getvalue())
-    except OSError as error:
-        click.echo(f"openpbr: {output}: {error}", err=True)
+    except OSError as error:  # the temporary file's name in the error is not the user's: name the output
+        click.echo(f"openpbr: cannot write {output}: {error.strerror or error}", err=True)
         sys.exit(2)
     click.echo(f"{output}: {len(swatches)} material(s)")
 
@@ -123,14 +136,21 @@ def compare(file_a, file_b, output_format, threshold, metric, size, delta_e_imag
     white point: D65, an ideal white diffuser facing the key light has L* = 100.
 
     Exit codes: 0 all pairs within --threshold (or no threshold), 1 a pair above it, 2 unreadable
-    input or nothing to compare.
+    input, nothing to compare or refused output (--report or --delta-e-images naming an input or a
+    file it reads); 130 interrupted.
     """
     # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.evaluate.preview import Rig
     from openpbr_tools.evaluate.textures import TextureSampler
     from openpbr_tools.evaluate.verify import compare_materials, pair_materials
+    from openpbr_tools.outputs import files_read
 
+    if html_report:
+        refuse_input(html_report, [file_a, file_b], option="--report")
     asset_a, asset_b = _read(file_a), _read(file_b)
+    read = files_read(asset_a) + files_read(asset_b)
+    if html_report:
+        refuse_input(html_report, [file_a, file_b], read, option="--report")
     pairing = pair_materials(asset_a.materials, asset_b.materials)
     if not pairing.pairs:
         click.echo(f"openpbr: no materials to compare (no common names between {file_a} and {file_b})", err=True)
@@ -146,7 +166,7 @@ def compare(file_a, file_b, output_format, threshold, metric, size, delta_e_imag
 
         named = [(r.name_a, r) for r in results]
         if delta_e_images:
-            write_delta_e_images(delta_e_images, named)
+            write_delta_e_images(delta_e_images, named, [file_a, file_b], read)
         if html_report:
             write_html_report(html_report, f"openpbr compare {file_a} {file_b}", named, [], threshold, ("A", "B"))
     if output_format == "json":

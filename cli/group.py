@@ -1,12 +1,14 @@
 """The click command group. Sub-commands are imported only when invoked, so that ``openpbr validate``
 does not pay for NumPy, colour-science or USD at start-up.
 
-Exit codes (stable): 0 clean, 1 findings at or above ``--fail-on``, 2 usage error or unreadable input.
+Exit codes (stable): 0 clean, 1 findings at or above ``--fail-on``, 2 usage error or unreadable input,
+130 interrupted (Ctrl-C, SIGINT: the shell's 128 + 2, so CI never takes an interrupt for findings).
 """
 
 from __future__ import annotations
 
 import importlib
+import sys
 
 import click
 
@@ -25,7 +27,23 @@ COMMANDS = {
 }
 
 
+INTERRUPTED = 130  # 128 + SIGINT, what a shell reports for a command stopped by Ctrl-C
+
+
+def interrupted() -> None:
+    """Exit 130 after Ctrl-C / SIGINT. click's own handling exits 1, the documented code for findings."""
+    sys.stderr.write("\nopenpbr: interrupted\n")
+    sys.stderr.flush()
+    sys.exit(INTERRUPTED)
+
+
 class LazyGroup(click.Group):
+    def invoke(self, ctx: click.Context):
+        try:
+            return super().invoke(ctx)
+        except KeyboardInterrupt:
+            interrupted()
+
     def list_commands(self, ctx: click.Context) -> list[str]:
         return sorted(COMMANDS)
 
@@ -42,5 +60,6 @@ class LazyGroup(click.Group):
 def cli() -> None:
     """Read, validate, translate and verify OpenPBR Surface materials.
 
-    Exit codes: 0 clean, 1 findings at or above --fail-on, 2 usage error or unreadable input.
+    Exit codes: 0 clean, 1 findings at or above --fail-on, 2 usage error, unreadable input or refused
+    output (never an input), 130 interrupted (Ctrl-C).
     """

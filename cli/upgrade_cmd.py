@@ -8,6 +8,7 @@ import sys
 import click
 
 from cli.validate_cmd import SEVERITIES, _severity
+from cli.validate_run import refuse_input
 from openpbr_tools.reports import FORMATS
 
 
@@ -25,7 +26,7 @@ def upgrade(input_path, output, target, force, output_format, fail_on):
     document is kept. The report lists every rename, conversion, approximation and loss.
 
     Exit codes: 0 written, 1 written but a report entry reached --fail-on, 2 unreadable input or
-    refused output (existing without --force, or the input itself).
+    refused output (existing without --force, or the input itself); 130 interrupted.
     """
     # lazy: `openpbr --help` loads every command module; the library loads when this command runs
     from openpbr_tools.reports import render
@@ -39,8 +40,7 @@ def upgrade(input_path, output, target, force, output_format, fail_on):
         raise click.UsageError("upgrade reads and writes .mtlx files")
     if target is not None and target not in tables.versions("open_pbr_surface"):
         raise click.UsageError(f"unknown OpenPBR version {target!r} (known: {', '.join(tables.versions('open_pbr_surface'))})")
-    if os.path.exists(output) and os.path.exists(input_path) and os.path.samefile(input_path, output):
-        raise click.UsageError("OUTPUT is the input file: openpbr never modifies its input")
+    refuse_input(output, [input_path])
     if os.path.exists(output) and not force:
         raise click.UsageError(f"{output} exists; pass --force to overwrite it")
     try:

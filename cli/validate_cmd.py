@@ -47,8 +47,9 @@ def validate(paths, output_format, output, fail_on, min_severity, select, ignore
     Settings come from the nearest [tool.openpbr] in pyproject.toml or .openpbr.toml; options
     here override them.
 
-    Exit codes: 0 clean, 1 a finding at or above --fail-on, 2 usage error, bad configuration or
-    unreadable input.
+    Exit codes: 0 clean, 1 a finding at or above --fail-on, 2 usage error, bad configuration,
+    unreadable input or refused output (--output or --write-baseline naming an input or a file it
+    reads); 130 interrupted.
     """
     try:
         code = run_validate(paths, output_format=output_format, output=output, fail_on=fail_on,

@@ -53,6 +53,27 @@ def _error(message: str) -> None:
     sys.stderr.flush()
 
 
+def input_refusal(output, named, read=(), option: str = "OUTPUT") -> str | None:
+    """Why writing ``output`` is refused, or ``None``: it is one of the ``named`` input files, or one of the
+    files the inputs ``read`` (textures, includes, layers; :mod:`openpbr_tools.outputs`). Every command that
+    writes a file asks this before writing, and exits 2 with the message."""
+    from openpbr_tools.outputs import NEVER_MODIFIED, overwritten_input  # lazy: only a command that writes asks
+
+    if overwritten_input(output, named) is not None:
+        return f"{option} is the input file: {NEVER_MODIFIED}"
+    if overwritten_input(output, read) is not None:
+        return f"{option} would replace {output}, a file the input reads: {NEVER_MODIFIED}"
+    return None
+
+
+def refuse_input(output, named, read=(), option: str = "OUTPUT") -> None:
+    """Exit 2 with :func:`input_refusal`'s one-line message when there is one."""
+    reason = input_refusal(output, named, read, option)
+    if reason is not None:
+        _error(f"openpbr: {reason}")
+        sys.exit(2)
+
+
 def run_validate(paths, *, output_format="text", output=None, fail_on=None, min_severity="info", select=None,
                  ignore=None, no_config=False, baseline=None, write_baseline=None, jobs=None, changed_since=None,
                  shard=None, scheduler=None, scheduler_timeout=30.0, progress=None, allow_outside=()) -> int:
@@ -63,7 +84,7 @@ def run_validate(paths, *, output_format="text", output=None, fail_on=None, min_
     # lazy: the library loads when the command runs, not when `openpbr --help` lists it
     from openpbr_tools.reports import render
     from openpbr_tools.rules import all_rules
-    from openpbr_tools.selection import SelectionError, parse_shard
+    from openpbr_tools.selection import SelectionError, check_ref, parse_shard
     from openpbr_tools.validate import Options, validate_paths
 
     selected, ignored = codes(select), codes(ignore)
@@ -73,8 +94,20 @@ def run_validate(paths, *, output_format="text", output=None, fail_on=None, min_
         raise UsageProblem(f"unknown rule code(s): {', '.join(unknown)}")
     try:
         shard_range = parse_shard(shard) if shard else None
+        if changed_since is not None:
+            check_ref(changed_since)
     except SelectionError as error:
         raise UsageProblem(str(error)) from None
+    writes = [(name, option) for name, option in ((output, "--output"), (write_baseline, "--write-baseline")) if name]
+    if writes:
+        from openpbr_tools.validate import discover  # lazy: as above
+
+        named = list(paths) + discover(paths)[0]
+        for name, option in writes:
+            reason = input_refusal(name, named, option=option)
+            if reason is not None:
+                _error(f"openpbr: {reason}")
+                return 2
     options = Options(select=tuple(sorted(selected)), ignore=tuple(sorted(ignored)), use_config=not no_config,
                       jobs=jobs or os.cpu_count() or 1, changed_since=changed_since, shard=shard_range,
                       scheduler=scheduler, scheduler_timeout=scheduler_timeout,
@@ -87,6 +120,15 @@ def run_validate(paths, *, output_format="text", output=None, fail_on=None, min_
         return 2
     if show_progress:
         _error("")
+    if report.unselected and not report.files:
+        _error(f"openpbr: note: {selection_named(changed_since, shard)} left none of the {report.unselected} file(s) found; "
+               "nothing was validated")
+    for name, option in writes:  # the files the assets read (textures, includes, layers) are known now
+        reason = input_refusal(name, [r.path for r in report.files],
+                               [f for r in report.files for f in r.reads], option)
+        if reason is not None:
+            _error(f"openpbr: {reason}")
+            return 2
     fail_on_severity = severity(fail_on or _configured_fail_on(paths, no_config) or "error")
     if write_baseline:
         # lazy: only a baseline run needs the writer
@@ -126,6 +168,13 @@ def run_validate(paths, *, output_format="text", output=None, fail_on=None, min_
         sys.stdout.write(text)
         sys.stdout.flush()
     return report.exit_code(fail_on_severity)
+
+
+def selection_named(changed_since: str | None, shard: str | None) -> str:
+    """The options that narrowed the file list, as typed (for the note that they left nothing)."""
+    return " and ".join(f"{option} {value}" for option, value in (("--changed-since", changed_since),
+                                                                   ("--shard", shard)) if value)
+
 
 
 def _configured_fail_on(paths, no_config: bool) -> str | None:

@@ -16,6 +16,7 @@ from .diagnostics import Diagnostic
 from .validate import Report
 
 VERSION = 1
+FIELDS = ("code", "file", "path", "input", "message")  # a finding's fingerprint, in order
 
 
 def fingerprint(diagnostic: Diagnostic, root: str) -> tuple[str, str, str, str, str]:
@@ -27,7 +28,7 @@ def fingerprint(diagnostic: Diagnostic, root: str) -> tuple[str, str, str, str, 
 def baseline_text(report: Report, baseline_path: str) -> str:
     root = os.path.dirname(os.path.abspath(baseline_path))
     entries = sorted(fingerprint(d, root) for d in report.diagnostics)
-    findings = [dict(zip(("code", "file", "path", "input", "message"), entry)) for entry in entries]
+    findings = [dict(zip(FIELDS, entry)) for entry in entries]
     return json.dumps({"openpbr_baseline": VERSION, "findings": findings}, indent=2, ensure_ascii=False) + "\n"
 
 
@@ -36,16 +37,28 @@ class BaselineError(ValueError):
 
 
 def load_baseline(baseline_path: str) -> Counter:
+    """The fingerprints recorded in ``baseline_path``. A file that is not one (unreadable, not JSON, another
+    shape) raises :class:`BaselineError` saying what is wrong in the baseline's terms, never Python's."""
     try:
         with open(baseline_path, encoding="utf-8") as handle:
             data = json.load(handle)
-        if data.get("openpbr_baseline") != VERSION:
-            raise BaselineError(f"{baseline_path} is not an openpbr baseline (version {VERSION})")
-        return Counter(tuple(f[k] for k in ("code", "file", "path", "input", "message")) for f in data["findings"])
-    except (OSError, ValueError, KeyError, TypeError, AttributeError) as error:
-        if isinstance(error, BaselineError):
-            raise
-        raise BaselineError(f"cannot read baseline {baseline_path}: {error}") from None
+    except OSError as error:
+        raise BaselineError(f"cannot read baseline {baseline_path}: {error.strerror or error}") from None
+    except ValueError as error:  # not UTF-8, not JSON
+        raise BaselineError(f"cannot read baseline {baseline_path}: not a JSON file ({error})") from None
+    if not isinstance(data, dict) or data.get("openpbr_baseline") != VERSION:
+        raise BaselineError(f"{baseline_path} is not an openpbr baseline (a JSON object with "
+                            f"\"openpbr_baseline\": {VERSION}, as --write-baseline writes)")
+    findings = data.get("findings")
+    if not isinstance(findings, list):
+        raise BaselineError(f"{baseline_path}: \"findings\" must be a list of findings, as --write-baseline writes")
+    known: Counter = Counter()
+    for number, finding in enumerate(findings, 1):
+        if not isinstance(finding, dict) or not all(isinstance(finding.get(k), str) for k in FIELDS):
+            raise BaselineError(f"{baseline_path}: finding {number} is not an object with the text fields "
+                                f"{', '.join(FIELDS)}, as --write-baseline writes")
+        known[tuple(finding[k] for k in FIELDS)] += 1
+    return known
 
 
 def apply_baseline(report: Report, baseline_path: str) -> int:

@@ -4,7 +4,9 @@
 one output under ``OUTDIR`` that mirrors the input's place below the argument that named it (a
 folder argument is the root of its tree; a file argument's folder; a glob's fixed leading folders),
 and refuses the whole run, before anything is written, when two inputs map to one output, an output
-is an input, or an output exists without ``force`` or ``skip_existing``. ``skip_existing`` skips an
+is an input, the output folder holds an input folder (every output would land among the inputs), or an
+output exists without ``force`` or ``skip_existing``. Inputs keep the spelling of the argument that named
+them (``bt/a.mtlx`` for ``bt``), so reports are the same from any checkout, as ``validate``'s are. ``skip_existing`` skips an
 output newer than its input and than the installed toolkit (its newest module), so a run that was
 interrupted resumes where it stopped; outputs are written atomically, so an interrupted run leaves
 complete files or none (at most a ``.openpbr-*.tmp`` beside them).
@@ -26,6 +28,7 @@ from dataclasses import dataclass, field
 from .diagnostics import Diagnostic, Severity
 from .io.paths import PathGuard
 from .model import Location
+from .outputs import NEVER_MODIFIED, overwritten_input
 from .rules.document import UNREADABLE, internal_error
 from .selection import SelectionError, changed_since, shard
 from .validate import FileResult, Options, Report, discover, run_chunks, unreadable
@@ -57,6 +60,7 @@ class Plan:
     skipped: list[str] = field(default_factory=list)  # inputs whose output is up to date
     problems: list[Diagnostic] = field(default_factory=list)  # arguments naming nothing: reported, the rest runs
     refusals: list[Diagnostic] = field(default_factory=list)  # collisions, existing outputs: nothing is written
+    unselected: int = 0  # inputs left out by --changed-since / --shard
 
 
 def _root(argument: str) -> str:
@@ -96,18 +100,28 @@ def plan(paths, outdir: str, output_format: str, *, force: bool = False, skip_ex
     options = options or Options()
     suffix = OUTPUT_SUFFIXES[output_format]
     found = Plan()
-    outputs: dict[str, str] = {}
+    outputs: dict[str, str] = {}  # input as named (the argument's spelling: reports stay relative) -> output
+    named: set[str] = set()  # inputs' absolute paths: a file named twice is converted once
+    written = PathGuard(outdir)
     for argument in paths:
         files, problems = discover([argument], INPUT_SUFFIXES)
         found.problems += problems
-        root = os.path.abspath(_root(os.fspath(argument)))
+        root = _root(os.fspath(argument))
+        if files and written.contains(root):
+            # every output would land among the inputs (-o IN, or -o . for a folder below it), and every input
+            # would be taken for an earlier run's output: refused, where it used to convert nothing and exit 0
+            found.refusals.append(_problem(f"the output folder {outdir} holds the input folder {root}: a batch never "
+                                           "writes among its inputs; choose an output folder outside it", root))
+            continue
         for file in files:
-            relative = os.path.relpath(os.path.abspath(file), root)
-            outputs.setdefault(os.path.abspath(file), os.path.join(os.path.abspath(outdir),
-                                                                   os.path.splitext(relative)[0] + suffix))
+            relative = os.path.relpath(os.path.abspath(file), os.path.abspath(root))
+            if os.path.abspath(file) not in named:
+                named.add(os.path.abspath(file))
+                outputs[file] = os.path.join(outdir, os.path.splitext(relative)[0] + suffix)
+    if found.refusals:
+        return found
     # outputs of an earlier run inside an input folder are not inputs (out/ below in/ with -o in/out)
-    written = PathGuard(outdir)
-    sources = sorted(source for source in outputs if not written.contains(source))
+    sources = eligible = sorted(source for source in outputs if not written.contains(source))
     try:
         if options.changed_since:
             sources = changed_since(sources, options.changed_since)
@@ -116,9 +130,10 @@ def plan(paths, outdir: str, output_format: str, *, force: bool = False, skip_ex
     except SelectionError as error:
         found.refusals.append(_problem(str(error), "."))
         return found
+    found.unselected = len(eligible) - len(sources)
     by_output: dict[str, list[str]] = {}
     for source in sources:
-        by_output.setdefault(os.path.normcase(outputs[source]), []).append(source)
+        by_output.setdefault(os.path.normcase(os.path.abspath(outputs[source])), []).append(source)
     for target, claimants in sorted(by_output.items()):
         if len(claimants) > 1:
             found.refusals.append(_problem(f"{' and '.join(claimants)} would both be written to {outputs[claimants[0]]}; "
@@ -126,8 +141,9 @@ def plan(paths, outdir: str, output_format: str, *, force: bool = False, skip_ex
     stamp = _toolkit_stamp() if skip_existing else 0.0
     for source in sources:
         output = outputs[source]
-        if os.path.exists(output) and os.path.samefile(source, output):
-            found.refusals.append(_problem(f"the output {output} is the input itself", source))
+        replaced = overwritten_input(output, [source, *eligible])  # its own input first, then any other one
+        if replaced is not None:
+            found.refusals.append(_problem(f"the output {output} is the input {replaced}: {NEVER_MODIFIED}", source))
         elif os.path.exists(output) and skip_existing and \
                 os.stat(output).st_mtime >= max(os.stat(source).st_mtime, stamp):
             found.skipped.append(source)
@@ -182,7 +198,7 @@ def run(found: Plan, options: Options | None = None, progress=None, on_result=No
     """Convert the planned jobs; one report in input order (problems and refusals exit 2).
     ``on_result``: see :func:`openpbr_tools.validate.run_chunks` (a streamed report)."""
     options = options or Options()
-    report = Report(problems=found.problems + found.refusals)
+    report = Report(problems=found.problems + found.refusals, unselected=found.unselected)
     if found.refusals:
         return report  # refused before anything is written
     report.files = run_chunks(found.jobs, convert_jobs, options, progress, threshold=BATCH_POOL_THRESHOLD,

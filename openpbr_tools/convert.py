@@ -24,8 +24,9 @@ from dataclasses import dataclass, field
 from . import convert_looks, gltf_state, tables
 from .atomic import write_bytes
 from .diagnostics import Diagnostic
-from .io import read_asset
-from .model import Asset, Connection, Material, Texture
+from .io import ReadError, read_asset
+from .model import Asset, Connection, Location, Material, Texture
+from .outputs import NEVER_MODIFIED, InputOverwrite, files_read, overwritten_input
 from .resources import load_json
 from .rules import Context
 from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
@@ -34,6 +35,7 @@ from .translate.common import Settings
 from .translate import candidates, past_hub
 from .translate.convert import MODELS, convert
 from .translate.upgrade import upgrade
+from .validate import composed_documents
 from .convert_textures import rebase_textures as _rebase_textures, unpack_packaged_images as _unpack_packaged_images
 
 OUTPUT_KINDS = {".mtlx": "mtlx", ".usda": "usd", ".usdc": "usd", ".usd": "usd", ".usdz": "usd",
@@ -92,8 +94,11 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
 
     ``.mtlx`` output takes ``target`` (default OpenPBR); USD output gets OpenPBR on
     ``outputs:mtlx:surface`` plus a translated UsdPreviewSurface fallback on ``outputs:surface``;
-    glTF output gets glTF PBR. Raises :class:`openpbr_tools.io.ReadError` for unreadable input and
-    ``ValueError`` for an unsupported output.
+    glTF output gets glTF PBR. Raises :class:`openpbr_tools.io.ReadError` for unreadable input and for
+    input with no material to write (kind ``xinclude_broken`` when a broken include is why: MaterialX cannot
+    read the document; else ``no_material``): an output without materials would pass for a conversion.
+    Raises :class:`~openpbr_tools.outputs.InputOverwrite` (a ``ValueError``) when ``output_path`` is a file the
+    input reads, and ``ValueError`` for an unsupported output. Nothing is written when it raises.
     """
     kind = output_kind(output_path)
     if kind is None:
@@ -101,6 +106,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     settings = settings or Settings()
     context = settings.context
     asset = read_asset(input_path, tuple(allow_outside))
+    if overwritten_input(output_path, files_read(asset)) is not None:
+        raise InputOverwrite(f"OUTPUT would replace {output_path}, a file the input reads: {NEVER_MODIFIED}")
     target = {"mtlx": target or "open_pbr_surface", "usd": "open_pbr_surface", "gltf": "gltf_pbr"}[kind]
     result = Conversion(asset, output=os.path.abspath(output_path), allow_outside=tuple(allow_outside))
     # Baked images go beside a .mtlx/.usda/.usdc output (<stem>_textures/); a glTF or USDZ output
@@ -214,6 +221,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             result.diagnostics += _at_material(notes, material)
         looks, look_notes = convert_looks.looks(asset, result.pairs, kind, context)
         result.diagnostics += look_notes
+        if not result.materials and (not result.diagnostics or _broken_include(asset)):
+            _nothing_to_write(asset)
         written = _write_baked(baker, result.materials)
         try:
             allowed = tuple(allow_outside) + ((staging,) if staging else ())
@@ -229,6 +238,29 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     result.diagnostics += [context.adjust(note) for note in notes]
     result.diagnostics.sort(key=Diagnostic.sort_key)
     return result
+
+
+def _broken_include(asset: Asset):
+    return next((o for o in asset.observations if o.kind == "xinclude_broken"), None)
+
+
+def _nothing_to_write(asset: Asset) -> None:
+    """Raise the :class:`ReadError` of an input with no material to write and nothing said about it (an
+    empty output would pass for a conversion; one whose notes say what was left out, such as a custom
+    shader or a look's outside material, is written with them): a broken or circular XInclude when there is
+    one (the reason MaterialX reads nothing, whatever else was said), else no material of a model the toolkit
+    converts."""
+    broken = _broken_include(asset)
+    if broken:
+        detail = broken.detail
+        raise ReadError("xinclude_broken", f"includes {detail.get('href')!r}, which {detail.get('reason')}; MaterialX "
+                        "cannot read this document, and no material was found: nothing is written", broken.location)
+    documents = composed_documents(asset)
+    elsewhere = f" (its materials are in the MaterialX documents it references: convert {', '.join(documents)})" \
+        if documents else ""
+    raise ReadError("no_material", "no material of a shading model the toolkit converts (open_pbr_surface, "
+                    f"standard_surface, gltf_pbr, UsdPreviewSurface){elsewhere}: nothing to convert, nothing is written",
+                    Location(asset.path))
 
 
 def _name_as_written(name: str, kind: str) -> str:

@@ -10,8 +10,19 @@ class SelectionError(ValueError):
     pass
 
 
+def check_ref(ref: str) -> None:
+    """Refuse a ``--changed-since`` value git would parse as an option (``--output=FILE`` makes ``git diff``
+    write FILE): a ref never starts with ``-``."""
+    if not ref or ref.startswith("-"):
+        raise SelectionError(f"--changed-since takes a git commit (a branch, tag or hash), not {ref!r}")
+
+
 def changed_since(files: list[str], ref: str, cwd: str | None = None) -> list[str]:
-    """The ``files`` that git reports added, copied, modified, renamed or untracked since ``ref``."""
+    """The ``files`` that git reports added, copied, modified, renamed or untracked since ``ref``.
+
+    ``ref`` is resolved to a commit hash first (``rev-parse --verify --end-of-options``), and only the hash
+    reaches ``git diff``: nothing the user typed is ever read by git as an option."""
+    check_ref(ref)
     cwd = cwd or os.getcwd()
 
     import subprocess  # lazy: ~6 ms of every validate's start-up, needed only with --changed-since
@@ -26,7 +37,11 @@ def changed_since(files: list[str], ref: str, cwd: str | None = None) -> list[st
         return done.stdout
 
     top = git("rev-parse", "--show-toplevel").strip()
-    changed = git("diff", "--name-only", "--diff-filter=ACMRT", ref, "--").splitlines()
+    try:
+        commit = git("rev-parse", "--verify", "--quiet", "--end-of-options", f"{ref}^{{commit}}").strip()
+    except SelectionError:
+        raise SelectionError(f"--changed-since {ref}: not a commit of the git repository at {top}") from None
+    changed = git("diff", "--name-only", "--diff-filter=ACMRT", commit, "--").splitlines()
     changed += git("ls-files", "--others", "--exclude-standard").splitlines()
     wanted = {os.path.realpath(os.path.join(top, name)) for name in changed}
     return [f for f in files if os.path.realpath(f) in wanted]

@@ -17,6 +17,7 @@ from .config import ConfigError, context_for, find_config, matching_overrides
 from .diagnostics import Diagnostic, Severity
 from .distributed import run_on_cluster
 from .model import Asset, Location
+from .outputs import files_read
 from .rules import Context, check_asset
 from .rules.document import INTERNAL_ERROR, INVALID_CONFIG, NO_MATERIAL, READ_ERROR_RULES, UNREADABLE, internal_error
 from .selection import SelectionError, changed_since, shard
@@ -30,12 +31,14 @@ class FileResult:
     unreadable: bool = False
     asset: Asset | None = None
     documents: tuple[tuple[str, int], ...] = ()  # (document, its materials): composed, their findings among its own
+    reads: tuple[str, ...] = ()  # the files the asset reads (openpbr_tools.outputs.files_read): never an output
 
 
 @dataclass(slots=True)
 class Report:
     files: list[FileResult] = field(default_factory=list)
     problems: list[Diagnostic] = field(default_factory=list)  # about the arguments, not a file
+    unselected: int = 0  # files found but left out by --changed-since / --shard (a note when none is left)
 
     @property
     def diagnostics(self) -> list[Diagnostic]:
@@ -139,6 +142,7 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
     except Exception as error:  # noqa: BLE001 - a defect of a reader: reported at the file, the batch goes on
         return FileResult(path, [internal_error(path, "reading", error)], unreadable=True)
     diagnostics = check_asset(asset, context)
+    reads = files_read(asset)
     count = sum(1 for m in asset.materials if not m.extra.get("fallback_of"))  # a USD preview fallback is not another material
     documents = []
     within = composing | {os.path.abspath(path)}
@@ -150,13 +154,14 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
         composed = validate_file(document, own or context, composing=within,
                                  included_by=path if document in included else None)
         diagnostics += composed.diagnostics
+        reads += composed.reads
         count += composed.materials
         documents.append((document, composed.materials))
     if documents and count:  # the stage's materials are in its documents
         diagnostics = [d for d in diagnostics if not (d.code == NO_MATERIAL.code and d.location.file == path)]
     failed = any(d.code == INTERNAL_ERROR.code for d in diagnostics)
     return FileResult(path, diagnostics, count, unreadable=failed, asset=asset if keep_asset else None,
-                      documents=tuple(documents))
+                      documents=tuple(documents), reads=tuple(dict.fromkeys(reads)))
 
 
 def composed_documents(asset: Asset) -> tuple[str, ...]:
@@ -246,6 +251,7 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
     if folders:
         options = replace(options, allow_outside=tuple(dict.fromkeys(options.allow_outside + folders)))
     report = Report(problems=problems)
+    found = len(files)
     try:
         if options.changed_since:
             files = changed_since(files, options.changed_since)
@@ -255,6 +261,7 @@ def validate_paths(paths, context: Context | None = None, options: Options | Non
     except SelectionError as error:
         report.problems.append(Diagnostic(UNREADABLE.code, Severity.ERROR, str(error), Location(".")))
         return report
+    report.unselected = found - len(files)
     if context is not None:
         tasks = [(path, context) for path in files]
     else:

@@ -22,7 +22,8 @@ GLTF_SUFFIXES = (".gltf", ".glb")
 class ReadError(Exception):
     """Input that cannot be read at all. ``kind`` is ``unreadable`` (I/O, encoding),
     ``not_materialx`` / ``not_usd`` / ``not_gltf`` (wrong or broken format) or ``unsupported``
-    (a suffix no reader handles); the rules map kinds to codes."""
+    (a suffix no reader handles); the rules map kinds to codes. ``convert_file`` raises two more when
+    the input holds nothing to write: ``no_material`` and ``xinclude_broken`` (MaterialX reads nothing)."""
 
     def __init__(self, kind: str, message: str, location: Location):
         super().__init__(message)

@@ -170,6 +170,8 @@ READ_ERROR_RULES = {
     "not_usd": NOT_MATERIALX,
     "not_gltf": NOT_MATERIALX,
     "unsupported": UNSUPPORTED,
+    "no_material": NO_MATERIAL,  # convert: nothing to write (an error there, where validate notes it)
+    "xinclude_broken": XINCLUDE_BROKEN,  # convert: nothing to write because MaterialX cannot read the document
 }
 
 

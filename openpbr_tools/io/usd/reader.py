@@ -77,9 +77,9 @@ def read_usd(path: str, *, usd_core: bool = True, allow_outside=()) -> Asset:
 
 def _read_stage(asset: Asset, stage, guard: StageGuard, usd_core: bool) -> None:
     from pxr import Tf  # lazy: pxr (0.1-0.2 s) only once the guard has required it and opened the stage
-
     if guard.package_files:  # a USDZ: its entries, as usd-core reads them
         asset.extra["package_files"] = guard.package_files
+    asset.extra["layer_files"] = tuple(layer.realPath for layer in stage.GetUsedLayers() if layer.realPath)  # never outputs
     try:
         with quiet():  # usd-core would print its warnings about odd scene description to stderr
             _Reader(asset, stage).run()
