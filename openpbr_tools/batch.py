@@ -29,7 +29,7 @@ from .diagnostics import Diagnostic, Severity
 from .io.paths import PathGuard
 from .model import Location
 from .outputs import NEVER_MODIFIED, overwritten_input
-from .rules.document import UNREADABLE, internal_error
+from .rules.document import READ_ERROR_RULES, UNREADABLE, internal_error
 from .selection import SelectionError, changed_since, shard
 from .validate import FileResult, Options, Report, discover, run_chunks, unreadable
 
@@ -174,6 +174,8 @@ def _convert(job: Job) -> FileResult:
                                                                                   fit_films=job.verify, search=job.verify),
                               mesh=job.mesh, allow_outside=job.allow_outside)
     except ReadError as error:
+        if error.kind == "no_material":  # a library of node definitions in the folder: skipped, said, not a failure
+            return FileResult(job.source, [Diagnostic(READ_ERROR_RULES[error.kind].code, Severity.INFO, error.message, error.location)])
         return unreadable(job.source, error)
     except (ValueError, OSError) as error:  # a refused texture, an unwritable folder
         return FileResult(job.source, [_problem(f"not converted: {error}", job.source)], unreadable=True)

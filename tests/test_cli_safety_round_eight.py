@@ -376,3 +376,21 @@ def test_a_malformed_baseline_is_named_not_a_python_error(plain, content):
     assert "baseline" in result.output
     for internal in ("'file'", "' object", "KeyError", "'code'"):  # Python's words: 'list' object has no ...
         assert internal not in result.output, result.output
+
+
+def test_a_batch_over_a_folder_with_a_node_definition_library_converts_the_rest_and_passes(tmp_path):
+    """M-14 refuses to write an empty output for a file with no material (exit 2 for that one file, as preview);
+    a batch over a studio folder meets node-definition libraries beside the materials, which it skips with the
+    same OPBR003 as an info: the run converted everything there was, so it exits 0."""
+    folder = tmp_path / "in"
+    folder.mkdir()
+    shutil.copy(Path(data_dir("samples")) / "car_paint.mtlx", folder / "car_paint.mtlx")
+    (folder / "lib.mtlx").write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n  <nodedef name="ND_x_float" '
+                                     'node="x">\n    <output name="out" type="float" />\n  </nodedef>\n</materialx>\n')
+    result = _invoke("convert", folder, "--output-format", "gltf", "-o", tmp_path / "out", "--format", "json")
+    assert result.exit_code == 0, result.output
+    report = json.loads(result.stdout)
+    assert [(d["code"], d["severity"]) for d in report["diagnostics"] if d["location"]["file"].endswith("lib.mtlx")] \
+        == [("OPBR003", "info")]
+    assert (tmp_path / "out" / "car_paint.gltf").is_file() and not (tmp_path / "out" / "lib.gltf").exists()
+    assert _invoke("convert", folder / "lib.mtlx", "-o", tmp_path / "lib.gltf").exit_code == 2
