@@ -1,6 +1,6 @@
-"""A .usdz output carries its textures (session 21's red team, M-10 and M-11): a texture named by a URL (a
-``file://`` one included) or by an absolute path outside the asset's folder is refused, as the glTF writers refuse
-it, rather than written into a package that then reads a file outside itself; nothing is written."""
+"""A .usdz output carries its textures (session 21's red team, M-10 and M-11): a texture named by a ``file://`` URL
+or by an absolute path outside the asset's folder is refused, as the glTF writers refuse it, rather than written into
+a package that then reads a file outside itself; nothing is written. A web URL stays a name (never fetched)."""
 
 from __future__ import annotations
 
@@ -59,6 +59,18 @@ def test_a_file_url_texture_is_refused_for_a_usdz_as_for_a_glb(tmp_path):
     for output in ("x.glb", "x.usdz"):
         result = CliRunner().invoke(cli, ["convert", str(source), "-o", str(tmp_path / output)])
         assert result.exit_code == 2 and "URL" in result.output and not (tmp_path / output).exists(), output
+
+
+def test_a_web_url_texture_stays_a_name_in_a_usdz(tmp_path):
+    """A web URL is never fetched and names nothing on this disk: the package keeps the reference (unpackaged),
+    as before; only a file URL, a local file outside by another name, is refused."""
+    source = tmp_path / "asset" / "m.mtlx"
+    (tmp_path / "asset").mkdir()
+    source.write_text(_MTLX.format(file="https://example.com/albedo.png"), encoding="utf-8")
+    result = CliRunner().invoke(cli, ["convert", str(source), "-o", str(tmp_path / "x.usdz")])
+    assert result.exit_code == 0, result.output
+    with zipfile.ZipFile(tmp_path / "x.usdz") as package:
+        assert package.namelist() == ["root.usdc"]
 
 
 def test_an_absolute_outside_texture_in_a_usdz_is_not_called_packaged_nor_kept(tmp_path):

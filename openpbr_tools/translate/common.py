@@ -19,6 +19,10 @@ the evaluator. :func:`translate` applies the mappings:
 
 Each mapping says whether it is exact; an inexact one reports OPBR1103 with its ``note`` when the
 source values are not at the defaults where the approximation is harmless (``matters``).
+
+One module because :func:`translate` is one pass: a mapping's constant, textured and procedural branches share
+its bookkeeping (which inputs were reported, which failed, where a note stands), and the :class:`Mapping` and
+:class:`Dropped` vocabulary the translators write is what that pass reads.
 """
 
 from __future__ import annotations
@@ -59,6 +63,7 @@ class Mapping:
     converted_to_default: bool = False  # say ``converted`` also where the value lands on the target's default
     keep: str | None = None  # where the formula cannot be applied per texel: this source's texture or graph, as is
     clips: bool = True  # the formula holds its colours to [0, 1] in linear Rec.709 (a wide-gamut source is noted)
+    site: str | None = None  # the source an approximation's note stands at, where authored (default: the first)
 
 
 @dataclass(frozen=True, slots=True)
@@ -333,10 +338,11 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
 
 
 def _site(mapping: Mapping, values: Values) -> str:
-    """Where an approximation's note stands: the first source the material authors (a user filtering the report by
-    the inputs they wrote finds it there: transmission_weight, not the unauthored geometry_opacity that leads the
-    sources of UsdPreviewSurface's opacity), else the first source."""
-    return next((name for name in mapping.sources if values.authored(name)), mapping.sources[0])
+    """Where an approximation's note stands: the mapping's ``site`` (the source whose loss it describes:
+    transmission_weight for UsdPreviewSurface's opacity, not the geometry_opacity that leads its sources) where the
+    material authors it, else the first source (the target's counterpart: specular_weight's note at glTF's specular
+    even where that is unauthored)."""
+    return mapping.site if mapping.site is not None and values.authored(mapping.site) else mapping.sources[0]
 
 
 def _at_defaults(mapping: Mapping, values: Values, source_table) -> list:

@@ -142,6 +142,7 @@ def to_usd_mappings(settings: Settings, presence_over_transmission: bool = False
     nits = settings.nits_per_unit
     opacity = Mapping("opacity", ("geometry_opacity", "transmission_weight", "base_metalness"),
                       lambda o, t, m: o * (1.0 - t * (1.0 - m)), exact=False, matters=lambda o, t, m: t * (1.0 - m) > 0,
+                      site="transmission_weight",
                       note="no refraction in UsdPreviewSurface: transmission becomes transparency (of the dielectric "
                            "part only: OpenPBR's metal covers it by base_metalness)")
     if presence_over_transmission:

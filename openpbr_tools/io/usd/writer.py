@@ -306,9 +306,10 @@ class _Writer(TextureNetworkWriter):
     def texture_path(self, texture: Texture, owner: str) -> str:
         file = texture.file
         kind = classify(file) if file else Kind.EMPTY
-        if kind is Kind.URL and self.package:  # (a package carries its textures: as the glTF writer, no URL)
-            raise UsdWriteError(f"{owner}: texture {file!r} is a URL; a .usdz carries its textures and the writer "
-                                "never fetches URLs")
+        if kind is Kind.URL and self.package and file[:5].lower() == "file:":  # a local file outside, as an
+            raise UsdWriteError(f"{owner}: texture {file!r} is a file URL, a file outside the source asset's folder "
+                                "by another name; a .usdz carries its textures, and this one is not packaged "
+                                "(an absolute path is refused alike)")  # absolute path; a web or data URL stays named
         if kind in (Kind.EMPTY, Kind.URL):
             return file
         if texture.packaged and kind is Kind.RELATIVE:
