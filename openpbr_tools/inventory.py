@@ -93,4 +93,6 @@ def describe_text(entries: list[dict]) -> str:
                 lines.append(f"    {name}: procedural (not interpreted)")
             if m.get("extensions"):
                 lines.append("    extensions: " + ", ".join(f"{e['name']} ({e['status']})" for e in m["extensions"]))
-    return "\n".join(lines) + "\n"
+    from .reports import printable  # lazy: the text form only (names from the asset keep to their line)
+
+    return "\n".join(printable(line) for line in lines) + "\n"

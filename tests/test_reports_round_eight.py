@@ -44,3 +44,10 @@ def test_a_control_character_in_a_name_stays_on_its_line_and_out_of_the_xml(tmp_
     junit = CliRunner().invoke(cli, ["validate", "--no-config", "--format", "junit", "evil.gltf"]).stdout
     suite = ElementTree.fromstring(junit.encode("utf-8"))  # XML 1.0: was "not well-formed (invalid token)"
     assert "evil\\x01\\n::error" in suite.find(".//system-out").text
+
+
+def test_the_info_listing_keeps_a_name_on_its_line(tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    _gltf(tmp_path / "evil.gltf", _EVIL)
+    text = CliRunner().invoke(cli, ["info", "evil.gltf"]).stdout
+    assert "evil\\x01\\n::error" in text and not [line for line in text.splitlines() if line.startswith("::")]
