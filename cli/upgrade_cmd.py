@@ -32,7 +32,8 @@ def upgrade(input_path, output, target, force, output_format, fail_on):
     from openpbr_tools.reports import render
     from openpbr_tools import tables
     from openpbr_tools.atomic import write_text
-    from openpbr_tools.io import ReadError
+    from openpbr_tools.io import ReadError, read_asset
+    from openpbr_tools.outputs import files_read
     from openpbr_tools.translate.upgrade import upgrade_mtlx_file
     from openpbr_tools.validate import FileResult, Report, unreadable
 
@@ -45,10 +46,12 @@ def upgrade(input_path, output, target, force, output_format, fail_on):
         raise click.UsageError(f"{output} exists; pass --force to overwrite it")
     try:
         result = upgrade_mtlx_file(input_path, target)
+        read = files_read(read_asset(input_path))  # (its XIncludes and textures are never written over either)
     except (ReadError, OSError) as error:
         report = Report(files=[unreadable(input_path, error)])
         click.echo(render(report, output_format), nl=False)
         sys.exit(2)
+    refuse_input(output, [input_path], read)
     try:
         write_text(output, result.text)
     except OSError as error:

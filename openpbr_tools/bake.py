@@ -228,7 +228,7 @@ class Baker:
                          averages=averages)
         data, space, clipped, kind = bake_cache.RUN.encoded(result, (target_type, working, self.png_only),
                                                   lambda: self._encode(result, target_type, working))
-        name = self._name(material, mapping.target, kind)
+        name = self._name(material, mapping.target, kind, data)
         path = os.path.join(self.folder, name)
         self.images[path] = data
         self._pixels[("baked", path)] = (data, result, kind)
@@ -252,10 +252,12 @@ class Baker:
             message += f"; {clipped:.1%} of texels clipped to [0, 1] (this output takes PNG only)"
         return Baked(made, message, clipped, averages)
 
-    def _name(self, material, target: str, suffix: str) -> str:
+    def _name(self, material, target: str, suffix: str, data: bytes) -> str:
+        """A file name in the bake folder for ``data``: not one this bake already uses, nor a different file already
+        there (the input's own texture, say: never written over; the same bytes, a re-run's, are kept)."""
         stem = re.sub(r"[^A-Za-z0-9_.-]", "_", f"{material.name}_{target}")
         name, count = f"{stem}{suffix}", 1
-        while os.path.join(self.folder, name) in self.images:
+        while os.path.join(self.folder, name) in self.images or _occupied(os.path.join(self.folder, name), data):
             count += 1
             name = f"{stem}_{count}{suffix}"
         return name
@@ -275,6 +277,16 @@ class Baker:
         if colour:
             return _png16_oiio(values), working, clipped, ".png"
         return _png16_grey(values[:, :, 0]), None, clipped, ".png"
+
+
+def _occupied(path: str, data: bytes) -> bool:
+    """Whether ``path`` holds something other than ``data`` (a file with other bytes, a folder, a link)."""
+    if not os.path.lexists(path):
+        return False
+    if os.path.islink(path) or not os.path.isfile(path) or os.path.getsize(path) != len(data):
+        return True
+    with open(path, "rb") as handle:
+        return handle.read() != data
 
 
 def _average(values):

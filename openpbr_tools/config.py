@@ -202,13 +202,12 @@ def context_for(file: str, config: Config | None, select=None, ignore=None, base
 
 
 def invoking_project(config: Config) -> bool:
-    """Whether ``config`` belongs to the project the command runs in: its folder holds the working directory, or
-    lies inside it. Only such a configuration may widen what assets read (``allow-outside``): one shipped inside
-    a downloaded asset's own folder, validated from elsewhere, would otherwise let the asset grant itself the disk."""
+    """Whether ``config`` belongs to the project the command runs in: its folder holds the working directory. Only
+    such a configuration may widen what assets read (``allow-outside``): one shipped inside a downloaded asset's
+    own folder, validated from anywhere above or beside it, would otherwise let the asset grant itself the disk."""
     from .io.paths import PathGuard  # lazy: only a configuration that allows folders asks
 
-    folder, here = os.path.abspath(config.folder), os.path.abspath(os.getcwd())
-    return PathGuard(folder).contains(here) or PathGuard(here).contains(folder)
+    return PathGuard(os.path.abspath(config.folder)).contains(os.path.abspath(os.getcwd()))
 
 
 def configured_fail_on(config: Config | None) -> str | None:

@@ -151,12 +151,20 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
         if os.path.abspath(document) in within:
             continue
         own = context.for_document(document) if context is not None and context.for_document is not None else None
-        composed = validate_file(document, own or context, composing=within,
+        inner = own or context
+        if document in included:  # read from the includer's folder too, as MaterialX composes it (its ../ includes)
+            inner = replace(inner or Context(), allow_outside=tuple(dict.fromkeys(
+                (*(inner.allow_outside if inner else ()), *(context.allow_outside if context else ()),
+                 os.path.dirname(os.path.abspath(path))))))
+        composed = validate_file(document, inner, composing=within,
                                  included_by=path if document in included else None)
         diagnostics += composed.diagnostics
         reads += composed.reads
         count += composed.materials
-        documents.append((document, composed.materials))
+        # each document with its own materials, those it composes after it: a listed one's findings and
+        # materials are dropped once (_drop_listed_documents), at any depth
+        documents.append((document, composed.materials - sum(m for _, m in composed.documents)))
+        documents += composed.documents
     if documents and count:  # the stage's materials are in its documents
         diagnostics = [d for d in diagnostics if not (d.code == NO_MATERIAL.code and d.location.file == path)]
     failed = any(d.code == INTERNAL_ERROR.code for d in diagnostics)

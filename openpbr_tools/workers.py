@@ -32,7 +32,12 @@ class Stopped(BaseException):
     """Raised in a worker by SIGTERM: not an ``Exception``, so no per-file handler reports it and goes on."""
 
 
+_in_task = False  # whether this worker is inside run_task (a write may be in progress)
+
+
 def _on_terminate(signum, frame):
+    if not _in_task:  # idle, waiting on the pool's queue: nothing to clean up, and no traceback to print
+        os._exit(143)
     raise Stopped()
 
 
@@ -56,12 +61,16 @@ def _start_worker(parent: int | None) -> None:
 
 def run_task(work, argument):
     """``work(argument)`` in a worker; the worker ends when it is stopped or has lost its parent."""
+    global _in_task
     if _parent is not None and os.getppid() != _parent:
         os._exit(1)
+    _in_task = True
     try:
         return work(argument)
     except Stopped:  # the writes in progress have removed their temporary files on the way here
         os._exit(1)
+    finally:
+        _in_task = False
 
 
 def pool(jobs: int):

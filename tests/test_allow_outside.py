@@ -98,7 +98,7 @@ def test_allowing_one_folder_does_not_allow_its_neighbours(tree):
 
 def test_the_configuration_allows_folders_relative_to_itself(tree, monkeypatch):
     (tree / "asset" / ".openpbr.toml").write_text('allow-outside = ["../shared"]\n')
-    monkeypatch.chdir(tree)  # the project the command runs in
+    monkeypatch.chdir(tree / "asset")  # the project the command runs in
     report = validate_paths([str(tree / "asset" / "look.mtlx")], options=Options(jobs=1))
     assert not [d for d in report.diagnostics if str(d.severity) in ("error", "warning")]
 
@@ -108,9 +108,10 @@ def test_a_configuration_shipped_inside_an_asset_validated_from_elsewhere_widens
     from another working directory, would grant itself the whole disk. Only the invoking project's configuration
     widens the guard; the texture outside stays a finding and is never opened."""
     (tree / "asset" / ".openpbr.toml").write_text('allow-outside = ["/"]\n')
-    monkeypatch.chdir(tmp_path_factory.mktemp("elsewhere"))
-    report = validate_paths([str(tree / "asset" / "look.mtlx")], options=Options(jobs=1))
-    assert "OPBR723" in {d.code for d in report.diagnostics}  # ../shared/... climbs out: named, not read
+    for where in (tmp_path_factory.mktemp("elsewhere"), tree):  # beside it, and above it (the review's case)
+        monkeypatch.chdir(where)
+        report = validate_paths([str(tree / "asset" / "look.mtlx")], options=Options(jobs=1))
+        assert "OPBR723" in {d.code for d in report.diagnostics}  # ../shared/... climbs out: named, not read
 
 
 def test_the_validate_command_takes_allow_outside(tree):

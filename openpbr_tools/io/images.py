@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import io
 import os
+import sys
 import threading
 import warnings
 
@@ -176,11 +177,15 @@ MAX_DECODED_TEXELS = 4096 * 4096
 
 
 def max_decoded_texels() -> int:
-    """:data:`MAX_DECODED_TEXELS`, or OPENPBR_MAX_DECODED_MEGATEXELS million where set (as OPENPBR_MAX_FILE_MB)."""
+    """:data:`MAX_DECODED_TEXELS`, or OPENPBR_MAX_DECODED_MEGATEXELS million where set (as OPENPBR_MAX_FILE_MB);
+    ``inf`` lifts the limit, and a value that is no positive number is ignored."""
     try:
-        return int(float(os.environ.get("OPENPBR_MAX_DECODED_MEGATEXELS", MAX_DECODED_TEXELS / 1e6)) * 1e6)
+        megatexels = float(os.environ.get("OPENPBR_MAX_DECODED_MEGATEXELS", MAX_DECODED_TEXELS / 1e6))
     except ValueError:
         return MAX_DECODED_TEXELS
+    if megatexels == float("inf"):
+        return sys.maxsize
+    return int(megatexels * 1e6) if megatexels > 0 else MAX_DECODED_TEXELS
 
 
 def _refuse_huge(width: int, height: int, image) -> None:

@@ -8,6 +8,7 @@ at the element path and input (``logicalLocations``). No timestamps: the output 
 from __future__ import annotations
 
 import json
+import os
 from pathlib import PurePath
 from urllib.parse import quote
 
@@ -27,7 +28,7 @@ def _uri(file: str) -> str:
     path = PurePath(file)
     if path.is_absolute():
         return path.as_uri()
-    return quote(path.as_posix(), safe="/")
+    return quote(os.fsencode(path.as_posix()), safe="/")  # (the bytes: a name that is not UTF-8 stays exact)
 
 
 def _descriptor(rule: Rule) -> dict:

@@ -24,6 +24,7 @@ computed once (``cache``).
 from __future__ import annotations
 
 from . import accessors, surfaces
+from .surfaces import components as _components
 from .document import GltfDocument
 
 _TRIANGLES = 4
@@ -51,7 +52,7 @@ def primitive_geometry(document: GltfDocument, primitive: dict, cache: dict) -> 
     material = document.item("materials", primitive.get("material")) if _natural(primitive.get("material")) else None
     if isinstance(material, dict):
         key = ("surface", primitive.get("material"), position, index, mode, attributes.get("NORMAL"),
-               attributes.get("TANGENT"))
+               attributes.get("TANGENT"), tuple(attributes.get(f"TEXCOORD_{n}") for n in _normal_sets(material)))
         found["surface"] = _cached(cache, key, lambda: surfaces.primitive_surface(
             document, primitive, _volume_thickness(material), _normal_sets(material)))
     return found
@@ -137,27 +138,6 @@ def _udim_tiles(document: GltfDocument, uv, position, index) -> dict | None:
     confined = pairs[numpy.isin(pairs[:, 0], islands[spans == 1]), 1]
     return {"tiles": sorted(int(1001 + t) for t in numpy.unique(tile)),
             "tiles_with_own_islands": sorted(int(1001 + t) for t in numpy.unique(confined))}
-
-
-def _components(edges, count: int):
-    """The connected component of each of ``count`` vertices joined by ``edges`` (pairs), as the smallest vertex of
-    each: hooking every vertex to its smallest neighbour's label, then pointer jumping, until nothing changes."""
-    import numpy  # lazy: as in _uv_set
-
-    label = numpy.arange(count)
-    while True:
-        a, b = label[edges[:, 0]], label[edges[:, 1]]
-        hooked = label.copy()
-        numpy.minimum.at(hooked, a, numpy.minimum(a, b))
-        numpy.minimum.at(hooked, b, numpy.minimum(a, b))
-        while True:
-            jumped = hooked[hooked]
-            if (jumped == hooked).all():
-                break
-            hooked = jumped
-        if (hooked == label).all():
-            return label
-        label = hooked
 
 
 def _natural(value) -> bool:

@@ -8,7 +8,7 @@ vertex data that decide how a material is lit and that no glTF validator reads.
   (triangles whose normals sum to zero, or lie at right angles to them, are not counted). Near 0: normals and
   winding disagree, and whichever side the viewer sees is lit from behind.
 * ``closed``: whether the primitive's triangles close a volume: every edge, after welding corners at one position
-  (:data:`WELD` of the primitive's extent, so UV seams and hard edges that split vertices do not open it), is shared
+  (within :data:`WELD` of the primitive's extent, so UV seams and hard edges that split vertices do not open it), is shared
   by exactly two triangles; ``boundary`` counts the edges used once. ``volume``: the signed volume the winding
   encloses (the divergence theorem, the sum of ``p0 . (p1 x p2) / 6``): positive when the front faces look out.
   Read only when asked for (a volume material, KHR_materials_volume: "a non-zero thickness ... requires a
@@ -95,12 +95,8 @@ def _closure(positions, triangles, corners) -> dict:
     and edges on their two welded ends packed likewise: one-dimensional sorts, not row sorts."""
     import numpy  # lazy: as in primitive_surface
 
-    low = positions.min(axis=0)
-    extent = float((positions.max(axis=0) - low).max()) or 1.0
-    cells = numpy.rint((positions - low) / (extent * WELD)).astype("int64")  # 0 .. 1 / WELD on every axis
-    keys = (cells[:, 0] << 34) | (cells[:, 1] << 17) | cells[:, 2]
-    _, vertex = numpy.unique(keys, return_inverse=True)
-    welded = vertex.reshape(-1)[triangles]
+    vertex = _welded(positions)
+    welded = vertex[triangles]
     kept = (welded[:, 0] != welded[:, 1]) & (welded[:, 1] != welded[:, 2]) & (welded[:, 0] != welded[:, 2])
     welded = welded[kept]
     ends = numpy.concatenate([welded[:, [0, 1]], welded[:, [1, 2]], welded[:, [2, 0]]])
@@ -110,6 +106,29 @@ def _closure(positions, triangles, corners) -> dict:
                                 dtype="float64").sum() / 6.0)
     return {"edges": int(uses.size), "boundary": int((uses == 1).sum()), "non_manifold": int((uses > 2).sum()),
             "volume": volume}
+
+
+def _welded(positions):
+    """The welded vertex of each corner: corners closer than :data:`WELD` of the extent on every axis are one.
+    Snapping to one grid would split two copies a float32 step apart that straddle a cell's edge; so corners are
+    joined when they share a cell in any of the 8 grids offset by half a cell along each axis (two corners under a
+    quarter cell apart per axis share one of them), each key packed into one integer (17 bits an axis)."""
+    import numpy  # lazy: as in primitive_surface
+
+    low = positions.min(axis=0)
+    extent = float((positions.max(axis=0) - low).max()) or 1.0
+    scaled = (positions - low) / (extent * WELD * 4.0)  # (cells of 4 x WELD: corners within WELD share one)
+    edges = []
+    for offset in ((x, y, z) for x in (0.0, 0.5) for y in (0.0, 0.5) for z in (0.0, 0.5)):
+        cells = numpy.floor(scaled + offset).astype("int64")
+        keys = (cells[:, 0] << 34) | (cells[:, 1] << 17) | cells[:, 2]
+        order = numpy.argsort(keys, kind="stable")
+        same = keys[order[1:]] == keys[order[:-1]]
+        edges.append(numpy.column_stack([order[:-1][same], order[1:][same]]))
+    joined = numpy.concatenate(edges)
+    if not joined.size:
+        return numpy.arange(len(positions))
+    return components(joined, len(positions))
 
 
 def _handedness(corners, normals, tangents, uv) -> dict:
@@ -134,6 +153,27 @@ def _handedness(corners, normals, tangents, uv) -> dict:
     checked = int(turns.size)
     minority = int(min((turns > 0).sum(), (turns < 0).sum())) if checked else 0
     return {"checked": checked, "minority": minority, "mixed": minority / checked if checked else 0.0}
+
+
+def components(edges, count: int):
+    """The connected component of each of ``count`` vertices joined by ``edges`` (pairs), as the smallest vertex of
+    each: hooking every vertex to its smallest neighbour's label, then pointer jumping, until nothing changes."""
+    import numpy  # lazy: as in primitive_surface
+
+    label = numpy.arange(count)
+    while True:
+        a, b = label[edges[:, 0]], label[edges[:, 1]]
+        hooked = label.copy()
+        numpy.minimum.at(hooked, a, numpy.minimum(a, b))
+        numpy.minimum.at(hooked, b, numpy.minimum(a, b))
+        while True:
+            jumped = hooked[hooked]
+            if (jumped == hooked).all():
+                break
+            hooked = jumped
+        if (hooked == label).all():
+            return label
+        label = hooked
 
 
 def _natural(value) -> bool:

@@ -48,6 +48,8 @@ def observe_document(document, asset: Asset, path: str, guard) -> None:
     import MaterialX as mx  # lazy: as the reader imports it
 
     nodes = [element for element in document.traverseTree() if element.isA(mx.Node)]
+    if asset.extra.get("included_by"):  # read in its includer's composition: the includer's nodes are its own
+        nodes = [node for node in nodes if not node.getActiveSourceUri()]
     used_categories = {node.getCategory() for node in nodes}
     for node in nodes:
         category = node.getCategory()

@@ -73,9 +73,31 @@ def import_includer(document, includer: str, allow_outside: tuple[str, ...]) -> 
     includer: a library split into files (nodedefs in one, their implementation graphs in another) resolves its
     references only there. The document's own elements stay its own (importLibrary skips names it has). Returns
     whether the includer was read."""
+    composed = _composition(includer, tuple(allow_outside))
+    if composed is None:
+        return False
+    document.importLibrary(composed)
+    return True
+
+
+#: The includers composed last, by (real path, size, modification time, allowed folders): a library of N files
+#: each read in the composition of the one file that includes them all composes it once, not N times.
+_COMPOSED: dict = {}
+_COMPOSED_KEPT = 4
+
+
+def _composition(includer: str, allow_outside: tuple[str, ...]):
+    """``includer`` read with its includes, marked with its source (``None`` when it cannot be read now)."""
     import MaterialX as mx  # lazy: loaded by the reader that calls this
 
+    try:
+        status = os.stat(includer)
+    except OSError:
+        return None
     guard = PathGuard.for_asset(includer, allow_outside)
+    key = (guard.resolve(os.path.abspath(includer)).real, status.st_size, status.st_mtime_ns, allow_outside)
+    if key in _COMPOSED:
+        return _COMPOSED[key]
     composed = mx.createDocument()
     options = mx.XmlReadOptions()
     options.readXIncludeFunction = None
@@ -85,7 +107,9 @@ def import_includer(document, includer: str, allow_outside: tuple[str, ...]) -> 
         follow_includes(composed, includer, scan(data).xincludes, guard,
                         {guard.resolve(os.path.abspath(includer)).real})
     except Exception:  # noqa: BLE001 - the includer was read before; a change since is its own finding
-        return False
+        return None
     composed.setSourceUri(os.path.abspath(includer))
-    document.importLibrary(composed)
-    return True
+    while len(_COMPOSED) >= _COMPOSED_KEPT:
+        _COMPOSED.pop(next(iter(_COMPOSED)))
+    _COMPOSED[key] = composed
+    return composed
