@@ -15,9 +15,10 @@ vertex data that decide how a material is lit and that no glTF validator reads.
   manifold/closed mesh") or when the facing is in doubt.
 * ``handedness``: per UV set of a normal texture, the tangent frame the TANGENT attribute gives (bitangent
   ``cross(NORMAL, TANGENT.xyz) * w``, 3.7.2.1) against the one the texture coordinates give (the derivative of
-  position along v, from the triangle's edges in UV space). A correct frame turns the same way on every triangle,
-  whichever way the exporter's convention turns it; ``mixed`` is the share of the checked triangles that turn the
-  other way (mirrored UV islands exported with ``w = +1`` everywhere). Triangles whose UV area is degenerate, whose
+  position along v, from the triangle's edges in UV space), and the TANGENT against the derivative along u. A
+  correct frame turns the same way on every triangle, whichever way the exporter's convention turns it; ``mixed`` is
+  the share of the checked triangles that turn the other way (mirrored UV islands exported with ``w = +1``
+  everywhere, or with tangents that do not follow u), the worse of the two axes. Triangles whose UV area is degenerate, whose
   corners carry different ``w`` (a seam) or whose two bitangents are near perpendicular (|cos| < :data:`TURN_COSINE`)
   are not counted.
 
@@ -132,7 +133,9 @@ def _welded(positions):
 
 
 def _handedness(corners, normals, tangents, uv) -> dict:
-    """``{"checked", "mixed", "minority"}``: triangles counted, and how many turn against the majority."""
+    """``{"checked", "mixed", "minority"}``: triangles counted, and how many turn against the majority, for the
+    worse of the frame's two axes: the authored bitangent against dP/dv (mirrored islands with w not flipped) and the
+    authored tangent against dP/du (mirrored islands whose tangents do not follow u)."""
     import numpy  # lazy: as in primitive_surface
 
     du1, dv1 = (uv[:, 1] - uv[:, 0]).T
@@ -140,19 +143,27 @@ def _handedness(corners, normals, tangents, uv) -> dict:
     determinant = du1 * dv2 - du2 * dv1
     scale = numpy.abs(uv.reshape(-1, 2).max(axis=0) - uv.reshape(-1, 2).min(axis=0)).max() or 1.0
     usable = numpy.abs(determinant) > 1e-12 * scale * scale
-    safe = numpy.where(usable, determinant, 1.0)
+    safe = numpy.where(usable, determinant, 1.0)[:, None]
     edge1, edge2 = corners[:, 1] - corners[:, 0], corners[:, 2] - corners[:, 0]
-    from_uv = (du1[:, None] * edge2 - du2[:, None] * edge1) / safe[:, None]  # dP/dv
+    along_v = (du1[:, None] * edge2 - du2[:, None] * edge1) / safe  # dP/dv
+    along_u = (dv2[:, None] * edge1 - dv1[:, None] * edge2) / safe  # dP/du
     signs = numpy.sign(tangents[:, :, 3])
     usable &= (signs[:, 0] == signs[:, 1]) & (signs[:, 1] == signs[:, 2]) & (signs[:, 0] != 0)
-    authored = numpy.cross(normals.sum(axis=1), tangents[:, :, :3].sum(axis=1)) * signs[:, :1]
-    lengths = numpy.linalg.norm(from_uv, axis=1) * numpy.linalg.norm(authored, axis=1)
-    cosine = numpy.einsum("ij,ij->i", from_uv, authored) / numpy.where(lengths > 0, lengths, 1.0)
-    usable &= (lengths > 0) & (numpy.abs(cosine) >= TURN_COSINE)
-    turns = numpy.sign(cosine[usable])
-    checked = int(turns.size)
-    minority = int(min((turns > 0).sum(), (turns < 0).sum())) if checked else 0
-    return {"checked": checked, "minority": minority, "mixed": minority / checked if checked else 0.0}
+    tangent = tangents[:, :, :3].sum(axis=1)
+    bitangent = numpy.cross(normals.sum(axis=1), tangent) * signs[:, :1]
+    worst = {"checked": 0, "minority": 0, "mixed": 0.0}
+    for derived, authored in ((along_v, bitangent), (along_u, tangent)):
+        lengths = numpy.linalg.norm(derived, axis=1) * numpy.linalg.norm(authored, axis=1)
+        cosine = numpy.einsum("ij,ij->i", derived, authored) / numpy.where(lengths > 0, lengths, 1.0)
+        counted = usable & (lengths > 0) & (numpy.abs(cosine) >= TURN_COSINE)
+        turns = numpy.sign(cosine[counted])
+        checked = int(turns.size)
+        minority = int(min((turns > 0).sum(), (turns < 0).sum())) if checked else 0
+        if checked and minority / checked > worst["mixed"]:
+            worst = {"checked": checked, "minority": minority, "mixed": minority / checked}
+        elif not worst["checked"]:
+            worst["checked"] = checked
+    return worst
 
 
 def components(edges, count: int):
