@@ -20,7 +20,7 @@ from __future__ import annotations
 import math
 
 from .document import GltfDocument, ResourceError
-from .textures import json_float, json_numbers
+from .textures import json_float, json_index, json_numbers
 
 #: The elements of one accessor read at most (a 64 MiB buffer holds about four million VEC4 floats).
 MAX_ELEMENTS = 1 << 22
@@ -89,7 +89,7 @@ def _elements(document: GltfDocument, index, formats: dict):
     width = _COMPONENTS.get(kind) if isinstance(kind, str) else None
     found = formats.get(component_type) if isinstance(component_type, int) and not isinstance(component_type, bool) else None
     offset = accessor.get("byteOffset", 0)
-    if width is None or found is None or not _natural(count) or not _natural(offset):
+    if width is None or found is None or not json_index(count) or not json_index(offset):
         return None
     dtype, divisor = found
     if divisor is not None and accessor.get("normalized") is not True:
@@ -102,7 +102,7 @@ def _elements(document: GltfDocument, index, formats: dict):
     import numpy  # lazy: NumPy (~60 ms) only for a file whose mesh a rule reads
 
     size = numpy.dtype(dtype).itemsize
-    stride = view.get("byteStride") if isinstance(view, dict) and _natural(view.get("byteStride")) else width * size
+    stride = view.get("byteStride") if isinstance(view, dict) and json_index(view.get("byteStride")) else width * size
     count = min(count, MAX_ELEMENTS)
     if count == 0 or offset + (count - 1) * stride + width * size > len(data):
         return None
@@ -145,14 +145,14 @@ def primitive_problems(document: GltfDocument, pointer: str, primitive: dict, ca
     attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
     found: list[dict] = []
     for name, index in attributes.items():
-        if not name.startswith(MATERIAL_ATTRIBUTES) or not _natural(index) or (index, name) in cache:
+        if not name.startswith(MATERIAL_ATTRIBUTES) or not json_index(index) or (index, name) in cache:
             continue
         cache[(index, name)] = True
         found.extend(_vertex_values(document, index, name, f"{pointer}/attributes", cache))
     indices = primitive.get("indices")
     reference = attributes.get("POSITION", next(iter(attributes.values()), None))
     vertices = (document.item("accessors", reference) or {}).get("count")
-    if _natural(indices) and _natural(vertices) and ("indices", indices, vertices) not in cache:
+    if json_index(indices) and json_index(vertices) and ("indices", indices, vertices) not in cache:
         cache[("indices", indices, vertices)] = True
         found.extend(_index_range(document, indices, vertices, pointer))
     return found
@@ -206,7 +206,3 @@ def _checked(document: GltfDocument, index: int, read: int) -> str:
     """How many elements of accessor ``index`` were judged, for a message: all of them, or the first ``read``."""
     count = document.item("accessors", index)["count"]
     return str(read) if read >= count else f"the first {read} (of {count})"
-
-
-def _natural(value) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and value >= 0

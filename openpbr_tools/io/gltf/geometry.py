@@ -26,6 +26,7 @@ from __future__ import annotations
 from . import accessors, surfaces
 from .surfaces import components as _components
 from .document import GltfDocument
+from .textures import json_index
 
 _TRIANGLES = 4
 _TILE_SLACK = 1e-6  # a vertex on a tile's far edge (u = 2.0 for tile 1001 + 1) still lies in that tile
@@ -43,13 +44,13 @@ def primitive_geometry(document: GltfDocument, primitive: dict, cache: dict) -> 
     mode = primitive.get("mode", _TRIANGLES)
     position, index = attributes.get("POSITION"), primitive.get("indices")
     for name, accessor in attributes.items():
-        if not name.startswith("TEXCOORD_") or not name[9:].isdigit() or not _natural(accessor):
+        if not name.startswith("TEXCOORD_") or not name[9:].isdigit() or not json_index(accessor):
             continue
         key = ("uv", accessor, position, index, mode)
         facts = _cached(cache, key, lambda: _uv_set(document, accessor, position, index, mode))
         if facts is not None:
             found["uv_sets"][int(name[9:])] = facts
-    material = document.item("materials", primitive.get("material")) if _natural(primitive.get("material")) else None
+    material = document.item("materials", primitive.get("material")) if json_index(primitive.get("material")) else None
     if isinstance(material, dict):
         key = ("surface", primitive.get("material"), position, index, mode, attributes.get("NORMAL"),
                attributes.get("TANGENT"), tuple(attributes.get(f"TEXCOORD_{n}") for n in _normal_sets(material)))
@@ -74,9 +75,9 @@ def _normal_sets(material: dict) -> tuple:
     coat = coat if isinstance(coat, dict) else {}
     sets = set()
     for info in (material.get("normalTexture"), coat.get("clearcoatNormalTexture")):
-        if isinstance(info, dict) and _natural(info.get("index")):
+        if isinstance(info, dict) and json_index(info.get("index")):
             texcoord = info.get("texCoord", 0)
-            if _natural(texcoord):
+            if json_index(texcoord):
                 sets.add(texcoord)
     return tuple(sorted(sets))
 
@@ -88,8 +89,8 @@ def _cached(cache: dict, key, compute):
 
 
 def _black(document: GltfDocument, index) -> dict | None:
-    accessor = document.item("accessors", index) if _natural(index) else None
-    if accessor is None or accessor.get("type") not in ("VEC3", "VEC4") or not _natural(accessor.get("count")):
+    accessor = document.item("accessors", index) if json_index(index) else None
+    if accessor is None or accessor.get("type") not in ("VEC3", "VEC4") or not json_index(accessor.get("count")):
         return None
     values = accessors.vectors(document, index)
     if values is None or values.shape[0] < accessor["count"] or not values.size:  # (not read whole: no verdict)
@@ -114,10 +115,9 @@ def _udim_tiles(document: GltfDocument, uv, position, index) -> dict | None:
 
     if numpy.floor(uv.min(axis=0)).tolist() == numpy.floor(uv.max(axis=0) - _TILE_SLACK).tolist():
         return None  # one unit square holds all: no layout across tiles (the common case, decided without indices)
-    corners = numpy.arange(uv.shape[0]) if index is None else accessors.indices(document, index)
-    if corners is None or corners.size < 3 or corners.max() >= uv.shape[0]:
+    triangles = surfaces.triangle_list(document, index, uv.shape[0])
+    if triangles is None or not len(triangles):
         return None
-    triangles = corners[: corners.size - corners.size % 3].reshape(-1, 3)
     coordinates = uv[triangles]  # (triangles, 3 corners, u v)
     low = numpy.floor(coordinates.min(axis=1))
     if (coordinates.max(axis=1) > low + 1.0 + _TILE_SLACK).any():
@@ -125,7 +125,7 @@ def _udim_tiles(document: GltfDocument, uv, position, index) -> dict | None:
     squares = numpy.unique(low, axis=0)
     if len(squares) < 2 or not ((squares[:, 0] >= 0) & (squares[:, 0] < UDIM_COLUMNS) & (squares[:, 1] <= 0)).all():
         return None
-    positions = accessors.vectors(document, position) if _natural(position) else None
+    positions = accessors.vectors(document, position) if json_index(position) else None
     if positions is None or positions.shape[0] != uv.shape[0] or positions.shape[1] != 3:
         return None
     welded = numpy.round(numpy.hstack([positions, uv]) * _WELD)
@@ -138,7 +138,3 @@ def _udim_tiles(document: GltfDocument, uv, position, index) -> dict | None:
     confined = pairs[numpy.isin(pairs[:, 0], islands[spans == 1]), 1]
     return {"tiles": sorted(int(1001 + t) for t in numpy.unique(tile)),
             "tiles_with_own_islands": sorted(int(1001 + t) for t in numpy.unique(confined))}
-
-
-def _natural(value) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and value >= 0

@@ -37,7 +37,7 @@ from . import slots
 from .accessors import MAX_ELEMENTS
 from .document import GLB_BIN, GLB_JSON, GltfDocument, ResourceError, data_uri_mime
 from .schema import uri_syntax_error
-from .textures import json_text
+from .textures import json_index, json_text
 
 COMPONENT_SIZES = {5120: 1, 5121: 1, 5122: 2, 5123: 2, 5125: 4, 5126: 4}
 VECTOR_WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}  # (matrices pad their columns: not judged here)
@@ -77,14 +77,14 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
             if not os.path.isfile(local):
                 missing = document.missing(uri, pointer + "/uri")
                 yield "gltf_resource", missing.pointer, missing.message, None
-            elif _natural(length) and os.path.getsize(local) < length:
+            elif json_index(length) and os.path.getsize(local) < length:
                 yield ("gltf_resource", pointer, f"file {json_text(uri)} holds {os.path.getsize(local)} bytes, fewer than "
                        f"the buffer's byteLength {length}: the data at its end is missing (a truncated copy?)", None)
         elif uri is not None:
             yield "gltf_invalid", pointer, f"uri must be a string, not {json_text(uri)}", "uri"
         elif not (document.is_glb and index == 0 and document.binary is not None):
             yield "gltf_resource", pointer, "buffer has no uri and there is no GLB binary chunk for it", None
-        elif _natural(length) and len(document.binary) < length:
+        elif json_index(length) and len(document.binary) < length:
             yield ("gltf_resource", pointer, f"the GLB binary chunk holds {len(document.binary)} bytes, fewer than the "
                    f"buffer's byteLength {length}: the data at its end is missing", None)
 
@@ -114,7 +114,7 @@ def _glb_chunks(document: GltfDocument) -> Iterator[tuple[str, str, str, str | N
         return
     buffer = document.item("buffers", 0)
     length = buffer.get("byteLength") if buffer is not None and "uri" not in buffer else None
-    if document.binary is not None and _natural(length) and len(document.binary) > length + (-length % 4):
+    if document.binary is not None and json_index(length) and len(document.binary) > length + (-length % 4):
         yield ("gltf_container", "/buffers/0", f"the GLB's BIN chunk holds {len(document.binary)} bytes, "
                f"{len(document.binary) - length - (-length % 4)} more than buffer 0's byteLength {length} and its padding to "
                "4 bytes: the rest is data no view can reach (a buffer shrunk without its chunk?)", "byteLength")
@@ -142,7 +142,7 @@ def compression_problems(document: GltfDocument) -> Iterator[tuple[str, str, str
             if "bufferView" not in draco:
                 yield ("gltf_invalid", pointer, f"{slots.DRACO} has no bufferView: there is no compressed stream for a "
                        "Draco decoder to decode, so viewers draw nothing", None)
-            elif not _natural(draco["bufferView"]):
+            elif not json_index(draco["bufferView"]):
                 yield ("gltf_invalid", pointer, f"bufferView must be a bufferView index, not "
                        f"{json_text(draco['bufferView'])}", "bufferView")
             attributes = draco.get("attributes")
@@ -154,7 +154,7 @@ def compression_problems(document: GltfDocument) -> Iterator[tuple[str, str, str
 def missing_scene(document: GltfDocument):
     """The document's ``scene`` when it is an index that names no scene, else ``None``."""
     scene = document.json.get("scene")
-    if _natural(scene) and scene >= len(document.array("scenes")):
+    if json_index(scene) and scene >= len(document.array("scenes")):
         return scene
     return None
 
@@ -170,7 +170,7 @@ def extension_sources(document: GltfDocument) -> list[dict]:
         for mime, name in slots.EXTENSION_MIME_TYPES.items():
             alternative = extensions.get(name) if isinstance(extensions, dict) else None
             source = alternative.get("source") if isinstance(alternative, dict) else None
-            if _natural(source) and document.item("images", source) is not None:
+            if json_index(source) and document.item("images", source) is not None:
                 found.append({"pointer": f"/textures/{index}/extensions/{name}", "extension": name, "mime": mime,
                               "image": source, "fallback": "source" in texture})
     return found
@@ -196,37 +196,37 @@ def accessor_problems(document: GltfDocument) -> list[dict]:
 def _accessor(document: GltfDocument, index: int, accessor: dict) -> Iterator[dict]:
     pointer = f"/accessors/{index}"
     component_type = accessor.get("componentType")
-    size = COMPONENT_SIZES.get(component_type) if _natural(component_type) else None
+    size = COMPONENT_SIZES.get(component_type) if json_index(component_type) else None
     view = document.item("bufferViews", accessor.get("bufferView"))
     offset = accessor.get("byteOffset", 0)
-    if size is not None and view is not None and _natural(offset):
+    if size is not None and view is not None and json_index(offset):
         view_offset = view.get("byteOffset", 0)
         if offset % size:
             yield {"kind": "offset_alignment", "pointer": pointer, "property": "byteOffset", "offset": offset, "size": size}
-        elif _natural(view_offset) and (offset + view_offset) % size:
+        elif json_index(view_offset) and (offset + view_offset) % size:
             yield {"kind": "total_offset_alignment", "pointer": pointer, "property": "byteOffset", "offset": offset,
                    "view_offset": view_offset, "view": accessor["bufferView"], "size": size}
         stride, width = view.get("byteStride"), VECTOR_WIDTHS.get(accessor.get("type"))
-        if _natural(stride) and width is not None and stride < width * size:
+        if json_index(stride) and width is not None and stride < width * size:
             yield {"kind": "small_stride", "pointer": pointer, "property": "bufferView", "view": accessor["bufferView"],
                    "stride": stride, "element": width * size, "type": accessor.get("type")}
         count, view_length = accessor.get("count"), view.get("byteLength")
-        if width is not None and _natural(count) and count > 0 and _natural(view_length):
-            length = (stride if _natural(stride) else width * size) * (count - 1) + width * size
+        if width is not None and json_index(count) and count > 0 and json_index(view_length):
+            length = (stride if json_index(stride) else width * size) * (count - 1) + width * size
             if offset + length > view_length:
                 yield {"kind": "too_long", "pointer": pointer, "property": "count", "view": accessor["bufferView"],
                        "offset": offset, "length": length, "view_length": view_length, "count": count}
     sparse = accessor.get("sparse")
-    if isinstance(sparse, dict) and _natural(accessor.get("count")):
+    if isinstance(sparse, dict) and json_index(accessor.get("count")):
         yield from _sparse(document, pointer, sparse, accessor["count"])
 
 
 def _sparse(document: GltfDocument, pointer: str, sparse: dict, count: int) -> Iterator[dict]:
     indices, number = sparse.get("indices"), sparse.get("count")
-    if not isinstance(indices, dict) or not _natural(number) or number == 0:
+    if not isinstance(indices, dict) or not json_index(number) or number == 0:
         return
     dtype, offset = _INDEX_DTYPES.get(indices.get("componentType")), indices.get("byteOffset", 0)
-    if dtype is None or not _natural(offset):
+    if dtype is None or not json_index(offset):
         return
     try:
         data = document.buffer_view(indices.get("bufferView"))
@@ -276,10 +276,6 @@ def _attribute_counts(document: GltfDocument, attributes) -> dict[str, int]:
     counts = {}
     for name, index in attributes.items():
         accessor = document.item("accessors", index)
-        if accessor is not None and _natural(accessor.get("count")):
+        if accessor is not None and json_index(accessor.get("count")):
             counts[name] = accessor["count"]
     return counts
-
-
-def _natural(value) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and value >= 0

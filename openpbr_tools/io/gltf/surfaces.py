@@ -29,6 +29,7 @@ from __future__ import annotations
 
 from . import accessors
 from .document import GltfDocument
+from .textures import json_index
 
 _TRIANGLES = 4
 #: Corners closer than this fraction of the primitive's largest side are one vertex when edges are matched.
@@ -44,12 +45,12 @@ def primitive_surface(document: GltfDocument, primitive: dict, wants_closed: boo
     import numpy  # lazy: only for a file with mesh data
 
     attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
-    if primitive.get("mode", _TRIANGLES) != _TRIANGLES or not _natural(attributes.get("POSITION")):
+    if primitive.get("mode", _TRIANGLES) != _TRIANGLES or not json_index(attributes.get("POSITION")):
         return None
     positions = accessors.vectors(document, attributes["POSITION"])
     if positions is None or positions.shape[1] != 3 or not numpy.isfinite(positions).all():
         return None
-    triangles = _triangles(document, primitive.get("indices"), positions.shape[0])
+    triangles = triangle_list(document, primitive.get("indices"), positions.shape[0])
     if triangles is None or not len(triangles):
         return None
     corners = positions.astype("float32")[triangles]  # (triangles, 3, xyz); float32 as stored: signs are asked
@@ -72,10 +73,12 @@ def primitive_surface(document: GltfDocument, primitive: dict, wants_closed: boo
     return found
 
 
-def _triangles(document: GltfDocument, index, count: int):
+def triangle_list(document: GltfDocument, index, count: int):
+    """The corners of a triangle list of ``count`` vertices as a ``(triangles, 3)`` index array (every vertex in
+    order without ``index``), ``None`` when the indices cannot be read or name a vertex past ``count``."""
     import numpy  # lazy: as in primitive_surface
 
-    corners = numpy.arange(count) if index is None else accessors.indices(document, index) if _natural(index) else None
+    corners = numpy.arange(count) if index is None else accessors.indices(document, index) if json_index(index) else None
     if corners is None or (corners.size and corners.max() >= count):
         return None
     return corners[: corners.size - corners.size % 3].reshape(-1, 3)
@@ -84,7 +87,7 @@ def _triangles(document: GltfDocument, index, count: int):
 def _vertex_vectors(document: GltfDocument, index, count: int, width: int):
     import numpy  # lazy: as in primitive_surface
 
-    values = accessors.vectors(document, index) if _natural(index) else None
+    values = accessors.vectors(document, index) if json_index(index) else None
     if values is None or values.shape != (count, width) or not numpy.isfinite(values).all():
         return None
     return values.astype("float32")
@@ -185,7 +188,3 @@ def components(edges, count: int):
         if (hooked == label).all():
             return label
         label = hooked
-
-
-def _natural(value) -> bool:
-    return isinstance(value, int) and not isinstance(value, bool) and value >= 0

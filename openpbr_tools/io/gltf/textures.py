@@ -314,6 +314,11 @@ def _measure(source, info: dict, head: bytes | None = None) -> None:
         info["features"] = webp_features(head)
 
 
+def json_index(value) -> bool:
+    """Whether a JSON value is an index or count: an integer (not a boolean) at least 0."""
+    return isinstance(value, int) and not isinstance(value, bool) and value >= 0
+
+
 def json_numbers(value, count: int) -> bool:
     """``value`` is a list of ``count`` JSON numbers (NaN and infinity included: the values rules judge them)."""
     return isinstance(value, list) and len(value) == count and all(

@@ -26,8 +26,6 @@ def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[
     ``followed`` collects the files this document includes itself (not their includes), named from ``path`` as
     the asset is (relative stays relative), so a validation can check each as a file of its own (and theirs with
     them)."""
-    import MaterialX as mx  # lazy: loaded by the reader that calls this
-
     not_followed = []
     for line, href in xincludes:
         resolved = guard.resolve(href, base=os.path.dirname(os.path.abspath(path)))
@@ -41,13 +39,8 @@ def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[
         elif not os.path.isfile(resolved.real):
             reason = "does not exist"
         if reason is None:
-            included = mx.createDocument()
-            options = mx.XmlReadOptions()
-            options.readXIncludeFunction = None
             try:
-                data = read_bytes(resolved.real)
-                mx.readFromXmlString(included, decode_document(data), mx.FileSearchPath(), options)
-                nested = scan(data).xincludes
+                included, nested = _without_includes(resolved.real)
             except Exception as error:  # noqa: BLE001 - ReadError, UnicodeDecodeError, XmlSyntaxError and MaterialX's own types
                 reason = f"cannot be read ({getattr(error, 'message', error)})"
             else:
@@ -65,6 +58,19 @@ def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[
         if reason is not None:
             not_followed.append((line, href, reason, broken))
     return not_followed
+
+
+def _without_includes(path: str):
+    """(the MaterialX document at ``path`` read without following its XIncludes, which :func:`follow_includes`
+    follows through the guard; its ``(line, href)`` XIncludes). Raises what reading or parsing raises."""
+    import MaterialX as mx  # lazy: loaded by the reader that calls this
+
+    data = read_bytes(path)
+    document = mx.createDocument()
+    options = mx.XmlReadOptions()
+    options.readXIncludeFunction = None
+    mx.readFromXmlString(document, decode_document(data), mx.FileSearchPath(), options)
+    return document, scan(data).xincludes
 
 
 def import_includer(document, includer: str, allow_outside: tuple[str, ...]) -> bool:
@@ -88,8 +94,6 @@ _COMPOSED_KEPT = 4
 
 def _composition(includer: str, allow_outside: tuple[str, ...]):
     """``includer`` read with its includes, marked with its source (``None`` when it cannot be read now)."""
-    import MaterialX as mx  # lazy: loaded by the reader that calls this
-
     try:
         status = os.stat(includer)
     except OSError:
@@ -98,14 +102,9 @@ def _composition(includer: str, allow_outside: tuple[str, ...]):
     key = (guard.resolve(os.path.abspath(includer)).real, status.st_size, status.st_mtime_ns, allow_outside)
     if key in _COMPOSED:
         return _COMPOSED[key]
-    composed = mx.createDocument()
-    options = mx.XmlReadOptions()
-    options.readXIncludeFunction = None
     try:
-        data = read_bytes(includer)
-        mx.readFromXmlString(composed, decode_document(data), mx.FileSearchPath(), options)
-        follow_includes(composed, includer, scan(data).xincludes, guard,
-                        {guard.resolve(os.path.abspath(includer)).real})
+        composed, xincludes = _without_includes(includer)
+        follow_includes(composed, includer, xincludes, guard, {key[0]})
     except Exception:  # noqa: BLE001 - the includer was read before; a change since is its own finding
         return None
     composed.setSourceUri(os.path.abspath(includer))
