@@ -138,12 +138,14 @@ def check(asset, context):
                 f"({detail['applied']!r})", observation.location,
                 hint=f"add colorspace=\"{detail['colorspace']}\" to the image's file input")
     ambiguous = None
+    reported = set()  # image nodes already named through a shader input (the message says which input)
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)
         if parameter is None:
             continue
         texture = entry.texture
         if texture is not None and ignored_colorspace(texture) and _authored_on_texture(texture, asset):
+            reported.add(texture.node)
             yield context.diagnostic(
                 COLORSPACE_IGNORED, f"{entry.name} reads the {texture.image_type} image {texture.file!r} with colour "
                                     f"space {texture.colorspace!r}, which MaterialX ignores and other renderers apply",
@@ -170,6 +172,15 @@ def check(asset, context):
                     f"{entry.name} is data but reads {texture.file!r} through colour space {texture.colorspace!r}{inherited}",
                     entry.location, hint="set colorspace=\"none\" on the image's file input",
                 )
+    for observation in asset.observations:  # images no shader input reads (a displacement's height)
+        detail = observation.detail
+        if observation.kind == "mtlx_image_colorspace" and detail["node"] not in reported and not (
+                colorspaces.is_data(detail["colorspace"]) or detail["colorspace"] in ("raw", "auto")):
+            reported.add(detail["node"])
+            yield context.diagnostic(
+                COLORSPACE_IGNORED, f"the {detail['type']} image {detail['file']!r} is read with colour space "
+                                    f"{detail['colorspace']!r}, which MaterialX ignores and other renderers apply",
+                observation.location, hint="set colorspace=\"none\" on the image's file input")
     if ambiguous is not None:
         yield context.diagnostic(
             NO_DOCUMENT_COLORSPACE,

@@ -266,12 +266,13 @@ PACKAGE_ENTRY = Rule(
     "OPBR1012", "usdz-unsafe-entry", Severity.ERROR,
     "A USDZ package holds an entry whose name is absolute, climbs out with '..' or contains a "
     "backslash, an entry that is compressed or not aligned to 64 bytes (usd-core's package validators' error), "
-    "or an image in a format a package may not hold (a TGA texture).",
+    "or an image in a format a package may not hold (a TGA texture) or a MaterialX document.",
     "A tool that extracts the package writes such an entry outside the folder it extracts to (over "
     "/etc/..., or beside the package); the USDZ specification allows only relative names inside the "
     "package and stored (uncompressed) entries, which usd-core reads in place: a compressed texture "
     "does not load. It allows layers, PNG, JPEG, EXR and AVIF images and audio only (usd-core's "
-    "FileExtensionValidator): a viewer that conforms does not load a TGA (another file, a LICENSE.txt, renders "
+    "FileExtensionValidator): a viewer that conforms does not load a TGA, nor compose the materials of a packaged "
+    ".mtlx (usd-core reports both as errors; another file, a LICENSE.txt, renders "
     "nothing either way and stays usd-core's OPBR1010 warning). The names are usd-core's view "
     "of the archive (its local file headers, not the central directory).",
     passing=_package(("root.usda", openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)")), ("albedo.png", "")),

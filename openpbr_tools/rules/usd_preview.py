@@ -107,7 +107,9 @@ PREVIEW_DISAGREES = Rule(
     "Viewports and real-time clients render the UsdPreviewSurface, final renders the OpenPBR shader; "
     "when they disagree the look-dev artist approves one material and the renderer shows another. "
     "Colours are compared sRGB-encoded (base_weight x base_color against diffuseColor, per channel, "
-    "default limit 0.2), metalness and opacity with a limit of 0.5, roughness 0.3; only constants.",
+    "default limit 0.2), metalness and opacity with a limit of 0.5, roughness 0.3; only constants. The preview has no "
+    "refraction, so its opacity may hold a transmitting material's see-through share: any opacity from "
+    "geometry_opacity x (1 - transmission_weight x (1 - base_metalness)) to geometry_opacity agrees.",
     passing=_both(("color3f inputs:base_color = (0.5, 0.4, 0.3)",), ("color3f inputs:diffuseColor = (0.5, 0.4, 0.3)",)),
     failing=_both(("color3f inputs:base_color = (0.5, 0.4, 0.3)",), ("color3f inputs:diffuseColor = (0.05, 0.3, 0.8)",)),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
@@ -272,9 +274,17 @@ def _compare(openpbr, preview, limits, context):
             continue
         if openpbr_name not in openpbr.inputs and preview_name not in preview.inputs:
             continue
-        if abs(a - b) > limits[limit]:
+        low, high, reading = a, a, ""
+        if openpbr_name == "geometry_opacity":
+            # the preview has no refraction: its opacity may also hold OpenPBR's transmission (of the dielectric
+            # part), as a glass's preview does (UsdPreviewSurface specification: "ior ... for translucent objects")
+            transmission, metalness = constant_or_default(openpbr, "transmission_weight"), constant_or_default(openpbr, "base_metalness")
+            if isinstance(transmission, (int, float)) and isinstance(metalness, (int, float)) and transmission > 0:
+                low = a * (1.0 - transmission * (1.0 - metalness))
+                reading = f" (from {low:g} to {a:g} with its transmission_weight {transmission:g})"
+        if b < low - limits[limit] or b > high + limits[limit]:
             yield context.diagnostic(
-                PREVIEW_DISAGREES, f"{preview_name} {b:g} is far from the OpenPBR {openpbr_name} {a:g}",
+                PREVIEW_DISAGREES, f"{preview_name} {b:g} is far from the OpenPBR {openpbr_name} {a:g}{reading}",
                 where(preview_name), hint="bake the preview values from the OpenPBR shader",
             )
 

@@ -26,7 +26,9 @@ observed once per document for the rules of :mod:`openpbr_tools.rules.mtlx_docum
 * ``mtlx_image_file``: every file a node upstream of a material reads (a ``filename`` input's value, resolved as
   MaterialX resolves it: the enclosing ``fileprefix`` and tokens applied), so the texture family checks the files
   of images the graph follower does not turn into textures (an image whose texcoord is computed, as every
-  GPUOpen-library material's is) as it checks the others.
+  GPUOpen-library material's is) as it checks the others;
+* ``mtlx_image_colorspace``: a float or vector image a material reads (a displacement's height as well as a shader
+  input) whose file input or node itself carries a colour space, which MaterialX does not apply to such an image.
 """
 
 from __future__ import annotations
@@ -192,6 +194,10 @@ def _image_files(document, nodes, asset, where) -> None:
             if port.getType() == "filename" and port.hasValueString() and port.getValueString().strip():
                 asset.observe("mtlx_image_file", where(node, port.getName()), file=port.getResolvedValueString(),
                               node=node.getNamePath())
+                space = port.getAttribute("colorspace") or node.getAttribute("colorspace")
+                if space and node.getType() not in ("color3", "color4", "multioutput"):
+                    asset.observe("mtlx_image_colorspace", where(node, port.getName()), node=node.getNamePath(),
+                                  colorspace=space, type=node.getType(), file=port.getValueString())
         for port in _defaulted_files(document, node):
             asset.observe("mtlx_image_file", where(port.getParent(), port.getName()), file=port.getResolvedValueString(),
                           node=node.getNamePath())

@@ -10,6 +10,9 @@ from ..paths import PathGuard
 from .xmlscan import decode_document, scan
 
 MAX_XINCLUDE_DEPTH = 8
+#: references that name no file here (paths.classify), by kind: MaterialX's reader cannot open them either
+_NAMES_NO_FILE = {"drive": "a Windows drive path", "unc": "a network (UNC) path", "absolute": "a Windows absolute path",
+                  "url": "a URL", "nul": "a path holding NUL", "empty": "an empty path"}
 
 
 def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[str], depth: int = 0,
@@ -30,7 +33,9 @@ def follow_includes(document, path: str, xincludes, guard: PathGuard, seen: set[
     for line, href in xincludes:
         resolved = guard.resolve(href, base=os.path.dirname(os.path.abspath(path)))
         reason, broken = None, True
-        if not resolved.inside:
+        if not resolved.inside and resolved.path is None:  # a URL, or a drive/UNC path on a POSIX system
+            reason = f"is {_NAMES_NO_FILE.get(resolved.kind.value, 'a reference')}, which names no file on this system"
+        elif not resolved.inside:
             reason, broken = "leads outside the asset's folder, so it is not opened", False
         elif resolved.real in seen:
             reason = "is already being included (a cycle), so it is not followed again"

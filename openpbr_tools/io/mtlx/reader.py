@@ -236,8 +236,13 @@ class _Reader(GraphFollower):
         for look in self.document.getLooks():
             for assign in look.getMaterialAssigns():
                 target = assign.getMaterial()
-                if target and self.document.getChild(target) is None:
+                named = self.document.getChild(target) if target else None
+                if target and named is None:
                     self.asset.observe("dangling_reference", self.location(assign), attribute="material", target=target)
+                elif named is not None and named.getType() != "material":  # a shader node: the look binds nothing
+                    self.asset.observe("dangling_reference", self.location(assign), attribute="material", target=target,
+                                       ends=f"is a {named.getType()} node ({named.getCategory()}), not a material: "
+                                            "a materialassign binds a material node")
             for assign in look.getVariantAssigns():  # a variant that names nothing selects nothing
                 named = self.document.getVariantSet(assign.getVariantSetString())
                 if named is None or named.getVariant(assign.getVariantString()) is None:

@@ -74,8 +74,12 @@ DISALLOWED_IMAGE_EXTENSIONS = frozenset({"tga", "tif", "tiff", "bmp", "gif", "we
 
 
 def disallowed_entry_type(name: str) -> str | None:
-    """Why a USDZ entry is an image in a format a package may not hold (a TGA or TIFF texture), or ``None``."""
+    """Why a USDZ entry is an image in a format a package may not hold (a TGA or TIFF texture) or a MaterialX
+    document (whose materials a conforming viewer does not compose), or ``None``."""
     suffix = name.rsplit(".", 1)[-1].lower() if "." in name.rsplit("/", 1)[-1] else ""
+    if suffix == "mtlx" and not name.endswith("/"):  # content, not a stray file: the materials do not load
+        return ("is a MaterialX document, which a USDZ package may not hold (layers, PNG, JPEG, EXR, AVIF and audio "
+                "only): conforming viewers do not compose the materials it holds")
     if suffix in USDZ_EXTENSIONS or suffix not in DISALLOWED_IMAGE_EXTENSIONS or name.endswith("/"):
         return None
     return (f"is a .{suffix} file, which a USDZ package may not hold (layers, PNG, JPEG, EXR, AVIF and audio only): "
