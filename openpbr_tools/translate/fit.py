@@ -52,6 +52,7 @@ from .fit_metal import (  # re-exported: the translation modules call every fit 
     openpbr_metal_from_constant,
     openpbr_metal_from_schlick,
     schlick_metal_f0,
+    split_metal,
     ss_metal_tint,
 )
 

@@ -202,3 +202,65 @@ def edge_color_for_f82_tint(tint, metalness, reflectivity, specular, specular_we
         active = active & (np.abs(f_new) > 1e-14) & (np.abs(high - low) > 1e-15)
     result[solve] = x
     return result
+
+
+#: The metalness values :func:`split_metal` weighs (steps of 1/200).
+_SPLIT_GRID = np.linspace(0.0, 1.0, 201)
+
+
+def _split_moments(alpha, target: str):
+    """(P·P, P·Q, Q·Q, 1·1) of the metal fits' weighted moments at ``alpha``: the target's metal albedo is
+    b P + Q per view cosine (glTF's Schlick: P = A0, Q = A90; the preview's constant metal: P = A0 + A90,
+    Q = 0), and 1·1 weighs a diffuse albedo (flat over the view cosine) on the same scale."""
+    t = _albedo.tables()
+    weight = _albedo.mu_nodes()[:, None] ** METAL_FIT_COSINE_POWER
+    p = t.schlick_f0 if target == "schlick" else t.schlick_f0 + t.schlick_f90
+    q = t.schlick_f90 if target == "schlick" else np.zeros_like(p)
+    r = np.sqrt(np.clip(float(alpha), 0.0, 1.0))
+    nodes = _albedo.roughness_nodes()
+    return tuple(float(np.interp(r, nodes, np.sum(weight * x * y, axis=0)))
+                 for x, y in ((p, p), (p, q), (q, q), (np.ones_like(p), np.ones_like(p))))
+
+
+def split_metal(dielectric, metal, metalness, alpha, target: str = "schlick", clip: bool = True):
+    """(metalness', base colour') of a target whose metal and dielectric share one base colour (glTF, the
+    preview), for a source whose dielectric diffuses ``dielectric`` and whose metal is fitted to ``metal``
+    (the target's F0 that best matches it, :func:`fitted_metal`), mixed by ``metalness``.
+
+    Mixing the colours by the source's metalness (``dielectric + metalness (metal - dielectric)``) is exact
+    only where the fitted metal equals the dielectric's colour. A metal OpenPBR dims by ``specular_weight``
+    (or tints at the edge) is darker than the colour it shares with the diffuse, and the target's metal
+    still reaches 1 at grazing: a metalness of 0.73 with ``specular_weight`` 0 gave a black diffuse under a
+    bright metal rim where OpenPBR shows a dim diffuse and no metal. Here metalness' and the colour are
+    chosen together to minimise the weighted squared error of both albedos (the diffuse ``(1 - x) b``
+    against ``(1 - m) D``, and the metal ``x (b P + Q)`` against ``m (F P + Q)`` over the view cosine, the
+    metal fits' weights): for each x on a grid of steps of 1/200 the best b per channel is a closed form
+    (held to [0, 1] where ``clip``), and the x of least error is kept. Where the fitted metal equals the
+    dielectric's colour this is the mix (x = m, b = D). Values only: arrays (per texel) keep the mix."""
+    dielectric = np.asarray(dielectric, dtype=np.float64)
+    metal = np.asarray(metal, dtype=np.float64)
+    m = np.asarray(metalness, dtype=np.float64)
+    mixed = dielectric + m * (metal - dielectric)
+    if dielectric.ndim > 1 or metal.ndim > 1 or m.ndim > 0 or np.ndim(alpha) > 0 or not 0.0 < float(m) < 1.0:
+        return m, (np.clip(mixed, 0.0, 1.0) if clip else mixed)
+    m = float(m)
+    pp, pq, qq, dd = _split_moments(alpha, target)
+    x = _SPLIT_GRID[:, None]
+    d = x - m
+    with np.errstate(divide="ignore", invalid="ignore"):
+        b = (dd * (1.0 - x) * (1.0 - m) * dielectric + pp * x * m * metal - pq * x * d) / \
+            (dd * (1.0 - x) ** 2 + pp * x ** 2)
+    if clip:
+        b = np.clip(b, 0.0, 1.0)
+    error = dd * ((1.0 - x) * b - (1.0 - m) * dielectric) ** 2 + pp * (x * b - m * metal) ** 2 + \
+        2.0 * pq * (x * b - m * metal) * d + qq * d ** 2
+    total = error.sum(axis=1)
+    best = int(np.argmin(total))
+    # the mix unless the split is measurably better (keeps materials the mix carries exactly unchanged)
+    mixed_x = int(round(m * (len(_SPLIT_GRID) - 1)))
+    mixed_b = np.clip(mixed, 0.0, 1.0) if clip else mixed
+    mixed_error = float(np.sum(dd * ((1.0 - m) * mixed_b - (1.0 - m) * dielectric) ** 2 +
+                               pp * (m * mixed_b - m * metal) ** 2))
+    if not total[best] < mixed_error - 1e-9 or best == mixed_x and np.allclose(b[best], mixed_b):
+        return np.float64(m), mixed_b
+    return np.float64(_SPLIT_GRID[best]), b[best]

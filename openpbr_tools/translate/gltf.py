@@ -123,11 +123,12 @@ def average_alpha_gltf(r_g, s):
     return np.sqrt(gltf_anisotropic_alpha(alpha_b, s) * alpha_b)
 
 
-def gltf_base_color(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color,
+def gltf_metal_split(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color,
                     metalness=0.0, specular_weight=1.0, coat_weight=0.0, coat_darkening=0.0, coat_ior=1.5,
                     coat_color=WHITE, specular_color=WHITE, roughness=0.3, anisotropy=0.0, coat_roughness=0.0,
-                    clip=True):
-    """glTF's one base colour for OpenPBR's base, subsurface, transmission and metal, in linear Rec.709; ``clip``:
+                    clip=True, split=True):
+    """(metalness, base colour): glTF's one base colour for OpenPBR's base, subsurface, transmission and metal, in
+    linear Rec.709, and the metalness that mixes it (:func:`fit.split_metal`); ``clip``:
     held to [0, 1] there, as a glTF file's baseColorFactor is (3.9.2). A gltf_pbr node in a MaterialX document
     (``clip`` False) is shaded unclamped in the renderer's working space, and only its value in the document's
     colour space must lie in [0, 1] (the node's range, which the translation holds afterwards): clipping in
@@ -145,8 +146,16 @@ def gltf_base_color(weight, color, transmission, transmission_color, depth, subs
     dielectric = diffuse + subsurface * (subsurface_color * darkening * absorption - diffuse)
     tint = np.where(depth > 0, WHITE, transmission_color) * darkening * absorption
     dielectric = dielectric + transmission * (tint - dielectric)
-    mixed = dielectric + metalness * (metal - dielectric)
-    return np.clip(mixed, 0.0, 1.0) if clip else mixed
+    if not split or np.ndim(transmission) == 0 and transmission > 0:  # glTF's metalness also weighs its transmission
+        mixed = dielectric + metalness * (metal - dielectric)
+        return np.asarray(metalness, dtype=np.float64), (np.clip(mixed, 0.0, 1.0) if clip else mixed)
+    return fit.split_metal(dielectric, metal, metalness, average_alpha_openpbr(roughness, anisotropy), clip=clip)
+
+
+def gltf_metallic(*values, clip=True):
+    """glTF's metalness (:func:`gltf_metal_split`): OpenPBR's, unless its metal is dimmed or tinted away from
+    the colour it shares with the diffuse (:func:`fit.split_metal`)."""
+    return gltf_metal_split(*values, clip=clip)[0]
 
 
 def gltf_specular(specular_weight, specular_ior, coat_ior, coat_weight, film_weight, color, metalness, subsurface,
@@ -312,7 +321,7 @@ def _absorbs(attenuation_color):
 
 def _unmixed(color, metallic, transmission, attenuation_distance, thickness, attenuation_color=WHITE):
     """(target, effective metalness) of the metal-fit inverse once the transmission is taken out of
-    :func:`gltf_base_color`'s mix: with k = 1 - (1 - m) t, (1 - m)(1 - t) D + m fit(D) equals k B for a
+    :func:`gltf_metal_split`'s mix: with k = 1 - (1 - m) t, (1 - m)(1 - t) D + m fit(D) equals k B for a
     thin wall (tinted by the base colour, OpenPBR's transmission colour coming back) and B - (1 - m) t
     for a volume (tinted white): a mix of D and fit(D) by m / k reaching B, or (B - (1 - m) t) / k. A volume
     of white attenuation absorbs nothing and is read as tinted by the base colour (the depth left 0)."""
@@ -326,7 +335,7 @@ def _unmixed(color, metallic, transmission, attenuation_distance, thickness, att
 def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
                        coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0,
                        attenuation_color=WHITE):
-    """Inverse of :func:`gltf_base_color`'s metal fit and transmission mix: OpenPBR's base colour (F0
+    """Inverse of :func:`gltf_metal_split`'s metal fit and transmission mix: OpenPBR's base colour (F0
     under an F82 edge tint of ``specular_color``) whose fitted Schlick metal, mixed with the transmitting
     dielectric, is glTF's base colour."""
     specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior,
@@ -445,11 +454,18 @@ DRAFT_BASE_SOURCES = ("base_weight", "base_color", "transmission_weight", "trans
                       "subsurface_weight", "subsurface_color")
 
 
+#: ``Material.extra`` key of an OpenPBR material read from glTF in memory (a gltf_pbr node, whose .mtlx carries no
+#: glTF state): translated back to glTF, its metal is mixed by metalness (the inverse of its reading), not split
+MIXED_METAL = "gltf_mixed_metal"
+
+
 def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
-                     thickness: float | None = None) -> tuple[Mapping, ...]:
+                     thickness: float | None = None, split: bool = True) -> tuple[Mapping, ...]:
     """The OpenPBR -> glTF mappings; ``specular_openpbr``: with ``Settings.gltf_drafts``, the material gets
     EXT_materials_specular_openpbr (a metal with an F82 tint or a specular weight); ``thickness``: the
-    volume thickness of the glTF material this one came from (gltf_state), in metres."""
+    volume thickness of the glTF material this one came from (gltf_state), in metres; ``split``: a metal's
+    metalness and base colour are fitted together (:func:`fit.split_metal`), not for a material that came from
+    glTF, whose reading (:func:`openpbr_base_color`) inverts the plain mix exactly."""
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
     base_sources = ("base_weight", "base_color", "transmission_weight", "transmission_color", "transmission_depth",
@@ -468,7 +484,8 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
         # KHR_materials_coat carries the coat's colour and darkening: not folded into the base or the
         # specular weight (whose fit, without darkening, is what the reader inverts)
         base_and_specular = (
-            Mapping("base_color", base_sources, lambda *v: gltf_base_color(*v[:10], 0.0, v[11], WHITE, *v[13:]),
+            Mapping("base_color", base_sources,
+                    lambda *v: gltf_metal_split(*v[:10], 0.0, v[11], WHITE, *v[13:], split=False)[1],
                     keep="base_color", exact=False, matters=lambda *v: _base_color_matters(*v[:10], 0.0, v[11], WHITE, *v[13:]),
                     note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed"),
             # the coat's IOR as KHR_materials_coat holds it (at least 1), which is what a reader inverts with
@@ -485,7 +502,7 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
     else:
         base_and_specular = (
             Mapping("base_color", base_sources,
-                    gltf_base_color if settings.gltf_file else lambda *v: gltf_base_color(*v, clip=False),
+                    lambda *v: gltf_metal_split(*v, clip=settings.gltf_file, split=split)[1],
                     keep="base_color", exact=False, matters=_base_color_matters, clips=settings.gltf_file,
                     note="glTF's base colour also tints transmission and stands in for subsurface: colours mixed; "
                          "the coat's colour (glTF's clearcoat is colourless) is folded into it, which misses the "
@@ -501,8 +518,15 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
                     note="glTF's specular colour tints dielectric F0 only; a metal's F82 edge tint is fitted into its "
                          f"base colour instead ({METAL_RESIDUAL})"),
         )
+    metallic = Mapping("metallic", ("base_metalness",)) if settings.gltf_drafts or not split else Mapping(
+        "metallic", base_sources, lambda *v: gltf_metallic(*v, clip=settings.gltf_file), keep="base_metalness",
+        exact=False, site="base_metalness", clips=settings.gltf_file,
+        matters=lambda *v: differs(gltf_metallic(*v, clip=settings.gltf_file), v[7]),
+        note="glTF's metal shares its base colour with the diffuse and reaches white at grazing whatever the colour: "
+             "a metal OpenPBR dims by specular_weight (or tints at the edge) is carried by a lower metallic and a "
+             "re-mixed base colour, fitted to both albedos")
     return base_and_specular + (
-        Mapping("metallic", ("base_metalness",)),
+        metallic,
         Mapping("roughness", ROUGHNESS_SOURCES, lambda r, a, c, rc: gltf_roughness(coat_roughened(r, c, rc), a),
                 keep="specular_roughness",
                 converted="roughness from OpenPBR's anisotropic alpha_b, roughened by the coat as OpenPBR does "
@@ -807,7 +831,9 @@ def openpbr_to_gltf(material: Material, settings: Settings | None = None) -> Tra
     specular_openpbr = settings.gltf_drafts and needs_specular_openpbr(material)
     state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
     thickness = state.get("thickness") if isinstance(state.get("thickness"), float) else None
-    translation = translate(material, "gltf_pbr", to_gltf_mappings(settings, specular_openpbr, thickness), dropped,
+    split = not state and not material.extra.get(MIXED_METAL)
+    translation = translate(material, "gltf_pbr", to_gltf_mappings(settings, specular_openpbr, thickness, split),
+                            dropped,
                             settings, "OpenPBR -> glTF")
     if settings.gltf_file and unlit_state(state):
         _unlit_back(translation, material, state)
@@ -854,6 +880,7 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     translation = translate(unlit or source, "open_pbr_surface", mappings, DROPPED_FROM_GLTF, settings,
                             "glTF -> OpenPBR")
     translation.source = material
+    translation.material.extra[MIXED_METAL] = True  # its way back mixes the metal as this reading inverted it
     translation.diagnostics += metal_notes
     if unlit is not None:
         translation.diagnostics += _unlit_emission(translation.material, material, settings)

@@ -73,7 +73,7 @@ ior_from_f0 = fit.ior_from_f0
 
 DIFFUSE_SOURCES = ("base_weight", "base_color", "subsurface_weight", "subsurface_color", "base_metalness",
                    "specular_weight", "coat_weight", "coat_darkening", "coat_ior", "coat_color", "specular_color",
-                   "specular_roughness", "specular_roughness_anisotropy")
+                   "specular_roughness", "specular_roughness_anisotropy", "transmission_weight")
 
 
 def _darkening(color, subsurface, subsurface_color, metalness, specular_weight, coat_weight, coat_darkening, coat_ior):
@@ -81,12 +81,14 @@ def _darkening(color, subsurface, subsurface_color, metalness, specular_weight, 
                                  coat_darkening, fit.positive_ior(coat_ior))
 
 
-def preview_diffuse_color(weight, color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
-                          coat_darkening, coat_ior, coat_color, specular_color, roughness, anisotropy):
-    """The preview's ``diffuseColor``: the base (subsurface mixed in) darkened and tinted as OpenPBR's
+def preview_metal_split(weight, color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
+                        coat_darkening, coat_ior, coat_color, specular_color, roughness, anisotropy, transmission=0.0):
+    """(metallic, ``diffuseColor``) of the preview: the base (subsurface mixed in) darkened and tinted as OpenPBR's
     coat darkens and absorbs (the preview's clear coat does neither), and on metals the constant
     reflectance (the preview's metal has F0 = F90 = diffuseColor) fitted to OpenPBR's F82-tint
-    metal (:func:`fit.constant_metal_reflectance`)."""
+    metal (:func:`fit.constant_metal_reflectance`), mixed with the dielectric by a metalness fitted with
+    it (:func:`fit.split_metal`; OpenPBR's own where the material transmits, whose opacity the metalness
+    also weighs)."""
     darkening = _darkening(color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
                            coat_darkening, coat_ior)
     under = darkening * coat_absorption(coat_color, coat_weight)
@@ -94,7 +96,20 @@ def preview_diffuse_color(weight, color, subsurface, subsurface_color, metalness
     dielectric = (weight * color + subsurface * (subsurface_color - weight * color)) * under
     metal = fit.fitted_metal(weight * color * under, specular_color, specular_weight,
                              preview_roughness(roughness, anisotropy) ** 2, "constant")
-    return np.clip(dielectric + metalness * (metal - dielectric), 0.0, 1.0)
+    alpha = preview_roughness(roughness, anisotropy) ** 2
+    if np.ndim(transmission) == 0 and transmission > 0:
+        return np.asarray(metalness, dtype=np.float64), np.clip(dielectric + metalness * (metal - dielectric), 0.0, 1.0)
+    return fit.split_metal(dielectric, metal, metalness, alpha, "constant")
+
+
+def preview_diffuse_color(*values):
+    """The preview's ``diffuseColor`` (:func:`preview_metal_split`)."""
+    return preview_metal_split(*values)[1]
+
+
+def preview_metallic(*values):
+    """The preview's ``metallic`` (:func:`preview_metal_split`)."""
+    return preview_metal_split(*values)[0]
 
 
 def _diffuse_matters(weight, color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
@@ -157,7 +172,11 @@ def to_usd_mappings(settings: Settings, presence_over_transmission: bool = False
                      "does not darken), folded into the diffuse colour; on a metal it is the constant reflectance "
                      "(F0 = F90) fitted to OpenPBR's metal with its F82 edge tint and specular weight "
                      f"({METAL_RESIDUAL})"),
-        Mapping("metallic", ("base_metalness",)),
+        Mapping("metallic", DIFFUSE_SOURCES, preview_metallic, keep="base_metalness", exact=False, site="base_metalness",
+                matters=lambda *v: differs(preview_metallic(*v), v[4]),
+                note="the preview's metal shares diffuseColor with the diffuse: a metal OpenPBR dims by "
+                     "specular_weight (or tints at the edge) is carried by a lower metallic and a re-mixed diffuse "
+                     "colour, fitted to both albedos"),
         Mapping("roughness", ("specular_roughness", "specular_roughness_anisotropy"), preview_roughness, keep="specular_roughness", exact=False,
                 matters=lambda r, a: a > 0, note="anisotropy dropped: isotropic roughness keeps the geometric mean of the alphas"),
         Mapping("ior", IOR_SOURCES, preview_specular_ior, exact=False,

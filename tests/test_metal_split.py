@@ -1,0 +1,97 @@
+"""A partly metallic OpenPBR material whose metal is dimmed by specular_weight (or tinted at the edge) in targets
+whose metal and dielectric share one colour (glTF, UsdPreviewSurface): metalness and colour fitted together
+(translate/fit_metal.split_metal), not the colours mixed by OpenPBR's metalness.
+
+The expected values are closed forms: with specular_weight 0, OpenPBR's metal reflects nothing (the spec: the
+metal's Fresnel is scaled by specular_weight) and its dielectric neither reflects, so the material is a Lambertian
+of albedo (1 - metalness) * base_weight * base_color, which glTF writes exactly as a dielectric (metallic 0) of that
+base colour with KHR_materials_specular's factor 0, and the preview as a diffuse of that colour."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from openpbr_tools import tables
+from openpbr_tools.evaluate.verify import compare_materials
+from openpbr_tools.model import Constant, Input, Location, Material
+from openpbr_tools.translate.common import Settings
+from openpbr_tools.translate.convert import convert
+from openpbr_tools.translate.fit_metal import fitted_metal, split_metal
+
+LOCATION = Location("m.mtlx", 1, "S")
+
+
+def _openpbr(**values) -> Material:
+    table = tables.table("open_pbr_surface")
+    inputs = {name: Input(name, table[name].type, Constant(value), LOCATION.with_input(name))
+              for name, value in values.items()}
+    return Material("S", "open_pbr_surface", LOCATION, inputs, version=table.version)
+
+
+def _value(material: Material, name: str, default):
+    entry = material.inputs.get(name)
+    return np.asarray(entry.constant if entry is not None else default, dtype=np.float64)
+
+
+@pytest.mark.parametrize("target, metallic, colour", [("gltf_pbr", "metallic", "base_color"),
+                                                      ("UsdPreviewSurface", "metallic", "diffuseColor")])
+def test_a_metal_dimmed_to_nothing_becomes_the_dielectric_it_leaves(target, metallic, colour):
+    source = _openpbr(base_metalness=0.73, specular_weight=0.0, base_color=(0.8, 0.6, 0.4))
+    result = convert(source, target, Settings(candidates=False)).material
+    expected = 0.27 * np.array([0.8, 0.6, 0.4])  # (1 - metalness) base_weight base_color, the closed form above
+    assert float(_value(result, metallic, 0.0)) <= 0.01
+    np.testing.assert_allclose(_value(result, colour, (0, 0, 0)), expected, atol=0.004)
+    # glTF: exact (was 8.5 with the colours mixed by 0.73); the preview's dielectric keeps Schlick's rim (its F90 is
+    # 1 whatever the ior), which OpenPBR's specular_weight 0 removes: its floor here, measured 2.2
+    assert compare_materials(source, result).preview.mean < (0.6 if target == "gltf_pbr" else 2.5)
+
+
+@pytest.mark.parametrize("target", ["gltf_pbr", "UsdPreviewSurface"])
+def test_an_undimmed_untinted_partial_metal_keeps_its_metalness_and_colour(target):
+    """The mix is exact where the fitted metal equals the shared colour: nothing moves."""
+    source = _openpbr(base_metalness=0.4, base_color=(0.8, 0.5, 0.2))
+    result = convert(source, target, Settings(candidates=False)).material
+    assert float(_value(result, "metallic", 0.0)) == pytest.approx(0.4, abs=1e-12)
+    if target == "gltf_pbr":
+        np.testing.assert_allclose(_value(result, "base_color", (0, 0, 0)), (0.8, 0.5, 0.2), atol=1e-12)
+
+
+def test_split_metal_is_the_mix_where_the_metal_is_the_dielectric_colour_and_never_worse_in_its_measure():
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        colour, tint = rng.uniform(0, 1, 3), rng.uniform(0, 1, 3)
+        metalness, weight, alpha = rng.uniform(0.01, 0.99), rng.uniform(0, 1), rng.uniform(0.001, 1)
+        same = fitted_metal(colour, np.ones(3), 1.0, alpha)
+        x, b = split_metal(colour, same, metalness, alpha)
+        assert float(x) == metalness and np.allclose(b, colour)
+        metal = fitted_metal(colour, tint, weight, alpha)
+        x, b = split_metal(colour, metal, metalness, alpha)
+        assert 0.0 <= float(x) <= 1.0 and np.all((0.0 <= b) & (b <= 1.0))
+        # the diffuse albedo it gives, (1 - x) b, is never further from the source's than the mix's
+        mixed = np.clip(colour + metalness * (metal - colour), 0, 1)
+        source_diffuse = (1 - metalness) * colour
+        split_error = np.abs((1 - x) * b - source_diffuse).max()
+        mix_error = np.abs((1 - metalness) * mixed - source_diffuse).max()
+        assert split_error <= mix_error + 0.35  # it trades some diffuse for the metal, within a bound
+
+
+def test_a_dimmed_partial_metal_renders_closer_than_the_mix():
+    """On the evaluator (the judge of #13's shares), against the same translation with the colours mixed by
+    OpenPBR's metalness (what a material read from glTF still gets: translate.gltf.MIXED_METAL). On 1,000 generated
+    materials 36 improved by more than 0.3 mean CIEDE2000 on glTF and 2 worsened, by at most 0.62
+    (bench_fidelity --corpus archetypes, session 22)."""
+    from openpbr_tools.translate.gltf import MIXED_METAL
+
+    rng = np.random.default_rng(9)
+    gains = []
+    for _ in range(12):
+        source = _openpbr(base_metalness=float(rng.uniform(0.2, 0.9)), specular_weight=float(rng.uniform(0, 0.6)),
+                          base_color=tuple(float(c) for c in rng.uniform(0.1, 0.9, 3)))
+        split = convert(source, "gltf_pbr", Settings(candidates=False)).material
+        source.extra[MIXED_METAL] = True
+        mixed = convert(source, "gltf_pbr", Settings(candidates=False)).material
+        source.extra.pop(MIXED_METAL)
+        assert float(_value(split, "metallic", 1.0)) < float(_value(mixed, "metallic", 1.0))
+        gains.append(compare_materials(source, mixed).preview.mean - compare_materials(source, split).preview.mean)
+    assert min(gains) > -0.3 and float(np.median(gains)) > 1.0
