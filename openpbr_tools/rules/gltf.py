@@ -270,7 +270,8 @@ NO_EFFECT = Rule(
     "without a volume, iridescence with zero thickness, an extension object without the factor that carries its "
     "effect and nothing else (\"KHR_materials_transmission\": {}: the factor defaults to 0); a texture whose factor is left at its "
     "default 0 (emissiveTexture without emissiveFactor), a normal map at scale 0, or a texture without the "
-    "channel its slot reads (an RGB specularTexture, an anisotropyTexture whose blue strength is 0 everywhere, an "
+    "channel its slot reads (an RGB specularTexture, sheenRoughnessTexture or diffuseTransmissionTexture, which read "
+    "alpha alone, an anisotropyTexture whose blue strength is 0 everywhere, an "
     "RGB base colour texture under alphaMode MASK that never reaches below the cutoff: the gltf_images family); "
     "or an alphaCutoff without alphaMode MASK.",
     "KHR_materials_transmission applies to the dielectric part only (metallicFactor defaults to 1, so "
@@ -283,8 +284,10 @@ NO_EFFECT = Rule(
     "anisotropyStrength and diffuseTransmissionFactor each default to 0. KHR_materials_diffuse_transmission "
     "replaces part of the dielectric's diffuse BRDF, which a metal (metallicFactor 1) does not have. A normal "
     "texture's scale multiplies the map's X and Y (3.9.3), so 0 leaves the vertex normal. A slot reads the "
-    "channel its extension names (KHR_materials_specular: strength in A; KHR_materials_anisotropy: strength "
-    "in B; 3.9.2: alpha in the base colour texture's A), and an image without that channel reads A = 1. "
+    "channel its extension names (KHR_materials_specular: strength \"stored in the alpha (A) channel\"; "
+    "KHR_materials_sheen: sheenRoughnessTexture likewise in A; KHR_materials_diffuse_transmission: strength in A; the "
+    "draft KHR_materials_fuzz: roughness in A; KHR_materials_anisotropy: strength in B; 3.9.2: alpha in the base "
+    "colour texture's A), and an image without that channel reads A = 1 (an RGB JPEG never has one). "
     "Usually half of a set-up lost in export.",
     passing=_gltf('"extensionsUsed": ["KHR_materials_transmission"]',
                   '"materials": [{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 0.0}, '

@@ -114,11 +114,16 @@ ANIMATION_POINTER_UNDEFINED = Rule(
 )
 
 
+_FLAT_NORMAL_4X4 = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAQAAAAECAIAAAAmkwkpAAAAFElEQVR42mNsaPjPAANMDEgANwc"
+                    "AZFMCBygXkuMAAAAASUVORK5CYII=")  # (128, 128, 255): the unperturbed normal
+
+
 def _texture_set(normal_transform: bool) -> str:
     tiled = {"KHR_texture_transform": {"scale": [4, 4]}}
-    normal = {"index": 0, **({"extensions": tiled} if normal_transform else {})}
+    normal = {"index": 1, **({"extensions": tiled} if normal_transform else {})}
     return json.dumps({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_texture_transform"],
-                       "images": [{"uri": _PNG_4X4}], "textures": [{"source": 0}],
+                       "images": [{"uri": _PNG_4X4}, {"uri": _FLAT_NORMAL_4X4}],
+                       "textures": [{"source": 0}, {"source": 1}],
                        "materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": tiled}},
                                       "normalTexture": normal}]}, indent=1) + "\n"
 

@@ -7,7 +7,9 @@ it has the channel the slot reads.
   (section 2, File Extensions and Media Types), whose images have one (Y) or three (YCbCr) components, so a
   four-component CMYK or YCCK JPEG is not a glTF image (the Khronos glTF-Validator's IMAGE_DATA_INVALID).
 * A slot that reads a channel the image does not have reads its default there (A = 1): an RGB
-  ``specularTexture`` (strength in A, KHR_materials_specular) changes nothing, and an ``anisotropyTexture``
+  ``specularTexture`` (strength in A, KHR_materials_specular), ``sheenRoughnessTexture`` (KHR_materials_sheen) or
+  ``diffuseTransmissionTexture`` (KHR_materials_diffuse_transmission), each read from A alone (:data:`ALPHA_ONLY_READS`,
+  from the slot tables), changes nothing, and an ``anisotropyTexture``
   whose blue channel (the strength, KHR_materials_anisotropy) is 0 everywhere turns the anisotropy off. These
   are OPBR1211, the glTF family's "no effect", reported from here because only the image says so. An RGB
   base colour texture under ``alphaMode`` MASK (nothing is cut out) is not reported: Khronos' CompareIor
@@ -26,10 +28,11 @@ JPEG at 1/8 scale, and only up to :data:`MAX_INSPECTED_PIXELS`.
 from __future__ import annotations
 
 from ..diagnostics import Severity
-from ..io.gltf import slots
+from ..io.gltf import drafts, slots
+from ..io.gltf.animation_pointers import POINTER as ANIMATION_POINTER
 from ..io.image_content import channel_maxima, channel_statistics
 from ..model import Location, Texture
-from . import Rule
+from . import Rule, constant_or_default
 from .gltf import NO_EFFECT, _one_image
 from .textures import image_of
 
@@ -167,7 +170,37 @@ OCCLUSION_BLACK = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (IMAGE_ENCODING, IMAGE_ORIENTATION, IMAGE_FEATURES, DATA_IN_UNREAD_CHANNEL, GREY_METAL_ROUGH, OCCLUSION_BLACK)
+_ALPHA_NONE = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAYAAABytg0kAAAAFElEQVR42mM8MS2FgYGBgYGJAQoAHL"
+               "oBxn84q34AAAAASUVORK5CYII=")
+_ALPHA_ONE_TEXEL = ("data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAYAAABytg0kAAAAFklEQVR42mM8MS2FgYGBgYGJAQL+"
+                    "AwAduQLFYmgq4gAAAABJRU5ErkJggg==")
+
+
+def _cut_out(uri: str) -> str:
+    return _one_image(uri, '{"name": "M", "alphaMode": "MASK", "alphaCutoff": 0.5, '
+                           '"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}')
+
+
+ALPHA_CUTS_EVERYTHING = Rule(
+    "OPBR1249", "gltf-alpha-texture-hides-everything", Severity.ERROR,
+    "Under alphaMode MASK, no texel of the base colour texture reaches alphaCutoff (its alpha times baseColorFactor's "
+    "alpha is below the cutoff everywhere), or under BLEND that product is 0 everywhere: the whole material is cut "
+    "away.",
+    "glTF 2.0 (3.9.4, material.alphaCutoff): in MASK mode a fragment is \"rendered as fully opaque\" if its alpha is "
+    "greater than or equal to alphaCutoff, \"otherwise, it is rendered as fully transparent\"; alpha is the base "
+    "colour texture's A times baseColorFactor's fourth component (3.9.2), and in BLEND mode it is coverage, 0 drawing "
+    "nothing. Filtering and mipmaps average texels, so no sample exceeds the largest one: when that one is below the "
+    "cutoff, the surface is invisible from every angle and at every distance (no base, no reflection, no shadow). "
+    "Usually an exporter that wrote an empty opacity channel into the PNG (or a cut-out mask inverted). Neither the "
+    "schema nor the Khronos glTF-Validator reads texels. Not claimed where vertex colours with alpha (a VEC4 COLOR_n) "
+    "or KHR_animation_pointer may change the product; an untextured material is OPBR908. Repaint the alpha (opaque "
+    "where the surface is), or set alphaMode OPAQUE.",
+    passing=_cut_out(_ALPHA_ONE_TEXEL), failing=_cut_out(_ALPHA_NONE),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+RULES = (IMAGE_ENCODING, IMAGE_ORIENTATION, IMAGE_FEATURES, DATA_IN_UNREAD_CHANNEL, GREY_METAL_ROUGH, OCCLUSION_BLACK,
+         ALPHA_CUTS_EVERYTHING)
 
 #: What each feature of the reader's (io/gltf/image_features.py) is called, per format.
 _FEATURE_WORDS = {"image/png": {"icc_profile": "an embedded ICC profile (iCCP)", "non_square_pixels": "non-square pixels (pHYs)",
@@ -192,9 +225,16 @@ def check(asset, context):
     image_by_texture = {use["pointer"]: images[use["image"]] for use in facts.get("texture_uses", ())
                         if isinstance(use.get("image"), int) and 0 <= use["image"] < len(images)}
     decoded: dict = {}
+    reads = alpha_reads(asset, facts)
+    # materials whose alpha vertex colours (a VEC4 COLOR_n) multiply: a primitive's alpha is not the texture's alone
+    coloured = {p.get("material") for p in facts.get("primitives", ()) if any(
+        name.startswith("COLOR_") and form and form[0] == "VEC4" for name, form in p.get("attribute_formats", {}).items())}
+    animated = ANIMATION_POINTER in facts.get("extensions_used", ())
     for material in asset.materials:
-        yield from _missing_channels(asset, material, image_by_texture, decoded, context)
+        yield from _missing_channels(asset, material, reads, decoded, context)
         yield from _flat_data(asset, material, image_by_texture, decoded, context)
+        if not animated and _material_index(material) not in coloured:
+            yield from _alpha_hides_everything(asset, material, image_by_texture, decoded, context)
     yield from _unread_channels(asset, facts, images, context)
 
 
@@ -236,16 +276,60 @@ def _encodings(asset, facts, images, context):
             hint="re-export the image with 8 bits per channel (sRGB)")
 
 
-def _missing_channels(asset, material, image_by_texture, decoded, context):
-    specular = material.inputs.get("specular")
-    if specular is not None and isinstance(specular.value, Texture):
-        image = image_by_texture.get(specular.value.node, {})
+#: Texture properties read from the alpha channel alone, by (extension, property): each slot table's (io/gltf/slots.py,
+#: io/gltf/drafts.py) whose channels are A only. sheenRoughnessTexture (KHR_materials_sheen: "stored in the alpha (A)
+#: channel"), specularTexture (KHR_materials_specular: "stored in the alpha (A) channel"), diffuseTransmissionTexture
+#: (KHR_materials_diffuse_transmission: "stored in the alpha (A) channel"), the draft KHR_materials_fuzz's
+#: fuzzRoughnessTexture. (The base colour's alpha is read with its RGB, and an RGB base colour is opaque by intent.)
+_ALL_SLOTS = slots.SLOTS + slots.DIFFUSE_TRANSMISSION_SLOTS + tuple(s for group in drafts.SLOTS.values() for s in group)
+ALPHA_ONLY_READS = {(slot.container, slot.texture): slot for slot in _ALL_SLOTS
+                    if slot.texture and slot.channels == (3,) and not any(
+                        other.texture == slot.texture and other.channels != (3,) for other in _ALL_SLOTS)}
+#: (what the extension calls the value in A, what the hint calls it) per slot
+_QUANTITIES = {"specular": ("strength", "specular strength"), "sheen_roughness": ("roughness", "sheen roughness"),
+               "diffuse_transmission": ("strength", "diffuse transmission strength"),
+               "fuzz_roughness": ("roughness", "fuzz roughness")}
+
+
+def alpha_reads(asset, facts) -> dict:
+    """Material index -> ``(pointer, extension, slot, image)`` for every texture read from alpha alone: the reader's
+    texture uses (each looked at once), and KHR_materials_diffuse_transmission's from the JSON the material keeps (the
+    gltf_pbr node does not carry it, so the reader records no use of its textures)."""
+    images, found = facts.get("images", ()), {}
+    for use in facts.get("texture_uses", ()):
+        parts = use["pointer"].split("/")
+        slot = ALPHA_ONLY_READS.get(tuple(parts[-2:])) if len(parts) > 3 and parts[-3] == "extensions" else None
+        if slot is not None and isinstance(use.get("image"), int) and 0 <= use["image"] < len(images):
+            found.setdefault(use["material"], []).append((use["pointer"], slot.container, slot, images[use["image"]]))
+    sources = facts.get("texture_sources", ())
+    for material in asset.materials:
+        kept = ((material.extra.get("gltf") or {}).get("extensions") or {}).get(slots.DIFFUSE_TRANSMISSION)
+        index = _material_index(material)
+        for slot in slots.DIFFUSE_TRANSMISSION_SLOTS if isinstance(kept, dict) and index is not None else ():
+            info = kept.get(slot.texture) if slot.channels == (3,) else None
+            texture = info.get("index") if isinstance(info, dict) else None
+            source = sources[texture] if isinstance(texture, int) and not isinstance(texture, bool) and \
+                0 <= texture < len(sources) else None
+            if source is not None and source < len(images):
+                found.setdefault(index, []).append((f"/materials/{index}/extensions/{slots.DIFFUSE_TRANSMISSION}/"
+                                                    f"{slot.texture}", slots.DIFFUSE_TRANSMISSION, slot, images[source]))
+    return found
+
+
+def _material_index(material):
+    """The index of a glTF material (its location's JSON pointer, /materials/N), or ``None``."""
+    parts = (material.location.path or "").split("/") if material.location is not None else []
+    return int(parts[2]) if len(parts) > 2 and parts[1] == "materials" and parts[2].isdigit() else None
+
+
+def _missing_channels(asset, material, reads, decoded, context):
+    for pointer, extension, slot, image in reads.get(_material_index(material), ()):
         if image.get("alpha") is False:
+            quantity, named = _QUANTITIES.get(slot.parameter, (slot.parameter.replace("_", " "),) * 2)
             yield context.diagnostic(
-                NO_EFFECT, f"{material.name}: specularTexture (image {image['index']}) has no alpha channel, where "
-                "KHR_materials_specular reads the strength: it reads 1 everywhere, so the texture has no effect",
-                Location(asset.path, None, specular.value.node, "index"),
-                hint="store the specular strength in the image's alpha channel")
+                NO_EFFECT, f"{material.name}: {slot.texture} (image {image['index']}) has no alpha channel, where "
+                f"{extension} reads the {quantity}: it reads 1 everywhere, so the texture has no effect",
+                Location(asset.path, None, pointer, "index"), hint=f"store the {named} in the image's alpha channel")
     strength = material.inputs.get("anisotropy_strength")
     if strength is not None and isinstance(strength.value, Texture) and strength.value.scale != 0.0:
         texture = strength.value
@@ -354,3 +438,44 @@ def _flat_data(asset, material, image_by_texture, decoded, context):
                 f"{'no' if strength == 1 else f'{1 - strength:.0%} of its'} indirect light",
                 Location(asset.path, None, texture.node, "index"),
                 hint="re-bake the ambient occlusion (white where unoccluded), or remove the texture")
+
+
+_ALPHA_TOLERANCE = 1e-6  # an alpha equal to the cutoff is drawn (3.9.4: "greater than or equal"): never claimed
+
+
+def _alpha_hides_everything(asset, material, image_by_texture, decoded, context):
+    """OPBR1249: the largest texel alpha of the base colour texture (1 for an image without alpha) times
+    baseColorFactor's alpha, below alphaCutoff under MASK, 0 under BLEND. (Not asked when a primitive drawn with
+    the material has vertex colours with alpha, or the file animates material properties: KHR_animation_pointer.)"""
+    mode = constant_or_default(material, "alpha_mode")
+    alpha = material.inputs.get("alpha")
+    texture = alpha.texture if alpha is not None else None
+    if mode not in (1, 2) or texture is None:
+        return
+    factor = 1.0 if texture.scale is None else texture.scale
+    cutoff = constant_or_default(material, "alpha_cutoff") if mode == 1 else None
+    image = image_by_texture.get(texture.node)
+    if not isinstance(factor, float) or image is None or (mode == 1 and not isinstance(cutoff, float)):
+        return
+    if image.get("alpha") is False:
+        largest = 255  # no alpha channel: every texel's alpha is 1
+    else:
+        maxima = _maxima(asset, texture, decoded, context)
+        if maxima is None or len(maxima) < 4:
+            return  # undecodable, too large, a 16-bit image (read without its alpha here)
+        largest = maxima[3]
+    product = largest / 255 * factor
+    where = Location(asset.path, None, texture.node, "index")
+    texels = f"the largest alpha of image {image['index']} ({image['file']}) is {largest} of 255" + (
+        f", times baseColorFactor's alpha {factor:g}" if factor != 1.0 else "")
+    if mode == 1 and product < cutoff - _ALPHA_TOLERANCE:
+        yield context.diagnostic(
+            ALPHA_CUTS_EVERYTHING, f"{material.name}: alphaMode MASK with alphaCutoff {cutoff:g}, but {texels}: every "
+            "fragment is below the cutoff and discarded, so the material is invisible", where,
+            hint="repaint the texture's alpha (opaque where the surface is: an empty or inverted opacity channel?), "
+                 "or set alphaMode OPAQUE")
+    elif mode == 2 and product == 0:
+        yield context.diagnostic(
+            ALPHA_CUTS_EVERYTHING, f"{material.name}: alphaMode BLEND, but {texels}: alpha is 0 everywhere, so the "
+            "material draws nothing", where,
+            hint="repaint the texture's alpha (opaque where the surface is), or set alphaMode OPAQUE")

@@ -8,7 +8,10 @@ finding located at the accessor (or at the primitive's attribute, for counts):
 
 * an accessor offset that is no multiple of its component size, within its bufferView or within the buffer
   (3.6.2.4; the Khronos glTF-Validator's ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_TOTAL_OFFSET_ALIGNMENT);
-* a bufferView ``byteStride`` smaller than an element of an accessor using it (ACCESSOR_SMALL_BYTESTRIDE);
+* a bufferView ``byteStride`` smaller than an element of an accessor using it (ACCESSOR_SMALL_BYTESTRIDE), not a
+  multiple of 4 or outside 4 to 252 (bufferView.schema.json; VALUE_MULTIPLE_OF, VALUE_NOT_IN_RANGE), or larger than
+  the view (BUFFER_VIEW_TOO_BIG_BYTE_STRIDE); a vertex attribute whose offset or packed element size is no multiple
+  of 4 (3.6.2.4; MESH_PRIMITIVE_ACCESSOR_UNALIGNED);
 * sparse indices that do not strictly increase, or reach the accessor's count (3.6.2.3;
   ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB);
 * an accessor that does not fit its bufferView (3.6.2.4; ACCESSOR_TOO_LONG);
@@ -41,6 +44,7 @@ import struct
 
 from ..diagnostics import Severity
 from ..io.gltf.accessors import UNIT_TOLERANCE
+from ..io.gltf.layout import STRIDE_RANGE
 from ..model import Location
 from . import Rule
 from .gltf import _PNG_4X4, _WEBP, IMAGE_NEEDS_EXTENSION, _gltf
@@ -58,17 +62,21 @@ def _counted(texcoords: int) -> str:
 ACCESSOR_STRUCTURE = Rule(
     "OPBR1228", "gltf-accessor-structure", Severity.ERROR,
     "An accessor is laid out as glTF forbids: an offset that is no multiple of its component size, a bufferView "
-    "byteStride smaller than its element, more elements than its bufferView holds, sparse indices that do not "
+    "byteStride smaller than its element, not a multiple of 4, outside 4-252 or longer than the view, a vertex "
+    "attribute not aligned to 4 bytes, more elements than its bufferView holds, sparse indices that do not "
     "strictly increase or reach its count; or the attributes of one primitive have different counts, or its "
     "indices reach its vertex count.",
     "glTF 2.0 requires accessor offsets (into the bufferView and into the buffer) to be multiples of the "
-    "component size (3.6.2.4), a stride to hold a whole element, sparse indices to \"strictly increase\" and to "
+    "component size (3.6.2.4), a stride to hold a whole element, a vertex attribute's offset and stride to be "
+    "multiples of 4 (3.6.2.4: \"accessor.byteOffset and bufferView.byteStride MUST be multiples of 4\"; "
+    "bufferView.schema.json: byteStride minimum 4, maximum 252, multipleOf 4), sparse indices to \"strictly increase\" and to "
     "stay below the accessor's count (3.6.2.3), and \"all attribute accessors for a given primitive\" to \"have "
     "the same count\" (3.7.2.1). Otherwise GPU APIs refuse the unaligned vertex buffer (WebGL: "
     "INVALID_OPERATION), elements overlap (a UV read from the middle of a position), sparse substitutions land "
     "on the wrong vertices (or past the end), and vertices past the shorter attribute have no UVs: the texture "
     "is misplaced or the mesh is not drawn. The Khronos glTF-Validator reports each as an error "
-    "(ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_TOTAL_OFFSET_ALIGNMENT, ACCESSOR_SMALL_BYTESTRIDE, "
+    "(ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_TOTAL_OFFSET_ALIGNMENT, ACCESSOR_SMALL_BYTESTRIDE, VALUE_MULTIPLE_OF "
+    "and VALUE_NOT_IN_RANGE at byteStride, BUFFER_VIEW_TOO_BIG_BYTE_STRIDE, MESH_PRIMITIVE_ACCESSOR_UNALIGNED, "
     "ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB, MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT). "
     "Likewise an accessor that does not fit its bufferView (\"each accessor MUST fit its bufferView\", 3.6.2.4: "
     "the last elements are read from the next view or past the buffer; ACCESSOR_TOO_LONG), and a primitive's "
@@ -199,6 +207,35 @@ def _small_stride(p):
             f"set byteStride to at least {p['element']} (the size of one interleaved vertex)")
 
 
+def _stride_not_multiple(p):
+    return (f"byteStride {p['stride']} is not a multiple of 4: every other vertex's values start off a 4-byte "
+            "boundary, which WebGL and GPU vertex fetch refuse (or read as garbage floats)",
+            f"pad each interleaved vertex to {p['stride'] + (-p['stride'] % 4)} bytes")
+
+
+def _stride_out_of_range(p):
+    return (f"byteStride {p['stride']} is outside the {STRIDE_RANGE[0]} to {STRIDE_RANGE[1]} bytes glTF allows" +
+            (" (WebGL accepts no stride above 255)" if p["stride"] > STRIDE_RANGE[1] else "") +
+            ": loaders that check the schema refuse the file, others read the view as tightly packed",
+            "split the interleaved attributes over more bufferViews" if p["stride"] > STRIDE_RANGE[1]
+            else "set byteStride to the size of one interleaved vertex (a multiple of 4), or remove it")
+
+
+def _stride_too_big(p):
+    return (f"byteStride {p['stride']} is larger than the bufferView's byteLength {p['length']}: not even two "
+            "elements fit in it", "set byteStride to the size of one interleaved vertex, or byteLength to the data's")
+
+
+def _vertex_unaligned(p):
+    attribute, primitive = p["attribute"].rsplit("/", 1)[-1], p["attribute"].rsplit("/", 2)[0]
+    why = (f"its byteOffset is {p['offset']}" if p["offset"] % 4 else
+           f"its {p['type']} elements are packed {p['packed']} bytes apart (bufferView {p['view']} has no byteStride)")
+    return (f"{primitive} reads it as {attribute}, a vertex attribute, whose offset and stride must be multiples of 4, "
+            f"but {why}: GPU APIs refuse the unaligned vertex buffer",
+            "pad each element to a multiple of 4 bytes (a byteStride on the bufferView) and start the accessor at a "
+            "multiple of 4")
+
+
 def _sparse_not_increasing(p):
     return (f"sparse index {p['position']} is {p['value']}, not greater than the one before it ({p['previous']}): the "
             "indices must strictly increase, or the substituted values land on the wrong vertices",
@@ -240,7 +277,9 @@ def _non_unit(p):
             "normalise the vectors (an object scale baked into them?)")
 
 
-_MESSAGES = {"offset_alignment": _offset_alignment, "total_offset_alignment": _total_offset_alignment,
+_MESSAGES = {"stride_not_multiple": _stride_not_multiple, "stride_out_of_range": _stride_out_of_range,
+             "stride_too_big": _stride_too_big, "vertex_unaligned": _vertex_unaligned,
+             "offset_alignment": _offset_alignment, "total_offset_alignment": _total_offset_alignment,
              "small_stride": _small_stride, "too_long": _too_long, "sparse_not_increasing": _sparse_not_increasing,
              "sparse_out_of_range": _sparse_out_of_range, "unequal_count": _unequal_count,
              "index_out_of_range": _index_out_of_range, "non_finite": _non_finite, "non_unit": _non_unit}
@@ -255,6 +294,8 @@ def check(asset, context):
         pointer = problem["pointer"]
         if pointer.startswith("/meshes/"):
             where = f"primitive {pointer.removesuffix('/attributes')}"
+        elif pointer.startswith("/bufferViews/"):
+            where = f"bufferView {pointer.split('/')[2]}"
         else:
             where = f"accessor {pointer.split('/')[2]}" + (" (sparse)" if pointer.endswith("/sparse") else "")
         rule = VERTEX_VALUES if problem["kind"] in _VALUE_KINDS else ACCESSOR_STRUCTURE

@@ -218,7 +218,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR722": ("A PNG's sRGB chunk declares sRGB-encoded values; MaterialX applies the authored tag, so a linear tag "
                 "never removes the sRGB curve and the albedo renders washed out.",
                 f"https://www.w3.org/TR/png-3/#11sRGB; {MX_CMS}"),
-    "OPBR724": ("Decoded, the normals face into the surface: the shading is lit from behind.", f"{MX_STDLIB}; {GLTF}"),
+    "OPBR724": ("Decoded, the normals face into the surface: the shading is lit from behind.",
+                f"{MX_STDLIB}; {GLTF}; {GLTF_MATERIAL_SCHEMA}"),
     "OPBR725": ("8-bit values in a 16-bit file read 257 times too small: a roughness of 0.99 reads 0.004.",
                 "https://www.w3.org/TR/png-3/#11IHDR"),
     "OPBR726": ("NaN and infinite texels spread through filtering and shading into speckles and fireflies.",
@@ -294,8 +295,10 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "anisotropic highlight runs along the positive octant.", f"{MX_OPENPBR}; {MX_NODES}"),
     "OPBR719": ("place2d's rotate and UsdTransform2d's rotation are in degrees (MaterialX's GLSL converts with "
                 "mx_radians); glTF's is in radians, so a value copied across turns the texture by 1/57 of what "
-                "was meant, and a degree value typed into a glTF file (90) by 57 times it.",
-                f"{MX_NODES}; {USD_PREVIEW}; {GLTF}; {_GLTF}extensions/2.0/Khronos/KHR_texture_transform/README.md"),
+                "was meant, and a degree value typed into a glTF file (90) by 57 times it; KHR_materials_anisotropy's "
+                "anisotropyRotation is in radians too, so 90 turns the brushed highlight by 14.3 turns.",
+                f"{MX_NODES}; {USD_PREVIEW}; {GLTF}; {_GLTF}extensions/2.0/Khronos/KHR_texture_transform/README.md; "
+                f"{khr('KHR_materials_anisotropy')}"),
     "OPBR910": ("An 8-bit image read as a luminance in nits emits at most 1 nit: the surface looks unlit.",
                 f"{OPENPBR}; {MX_OPENPBR}"),
     "OPBR1001": ("Without info:id (or a source asset/code) Sdr cannot find the shader's definition: Hydra "
@@ -454,6 +457,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  f"{GLTF}; https://github.com/mmikk/MikkTSpace"),
     "OPBR1248": ("A volume (thickness above 0) on an open surface has no inside: refraction and attenuation are "
                  "undefined; the glTF-Validator does not check closure.", f"{khr('KHR_materials_volume')}"),
+    "OPBR1249": ("Every viewer discards a MASK fragment whose alpha is below alphaCutoff (and BLEND draws alpha 0 as "
+                 "nothing): when no texel of the base colour texture reaches it, the whole surface disappears, in "
+                 "every viewer; the glTF-Validator reads no texels.", f"{GLTF}; {GLTF_MATERIAL_SCHEMA}"),
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
                  "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
                  "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),
@@ -548,15 +554,17 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "normals, anisotropy) shade wrong (the glTF-Validator's ACCESSOR_INVALID_SIGN).",
                  f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart"),
     "OPBR1228": ("An unaligned accessor is refused by GPU APIs (WebGL: INVALID_OPERATION) or read misaligned; a stride "
-                 "smaller than an element overlaps vertices; unsorted or out-of-range sparse indices substitute UVs at "
+                 "smaller than an element overlaps vertices, one that is no multiple of 4 (or outside 4-252) starts every "
+                 "other vertex off a 4-byte boundary; unsorted or out-of-range sparse indices substitute UVs at "
                  "the wrong vertices or past the end; attributes of unequal count leave vertices without UVs, an "
                  "accessor longer than its view reads its last elements from elsewhere, indices past the vertex count "
                  "name vertices that do not exist: the texture is misplaced or the mesh is not drawn (the "
-                 "glTF-Validator's ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_SMALL_BYTESTRIDE, ACCESSOR_TOO_LONG, "
+                 "glTF-Validator's ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_SMALL_BYTESTRIDE, VALUE_MULTIPLE_OF, "
+                 "BUFFER_VIEW_TOO_BIG_BYTE_STRIDE, MESH_PRIMITIVE_ACCESSOR_UNALIGNED, ACCESSOR_TOO_LONG, "
                  "ACCESSOR_SPARSE_INDICES_NON_INCREASING, ACCESSOR_SPARSE_INDEX_OOB, ACCESSOR_INDEX_OOB, "
                  "MESH_PRIMITIVE_UNEQUAL_ACCESSOR_COUNT, all errors).",
-                 f"{GLTF}; KhronosGroup/glTF-Validator:lib/src/errors.dart; "
-                 "KhronosGroup/glTF-Validator:lib/src/base/accessor.dart"),
+                 f"{GLTF}; {_GLTF}specification/2.0/schema/bufferView.schema.json; "
+                 "KhronosGroup/glTF-Validator:lib/src/errors.dart; KhronosGroup/glTF-Validator:lib/src/base/accessor.dart"),
     "OPBR1229": ("A texture whose only image needs WebP or KTX2 support, with the extension optional, renders as a plain "
                  "factor in every viewer without that support instead of the asset being refused (the extensions' "
                  "\"Using Without a Fallback\"; the glTF-Validator does not check it).",

@@ -1,7 +1,7 @@
 """What a texture file holds against how the material reads it (the red team's round five): a file whose bytes
 are another format than its name says, a scene-linear image decoded as sRGB, a UDIM set without its first tile,
 an OpenEXR layer the file does not have, an unsigned image read as a tangent, a rotation written in the other angle
-unit (radians for place2d's degrees, degrees for KHR_texture_transform's radians), and
+unit (radians for place2d's degrees, degrees for KHR_texture_transform's and anisotropyRotation's radians), and
 a packed occlusion-roughness-metalness map read through its occlusion channel (OPBR712).
 
 Formats are judged from the first bytes (:data:`SIGNATURES`); an OpenEXR file's layers from its header, read by
@@ -112,15 +112,18 @@ _PLACED = ('<texcoord name="uv" type="vector2" />\n<place2d name="turned" type="
            'colorspace="srgb_texture" />\n  <input name="texcoord" type="vector2" nodename="turned" />\n</image>\n')
 ROTATION_UNIT = Rule(
     "OPBR719", "texture-rotation-unit", Severity.WARNING,
-    "A texture rotation is written in the other angle unit: a multiple of pi/12 in radians (1.5708, 3.1416, 0.7854) "
-    "where place2d rotate or UsdTransform2d rotation take degrees, or a multiple of 15 degrees from 15 to 360 (90, "
-    "45) where glTF's KHR_texture_transform rotation takes radians.",
+    "A texture-space rotation is written in the other angle unit: a multiple of pi/12 in radians (1.5708, 3.1416, "
+    "0.7854) where place2d rotate or UsdTransform2d rotation take degrees, or a multiple of 15 degrees from 15 to 360 "
+    "(90, 45) where glTF's KHR_texture_transform rotation or KHR_materials_anisotropy's anisotropyRotation (the "
+    "anisotropy direction's turn in the tangent frame) takes radians.",
     "MaterialX's place2d and UsdPreviewSurface's UsdTransform2d take degrees (MaterialX's GLSL converts with "
     "mx_radians), while glTF's KHR_texture_transform (\"Rotate the UVs by this many radians\") and most scripting "
     "APIs take radians: 1.5708 meant as a quarter turn rotates the texture by 1.6 degrees, and a glTF rotation of 90 "
-    "(a DCC's degrees) by 90 radians, 116.6 degrees past 14 turns. No radian value needs more than a full turn "
-    "(2 pi), so a glTF rotation is reported only when it is a multiple of 15 from 15 to 360 (the angles a UI offers "
-    "in degrees); another whole number (7) is left alone.",
+    "(a DCC's degrees) by 90 radians, 116.6 degrees past 14 turns. KHR_materials_anisotropy's anisotropyRotation is "
+    "likewise \"measured in radians counter-clockwise from the tangent\" (its README; the draft KHR_materials_coat's "
+    "coatAnisotropyRotation follows it): 90 meant as a quarter turn brushes the highlight at 116.6 degrees instead. No "
+    "radian value needs more than a full turn (2 pi), so a glTF rotation is reported only when it is a multiple of 15 "
+    "from 15 to 360 (the angles a UI offers in degrees); another whole number (7) is left alone.",
     passing=_PLACED.format(rotate="90") + _SHADER.format(input="base_color", type="color3", node="albedo"),
     failing=_PLACED.format(rotate="1.5708") + _SHADER.format(input="base_color", type="color3", node="albedo"),
     example_files=("albedo.png",),
@@ -172,6 +175,9 @@ _DEGREE_STEPS = frozenset(range(15, 361, 15))  # the angles a UI offers, in degr
 
 
 def check(asset, context):
+    if asset.format == "gltf":
+        for material in asset.materials:
+            yield from _anisotropy_rotation_in_degrees(material, context)
     seen: set = set()
     for material, table, entry in for_each_input(asset):
         texture = entry.texture
@@ -340,20 +346,50 @@ def _exr_channels(path: str) -> list[str] | None:
     return names
 
 
+def degrees_as_radians(rotation: float) -> int | None:
+    """The whole degrees a glTF angle (radians) looks typed in, or ``None``: a multiple of 15 degrees from 15 to 360,
+    each beyond the 2 pi any radian value needs (a 7 is some turn in radians, seen in files; 90 is a quarter turn
+    typed in degrees)."""
+    turned = abs(rotation)
+    if math.isfinite(turned) and abs(turned - round(turned)) < 1e-6 and round(turned) in _DEGREE_STEPS:
+        return round(rotation)
+    return None
+
+
 def _rotation_in_degrees(asset, texture, context):
-    """A KHR_texture_transform rotation that is a multiple of 15 degrees from 15 to 360, each beyond the 2 pi any
-    radian value needs (a 7 is some turn in radians, seen in files; 90 is a quarter turn typed in degrees)."""
+    """A KHR_texture_transform rotation typed in degrees (:func:`degrees_as_radians`)."""
     if texture.uv is None:
         return
     rotation = -math.radians(texture.uv.rotate)  # the file's radians (io.gltf.uv: rotate = -degrees(rotation))
-    turned = abs(rotation)
-    if math.isfinite(turned) and abs(turned - round(turned)) < 1e-6 and round(turned) in _DEGREE_STEPS:
-        shown = round(rotation)
+    shown = degrees_as_radians(rotation)
+    if shown is not None:
         yield context.diagnostic(
             ROTATION_UNIT, f"{texture.node}: KHR_texture_transform rotation {shown} is {shown} radians, "
-            f"{turned / (2 * math.pi):.1f} turns: {shown} degrees written where glTF takes radians?",
+            f"{abs(rotation) / (2 * math.pi):.1f} turns: {shown} degrees written where glTF takes radians?",
             Location(asset.path, None, f"{texture.node}/extensions/KHR_texture_transform", "rotation"),
             hint=f"write {math.radians(shown):.6g} (the radians of {shown} degrees)")
+
+
+#: glTF material angles in radians, beside KHR_texture_transform's: (where the value is read from, its property)
+_ANISOTROPY_ROTATIONS = (("anisotropy_rotation", "KHR_materials_anisotropy", "anisotropyRotation"),
+                         ("coat_anisotropy_rotation", "KHR_materials_coat", "coatAnisotropyRotation"))
+
+
+def _anisotropy_rotation_in_degrees(material, context):
+    """KHR_materials_anisotropy's anisotropyRotation (and the draft KHR_materials_coat's coatAnisotropyRotation),
+    "measured in radians", typed in degrees (:func:`degrees_as_radians`)."""
+    drafts = ((material.extra.get("gltf") or {}).get("drafts") or {})
+    for name, extension, property_name in _ANISOTROPY_ROTATIONS:
+        entry = material.inputs.get(name) if name == "anisotropy_rotation" else drafts.get(extension, {}).get(name)
+        value = entry.constant if entry is not None else None
+        if not isinstance(value, (int, float)) or isinstance(value, bool):
+            continue
+        shown = degrees_as_radians(float(value))
+        if shown is not None:
+            yield context.diagnostic(
+                ROTATION_UNIT, f"{material.name}: {extension} {property_name} {shown} is {shown} radians, "
+                f"{abs(value) / (2 * math.pi):.1f} turns: {shown} degrees written where the extension takes radians?",
+                entry.location, hint=f"write {math.radians(shown):.6g} (the radians of {shown} degrees)")
 
 
 def _rotation(texture, where, context):

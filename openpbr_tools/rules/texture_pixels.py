@@ -35,8 +35,11 @@ NORMALS_INWARD = Rule(
     "A normal map's blue channel holds the normal's z, along the surface normal: 2b - 1 is 0 at mid-grey and +1 for "
     "an unperturbed surface, so a tangent-space map is bluish (b near 1). Below one half the decoded normals face "
     "into the surface and the shading is lit from behind: an 'invert' applied to the whole image instead of its "
-    "green channel (a DirectX to OpenGL conversion), or a height map's channels in the wrong order. MaterialX's "
-    "normalmap and glTF's normalTexture decode it as written.",
+    "green channel (a DirectX to OpenGL conversion), a height map's channels in the wrong order, or another image "
+    "(the base colour) plugged into the normal slot. MaterialX's normalmap and glTF's normalTexture decode it as "
+    "written: glTF 2.0 (3.9.3, material.normalTexture) reads \"the XYZ components of a normal vector in tangent "
+    "space\" (\"+Z points toward the viewer\"), unpacked as 2 texel - 1; so is KHR_materials_clearcoat's "
+    "clearcoatNormalTexture.",
     passing=_NORMAL.format(file="normal.png"), failing=_NORMAL.format(file="normal.png"),
     example_files=("normal.png",), failing_files=(("normal.png", _INWARD_NORMAL),),
 )
@@ -93,12 +96,18 @@ RULES = (NORMALS_INWARD, EIGHT_BIT_IN_SIXTEEN, NON_FINITE, DATA_WINDOW_CROP)
 
 
 def check(asset, context):
+    # each file judged once as an image, and once more as a normal map if some input reads it as one (a glTF
+    # normalTexture pointing at the base colour image: the base colour came first, and its file was then seen)
     seen: set = set()
     for material, table, entry in for_each_input(asset):
         texture = entry.texture
-        if texture is None or not texture.file.strip() or texture.file in seen:
+        if texture is None or not texture.file.strip():
             continue
-        seen.add(texture.file)
+        as_normal = (texture.file, "normal") if texture.normal_map is not None else None
+        if texture.file in seen and (as_normal is None or as_normal in seen):
+            continue
+        again = texture.file in seen  # the file's own checks are done: only the normal map's is left
+        seen.update(key for key in (texture.file, as_normal) if key is not None)
         where = texture.location or entry.location
         if texture.packaged or texture.node_category == "gltf_texture":
             source = image_of(asset, texture, context, {})
@@ -112,7 +121,8 @@ def check(asset, context):
             continue
         found = _format(real) if isinstance(real, str) else None
         if found in ("OpenEXR", "Radiance HDR"):
-            yield from _floating_point(name, real, found, where, context)
+            if not again:
+                yield from _floating_point(name, real, found, where, context)
             continue
         if texture.normal_map is not None:
             statistics = channel_statistics(real, MAX_INSPECTED_PIXELS)
@@ -122,7 +132,7 @@ def check(asset, context):
                     NORMALS_INWARD, f"{entry.name}: the normal map {name!r} has a mean blue of "
                     f"{statistics[2].mean / 255:.2f}, so its decoded normals point into the surface (mean z {z:.2f})",
                     where, hint="invert only the green channel (DirectX to OpenGL), or restore the blue channel")
-        peak = sixteen_bit_peak(real, MAX_INSPECTED_PIXELS)
+        peak = sixteen_bit_peak(real, MAX_INSPECTED_PIXELS) if not again else None
         if peak is not None and 0 < peak <= 255:
             yield context.diagnostic(
                 EIGHT_BIT_IN_SIXTEEN, f"{entry.name}: {name!r} is a 16-bit image whose largest sample is {peak} of 65535 "

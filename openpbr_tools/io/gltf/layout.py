@@ -13,6 +13,10 @@ Each check is one the Khronos glTF-Validator makes (its code in brackets), read 
   offset of an accessor into a buffer (i.e., accessor.byteOffset + bufferView.byteOffset) MUST be a multiple
   of the size of the accessor's component type" [ACCESSOR_OFFSET_ALIGNMENT, ACCESSOR_TOTAL_OFFSET_ALIGNMENT],
   and a view's ``byteStride`` is at least an element's size, or elements overlap [ACCESSOR_SMALL_BYTESTRIDE];
+  for vertex attributes "accessor.byteOffset and bufferView.byteStride MUST be multiples of 4" (the same clause),
+  which bufferView.schema.json states for every stride (``multipleOf`` 4, ``minimum`` 4, ``maximum`` 252)
+  [VALUE_MULTIPLE_OF, VALUE_NOT_IN_RANGE, MESH_PRIMITIVE_ACCESSOR_UNALIGNED]; a stride is at most the view's
+  ``byteLength`` [BUFFER_VIEW_TOO_BIG_BYTE_STRIDE];
 * 3.6.2.4 too: "Each accessor MUST fit its bufferView", ``byteOffset + stride * (count - 1) + element size`` at most
   the view's ``byteLength`` [ACCESSOR_TOO_LONG];
 * 3.6.2.3 Sparse Accessors: the indices "MUST strictly increase" and each is less than the accessor's
@@ -178,13 +182,18 @@ def extension_sources(document: GltfDocument) -> list[dict]:
 
 def accessor_problems(document: GltfDocument) -> list[dict]:
     """The accessor layout facts glTF forbids, each ``{"kind", "pointer", "property", ...}`` with the numbers a
-    message needs; kinds: ``offset_alignment``, ``total_offset_alignment``, ``small_stride``, ``too_long``,
-    ``sparse_not_increasing``, ``sparse_out_of_range``, ``unequal_count``. Every accessor is judged once,
-    every primitive's attribute counts once."""
+    message needs; kinds: ``stride_not_multiple``, ``stride_out_of_range``, ``stride_too_big`` (a bufferView's),
+    ``offset_alignment``, ``total_offset_alignment``, ``vertex_unaligned``, ``small_stride``, ``too_long``,
+    ``sparse_not_increasing``, ``sparse_out_of_range``, ``unequal_count``. Every bufferView and accessor is judged
+    once, every primitive's attribute counts once."""
     found: list[dict] = []
+    for index, view in enumerate(document.array("bufferViews")):
+        if isinstance(view, dict):
+            found.extend(_stride(index, view))
+    attributes = _vertex_attribute_accessors(document)
     for index, accessor in enumerate(document.array("accessors")):
         if isinstance(accessor, dict):
-            found.extend(_accessor(document, index, accessor))
+            found.extend(_accessor(document, index, accessor, attributes.get(index)))
     for mesh_index, mesh in enumerate(document.array("meshes")):
         primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
         for index, primitive in enumerate(primitives if isinstance(primitives, list) else ()):
@@ -193,7 +202,47 @@ def accessor_problems(document: GltfDocument) -> list[dict]:
     return found
 
 
-def _accessor(document: GltfDocument, index: int, accessor: dict) -> Iterator[dict]:
+#: bufferView.schema.json's byteStride: ``minimum`` 4, ``maximum`` 252, ``multipleOf`` 4.
+STRIDE_RANGE = (4, 252)
+VERTEX_ALIGNMENT = 4  # 3.6.2.4: vertex attribute offsets and strides are multiples of 4
+
+
+def _stride(index: int, view: dict) -> Iterator[dict]:
+    """A bufferView's byteStride against its schema (one finding, the range first as the validator's) and its
+    byteLength. A stride that is no integer is the schema's type error, not judged here."""
+    stride, length = view.get("byteStride"), view.get("byteLength")
+    if not json_index(stride):
+        return
+    pointer = f"/bufferViews/{index}"
+    if not STRIDE_RANGE[0] <= stride <= STRIDE_RANGE[1]:
+        yield {"kind": "stride_out_of_range", "pointer": pointer, "property": "byteStride", "stride": stride}
+    elif stride % VERTEX_ALIGNMENT:
+        yield {"kind": "stride_not_multiple", "pointer": pointer, "property": "byteStride", "stride": stride}
+    if json_index(length) and stride > length:
+        yield {"kind": "stride_too_big", "pointer": pointer, "property": "byteStride", "stride": stride,
+               "length": length}
+
+
+def _vertex_attribute_accessors(document: GltfDocument) -> dict[int, str]:
+    """Accessor index -> the first primitive attribute (or morph target attribute) that reads it."""
+    found: dict[int, str] = {}
+    for mesh_index, mesh in enumerate(document.array("meshes")):
+        primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
+        for index, primitive in enumerate(primitives if isinstance(primitives, list) else ()):
+            if not isinstance(primitive, dict):
+                continue
+            pointer = f"/meshes/{mesh_index}/primitives/{index}"
+            targets = primitive.get("targets")
+            groups = [(primitive.get("attributes"), f"{pointer}/attributes")] + [
+                (target, f"{pointer}/targets/{n}") for n, target in enumerate(targets if isinstance(targets, list) else ())]
+            for group, where in groups:
+                for name, accessor in (group.items() if isinstance(group, dict) else ()):
+                    if json_index(accessor):
+                        found.setdefault(accessor, f"{where}/{name}")
+    return found
+
+
+def _accessor(document: GltfDocument, index: int, accessor: dict, attribute: str | None) -> Iterator[dict]:
     pointer = f"/accessors/{index}"
     component_type = accessor.get("componentType")
     size = COMPONENT_SIZES.get(component_type) if json_index(component_type) else None
@@ -207,6 +256,14 @@ def _accessor(document: GltfDocument, index: int, accessor: dict) -> Iterator[di
             yield {"kind": "total_offset_alignment", "pointer": pointer, "property": "byteOffset", "offset": offset,
                    "view_offset": view_offset, "view": accessor["bufferView"], "size": size}
         stride, width = view.get("byteStride"), VECTOR_WIDTHS.get(accessor.get("type"))
+        if attribute is not None and not offset % size:
+            # 3.6.2.4 names the accessor's own offset and the stride (a tightly packed view's is the element's size;
+            # the validator judges no more: a bufferView.byteOffset of 2 under a 2-byte component passes there)
+            packed = None if "byteStride" in view or width is None else width * size
+            if offset % VERTEX_ALIGNMENT or (packed is not None and packed % VERTEX_ALIGNMENT):
+                yield {"kind": "vertex_unaligned", "pointer": pointer, "property": "byteOffset", "offset": offset,
+                       "packed": packed, "view": accessor["bufferView"], "attribute": attribute,
+                       "type": accessor.get("type")}
         if json_index(stride) and width is not None and stride < width * size:
             yield {"kind": "small_stride", "pointer": pointer, "property": "bufferView", "view": accessor["bufferView"],
                    "stride": stride, "element": width * size, "type": accessor.get("type")}

@@ -54,7 +54,7 @@ from .. import ReadError
 from . import accessors, animation_pointers, drafts, geometry, layout, schema, slots
 from .document import GltfDocument, ResourceError, load_document
 from .extension_reader import ExtensionReading, thin_diffuse_transmission
-from .textures import TextureReading, json_float, json_numbers, json_text
+from .textures import TextureReading, json_float, json_index, json_numbers, json_text
 
 MODEL, VERSION = "gltf_pbr", "2.0.1"
 SCENE_LENGTH_UNIT = "meter"  # glTF is metres (specification 3.4)
@@ -93,7 +93,11 @@ class _Reader(TextureReading, ExtensionReading):
         self.facts: dict = {"extensions_used": _names(document.json.get("extensionsUsed")),
                             "extensions_required": _names(document.json.get("extensionsRequired")),
                             "extension_uses": [], "images": [], "texture_uses": [], "primitives": [],
-                            "glb": document.is_glb, "repeated_names": document.duplicates}
+                            "glb": document.is_glb, "repeated_names": document.duplicates,
+                            # each texture's core image (an extension the node does not carry names textures
+                            # by index: KHR_materials_diffuse_transmission's, judged by the rules from its JSON)
+                            "texture_sources": [t.get("source") if isinstance(t, dict) and json_index(t.get("source"))
+                                                else None for t in document.array("textures")]}
         asset.extra["gltf"] = self.facts
 
     def location(self, pointer: str, name: str | None = None) -> Location:

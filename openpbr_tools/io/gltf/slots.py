@@ -9,7 +9,7 @@ are glTF 2.0's (specification section 3.9 and each extension's README):
   G roughness; ``occlusionTexture``: R; ``emissiveTexture``: RGB (sRGB);
 * clearcoat R, clearcoat roughness G; sheen colour RGB (sRGB), sheen roughness A; specular A,
   specular colour RGB (sRGB); transmission R; volume thickness G; iridescence R, iridescence
-  thickness G; anisotropy RG direction and B strength.
+  thickness G; anisotropy RG direction and B strength; diffuse transmission A, its colour RGB (sRGB).
 
 Factor defaults matter when a texture is authored without its factor: an ``emissiveTexture``
 without ``emissiveFactor`` is multiplied by (0, 0, 0), a ``clearcoatTexture`` without
@@ -150,6 +150,16 @@ SPECULAR_GLOSSINESS_SLOTS = (
     ("glossiness", Slot("roughness", SPECULAR_GLOSSINESS, "glossinessFactor", 1.0, "specularGlossinessTexture", (3,))),
 )
 
+#: KHR_materials_diffuse_transmission, which the gltf_pbr node does not carry (kept as data, the Material's
+#: ``extra``): its properties and the channels each texture feeds (its README: the strength "stored in the alpha (A)
+#: channel", the colour "in the RGB channels and encoded in sRGB").
+DIFFUSE_TRANSMISSION_SLOTS = (
+    Slot("diffuse_transmission", DIFFUSE_TRANSMISSION, "diffuseTransmissionFactor", 0.0, "diffuseTransmissionTexture",
+         (3,)),
+    Slot("diffuse_transmission_color", DIFFUSE_TRANSMISSION, "diffuseTransmissionColorFactor", (1.0, 1.0, 1.0),
+         "diffuseTransmissionColorTexture", (0, 1, 2), True),
+)
+
 SLOT_BY_PARAMETER = {slot.parameter: slot for slot in SLOTS}
 
 IRIDESCENCE_THICKNESS_MINIMUM = ("iridescenceThicknessMinimum", 100.0)
@@ -161,8 +171,7 @@ COMMON_PROPERTIES = ("extensions", "extras")
 OTHER_PROPERTIES = {
     CORE: ("name", "pbrMetallicRoughness", "doubleSided"),
     IRIDESCENCE: (IRIDESCENCE_THICKNESS_MINIMUM[0],),
-    DIFFUSE_TRANSMISSION: ("diffuseTransmissionFactor", "diffuseTransmissionTexture",
-                           "diffuseTransmissionColorFactor", "diffuseTransmissionColorTexture"),
+    DIFFUSE_TRANSMISSION: tuple(name for slot in DIFFUSE_TRANSMISSION_SLOTS for name in (slot.factor, slot.texture)),
     UNLIT: (),
 }
 TEXTURE_INFO_PROPERTIES = {"textureInfo": ("index", "texCoord"), "normalTextureInfo": ("index", "texCoord", "scale"),
