@@ -75,21 +75,31 @@ _LOOK = '''  <open_pbr_surface name="SR_glass" type="surfaceshader" version="1.1
   <surfacematerial name="M_glass" type="material">
     <input name="surfaceshader" type="surfaceshader" nodename="SR_glass" />
   </surfacematerial>
+  <nodegraph name="NG_material">
+    <open_pbr_surface name="S2" type="surfaceshader" />
+    <surfacematerial name="M2" type="material">
+      <input name="surfaceshader" type="surfaceshader" nodename="S2" />
+    </surfacematerial>
+    <output name="out" type="material" nodename="M2" />
+  </nodegraph>
   <look name="L">
     <materialassign name="MA" material="{target}" geom="/Vase" />
   </look>
 '''
 
 
-@pytest.mark.parametrize("target, expected", [("SR_glass", True), ("M_glass", False)])
+@pytest.mark.parametrize("target, expected", [("SR_glass", True), ("M_glass", False), ("NG_material", False)])
 def test_a_materialassign_naming_a_shader_is_a_dangling_reference(tmp_path, target, expected):
     """mb11: MaterialX's materialassign connects a material node (Geometry Extensions, MaterialAssign); naming the
-    shader binds nothing: getReferencedMaterial() is not a material."""
+    shader binds nothing: getReferencedMaterial() is not a material. A node graph whose output is a material binds
+    (MaterialX's own TestSuite/stdlib/materials/material_node_discovery.mtlx assigns one)."""
     path = _mtlx(tmp_path, _LOOK.format(target=target))
     document = mx.createDocument()
     mx.readFromXmlFile(document, str(path))
-    assign = document.getLook("L").getMaterialAssign("MA")
-    assert (assign.getReferencedMaterial().getType() != "material") is expected  # the anchor
+    named = document.getChild(target)
+    is_material = named.getType() == "material" or any(o.getType() == "material" for o in named.getOutputs()) \
+        if isinstance(named, mx.NodeGraph) else named.getType() == "material"
+    assert (not is_material) is expected  # the anchor: what MaterialX's API says the name refers to
     assert any(code == "OPBR802" and severity == "error" for code, severity, *_ in findings(path)) is expected
 
 
@@ -154,3 +164,26 @@ def test_a_glass_fallback_preview_may_be_see_through(tmp_path, openpbr, opacity,
     path = tmp_path / "m.usda"
     path.write_text(_preview_pair(openpbr, opacity), encoding="utf-8")
     assert any(code == "OPBR1009" for code, *_ in findings(path)) is expected
+
+
+@pytest.mark.parametrize("uri, expected", [("../shared.bin", True), ("mesh.bin", False)])
+def test_a_gltf_buffer_outside_the_asset_is_reported_not_skipped_silently(tmp_path, uri, expected):
+    """A buffer beside the asset's folder is never opened (the path guard): the meshes it holds go unchecked and the
+    asset does not survive being copied, so it is said, as an image there is (OPBR704); a missing one is OPBR1209."""
+    import json
+    import struct
+
+    (tmp_path / "asset").mkdir()
+    data = struct.pack("<9f", 0, 0, 0, 1, 0, 0, 0, 1, 0)
+    (tmp_path / "shared.bin").write_bytes(data)
+    (tmp_path / "asset" / "mesh.bin").write_bytes(data)
+    document = {"asset": {"version": "2.0"}, "buffers": [{"uri": uri, "byteLength": 36}],
+                "bufferViews": [{"buffer": 0, "byteLength": 36}],
+                "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                               "min": [0, 0, 0], "max": [1, 1, 0]}],
+                "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "material": 0}]}],
+                "materials": [{"name": "M"}], "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0}
+    path = tmp_path / "asset" / "a.gltf"
+    path.write_text(json.dumps(document), encoding="utf-8")
+    assert (("OPBR704", "warning", "/buffers/0/uri", None) in findings(path)) is expected
+    assert not [f for f in findings(path) if f[1] == "error"]

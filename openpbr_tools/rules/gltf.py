@@ -470,6 +470,10 @@ def _observations(asset, context):
         detail = observation.detail
         if observation.kind == "gltf_resource":
             yield context.diagnostic(BROKEN_RESOURCE, detail["message"], observation.location)
+        elif observation.kind == "gltf_buffer_outside":
+            yield context.diagnostic(UNSAFE_PATH, f"buffer {detail['message']}: the meshes it holds are not checked",
+                                     observation.location,
+                                     hint="copy the buffer next to the asset and use a relative path (or a .glb)")
         elif observation.kind == "gltf_invalid":
             yield context.diagnostic(INVALID_PROPERTY, detail["message"], observation.location)
         elif observation.kind == "gltf_unexpected_property":

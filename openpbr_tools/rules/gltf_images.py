@@ -20,6 +20,9 @@ it has the channel the slot reads.
   slot reads its grey as both, so the surface is metal wherever it is rough (OPBR1238, under metallicFactor > 0); an
   occlusion image black in R leaves the surface without indirect light (OPBR1239, under a strength above 0).
 
+One module because every rule here reads the same per-image decode (``decoded``, each image once: the anisotropy's
+blue, the alpha maxima, the flat data channels) and the same texture-to-image map; split, each would decode again.
+
 Every fact but the last is the reader's, from the image header (Pillow's mode and transparency, a PNG's
 IHDR bit depth): nothing is decoded. The anisotropy texture's blue channel is decoded once per image, a
 JPEG at 1/8 scale, and only up to :data:`MAX_INSPECTED_PIXELS`.

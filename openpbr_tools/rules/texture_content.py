@@ -348,8 +348,7 @@ def _exr_channels(path: str) -> list[str] | None:
 
 def degrees_as_radians(rotation: float) -> int | None:
     """The whole degrees a glTF angle (radians) looks typed in, or ``None``: a multiple of 15 degrees from 15 to 360,
-    each beyond the 2 pi any radian value needs (a 7 is some turn in radians, seen in files; 90 is a quarter turn
-    typed in degrees)."""
+    each beyond the 2 pi any radian value needs (a 7 is some turn in radians, seen in files; 90 a quarter turn)."""
     turned = abs(rotation)
     if math.isfinite(turned) and abs(turned - round(turned)) < 1e-6 and round(turned) in _DEGREE_STEPS:
         return round(rotation)
@@ -370,7 +369,6 @@ def _rotation_in_degrees(asset, texture, context):
             hint=f"write {math.radians(shown):.6g} (the radians of {shown} degrees)")
 
 
-#: glTF material angles in radians, beside KHR_texture_transform's: (where the value is read from, its property)
 _ANISOTROPY_ROTATIONS = (("anisotropy_rotation", "KHR_materials_anisotropy", "anisotropyRotation"),
                          ("coat_anisotropy_rotation", "KHR_materials_coat", "coatAnisotropyRotation"))
 

@@ -55,10 +55,11 @@ NORMAL_WITHOUT_DECODE = Rule(
 )
 UNSAFE_PATH = Rule(
     "OPBR704", "texture-path-outside-asset", Severity.WARNING,
-    "A texture path is absolute, climbs out of the asset's folder, is a URL, or escapes the folder "
-    "through a symbolic link.",
+    "A texture path (or a glTF image or buffer URI) is absolute, climbs out of the asset's folder, is a URL, or "
+    "escapes the folder through a symbolic link.",
     "Such an asset does not survive being copied, packaged (USDZ, GLB) or checked out elsewhere; "
-    "`openpbr convert` will not read or embed such files unless --allow-outside is given.",
+    "`openpbr convert` will not read or embed such files unless --allow-outside is given. A glTF buffer there is "
+    "not read either, so the meshes it holds are not checked.",
     passing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
     failing='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="../shared/albedo.png" colorspace="srgb_texture" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="albedo" />\n</open_pbr_surface>',
     example_files=("albedo.png",),

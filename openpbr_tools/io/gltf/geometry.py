@@ -40,20 +40,21 @@ def primitive_geometry(document: GltfDocument, primitive: dict, cache: dict) -> 
     with a material)."""
     attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
     colour = attributes.get("COLOR_0")
-    found = {"black_colour": _cached(cache, ("black", colour), lambda: _black(document, colour)), "uv_sets": {}}
+    found = {"black_colour": _cached(cache, ("black", _ref(colour)), lambda: _black(document, colour)), "uv_sets": {}}
     mode = primitive.get("mode", _TRIANGLES)
-    position, index = attributes.get("POSITION"), primitive.get("indices")
+    # (cache keys: an index that is no JSON index, e.g. a list, keys as None, as the readers take it as absent)
+    position, index = _ref(attributes.get("POSITION")), _ref(primitive.get("indices"))
     for name, accessor in attributes.items():
         if not name.startswith("TEXCOORD_") or not name[9:].isdigit() or not json_index(accessor):
             continue
-        key = ("uv", accessor, position, index, mode)
+        key = ("uv", accessor, position, index, _ref(mode))
         facts = _cached(cache, key, lambda: _uv_set(document, accessor, position, index, mode))
         if facts is not None:
             found["uv_sets"][int(name[9:])] = facts
     material = document.item("materials", primitive.get("material")) if json_index(primitive.get("material")) else None
     if isinstance(material, dict):
-        key = ("surface", primitive.get("material"), position, index, mode, attributes.get("NORMAL"),
-               attributes.get("TANGENT"), tuple(attributes.get(f"TEXCOORD_{n}") for n in _normal_sets(material)))
+        key = ("surface", primitive.get("material"), position, index, _ref(mode), _ref(attributes.get("NORMAL")),
+               _ref(attributes.get("TANGENT")), tuple(_ref(attributes.get(f"TEXCOORD_{n}")) for n in _normal_sets(material)))
         found["surface"] = _cached(cache, key, lambda: surfaces.primitive_surface(
             document, primitive, _volume_thickness(material), _normal_sets(material)))
     return found
@@ -80,6 +81,11 @@ def _normal_sets(material: dict) -> tuple:
             if json_index(texcoord):
                 sets.add(texcoord)
     return tuple(sorted(sets))
+
+
+def _ref(value):
+    """``value`` where it is a JSON index (or a plain number: a mode), else None: hashable for the caches."""
+    return value if isinstance(value, (int, float, str)) or value is None else None
 
 
 def _cached(cache: dict, key, compute):

@@ -75,8 +75,8 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
             try:
                 local = document.resolve(uri, pointer + "/uri")
             except ResourceError as error:
-                if not error.outside:  # one outside the asset is reported only when an image needs it
-                    yield "gltf_resource", error.pointer, error.message, None
+                # one outside the asset is never opened: not broken, but its meshes (and images) go unchecked
+                yield ("gltf_buffer_outside" if error.outside else "gltf_resource"), error.pointer, error.message, None
                 continue
             if not os.path.isfile(local):
                 missing = document.missing(uri, pointer + "/uri")

@@ -1,9 +1,7 @@
-"""Read glTF 2.0 (``.gltf`` JSON with external or data-URI resources, ``.glb``) into an
-:class:`~openpbr_tools.model.Asset`.
+"""Read glTF 2.0 (``.gltf`` JSON with external or data-URI resources, ``.glb``) into an :class:`~openpbr_tools.model.Asset`.
 
 Every glTF material becomes a ``gltf_pbr`` 2.0.1 :class:`~openpbr_tools.model.Material` (MaterialX's
-``ND_gltf_pbr_surfaceshader``) whose inputs are the gltf_pbr parameters the material authors (see
-:mod:`.slots` for where each lives):
+``ND_gltf_pbr_surfaceshader``) whose inputs are the gltf_pbr parameters it authors (:mod:`.slots`: where each lives):
 
 * a factor without a texture is a :class:`Constant`; a texture is a :class:`Texture` whose
   ``channels`` are the ones glTF reads for that slot, ``colorspace`` ``srgb_texture`` for colour
@@ -25,8 +23,8 @@ hold goes to ``Material.extra["gltf"]`` as raw JSON for a translator: ``doubleSi
 and the extensions the node does not carry (``KHR_materials_diffuse_transmission``,
 ``KHR_materials_unlit`` (converted as emission by the translation), ``KHR_materials_pbrSpecularGlossiness``
 (its factors and textures also read, by specular-workflow names, into ``extra["gltf"]["spec_gloss"]`` for
-the translation; reported as archived), unknown ones). Every value's :class:`Location` is the file, a JSON pointer to the object holding the property
-and the glTF property name.
+the translation; reported as archived), unknown ones). Every value's :class:`Location` is the file, a JSON pointer to
+the object holding the property and the glTF property name.
 
 Facts for the glTF rules (extensions, images, each primitive's UV sets, attribute formats, extent and tangent signs, the
 values of primitives with a material: :mod:`.accessors`, and their vertex colour and UV layout: :mod:`.geometry`;
@@ -93,9 +91,7 @@ class _Reader(TextureReading, ExtensionReading):
         self.facts: dict = {"extensions_used": _names(document.json.get("extensionsUsed")),
                             "extensions_required": _names(document.json.get("extensionsRequired")),
                             "extension_uses": [], "images": [], "texture_uses": [], "primitives": [],
-                            "glb": document.is_glb, "repeated_names": document.duplicates,
-                            # each texture's core image (an extension the node does not carry names textures
-                            # by index: KHR_materials_diffuse_transmission's, judged by the rules from its JSON)
+                            "glb": document.is_glb, "repeated_names": document.duplicates,  # each texture's image:
                             "texture_sources": [t.get("source") if isinstance(t, dict) and json_index(t.get("source"))
                                                 else None for t in document.array("textures")]}
         asset.extra["gltf"] = self.facts

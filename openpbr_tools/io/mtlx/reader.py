@@ -237,12 +237,11 @@ class _Reader(GraphFollower):
             for assign in look.getMaterialAssigns():
                 target = assign.getMaterial()
                 named = self.document.getChild(target) if target else None
-                if target and named is None:
-                    self.asset.observe("dangling_reference", self.location(assign), attribute="material", target=target)
-                elif named is not None and named.getType() != "material":  # a shader node: the look binds nothing
+                binds = named is not None and (named.getType() == "material" or any(  # a shader node binds nothing
+                    port.getType() == "material" for port in getattr(named, "getOutputs", list)()))
+                if target and not binds:
                     self.asset.observe("dangling_reference", self.location(assign), attribute="material", target=target,
-                                       ends=f"is a {named.getType()} node ({named.getCategory()}), not a material: "
-                                            "a materialassign binds a material node")
+                                       ends=None if named is None else f"is a {named.getType()} node, not a material")
             for assign in look.getVariantAssigns():  # a variant that names nothing selects nothing
                 named = self.document.getVariantSet(assign.getVariantSetString())
                 if named is None or named.getVariant(assign.getVariantString()) is None:
