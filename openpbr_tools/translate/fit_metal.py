@@ -223,8 +223,8 @@ def _split_moments(alpha, target: str):
 
 
 def split_metal(dielectric, metal, metalness, alpha, target: str = "schlick", clip: bool = True):
-    """(metalness', base colour') of a target whose metal and dielectric share one base colour (glTF, the
-    preview), for a source whose dielectric diffuses ``dielectric`` and whose metal is fitted to ``metal``
+    """(metalness', base colour') of a target whose metal and dielectric share one base colour (glTF; the
+    preview keeps the mix: usd_preview.preview_diffuse_color says why), for a source whose dielectric diffuses ``dielectric`` and whose metal is fitted to ``metal``
     (the target's F0 that best matches it, :func:`fitted_metal`), mixed by ``metalness``.
 
     Mixing the colours by the source's metalness (``dielectric + metalness (metal - dielectric)``) is exact

@@ -73,7 +73,7 @@ ior_from_f0 = fit.ior_from_f0
 
 DIFFUSE_SOURCES = ("base_weight", "base_color", "subsurface_weight", "subsurface_color", "base_metalness",
                    "specular_weight", "coat_weight", "coat_darkening", "coat_ior", "coat_color", "specular_color",
-                   "specular_roughness", "specular_roughness_anisotropy", "transmission_weight")
+                   "specular_roughness", "specular_roughness_anisotropy")
 
 
 def _darkening(color, subsurface, subsurface_color, metalness, specular_weight, coat_weight, coat_darkening, coat_ior):
@@ -81,14 +81,15 @@ def _darkening(color, subsurface, subsurface_color, metalness, specular_weight, 
                                  coat_darkening, fit.positive_ior(coat_ior))
 
 
-def preview_metal_split(weight, color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
-                        coat_darkening, coat_ior, coat_color, specular_color, roughness, anisotropy, transmission=0.0):
-    """(metallic, ``diffuseColor``) of the preview: the base (subsurface mixed in) darkened and tinted as OpenPBR's
+def preview_diffuse_color(weight, color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
+                          coat_darkening, coat_ior, coat_color, specular_color, roughness, anisotropy):
+    """The preview's ``diffuseColor``: the base (subsurface mixed in) darkened and tinted as OpenPBR's
     coat darkens and absorbs (the preview's clear coat does neither), and on metals the constant
     reflectance (the preview's metal has F0 = F90 = diffuseColor) fitted to OpenPBR's F82-tint
-    metal (:func:`fit.constant_metal_reflectance`), mixed with the dielectric by a metalness fitted with
-    it (:func:`fit.split_metal`; OpenPBR's own where the material transmits, whose opacity the metalness
-    also weighs)."""
+    metal (:func:`fit.constant_metal_reflectance`). Mixed at OpenPBR's metalness, not split as glTF's is
+    (:func:`fit.split_metal`): the evaluator (the preview's metal with F0 = F90 = its colour, as Storm shades it)
+    rates the split better on 30 dimmed metals (1.79 -> 1.01 mean CIEDE2000), but MaterialX's GLSL UsdPreviewSurface
+    rendered 4 of them worse, one by 9.4 (tests/benchmarks/bench_metal_split_glsl.py --target UsdPreviewSurface)."""
     darkening = _darkening(color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
                            coat_darkening, coat_ior)
     under = darkening * coat_absorption(coat_color, coat_weight)
@@ -96,20 +97,7 @@ def preview_metal_split(weight, color, subsurface, subsurface_color, metalness, 
     dielectric = (weight * color + subsurface * (subsurface_color - weight * color)) * under
     metal = fit.fitted_metal(weight * color * under, specular_color, specular_weight,
                              preview_roughness(roughness, anisotropy) ** 2, "constant")
-    alpha = preview_roughness(roughness, anisotropy) ** 2
-    if np.ndim(transmission) == 0 and transmission > 0:
-        return np.asarray(metalness, dtype=np.float64), np.clip(dielectric + metalness * (metal - dielectric), 0.0, 1.0)
-    return fit.split_metal(dielectric, metal, metalness, alpha, "constant")
-
-
-def preview_diffuse_color(*values):
-    """The preview's ``diffuseColor`` (:func:`preview_metal_split`)."""
-    return preview_metal_split(*values)[1]
-
-
-def preview_metallic(*values):
-    """The preview's ``metallic`` (:func:`preview_metal_split`)."""
-    return preview_metal_split(*values)[0]
+    return np.clip(dielectric + metalness * (metal - dielectric), 0.0, 1.0)
 
 
 def _diffuse_matters(weight, color, subsurface, subsurface_color, metalness, specular_weight, coat_weight,
@@ -172,11 +160,7 @@ def to_usd_mappings(settings: Settings, presence_over_transmission: bool = False
                      "does not darken), folded into the diffuse colour; on a metal it is the constant reflectance "
                      "(F0 = F90) fitted to OpenPBR's metal with its F82 edge tint and specular weight "
                      f"({METAL_RESIDUAL})"),
-        Mapping("metallic", DIFFUSE_SOURCES, preview_metallic, keep="base_metalness", exact=False, site="base_metalness",
-                matters=lambda *v: differs(preview_metallic(*v), v[4]),
-                note="the preview's metal shares diffuseColor with the diffuse: a metal OpenPBR dims by "
-                     "specular_weight (or tints at the edge) is carried by a lower metallic and a re-mixed diffuse "
-                     "colour, fitted to both albedos"),
+        Mapping("metallic", ("base_metalness",)),
         Mapping("roughness", ("specular_roughness", "specular_roughness_anisotropy"), preview_roughness, keep="specular_roughness", exact=False,
                 matters=lambda r, a: a > 0, note="anisotropy dropped: isotropic roughness keeps the geometric mean of the alphas"),
         Mapping("ior", IOR_SOURCES, preview_specular_ior, exact=False,
