@@ -64,6 +64,9 @@ class Mapping:
     keep: str | None = None  # where the formula cannot be applied per texel: this source's texture or graph, as is
     clips: bool = True  # the formula holds its colours to [0, 1] in linear Rec.709 (a wide-gamut source is noted)
     site: str | None = None  # the source an approximation's note stands at, where authored (default: the first)
+    # where a source is procedural and the formula can be neither baked nor written as nodes: (a constant the target
+    # then takes, why it is exact there), e.g. a film's weight 1 over a graph-driven thickness (0 is no film)
+    otherwise: tuple[float, str] | None = None
 
 
 @dataclass(frozen=True, slots=True)
@@ -191,7 +194,15 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     failed: dict[str, str] = {}  # textured source -> a target that could not take it (reported at another input)
 
     def keep_as_is(mapping: Mapping, parameter, textured: list, why: str) -> bool:
-        """``mapping.keep``'s texture or graph carried as is where the formula cannot be applied (``why``)."""
+        """``mapping.keep``'s texture or graph carried as is where the formula cannot be applied (``why``), or
+        ``mapping.otherwise``'s constant."""
+        if mapping.otherwise is not None:
+            value, reason = mapping.otherwise
+            result.inputs[mapping.target] = _constant_input(material, mapping, as_value(value, parameter.type),
+                                                            parameter.type)
+            handled.update(textured)
+            say(CONVERTED, f"{mapping.target}: {why}; written as {value:g}: {reason}", textured[0])
+            return True
         entry = material.inputs.get(mapping.keep) if mapping.keep else None
         if not _carriable(entry):
             return False

@@ -224,6 +224,14 @@ SPECULAR_WEIGHT_SOURCES = ("specular", "metalness", "specular_IOR", "coat_IOR", 
                            "base_color")
 
 
+def _weight_raised(specular, metalness, ior, coat_ior, coat, film_thickness, color) -> bool:
+    """Whether :func:`openpbr_specular_weight` raised a metal's weight above the coated-F0 solve (its floor)."""
+    scale = fit.dielectric_specular_scale(ior, coat_ior, coat, _ss_film(film_thickness))
+    plain = fit.specular_weight_from_coated(specular, scale, metalness)
+    return bool(np.any(openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thickness, color)
+                       > plain + 1e-9))
+
+
 def openpbr_base_color(color, metalness, *weight_sources):
     specular_weight = openpbr_specular_weight(weight_sources[0], metalness, *weight_sources[1:])
     denominator = 1.0 + metalness * (specular_weight - 1.0)
@@ -434,11 +442,16 @@ FROM_SS = (
                  "same hemispherical albedo; the angular shapes still differ"),
     Mapping("base_metalness", ("metalness",)),
     Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES, openpbr_specular_weight, exact=False,
-            matters=lambda s, m, n, nc, c, t, color: c > 0 and m < 1,
+            matters=lambda s, m, n, nc, c, t, color: (c > 0 and m < 1) or (0 < m < 1 and _weight_raised(
+                s, m, n, nc, c, t, color)),
             note="OpenPBR's base reflects with its IOR relative to the coat's: its specular weight scaled to "
-                 "Standard Surface's F0 under the coat"),
+                 "Standard Surface's F0 under the coat; on a partly metallic base, raised so that the metal keeps "
+                 "its reflectivity (OpenPBR's specular_weight dims metals, Standard Surface's specular does not), "
+                 "so the dielectric share reflects more than Standard Surface's",
+            converted="on a metal, raised so that the metal keeps its reflectivity (OpenPBR's specular_weight dims "
+                      "metals, Standard Surface's specular does not); its base colour is divided by it"),
     Mapping("specular_color", ("specular_color", "base", "base_color", "metalness") + SPECULAR_WEIGHT_SOURCES[:1]
-            + SPECULAR_WEIGHT_SOURCES[2:], openpbr_specular_color, exact=False,
+            + SPECULAR_WEIGHT_SOURCES[2:], openpbr_specular_color, exact=False, keep="specular_color",
             note="Standard Surface's metal edge colour becomes the F82 tint with its conductor's reflectance at "
                  "82 degrees (different Fresnel models)",
             matters=lambda c, b, bc, m, *rest: m > 0),
@@ -486,7 +499,10 @@ FROM_SS = (
                       "differently)"),
     Mapping("coat_roughness_anisotropy", ("coat_anisotropy",)),
     Mapping("coat_ior", ("coat_IOR",)),
-    Mapping("thin_film_weight", ("thin_film_thickness",), lambda t: np.where(t > 0, 1.0, 0.0)),
+    Mapping("thin_film_weight", ("thin_film_thickness",), lambda t: np.where(t > 0, 1.0, 0.0),
+            otherwise=(1.0, "where the thickness is 0 a film of weight 1 is no film (OpenPBR; MaterialX's "
+                            "thin-film BSDFs apply only a thickness above 0), as MaterialX's translation graph "
+                            "writes it (ifgreater)")),
     Mapping("thin_film_thickness", ("thin_film_thickness",), lambda t: t / 1000.0, converted="nanometres to micrometres"),
     Mapping("thin_film_ior", ("thin_film_IOR",)),
     Mapping("emission_luminance", ("emission",)),
