@@ -195,7 +195,7 @@ def _image_files(document, nodes, asset, where) -> None:
                 asset.observe("mtlx_image_file", where(node, port.getName()), file=port.getResolvedValueString(),
                               node=node.getNamePath())
                 space = port.getAttribute("colorspace") or node.getAttribute("colorspace")
-                if space and node.getType() not in ("color3", "color4", "multioutput"):
+                if space and port.getName() == "file" and node.getType() in ("float", "vector2", "vector3", "vector4"):
                     asset.observe("mtlx_image_colorspace", where(node, port.getName()), node=node.getNamePath(),
                                   colorspace=space, type=node.getType(), file=port.getValueString())
         for port in _defaulted_files(document, node):
