@@ -61,10 +61,11 @@ def _glsl_transforms_colour(document_path) -> bool:
 
 
 @pytest.mark.parametrize("space, expected", [(' colorspace="srgb_texture"', True), (' colorspace="none"', False),
-                                             ("", False)])
+                                             ("", False), (' colorspace="Raw"', False)])
 def test_a_displacement_height_image_tagged_with_a_colour_space_is_reported(tmp_path, space, expected):
     """mb10: a float image read only by a displacement shader (no shader input of the surface) with an sRGB tag.
-    MaterialX colour-manages color3/color4 images only: its GLSL applies no decode, other renderers do."""
+    MaterialX colour-manages color3/color4 images only: its GLSL applies no decode, other renderers do. An OCIO
+    config's Raw role (MaterialX's TestSuite brass_wire_mesh.mtlx writes colorspace="Raw") asks for none."""
     png(tmp_path / "height.png", mode="L", colour=128)
     path = _mtlx(tmp_path, _DISPLACED.format(space=space))
     assert not _glsl_transforms_colour(path)  # the anchor: MaterialX ignores the tag on a float image

@@ -174,8 +174,8 @@ def check(asset, context):
                 )
     for observation in asset.observations:  # images no shader input reads (a displacement's height)
         detail = observation.detail
-        if observation.kind == "mtlx_image_colorspace" and detail["node"] not in reported and not (
-                colorspaces.is_data(detail["colorspace"]) or detail["colorspace"] in ("raw", "auto")):
+        if observation.kind == "mtlx_image_colorspace" and detail["node"] not in reported and not _no_transform(
+                detail["colorspace"]):
             reported.add(detail["node"])
             yield context.diagnostic(
                 COLORSPACE_IGNORED, f"the {detail['type']} image {detail['file']!r} is read with colour space "
@@ -205,7 +205,14 @@ def ignored_colorspace(texture: Texture) -> bool:
     space = texture.colorspace
     if texture.image_type in COLOUR_MANAGED_IMAGE_TYPES or space is None or texture.reads_alpha:
         return False  # a colour image, or the alpha of one (gltf_colorimage's outa): the space is its RGB's
-    return not (colorspaces.is_data(space) or colorspaces.is_data(space, "usd") or space in ("raw", "auto"))
+    return not _no_transform(space)
+
+
+def _no_transform(space: str) -> bool:
+    """Whether a colour-space name asks for no transform (none, raw, auto; MaterialX's or USD's spelling, or an
+    OCIO config's Raw role in any case: MaterialX's own TestSuite writes colorspace="Raw" on a normal map)."""
+    return colorspaces.is_data(space) or colorspaces.is_data(space, "usd") or \
+        space.strip().lower() in ("raw", "auto", "utility - raw")
 
 
 #: Image formats whose values are scene-linear by convention (OpenEXR: "pixel values are linear"; Radiance RGBE; PFM):
