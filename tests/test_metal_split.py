@@ -94,3 +94,37 @@ def test_a_dimmed_partial_metal_renders_closer_than_the_mix():
         assert float(_value(split, "metallic", 1.0)) < float(_value(mixed, "metallic", 1.0))
         gains.append(compare_materials(source, mixed).preview.mean - compare_materials(source, split).preview.mean)
     assert min(gains) > -0.3 and float(np.median(gains)) > 1.0
+
+
+_PROCEDURAL = '''<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <noise2d name="noise" type="color3">
+    <input name="amplitude" type="vector3" value="0.5, 0.5, 0.5" />
+    <input name="pivot" type="float" value="0.5" />
+  </noise2d>
+  <open_pbr_surface name="S" type="surfaceshader">
+    <input name="base_color" type="color3" nodename="noise" />
+    <input name="base_metalness" type="float" value="0.73" />
+    <input name="specular_weight" type="float" value="0" />
+  </open_pbr_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="S" />
+  </surfacematerial>
+</materialx>
+'''
+
+
+def test_a_partial_metal_with_a_procedural_colour_keeps_its_metalness_in_a_gltf_file(tmp_path):
+    """The review's reproducer: the split's metalness depends on every base source, so a base colour that cannot be
+    baked (a procedural) left metallicFactor out of the file, which glTF reads as 1, a full metal. Per texel the mix
+    is kept, with the source's metalness, and no note says it was split."""
+    import json
+
+    from openpbr_tools.convert import convert_file
+
+    source = tmp_path / "m.mtlx"
+    source.write_text(_PROCEDURAL, encoding="utf-8")
+    conversion = convert_file(str(source), str(tmp_path / "m.gltf"), None, Settings())
+    written = json.loads((tmp_path / "m.gltf").read_text(encoding="utf-8"))["materials"][0]["pbrMetallicRoughness"]
+    assert written.get("metallicFactor") == pytest.approx(0.73)
+    assert not [d for d in conversion.diagnostics if "lower metallic" in d.message]

@@ -454,6 +454,23 @@ DRAFT_BASE_SOURCES = ("base_weight", "base_color", "transmission_weight", "trans
                       "subsurface_weight", "subsurface_color")
 
 
+#: The sources of glTF's base colour (and of its metalness, where the metal is split: :func:`gltf_metal_split`)
+BASE_SOURCES = ("base_weight", "base_color", "transmission_weight", "transmission_color", "transmission_depth",
+                "subsurface_weight", "subsurface_color", "base_metalness", "specular_weight", "coat_weight",
+                "coat_darkening", "coat_ior", "coat_color", "specular_color", "specular_roughness",
+                "specular_roughness_anisotropy", "coat_roughness")
+
+
+def _splits(material: Material) -> bool:
+    """Whether the metal may be split (:func:`fit.split_metal`): not for a material read from glTF (its reading
+    inverts the mix), and only where every base source is a constant (per texel the mix is kept, and a metalness
+    that depended on a texture elsewhere would fall back to glTF's default of 1 where that texture cannot be
+    baked: the review's reproducer)."""
+    if isinstance(material.extra.get("gltf"), dict) or material.extra.get(MIXED_METAL):
+        return False
+    return all(isinstance(material.inputs[name].value, Constant) for name in BASE_SOURCES if name in material.inputs)
+
+
 #: ``Material.extra`` key of an OpenPBR material read from glTF in memory (a gltf_pbr node, whose .mtlx carries no
 #: glTF state): translated back to glTF, its metal is mixed by metalness (the inverse of its reading), not split
 MIXED_METAL = "gltf_mixed_metal"
@@ -468,10 +485,7 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
     glTF, whose reading (:func:`openpbr_base_color`) inverts the plain mix exactly."""
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
-    base_sources = ("base_weight", "base_color", "transmission_weight", "transmission_color", "transmission_depth",
-                    "subsurface_weight", "subsurface_color", "base_metalness", "specular_weight", "coat_weight",
-                    "coat_darkening", "coat_ior", "coat_color", "specular_color", "specular_roughness",
-                    "specular_roughness_anisotropy", "coat_roughness")
+    base_sources = BASE_SOURCES
     if settings.gltf_drafts and specular_openpbr:
         # EXT_materials_specular_openpbr: KHR_materials_specular and the base colour are OpenPBR's own
         base_and_specular = (
@@ -831,7 +845,7 @@ def openpbr_to_gltf(material: Material, settings: Settings | None = None) -> Tra
     specular_openpbr = settings.gltf_drafts and needs_specular_openpbr(material)
     state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
     thickness = state.get("thickness") if isinstance(state.get("thickness"), float) else None
-    split = not state and not material.extra.get(MIXED_METAL)
+    split = _splits(material)
     translation = translate(material, "gltf_pbr", to_gltf_mappings(settings, specular_openpbr, thickness, split),
                             dropped,
                             settings, "OpenPBR -> glTF")
