@@ -212,8 +212,7 @@ def openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thick
     max(base_color)``: exact for a pure metal, and the dielectric share (1 - m) then reflects more
     than Standard Surface's (MaterialX's standard_surface_to_open_pbr graph sets the weight to 1
     for any metalness above 0, losing the dielectric dimming entirely)."""
-    scale = fit.dielectric_specular_scale(ior, coat_ior, coat, _ss_film(film_thickness))
-    weight = fit.specular_weight_from_coated(specular, scale, metalness)
+    weight = _coated_weight(specular, metalness, ior, coat_ior, coat, film_thickness)
     peak = np.max(color, axis=-1, keepdims=np.ndim(color) >= 3)
     with np.errstate(divide="ignore", invalid="ignore"):
         floor = np.where(metalness > 0, 1.0 - (1.0 - np.minimum(peak, 1.0)) / np.where(metalness > 0, metalness, 1.0), 0.0)
@@ -224,10 +223,15 @@ SPECULAR_WEIGHT_SOURCES = ("specular", "metalness", "specular_IOR", "coat_IOR", 
                            "base_color")
 
 
+def _coated_weight(specular, metalness, ior, coat_ior, coat, film_thickness):
+    """OpenPBR's specular weight that gives Standard Surface's F0 under the coat (before a metal's floor)."""
+    scale = fit.dielectric_specular_scale(ior, coat_ior, coat, _ss_film(film_thickness))
+    return fit.specular_weight_from_coated(specular, scale, metalness)
+
+
 def _weight_raised(specular, metalness, ior, coat_ior, coat, film_thickness, color) -> bool:
     """Whether :func:`openpbr_specular_weight` raised a metal's weight above the coated-F0 solve (its floor)."""
-    scale = fit.dielectric_specular_scale(ior, coat_ior, coat, _ss_film(film_thickness))
-    plain = fit.specular_weight_from_coated(specular, scale, metalness)
+    plain = _coated_weight(specular, metalness, ior, coat_ior, coat, film_thickness)
     return bool(np.any(openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thickness, color)
                        > plain + 1e-9))
 

@@ -75,6 +75,15 @@ def max_data_uri_bytes() -> int:
         return max_file_bytes()
 
 
+def vertex_attributes(pointer: str, primitive: dict) -> list[tuple[str, object]]:
+    """(JSON pointer, accessor id as written) of a primitive's attributes and its morph targets' attributes."""
+    targets = primitive.get("targets")
+    groups = [(primitive.get("attributes"), f"{pointer}/attributes")] + [
+        (target, f"{pointer}/targets/{n}") for n, target in enumerate(targets if isinstance(targets, list) else ())]
+    return [(f"{where}/{name}", accessor) for group, where in groups
+            for name, accessor in (group.items() if isinstance(group, dict) else ())]
+
+
 @dataclass(slots=True)
 class GltfDocument:
     path: str
@@ -103,6 +112,14 @@ class GltfDocument:
             return None
         found = items[index]
         return found if isinstance(found, dict) else None
+
+    def primitives(self):
+        """(JSON pointer, primitive) of every mesh primitive that is an object, in document order."""
+        for mesh_index, mesh in enumerate(self.array("meshes")):
+            primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
+            for index, primitive in enumerate(primitives if isinstance(primitives, list) else ()):
+                if isinstance(primitive, dict):
+                    yield f"/meshes/{mesh_index}/primitives/{index}", primitive
 
     def error(self, message: str, pointer: str, outside: bool = False) -> ResourceError:
         return ResourceError(message, pointer, self.path, outside)

@@ -143,41 +143,39 @@ class ExtensionReading:
                            for i, v in enumerate(listed) if isinstance(v, dict) and isinstance(v.get("name"), str)],
                  "mappings": []}
         by_index = {m.extra["gltf"]["index"]: m for m in self.asset.materials}
-        for mesh_index, mesh in enumerate(self.document.array("meshes")):
-            primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
-            for index, primitive in enumerate(primitives if isinstance(primitives, list) else []):
-                extension = (primitive.get("extensions") or {}).get(slots.VARIANTS) \
-                    if isinstance(primitive, dict) and isinstance(primitive.get("extensions"), dict) else None
-                mappings = extension.get("mappings") if isinstance(extension, dict) else None
-                pointer = f"/meshes/{mesh_index}/primitives/{index}/extensions/{slots.VARIANTS}/mappings"
-                used = []  # (mapping pointer, variant index) in order, for the rules
-                for number, mapping in enumerate(mappings if isinstance(mappings, list) else []):
-                    if not isinstance(mapping, dict):
+        for primitive_pointer, primitive in self.document.primitives():
+            extensions = primitive.get("extensions")
+            extension = extensions.get(slots.VARIANTS) if isinstance(extensions, dict) else None
+            mappings = extension.get("mappings") if isinstance(extension, dict) else None
+            pointer = f"{primitive_pointer}/extensions/{slots.VARIANTS}/mappings"
+            used = []  # (mapping pointer, variant index) in order, for the rules
+            for number, mapping in enumerate(mappings if isinstance(mappings, list) else []):
+                if not isinstance(mapping, dict):
+                    continue
+                where = f"{pointer}/{number}"
+                target = mapping.get("material")
+                if _index(target) and self.document.item("materials", target) is None:
+                    self.asset.observe("dangling_reference", self.location(where, "material"),
+                                       attribute="material", target=target)
+                variants = mapping.get("variants") if isinstance(mapping.get("variants"), list) else []
+                if mapping.get("variants") == []:  # (the schema's minItems 1: the validator's EMPTY_ENTITY)
+                    self.invalid(f"{where}/variants", "this KHR_materials_variants mapping lists no variant, so no "
+                                 "selection ever shows its material (the schema requires at least one variant "
+                                 "index): remove the mapping, or name the variants that should select it")
+                for position, variant in enumerate(variants):
+                    if not _index(variant):
                         continue
-                    where = f"{pointer}/{number}"
-                    target = mapping.get("material")
-                    if _index(target) and self.document.item("materials", target) is None:
-                        self.asset.observe("dangling_reference", self.location(where, "material"),
-                                           attribute="material", target=target)
-                    variants = mapping.get("variants") if isinstance(mapping.get("variants"), list) else []
-                    if mapping.get("variants") == []:  # (the schema's minItems 1: the validator's EMPTY_ENTITY)
-                        self.invalid(f"{where}/variants", "this KHR_materials_variants mapping lists no variant, so no "
-                                     "selection ever shows its material (the schema requires at least one variant "
-                                     "index): remove the mapping, or name the variants that should select it")
-                    for position, variant in enumerate(variants):
-                        if not _index(variant):
-                            continue
-                        if variant >= len(listed):
-                            self.asset.observe("dangling_reference", self.location(f"{where}/variants/{position}"),
-                                               attribute="variant", target=variant)
-                            continue
-                        used.append((where, variant))
-                        material = by_index.get(target)
-                        chosen = material.extra["gltf"].setdefault("variants", []) if material is not None else None
-                        if chosen is not None and names[variant] not in chosen:
-                            chosen.append(names[variant])
-                if used:
-                    facts["mappings"].append({"pointer": pointer, "variants": used})
+                    if variant >= len(listed):
+                        self.asset.observe("dangling_reference", self.location(f"{where}/variants/{position}"),
+                                           attribute="variant", target=variant)
+                        continue
+                    used.append((where, variant))
+                    material = by_index.get(target)
+                    chosen = material.extra["gltf"].setdefault("variants", []) if material is not None else None
+                    if chosen is not None and names[variant] not in chosen:
+                        chosen.append(names[variant])
+            if used:
+                facts["mappings"].append({"pointer": pointer, "variants": used})
         if facts["names"] or facts["mappings"]:
             self.facts["variants"] = facts
 

@@ -39,7 +39,7 @@ from typing import Iterator
 
 from . import slots
 from .accessors import MAX_ELEMENTS
-from .document import GLB_BIN, GLB_JSON, GltfDocument, ResourceError, data_uri_mime
+from .document import GLB_BIN, GLB_JSON, GltfDocument, ResourceError, data_uri_mime, vertex_attributes
 from .schema import uri_syntax_error
 from .textures import json_index, json_text
 
@@ -135,24 +135,22 @@ def compression_problems(document: GltfDocument) -> Iterator[tuple[str, str, str
     """``("gltf_invalid", JSON pointer, message, property)`` for every KHR_draco_mesh_compression object of a mesh
     primitive that lacks what its schema requires: ``bufferView`` (the compressed stream, a glTF id) and
     ``attributes`` (an object naming at least one attribute's id in the stream)."""
-    for mesh_index, mesh in enumerate(document.array("meshes")):
-        primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
-        for index, primitive in enumerate(primitives if isinstance(primitives, list) else ()):
-            extensions = primitive.get("extensions") if isinstance(primitive, dict) else None
-            draco = extensions.get(slots.DRACO) if isinstance(extensions, dict) else None
-            if not isinstance(draco, dict):
-                continue  # (an extension that is no object is the reader's)
-            pointer = f"/meshes/{mesh_index}/primitives/{index}/extensions/{slots.DRACO}"
-            if "bufferView" not in draco:
-                yield ("gltf_invalid", pointer, f"{slots.DRACO} has no bufferView: there is no compressed stream for a "
-                       "Draco decoder to decode, so viewers draw nothing", None)
-            elif not json_index(draco["bufferView"]):
-                yield ("gltf_invalid", pointer, f"bufferView must be a bufferView index, not "
-                       f"{json_text(draco['bufferView'])}", "bufferView")
-            attributes = draco.get("attributes")
-            if not isinstance(attributes, dict) or not attributes:
-                yield ("gltf_invalid", pointer, f"{slots.DRACO} needs attributes, an object naming each attribute's id "
-                       "in the compressed stream", "attributes" if "attributes" in draco else None)
+    for primitive_pointer, primitive in document.primitives():
+        extensions = primitive.get("extensions")
+        draco = extensions.get(slots.DRACO) if isinstance(extensions, dict) else None
+        if not isinstance(draco, dict):
+            continue  # (an extension that is no object is the reader's)
+        pointer = f"{primitive_pointer}/extensions/{slots.DRACO}"
+        if "bufferView" not in draco:
+            yield ("gltf_invalid", pointer, f"{slots.DRACO} has no bufferView: there is no compressed stream for a "
+                   "Draco decoder to decode, so viewers draw nothing", None)
+        elif not json_index(draco["bufferView"]):
+            yield ("gltf_invalid", pointer, f"bufferView must be a bufferView index, not "
+                   f"{json_text(draco['bufferView'])}", "bufferView")
+        attributes = draco.get("attributes")
+        if not isinstance(attributes, dict) or not attributes:
+            yield ("gltf_invalid", pointer, f"{slots.DRACO} needs attributes, an object naming each attribute's id "
+                   "in the compressed stream", "attributes" if "attributes" in draco else None)
 
 
 def missing_scene(document: GltfDocument):
@@ -194,11 +192,8 @@ def accessor_problems(document: GltfDocument) -> list[dict]:
     for index, accessor in enumerate(document.array("accessors")):
         if isinstance(accessor, dict):
             found.extend(_accessor(document, index, accessor, attributes.get(index)))
-    for mesh_index, mesh in enumerate(document.array("meshes")):
-        primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
-        for index, primitive in enumerate(primitives if isinstance(primitives, list) else ()):
-            if isinstance(primitive, dict):
-                found.extend(_counts(document, f"/meshes/{mesh_index}/primitives/{index}", primitive))
+    for pointer, primitive in document.primitives():
+        found.extend(_counts(document, pointer, primitive))
     return found
 
 
@@ -226,19 +221,10 @@ def _stride(index: int, view: dict) -> Iterator[dict]:
 def _vertex_attribute_accessors(document: GltfDocument) -> dict[int, str]:
     """Accessor index -> the first primitive attribute (or morph target attribute) that reads it."""
     found: dict[int, str] = {}
-    for mesh_index, mesh in enumerate(document.array("meshes")):
-        primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
-        for index, primitive in enumerate(primitives if isinstance(primitives, list) else ()):
-            if not isinstance(primitive, dict):
-                continue
-            pointer = f"/meshes/{mesh_index}/primitives/{index}"
-            targets = primitive.get("targets")
-            groups = [(primitive.get("attributes"), f"{pointer}/attributes")] + [
-                (target, f"{pointer}/targets/{n}") for n, target in enumerate(targets if isinstance(targets, list) else ())]
-            for group, where in groups:
-                for name, accessor in (group.items() if isinstance(group, dict) else ()):
-                    if json_index(accessor):
-                        found.setdefault(accessor, f"{where}/{name}")
+    for pointer, primitive in document.primitives():
+        for where, accessor in vertex_attributes(pointer, primitive):
+            if json_index(accessor):
+                found.setdefault(accessor, where)
     return found
 
 

@@ -159,28 +159,24 @@ class _Reader(TextureReading, ExtensionReading):
         self.facts["animation_pointers"] = animation_pointers.material_pointer_problems(self.document)
 
     def read_primitives(self) -> None:
-        for mesh_index, mesh in enumerate(self.document.array("meshes")):
-            primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
-            for index, primitive in enumerate(primitives if isinstance(primitives, list) else []):
-                if not isinstance(primitive, dict):
-                    continue
-                attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
-                sets = sorted(n for n in (_set_of(name, "TEXCOORD_") for name in attributes) if n is not None)
-                formats = {name: self.accessor_format(accessor) for name, accessor in attributes.items()  # (rules.gltf_meshes)
-                           if name in ("NORMAL", "TANGENT") or any(_set_of(name, s) is not None for s in ("TEXCOORD_", "COLOR_"))}
-                material, where = primitive.get("material"), f"/meshes/{mesh_index}/primitives/{index}"
-                self.facts["primitives"].append({"pointer": where, "material": material, "texcoords": sets,
-                                                 "tangents": "TANGENT" in attributes, "normals": "NORMAL" in attributes,
-                                                 "attribute_formats": {n: f for n, f in formats.items() if f},
-                                                 "extent": accessors.position_extent(self.document, attributes.get("POSITION")),
-                                                 "tangent_signs": accessors.tangent_signs(self.document, attributes.get("TANGENT"),
-                                                                                          self.tangent_cache)})
-                if material is not None and self.document.item("materials", material) is None:
-                    self.asset.observe("dangling_reference", self.location(where, "material"), attribute="material",
-                                       target=material)
-                elif material is not None:  # the data of the primitives the file's materials shade
-                    self.facts["accessor_problems"] += accessors.primitive_problems(self.document, where, primitive, self.data_cache)
-                    self.facts["primitives"][-1]["geometry"] = geometry.primitive_geometry(self.document, primitive, self.data_cache)
+        for where, primitive in self.document.primitives():
+            attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
+            sets = sorted(n for n in (_set_of(name, "TEXCOORD_") for name in attributes) if n is not None)
+            formats = {name: self.accessor_format(accessor) for name, accessor in attributes.items()  # (rules.gltf_meshes)
+                       if name in ("NORMAL", "TANGENT") or any(_set_of(name, s) is not None for s in ("TEXCOORD_", "COLOR_"))}
+            material = primitive.get("material")
+            self.facts["primitives"].append({"pointer": where, "material": material, "texcoords": sets,
+                                             "tangents": "TANGENT" in attributes, "normals": "NORMAL" in attributes,
+                                             "attribute_formats": {n: f for n, f in formats.items() if f},
+                                             "extent": accessors.position_extent(self.document, attributes.get("POSITION")),
+                                             "tangent_signs": accessors.tangent_signs(self.document, attributes.get("TANGENT"),
+                                                                                      self.tangent_cache)})
+            if material is not None and self.document.item("materials", material) is None:
+                self.asset.observe("dangling_reference", self.location(where, "material"), attribute="material",
+                                   target=material)
+            elif material is not None:  # the data of the primitives the file's materials shade
+                self.facts["accessor_problems"] += accessors.primitive_problems(self.document, where, primitive, self.data_cache)
+                self.facts["primitives"][-1]["geometry"] = geometry.primitive_geometry(self.document, primitive, self.data_cache)
 
     def accessor_format(self, index) -> tuple | None:
         """``(type, componentType, normalized)`` of accessor ``index``, or ``None`` (a dangling index is judged elsewhere)."""

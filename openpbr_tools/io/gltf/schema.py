@@ -28,7 +28,7 @@ import re
 from json import dumps as json_text
 from typing import Iterator
 
-from .document import GltfDocument
+from .document import GltfDocument, vertex_attributes
 
 #: The root's arrays (glTF.schema.json: each with ``minItems`` 1).
 ROOT_ARRAYS = ("extensionsUsed", "extensionsRequired", "accessors", "animations", "buffers", "bufferViews", "cameras",
@@ -95,23 +95,13 @@ def image_view_problems(document: GltfDocument) -> Iterator[tuple[str, str, str,
     """Images whose bufferView has a ``target``, or is read by a mesh primitive's accessor (attribute, indices,
     morph target)."""
     drawn: dict[int, str] = {}  # bufferView -> the first primitive property that draws with it
-    for mesh_index, mesh in enumerate(document.array("meshes")):
-        primitives = mesh.get("primitives") if isinstance(mesh, dict) else None
-        for index, primitive in enumerate(primitives if isinstance(primitives, list) else ()):
-            if not isinstance(primitive, dict):
-                continue
-            pointer = f"/meshes/{mesh_index}/primitives/{index}"
-            uses = [(f"{pointer}/indices", primitive.get("indices"))]
-            for group, where in [(primitive.get("attributes"), f"{pointer}/attributes")] + [
-                    (target, f"{pointer}/targets/{n}") for n, target in enumerate(
-                        primitive.get("targets") if isinstance(primitive.get("targets"), list) else ())]:
-                uses += [(f"{where}/{name}", accessor) for name, accessor in
-                         (group.items() if isinstance(group, dict) else ())]
-            for where, accessor_index in uses:
-                accessor = document.item("accessors", accessor_index)
-                view = accessor.get("bufferView") if accessor is not None else None
-                if isinstance(view, int) and not isinstance(view, bool):
-                    drawn.setdefault(view, where)
+    for pointer, primitive in document.primitives():
+        for where, accessor_index in [(f"{pointer}/indices", primitive.get("indices"))] + \
+                vertex_attributes(pointer, primitive):
+            accessor = document.item("accessors", accessor_index)
+            view = accessor.get("bufferView") if accessor is not None else None
+            if isinstance(view, int) and not isinstance(view, bool):
+                drawn.setdefault(view, where)
     for index, image in enumerate(document.array("images")):
         view_index = image.get("bufferView") if isinstance(image, dict) else None
         view = document.item("bufferViews", view_index)
