@@ -66,3 +66,41 @@ def png(path: Path, mode: str = "RGB", size=(4, 4), colour=(200, 120, 40)) -> Pa
     path.parent.mkdir(parents=True, exist_ok=True)
     Image.new(mode, size, colour if mode != "RGBA" else colour + (128,)).save(path)
     return path
+
+
+def textured_openpbr(file: str) -> str:
+    """A body for :func:`mtlx`: an OpenPBR material whose base colour reads the image ``file`` (srgb_texture)."""
+    return f'''
+        <image name="albedo" type="color3">
+          <input name="file" type="filename" value="{file}" colorspace="srgb_texture" />
+        </image>
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="base_color" type="color3" nodename="albedo" />
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+        '''
+
+
+def textured_preview(file: str) -> str:
+    """A USD layer: a UsdPreviewSurface Material ``/M`` whose diffuseColor reads the image ``file``."""
+    return textwrap.dedent(f"""\
+        #usda 1.0
+        def Material "M"
+        {{
+            token outputs:surface.connect = </M/S.outputs:surface>
+            def Shader "S"
+            {{
+                uniform token info:id = "UsdPreviewSurface"
+                color3f inputs:diffuseColor.connect = </M/T.outputs:rgb>
+                token outputs:surface
+            }}
+            def Shader "T"
+            {{
+                uniform token info:id = "UsdUVTexture"
+                asset inputs:file = @{file}@
+                float3 outputs:rgb
+            }}
+        }}
+        """)

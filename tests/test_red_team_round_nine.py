@@ -12,15 +12,10 @@ import pytest
 
 from openpbr_tools.rules.usd import _package
 from openpbr_tools.rules.usd_examples import stage_example
-from redteam_support import findings, png
+from glsupport import shader_generator
+from redteam_support import findings, mtlx, png
 
 HEAD = '<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n'
-
-
-def _mtlx(folder, body: str, name: str = "m.mtlx"):
-    path = folder / name
-    path.write_text(HEAD + body + "</materialx>\n", encoding="utf-8")
-    return path
 
 
 _DISPLACED = '''  <nodegraph name="NG">
@@ -47,8 +42,7 @@ def _glsl_transforms_colour(document_path) -> bool:
 
     document = mx.createDocument()
     mx.readFromXmlFile(document, str(document_path))
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    library = shader_generator()[0]  # (its own generator: a colour management system is set on it below)
     document.importLibrary(library)
     generator = mx_glsl.GlslShaderGenerator.create()
     context = mx_gen.GenContext(generator)
@@ -67,7 +61,7 @@ def test_a_displacement_height_image_tagged_with_a_colour_space_is_reported(tmp_
     MaterialX colour-manages color3/color4 images only: its GLSL applies no decode, other renderers do. An OCIO
     config's Raw role (MaterialX's TestSuite brass_wire_mesh.mtlx writes colorspace="Raw") asks for none."""
     png(tmp_path / "height.png", mode="L", colour=128)
-    path = _mtlx(tmp_path, _DISPLACED.format(space=space))
+    path = mtlx(tmp_path, _DISPLACED.format(space=space))
     assert not _glsl_transforms_colour(path)  # the anchor: MaterialX ignores the tag on a float image
     assert (("OPBR507", "warning", "NG/height", "file") in findings(path)) is expected
 
@@ -94,7 +88,7 @@ def test_a_materialassign_naming_a_shader_is_a_dangling_reference(tmp_path, targ
     """mb11: MaterialX's materialassign connects a material node (Geometry Extensions, MaterialAssign); naming the
     shader binds nothing: getReferencedMaterial() is not a material. A node graph whose output is a material binds
     (MaterialX's own TestSuite/stdlib/materials/material_node_discovery.mtlx assigns one)."""
-    path = _mtlx(tmp_path, _LOOK.format(target=target))
+    path = mtlx(tmp_path, _LOOK.format(target=target))
     document = mx.createDocument()
     mx.readFromXmlFile(document, str(path))
     named = document.getChild(target)
@@ -111,9 +105,7 @@ def test_an_xinclude_of_a_windows_drive_path_is_an_error_where_it_names_no_file(
             '  <open_pbr_surface name="S" type="surfaceshader" version="1.1" />\n'
             '  <surfacematerial name="M" type="material">\n'
             '    <input name="surfaceshader" type="surfaceshader" nodename="S" />\n  </surfacematerial>\n')
-    path = tmp_path / "m.mtlx"
-    path.write_text(HEAD.replace('<materialx ', '<materialx xmlns:xi="http://www.w3.org/2001/XInclude" ')
-                    + body + "</materialx>\n", encoding="utf-8")
+    path = mtlx(tmp_path, body, attributes='xmlns:xi="http://www.w3.org/2001/XInclude" colorspace="lin_rec709"')
     with pytest.raises(Exception, match="Failed to open"):  # the anchor: MaterialX cannot load the document here
         mx.readFromXmlFile(mx.createDocument(), str(path))
     assert ("OPBR010", "error") in {(code, severity) for code, severity, *_ in findings(path)}

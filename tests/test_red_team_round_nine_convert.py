@@ -11,6 +11,7 @@ import os
 import MaterialX as mx
 import pytest
 
+from glsupport import validated
 from openpbr_tools.convert import convert_file
 from openpbr_tools.translate.common import Settings
 
@@ -51,13 +52,7 @@ def _convert(tmp_path, text: str):
     source.write_text(text, encoding="utf-8")
     out = tmp_path / "out" / "openpbr.mtlx"
     conversion = convert_file(str(source), str(out), "open_pbr_surface", Settings())
-    document = mx.createDocument()
-    mx.readFromXmlFile(document, str(out))
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
-    document.importLibrary(library)
-    valid, message = document.validate()
-    assert valid, message
+    document = validated(out)  # MaterialX reads it and its own validate() passes
     shader = next(n for n in document.getNodes() if n.getCategory() == "open_pbr_surface")
     return conversion, shader, document  # (the document owns the shader: kept alive with it)
 

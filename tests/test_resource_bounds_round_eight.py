@@ -23,6 +23,8 @@ from pathlib import Path
 
 import pytest
 
+from redteam_support import textured_preview
+
 ROOT = Path(__file__).resolve().parents[1]
 SAMPLES = ROOT / "openpbr_tools" / "samples"
 ENVIRONMENT = {**os.environ, "PYTHONPATH": str(ROOT)}
@@ -105,25 +107,7 @@ def test_an_image_within_the_texel_budget_is_still_decoded(tmp_path):
 
 def _bomb(path: Path, inflated: int) -> Path:
     """A USDZ whose texture ``t.png`` is a PNG signature and ``inflated`` zero bytes, deflated (a zip bomb)."""
-    layer = textwrap.dedent("""\
-        #usda 1.0
-        def Material "M"
-        {
-            token outputs:surface.connect = </M/S.outputs:surface>
-            def Shader "S"
-            {
-                uniform token info:id = "UsdPreviewSurface"
-                color3f inputs:diffuseColor.connect = </M/T.outputs:rgb>
-                token outputs:surface
-            }
-            def Shader "T"
-            {
-                uniform token info:id = "UsdUVTexture"
-                asset inputs:file = @t.png@
-                float3 outputs:rgb
-            }
-        }
-        """)
+    layer = textured_preview("t.png")
     member = zipfile.ZipInfo("t.png", (2000, 1, 1, 0, 0, 0))
     member.compress_type = zipfile.ZIP_DEFLATED
     with zipfile.ZipFile(path, "w") as package:
