@@ -1,9 +1,9 @@
 """The glTF container: JSON (``.gltf``) or GLB (``.glb``), its buffers and its images.
 
-Only the container is decoded here; what the materials mean is :mod:`.gltf_reader`'s job. The JSON
-is kept as parsed (``dict``/``list``), because whether a property was authored matters to the
-reader (pygltflib's object model fills in every schema default, and its GLB loader raises
-``struct.error`` on a truncated file, so it is used for its constants only). The GLB layout is the
+Only the container is decoded here; what the materials mean is :mod:`.gltf_reader`'s job. The JSON is kept as
+parsed (``dict``/``list``), because whether a property was authored matters to the reader (pygltflib's object model
+fills in every schema default, and its GLB loader raises ``struct.error`` on a truncated file, so it is used for its
+constants only). The GLB layout is the
 specification's section 4.4: a 12-byte header (magic ``glTF``, version 2, total length), then
 chunks of (length, type, data), the first of type JSON, an optional second of type BIN. Declared
 lengths are checked against the bytes actually present before anything is sliced, so a header
@@ -26,12 +26,11 @@ Limits, each refusing hostile input before the work it would cause:
   resource may be as large as a file beside the asset), computed from the payload's length before
   anything is decoded.
 
-Resources (buffers, images) are fetched lazily, each at most once (failures included, so a thousand
-images in one broken buffer cost one attempt), and only ever from inside the asset: a data URI, the
-GLB binary chunk, or a relative file beside the asset (after following symbolic links) no larger
-than the file limit. A resource that cannot be fetched raises :class:`ResourceError`, which callers
-turn into a finding; it is a :class:`~openpbr_tools.io.ReadError`, so a caller that does not expect
-it still reports unreadable input rather than a traceback.
+Resources (buffers, images) are fetched lazily, each at most once (failures included, so a thousand images in one
+broken buffer cost one attempt), and only ever from inside the asset: a data URI, the GLB binary chunk, or a relative
+file beside the asset (after following symbolic links) no larger than the file limit. A resource that cannot be
+fetched raises :class:`ResourceError`, which callers turn into a finding; it is a :class:`~openpbr_tools.io.ReadError`,
+so a caller that does not expect it still reports unreadable input rather than a traceback.
 """
 
 from __future__ import annotations
@@ -77,9 +76,9 @@ def max_data_uri_bytes() -> int:
 
 def vertex_attributes(pointer: str, primitive: dict) -> list[tuple[str, object]]:
     """(JSON pointer, accessor id as written) of a primitive's attributes and its morph targets' attributes."""
-    targets = primitive.get("targets")
-    groups = [(primitive.get("attributes"), f"{pointer}/attributes")] + [
-        (target, f"{pointer}/targets/{n}") for n, target in enumerate(targets if isinstance(targets, list) else ())]
+    targets = primitive.get("targets") if isinstance(primitive.get("targets"), list) else ()
+    groups = [(primitive.get("attributes"), f"{pointer}/attributes")]
+    groups += [(target, f"{pointer}/targets/{n}") for n, target in enumerate(targets)]
     return [(f"{where}/{name}", accessor) for group, where in groups
             for name, accessor in (group.items() if isinstance(group, dict) else ())]
 
