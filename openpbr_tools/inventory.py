@@ -50,7 +50,7 @@ def _extensions(material, not_converted: set) -> list[dict]:
     the reader reported it: ``not_converted``, from :func:`_not_converted`)."""
     from .io.gltf import drafts, slots  # lazy: info on a .mtlx file does not need the glTF tables
 
-    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    state = material.gltf_state()
     read_as = {slots.UNLIT: "read as emission", slots.DIFFUSE_TRANSMISSION: "read as thin-walled subsurface",
                slots.SPECULAR_GLOSSINESS: "read as metal-rough (spec-gloss solve)"}
     found = []

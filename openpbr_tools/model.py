@@ -296,6 +296,11 @@ class Material:
     def textures(self) -> list[tuple[str, Texture]]:
         return [(n, i.value) for n, i in self.inputs.items() if isinstance(i.value, Texture)]
 
+    def gltf_state(self) -> dict:
+        """What the glTF reader recorded beside the inputs (``extra["gltf"]``: gltf_state), or an empty dict."""
+        state = self.extra.get("gltf")
+        return state if isinstance(state, dict) else {}
+
 
 @dataclass(slots=True)
 class Observation:

@@ -282,7 +282,7 @@ def _gltf_unlit(material: Material, resolved: ResolvedParameters) -> None:
     extension's README: the colour is the output): rendered as that colour emitted (glTF's emissive 1)
     by a black base that does not reflect. Only for a material read from a glTF file: a .mtlx
     ``gltf_pbr`` node keeps the extension as data only, and MaterialX renders the node lit."""
-    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    state = material.gltf_state()
     extensions = state.get("extensions") if isinstance(state.get("extensions"), dict) else {}
     if UNLIT not in extensions or not str(material.location.file).lower().endswith((".gltf", ".glb")):
         return
@@ -309,7 +309,7 @@ def _gltf_specular_glossiness(material: Material, resolved: ResolvedParameters, 
     alpha. Textures are read with ``sampler``; without one their factors apply (listed as textured)."""
     from .textures import TextureUnavailable  # lazy: as in resolve
 
-    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    state = material.gltf_state()
     found = state.get("spec_gloss")
     extensions = state.get("extensions") if isinstance(state.get("extensions"), dict) else {}
     if not isinstance(found, dict) or not str(material.location.file).lower().endswith((".gltf", ".glb")) \

@@ -212,7 +212,7 @@ def _specular_glossiness(asset, context):
     from .values import NON_FINITE, UNPARSABLE  # lazy: as above
 
     for material in asset.materials:
-        state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+        state = material.gltf_state()
         found = state.get("spec_gloss") if isinstance(state.get("spec_gloss"), dict) else {}
         for name, entry in found.items():
             where = entry.location
@@ -248,7 +248,7 @@ def _diffuse_transmission(asset, context):
     from ..io.gltf.slots import DIFFUSE_TRANSMISSION  # lazy: only glTF assets carry the extension
 
     for material in asset.materials:
-        state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+        state = material.gltf_state()
         extensions = state.get("extensions") if isinstance(state.get("extensions"), dict) else {}
         found = extensions.get(DIFFUSE_TRANSMISSION)
         for name in DIFFUSE_TRANSMISSION_FACTORS if isinstance(found, dict) else ():

@@ -34,7 +34,7 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
     settings = settings or Settings()
     diagnostics = []
     current = material
-    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    state = material.gltf_state()
     if material.model == target == "gltf_pbr" and state.get("drafts"):
         # a glTF material with draft extensions goes through OpenPBR (where the drafts' values live) and
         # comes back with them: they reference the source's textures, so they cannot be copied as JSON

@@ -843,7 +843,7 @@ def openpbr_to_gltf(material: Material, settings: Settings | None = None) -> Tra
     if settings.gltf_drafts:
         dropped = tuple(d for d in dropped if d.source not in DRAFT_DROPPED)
     specular_openpbr = settings.gltf_drafts and needs_specular_openpbr(material)
-    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    state = material.gltf_state()
     thickness = state.get("thickness") if isinstance(state.get("thickness"), float) else None
     split = _splits(material)
     translation = translate(material, "gltf_pbr", to_gltf_mappings(settings, specular_openpbr, thickness, split),
@@ -872,7 +872,7 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     """glTF -> OpenPBR: the ratified extensions through the mappings above, and the draft extensions
     the glTF reader found (``extra["gltf"]["drafts"]``) exactly, in place of their fallbacks."""
     settings = settings or Settings()
-    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    state = material.gltf_state()
     found = state.get("drafts") if isinstance(state.get("drafts"), dict) else {}
     if drafts.COAT in found:  # the clearcoat is KHR_materials_coat's fallback: its sub-extensions too
         found = {k: v for k, v in found.items() if k not in (drafts.CLEARCOAT_DARKENING, drafts.CLEARCOAT_IOR)}
@@ -1031,7 +1031,7 @@ def unlit_restored(material: Material) -> Material | None:
     """A ``gltf_pbr`` material that holds the unlit reading (:func:`_unlit_emission` through
     :func:`openpbr_to_gltf` for a .mtlx output: emission over a black base, the replaced factors in the
     state) as the unlit glTF material it came from, for a glTF output; None for any other."""
-    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    state = material.gltf_state()
     if not unlit_state(state) or not isinstance(state.get(UNLIT_RECORD), dict):
         return None
     restored = copy.copy(material)

@@ -55,7 +55,7 @@ def state_of(material: Material) -> dict | None:
     specularColor, glossiness), or None for a material without the extension."""
     if material.model != "gltf_pbr":
         return None
-    state = material.extra.get("gltf") if isinstance(material.extra.get("gltf"), dict) else {}
+    state = material.gltf_state()
     found = state.get("spec_gloss")
     return found if isinstance(found, dict) else None
 

@@ -111,7 +111,7 @@ class _MaterialWriter(TextureWriting, DraftWriting):
     def __init__(self, material: Material, images: ImageResolver, builder, notes: list[Diagnostic], index: int):
         self.material, self.images, self.builder, self.notes = material, images, builder, notes
         self.output = Location(builder.path, path=f"/materials/{index}")
-        self.extra = material.extra.get("gltf", {}) if isinstance(material.extra.get("gltf"), dict) else {}
+        self.extra = material.gltf_state()
         # a glTF name another format had to make unique comes back as it was (gltf_state)
         name = self.extra.get("name") if isinstance(self.extra.get("name"), str) and self.extra.get("name") and \
             self.extra.get("renamed_to") == (material.material_name or material.name) else None
