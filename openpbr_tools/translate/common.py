@@ -85,6 +85,23 @@ class Translation:
     material: Material
     diagnostics: list[Diagnostic] = field(default_factory=list)
     source: Material | None = None
+    # (source input, note) for each input a noted mapping folded in: added by :func:`with_folded_notes` where
+    # nothing else the translator reported stands at that input
+    folded: list[tuple[str, Diagnostic]] = field(default_factory=list)
+
+
+def with_folded_notes(translation: Translation) -> Translation:
+    """``translation`` with a note at each source input a mapping folded into another and nothing else names
+    (:func:`_companions`), judged once the translator has added its own notes (a preview's presence note at
+    geometry_opacity, say)."""
+    sites = {d.location.input for d in translation.diagnostics}
+    for name, note in translation.folded:
+        if name not in sites:
+            sites.add(name)
+            translation.diagnostics.append(note)
+    translation.folded = []
+    translation.diagnostics.sort(key=Diagnostic.sort_key)
+    return translation
 
 
 class Values:
@@ -177,10 +194,15 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     report: list[Diagnostic] = []
     working = WorkingSpace(material, source_table)
 
+    noted: list[tuple[Any, Mapping, str | None]] = []  # (rule, mapping, input) of each note a mapping made
+    current: list[Mapping | None] = [None]  # the mapping being applied
+
     def say(rule, message: str, name: str | None) -> None:
         entry = material.inputs.get(name) if name else None
         location = entry.location if entry is not None else material.location.with_input(name)
         report.append(context.diagnostic(rule, f"{material.name} ({label}): {message}", location))
+        if current[0] is not None:
+            noted.append((rule, current[0], name))
 
     def say_note(mapping: Mapping, name: str) -> None:  # a texture or graph carried: ``matters`` at the defaults
         if not mapping.exact and _matters(mapping, _at_defaults(mapping, values, source_table)):
@@ -213,6 +235,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         return True
 
     for mapping in mappings:
+        current[0] = mapping
         parameter = target_table[mapping.target]
         authored = any(values.authored(s) for s in mapping.sources)
         textured = list(dict.fromkeys(s for s in mapping.sources if not values.is_constant(s)))
@@ -324,7 +347,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             result.inputs[mapping.target] = baked.input
             say(APPROXIMATED if baked.clipped else CONVERTED, baked.message, source_name)
             if not mapping.exact and _matters_on_average(mapping, values, baked.averages):
-                say(APPROXIMATED, f"{mapping.target}: {mapping.note}", source_name)
+                say(APPROXIMATED, f"{mapping.target}: {mapping.note}", _site(mapping, values, source_name))
             continue
         if keep_as_is(mapping, parameter, textured, "nothing to bake the formula into"):
             continue
@@ -335,6 +358,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                          "(a conversion without an output), so the target keeps its default", source_name)
         handled.add(source_name)
         failed.update((name, mapping.target) for name in textured[1:])
+    current[0] = None
     for drop in dropped:
         if not values.authored(drop.source):
             continue
@@ -344,16 +368,58 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             say(NOT_CARRIED, f"{drop.source} has no equivalent: {drop.why}", drop.source)
             handled.add(drop.source)
     probes.unreached(material, mappings, handled, failed, source_table, say)
+    folded: list[tuple[str, Diagnostic]] = []
+
+    def fold(rule, message: str, name: str) -> None:
+        start = len(report)
+        say(rule, message, name)
+        folded.append((name, report.pop(start)))
+
+    _companions(noted, mappings, values, source_table, fold)
     report.sort(key=Diagnostic.sort_key)
-    return Translation(result, report, material)
+    return Translation(result, report, material, folded)
 
 
-def _site(mapping: Mapping, values: Values) -> str:
+def _companions(noted, mappings, values: Values, source_table, say) -> None:
+    """A note at each other source a noted mapping folded in: every authored source off its default that no other
+    mapping leads (its own counterpart, which speaks for it) and no note names gets one there, pointing at the
+    mapping's most severe note (``coat_affect_roughness`` folded into specular_roughness; a preview's constant
+    ``diffuseColor`` baked with a textured ``metallic`` into base_color), so a value that does not survive as itself
+    is never without a note at its input (:func:`with_folded_notes` keeps those nothing else names). Info, as the
+    loss is reported once at its own note, but for a value not carried at all."""
+    sites = {name for _, _, name in noted}
+    leads = {}
+    for mapping in mappings:
+        leads.setdefault(mapping.sources[0], set()).add(id(mapping))
+    strongest: dict[int, tuple[Any, Mapping, str | None]] = {}
+    for rule, mapping, name in noted:
+        held = strongest.get(id(mapping))
+        if held is None or rule.severity >= held[0].severity:  # (the last: the mapping's own note, after a gamut note)
+            strongest[id(mapping)] = (rule, mapping, name)
+    for rule, mapping, name in strongest.values():
+        for source in dict.fromkeys(mapping.sources):
+            if source in sites or leads.get(source, {id(mapping)}) - {id(mapping)} or source not in source_table \
+                    or not values.authored(source):
+                continue
+            if values.is_constant(source):
+                value = values.constant(source)
+                if value is None or _equal(value, source_table[source].default):
+                    continue  # at its default: nothing of it to lose
+            sites.add(source)
+            how = {NOT_CARRIED: "not carried", APPROXIMATED: "approximated"}.get(rule, "converted")
+            say(NOT_CARRIED if rule is NOT_CARRIED else CONVERTED,  # the loss's severity stands at its own note
+                f"{source}: folded into {mapping.target} with the other inputs ({how}: see the note at {name})", source)
+
+
+def _site(mapping: Mapping, values: Values, textured: str | None = None) -> str:
     """Where an approximation's note stands: the mapping's ``site`` (the source whose loss it describes:
     transmission_weight for UsdPreviewSurface's opacity, not the geometry_opacity that leads its sources) where the
     material authors it, else the first source (the target's counterpart: specular_weight's note at glTF's specular
-    even where that is unauthored)."""
-    return mapping.site if mapping.site is not None and values.authored(mapping.site) else mapping.sources[0]
+    even where that is unauthored). For a bake, ``textured``, its texture, stands in for an unauthored first source
+    (a sheen's fit at ``sheen``, authored, though its roughness texture is what was baked)."""
+    if mapping.site is not None and values.authored(mapping.site):
+        return mapping.site
+    return mapping.sources[0] if textured is None or values.authored(mapping.sources[0]) else textured
 
 
 def _at_defaults(mapping: Mapping, values: Values, source_table) -> list:

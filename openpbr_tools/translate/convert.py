@@ -13,7 +13,7 @@ from .. import tables
 from ..model import Material
 from ..rules.translation import CONVERTED, NOT_CARRIED
 from . import spec_gloss
-from .common import Settings, Translation
+from .common import Settings, Translation, with_folded_notes
 from .gltf import gltf_to_openpbr, openpbr_to_gltf, unlit_restored, unlit_state
 from .standard_surface import openpbr_to_standard_surface, standard_surface_to_openpbr
 from .upgrade import upgrade
@@ -38,8 +38,8 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
     if material.model == target == "gltf_pbr" and state.get("drafts"):
         # a glTF material with draft extensions goes through OpenPBR (where the drafts' values live) and
         # comes back with them: they reference the source's textures, so they cannot be copied as JSON
-        step = gltf_to_openpbr(material, settings)
-        back = openpbr_to_gltf(step.material, dataclasses.replace(settings, gltf_drafts=True))
+        step = _step(gltf_to_openpbr, material, settings)
+        back = _step(openpbr_to_gltf, step.material, dataclasses.replace(settings, gltf_drafts=True))
         return Translation(back.material, step.diagnostics + back.diagnostics, material)
     if material.model == target == "gltf_pbr" and settings.gltf_file and (restored := unlit_restored(material)):
         return Translation(restored, [settings.context.diagnostic(
@@ -49,13 +49,13 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
             (not settings.gltf_file or spec_gloss.textured(material)):
         # MaterialX's gltf_pbr has no specular-glossiness mode, and a glTF output cannot copy an extension that
         # references the source's textures: the extension read as OpenPBR, as metal-rough (textures per texel)
-        step = gltf_to_openpbr(material, settings)
-        back = openpbr_to_gltf(step.material, settings)
+        step = _step(gltf_to_openpbr, material, settings)
+        back = _step(openpbr_to_gltf, step.material, settings)
         return Translation(back.material, step.diagnostics + back.diagnostics, material)
     if material.model == target == "gltf_pbr" and unlit_state(state) and not settings.gltf_file:
         # MaterialX's gltf_pbr has no unlit mode: the unlit reading (emission over a black base) renders as one
-        step = gltf_to_openpbr(material, settings)
-        back = openpbr_to_gltf(step.material, settings)
+        step = _step(gltf_to_openpbr, material, settings)
+        back = _step(openpbr_to_gltf, step.material, settings)
         return Translation(back.material, step.diagnostics + back.diagnostics, material)
     if current.model == "open_pbr_surface":
         if current.version and current.version != tables.latest("open_pbr_surface"):
@@ -63,11 +63,11 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
             diagnostics += upgraded.diagnostics
             current = upgraded.material
     elif current.model != target:
-        step = TO_OPENPBR[current.model](current, settings)
+        step = _step(TO_OPENPBR[current.model], current, settings)
         diagnostics += step.diagnostics
         current = step.material
     if current.model != target:
-        step = FROM_OPENPBR[target](current, settings)
+        step = _step(FROM_OPENPBR[target], current, settings)
         diagnostics += step.diagnostics
         current = step.material
     if current is material:  # nothing to translate: a copy, so that what happens to the result (textures
@@ -76,6 +76,11 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         current.extra = {k: dict(v) if isinstance(v, dict) else v for k, v in material.extra.items()}  # written into
         diagnostics += _without_unknown_inputs(current, settings)
     return Translation(current, diagnostics, material)
+
+
+def _step(translator, material: Material, settings: Settings) -> Translation:
+    """One translator's result, with a note at each input its mappings folded into another (common.with_folded_notes)."""
+    return with_folded_notes(translator(material, settings))
 
 
 def _without_unknown_inputs(material: Material, settings: Settings) -> list:

@@ -1,0 +1,120 @@
+"""Every value that does not survive a translation as itself has a note at its own input (set T, session 22):
+a value a formula folds into another input (Standard Surface's ``coat_affect_roughness`` into OpenPBR's
+``specular_roughness``; a preview's constant ``diffuseColor`` baked with a textured ``metallic``; a constant
+``sheen`` baked with a textured ``sheen_roughness``) was named only in the note at another input. What is lost is
+a fact of the models: OpenPBR has no ``coat_affect_roughness`` (its node definition, read from MaterialX's library
+here), and a baked image holds the formula's result, not the constant it folded in."""
+
+from __future__ import annotations
+
+import MaterialX as mx
+from PIL import Image
+
+from openpbr_tools.convert import convert_file
+from openpbr_tools.translate.common import Settings
+from redteam_support import mtlx
+
+
+def _notes(conversion) -> dict[str, list[tuple[str, str]]]:
+    """Input -> [(code, severity)] of the conversion's notes."""
+    found: dict[str, list[tuple[str, str]]] = {}
+    for d in conversion.diagnostics:
+        found.setdefault(d.location.input, []).append((d.code, str(d.severity)))
+    return found
+
+
+def _openpbr_inputs() -> set[str]:
+    document = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), document)
+    return {i.getName() for i in document.getNodeDef("ND_open_pbr_surface_surfaceshader").getActiveInputs()}
+
+
+def _standard_surface(tmp_path, inputs: str):
+    return mtlx(tmp_path, f'''
+        <image name="rough" type="float">
+          <input name="file" type="filename" value="rough.png" />
+        </image>
+        <standard_surface name="S" type="surfaceshader">
+          {inputs}
+        </standard_surface>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+        ''')
+
+
+def _ramp(path, start=0, step=4):
+    image = Image.new("L", (8, 8))
+    image.putdata([min(255, start + i * step) for i in range(64)])
+    image.save(path)
+
+
+def test_coat_affect_roughness_has_a_note_of_its_own(tmp_path):
+    assert "coat_affect_roughness" not in _openpbr_inputs()  # OpenPBR has no such input: it cannot survive as itself
+    source = _standard_surface(tmp_path, '''<input name="coat" type="float" value="0.5" />
+          <input name="coat_affect_roughness" type="float" value="0.7" />
+          <input name="specular_roughness" type="float" value="0.3" />''')
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings())
+    notes = _notes(conversion)
+    assert ("OPBR1102", "info") in notes["coat_affect_roughness"]
+    assert notes["specular_roughness"]  # the conversion's own note stays where it was
+
+
+def test_an_input_at_its_default_needs_no_note(tmp_path):
+    source = _standard_surface(tmp_path, '''<input name="coat" type="float" value="0.5" />
+          <input name="coat_affect_roughness" type="float" value="0" />
+          <input name="specular_roughness" type="float" value="0.3" />''')
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings())
+    assert "coat_affect_roughness" not in _notes(conversion)
+
+
+def test_a_colour_read_only_by_a_metal_term_gets_no_stray_note(tmp_path):
+    # base_color feeds specular_weight's formula, but has its own counterpart (OpenPBR's base_color): no note there
+    source = _standard_surface(tmp_path, '''<input name="base_color" type="color3" value="0.3, 0.05, 0.1" />
+          <input name="coat" type="float" value="0.5" />''')
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings())
+    assert "base_color" not in _notes(conversion)
+
+
+def test_a_constant_sheen_baked_with_a_textured_roughness_is_noted_at_sheen(tmp_path):
+    _ramp(tmp_path / "rough.png")
+    source = _standard_surface(tmp_path, '''<input name="base_color" type="color3" value="0.3, 0.05, 0.1" />
+          <input name="sheen" type="float" value="0.8" />
+          <input name="sheen_roughness" type="float" nodename="rough" />''')
+    conversion = convert_file(str(source), str(tmp_path / "out" / "out.mtlx"), "open_pbr_surface", Settings())
+    notes = _notes(conversion)
+    assert ("OPBR1103", "warning") in notes["sheen"]  # the fit's approximation, at the sheen it describes
+    assert ("OPBR1102", "info") in notes["sheen_roughness"]  # the bake, at the texture baked
+
+
+def test_a_preview_diffuse_colour_baked_with_a_textured_metallic_is_noted_at_diffuse_colour(tmp_path):
+    _ramp(tmp_path / "metal.png", start=255, step=-3)
+    source = tmp_path / "preview.usda"
+    source.write_text('''#usda 1.0
+def Material "M"
+{
+    token outputs:surface.connect = </M/S.outputs:surface>
+    def Shader "S"
+    {
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor = (0.7, 0.3, 0.1)
+        float inputs:metallic.connect = </M/T.outputs:r>
+        token outputs:surface
+    }
+    def Shader "T"
+    {
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @metal.png@
+        float outputs:r
+    }
+}
+''', encoding="utf-8")
+    out = tmp_path / "out" / "out.mtlx"
+    conversion = convert_file(str(source), str(out), "open_pbr_surface", Settings())
+    notes = _notes(conversion)
+    assert "diffuseColor" in notes and "metallic" in notes
+    # and the baked base colour is not the constant: diffuseColor does not survive as itself
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(out))
+    shader = next(n for n in document.getNodes() if n.getCategory() == "open_pbr_surface")
+    assert shader.getInput("base_color").getValueString() == ""  # a connection to the baked image
