@@ -294,7 +294,15 @@ def test_usd_core_findings_pass_through_unless_covered(findings):
 
 def test_an_input_of_the_other_workflow_left_at_its_default_is_not_reported(findings):
     """UsdMtlx authors every input; specularColor (0, 0, 0) is the default and changes nothing."""
-    assert not findings(preview("color3f inputs:specularColor = (0, 0, 0)"), "OPBR1008")
+    assert not findings(preview("color3f inputs:specularColor = (0, 0, 0)"), "OPBR1035")
+
+
+def test_a_specular_colour_in_the_metalness_workflow_is_only_noted(findings):
+    """Exporters write specularColor beside metalness materials (usd-wg's intent-vfx teapot: (1, 1, 1)); it renders
+    nothing, and the published assets that carry it are not broken: an info, not OPBR1008's warning."""
+    (finding,) = findings(preview("color3f inputs:specularColor = (1, 1, 1)"), "OPBR1035")
+    assert str(finding.severity) == "info"
+    assert not findings(preview("color3f inputs:specularColor = (1, 1, 1)"), "OPBR1008")
 
 
 def test_a_texture_read_by_two_inputs_reports_its_colour_space_once(findings):

@@ -1,6 +1,6 @@
 """Image content, read as little as answers the question: whether an image is more than one flat colour
-(:func:`varies`), each channel's largest value (:func:`channel_maxima`) and each channel's range and mask
-signature (:func:`channel_statistics`). Pillow decodes (a JPEG at 1/8 scale, nothing past a pixel limit);
+(:func:`varies`), each channel's largest value (:func:`channel_maxima`; one channel's at full resolution:
+:func:`channel_largest`) and each channel's range and mask signature (:func:`channel_statistics`). Pillow decodes (a JPEG at 1/8 scale, nothing past a pixel limit);
 OpenImageIO answers :func:`varies` for files Pillow does not open. Whether a file is an image at all is
 :mod:`openpbr_tools.io.image_files`' question.
 """
@@ -92,6 +92,35 @@ def channel_maxima(image: str | bytes, max_pixels: int = MAX_DECODED_PIXELS) -> 
                 return (1 if high > 0 else 0,) * 3  # grey: one channel read as R, G and B
             plane = opened.convert("RGBA" if "A" in opened.mode or "transparency" in opened.info else "RGB")
             return tuple(int(high) for _, high in plane.getextrema())
+    except Exception:  # noqa: BLE001 - Pillow raises many exception types for data it cannot decode
+        return None
+
+
+def channel_largest(image: str | bytes, channel: int, max_pixels: int = MAX_DECODED_PIXELS) -> float | None:
+    """The largest value in [0, 1] of RGBA channel ``channel`` of ``image`` (a path or bytes), decoded at full
+    resolution (a JPEG too: a one-texel highlight must not be averaged away), as a texture lookup reads it: a
+    greyscale image's grey in R, G and B, alpha 1 where the image has none; a 16-bit image at its full depth.
+    ``None`` when it cannot be told: undecodable, a float image, larger than ``max_pixels``."""
+    from PIL import Image  # lazy: as in load_pixels
+
+    try:
+        with warnings.catch_warnings():  # DecompressionBombWarning: the library never prints
+            warnings.simplefilter("ignore")
+            opened = Image.open(io.BytesIO(image) if isinstance(image, (bytes, bytearray, memoryview)) else image)
+        with opened:
+            width, height = opened.size
+            if width * height > max_pixels or opened.mode == "F":
+                return None
+            has_alpha = "A" in opened.mode or "transparency" in opened.info
+            if opened.mode.startswith("I;16") or opened.mode == "I":  # a 16-bit grey
+                if channel == 3:
+                    return 1.0
+                high = opened.getextrema()[1]
+                return min(1.0, high / 65535.0)
+            if channel == 3 and not has_alpha:
+                return 1.0
+            plane = opened.convert("RGBA" if has_alpha else "RGB")
+            return plane.getextrema()[channel][1] / 255.0
     except Exception:  # noqa: BLE001 - Pillow raises many exception types for data it cannot decode
         return None
 

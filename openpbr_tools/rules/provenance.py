@@ -316,8 +316,13 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1007": ("A non-zero opacityThreshold makes opacity a cut-out in Storm and MaterialX's "
                  "ND_UsdPreviewSurface, overriding opacityMode; with opacity 1 it cuts nothing.",
                  f"{USD_PREVIEW}; {MX_PREVIEW}"),
-    "OPBR1008": ("UsdPreviewSurface ignores the other workflow's inputs: the authored specularColor or metallic "
-                 "does not render.", f"{USD_PREVIEW}; {MX_PREVIEW}"),
+    "OPBR1034": ("Storm and MaterialX's ND_UsdPreviewSurface discard every fragment whose opacity is below "
+                 "opacityThreshold: when no texel of the mask reaches it, the whole surface disappears; usd-core's "
+                 "validators read no texels.", f"{USD_PREVIEW}; {MX_PREVIEW}"),
+    "OPBR1008": ("UsdPreviewSurface's specular workflow ignores metallic: the authored metal renders as a "
+                 "dielectric.", f"{USD_PREVIEW}; {MX_PREVIEW}"),
+    "OPBR1035": ("UsdPreviewSurface's metalness workflow ignores specularColor: the authored value does not render.",
+                 f"{USD_PREVIEW}; {MX_PREVIEW}"),
     "OPBR1009": ("Viewports and clients without MaterialX render the UsdPreviewSurface fallback: a fallback far "
                  "from the OpenPBR look shows another material there.", f"{USD_PREVIEW}; {HD_MTLX}"),
     "OPBR1010": ("usd-core's own validators (the anchor) flag stages that load or render wrongly in USD tools "

@@ -5,8 +5,7 @@ unit (radians for place2d's degrees, degrees for KHR_texture_transform's and ani
 a packed occlusion-roughness-metalness map read through its occlusion channel (OPBR712).
 
 Formats are judged from the first bytes (:data:`SIGNATURES`); an OpenEXR file's layers from its header, read by
-OpenImageIO (the images extra; without it the layer is not judged). Nothing is decoded.
-"""
+OpenImageIO (the images extra; without it the layer is not judged). Nothing is decoded."""
 
 from __future__ import annotations
 
@@ -170,7 +169,8 @@ RULES = (CONTENT_NOT_SUFFIX, LINEAR_IMAGE_AS_SRGB, FIRST_TILE_MISSING, LAYER_MIS
 _TANGENT_INPUTS = ("geometry_tangent", "geometry_coat_tangent", "tangent", "coat_tangent")
 #: a packed map named for glTF's occlusion-roughness-metalness layout (R occlusion): "oak_ORM.png", "arm"
 _OCCLUSION_FIRST = re.compile(r"(?:^|[_\-. ])(orm|arm|occlusionroughnessmetal(?:lic|ness)?)(?:[_\-. ]|$)", re.IGNORECASE)
-_RADIANS = tuple(k * math.pi / 12 for k in range(1, 25))
+# radians of the angles a UI offers (10, 15 and 22.5 degree steps): as degrees, a tilt no one types to four decimals
+_RADIANS = tuple(sorted({k * math.pi / n for n in (8, 12, 18) for k in range(1, 2 * n + 1)}))
 _DEGREE_STEPS = frozenset(range(15, 361, 15))  # the angles a UI offers, in degrees: none is a plausible radian value
 
 

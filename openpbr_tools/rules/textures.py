@@ -250,6 +250,7 @@ def check(asset, context):
     checked_files: set[str] = set()
     containers: dict = {}  # packaged_image's cache of loaded packages
     sized: set[str] = set()
+    normal_files: set[str] = set()  # files judged as normal maps (OPBR709), once each
     yield from _colour_read_as_data(asset, context)
     for material, table, entry in for_each_input(asset):
         texture = entry.texture
@@ -298,17 +299,29 @@ def check(asset, context):
                 entry.location, hint="insert a normalmap node between the image and the input",
             )
         if texture.normal_map is not None or (parameter is not None and parameter.role == "normal"):
-            channels = _channels(asset, texture, context, containers)
-            if channels in (1, 2):
-                yield context.diagnostic(
-                    GREY_NORMAL_MAP, f"{entry.name}: the normal map {texture.file!r} is a greyscale image "
-                    f"({channels} channel{'s' if channels > 1 else ''}), not a normal map", where,
-                    hint="use the normal map, or turn a height map into normals with a heighttonormal node")
+            normal_files.add(texture.file)
+            yield from _grey_normal_map(asset, texture, f"{entry.name}: the normal map", where, context, containers)
+    for observation in (o for o in asset.observations if o.kind == "mtlx_normalmap_image"):
+        # an image a normalmap decodes that no input reads as a texture (a computed texcoord)
+        file, node = observation.detail["file"], observation.detail["node"]
+        if file not in normal_files:
+            normal_files.add(file)
+            yield from _grey_normal_map(asset, Texture(file=file, node=node), f"{observation.detail['normalmap']} "
+                                        "decodes", observation.location, context, containers)
     for observation in (o for o in asset.observations if o.kind == "mtlx_image_file"):
         # the files of images no input reads as a texture (a computed texcoord, a procedural graph): the same checks
         file, node = observation.detail["file"], observation.detail["node"]
         if not any(checked == file or checked_node == node for checked_node, checked in checked_files):  # (as a texture)
             yield from _check_path(asset, Texture(file=file, node=node), observation.location, context, checked_files)
+
+
+def _grey_normal_map(asset, texture, what: str, where, context, containers):
+    channels = _channels(asset, texture, context, containers)
+    if channels in (1, 2):
+        yield context.diagnostic(
+            GREY_NORMAL_MAP, f"{what} {texture.file!r} is a greyscale image ({channels} "
+            f"channel{'s' if channels > 1 else ''}), not a normal map", where,
+            hint="use the normal map, or turn a height map into normals with a heighttonormal node")
 
 
 def _check_path(asset, texture, where, context, checked_files):

@@ -436,6 +436,22 @@ def _closest_id(shader_id: str, sdr_ids) -> str | None:
 _FLOAT3_ROLES = {"float3", "color3f", "normal3f", "vector3f", "point3f"}
 
 
+def _preview_roles(asset) -> set[str]:
+    """The attribute paths of UsdPreviewSurface inputs authored with another float3 role than declared (float3 for a
+    color3f), which OPBR1002 lets pass (its readers take any role) and usd-core's ShaderSdrCompliance calls a
+    MismatchedPropertyType, which is then passed through (OPBR1010) rather than lost."""
+    found = set()
+    for material, table, entry in for_each_input(asset):
+        parameter = table.get(entry.name)
+        if material.model != "UsdPreviewSurface" or parameter is None or entry.source_type is None:
+            continue
+        expected = expected_usd_type(material.extra.get("usd_flavour", "mtlx"), material.model, entry.name,
+                                     parameter.type)
+        if expected is not None and entry.source_type != expected and {entry.source_type, expected} <= _FLOAT3_ROLES:
+            found.add(f"{material.location.path}.inputs:{entry.name}")
+    return found
+
+
 def _types(asset, context):
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)
@@ -513,6 +529,7 @@ def _usd_core(asset, context):
     invalid_bindings = {o.detail["target"] for o in asset.observations if o.kind == "usd_binding_invalid"}
     bound_prims = {o.location.path for o in asset.observations if o.kind == "usd_binding_invalid"}
     packaged = {o.detail["entry"] for o in asset.observations if o.kind == "usd_package_entry" and o.detail.get("file_type")}
+    preview_roles = _preview_roles(asset)
     for finding in findings:
         name, sites = finding["name"], finding["sites"]
         prims = {site.split(".", 1)[0] for site in sites}
@@ -520,8 +537,8 @@ def _usd_core(asset, context):
             continue
         if name == "UnsupportedFileExtensionInPackage" and any(f"'{entry}'" in finding["message"] for entry in packaged):
             continue  # OPBR1012 reports the image
-        if name == "MismatchedPropertyType" and prims and prims <= read_shaders:
-            continue
+        if name == "MismatchedPropertyType" and prims and prims <= read_shaders and not set(sites) & preview_roles:
+            continue  # OPBR201/OPBR1002 judge the read shaders' types, but for a preview's role, which they allow
         if name == "MissingShaderIdInRegistry" and prims and prims <= reported_ids:
             continue
         if name == "MissingShaderIdInRegistry" and prims and prims <= renderer_nodes:

@@ -2,8 +2,10 @@
 render) against its own specification and against the OpenPBR shader of the same Material.
 
 UsdPreviewSurface has two workflows (metalness, ``useSpecularWorkflow`` 0, and specular, 1), each
-ignoring the other's inputs (OPBR1008); a non-zero ``opacityThreshold`` makes opacity a cut-out
-mask and overrides ``opacityMode`` (OPBR1007); its ``normal`` input wants tangent-space vectors in
+ignoring the other's inputs (OPBR1008 for a metallic the specular workflow ignores; OPBR1035, info, for the
+specularColor exporters write beside metalness materials); a non-zero ``opacityThreshold`` makes opacity a cut-out
+mask and overrides ``opacityMode`` (OPBR1007; a mask texture that never reaches it cuts the whole material away,
+OPBR1034); its ``normal`` input wants tangent-space vectors in
 [-1, 1], which an 8-bit image only gives through UsdUVTexture's scale 2 and bias -1 (OPBR1006,
 judged from the file's suffix; the image is not opened). A Material carrying both an OpenPBR
 shader and a UsdPreviewSurface fallback should show the same look in both (OPBR1009: constants
@@ -17,9 +19,12 @@ from __future__ import annotations
 
 from .. import colorspaces, tables
 from ..diagnostics import Severity
+from ..io.image_content import channel_largest
 from ..io.usd.types import UV_TEXTURE_ID, is_eight_bit
 from ..model import Location, rgb_components
 from . import Rule, constant_or_default
+from .texture_pixels import MAX_INSPECTED_PIXELS
+from .textures import image_of
 from .usd_examples import stage_example
 
 
@@ -75,12 +80,45 @@ OPACITY_THRESHOLD = Rule(
                      "float inputs:opacityThreshold = 0.5"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("mask.png",),
 )
+OPACITY_TEXTURE_CUTS_EVERYTHING = Rule(
+    "OPBR1034", "preview-opacity-texture-hides-everything", Severity.ERROR,
+    "A UsdPreviewSurface's opacity reads a texture that never reaches its opacityThreshold: the largest value of "
+    "the channel it reads, times the UsdUVTexture's scale plus its bias, is below the threshold everywhere, so the "
+    "whole material is cut away.",
+    "UsdPreviewSurface specification: with an opacityThreshold above 0, \"rendering of the surface is limited to "
+    "the areas where the opacity is greater or equal to that value\" (Storm and MaterialX's ND_UsdPreviewSurface "
+    "discard the rest). Filtering and mipmaps average texels, so no lookup exceeds the largest one (an sRGB decode "
+    "only lowers it): when that one is below the threshold the material is invisible from every angle and at "
+    "every distance. Usually a mask read from the wrong channel, an empty alpha, or a threshold meant for "
+    "another texture. (A constant opacity below the threshold is OPBR1007, a warning, as it may be a holdout; "
+    "glTF's counterpart is OPBR1249.) Repaint the mask, read the channel that holds it, or lower the threshold.",
+    passing=_preview("float inputs:opacity.connect = </M/mask.outputs:a>", "float inputs:opacityThreshold = 0.5",
+                     extra=_uv_texture("mask", "mask.png", output="a", output_type="float")),
+    failing=_preview("float inputs:opacity.connect = </M/mask.outputs:b>", "float inputs:opacityThreshold = 0.5",
+                     extra=_uv_texture("mask", "mask.png", output="b", output_type="float")),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("mask.png",),
+)
 WORKFLOW_INPUT_IGNORED = Rule(
     "OPBR1008", "preview-workflow-input-ignored", Severity.WARNING,
-    "A UsdPreviewSurface input of the other workflow is authored: specularColor with "
-    "useSpecularWorkflow 0, or metallic with useSpecularWorkflow 1.",
-    "useSpecularWorkflow selects the metalness (0, the default) or the specular (1) workflow; the "
-    "other workflow's input is ignored, so the value an artist set has no effect.",
+    "A UsdPreviewSurface in the specular workflow (useSpecularWorkflow 1) authors metallic above 0, which that "
+    "workflow ignores.",
+    "useSpecularWorkflow selects the metalness (0, the default) or the specular (1) workflow; the other "
+    "workflow's input is ignored. A metallic set in the specular workflow is a metal that renders as a "
+    "dielectric with the specularColor's reflection (black by default: no reflection at normal incidence), "
+    "usually a Maya or glTF-derived export that switched the workflow on. (The converse, a specularColor in the "
+    "metalness workflow, is what exporters write beside every metalness material and changes nothing: OPBR1035, "
+    "info.)",
+    passing=_preview("int inputs:useSpecularWorkflow = 1", "color3f inputs:specularColor = (0.95, 0.64, 0.54)"),
+    failing=_preview("int inputs:useSpecularWorkflow = 1", "float inputs:metallic = 1"),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+SPECULAR_COLOR_UNUSED = Rule(
+    "OPBR1035", "preview-specular-color-unused", Severity.INFO,
+    "A UsdPreviewSurface in the metalness workflow (useSpecularWorkflow 0, the default) authors specularColor, "
+    "which that workflow ignores.",
+    "The value renders nothing; exporters write it beside every material (Pixar's and the USD working group's "
+    "published assets do), so it is noted, not warned about. Set useSpecularWorkflow = 1 if the specular "
+    "workflow was meant.",
     passing=_preview("int inputs:useSpecularWorkflow = 1", "color3f inputs:specularColor = (0.04, 0.04, 0.04)"),
     failing=_preview("color3f inputs:specularColor = (0.04, 0.04, 0.04)"),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
@@ -132,7 +170,8 @@ SCALE_AS_TILING = Rule(
     passing_name="example.usda", failing_name="example.usda", formats=("usd",), example_files=("albedo.png",),
 )
 
-RULES = (NORMAL_MAP_ENCODING, OPACITY_THRESHOLD, WORKFLOW_INPUT_IGNORED, PREVIEW_DISAGREES, SCALE_AS_TILING)
+RULES = (NORMAL_MAP_ENCODING, OPACITY_THRESHOLD, WORKFLOW_INPUT_IGNORED, PREVIEW_DISAGREES, SCALE_AS_TILING,
+         OPACITY_TEXTURE_CUTS_EVERYTHING, SPECULAR_COLOR_UNUSED)
 
 # OPBR1009 limits; a project can override them with thresholds of the same names.
 PREVIEW_LIMITS = {
@@ -148,7 +187,41 @@ def check(asset, context):
     for material in asset.materials:
         if material.model == "UsdPreviewSurface":
             yield from _preview_conventions(material, context)
+            yield from _mask_cuts_everything(asset, material, context)
     yield from _preview_agreement(asset, context)
+
+
+_CUT_TOLERANCE = 1e-6  # an opacity equal to the threshold is drawn ("greater or equal"): never claimed
+
+
+def _mask_cuts_everything(asset, material, context):
+    """OPBR1034: an 8-bit or 16-bit image's largest value in the channel ``opacity`` reads (full resolution),
+    times a non-negative scale plus the bias, below a positive ``opacityThreshold``. Not claimed for UDIM sets
+    (other tiles), a negative scale (the smallest texel would decide), or an image that cannot be read."""
+    threshold = constant_or_default(material, "opacityThreshold")
+    entry = material.inputs.get("opacity")
+    texture = entry.texture if entry is not None else None
+    if not isinstance(threshold, (int, float)) or not threshold > 0 or texture is None \
+            or texture.node_category != UV_TEXTURE_ID or texture.channels is None or len(texture.channels) != 1 \
+            or "<UDIM>" in texture.file.upper():
+        return
+    scale = 1.0 if texture.scale is None else texture.scale
+    bias = 0.0 if texture.bias is None else texture.bias
+    if not isinstance(scale, (int, float)) or not isinstance(bias, (int, float)) or scale < 0:
+        return
+    image = image_of(asset, texture, context, {})
+    largest = channel_largest(image, texture.channels[0], MAX_INSPECTED_PIXELS) if image is not None else None
+    if largest is None or not largest * scale + bias < threshold - _CUT_TOLERANCE:
+        return
+    channel = "rgba"[texture.channels[0]]
+    scaled = (f" times scale {scale:g}" if scale != 1.0 else "") + (f" plus bias {bias:g}" if bias else "")
+    yield context.diagnostic(
+        OPACITY_TEXTURE_CUTS_EVERYTHING,
+        f"{material.name}: opacity reads channel {channel} of {texture.file!r}, whose largest value is {largest:.3g}{scaled}: below "
+        f"opacityThreshold {threshold:g} everywhere, so every fragment is discarded and the material is invisible",
+        Location(texture.location.file if texture.location else material.location.file, None, texture.node, "file"),
+        hint="read the channel that holds the mask (an RGB image has no alpha: a is 1), repaint its alpha, or lower "
+             "opacityThreshold")
 
 
 def _preview_conventions(material, context):
@@ -206,7 +279,8 @@ def _preview_conventions(material, context):
         if entry is not None and entry.value is not None and entry.constant != default:  # a default changes nothing
             mode = "metalness workflow (useSpecularWorkflow 0)" if workflow == 0 else "specular workflow (useSpecularWorkflow 1)"
             yield context.diagnostic(
-                WORKFLOW_INPUT_IGNORED, f"{ignored} is ignored in the {mode}", entry.location,
+                WORKFLOW_INPUT_IGNORED if workflow == 1 else SPECULAR_COLOR_UNUSED, f"{ignored} is ignored in the {mode}",
+                entry.location,
                 hint="set useSpecularWorkflow = 1" if workflow == 0 else "set useSpecularWorkflow = 0, or remove metallic",
             )
 

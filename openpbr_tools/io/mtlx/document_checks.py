@@ -27,6 +27,9 @@ observed once per document for the rules of :mod:`openpbr_tools.rules.mtlx_docum
   MaterialX resolves it: the enclosing ``fileprefix`` and tokens applied), so the texture family checks the files
   of images the graph follower does not turn into textures (an image whose texcoord is computed, as every
   GPUOpen-library material's is) as it checks the others;
+* ``mtlx_normalmap_image``: the file of an image a ``normalmap`` decodes (through ``convert``/``dot`` nodes), so the
+  texture family judges it as a normal map where the graph follower does not make it a texture (a computed
+  texcoord);
 * ``mtlx_image_colorspace``: a float or vector image a material reads (a displacement's height as well as a shader
   input) whose file input or node itself carries a colour space, which MaterialX does not apply to such an image.
 """
@@ -147,6 +150,10 @@ def _connections(nodes, asset, where) -> None:
             image = _image_behind(node.getInput("in"))
             if image is not None and image.getCategory() == "hextiledimage":
                 asset.observe("mtlx_hextiled_normal", where(node, "in"), node=node.getNamePath(), image=image.getNamePath())
+            file = image.getInput("file") if image is not None else None
+            if file is not None and file.hasValueString() and file.getValueString().strip():
+                asset.observe("mtlx_normalmap_image", where(image, "file"), node=image.getNamePath(),
+                              file=file.getResolvedValueString(), normalmap=node.getNamePath())
             tangent = node.getInput("tangent")
             texcoord = image.getInput("texcoord") if image is not None else None
             reader = _upstream(texcoord) if texcoord is not None else None
