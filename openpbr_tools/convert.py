@@ -85,7 +85,18 @@ def _meters_per_unit(material: Material, asset: Asset) -> tuple[float, list[str]
         return 1.0, []
     if asset.format == "usd":
         return load_json("units.json")["usd_default_meters_per_unit"], []
-    return 1.0, [n for n in ("transmission_depth", "subsurface_radius") if n in material.inputs]
+    table = tables.table(material.model, material.version if material.version in tables.versions(material.model)
+                         else None)
+    return 1.0, [n for n in ("transmission_depth", "subsurface_radius") if n in material.inputs
+                 and not _switched_off(material, table, n)]
+
+
+def _switched_off(material: Material, table, name: str) -> bool:
+    """Whether ``name``'s lobe is switched off by a constant 0 (absent means its default): its value renders nothing."""
+    switch = table.lobe_switch(name)
+    entry = material.inputs.get(switch) if switch else None
+    value = table[switch].default if switch and entry is None else entry.constant if entry is not None else None
+    return isinstance(value, (int, float)) and not isinstance(value, bool) and value <= 0
 
 
 def convert_file(input_path: str, output_path: str, target: str | None = None, settings: Settings | None = None,

@@ -51,6 +51,11 @@ class Parameter:
         return self.hard_min + 1e-6 * max(1.0, abs(self.hard_min))
 
 
+#: parameter groups whose first parameter (a weight, Standard Surface's thin film thickness) switches the whole
+#: lobe off at 0: the others then have no effect
+SWITCHED_GROUPS = ("transmission", "subsurface", "fuzz", "sheen", "coat", "thin film", "emission")
+
+
 @dataclass(frozen=True, slots=True)
 class ParameterTable:
     model: str
@@ -69,6 +74,16 @@ class ParameterTable:
 
     def get(self, name: str) -> Parameter | None:
         return self.parameters.get(name)
+
+    def lobe_switch(self, name: str) -> str | None:
+        """The parameter that switches ``name``'s lobe on, where ``name`` is another parameter of a lobe that does
+        nothing at a switch of 0 (its group's first parameter: transmission_weight for transmission_depth, coat for
+        Standard Surface's coat_affect_color, thin_film_thickness for its thin_film_IOR), else ``None``."""
+        parameter = self.parameters.get(name)
+        if parameter is None or parameter.group not in SWITCHED_GROUPS:
+            return None
+        first = next(n for n, p in self.parameters.items() if p.group == parameter.group)
+        return None if first == name else first
 
 
 def _relative(model: str, version: str) -> str:

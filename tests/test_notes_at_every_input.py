@@ -118,3 +118,76 @@ def Material "M"
     mx.readFromXmlFile(document, str(out))
     shader = next(n for n in document.getNodes() if n.getCategory() == "open_pbr_surface")
     assert shader.getInput("base_color").getValueString() == ""  # a connection to the baked image
+
+
+# Set V (session 23), a black-box audit: each input changed in turn, outputs and notes compared.
+
+def _openpbr(tmp_path, inputs: str):
+    return mtlx(tmp_path, f'''
+        <open_pbr_surface name="S" type="surfaceshader">
+          {inputs}
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+        ''')
+
+
+def _preview_inputs() -> set[str]:
+    document = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), document)
+    return {i.getName() for i in document.getNodeDef("ND_UsdPreviewSurface_surfaceshader").getActiveInputs()}
+
+
+def test_a_dropped_lobe_takes_a_note_at_each_of_its_inputs(tmp_path):
+    """V1/V2: the preview has no fuzz and no film; fuzz_color and thin_film_thickness had no note of their own."""
+    assert not {"fuzz_color", "fuzz_roughness", "thin_film_thickness"} & _preview_inputs()
+    source = _openpbr(tmp_path, '''<input name="fuzz_weight" type="float" value="0.8" />
+          <input name="fuzz_color" type="color3" value="0.9, 0.3, 0.2" />
+          <input name="fuzz_roughness" type="float" value="0.8" />
+          <input name="thin_film_weight" type="float" value="1" />
+          <input name="thin_film_thickness" type="float" value="0.4" />''')
+    notes = _notes(convert_file(str(source), str(tmp_path / "out.mtlx"), "UsdPreviewSurface", Settings()))
+    for name in ("fuzz_weight", "fuzz_color", "fuzz_roughness", "thin_film_weight", "thin_film_thickness"):
+        assert ("OPBR1104", "error") in notes[name], name
+
+
+def test_an_input_of_a_switched_off_lobe_is_noted_not_an_error(tmp_path):
+    """V10: Standard Surface's transmission_extra_roughness with transmission 0 renders nothing (OpenPBR has no such
+    input): an info note that it is not written, not an error."""
+    source = _standard_surface(tmp_path, '''<input name="transmission_extra_roughness" type="float" value="0.3" />
+          <input name="coat_affect_color" type="float" value="0.5" />''')
+    notes = _notes(convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings()))
+    assert notes["transmission_extra_roughness"] == [("OPBR1102", "info")]
+    assert notes["coat_affect_color"] == [("OPBR1102", "info")]
+    on = _standard_surface(tmp_path, '''<input name="transmission" type="float" value="1" />
+          <input name="transmission_extra_roughness" type="float" value="0.3" />''')
+    notes = _notes(convert_file(str(on), str(tmp_path / "on.mtlx"), "open_pbr_surface", Settings()))
+    assert ("OPBR1104", "error") in notes["transmission_extra_roughness"]
+
+
+def test_a_length_of_a_switched_off_lobe_is_not_warned_about(tmp_path):
+    """V11: "carry no unit; taken as metres" on a transmission_depth whose transmission is 0."""
+    off = _openpbr(tmp_path, '<input name="transmission_depth" type="float" value="0.5" />')
+    notes = _notes(convert_file(str(off), str(tmp_path / "off.mtlx"), "standard_surface", Settings()))
+    assert "transmission_depth" not in notes
+    on = _openpbr(tmp_path, '''<input name="transmission_weight" type="float" value="1" />
+          <input name="transmission_depth" type="float" value="0.5" />''')
+    notes = _notes(convert_file(str(on), str(tmp_path / "on.mtlx"), "standard_surface", Settings()))
+    assert ("OPBR1103", "warning") in notes["transmission_depth"]
+
+
+def test_a_film_on_a_metal_is_an_approximation(tmp_path):
+    """V6: a Standard Surface film on a metal was reported as an exact unit change; the evaluator puts the OpenPBR
+    result 9.3 mean CIEDE2000 off (0.6 without the film), MaterialX's GLSL 6.2 (1.4)."""
+    metal = _standard_surface(tmp_path, '''<input name="base_color" type="color3" value="0.41, 0.879, 0.708" />
+          <input name="metalness" type="float" value="1" />
+          <input name="specular_roughness" type="float" value="0.174" />
+          <input name="thin_film_thickness" type="float" value="430" />''')
+    conversion = convert_file(str(metal), str(tmp_path / "metal.mtlx"), "open_pbr_surface", Settings())
+    assert ("OPBR1103", "warning") in _notes(conversion)["thin_film_thickness"]
+    # the candidates' note says the material stays visibly off, as a warning
+    assert any(d.code == "OPBR1103" and "still visibly off" in d.message for d in conversion.diagnostics)
+    plastic = _standard_surface(tmp_path, '''<input name="thin_film_thickness" type="float" value="430" />''')
+    conversion = convert_file(str(plastic), str(tmp_path / "plastic.mtlx"), "open_pbr_surface", Settings())
+    assert _notes(conversion)["thin_film_thickness"] == [("OPBR1102", "info")]  # nanometres to micrometres, exact

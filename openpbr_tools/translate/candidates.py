@@ -51,6 +51,7 @@ from .judging import RIG_SIZE, Figure, Judge, constant_values, figures_many, sco
 from .search import search as parameter_search
 from .common import Settings, Translation
 
+VISIBLE = 2.3  # mean CIEDE2000, just noticeable: a kept result further off is reported as a warning
 MARGIN = 0.25  # mean CIEDE2000: a smaller win does not pay for what the graphs drop (thin-walled, subsurface)
 
 
@@ -263,8 +264,11 @@ def _decide(source, translation, target, settings, candidate, judge, scores, our
                + (f" ({best_ours:.2f} fitted)" if ours_fit else "") + f", MaterialX's translation graphs {theirs:.2f}"
                + (f" ({best_theirs:.2f} fitted)" if theirs_fit else ""))
     if not best_theirs < best_ours - MARGIN:
+        visible = best_ours > VISIBLE  # the best the target holds still looks different: a warning, not a note
         translation.diagnostics.append(context.diagnostic(
-            CONVERTED, f"{source.name}: candidates for {target}: {figures}; kept the toolkit's", where))
+            APPROXIMATED if visible else CONVERTED, f"{source.name}: candidates for {target}: {figures}; kept the "
+            "toolkit's" + (f", still visibly off (above {VISIBLE:g}; the other notes say what the target cannot hold)"
+                           if visible else ""), where))
         return _with_fit(source, translation, ours, ours_fit, settings)
     candidate.extra = dict(translation.material.extra)  # glTF state, drafts: the material's, not the mapping's
     notes = [d for d in translation.diagnostics if d.code != APPROXIMATED.code]

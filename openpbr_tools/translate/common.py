@@ -359,15 +359,6 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         handled.add(source_name)
         failed.update((name, mapping.target) for name in textured[1:])
     current[0] = None
-    for drop in dropped:
-        if not values.authored(drop.source):
-            continue
-        arrays = [values.constant(s) for s in (drop.source, *drop.needs)]
-        if not values.is_constant(drop.source) or drop.matters is None or \
-                (all(a is not None for a in arrays) and drop.matters(*arrays)):
-            say(NOT_CARRIED, f"{drop.source} has no equivalent: {drop.why}", drop.source)
-            handled.add(drop.source)
-    probes.unreached(material, mappings, handled, failed, source_table, say)
     folded: list[tuple[str, Diagnostic]] = []
 
     def fold(rule, message: str, name: str) -> None:
@@ -375,6 +366,29 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         say(rule, message, name)
         folded.append((name, report.pop(start)))
 
+    dropped_lobes = []
+    for drop in dropped:
+        if not values.authored(drop.source):
+            continue
+        if _lobe_off(drop.source, values, source_table):  # its value is lost, but renders nothing: a note, no error
+            if _off_default(drop.source, values, source_table):
+                say(CONVERTED, f"{drop.source} has no equivalent ({drop.why}); not written: it has no effect while "
+                               f"{source_table.lobe_switch(drop.source)} is 0", drop.source)
+                handled.add(drop.source)
+            continue
+        arrays = [values.constant(s) for s in (drop.source, *drop.needs)]
+        if not values.is_constant(drop.source) or drop.matters is None or \
+                (all(a is not None for a in arrays) and drop.matters(*arrays)):
+            say(NOT_CARRIED, f"{drop.source} has no equivalent: {drop.why}", drop.source)
+            handled.add(drop.source)
+            dropped_lobes.append(drop.source)
+    probes.unreached(material, mappings, handled, failed, source_table, say)
+    read = {name for mapping in mappings for name in mapping.sources} | {drop.source for drop in dropped}
+    for switch in dropped_lobes:  # a lobe dropped whole: its other inputs go with it (fuzz_color with fuzz_weight)
+        for name, parameter in source_table.parameters.items():
+            if source_table.lobe_switch(name) == switch and name not in read and name not in handled \
+                    and values.authored(name) and _off_default(name, values, source_table):
+                fold(NOT_CARRIED, f"{name}: not carried: it goes with its lobe ({switch} has no equivalent)", name)
     _companions(noted, mappings, values, source_table, fold)
     report.sort(key=Diagnostic.sort_key)
     return Translation(result, report, material, folded)
@@ -401,14 +415,27 @@ def _companions(noted, mappings, values: Values, source_table, say) -> None:
             if source in sites or leads.get(source, {id(mapping)}) - {id(mapping)} or source not in source_table \
                     or not values.authored(source):
                 continue
-            if values.is_constant(source):
-                value = values.constant(source)
-                if value is None or _equal(value, source_table[source].default):
-                    continue  # at its default: nothing of it to lose
+            if not _off_default(source, values, source_table):
+                continue  # at its default: nothing of it to lose
             sites.add(source)
             how = {NOT_CARRIED: "not carried", APPROXIMATED: "approximated"}.get(rule, "converted")
             say(NOT_CARRIED if rule is NOT_CARRIED else CONVERTED,  # the loss's severity stands at its own note
                 f"{source}: folded into {mapping.target} with the other inputs ({how}: see the note at {name})", source)
+
+
+def _off_default(name: str, values: Values, source_table) -> bool:
+    """Whether ``name`` holds something other than its default: a texture or graph, or another constant."""
+    if not values.is_constant(name):
+        return True
+    value = values.constant(name)
+    return value is not None and not _equal(value, source_table[name].default)
+
+
+def _lobe_off(name: str, values: Values, source_table) -> bool:
+    """Whether ``name`` belongs to a lobe whose switch (tables.ParameterTable.lobe_switch) is a constant 0."""
+    switch = source_table.lobe_switch(name)
+    value = values.constant(switch) if switch is not None and values.is_constant(switch) else None
+    return value is not None and not bool(np.any(np.asarray(value) > 0))
 
 
 def _site(mapping: Mapping, values: Values, textured: str | None = None) -> str:

@@ -507,7 +507,11 @@ FROM_SS = (
             otherwise=(1.0, "where the thickness is 0 a film of weight 1 is no film (OpenPBR; MaterialX's "
                             "thin-film BSDFs apply only a thickness above 0), as MaterialX's translation graph "
                             "writes it (ifgreater)")),
-    Mapping("thin_film_thickness", ("thin_film_thickness",), lambda t: t / 1000.0, converted="nanometres to micrometres"),
+    Mapping("thin_film_thickness", ("thin_film_thickness", "metalness"), lambda t, m: t / 1000.0,
+            converted="nanometres to micrometres", exact=False, matters=lambda t, m: bool(np.any(t > 0) and np.any(m > 0)),
+            note="nanometres to micrometres; on a metal the film interferes over Standard Surface's artistic-IOR "
+                 "conductor, in OpenPBR over its F82 metal: other colours (the evaluator and MaterialX's GLSL: 6-9 "
+                 "mean CIEDE2000 on a green metal under 430 nm)"),
     Mapping("thin_film_ior", ("thin_film_IOR",)),
     Mapping("emission_luminance", ("emission",)),
     Mapping("emission_color", ("emission_color",)),

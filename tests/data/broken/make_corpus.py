@@ -653,8 +653,11 @@ case("OPBR1006_normal_scale_only.usda", "OPBR1006", "A normal map with scale 2 b
      preview('normal3f inputs:normal.connect = </M/nrm.outputs:rgb>', uvtex("nrm", "textures/normal.png", cs="raw", extra='    float4 inputs:scale = (2, 2, 2, 1)\n')))
 case("OPBR1007_threshold_with_transparent.usda", "OPBR1007", "opacityThreshold set while opacityMode is transparent.",
      preview('token inputs:opacityMode = "transparent"\nfloat inputs:opacity = 0.4\nfloat inputs:opacityThreshold = 0.5'))
-case("OPBR1008_specular_color_metal_workflow.usda", "OPBR1008", "specularColor authored in the metallic workflow (useSpecularWorkflow 0).",
-     preview('color3f inputs:specularColor = (0.04, 0.04, 0.04)'))
+case("OPBR1008_metallic_with_black_specular.usda", "OPBR1008", "A metal (metallic 0.9) in the specular workflow without a specularColor: no reflection at normal incidence.",
+     preview('int inputs:useSpecularWorkflow = 1\nfloat inputs:metallic = 0.9\ncolor3f inputs:diffuseColor = (0.9, 0.6, 0.3)'))
+case("OPBR1034_mask_below_threshold.usda", "OPBR1034", "opacity reads the red of a mid-grey image (128/255 everywhere) under opacityThreshold 0.6: the whole material is cut away.",
+     preview('float inputs:opacity.connect = </M/mask.outputs:r>\nfloat inputs:opacityThreshold = 0.6',
+             uvtex("mask", "textures/albedo.png", out="r", out_type="float", cs="raw")))
 case("OPBR1008_metallic_in_specular_workflow.usda", "OPBR1008", "metallic authored with useSpecularWorkflow 1.",
      preview('int inputs:useSpecularWorkflow = 1\nfloat inputs:metallic = 1'))
 case("OPBR1009_preview_disagrees.usda", "OPBR1009", "The UsdPreviewSurface fallback is blue while the OpenPBR shader is brown.",
