@@ -202,8 +202,25 @@ ALPHA_CUTS_EVERYTHING = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
+_RGB_ONLY = "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAIAAAACCAIAAAD91JpzAAAAFklEQVR42mOsWGDDwMDAxMDAwMDAAAAQVgFYyFCc/gAAAABJRU5ErkJggg=="
+
+MASK_WITHOUT_ALPHA = Rule(
+    "OPBR1250", "gltf-mask-without-alpha", Severity.INFO,
+    "Under alphaMode MASK the base colour texture has no alpha channel (an RGB JPEG or PNG) and baseColorFactor's "
+    "alpha reaches alphaCutoff: every fragment is kept, so the cut-out cuts nothing.",
+    "glTF 2.0 (3.9.2): an image without alpha reads alpha 1, so the material's alpha is baseColorFactor's fourth "
+    "component everywhere; at or above alphaCutoff nothing is discarded (3.9.4) and the leaves, grilles or lace "
+    "the mask was meant to cut render as solid quads. Usually the opacity was exported as a separate image, or "
+    "the base colour re-saved as JPEG (which has no alpha). The Khronos glTF-Validator does not read texels. "
+    "(The converse, alpha below the cutoff everywhere, is OPBR1249.) An info, not a warning: Khronos' own "
+    "CompareIor sample sets MASK over a JPEG logo, where the solid quad is what it shows. Put the mask in the base "
+    "colour texture's alpha, or set alphaMode OPAQUE.",
+    passing=_cut_out(_ALPHA_ONE_TEXEL), failing=_cut_out(_RGB_ONLY),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
 RULES = (IMAGE_ENCODING, IMAGE_ORIENTATION, IMAGE_FEATURES, DATA_IN_UNREAD_CHANNEL, GREY_METAL_ROUGH, OCCLUSION_BLACK,
-         ALPHA_CUTS_EVERYTHING)
+         ALPHA_CUTS_EVERYTHING, MASK_WITHOUT_ALPHA)
 
 #: What each feature of the reader's (io/gltf/image_features.py) is called, per format.
 _FEATURE_WORDS = {"image/png": {"icc_profile": "an embedded ICC profile (iCCP)", "non_square_pixels": "non-square pixels (pHYs)",
@@ -462,6 +479,14 @@ def _alpha_hides_everything(asset, material, image_by_texture, decoded, context)
         return
     if image.get("alpha") is False:
         largest = 255  # no alpha channel: every texel's alpha is 1
+        if mode == 1 and factor >= cutoff - _ALPHA_TOLERANCE:
+            yield context.diagnostic(
+                MASK_WITHOUT_ALPHA, f"{material.name}: alphaMode MASK, but the base colour texture, image "
+                f"{image['index']} ({image['file']}), has no alpha channel and baseColorFactor's alpha is {factor:g}: "
+                f"alpha is {factor:g} everywhere, at or above alphaCutoff {cutoff:g}, so nothing is cut out",
+                Location(asset.path, None, texture.node, "index"),
+                hint="put the cut-out mask in the texture's alpha (a PNG with alpha), or set alphaMode OPAQUE")
+            return
     else:
         maxima = _maxima(asset, texture, decoded, context)
         if maxima is None or len(maxima) < 4:

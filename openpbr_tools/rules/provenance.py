@@ -465,6 +465,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1249": ("Every viewer discards a MASK fragment whose alpha is below alphaCutoff (and BLEND draws alpha 0 as "
                  "nothing): when no texel of the base colour texture reaches it, the whole surface disappears, in "
                  "every viewer; the glTF-Validator reads no texels.", f"{GLTF}; {GLTF_MATERIAL_SCHEMA}"),
+    "OPBR1250": ("Every viewer reads alpha 1 from an image without alpha: a MASK material whose base colour texture "
+                 "has none keeps every fragment, and its cut-out renders as solid geometry; the glTF-Validator reads "
+                 "no texels.", f"{GLTF}; {GLTF_MATERIAL_SCHEMA}"),
     "OPBR1201": ("glTF loaders ignore extensions not listed in extensionsUsed (and the Khronos validator "
                  "errors): the extension's look is lost. A loader without KHR_mesh_quantization, listed as optional, "
                  "misreads the quantised attributes instead of refusing the file (NON_REQUIRED_EXTENSION).", f"{GLTF}; https://github.com/KhronosGroup/glTF-Validator"),

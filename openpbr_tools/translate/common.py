@@ -372,8 +372,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             continue
         if _lobe_off(drop.source, values, source_table):  # its value is lost, but renders nothing: a note, no error
             if _off_default(drop.source, values, source_table):
-                say(CONVERTED, f"{drop.source} has no equivalent ({drop.why}); not written: it has no effect while "
-                               f"{source_table.lobe_switch(drop.source)} is 0", drop.source)
+                say(CONVERTED, f"{drop.source} has no equivalent ({drop.why}), so it is not carried: it has no "
+                               f"effect while {source_table.lobe_switch(drop.source)} is 0", drop.source)
                 handled.add(drop.source)
             continue
         arrays = [values.constant(s) for s in (drop.source, *drop.needs)]
