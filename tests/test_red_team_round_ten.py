@@ -15,6 +15,8 @@ controls). Four misses and one false alarm, each against its authority:
 
 from __future__ import annotations
 
+from pathlib import Path
+
 from PIL import Image
 
 from redteam_support import findings, messages, mtlx, report
@@ -134,3 +136,207 @@ def test_a_transform2d_rotation_of_22_5_degrees_in_radians_is_found(tmp_path):
         assert bool(found) is expected, rotation
         if expected:
             assert "22.5 degrees written in radians" in found[0]
+
+
+def test_a_scaled_srgb_preview_texture_is_decoded_before_its_scale(tmp_path):
+    """Set T's u15 (7.2 mean CIEDE2000 against MaterialX's GLSL, unexplained in session 22): a UsdUVTexture with
+    sourceColorSpace sRGB and scale 0.5 feeding emissiveColor. The UsdPreviewSurface specification decodes the
+    texture (sourceColorSpace) and then applies ``value * scale + bias``, as Storm does (an sRGB texture format
+    decodes at sampling; the shader scales). MaterialX's GLSL transforms the UsdUVTexture node's output instead,
+    after the scale: decode(0.5 x), darker and more saturated. The conversion keeps the specification's product."""
+    import glob
+
+    import numpy as np
+
+    image = Image.new("RGB", (4, 1))
+    image.putdata([(255, 76, 51), (128, 152, 204), (10, 200, 90), (240, 240, 240)])
+    image.save(tmp_path / "emit.png")
+    (tmp_path / "emit.usda").write_text('''#usda 1.0
+def Material "M"
+{
+    token outputs:surface.connect = </M/S.outputs:surface>
+    def Shader "S"
+    {
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor = (0, 0, 0)
+        color3f inputs:emissiveColor.connect = </M/T.outputs:rgb>
+        token outputs:surface
+    }
+    def Shader "T"
+    {
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @emit.png@
+        token inputs:sourceColorSpace = "sRGB"
+        float4 inputs:scale = (0.5, 0.5, 0.5, 1)
+        float3 outputs:rgb
+    }
+}
+''', encoding="utf-8")
+    from openpbr_tools.convert import convert_file
+    from openpbr_tools.translate.common import Settings
+
+    convert_file(str(tmp_path / "emit.usda"), str(tmp_path / "out" / "emit.mtlx"), "open_pbr_surface", Settings())
+
+    def decode(v):  # the sRGB transfer function (IEC 61966-2-1)
+        return np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4)
+
+    texels = np.asarray(image, dtype=np.float64) / 255.0
+    colour = decode(np.asarray(Image.open(glob.glob(str(tmp_path / "out" / "*" / "*emission_color*"))[0]).convert("RGB"),
+                               dtype=np.float64) / 255.0)
+    luminance = np.asarray(Image.open(glob.glob(str(tmp_path / "out" / "*" / "*emission_luminance*"))[0]),
+                           dtype=np.float64)
+    luminance = luminance / (65535.0 if luminance.max() > 255 else 255.0)
+    baked = colour * luminance[..., None]
+    assert np.allclose(baked, 0.5 * decode(texels), atol=0.004)  # the specification's order
+    assert not np.allclose(baked, decode(0.5 * texels), atol=0.02)  # MaterialX GLSL's order
+
+
+# Set W (session 23): 103 published files from eleven repositories no earlier round used, unmodified. Each test below
+# is one false alarm group, with the fact that makes the file good.
+
+def _preview_stage(tmp_path, *lines: str, metadata: str = 'defaultPrim = "M"\n    metersPerUnit = 1\n    upAxis = "Y"',
+                   extra: str = "") -> Path:
+    body = "".join(f"        {line}\n" for line in lines)
+    path = tmp_path / "stage.usda"
+    path.write_text(f'''#usda 1.0
+(
+    {metadata}
+)
+def Material "M"
+{{
+    token outputs:surface.connect = </M/S.outputs:surface>
+    def Shader "S"
+    {{
+        uniform token info:id = "UsdPreviewSurface"
+{body}        token outputs:surface
+    }}
+{extra}}}
+''', encoding="utf-8")
+    return path
+
+
+def test_blenders_specular_on_a_preview_is_a_note_and_a_misspelling_stays_an_error(tmp_path):
+    """Blender 3.0-4.1's USD exporter writes inputs:specular on every UsdPreviewSurface (tinyusdz's test files);
+    the preview's definition has no such input and readers ignore it: OPBR107 (info), not OPBR101."""
+    from pxr import Sdr
+
+    definition = Sdr.Registry().GetShaderNodeByIdentifier("UsdPreviewSurface")
+    assert "specular" not in definition.GetShaderInputNames() and "roughness" in definition.GetShaderInputNames()
+    found = findings_all(_preview_stage(tmp_path, "float inputs:specular = 0.5"))
+    assert ("OPBR107", "info") in found and not [f for f in found if f[0] == "OPBR101"]
+    found = findings_all(_preview_stage(tmp_path, "float inputs:roughnes = 0.5"))
+    assert ("OPBR101", "error") in found
+
+
+def test_stage_conventions_usd_core_calls_errors_are_notes(tmp_path):
+    """A stage without metersPerUnit, upAxis or defaultPrim, and a primvar reader's varname authored as a token
+    (USD 21.08's form): usd-core's validators report them; every material still binds and renders. OPBR1040."""
+    from pxr import Usd, UsdValidation
+
+    reader = '''    def Shader "uv"
+    {
+        uniform token info:id = "UsdPrimvarReader_float2"
+        token inputs:varname = "st"
+        float2 outputs:result
+    }
+'''
+    path = _preview_stage(tmp_path, "color3f inputs:diffuseColor = (0.5, 0.4, 0.3)", metadata="doc = \"\"", extra=reader)
+    found = findings_all(path)
+    assert not [f for f in found if f[0] == "OPBR1010"], found
+    assert sum(1 for f in found if f == ("OPBR1040", "info")) >= 3  # metersPerUnit, upAxis (or defaultPrim), varname
+    stage = Usd.Stage.Open(str(path))  # the anchor reports them
+    registry = UsdValidation.ValidationRegistry()
+    metadata = registry.GetOrLoadValidatorByName("usdGeomValidators:StageMetadataChecker").Validate(stage)
+    assert any("MetersPerUnit" in str(e.GetName()) for e in metadata)
+    types = registry.GetOrLoadValidatorByName("usdShadeValidators:ShaderSdrCompliance")
+    assert any(e.GetName() == "MismatchedPropertyType" for e in types.Validate(stage.GetPrimAtPath("/M/uv")))
+
+
+def test_a_materialx_gltf_pbr_attenuation_distance_of_zero_is_its_own_default(tmp_path):
+    """KhronosGroup's glTF-MaterialX-Converter writes attenuation_distance 0 on gltf_pbr: MaterialX's nodedef
+    declares it without a value, so an unset input reads 0 too. A glTF file's attenuationDistance 0 is still out of
+    its schema's range (exclusiveMinimum 0)."""
+    import MaterialX as mx
+
+    document = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), document)
+    declared = document.getNodeDef("ND_gltf_pbr_surfaceshader").getActiveInput("attenuation_distance")
+    assert not declared.hasValueString()  # no default value: MaterialX reads 0
+    path = mtlx(tmp_path, '''
+        <gltf_pbr name="S" type="surfaceshader">
+          <input name="attenuation_distance" type="float" value="0" />
+        </gltf_pbr>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+        ''')
+    assert not [f for f in findings(path) if f[0] == "OPBR301"]
+    gltf = tmp_path / "volume.gltf"
+    gltf.write_text('{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_volume"], "materials": [{"name": '
+                    '"M", "extensions": {"KHR_materials_volume": {"thicknessFactor": 0.1, "attenuationDistance": 0}}}]}',
+                    encoding="utf-8")
+    assert [f for f in findings(gltf) if f[0] == "OPBR301"]
+
+
+def _glb(json_text: str, binary: bytes) -> bytes:
+    import struct
+
+    body = json_text.encode("utf-8")
+    body += b" " * (-len(body) % 4)
+    binary += b"\0" * (-len(binary) % 4)
+    chunks = struct.pack("<I4s", len(body), b"JSON") + body + struct.pack("<I4s", len(binary), b"BIN\0") + binary
+    return struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks
+
+
+def test_a_meshopt_fallback_buffer_may_have_no_uri(tmp_path):
+    """EXT_meshopt_compression's README ("Fallback buffers"): a file that requires the extension may give the
+    fallback buffer no URI; glTF-Transform and meshoptimizer write GLBs so (pirate.glb)."""
+    import json
+
+    def document(fallback: bool) -> str:
+        extension = {"EXT_meshopt_compression": {"fallback": True}} if fallback else {}
+        return json.dumps({"asset": {"version": "2.0"}, "extensionsUsed": ["EXT_meshopt_compression"],
+                           "extensionsRequired": ["EXT_meshopt_compression"],
+                           "buffers": [{"byteLength": 4}, {"byteLength": 64, "extensions": extension}],
+                           "materials": [{"name": "M"}]})
+
+    good, bad = tmp_path / "fallback.glb", tmp_path / "missing.glb"
+    good.write_bytes(_glb(document(True), b"\0\0\0\0"))
+    bad.write_bytes(_glb(document(False), b"\0\0\0\0"))
+    assert not [f for f in findings(good) if f[0] == "OPBR1209"]
+    assert [f for f in findings(bad) if f[0] == "OPBR1209"]
+
+
+def test_an_arnold_volume_shader_is_another_renderers_node(tmp_path):
+    """Autodesk's arnold-usd test scenes connect arnold:standard_volume to outputs:arnold:volume; usd-core's registry
+    has no Arnold plugin, so its MissingShaderIdInRegistry says nothing about the asset (as for arnold:surface)."""
+    volume = '''    token outputs:arnold:volume.connect = </M/V.outputs:shader>
+    def Shader "V"
+    {
+        uniform token info:id = "arnold:standard_volume"
+        token outputs:shader
+    }
+'''
+    found = report(_preview_stage(tmp_path, "color3f inputs:diffuseColor = (0.5, 0.4, 0.3)", extra=volume)).diagnostics
+    assert not [d for d in found if d.code == "OPBR1010" and "arnold:standard_volume" in d.message]
+
+
+def test_a_preview_reading_an_undeclared_texture_output_says_so(tmp_path):
+    """arnold-usd's shading test connects diffuseColor to a UsdUVTexture's authored outputs:out, which the node does
+    not declare (rgb, r, g, b, a): the message said the target does not exist, though the attribute does."""
+    texture = '''    def Shader "T"
+    {
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @albedo.png@
+        color3f outputs:out
+    }
+'''
+    Image.new("RGB", (4, 4), (200, 120, 40)).save(tmp_path / "albedo.png")
+    path = _preview_stage(tmp_path, "color3f inputs:diffuseColor.connect = </M/T.outputs:out>", extra=texture)
+    (message,) = messages(path, "OPBR802")
+    assert "UsdUVTexture declares no output 'out'" in message
+
+
+def findings_all(path) -> list[tuple[str, str]]:
+    """(code, severity) of every finding, infos included."""
+    return [(d.code, str(d.severity)) for d in report(path).diagnostics]

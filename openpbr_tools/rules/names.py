@@ -2,7 +2,8 @@
 
 Input names are checked against the parameter table of the version the material was settled on
 (see :mod:`openpbr_tools.versioning`). A name that belongs to another OpenPBR version is reported
-as legacy (OPBR102) rather than unknown, with the versions it belongs to.
+as legacy (OPBR102) rather than unknown, with the versions it belongs to; one a major exporter writes on every
+material and no reader reads (schemas/exporter_inputs.json) is noted (OPBR107).
 """
 
 from __future__ import annotations
@@ -12,7 +13,9 @@ import difflib
 from .. import tables, versioning
 from ..diagnostics import Severity
 from ..io.mtlx.reader import SHADER_CATEGORIES, known_categories
+from ..resources import load_json
 from . import Rule
+from .usd_examples import stage_example
 
 UNKNOWN_INPUT = Rule(
     "OPBR101", "unknown-input", Severity.ERROR,
@@ -65,7 +68,25 @@ VERSION_MISMATCH = Rule(
     failing='<open_pbr_surface name="S" type="surfaceshader" version="1.2" />',
 )
 
-RULES = (UNKNOWN_INPUT, LEGACY_INPUT, DUPLICATE_INPUT, UNKNOWN_CATEGORY, MISSING_NODEDEF, VERSION_MISMATCH)
+EXPORTER_INPUT = Rule(
+    "OPBR107", "exporter-input", Severity.INFO,
+    "An input no version of the shading model defines, which a major exporter writes on every material "
+    "(schemas/exporter_inputs.json: Blender's USD exporter writes specular on each UsdPreviewSurface).",
+    "Readers ignore it, as they ignore any input their definition lacks; the material renders as if it were "
+    "absent, which is what its exporter meant. Noted, not reported as an unknown input (OPBR101): Blender 3.0 "
+    "to 4.1 wrote it on every UsdPreviewSurface, and those files render as authored. A misspelling of a "
+    "defined input is still OPBR101.",
+    passing=stage_example('def Material "M"\n{\n    token outputs:surface.connect = </M/P.outputs:surface>\n'
+                          '    def Shader "P"\n    {\n        uniform token info:id = "UsdPreviewSurface"\n'
+                          '        float inputs:roughness = 0.5\n        token outputs:surface\n    }\n}'),
+    failing=stage_example('def Material "M"\n{\n    token outputs:surface.connect = </M/P.outputs:surface>\n'
+                          '    def Shader "P"\n    {\n        uniform token info:id = "UsdPreviewSurface"\n'
+                          '        float inputs:specular = 0.5\n        token outputs:surface\n    }\n}'),
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+
+RULES = (UNKNOWN_INPUT, LEGACY_INPUT, DUPLICATE_INPUT, UNKNOWN_CATEGORY, MISSING_NODEDEF, VERSION_MISMATCH,
+         EXPORTER_INPUT)
 
 
 def _closest(name: str, choices) -> str | None:
@@ -138,6 +159,11 @@ def _check_material(material, context):
                 f"(the material's version, {material.version_basis})",
                 entry.location, hint="`openpbr upgrade` rewrites legacy inputs for the current version",
             )
+            continue
+        written_by = load_json("exporter_inputs.json").get(model, {}).get(name)
+        if written_by is not None:
+            yield context.diagnostic(EXPORTER_INPUT, f"{model} has no input {name!r}, which no reader reads: {written_by}",
+                                     entry.location)
             continue
         guess = _closest(name, table.parameters)
         yield context.diagnostic(

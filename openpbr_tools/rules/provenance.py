@@ -96,6 +96,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 "implementation and the material does not render.", f"{MX_NODE}; {MX_SPEC}"),
     "OPBR106": ("MaterialX binds a node to the nodedef of its version attribute; a disagreeing version binds "
                 "another definition (other inputs and defaults) or none.", f"{MX_NODE}; {MX_SPEC}"),
+    "OPBR107": ("UsdShade and every UsdPreviewSurface reader ignore an input the shader's definition lacks: one an "
+                "exporter writes on every material renders nothing, as its exporter meant.",
+                f"{USD_PREVIEW}; {USD_SHADER}"),
     # -- values --------------------------------------------------------------------------------
     "OPBR201": ("MaterialX reports a type mismatch and code generators either reject the input or reinterpret "
                 "its components (a float read as a colour), so the value renders differently or not at all.",
@@ -327,6 +330,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "from the OpenPBR look shows another material there.", f"{USD_PREVIEW}; {HD_MTLX}"),
     "OPBR1010": ("usd-core's own validators (the anchor) flag stages that load or render wrongly in USD tools "
                  "(composition errors, missing stage metrics).", f"{USD_COMPLIANCE}; {USD_METRICS}"),
+    "OPBR1040": ("usd-core's validators (the anchor) flag missing stage metadata and the pre-21.11 token varname; "
+                 "neither changes how a bound material renders.", f"{USD_COMPLIANCE}; {USD_METRICS}"),
     "OPBR1025": ("usd-core's validators (the anchor): SubsetMaterialBindFamilyName, SubsetFamilies and "
                  "MaterialBindingCollectionValidator report these as errors; UsdShadeMaterialBindingAPI.ComputeBoundMaterial "
                  "then finds another material, or none (checked on the red team's round-five files ub01, ub06, ub07).",

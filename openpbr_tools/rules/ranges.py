@@ -137,6 +137,10 @@ def check(asset, context):
         values = _components(value)
         if parameter.special_value is not None and values == (parameter.special_value,):
             continue  # (glTF's ior 0: a mode of its own, read by the translation as an infinite IOR)
+        if parameter.default is None and parameter.hard_min_exclusive and values == (parameter.hard_min,) \
+                and asset.format != "gltf":
+            continue  # a MaterialX input without a default reads 0 when unset (gltf_pbr's attenuation_distance): its own
+            # value, written out by converters (KhronosGroup's glTF-MaterialX-Converter); glTF's JSON forbids it
         note = f" ({parameter.range_note})" if parameter.range_note else ""
         low = _outside(values, parameter.hard_min, below=True, exclusive=parameter.hard_min_exclusive)
         high = _outside(values, parameter.hard_max, below=False)

@@ -108,8 +108,9 @@ def check(asset, context):
             if not isinstance(value, Connection):
                 continue
             if value.dangling:
-                yield context.diagnostic(
-                    DANGLING, f"{entry.name} is connected to {value.target!r}, which does not exist",
+                yield context.diagnostic(  # (with the reader's reason: a UsdUVTexture's undeclared output exists)
+                    DANGLING, f"{entry.name} is connected to {value.target!r}, which does not exist"
+                    + (f" ({value.reason})" if value.reason else ""),
                     entry.location, hint="fix the connection (nodename/nodegraph/output, or the USD connection path), or author a value",
                 )
             else:

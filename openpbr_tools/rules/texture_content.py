@@ -111,8 +111,8 @@ _PLACED = ('<texcoord name="uv" type="vector2" />\n<place2d name="turned" type="
            'colorspace="srgb_texture" />\n  <input name="texcoord" type="vector2" nodename="turned" />\n</image>\n')
 ROTATION_UNIT = Rule(
     "OPBR719", "texture-rotation-unit", Severity.WARNING,
-    "A texture-space rotation is written in the other angle unit: a multiple of pi/12 in radians (1.5708, 3.1416, "
-    "0.7854) where place2d rotate or UsdTransform2d rotation take degrees, or a multiple of 15 degrees from 15 to 360 "
+    "A texture-space rotation is written in the other angle unit: a multiple of pi/12, pi/8 or pi/18 in radians "
+    "(1.5708, 0.7854, 0.3927) where place2d rotate or UsdTransform2d rotation take degrees, or a multiple of 15 degrees from 15 to 360 "
     "(90, 45) where glTF's KHR_texture_transform rotation or KHR_materials_anisotropy's anisotropyRotation (the "
     "anisotropy direction's turn in the tangent frame) takes radians.",
     "MaterialX's place2d and UsdPreviewSurface's UsdTransform2d take degrees (MaterialX's GLSL converts with "

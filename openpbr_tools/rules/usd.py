@@ -137,14 +137,29 @@ OUTPUT_TYPE_DIFFERS = Rule(
 USD_CORE = Rule(
     "OPBR1010", "usd-core-validation", Severity.WARNING,
     "usd-core's own validators (UsdValidation) report a problem the other rules do not cover.",
-    "The message is usd-core's, passed through: composition errors, missing upAxis/metersPerUnit/"
-    "defaultPrim, unresolvable references, material-binding and geometry checks, wrong types on "
-    "nodes this toolkit does not model. Findings about shader types, ids, normal maps and texture "
-    "files that OPBR201/OPBR1002/OPBR1003/OPBR1006/OPBR701 already report more precisely are left out. "
-    "The MaterialX node definitions are registered with usd-core first, so OpenPBR shaders raise no "
-    "'not found in sdrRegistry' error; the nodes of other renderers' render contexts (PxrSurface under "
-    "outputs:ri:surface, arnold:standard_surface under outputs:arnold:surface) raise none either, as usd-core "
-    "on PyPI ships no renderer's plugin to define them.",
+    "The message is usd-core's, passed through: composition errors, unresolvable references, "
+    "material-binding and geometry checks, wrong types on nodes this toolkit does not model. Findings about "
+    "shader types, ids, normal maps and texture files that OPBR201/OPBR1002/OPBR1003/OPBR1006/OPBR701 already "
+    "report more precisely are left out, and the stage conventions that do not change how materials render "
+    "are OPBR1040. The MaterialX node definitions are registered with usd-core first, so OpenPBR shaders raise "
+    "no 'not found in sdrRegistry' error; the nodes of other renderers' render contexts (PxrSurface under "
+    "outputs:ri:surface, arnold:standard_surface under outputs:arnold:surface, arnold:standard_volume under "
+    "outputs:arnold:volume) raise none either, as usd-core on PyPI ships no renderer's plugin to define them.",
+    passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
+    failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").rstrip("\n")
+    + '\n\ndef Mesh "Ball"\n{\n    rel material:binding = </M>\n}\n',
+    passing_name="example.usda", failing_name="example.usda", formats=("usd",),
+)
+USD_CORE_CONVENTION = Rule(
+    "OPBR1040", "usd-core-convention", Severity.INFO,
+    "usd-core's validators report a stage convention that does not change how the materials render: "
+    "metersPerUnit, upAxis or defaultPrim not authored (StageMetadataChecker), or a primvar reader's varname "
+    "authored as a token (USD 21.08 and earlier).",
+    "usd-core calls these errors, and they matter where the stage is referenced or placed in a scene (a "
+    "reference without a target prim needs defaultPrim; units and axis default to centimetres and Y). Every "
+    "material still resolves and binds; a length a material reads without a stage unit is OPBR603's, and "
+    "varname has been a string since USD 21.11, but readers convert the older token form. Passed through as a "
+    "note, so published material libraries and test scenes (which omit them) stay quiet.",
     passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
     failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace('    upAxis = "Y"\n', ""),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
@@ -301,7 +316,7 @@ MTLX_REFERENCE = Rule(
 
 RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SCHEME, CONNECTION_TYPE_MISMATCH,
          OUTPUT_TYPE_DIFFERS, USD_CORE, USD_CORE_BINDING, ARC_OUTSIDE, ARC_SHARED_FOLDER, PACKAGE_ENTRY, MTLX_REFERENCE,
-         REMAPPED_NAME)
+         REMAPPED_NAME, USD_CORE_CONVENTION)
 
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
@@ -555,7 +570,10 @@ def _usd_core(asset, context):
         prim, _, attribute = site.partition(".")
         validator = finding["identifier"].rsplit(":", 1)[-1].split(".")[0]
         rule = USD_CORE
-        if finding["severity"] == "error":  # usd-core's errors where the stage then renders wrong: as the anchor says
+        if validator == "StageMetadataChecker" or (name == "MismatchedPropertyType" and attribute == "inputs:varname"
+                                                   and "'token'" in finding["message"]):
+            rule = USD_CORE_CONVENTION  # (its message names the authored type: usd-core's words, the anchor's)
+        elif finding["severity"] == "error":  # usd-core's errors where the stage then renders wrong: as the anchor says
             binding = validator in BINDING_VALIDATORS or (validator == "SubsetsMaterialBindFamily" and finding.get("authored"))
             rule = (USD_CORE_BINDING if binding else PACKAGE_ENTRY if validator in PACKAGE_VALIDATORS
                     else NOT_MATERIALX if validator in COMPOSITION_VALIDATORS else USD_CORE)

@@ -48,6 +48,7 @@ VECTOR_WIDTHS = {"SCALAR": 1, "VEC2": 2, "VEC3": 3, "VEC4": 4}  # (matrices pad 
 _INDEX_DTYPES = {5121: "u1", 5123: "<u2", 5125: "<u4"}  # sparse indices (3.6.2.3)
 _CHUNK_NAMES = {GLB_JSON: "JSON", GLB_BIN: "BIN"}
 BUFFER_MEDIA_TYPES = ("application/octet-stream", "application/gltf-buffer")  # a buffer's data URI (3.6.1)
+MESHOPT = "EXT_meshopt_compression"
 
 
 def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str | None]]:
@@ -86,11 +87,23 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
                        f"the buffer's byteLength {length}: the data at its end is missing (a truncated copy?)", None)
         elif uri is not None:
             yield "gltf_invalid", pointer, f"uri must be a string, not {json_text(uri)}", "uri"
+        elif _meshopt_fallback(document, buffer):
+            continue  # a placeholder: loaders that support the required extension read the compressed views instead
         elif not (document.is_glb and index == 0 and document.binary is not None):
             yield "gltf_resource", pointer, "buffer has no uri and there is no GLB binary chunk for it", None
         elif json_index(length) and len(document.binary) < length:
             yield ("gltf_resource", pointer, f"the GLB binary chunk holds {len(document.binary)} bytes, fewer than the "
                    f"buffer's byteLength {length}: the data at its end is missing", None)
+
+
+def _meshopt_fallback(document: GltfDocument, buffer) -> bool:
+    """A buffer EXT_meshopt_compression marks as a fallback (``fallback: true``) in a file that requires the
+    extension: its README lets it have no uri ("the referenced buffer can contain no URI"), as a loader that
+    supports the extension never reads it and one that does not refuses the file."""
+    extension = buffer.get("extensions", {}).get(MESHOPT) if isinstance(buffer.get("extensions"), dict) else None
+    required = document.json.get("extensionsRequired")
+    return isinstance(extension, dict) and extension.get("fallback") is True and isinstance(required, list) \
+        and MESHOPT in required
 
 
 def _glb_chunks(document: GltfDocument) -> Iterator[tuple[str, str, str, str | None]]:

@@ -1,16 +1,15 @@
 """Read the materials of a USD stage (``.usda``, ``.usdc``, ``.usd``, ``.usdz``) into an
 :class:`~openpbr_tools.model.Asset`.
 
-usd-core has no MaterialX plug-in, so the prims are read here. The stage is opened with composition
-resolved (sublayers, references, payloads loaded, variants as selected) by
-:class:`~.guard.StageGuard`, which refuses files that would crash usd-core and never opens a
-layer outside the asset's folder (such arcs are reported, ``usd_arc_outside``); every ``Material`` prim is
-visited and each of its surface outputs (``outputs:surface``, ``outputs:mtlx:surface``,
-``outputs:<context>:surface``) is followed, through node graphs, to a shader (a shader two Materials share
-is a material of each). Shaders with the id of
-a model the toolkit knows become :class:`~openpbr_tools.model.Material` objects: OpenPBR
-(``ND_open_pbr_surface_surfaceshader`` and versioned ids), Standard Surface, glTF PBR and
-UsdPreviewSurface (USD's ``UsdPreviewSurface`` and MaterialX's ``ND_UsdPreviewSurface_surfaceshader``).
+usd-core has no MaterialX plug-in, so the prims are read here. The stage is opened with composition resolved
+(sublayers, references, payloads loaded, variants as selected) by :class:`~.guard.StageGuard`, which refuses files
+that would crash usd-core and never opens a layer outside the asset's folder (such arcs are reported,
+``usd_arc_outside``); every ``Material`` prim is visited and each of its surface outputs (``outputs:surface``,
+``outputs:mtlx:surface``, ``outputs:<context>:surface``) is followed, through node graphs, to a shader (a shader two
+Materials share is a material of each). Shaders with the id of a model the toolkit knows become
+:class:`~openpbr_tools.model.Material` objects: OpenPBR (``ND_open_pbr_surface_surfaceshader`` and versioned ids),
+Standard Surface, glTF PBR and UsdPreviewSurface (USD's ``UsdPreviewSurface`` and MaterialX's
+``ND_UsdPreviewSurface_surfaceshader``).
 
 Each shader input becomes an :class:`~openpbr_tools.model.Input`:
 
@@ -26,17 +25,20 @@ Each shader input becomes an :class:`~openpbr_tools.model.Input`:
   ``UsdTransform2d`` and the primvar reader's name); a :class:`Connection` otherwise (``dangling``
   when the target does not exist); ``None`` for an input declared without a value (UsdMtlx's
   interface inputs look like that);
-* ``authored_colorspace`` is the attribute's ``colorSpace`` metadata, ``colorspace`` that or the
-  nearest ``Usd.ColorSpaceAPI`` ancestor's name. ``Material.colorspace`` is the Material prim's
-  ColorSpaceAPI space under its MaterialX name (``lin_ap1_scene`` -> ``acescg``) so colour maths
-  elsewhere can use it; ``Asset.colorspace`` is the default prim's, as authored.
+* ``authored_colorspace`` is the attribute's ``colorSpace`` metadata, ``colorspace`` that or the nearest
+  ``Usd.ColorSpaceAPI`` ancestor's name. ``Material.colorspace`` is the Material prim's ColorSpaceAPI space under its
+  MaterialX name (``lin_ap1_scene`` -> ``acescg``) so colour maths elsewhere can use it; ``Asset.colorspace`` is the
+  default prim's, as authored.
 
-The version: a versioned id (``..._surfaceshader_05``) or the writer's ``customData`` (``openpbr:version``);
-an unversioned id only says "whatever was current", so it is inferred from the input names as for MaterialX.
+The version: a versioned id (``..._surfaceshader_05``) or the writer's ``customData`` (``openpbr:version``); an
+unversioned id only says "whatever was current", so it is inferred from the input names as for MaterialX.
 ``Asset.meters_per_unit`` is ``None`` when the stage does not author ``metersPerUnit`` (USD then means 0.01).
 
-A :class:`Location` is the prim path plus the attribute name (USD has no reliable line numbers). Facts the
-USD rules judge are observations (``usd_*``); usd-core's validators' findings: ``asset.extra["usd_core_findings"]``.
+One module because it is one pass over the stage: the Material, surface-output, shader and input readers share the
+stage, the render contexts marked and the observations made on the way.
+
+A :class:`Location` is the prim path plus the attribute name (USD has no reliable line numbers). Facts the USD rules
+judge are observations (``usd_*``); usd-core's validators' findings: ``asset.extra["usd_core_findings"]``.
 """
 
 from __future__ import annotations
@@ -255,6 +257,13 @@ class _Reader(NetworkReader):
     def _read_material(self, prim) -> None:
         material_path = str(prim.GetPath())
         location = self.location(material_path)
+        for output in self.UsdShade.Material(prim).GetOutputs():  # another renderer's volume or displacement
+            context, _, terminal = str(output.GetBaseName()).rpartition(":")
+            if context not in (*UNIVERSAL_CONTEXTS, MATERIALX_CONTEXT) and terminal != "surface" \
+                    and output.GetAttr().GetConnections():
+                kind, *found = self.source(output.GetAttr())
+                if kind == "shader":
+                    self.mark_context(found[0], self.renderer_context_shaders)
         outputs = [o for o in self.UsdShade.Material(prim).GetOutputs()
                    if o.GetBaseName() == "surface" or o.GetBaseName().endswith(":surface")]
         if not outputs:

@@ -142,7 +142,8 @@ class TextureNodeReader:
         path = str(prim.GetPath())
         if output_name not in UV_TEXTURE_OUTPUTS:
             return Connection(f"{path}.outputs:{output_name}", UV_TEXTURE_ID,
-                              f"UsdUVTexture has no output {output_name!r} (r, g, b, a, rgb)", dangling=True)
+                              f"UsdUVTexture declares no output {output_name!r}, only r, g, b, a and rgb; an authored one "
+                              "gives no texture", dangling=True)
         channels = UV_TEXTURE_OUTPUTS[output_name]
         file_attribute = prim.GetAttribute("inputs:file")
         file, packaged = self.file_of(file_attribute)

@@ -625,8 +625,8 @@ case("OPBR1005_surface_output_to_image.usda", "OPBR1005", "The Material's Materi
          "token outputs:mtlx:surface.connect = </M/S.outputs:surface>", "token outputs:mtlx:surface.connect = </M/albedo.outputs:out>"))
 case("OPBR1005_float_into_color.usda", "OPBR1005", "A float material interface input connected into color3f base_color.",
      usda('color3f inputs:base_color.connect = </M.inputs:albedo>', material_body='float inputs:albedo = 0.5'))
-case("OPBR1010_no_up_axis.usda", "OPBR1010", "A USD layer without upAxis metadata (usd-core's stage validators complain).",
-     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', head='#usda 1.0\n(\n    defaultPrim = "M"\n    metersPerUnit = 0.01\n)\n\n'))
+case("OPBR1010_binding_without_api.usda", "OPBR1010", "A mesh binds the material without MaterialBindingAPI applied (usd-core's MissingMaterialBindingAPI: OpenUSD is to ignore such bindings).",
+     usda('color3f inputs:base_color = (0.5, 0.4, 0.3)') + 'def Mesh "Ball"\n{\n    rel material:binding = </M>\n}\n')
 case("OPBR1011_sublayer_parent.usda", "OPBR1011", "A sublayer that climbs out of the asset's folder.",
      usda('color3f inputs:base_color = (0.5, 0.4, 0.3)', head='#usda 1.0\n(\n    defaultPrim = "M"\n    subLayers = [@../shared/looks.usda@]\n    metersPerUnit = 0.01\n    upAxis = "Y"\n)\n\n'))
 case("OPBR1011_reference_absolute.usda", "OPBR1011", "A reference to an absolute path on a render farm.",
