@@ -100,8 +100,9 @@ def _meshopt_fallback(document: GltfDocument, buffer) -> bool:
     """A buffer EXT_meshopt_compression marks as a fallback (``fallback: true``) in a file that requires the
     extension: its README lets it have no uri ("the referenced buffer can contain no URI"), as a loader that
     supports the extension never reads it and one that does not refuses the file."""
-    extension = buffer.get("extensions", {}).get(MESHOPT) if isinstance(buffer.get("extensions"), dict) else None
-    required = document.json.get("extensionsRequired")
+    extensions = buffer.get("extensions") if isinstance(buffer, dict) else None  # (hostile files: anything goes)
+    extension = extensions.get(MESHOPT) if isinstance(extensions, dict) else None
+    required = document.json.get("extensionsRequired") if isinstance(document.json, dict) else None
     return isinstance(extension, dict) and extension.get("fallback") is True and isinstance(required, list) \
         and MESHOPT in required
 
