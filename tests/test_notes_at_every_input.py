@@ -191,3 +191,29 @@ def test_a_film_on_a_metal_is_an_approximation(tmp_path):
     plastic = _standard_surface(tmp_path, '''<input name="thin_film_thickness" type="float" value="430" />''')
     conversion = convert_file(str(plastic), str(tmp_path / "plastic.mtlx"), "open_pbr_surface", Settings())
     assert _notes(conversion)["thin_film_thickness"] == [("OPBR1102", "info")]  # nanometres to micrometres, exact
+
+
+# A review of the session's diff (session 23).
+
+def test_nothing_is_folded_into_a_target_that_is_not_written(tmp_path):
+    """A glTF volume without transmission: transmission_color is not written (it has no effect), so attenuation
+    colour and thickness were not 'folded into' it."""
+    source = tmp_path / "volume.gltf"
+    source.write_text('{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_volume"], "materials": [{"name": '
+                      '"Glass", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.2, 0.1, 1]}, "extensions": '
+                      '{"KHR_materials_volume": {"thicknessFactor": 0.5, "attenuationColor": [0.5, 0.7, 0.9], '
+                      '"attenuationDistance": 0.2}}}]}', encoding="utf-8")
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings())
+    assert not [d for d in conversion.diagnostics if "folded into transmission_color" in d.message]
+
+
+def test_a_folded_input_already_noted_under_its_own_name_gets_no_second_note(tmp_path):
+    """glTF notes stand at the JSON property (thicknessFactor): a companion for 'thickness' must see them."""
+    source = tmp_path / "leaf.gltf"
+    source.write_text('{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_volume", '
+                      '"KHR_materials_diffuse_transmission"], "materials": [{"name": "Leaf", "extensions": '
+                      '{"KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 0.5}, "KHR_materials_volume": '
+                      '{"thicknessFactor": 0.01, "attenuationDistance": 0.5}}}]}', encoding="utf-8")
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings())
+    at_thickness = [d for d in conversion.diagnostics if d.location.input == "thicknessFactor"]
+    assert len(at_thickness) == 1, [d.message for d in at_thickness]

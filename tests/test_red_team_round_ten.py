@@ -271,6 +271,11 @@ def test_a_materialx_gltf_pbr_attenuation_distance_of_zero_is_its_own_default(tm
         </surfacematerial>
         ''')
     assert not [f for f in findings(path) if f[0] == "OPBR301"]
+    from openpbr_tools.convert import convert_file
+    from openpbr_tools.translate.common import Settings
+
+    conversion = convert_file(str(path), str(tmp_path / "out.gltf"), None, Settings())  # and written as glTF's absent
+    assert not [d for d in conversion.diagnostics if d.code == "OPBR1104"]
     gltf = tmp_path / "volume.gltf"
     gltf.write_text('{"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_volume"], "materials": [{"name": '
                     '"M", "extensions": {"KHR_materials_volume": {"thicknessFactor": 0.1, "attenuationDistance": 0}}}]}',
@@ -340,3 +345,50 @@ def test_a_preview_reading_an_undeclared_texture_output_says_so(tmp_path):
 def findings_all(path) -> list[tuple[str, str]]:
     """(code, severity) of every finding, infos included."""
     return [(d.code, str(d.severity)) for d in report(path).diagnostics]
+
+
+def test_a_preview_specular_input_in_materialx_stays_an_error(tmp_path):
+    """OPBR107 is USD's: MaterialX rejects a node with an input its nodedef lacks (its validate() says so)."""
+    import MaterialX as mx
+
+    path = mtlx(tmp_path, '''
+        <UsdPreviewSurface name="S" type="surfaceshader">
+          <input name="specular" type="float" value="0.5" />
+        </UsdPreviewSurface>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+        ''')
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), document)
+    assert not document.validate()[0]
+    assert ("OPBR101", "error") in findings_all(path) and ("OPBR107", "info") not in findings_all(path)
+
+
+def test_a_16_bit_rgba_mask_is_judged_by_an_upper_bound(tmp_path):
+    """Pillow decodes a 16-bit RGBA PNG to 8 bits: an alpha of 0x7FFF (0.49999) reads 127/255 (0.498). Against a
+    threshold of 0.499 the 8-bit reading would cut a material Storm draws; one level of doubt is allowed."""
+    import struct
+    import zlib
+
+    rows = b"".join(b"\0" + struct.pack(">HHHH", 1000, 2000, 3000, 0x7FFF) * 2 for _ in range(2))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
+
+    (tmp_path / "mask.png").write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 2, 16, 6, 0, 0, 0))
+                                        + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+    texture = '''    def Shader "T"
+    {
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @mask.png@
+        float outputs:a
+    }
+'''
+    near = _preview_stage(tmp_path, "float inputs:opacity.connect = </M/T.outputs:a>", "float inputs:opacityThreshold = 0.499",
+                          extra=texture)
+    assert "OPBR1034" not in [f[0] for f in findings_all(near)]
+    far = _preview_stage(tmp_path, "float inputs:opacity.connect = </M/T.outputs:a>", "float inputs:opacityThreshold = 0.6",
+                         extra=texture)
+    assert "OPBR1034" in [f[0] for f in findings_all(far)]

@@ -11,7 +11,7 @@ import io
 import warnings
 from dataclasses import dataclass
 
-from .image_files import MAX_DECODED_PIXELS, openimageio, pillow_format, utf8
+from .image_files import MAX_DECODED_PIXELS, head_of, openimageio, pillow_format, png_bit_depth, utf8
 
 _FLAT_LEVELS = 2  # 8-bit levels: "one flat colour" allows JPEG noise
 
@@ -99,7 +99,8 @@ def channel_maxima(image: str | bytes, max_pixels: int = MAX_DECODED_PIXELS) -> 
 def channel_largest(image: str | bytes, channel: int, max_pixels: int = MAX_DECODED_PIXELS) -> float | None:
     """The largest value in [0, 1] of RGBA channel ``channel`` of ``image`` (a path or bytes), decoded at full
     resolution (a JPEG too: a one-texel highlight must not be averaged away), as a texture lookup reads it: a
-    greyscale image's grey in R, G and B, alpha 1 where the image has none; a 16-bit image at its full depth.
+    greyscale image's grey in R, G and B, alpha 1 where the image has none; a 16-bit grey at its full depth. A
+    16-bit colour PNG, which Pillow decodes to 8 bits, gives an upper bound: its 8-bit largest plus one level.
     ``None`` when it cannot be told: undecodable, a float image, larger than ``max_pixels``."""
     from PIL import Image  # lazy: as in load_pixels
 
@@ -119,8 +120,10 @@ def channel_largest(image: str | bytes, channel: int, max_pixels: int = MAX_DECO
                 return min(1.0, high / 65535.0)
             if channel == 3 and not has_alpha:
                 return 1.0
+            head = image[:32] if isinstance(image, (bytes, bytearray, memoryview)) else head_of(image, 32)
+            truncated = png_bit_depth(bytes(head)) == 16  # (16 bits per sample read as 8: a level of doubt)
             plane = opened.convert("RGBA" if has_alpha else "RGB")
-            return plane.getextrema()[channel][1] / 255.0
+            return min(1.0, (plane.getextrema()[channel][1] + truncated) / 255.0)
     except Exception:  # noqa: BLE001 - Pillow raises many exception types for data it cannot decode
         return None
 

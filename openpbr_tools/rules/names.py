@@ -72,10 +72,11 @@ EXPORTER_INPUT = Rule(
     "OPBR107", "exporter-input", Severity.INFO,
     "An input no version of the shading model defines, which a major exporter writes on every material "
     "(schemas/exporter_inputs.json: Blender's USD exporter writes specular on each UsdPreviewSurface).",
-    "Readers ignore it, as they ignore any input their definition lacks; the material renders as if it were "
-    "absent, which is what its exporter meant. Noted, not reported as an unknown input (OPBR101): Blender 3.0 "
-    "to 4.1 wrote it on every UsdPreviewSurface, and those files render as authored. A misspelling of a "
-    "defined input is still OPBR101.",
+    "USD readers ignore it, as they ignore any input their definition lacks; the material renders as if it were "
+    "absent, which is what its exporter meant. Noted in a USD file, not reported as an unknown input (OPBR101): "
+    "Blender 3.0 to 4.1 wrote it on every UsdPreviewSurface, and those files render as authored. In a MaterialX "
+    "document MaterialX rejects the node (\"Node interface error\"), so there it stays OPBR101, as a misspelling "
+    "of a defined input does.",
     passing=stage_example('def Material "M"\n{\n    token outputs:surface.connect = </M/P.outputs:surface>\n'
                           '    def Shader "P"\n    {\n        uniform token info:id = "UsdPreviewSurface"\n'
                           '        float inputs:roughness = 0.5\n        token outputs:surface\n    }\n}'),
@@ -96,7 +97,7 @@ def _closest(name: str, choices) -> str | None:
 
 def check(asset, context):
     for material in asset.materials:
-        yield from _check_material(material, context)
+        yield from _check_material(material, context, asset.format)
     for observation in asset.observations:
         if observation.kind == "duplicate_element":
             first, included = observation.detail.get("first_line"), observation.detail.get("first_in")
@@ -115,7 +116,7 @@ def check(asset, context):
             )
 
 
-def _check_material(material, context):
+def _check_material(material, context, file_format: str):
     model = material.model
     available = tables.versions(model)
     if not available:
@@ -160,7 +161,8 @@ def _check_material(material, context):
                 entry.location, hint="`openpbr upgrade` rewrites legacy inputs for the current version",
             )
             continue
-        written_by = load_json("exporter_inputs.json").get(model, {}).get(name)
+        # (in USD only: UsdShade ignores an input the definition lacks, MaterialX rejects the node, "Node interface error")
+        written_by = load_json("exporter_inputs.json").get(model, {}).get(name) if file_format == "usd" else None
         if written_by is not None:
             yield context.diagnostic(EXPORTER_INPUT, f"{model} has no input {name!r}, which no reader reads: {written_by}",
                                      entry.location)

@@ -108,9 +108,9 @@ def check(asset, context):
             if not isinstance(value, Connection):
                 continue
             if value.dangling:
-                yield context.diagnostic(  # (with the reader's reason: a UsdUVTexture's undeclared output exists)
-                    DANGLING, f"{entry.name} is connected to {value.target!r}, which does not exist"
-                    + (f" ({value.reason})" if value.reason else ""),
+                yield context.diagnostic(  # (the reader's reason, where it has one: an undeclared output is authored)
+                    DANGLING, f"{entry.name} is connected to {value.target!r}: {value.reason}" if value.reason
+                    else f"{entry.name} is connected to {value.target!r}, which does not exist",
                     entry.location, hint="fix the connection (nodename/nodegraph/output, or the USD connection path), or author a value",
                 )
             else:

@@ -94,10 +94,10 @@ def with_folded_notes(translation: Translation) -> Translation:
     """``translation`` with a note at each source input a mapping folded into another and nothing else names
     (:func:`_companions`), judged once the translator has added its own notes (a preview's presence note at
     geometry_opacity, say)."""
-    sites = {d.location.input for d in translation.diagnostics}
-    for name, note in translation.folded:
-        if name not in sites:
-            sites.add(name)
+    sites = {d.location.input for d in translation.diagnostics}  # (as located: a glTF property, thicknessFactor)
+    for _, note in translation.folded:
+        if note.location.input not in sites:
+            sites.add(note.location.input)
             translation.diagnostics.append(note)
     translation.folded = []
     translation.diagnostics.sort(key=Diagnostic.sort_key)
@@ -258,6 +258,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 if values.authored(primary) and primary in source_table and primary not in handled \
                         and not _equal(arrays[0], np.asarray(working.into(primary, source_table[primary].default))):
                     handled.add(primary)  # (once, though several mappings read it)
+                    current[0] = None  # (the target is not written: nothing is folded into it)
                     say(CONVERTED, f"{primary}: not written (as {mapping.target}): it has no effect with the other "
                                    "inputs at their values", primary)
                 continue

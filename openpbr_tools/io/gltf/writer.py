@@ -189,7 +189,11 @@ class _MaterialWriter(TextureWriting, DraftWriting):
             return
         if entry.type == "color3" or slot.parameter.endswith("color"):
             value = self.linear(value, entry)
-        if slot.parameter == "attenuation_distance" and value <= 0:
+        if slot.parameter == "attenuation_distance" and value == 0:  # MaterialX's gltf_pbr reads 0 where it is unset
+            self.note(CONVERTED, "attenuation_distance 0 (MaterialX's gltf_pbr has no default: 0 is its unset value) "
+                      "is not written: glTF's absent attenuationDistance (infinite)", slot.parameter)
+            return
+        if slot.parameter == "attenuation_distance" and value < 0:
             self.note(NOT_CARRIED, f"attenuation_distance {value:g} is not above 0 (glTF requires > 0; absent means infinite); "
                       "not written", slot.parameter)
             return
