@@ -153,13 +153,16 @@ USD_CORE = Rule(
 USD_CORE_CONVENTION = Rule(
     "OPBR1040", "usd-core-convention", Severity.INFO,
     "usd-core's validators report a stage convention that does not change how the materials render: "
-    "metersPerUnit, upAxis or defaultPrim not authored (StageMetadataChecker), or a primvar reader's varname "
-    "authored as a token (USD 21.08 and earlier).",
+    "metersPerUnit, upAxis or defaultPrim not authored (StageMetadataChecker), a primvar reader's varname "
+    "authored as a token (USD 21.08 and earlier), or a UsdPreviewSurface input authored in another float3 role "
+    "than declared (float3 for color3f or normal3f).",
     "usd-core calls these errors, and they matter where the stage is referenced or placed in a scene (a "
     "reference without a target prim needs defaultPrim; units and axis default to centimetres and Y). Every "
-    "material still resolves and binds; a length a material reads without a stage unit is OPBR603's, and "
-    "varname has been a string since USD 21.11, but readers convert the older token form. Passed through as a "
-    "note, so published material libraries and test scenes (which omit them) stay quiet.",
+    "material still resolves and binds; a length a material reads without a stage unit is OPBR603's; varname "
+    "has been a string since USD 21.11, but readers convert the older token form; and the preview's readers "
+    "(Storm, UsdImaging) take the float3 value whatever its role (OPBR1002 says so for MaterialX nodes, where the "
+    "role matters). Passed through as notes, so published material libraries and test scenes (the USD working "
+    "group's McUsd writes every normal as float3) stay quiet.",
     passing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)"),
     failing=openpbr_example("color3f inputs:base_color = (0.5, 0.4, 0.3)").replace('    upAxis = "Y"\n', ""),
     passing_name="example.usda", failing_name="example.usda", formats=("usd",),
@@ -454,7 +457,7 @@ _FLOAT3_ROLES = {"float3", "color3f", "normal3f", "vector3f", "point3f"}
 def _preview_roles(asset) -> set[str]:
     """The attribute paths of UsdPreviewSurface inputs authored with another float3 role than declared (float3 for a
     color3f), which OPBR1002 lets pass (its readers take any role) and usd-core's ShaderSdrCompliance calls a
-    MismatchedPropertyType, which is then passed through (OPBR1010) rather than lost."""
+    MismatchedPropertyType, which is then passed through as a note (OPBR1040) rather than lost."""
     found = set()
     for material, table, entry in for_each_input(asset):
         parameter = table.get(entry.name)
@@ -553,7 +556,7 @@ def _usd_core(asset, context):
         if name == "UnsupportedFileExtensionInPackage" and any(f"'{entry}'" in finding["message"] for entry in packaged):
             continue  # OPBR1012 reports the image
         if name == "MismatchedPropertyType" and prims and prims <= read_shaders and not set(sites) & preview_roles:
-            continue  # OPBR201/OPBR1002 judge the read shaders' types, but for a preview's role, which they allow
+            continue  # OPBR201/OPBR1002 judge the read shaders' types, but for a preview's role, which they allow (OPBR1040)
         if name == "MissingShaderIdInRegistry" and prims and prims <= reported_ids:
             continue
         if name == "MissingShaderIdInRegistry" and prims and prims <= renderer_nodes:
@@ -570,8 +573,8 @@ def _usd_core(asset, context):
         prim, _, attribute = site.partition(".")
         validator = finding["identifier"].rsplit(":", 1)[-1].split(".")[0]
         rule = USD_CORE
-        if validator == "StageMetadataChecker" or (name == "MismatchedPropertyType" and attribute == "inputs:varname"
-                                                   and "'token'" in finding["message"]):
+        if validator == "StageMetadataChecker" or (name == "MismatchedPropertyType" and (
+                attribute == "inputs:varname" and "'token'" in finding["message"] or set(sites) & preview_roles)):
             rule = USD_CORE_CONVENTION  # (its message names the authored type: usd-core's words, the anchor's)
         elif finding["severity"] == "error":  # usd-core's errors where the stage then renders wrong: as the anchor says
             binding = validator in BINDING_VALIDATORS or (validator == "SubsetsMaterialBindFamily" and finding.get("authored"))
