@@ -395,3 +395,32 @@ def test_a_16_bit_rgba_mask_is_judged_by_an_upper_bound(tmp_path):
     far = _preview_stage(tmp_path, "float inputs:opacity.connect = </M/T.outputs:a>", "float inputs:opacityThreshold = 0.6",
                          extra=texture)
     assert "OPBR1034" in [f[0] for f in findings_all(far)]
+
+
+def test_a_normal_map_scaled_whole_is_no_broken_decode(tmp_path):
+    """Adobe's USD writer (set W) writes a glTF normal strength of 0.75 as scale 1.5 and bias -0.75 on all three
+    channels: 0.75 (2c - 1), which normalised (Storm normalises the normal) is the unit decode. A scale on x and y
+    alone bends the normals; one on all three does not. Scale 2 without the bias still maps nothing to [-1, 1]."""
+    import numpy as np
+
+    c = np.array([0.8, 0.3, 0.9])
+    unit = (2 * c - 1) / np.linalg.norm(2 * c - 1)
+    scaled = 1.5 * c - 0.75
+    assert np.allclose(scaled / np.linalg.norm(scaled), unit)
+    Image.new("RGB", (4, 4), (128, 128, 255)).save(tmp_path / "normal.png")
+    texture = '''    def Shader "N"
+    {{
+        uniform token info:id = "UsdUVTexture"
+        asset inputs:file = @normal.png@
+        token inputs:sourceColorSpace = "raw"
+        float4 inputs:scale = ({s}, {s}, {s}, 1)
+        float4 inputs:bias = ({b}, {b}, {b}, 0)
+        float3 outputs:rgb
+    }}
+'''
+    whole = _preview_stage(tmp_path, "normal3f inputs:normal.connect = </M/N.outputs:rgb>",
+                           extra=texture.format(s=1.5, b=-0.75))
+    assert "OPBR1006" not in [f[0] for f in findings_all(whole)]
+    unbiased = _preview_stage(tmp_path, "normal3f inputs:normal.connect = </M/N.outputs:rgb>",
+                              extra=texture.format(s=2, b=0))
+    assert "OPBR1006" in [f[0] for f in findings_all(unbiased)]

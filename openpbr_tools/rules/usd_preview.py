@@ -290,13 +290,16 @@ def _decodes_unit_normals(scale: tuple, bias: tuple) -> bool:
     symmetrically about 0 (0.5 -> 0) in either direction, so -2 and 1 reverse an axis (a normal map
     authored with the other green convention) and 2s and -s carry a strength s (glTF's
     normalTexture.scale, MaterialX's normalmap scale: Storm normalises the result); z onto [-1, 1]
-    or [0, 1] (a tangent-space normal never points inwards; some encoders store z so). A valid
-    encoding passes, not only the specification's (2, -1)."""
+    or [0, 1] (a tangent-space normal never points inwards; some encoders store z so), or z scaled as x
+    (all three 2s and -s: Adobe's USD writer's glTF strength, (2c - 1) s, which Storm's normalisation turns
+    back into the unit decode, its strength lost but no normal bent). A valid encoding passes, not only the
+    specification's (2, -1)."""
     def symmetric(i):
         return scale[i] != 0.0 and abs(bias[i] + scale[i] / 2.0) < 1e-6
 
     z = sorted((round(bias[2], 6), round(bias[2] + scale[2], 6)))
-    return symmetric(0) and symmetric(1) and z in ([-1.0, 1.0], [0.0, 1.0])
+    uniform = symmetric(2) and scale[2] > 0 and abs(scale[2] - scale[0]) < 1e-6 and abs(scale[2] - scale[1]) < 1e-6
+    return symmetric(0) and symmetric(1) and (z in ([-1.0, 1.0], [0.0, 1.0]) or uniform)
 
 
 def _srgb_encode(linear: float) -> float:
