@@ -104,3 +104,26 @@ def textured_preview(file: str) -> str:
             }}
         }}
         """)
+
+
+STAGE_METADATA = 'defaultPrim = "M"\n    metersPerUnit = 1\n    upAxis = "Y"'
+
+
+def preview_stage(folder: Path, *lines: str, extra: str = "", metadata: str = STAGE_METADATA,
+                  name: str = "stage.usda") -> Path:
+    """A USD layer ``name`` in ``folder``: a Material ``/M`` whose UsdPreviewSurface ``/M/S`` authors ``lines``, and
+    ``extra`` prims inside the Material (:func:`uv_texture`'s, say)."""
+    body = "".join(f"        {line}\n" for line in lines)
+    path = folder / name
+    path.write_text(f"#usda 1.0\n(\n    {metadata}\n)\ndef Material \"M\"\n{{\n"
+                    "    token outputs:surface.connect = </M/S.outputs:surface>\n"
+                    f"    def Shader \"S\"\n    {{\n        uniform token info:id = \"UsdPreviewSurface\"\n{body}"
+                    f"        token outputs:surface\n    }}\n{extra}}}\n", encoding="utf-8")
+    return path
+
+
+def uv_texture(name: str, file: str, output: str = "rgb", output_type: str = "float3", *lines: str) -> str:
+    """A UsdUVTexture shader ``name`` inside :func:`preview_stage`'s Material, reading ``file``, with ``lines``."""
+    body = "".join(f"        {line}\n" for line in lines)
+    return (f"    def Shader \"{name}\"\n    {{\n        uniform token info:id = \"UsdUVTexture\"\n"
+            f"        asset inputs:file = @{file}@\n{body}        {output_type} outputs:{output}\n    }}\n")

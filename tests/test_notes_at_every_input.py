@@ -12,7 +12,7 @@ from PIL import Image
 
 from openpbr_tools.convert import convert_file
 from openpbr_tools.translate.common import Settings
-from redteam_support import mtlx
+from redteam_support import mtlx, preview_stage, uv_texture
 
 
 def _notes(conversion) -> dict[str, list[tuple[str, str]]]:
@@ -23,24 +23,29 @@ def _notes(conversion) -> dict[str, list[tuple[str, str]]]:
     return found
 
 
-def _openpbr_inputs() -> set[str]:
+def _inputs_of(nodedef: str = "ND_open_pbr_surface_surfaceshader") -> set[str]:
+    """The inputs MaterialX's node definition declares."""
     document = mx.createDocument()
     mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), document)
-    return {i.getName() for i in document.getNodeDef("ND_open_pbr_surface_surfaceshader").getActiveInputs()}
+    return {i.getName() for i in document.getNodeDef(nodedef).getActiveInputs()}
 
 
-def _standard_surface(tmp_path, inputs: str):
+def _material(tmp_path, category: str, inputs: str, before: str = ""):
     return mtlx(tmp_path, f'''
-        <image name="rough" type="float">
-          <input name="file" type="filename" value="rough.png" />
-        </image>
-        <standard_surface name="S" type="surfaceshader">
+        {before}
+        <{category} name="S" type="surfaceshader">
           {inputs}
-        </standard_surface>
+        </{category}>
         <surfacematerial name="M" type="material">
           <input name="surfaceshader" type="surfaceshader" nodename="S" />
         </surfacematerial>
         ''')
+
+
+def _standard_surface(tmp_path, inputs: str):
+    return _material(tmp_path, "standard_surface", inputs, before='''<image name="rough" type="float">
+          <input name="file" type="filename" value="rough.png" />
+        </image>''')
 
 
 def _ramp(path, start=0, step=4):
@@ -50,7 +55,7 @@ def _ramp(path, start=0, step=4):
 
 
 def test_coat_affect_roughness_has_a_note_of_its_own(tmp_path):
-    assert "coat_affect_roughness" not in _openpbr_inputs()  # OpenPBR has no such input: it cannot survive as itself
+    assert "coat_affect_roughness" not in _inputs_of()  # OpenPBR has no such input: it cannot survive as itself
     source = _standard_surface(tmp_path, '''<input name="coat" type="float" value="0.5" />
           <input name="coat_affect_roughness" type="float" value="0.7" />
           <input name="specular_roughness" type="float" value="0.3" />''')
@@ -89,26 +94,9 @@ def test_a_constant_sheen_baked_with_a_textured_roughness_is_noted_at_sheen(tmp_
 
 def test_a_preview_diffuse_colour_baked_with_a_textured_metallic_is_noted_at_diffuse_colour(tmp_path):
     _ramp(tmp_path / "metal.png", start=255, step=-3)
-    source = tmp_path / "preview.usda"
-    source.write_text('''#usda 1.0
-def Material "M"
-{
-    token outputs:surface.connect = </M/S.outputs:surface>
-    def Shader "S"
-    {
-        uniform token info:id = "UsdPreviewSurface"
-        color3f inputs:diffuseColor = (0.7, 0.3, 0.1)
-        float inputs:metallic.connect = </M/T.outputs:r>
-        token outputs:surface
-    }
-    def Shader "T"
-    {
-        uniform token info:id = "UsdUVTexture"
-        asset inputs:file = @metal.png@
-        float outputs:r
-    }
-}
-''', encoding="utf-8")
+    source = preview_stage(tmp_path, "color3f inputs:diffuseColor = (0.7, 0.3, 0.1)",
+                           "float inputs:metallic.connect = </M/T.outputs:r>", name="preview.usda",
+                           extra=uv_texture("T", "metal.png", "r", "float"))
     out = tmp_path / "out" / "out.mtlx"
     conversion = convert_file(str(source), str(out), "open_pbr_surface", Settings())
     notes = _notes(conversion)
@@ -123,25 +111,12 @@ def Material "M"
 # Set V (session 23), a black-box audit: each input changed in turn, outputs and notes compared.
 
 def _openpbr(tmp_path, inputs: str):
-    return mtlx(tmp_path, f'''
-        <open_pbr_surface name="S" type="surfaceshader">
-          {inputs}
-        </open_pbr_surface>
-        <surfacematerial name="M" type="material">
-          <input name="surfaceshader" type="surfaceshader" nodename="S" />
-        </surfacematerial>
-        ''')
-
-
-def _preview_inputs() -> set[str]:
-    document = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), document)
-    return {i.getName() for i in document.getNodeDef("ND_UsdPreviewSurface_surfaceshader").getActiveInputs()}
+    return _material(tmp_path, "open_pbr_surface", inputs)
 
 
 def test_a_dropped_lobe_takes_a_note_at_each_of_its_inputs(tmp_path):
     """V1/V2: the preview has no fuzz and no film; fuzz_color and thin_film_thickness had no note of their own."""
-    assert not {"fuzz_color", "fuzz_roughness", "thin_film_thickness"} & _preview_inputs()
+    assert not {"fuzz_color", "fuzz_roughness", "thin_film_thickness"} & _inputs_of("ND_UsdPreviewSurface_surfaceshader")
     source = _openpbr(tmp_path, '''<input name="fuzz_weight" type="float" value="0.8" />
           <input name="fuzz_color" type="color3" value="0.9, 0.3, 0.2" />
           <input name="fuzz_roughness" type="float" value="0.8" />

@@ -9,41 +9,16 @@ from __future__ import annotations
 import pytest
 from PIL import Image
 
-from redteam_support import codes, messages
+from redteam_support import codes, messages, preview_stage, uv_texture
 
 PIXAR = ("data/published/usd/openusd/pxr/usdImaging/usdImagingGL/testenv/testUsdImagingGLPreviewSurface/"
          "testPreviewSurfaceOpacityThreshold.usda")
 
 
 def _stage(tmp_path, threshold: float, output: str = "a", scale: str = "", file: str = "mask.png"):
-    path = tmp_path / "mask.usda"
-    path.write_text(f'''#usda 1.0
-(
-    metersPerUnit = 1
-    upAxis = "Y"
-)
-def Material "M"
-{{
-    token outputs:surface.connect = </M/S.outputs:surface>
-    def Shader "S"
-    {{
-        uniform token info:id = "UsdPreviewSurface"
-        float inputs:opacity.connect = </M/T.outputs:{output}>
-        float inputs:opacityThreshold = {threshold}
-        token outputs:surface
-    }}
-    def Shader "T"
-    {{
-        uniform token info:id = "UsdUVTexture"
-        asset inputs:file = @{file}@
-        {scale}
-        float outputs:{output}
-    }}
-}}
-''', encoding="utf-8")
-    return path
-
-
+    return preview_stage(tmp_path, f"float inputs:opacity.connect = </M/T.outputs:{output}>",
+                         f"float inputs:opacityThreshold = {threshold}", name="mask.usda",
+                         extra=uv_texture("T", file, output, "float", *([scale] if scale else [])))
 def _mask(tmp_path, alpha: int, mode: str = "RGBA", name: str = "mask.png", bright: tuple | None = None):
     image = Image.new(mode, (16, 16), (200, 120, 40, alpha)[:len(mode)] if mode != "L" else 20)
     if bright is not None:

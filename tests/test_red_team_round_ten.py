@@ -17,11 +17,9 @@ controls). Four misses and one false alarm, each against its authority:
 
 from __future__ import annotations
 
-from pathlib import Path
-
 from PIL import Image
 
-from redteam_support import findings, messages, mtlx, report
+from redteam_support import findings, messages, mtlx, preview_stage, report, uv_texture
 
 _GRAPH = '''
     <nodegraph name="NG">
@@ -60,30 +58,12 @@ def test_a_height_map_decoded_as_normals_inside_a_graph_is_found(tmp_path):
     assert not [f for f in findings(good) if f[0] == "OPBR709"]
 
 
-_PREVIEW = '''#usda 1.0
-(
-    defaultPrim = "M"
-    metersPerUnit = 1
-    upAxis = "Y"
-)
-def Material "M"
-{{
-    token outputs:surface.connect = </M/S.outputs:surface>
-    def Shader "S"
-    {{
-        uniform token info:id = "UsdPreviewSurface"
-        {diffuse}
-        token outputs:surface
-    }}
-}}
-'''
 
 
 def test_a_float3_preview_colour_keeps_usd_cores_finding(tmp_path):
     from pxr import Usd, UsdValidation
 
-    path = tmp_path / "float3.usda"
-    path.write_text(_PREVIEW.format(diffuse="float3 inputs:diffuseColor = (0.8, 0.2, 0.1)"), encoding="utf-8")
+    path = preview_stage(tmp_path, "float3 inputs:diffuseColor = (0.8, 0.2, 0.1)", name="float3.usda")
     passed = [d for d in report(path).diagnostics if d.code == "OPBR1040"]
     assert len(passed) == 1 and "MismatchedPropertyType" in passed[0].message
     assert str(passed[0].severity) == "info" and passed[0].location.input == "diffuseColor"
@@ -92,40 +72,13 @@ def test_a_float3_preview_colour_keeps_usd_cores_finding(tmp_path):
     validator = UsdValidation.ValidationRegistry().GetOrLoadValidatorByName("usdShadeValidators:ShaderSdrCompliance")
     errors = [e for prim in stage.Traverse() for e in validator.Validate(prim)]
     assert any(e.GetName() == "MismatchedPropertyType" for e in errors)
-    good = tmp_path / "color3f.usda"
-    good.write_text(_PREVIEW.format(diffuse="color3f inputs:diffuseColor = (0.8, 0.2, 0.1)"), encoding="utf-8")
+    good = preview_stage(tmp_path, "color3f inputs:diffuseColor = (0.8, 0.2, 0.1)", name="color3f.usda")
     assert not [d for d in report(good).diagnostics if d.code in ("OPBR1010", "OPBR1040")]
 
 
-_ROTATED = '''#usda 1.0
-(
-    metersPerUnit = 1
-    upAxis = "Y"
-)
-def Material "M"
-{{
-    token outputs:surface.connect = </M/S.outputs:surface>
-    def Shader "S"
-    {{
-        uniform token info:id = "UsdPreviewSurface"
-        color3f inputs:diffuseColor.connect = </M/T.outputs:rgb>
-        token outputs:surface
-    }}
-    def Shader "T"
-    {{
-        uniform token info:id = "UsdUVTexture"
-        asset inputs:file = @albedo.png@
-        float2 inputs:st.connect = </M/R.outputs:result>
-        float3 outputs:rgb
-    }}
-    def Shader "R"
-    {{
-        uniform token info:id = "UsdTransform2d"
-        float inputs:rotation = {rotation}
-        float2 outputs:result
-    }}
-}}
-'''
+_ROTATOR = uv_texture("T", "albedo.png", "rgb", "float3", "float2 inputs:st.connect = </M/R.outputs:result>") + (
+    '    def Shader "R"\n    {\n        uniform token info:id = "UsdTransform2d"\n'
+    '        float inputs:rotation = {rotation}\n        float2 outputs:result\n    }\n')
 
 
 def test_a_transform2d_rotation_of_22_5_degrees_in_radians_is_found(tmp_path):
@@ -133,8 +86,8 @@ def test_a_transform2d_rotation_of_22_5_degrees_in_radians_is_found(tmp_path):
 
     Image.new("RGB", (4, 4), (200, 120, 40)).save(tmp_path / "albedo.png")
     for rotation, expected in ((round(math.pi / 8, 4), True), (22.5, False), (0.5, False)):
-        path = tmp_path / f"rotated_{rotation}.usda"
-        path.write_text(_ROTATED.format(rotation=rotation), encoding="utf-8")
+        path = preview_stage(tmp_path, "color3f inputs:diffuseColor.connect = </M/T.outputs:rgb>",
+                             extra=_ROTATOR.replace("{rotation}", str(rotation)), name=f"rotated_{rotation}.usda")
         found = messages(path, "OPBR719")
         assert bool(found) is expected, rotation
         if expected:
@@ -154,27 +107,10 @@ def test_a_scaled_srgb_preview_texture_is_decoded_before_its_scale(tmp_path):
     image = Image.new("RGB", (4, 1))
     image.putdata([(255, 76, 51), (128, 152, 204), (10, 200, 90), (240, 240, 240)])
     image.save(tmp_path / "emit.png")
-    (tmp_path / "emit.usda").write_text('''#usda 1.0
-def Material "M"
-{
-    token outputs:surface.connect = </M/S.outputs:surface>
-    def Shader "S"
-    {
-        uniform token info:id = "UsdPreviewSurface"
-        color3f inputs:diffuseColor = (0, 0, 0)
-        color3f inputs:emissiveColor.connect = </M/T.outputs:rgb>
-        token outputs:surface
-    }
-    def Shader "T"
-    {
-        uniform token info:id = "UsdUVTexture"
-        asset inputs:file = @emit.png@
-        token inputs:sourceColorSpace = "sRGB"
-        float4 inputs:scale = (0.5, 0.5, 0.5, 1)
-        float3 outputs:rgb
-    }
-}
-''', encoding="utf-8")
+    preview_stage(tmp_path, "color3f inputs:diffuseColor = (0, 0, 0)",
+                  "color3f inputs:emissiveColor.connect = </M/T.outputs:rgb>", name="emit.usda",
+                  extra=uv_texture("T", "emit.png", "rgb", "float3", 'token inputs:sourceColorSpace = "sRGB"',
+                                   "float4 inputs:scale = (0.5, 0.5, 0.5, 1)"))
     from openpbr_tools.convert import convert_file
     from openpbr_tools.translate.common import Settings
 
@@ -197,27 +133,6 @@ def Material "M"
 # Set W (session 23): 103 published files from eleven repositories no earlier round used, unmodified. Each test below
 # is one false alarm group, with the fact that makes the file good.
 
-def _preview_stage(tmp_path, *lines: str, metadata: str = 'defaultPrim = "M"\n    metersPerUnit = 1\n    upAxis = "Y"',
-                   extra: str = "") -> Path:
-    body = "".join(f"        {line}\n" for line in lines)
-    path = tmp_path / "stage.usda"
-    path.write_text(f'''#usda 1.0
-(
-    {metadata}
-)
-def Material "M"
-{{
-    token outputs:surface.connect = </M/S.outputs:surface>
-    def Shader "S"
-    {{
-        uniform token info:id = "UsdPreviewSurface"
-{body}        token outputs:surface
-    }}
-{extra}}}
-''', encoding="utf-8")
-    return path
-
-
 def test_blenders_specular_on_a_preview_is_a_note_and_a_misspelling_stays_an_error(tmp_path):
     """Blender 3.0-4.1's USD exporter writes inputs:specular on every UsdPreviewSurface (tinyusdz's test files);
     the preview's definition has no such input and readers ignore it: OPBR107 (info), not OPBR101."""
@@ -225,9 +140,9 @@ def test_blenders_specular_on_a_preview_is_a_note_and_a_misspelling_stays_an_err
 
     definition = Sdr.Registry().GetShaderNodeByIdentifier("UsdPreviewSurface")
     assert "specular" not in definition.GetShaderInputNames() and "roughness" in definition.GetShaderInputNames()
-    found = findings_all(_preview_stage(tmp_path, "float inputs:specular = 0.5"))
+    found = findings_all(preview_stage(tmp_path, "float inputs:specular = 0.5"))
     assert ("OPBR107", "info") in found and not [f for f in found if f[0] == "OPBR101"]
-    found = findings_all(_preview_stage(tmp_path, "float inputs:roughnes = 0.5"))
+    found = findings_all(preview_stage(tmp_path, "float inputs:roughnes = 0.5"))
     assert ("OPBR101", "error") in found
 
 
@@ -243,7 +158,7 @@ def test_stage_conventions_usd_core_calls_errors_are_notes(tmp_path):
         float2 outputs:result
     }
 '''
-    path = _preview_stage(tmp_path, "color3f inputs:diffuseColor = (0.5, 0.4, 0.3)", metadata="doc = \"\"", extra=reader)
+    path = preview_stage(tmp_path, "color3f inputs:diffuseColor = (0.5, 0.4, 0.3)", metadata="doc = \"\"", extra=reader)
     found = findings_all(path)
     assert not [f for f in found if f[0] == "OPBR1010"], found
     assert sum(1 for f in found if f == ("OPBR1040", "info")) >= 3  # metersPerUnit, upAxis (or defaultPrim), varname
@@ -325,22 +240,16 @@ def test_an_arnold_volume_shader_is_another_renderers_node(tmp_path):
         token outputs:shader
     }
 '''
-    found = report(_preview_stage(tmp_path, "color3f inputs:diffuseColor = (0.5, 0.4, 0.3)", extra=volume)).diagnostics
+    found = report(preview_stage(tmp_path, "color3f inputs:diffuseColor = (0.5, 0.4, 0.3)", extra=volume)).diagnostics
     assert not [d for d in found if d.code == "OPBR1010" and "arnold:standard_volume" in d.message]
 
 
 def test_a_preview_reading_an_undeclared_texture_output_says_so(tmp_path):
     """arnold-usd's shading test connects diffuseColor to a UsdUVTexture's authored outputs:out, which the node does
     not declare (rgb, r, g, b, a): the message said the target does not exist, though the attribute does."""
-    texture = '''    def Shader "T"
-    {
-        uniform token info:id = "UsdUVTexture"
-        asset inputs:file = @albedo.png@
-        color3f outputs:out
-    }
-'''
+    texture = uv_texture("T", "albedo.png", "out", "color3f")
     Image.new("RGB", (4, 4), (200, 120, 40)).save(tmp_path / "albedo.png")
-    path = _preview_stage(tmp_path, "color3f inputs:diffuseColor.connect = </M/T.outputs:out>", extra=texture)
+    path = preview_stage(tmp_path, "color3f inputs:diffuseColor.connect = </M/T.outputs:out>", extra=texture)
     (message,) = messages(path, "OPBR802")
     assert "UsdUVTexture declares no output 'out'" in message
 
@@ -382,17 +291,11 @@ def test_a_16_bit_rgba_mask_is_judged_by_an_upper_bound(tmp_path):
 
     (tmp_path / "mask.png").write_bytes(b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", 2, 2, 16, 6, 0, 0, 0))
                                         + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
-    texture = '''    def Shader "T"
-    {
-        uniform token info:id = "UsdUVTexture"
-        asset inputs:file = @mask.png@
-        float outputs:a
-    }
-'''
-    near = _preview_stage(tmp_path, "float inputs:opacity.connect = </M/T.outputs:a>", "float inputs:opacityThreshold = 0.499",
+    texture = uv_texture("T", "mask.png", "a", "float")
+    near = preview_stage(tmp_path, "float inputs:opacity.connect = </M/T.outputs:a>", "float inputs:opacityThreshold = 0.499",
                           extra=texture)
     assert "OPBR1034" not in [f[0] for f in findings_all(near)]
-    far = _preview_stage(tmp_path, "float inputs:opacity.connect = </M/T.outputs:a>", "float inputs:opacityThreshold = 0.6",
+    far = preview_stage(tmp_path, "float inputs:opacity.connect = </M/T.outputs:a>", "float inputs:opacityThreshold = 0.6",
                          extra=texture)
     assert "OPBR1034" in [f[0] for f in findings_all(far)]
 
@@ -408,19 +311,11 @@ def test_a_normal_map_scaled_whole_is_no_broken_decode(tmp_path):
     scaled = 1.5 * c - 0.75
     assert np.allclose(scaled / np.linalg.norm(scaled), unit)
     Image.new("RGB", (4, 4), (128, 128, 255)).save(tmp_path / "normal.png")
-    texture = '''    def Shader "N"
-    {{
-        uniform token info:id = "UsdUVTexture"
-        asset inputs:file = @normal.png@
-        token inputs:sourceColorSpace = "raw"
-        float4 inputs:scale = ({s}, {s}, {s}, 1)
-        float4 inputs:bias = ({b}, {b}, {b}, 0)
-        float3 outputs:rgb
-    }}
-'''
-    whole = _preview_stage(tmp_path, "normal3f inputs:normal.connect = </M/N.outputs:rgb>",
-                           extra=texture.format(s=1.5, b=-0.75))
+    texture = uv_texture("N", "normal.png", "rgb", "float3", 'token inputs:sourceColorSpace = "raw"',
+                         "float4 inputs:scale = ({s}, {s}, {s}, 1)", "float4 inputs:bias = ({b}, {b}, {b}, 0)")
+    whole = preview_stage(tmp_path, "normal3f inputs:normal.connect = </M/N.outputs:rgb>",
+                           extra=texture.replace("{s}", "1.5").replace("{b}", "-0.75"))
     assert "OPBR1006" not in [f[0] for f in findings_all(whole)]
-    unbiased = _preview_stage(tmp_path, "normal3f inputs:normal.connect = </M/N.outputs:rgb>",
-                              extra=texture.format(s=2, b=0))
+    unbiased = preview_stage(tmp_path, "normal3f inputs:normal.connect = </M/N.outputs:rgb>",
+                              extra=texture.replace("{s}", "2").replace("{b}", "0"))
     assert "OPBR1006" in [f[0] for f in findings_all(unbiased)]
