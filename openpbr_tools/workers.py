@@ -94,6 +94,13 @@ def stop(executor) -> None:
             process.join(timeout=10)
             if process.is_alive():
                 process.kill()
+    # the pool's manager thread closes its wake-up pipe once it sees the workers gone; joined here, so that
+    # concurrent.futures' exit hook finds the pipe closed instead of racing the close (Python 3.11 prints
+    # "Exception ignored ... Bad file descriptor" when it loses)
+    manager = getattr(executor, "_executor_manager_thread", None)
+    if manager is not None:
+        with contextlib.suppress(Exception):
+            manager.join(timeout=10)
 
 
 def _on_parent_terminate(signum, frame):
