@@ -31,7 +31,7 @@ from .resources import load_json
 from .rules import Context
 from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .bake import Baker
-from .translate.common import Settings
+from .translate.common import Settings, Values, lobe_off
 from .translate import candidates, past_hub
 from .translate.convert import MODELS, convert
 from .translate.upgrade import upgrade
@@ -87,16 +87,9 @@ def _meters_per_unit(material: Material, asset: Asset) -> tuple[float, list[str]
         return load_json("units.json")["usd_default_meters_per_unit"], []
     table = tables.table(material.model, material.version if material.version in tables.versions(material.model)
                          else None)
+    values = Values(material, table)  # (a length of a lobe switched off renders nothing: no unit to assume)
     return 1.0, [n for n in ("transmission_depth", "subsurface_radius") if n in material.inputs
-                 and not _switched_off(material, table, n)]
-
-
-def _switched_off(material: Material, table, name: str) -> bool:
-    """Whether ``name``'s lobe is switched off by a constant 0 (absent means its default): its value renders nothing."""
-    switch = table.lobe_switch(name)
-    entry = material.inputs.get(switch) if switch else None
-    value = table[switch].default if switch and entry is None else entry.constant if entry is not None else None
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and value <= 0
+                 and not lobe_off(n, values, table)]
 
 
 def convert_file(input_path: str, output_path: str, target: str | None = None, settings: Settings | None = None,

@@ -371,7 +371,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     for drop in dropped:
         if not values.authored(drop.source):
             continue
-        if _lobe_off(drop.source, values, source_table):  # its value is lost, but renders nothing: a note, no error
+        if lobe_off(drop.source, values, source_table):  # its value is lost, but renders nothing: a note, no error
             if _off_default(drop.source, values, source_table):
                 say(CONVERTED, f"{drop.source} has no equivalent ({drop.why}), so it is not carried: it has no "
                                f"effect while {source_table.lobe_switch(drop.source)} is 0", drop.source)
@@ -432,8 +432,9 @@ def _off_default(name: str, values: Values, source_table) -> bool:
     return value is not None and not _equal(value, source_table[name].default)
 
 
-def _lobe_off(name: str, values: Values, source_table) -> bool:
-    """Whether ``name`` belongs to a lobe whose switch (tables.ParameterTable.lobe_switch) is a constant 0."""
+def lobe_off(name: str, values: Values, source_table) -> bool:
+    """Whether ``name`` belongs to a lobe whose switch (tables.ParameterTable.lobe_switch) is a constant 0 (unset: its
+    default)."""
     switch = source_table.lobe_switch(name)
     value = values.constant(switch) if switch is not None and values.is_constant(switch) else None
     return value is not None and not bool(np.any(np.asarray(value) > 0))
