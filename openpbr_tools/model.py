@@ -219,7 +219,9 @@ class Connection:
     """A connection the reader could not interpret as a constant or a texture (a procedural
     graph, an unsupported node) or could not follow at all (``dangling``). ``graph_xml`` holds the
     upstream nodes as a MaterialX document when the reader could capture them, and ``output`` the
-    name of the node in it that feeds the input, so a writer can put the graph back."""
+    name of the node in it that feeds the input, so a writer can put the graph back. ``varying`` is False
+    where the reader found the graph constant over the surface (no image, geometric property or input that
+    defaults to one, on the path to the output read)."""
 
     target: str
     category: str | None = None
@@ -227,6 +229,7 @@ class Connection:
     dangling: bool = False
     graph_xml: str | None = None
     output: str | None = None
+    varying: bool = True  # the graph may change over the surface (False: constants and arithmetic only)
 
 
 ParameterValue = Union[Constant, Texture, Connection]

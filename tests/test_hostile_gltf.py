@@ -130,9 +130,12 @@ def test_a_file_that_is_not_gltf_is_unreadable(tmp_path, name, content, message)
     assert diagnostic["location"]["file"].endswith(name)
 
 
-def test_a_utf8_byte_order_mark_is_accepted(tmp_path):
+def test_a_utf8_byte_order_mark_is_read_and_reported(tmp_path):
+    """glTF 2.0: "glTF exporters MUST NOT add a byte order mark", clients "MAY ignore" one; the Khronos validator
+    reports INVALID_JSON. Read (never unreadable), and reported as the validator does."""
     path = write(tmp_path, "bom.gltf", b"\xef\xbb\xbf" + json.dumps(gltf(materials=[{"name": "M"}])).encode())
-    assert validate(path).exit_code == 0
+    result = validate(path)
+    assert result.exit_code == 1 and [d["code"] for d in result.report["diagnostics"] if d["severity"] == "error"] == ["OPBR1210"]
 
 
 def test_a_truncated_glb_is_unreadable(tmp_path):

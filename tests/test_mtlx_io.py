@@ -160,7 +160,7 @@ def test_round_trip_output_is_deterministic(rich):
 def test_written_document_is_valid_materialx(rich, tmp_path):
     import MaterialX as mx
 
-    from openpbr_tools.io.mtlx.reader import standard_library
+    from openpbr_tools.io.mtlx.library import standard_library
 
     document = mx.createDocument()
     mx.readFromXmlString(document, to_mtlx_string(rich.materials, "acescg"))

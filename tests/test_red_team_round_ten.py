@@ -221,6 +221,8 @@ def test_a_meshopt_fallback_buffer_may_have_no_uri(tmp_path):
         return json.dumps({"asset": {"version": "2.0"}, "extensionsUsed": ["EXT_meshopt_compression"],
                            "extensionsRequired": ["EXT_meshopt_compression"],
                            "buffers": [{"byteLength": 4}, {"byteLength": 64, "extensions": extension}],
+                           "bufferViews": [{"buffer": 1, "byteLength": 64}],  # (read: a buffer no view reads is fine)
+                           "accessors": [{"bufferView": 0, "componentType": 5126, "count": 16, "type": "SCALAR"}],
                            "materials": [{"name": "M"}]})
 
     good, bad = tmp_path / "fallback.glb", tmp_path / "missing.glb"

@@ -104,7 +104,7 @@ def test_metal_with_weighted_tint_reports_the_1_1_1_edge_change(write_mtlx):
 def test_rotation_is_carried_by_a_rotated_tangent_that_materialx_accepts(write_mtlx, tmp_path):
     import MaterialX as mx
 
-    from openpbr_tools.io.mtlx.reader import standard_library
+    from openpbr_tools.io.mtlx.library import standard_library
 
     path = write_mtlx(shader('<input name="specular_anisotropy" type="float" value="0.6" />',
                              '<input name="specular_rotation" type="float" value="0.125" />',

@@ -12,10 +12,14 @@ from __future__ import annotations
 import functools
 import io
 import os
+import re
 import stat
 import warnings
 import zlib
 from typing import NamedTuple
+
+#: An SVG document's opening: ``<svg`` after an XML declaration, comments or a DOCTYPE.
+_SVG = re.compile(r"(\s*(<\?xml[^>]*\?>|<!--.*?-->|<!DOCTYPE[^>]*>))*\s*<svg[\s>]", re.S | re.I)
 
 
 class ResourceFile(io.RawIOBase):
@@ -193,6 +197,8 @@ def _damage(image: str | memoryview) -> Damage | None:
             return Damage("text", "a Git LFS pointer, not the image: the file was never fetched (git lfs pull)")
         if text[:15].lower().startswith(("<!doctype html", "<html")):
             return Damage("text", "an HTML page, not an image (a failed download?)")
+        if _SVG.match(text):  # a browser's image decoder draws it; MaterialX's, USD's and glTF's readers decode rasters only
+            return Damage("text", "an SVG drawing (vector graphics), which no MaterialX, USD or glTF image reader decodes")
         if "\ufffd" not in text:
             return Damage("text", f"text, not an image ({text.splitlines()[0][:40]!r}...)" if text.strip()
                           else "blank text, not an image")

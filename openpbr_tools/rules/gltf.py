@@ -242,7 +242,8 @@ INVALID_PROPERTY = Rule(
     "an image in a bufferView with a byteStride or a target, or in one a mesh primitive draws with; a "
     "KHR_draco_mesh_compression object without its bufferView or attributes; an empty array at the root "
     "(\"samplers\": []), an extensionsUsed item that is no string, or an image or buffer uri that is no URI "
-    "(http://[::1/a.png).",
+    "(http://[::1/a.png); JSON text that starts with a byte-order mark (\"glTF exporters MUST NOT add a byte "
+    "order mark\"; clients may ignore it, JSON.parse on the raw text does not: the validator's INVALID_JSON).",
     "The glTF schema rejects the file; lenient loaders skip the property, so the texture or extension "
     "silently disappears. A bufferView of image data \"MUST NOT\" define byteStride (glTF 2.0, 3.6.1.1; the "
     "Khronos glTF-Validator's IMAGE_BUFFER_VIEW_WITH_BYTESTRIDE), nor a target (34962 vertices, 34963 indices), and "
@@ -267,8 +268,8 @@ NO_EFFECT = Rule(
     "OPBR1211", "gltf-extension-no-effect", Severity.WARNING,
     "A material extension is set where the glTF extension texts say it has no effect: transmission "
     "or diffuse transmission on a fully metallic material, a volume without a transmission extension, dispersion "
-    "without a volume, iridescence with zero thickness, an extension object without the factor that carries its "
-    "effect and nothing else (\"KHR_materials_transmission\": {}: the factor defaults to 0); a texture whose factor is left at its "
+    "without a volume, iridescence with zero thickness, a volume beside an empty transmission "
+    "object; a texture whose factor is left at its "
     "default 0 (emissiveTexture without emissiveFactor), a normal map at scale 0, or a texture without the "
     "channel its slot reads (an RGB specularTexture, sheenRoughnessTexture or diffuseTransmissionTexture, which read "
     "alpha alone, an anisotropyTexture whose blue strength is 0 everywhere, an "
@@ -294,6 +295,24 @@ NO_EFFECT = Rule(
                   '"extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}]'),
     failing=_gltf('"extensionsUsed": ["KHR_materials_transmission"]',
                   '"materials": [{"name": "M", "extensions": {"KHR_materials_transmission": {"transmissionFactor": 1.0}}}]'),
+    passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
+)
+
+EMPTY_EXTENSION = Rule(
+    "OPBR1251", "gltf-extension-empty", Severity.INFO,
+    "A material extension object is empty where the factor that carries its effect defaults to 0 "
+    "(\"KHR_materials_sheen\": {}, likewise transmission, clearcoat, iridescence, anisotropy and diffuse "
+    "transmission): the extension does nothing.",
+    "Valid glTF, and the material renders as it would without the object: every property is optional, and "
+    "each extension's README gives its factor the default 0 (\"If sheenColorFactor is zero, the whole sheen "
+    "layer is disabled\"). The Khronos glTF-Validator does not report it. Exporters write such objects for a "
+    "feature switched off (MaterialX's standard_surface_to_gltf_pbr graph, baked to glTF, writes one for each "
+    "lobe at 0), so it is a note, not a warning; an extension that authors a texture or a setting but no factor "
+    "is OPBR1211's.",
+    passing=_gltf('"extensionsUsed": ["KHR_materials_sheen"]',
+                  '"materials": [{"name": "M", "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1]}}}]'),
+    failing=_gltf('"extensionsUsed": ["KHR_materials_sheen"]',
+                  '"materials": [{"name": "M", "extensions": {"KHR_materials_sheen": {}}}]'),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
@@ -361,7 +380,7 @@ MISSPELT_EXTENSION = Rule(
 RULES = (UNDECLARED_EXTENSION, REQUIRED_UNSUPPORTED, EXCLUSIVE_EXTENSIONS, NOT_CONVERTED, MISSING_TEXCOORD,
          NOT_POWER_OF_TWO, UNSUPPORTED_IMAGE, STRENGTH_WITHOUT_EMISSIVE, BROKEN_RESOURCE, INVALID_PROPERTY, NO_EFFECT,
          EXTENSION_NOT_CONVERTED, UNEXPECTED_PROPERTY, MIME_MISMATCH, ARCHIVED_WITH_FALLBACK, MISSPELT_EXTENSION,
-         IMAGE_NEEDS_EXTENSION)
+         IMAGE_NEEDS_EXTENSION, EMPTY_EXTENSION)
 
 
 def check(asset, context):
@@ -537,22 +556,28 @@ def _no_effect(material, context):
         found.append((slots.VOLUME, "doubleSided has no effect on a volume boundary (thicknessFactor > 0)"))
     if slots.IRIDESCENCE in present and value["iridescence"] != 0.0 and value["iridescence_thickness"] == 0.0:
         found.append((slots.IRIDESCENCE, "iridescence with a film of 0 nm has no effect"))
+    empty = []
     for extension, parameter in EFFECT_FACTORS:
         if extension in present and not _authors_anything(material, extension):
             factor = slots.SLOT_BY_PARAMETER[parameter].factor
-            found.append((extension, f"an empty {extension} object has no effect: {factor} defaults to 0"))
+            if extension == slots.TRANSMISSION and slots.VOLUME in present and value["thickness"] != 0.0:
+                found.append((extension, f"an empty {extension} object ({factor} defaults to 0) leaves the volume "
+                                         "nothing to act through: neither has an effect"))
+            else:
+                empty.append((extension, f"an empty {extension} object does nothing: {factor} defaults to 0"))
     diffuse = ((material.extra.get("gltf") or {}).get("extensions") or {}).get(slots.DIFFUSE_TRANSMISSION)
     if isinstance(diffuse, dict):
         factor = diffuse.get("diffuseTransmissionFactor")
         if not set(diffuse) - {"extensions", "extras"}:
-            found.append((slots.DIFFUSE_TRANSMISSION, f"an empty {slots.DIFFUSE_TRANSMISSION} object has no effect: "
+            empty.append((slots.DIFFUSE_TRANSMISSION, f"an empty {slots.DIFFUSE_TRANSMISSION} object does nothing: "
                                                       "diffuseTransmissionFactor defaults to 0"))
         elif value["metallic"] == 1.0 and isinstance(factor, (int, float)) and factor > 0:
             found.append((slots.DIFFUSE_TRANSMISSION, "diffuse transmission on a fully metallic material (metallicFactor "
                                                       "1, the default) has no effect: a metal has no diffuse lobe"))
-    for extension, why in found:
-        yield context.diagnostic(NO_EFFECT, f"{material.name}: {why}",
-                                 Location(material.location.file, None, f"{material.location.path}/extensions/{extension}"))
+    for rule, listed in ((NO_EFFECT, found), (EMPTY_EXTENSION, empty)):
+        for extension, why in listed:
+            yield context.diagnostic(rule, f"{material.name}: {why}",
+                                     Location(material.location.file, None, f"{material.location.path}/extensions/{extension}"))
     for name in ("normal", "clearcoat_normal"):
         entry = material.inputs.get(name)
         if entry is not None and entry.texture is not None and entry.texture.normal_map == 0.0:

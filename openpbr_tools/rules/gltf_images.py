@@ -280,8 +280,9 @@ def _encodings(asset, facts, images, context):
             colour = {"icc_profile", "chromaticities", "gamma"}.intersection(image["features"])
             yield context.diagnostic(
                 IMAGE_FEATURES, f"image {image['index']} ({image['file']}) is a {_FORMAT_NAMES[kind]} with "
-                f"{' and '.join(features)}, which glTF says an image should not hold" +
-                ("; a browser that decodes it with colour conversion on bends its values" if colour else "") +
+                f"{' and '.join(features)}, which glTF says a texture image SHOULD NOT hold" +
+                ("; a browser that decodes it with colour conversion on applies that colour space to the values (a no-op only "
+                 "where it is sRGB's)" if colour else "") +
                 ("; viewers show one frame of it" if "animation" in image["features"] else ""),
                 Location(asset.path, None, image["pointer"]),
                 hint="re-save the image without the colour-space, pixel-aspect or animation data")

@@ -176,13 +176,14 @@ def _glb_with_data_uri(data_uri: bool) -> bytes:
 GLB_CONTAINER = Rule(
     "OPBR1237", "gltf-glb-container-waste", Severity.WARNING,
     "A GLB holds what its container does not need: a chunk that is neither JSON nor BIN, a BIN chunk longer than "
-    "buffer 0 and its padding, or a buffer or image as a data URI.",
+    "buffer 0 and its padding, bytes after the length the GLB's header declares, or a buffer or image as a data URI.",
     "glTF 2.0, 4.4.3: a GLB has one JSON chunk and an optional BIN chunk, whose length may exceed buffer 0's byteLength "
     "only by the padding to 4 bytes; clients \"MUST ignore chunks with unknown types\" (4.4.3.1), and a GLB exists to "
     "carry resources as bytes, not as base64 text a third larger that the loader must decode. Nothing renders wrong, "
     "but the bytes are dead weight or the file was assembled by a tool that lost track of its buffer (a byteLength "
-    "shrunk without the chunk). The Khronos glTF-Validator warns (GLB_UNKNOWN_CHUNK_TYPE, BUFFER_GLB_CHUNK_TOO_BIG, "
-    "DATA_URI_GLB). A second JSON or BIN chunk is OPBR1209.",
+    "shrunk without the chunk). Loaders read a GLB up to the length in its header, so bytes after it are never read "
+    "(the file is read as they read it). The Khronos glTF-Validator warns (GLB_UNKNOWN_CHUNK_TYPE, "
+    "BUFFER_GLB_CHUNK_TOO_BIG, DATA_URI_GLB, GLB_EXTRA_DATA). A second JSON or BIN chunk is OPBR1209.",
     passing=_glb_with_data_uri(False), failing=_glb_with_data_uri(True),
     passing_name="example.glb", failing_name="example.glb", formats=("gltf",),
 )

@@ -511,11 +511,16 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  f"{_GLTF}extensions/2.0/Khronos/KHR_draco_mesh_compression/schema/"
                  "mesh.primitive.KHR_draco_mesh_compression.schema.json"),
     "OPBR1211": ("The extension texts say these settings do nothing (transmission on a metal, a volume without "
-                 "transmission, dispersion without a volume, an extension whose factor defaults to 0, a texture "
+                 "transmission, dispersion without a volume, a texture "
                  "without the channel its slot reads): intent lost, and viewers differ.",
                  f"{khr('KHR_materials_volume')}; {khr('KHR_materials_dispersion')}; {khr('KHR_materials_iridescence')}; "
                  f"{khr('KHR_materials_transmission')}; {khr('KHR_materials_diffuse_transmission')}; "
                  f"{khr('KHR_materials_sheen')}; {khr('KHR_materials_specular')}; {khr('KHR_materials_anisotropy')}; {GLTF}"),
+    "OPBR1251": ("Each extension's factor defaults to 0, so an empty object switches nothing on; valid glTF that the "
+                 "Khronos glTF-Validator passes, written by exporters for a lobe at 0.",
+                 f"{khr('KHR_materials_sheen')}; {khr('KHR_materials_transmission')}; {khr('KHR_materials_clearcoat')}; "
+                 f"{khr('KHR_materials_iridescence')}; {khr('KHR_materials_anisotropy')}; "
+                 f"{khr('KHR_materials_diffuse_transmission')}"),
     "OPBR1213": ("A property the schema does not define is ignored by every viewer: a misspelt factor renders as its "
                  "default, silently. The Khronos glTF-Validator warns (UNEXPECTED_PROPERTY).",
                  f"{GLTF_MATERIAL_SCHEMA}; {khr('KHR_materials_iridescence')}; https://github.com/KhronosGroup/glTF-Validator"),

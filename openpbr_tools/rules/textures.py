@@ -332,7 +332,9 @@ def _check_path(asset, texture, where, context, checked_files):
     checked_files.add(key)
     if texture.packaged:  # inside the asset's own package (USDZ): look there, not on disk
         if file not in asset.extra.get("package_files", ()):
-            yield context.diagnostic(MISSING_TEXTURE, f"texture not found in the package: {file!r}", where)
+            yield context.diagnostic(MISSING_TEXTURE, f"the embedded image {file!r} has no data to read: its bufferView "
+                                     "or buffer is missing or broken (reported at the buffer)" if _gltf(texture)
+                                     else f"texture not found in the package: {file!r}", where)
         elif not _gltf(texture):
             yield from _damaged(_packaged(asset, file, {}), file, where, context)
         return

@@ -154,8 +154,10 @@ USD_CORE_CONVENTION = Rule(
     "OPBR1040", "usd-core-convention", Severity.INFO,
     "usd-core's validators report a stage convention that does not change how the materials render: "
     "metersPerUnit, upAxis or defaultPrim not authored (StageMetadataChecker), a primvar reader's varname "
-    "authored as a token (USD 21.08 and earlier), or a UsdPreviewSurface input authored in another float3 role "
-    "than declared (float3 for color3f or normal3f).",
+    "authored as a token (USD 21.08 and earlier), a UsdPreviewSurface input authored in another float3 role "
+    "than declared (float3 for color3f or normal3f); or a finding about the machine, not the file: a shader source "
+    "type this usd-core has no parser for (MDL, OSL: MissingSourceTypeInRegistry) and an MDL module named without a "
+    "folder (OmniPBR.mdl), which MDL renderers find on their module search path (UnresolvableDependency).",
     "usd-core calls these errors, and they matter where the stage is referenced or placed in a scene (a "
     "reference without a target prim needs defaultPrim; units and axis default to centimetres and Y). Every "
     "material still resolves and binds; a length a material reads without a stage unit is OPBR603's; varname "
@@ -532,6 +534,24 @@ def _tokens(asset, context):
 
 # -- usd-core -------------------------------------------------------------------------------------
 
+_SOURCE_TYPE = re.compile(r"sourceType '([^']*)'")
+_DEPENDENCY = re.compile(r"unresolvable external dependency '([^']*)'")
+
+
+def _environmental(finding: dict) -> bool:
+    """A usd-core finding about the machine rather than the file: a shader's sourceType (mdl, osl) for which this
+    usd-core has no parser plugin (pip's knows glslfx and USD's own definitions), or an MDL module named without a folder
+    (``OmniPBR.mdl``), which an MDL renderer finds on its own module search path, not through USD's resolver."""
+    name, message = finding["name"], finding["message"]
+    if name == "MissingSourceTypeInRegistry":
+        found = _SOURCE_TYPE.search(message)
+        return found is not None and found.group(1) not in finding.get("parsed_source_types", (found.group(1),))
+    if name == "UnresolvableDependency":
+        found = _DEPENDENCY.search(message)
+        return found is not None and found.group(1).lower().endswith(".mdl") and not re.search(r"[/\\:]", found.group(1))
+    return False
+
+
 _BINDING_TARGET = re.compile(r"targets an invalid material <([^>]*)>")
 
 
@@ -551,8 +571,8 @@ def _usd_core(asset, context):
     for finding in findings:
         name, sites = finding["name"], finding["sites"]
         prims = {site.split(".", 1)[0] for site in sites}
-        if name in _COVERED_USD_CORE:
-            continue
+        if name in _COVERED_USD_CORE and sites and sites[0].split(".", 1)[0] in read_shaders:
+            continue  # the rules judge the read shaders' normal maps (a preview not wired to a Material's output: usd-core's)
         if name == "UnsupportedFileExtensionInPackage" and any(f"'{entry}'" in finding["message"] for entry in packaged):
             continue  # OPBR1012 reports the image
         if name == "MismatchedPropertyType" and prims and prims <= read_shaders and not set(sites) & preview_roles:
@@ -574,7 +594,8 @@ def _usd_core(asset, context):
         validator = finding["identifier"].rsplit(":", 1)[-1].split(".")[0]
         rule = USD_CORE
         if validator == "StageMetadataChecker" or (name == "MismatchedPropertyType" and (
-                attribute == "inputs:varname" and "'token'" in finding["message"] or set(sites) & preview_roles)):
+                attribute == "inputs:varname" and "'token'" in finding["message"] or set(sites) & preview_roles)) \
+                or _environmental(finding):
             rule = USD_CORE_CONVENTION  # (its message names the authored type: usd-core's words, the anchor's)
         elif finding["severity"] == "error":  # usd-core's errors where the stage then renders wrong: as the anchor says
             binding = validator in BINDING_VALIDATORS or (validator == "SubsetsMaterialBindFamily" and finding.get("authored"))

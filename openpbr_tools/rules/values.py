@@ -40,7 +40,10 @@ UNIFORM_CONNECTED = Rule(
     "OPBR204", "uniform-connected", Severity.ERROR,
     "A uniform input (e.g. geometry_thin_walled) is driven by a texture or a node.",
     "Uniform inputs must be constant over the surface (OpenPBR 1.1.1 made geometry_thin_walled "
-    "uniform); shading languages reject a varying connection or ignore it.",
+    "uniform); shading languages reject a varying connection or ignore it. A graph of constants and arithmetic "
+    "is constant over the surface and passes: MaterialX's own translation graphs, applied to constants "
+    "(standard_surface_to_gltf_pbr feeding gltf_pbr's uniform attenuation_color), are validated and rendered by "
+    "MaterialX as they are.",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_thin_walled" type="boolean" value="true" />\n</open_pbr_surface>',
     failing='<image name="mask" type="boolean">\n  <input name="file" type="filename" value="mask.png" />\n</image>\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="geometry_thin_walled" type="boolean" nodename="mask" />\n</open_pbr_surface>',
 )
@@ -95,7 +98,8 @@ def check(asset, context):
                 "one direction", entry.location,
                 hint="remove the value, or connect a normal map through a normalmap node",
             )
-        if parameter.uniform and isinstance(entry.value, (Texture, Connection)) and not getattr(entry.value, "dangling", False):
+        if parameter.uniform and isinstance(entry.value, (Texture, Connection)) and not getattr(entry.value, "dangling", False) \
+                and not (isinstance(entry.value, Connection) and not entry.value.varying):
             yield context.diagnostic(
                 UNIFORM_CONNECTED, f"{entry.name} is uniform but is connected to {_describe(entry.value)}",
                 entry.location, hint="author a constant value",

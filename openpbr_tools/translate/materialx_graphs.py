@@ -52,7 +52,7 @@ class GraphError(ValueError):
 def _graph(name: str):
     import MaterialX as mx  # lazy: only a conversion that weighs candidates needs it
 
-    from ..io.mtlx.reader import standard_library  # lazy: as MaterialX above
+    from ..io.mtlx.library import standard_library  # lazy: as MaterialX above
 
     folder = os.path.join(os.path.dirname(mx.__file__), "libraries", "bxdf", "translation")
     document = mx.createDocument()

@@ -31,6 +31,10 @@ broken buffer cost one attempt), and only ever from inside the asset: a data URI
 file beside the asset (after following symbolic links) no larger than the file limit. A resource that cannot be
 fetched raises :class:`ResourceError`, which callers turn into a finding; it is a :class:`~openpbr_tools.io.ReadError`,
 so a caller that does not expect it still reports unreadable input rather than a traceback.
+
+One module because the limits above are one policy over one file's bytes: the container, the JSON's repairs and
+the buffers and images its URIs name (files, data URIs, the BIN chunk) are read along one path, under the same
+path guard, size limits and :class:`ResourceError`.
 """
 
 from __future__ import annotations
@@ -92,6 +96,8 @@ class GltfDocument:
     repairs: list[tuple[str, str]] = field(default_factory=list)  # (JSON pointer, what was repaired)
     duplicates: list[tuple[str, int]] = field(default_factory=list)  # (JSON pointer of a repeated name, times written)
     chunks: tuple[tuple[int, int], ...] = ()  # a GLB's chunks as (type, declared length), in file order
+    trailing: int = 0  # bytes after a GLB's declared length (loaders stop at the header's length)
+    bom: bool = False  # the JSON text starts with a UTF-8 byte-order mark (read past, as clients may)
     _buffers: dict[int, bytes | ResourceError] = field(default_factory=dict)
     _files: dict[str, bytes | ResourceError] = field(default_factory=dict)
     allow_outside: tuple[str, ...] = ()  # folders besides the asset's own that URIs may name
@@ -234,6 +240,9 @@ class GltfDocument:
         return found
 
 
+_MEDIA_TYPE = re.compile(r"(|[A-Za-z0-9!#$&^_.+-]+/[A-Za-z0-9!#$&^_.+-]+)")
+
+
 def data_uri_mime(uri: str) -> str | None:
     if not uri.startswith("data:"):
         return None
@@ -249,6 +258,10 @@ def decode_data_uri(uri: str, pointer: str) -> bytes:
     if comma < 0:
         raise ResourceError("data URI has no ',' before its payload", pointer)
     header, payload = uri[5:comma], uri[comma + 1:]
+    if any(not part for part in header.split(";")[1:]) or not _MEDIA_TYPE.fullmatch(header.split(";", 1)[0]):
+        # RFC 2397: data:[<mediatype>][;base64],<data>, a media type type/subtype with ;attribute=value parameters
+        raise ResourceError(f"data URI header {header!r} is malformed (RFC 2397: data:[type/subtype][;name=value]"
+                            "[;base64],...): loaders that parse it strictly refuse it", pointer)
     limit = max_data_uri_bytes()
     base64_encoded = header.endswith(";base64")
     decoded_size = len(payload) * 3 // 4 if base64_encoded else len(payload)  # an upper bound either way
@@ -266,7 +279,11 @@ def decode_data_uri(uri: str, pointer: str) -> bytes:
 def load_document(path: str) -> GltfDocument:
     """Read and decode the container; :class:`ReadError` when it is not glTF at all."""
     data = read_bytes(path)
+    trailing = 0
     if data[:4] == b"glTF" or path.lower().endswith(".glb"):
+        if len(data) >= 12 and data[:4] == b"glTF" and 12 <= struct.unpack_from("<I", data, 8)[0] < len(data):
+            trailing = len(data) - struct.unpack_from("<I", data, 8)[0]  # the Khronos validator's GLB_EXTRA_DATA
+            data = data[:len(data) - trailing]
         text, binary, chunks = _split_glb(data, path)
         is_glb = True
     else:
@@ -301,7 +318,7 @@ def load_document(path: str) -> GltfDocument:
     if major != "2":
         raise ReadError("not_gltf", f"glTF version {asset['version']!r} is not 2.x", Location(path, path="/asset", input="version"))
     return GltfDocument(path=path, json=document, binary=binary, is_glb=is_glb, repairs=repairs, chunks=chunks,
-                        duplicates=duplicates)
+                        duplicates=duplicates, trailing=trailing, bom=text.startswith(b"\xef\xbb\xbf"))
 
 
 def _object_keeping_repeats(repeated: dict[int, tuple[dict, dict[str, int]]]):

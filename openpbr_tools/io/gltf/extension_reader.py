@@ -128,6 +128,11 @@ class ExtensionReading:
         root = self.document.json.get("extensions")
         declared = root.get(slots.VARIANTS) if isinstance(root, dict) else None
         listed = declared.get("variants") if isinstance(declared, dict) else None
+        if isinstance(declared, dict) and (not isinstance(listed, list) or not listed):
+            # the root object's schema: variants required, at least one (the validator's UNDEFINED_PROPERTY, EMPTY_ENTITY)
+            self.invalid(f"/extensions/{slots.VARIANTS}", "the root's KHR_materials_variants object lists no variant "
+                         "(its schema requires a variants array of at least one): no mapping can select a material",
+                         "variants")
         listed = listed if isinstance(listed, list) else []
         names = [v.get("name") if isinstance(v, dict) and isinstance(v.get("name"), str) else f"variant_{i}"
                  for i, v in enumerate(listed)]

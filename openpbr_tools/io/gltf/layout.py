@@ -90,10 +90,32 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
         elif _meshopt_fallback(document, buffer):
             continue  # a placeholder: loaders that support the required extension read the compressed views instead
         elif not (document.is_glb and index == 0 and document.binary is not None):
-            yield "gltf_resource", pointer, "buffer has no uri and there is no GLB binary chunk for it", None
+            if index in _read_buffers(document):  # (an unread placeholder, as in Khronos' valid_placeholder.glb, is fine)
+                yield "gltf_resource", pointer, "buffer has no uri and there is no GLB binary chunk", None
         elif json_index(length) and len(document.binary) < length:
             yield ("gltf_resource", pointer, f"the GLB binary chunk holds {len(document.binary)} bytes, fewer than the "
                    f"buffer's byteLength {length}: the data at its end is missing", None)
+
+
+def _read_buffers(document: GltfDocument) -> set[int]:
+    """The buffers something reads: those of the bufferViews an accessor, an image or an extension (any
+    ``bufferView`` property in the JSON) names."""
+    views: set[int] = set()
+    stack = [document.json]
+    while stack:
+        item = stack.pop()
+        if isinstance(item, dict):
+            view = item.get("bufferView")
+            if json_index(view):
+                views.add(int(view))
+            stack.extend(item.values())
+        elif isinstance(item, list):
+            stack.extend(item)
+    found = set()
+    for index, view in enumerate(document.array("bufferViews")):
+        if index in views and isinstance(view, dict) and json_index(view.get("buffer")):
+            found.add(int(view["buffer"]))
+    return found
 
 
 def _meshopt_fallback(document: GltfDocument, buffer) -> bool:
@@ -128,8 +150,15 @@ def _glb_chunks(document: GltfDocument) -> Iterator[tuple[str, str, str, str | N
             yield ("gltf_container", "", f"GLB chunk {number} has type {name}, neither JSON nor BIN: loaders must ignore "
                    "it (no ratified extension defines another chunk), so whatever it holds is dead weight", None)
         seen.add(kind)
+    if document.bom:  # glTF 2.0, JSON encoding: "glTF exporters MUST NOT add a byte order mark" (clients MAY ignore it)
+        yield ("gltf_invalid", "", "the JSON starts with a UTF-8 byte-order mark, which glTF exporters must not write: "
+               "a loader that hands the text to JSON.parse as it is refuses the file (the Khronos validator's INVALID_JSON)",
+               None)
     if not document.is_glb:
         return
+    if document.trailing:
+        yield ("gltf_container", "", f"{document.trailing} byte{'s follow' if document.trailing > 1 else ' follows'} the GLB's "
+               "declared length: loaders stop at the length in its header, so they are never read", None)
     buffer = document.item("buffers", 0)
     length = buffer.get("byteLength") if buffer is not None and "uri" not in buffer else None
     if document.binary is not None and json_index(length) and len(document.binary) > length + (-length % 4):

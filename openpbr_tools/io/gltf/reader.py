@@ -119,7 +119,8 @@ class _Reader(TextureReading, ExtensionReading):
             if not _extension_in_place(pointer, name):
                 where = (f"{name} belongs in the root's extensions (its variants) and in mesh primitives' (their "
                          "mappings)") if name == slots.VARIANTS else ("a material extension belongs in a material's "
-                                                                       "extensions, KHR_texture_transform in a textureInfo's")
+                                                                       "extensions, KHR_texture_transform in a textureInfo's, "
+                                                                       "an image format's in a texture's")
                 self.invalid(pointer, f"{name} is not defined on this object ({where}); viewers ignore it")
         for key in ("extensionsUsed", "extensionsRequired"):
             names, seen = self.document.json.get(key), set()
@@ -363,19 +364,20 @@ def _extension_uses(document, found: list) -> None:
 
 _MATERIAL_EXTENSION = re.compile(r"/materials/\d+/extensions/[^/]+")
 _VARIANTS_PLACES = re.compile(rf"(/meshes/\d+/primitives/\d+)?/extensions/{slots.VARIANTS}")
+_TEXTURE_SOURCE = re.compile(r"/textures/\d+/extensions/[^/]+")
 _TEXTURE_TRANSFORM = re.compile(r"/materials/\d+(/[^/]+)*/[^/]*[tT]exture/extensions/KHR_texture_transform")
 
 
 def _extension_in_place(pointer: str, name: str) -> bool:
-    """Whether a KHR_materials_* extension object sits on a material and KHR_texture_transform on a textureInfo
-    (the Khronos glTF-Validator's UNEXPECTED_EXTENSION_OBJECT; other extensions are not judged here)."""
+    """Whether a KHR_materials_* extension sits on a material, KHR_texture_transform on a textureInfo, an image format's
+    on a texture (the Khronos glTF-Validator's UNEXPECTED_EXTENSION_OBJECT; other extensions are not judged here)."""
     if name == slots.TEXTURE_TRANSFORM:
         return _TEXTURE_TRANSFORM.fullmatch(pointer) is not None
     if name == slots.VARIANTS:  # (despite its name no material extension: the validator's UNEXPECTED_EXTENSION_OBJECT)
         return _VARIANTS_PLACES.fullmatch(pointer) is not None
     if name.startswith("KHR_materials_"):
         return _MATERIAL_EXTENSION.fullmatch(pointer) is not None
-    return True
+    return name not in slots.EXTENSION_MIME_TYPES.values() or _TEXTURE_SOURCE.fullmatch(pointer) is not None
 
 
 def _set_of(name: str, semantic: str) -> int | None:

@@ -118,10 +118,12 @@ class TextureReading:
             if isinstance(alternative, dict) and isinstance(alternative.get("source"), int):
                 source, via_extension = alternative["source"], extension
         if source is None or self.document.item("images", source) is None:
-            what = f"image {source}" if source is not None else "an image source"
-            self.asset.observe("dangling_reference", self.location(f"/textures/{index}", "source"),
-                               attribute="source", target=source if source is not None else "(none)")
-            return Connection(f"/textures/{index}", None, f"texture {index} has no {what}", dangling=True)
+            if source is not None and ("dangling_texture", index) not in self.observed:  # (once per texture; one
+                self.observed.add(("dangling_texture", index))  # without a source is said at each input that reads it)
+                self.asset.observe("dangling_reference", self.location(f"/textures/{index}", "source"),
+                                   attribute="source", target=source)
+            why = f"names image {source}, which does not exist" if source is not None else "has no image source"
+            return Connection(f"/textures/{index}", None, f"texture {index} {why}", dangling=True)
         image = self.images[source]
         if via_extension and via_extension not in image.setdefault("via_extensions", []):
             image["via_extensions"].append(via_extension)

@@ -19,9 +19,13 @@ from ...values import ValueSyntaxError, parse_value
 from . import gltf_nodes
 from .arithmetic import ScaleBias, connected as _connected
 from .capture import capture_graph, interface_input, read_output
+from .library import standard_library
 
 #: The geometric node categories whose world-space output is a shading model's default (defaultgeomprop).
 _WORLD_GEOMETRY = {"normal": "Nworld", "tangent": "Tworld", "bitangent": "Bworld"}
+#: Node categories whose output changes over a surface (geometric properties, the view) or in time.
+VARYING_CATEGORIES = frozenset({"texcoord", "position", "normal", "tangent", "bitangent", "geomcolor", "geompropvalue",
+                                "viewdirection", "time", "frame"})
 IMAGE_CATEGORIES = ("image", "tiledimage", "gltf_image", "gltf_colorimage", "gltf_normalmap", "UsdUVTexture")
 PASS_THROUGH = ("convert", "dot")
 
@@ -107,7 +111,38 @@ class GraphFollower:
         return Connection(
             node.getNamePath(), node.getCategory(), f"{node.getCategory()} node is not a texture lookup",
             graph_xml=capture_graph(node, binding=self.binding), output=node.getName(),
+            varying=self.varies(node, read_output(port), self.binding),
         )
+
+    def varies(self, node, output_name: str = "", binding=None, depth: int = 0) -> bool:
+        """Whether output ``output_name`` of ``node`` can change over a surface: a node on its way reads a file (an
+        image), a geometric property (:data:`VARYING_CATEGORIES`), or leaves an input unconnected whose definition
+        defaults to one (``defaultgeomprop``: a noise's position, a ramp's texture coordinates). A node a graph
+        implements is followed from the output read through its implementation, so only the inputs that output
+        depends on count (MaterialX's standard_surface_to_gltf_pbr passes the normal through, which its
+        attenuation colour does not read). Constants and arithmetic do not vary; an unknown node does."""
+        if depth > 64 or node.getCategory() in VARYING_CATEGORIES or any(p.getType() == "filename" for p in node.getInputs()):
+            return True
+        try:
+            nodedef = node.getNodeDef()
+        except Exception:  # noqa: BLE001 - MaterialX raises on some broken definitions (reported elsewhere)
+            return True
+        if nodedef is None:
+            return True
+        inner = _implementation_output(node, output_name) or _library_implementation_output(node, nodedef, output_name)
+        if inner is not None:
+            return self.varies(inner[0], "", inner[1], depth + 1)
+        for declared in nodedef.getActiveInputs():
+            held, held_binding = _held_by_interface(node.getInput(declared.getName()), binding)
+            if held is None or not _connected(held):
+                held = held if held is not None and held.hasAttribute("value") else declared
+                if held.getType() == "filename" or held.hasDefaultGeomPropString():
+                    return True
+                continue
+            upstream = self.upstream_node(held)
+            if upstream is None or self.varies(upstream, read_output(held), held_binding, depth + 1):
+                return True
+        return False
 
     def texture_chain(self, node, output_name: str = "") -> Texture | None:
         """Walk ``extract``/``convert``/``normalmap``/``separate`` to an image node; ``multiply`` and
@@ -415,6 +450,19 @@ def _implementation_output(node, output_name: str):
     output = implementation.getOutput(output_name) if output_name else (outputs[0] if len(outputs) == 1 else None)
     inner = output.getConnectedNode() if output is not None else None
     return (inner, (node, nodedef)) if inner is not None else None
+
+
+def _library_implementation_output(node, nodedef, output_name: str):
+    """:func:`_implementation_output` through MaterialX's standard libraries, for a standard node whose graph the
+    reader's document does not hold (it imports node definitions only: MaterialX's translation graphs)."""
+    definition = standard_library().getNodeDef(nodedef.getName())
+    implementation = definition.getImplementation() if definition is not None else None
+    if implementation is None or implementation.getCategory() != "nodegraph":
+        return None
+    outputs = implementation.getOutputs()
+    output = implementation.getOutput(output_name) if output_name else (outputs[0] if len(outputs) == 1 else None)
+    inner = output.getConnectedNode() if output is not None else None
+    return (inner, (node, definition)) if inner is not None else None
 
 
 def _real_world_ratio(node) -> tuple[float, float]:

@@ -205,3 +205,29 @@ def enum_violations(node) -> list[tuple[str, str, tuple[str, ...]]]:
         if value.strip() not in allowed:
             found.append((port.getName(), value, allowed))
     return found
+
+
+@lru_cache(maxsize=2)
+def standard_library(complete: bool = False):
+    """MaterialX's standard data libraries, loaded once per process.
+
+    By default only the files that declare node definitions are loaded, not the implementations
+    (``*_ng.mtlx`` node graphs, the ``genglsl``/``genosl``/... folders): validation needs node
+    definitions, and this halves the start-up cost. ``complete=True`` loads everything, as
+    ``mxvalidate`` does.
+    """
+    import MaterialX as mx  # lazy: the rules import the reader (so this module) at every start-up; MaterialX waits for a .mtlx
+
+    library = mx.createDocument()
+    if complete:
+        mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+        return library
+    for folder in mx.getDefaultDataSearchPath().asString().split(mx.PATH_LIST_SEPARATOR):
+        for name in mx.getDefaultDataLibraryFolders():
+            root = os.path.join(folder, name)
+            for directory, subdirectories, files in os.walk(root):
+                subdirectories[:] = sorted(d for d in subdirectories if not d.startswith("gen"))
+                for file in sorted(files):
+                    if file.endswith(".mtlx") and not file.endswith("_ng.mtlx"):
+                        mx.loadLibrary(os.path.join(directory, file), library)
+    return library

@@ -26,7 +26,6 @@ Each shader input becomes an :class:`~openpbr_tools.model.Input` whose value is
 from __future__ import annotations
 
 import os
-from functools import lru_cache
 
 from ... import colorspaces, gltf_state, versioning
 from ...model import Asset, Connection, Constant, Input, Location, Material
@@ -46,32 +45,6 @@ SHADER_CATEGORIES = ("open_pbr_surface", "standard_surface", "gltf_pbr", "UsdPre
 MATERIAL_CATEGORIES = ("surfacematerial",)
 
 
-@lru_cache(maxsize=2)
-def standard_library(complete: bool = False):
-    """MaterialX's standard data libraries, loaded once per process.
-
-    By default only the files that declare node definitions are loaded, not the implementations
-    (``*_ng.mtlx`` node graphs, the ``genglsl``/``genosl``/... folders): validation needs node
-    definitions, and this halves the start-up cost. ``complete=True`` loads everything, as
-    ``mxvalidate`` does.
-    """
-    import MaterialX as mx  # lazy: the rules import this module at every start-up; MaterialX (~10 ms) waits for a .mtlx
-
-    library = mx.createDocument()
-    if complete:
-        mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
-        return library
-    for folder in mx.getDefaultDataSearchPath().asString().split(mx.PATH_LIST_SEPARATOR):
-        for name in mx.getDefaultDataLibraryFolders():
-            root = os.path.join(folder, name)
-            for directory, subdirectories, files in os.walk(root):
-                subdirectories[:] = sorted(d for d in subdirectories if not d.startswith("gen"))
-                for file in sorted(files):
-                    if file.endswith(".mtlx") and not file.endswith("_ng.mtlx"):
-                        mx.loadLibrary(os.path.join(directory, file), library)
-    return library
-
-
 def known_categories(complete: bool = False) -> frozenset[str]:
     """The node categories MaterialX's standard libraries define (``complete``: with those only
     their implementation files declare), from the cached library index (:mod:`.library`)."""
@@ -86,7 +59,7 @@ def read_mtlx(path: str, data: bytes | None = None, allow_outside: tuple[str, ..
               included_by: str | None = None) -> Asset:
     """Read the MaterialX document at ``path`` (or ``data``, named ``path``). XIncludes are followed inside its folder
     or one in ``allow_outside``; ``included_by`` (:func:`.includes.import_includer`) is the document including it."""
-    import MaterialX as mx  # lazy: as in standard_library
+    import MaterialX as mx  # lazy: as in library.standard_library
 
     if data is None:
         data = read_bytes(path)
@@ -179,7 +152,7 @@ class _Reader(GraphFollower):
         return Location(self.path, self.asset.line_of.get(name_path), name_path, input_name)
 
     def run(self) -> None:
-        import MaterialX as mx  # lazy: as in standard_library
+        import MaterialX as mx  # lazy: as in library.standard_library
 
         used = {element.getCategory() for element in self.document.traverseTree() if element.isA(mx.Node)}
         self.document.setDataLibrary(library.library_for(used))
@@ -307,7 +280,7 @@ class _Reader(GraphFollower):
         around one shader the toolkit reads (OpenUSD's UsdMtlx test files are full of them): that
         shader, its interface inputs bound to the instance's values (the definition's defaults where
         the instance authors none), named and located as the instance. ``None`` otherwise."""
-        import MaterialX as mx  # lazy: as in standard_library
+        import MaterialX as mx  # lazy: as in library.standard_library
 
         nodedef = instance.getNodeDef()
         graph = nodedef.getImplementation() if nodedef is not None else None

@@ -18,7 +18,7 @@ from functools import lru_cache
 import MaterialX as mx
 
 from ...resources import data_dir
-from ..mtlx.reader import standard_library
+from ..mtlx.library import standard_library
 from .errors import quiet
 from .types import MATERIALX_TO_USD
 

@@ -16,7 +16,7 @@ def usd_core_findings(stage) -> list[dict]:
     MaterialX node definitions the stage uses registered in Sdr first so that known MaterialX
     shaders raise no "not found in sdrRegistry" errors. Each finding is a dict: ``identifier``,
     ``name``, ``severity`` (``error``/``warning``/``info``), ``message``, ``sites`` (paths)."""
-    from pxr import Usd, UsdShade, UsdValidation  # lazy: pxr (0.1-0.2 s) only once a stage has been opened
+    from pxr import Sdr, Usd, UsdShade, UsdValidation  # lazy: pxr (0.1-0.2 s) only once a stage has been opened
 
     ids = set()
     # every shader the validators visit: also under class prims and in the prototypes of instances
@@ -54,6 +54,8 @@ def usd_core_findings(stage) -> list[dict]:
         }
         if finding["name"] == "InvalidFamilyType" and sites:
             finding["authored"] = _family_type_authored(stage, sites[0])
+        if finding["name"] == "MissingSourceTypeInRegistry":  # a fact of this machine: no parser plugin for the type
+            finding["parsed_source_types"] = sorted(str(t) for t in Sdr.Registry().GetAllShaderNodeSourceTypes())
         findings.append(finding)
     return findings
 

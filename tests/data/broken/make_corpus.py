@@ -889,8 +889,9 @@ case("OPBR908_gltf_blend_alpha_zero.gltf", "OPBR908", "alphaMode BLEND with base
      json.dumps(gltf([{"name": "M", "alphaMode": "BLEND", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.95, 0.0]}}]), indent=2))
 case("OPBR908_gltf_mask_below_cutoff.gltf", "OPBR908", "alphaMode MASK with alpha 0.3 and no texture under the cutoff 0.5: every fragment discarded.",
      json.dumps(gltf([{"name": "M", "alphaMode": "MASK", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.9, 0.95, 0.3]}}]), indent=2))
-case("OPBR1211_transmission_empty.gltf", "OPBR1211", "\"KHR_materials_transmission\": {} on a glass (the exporter never wrote transmissionFactor, default 0).",
-     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": _GLASS, "extensions": {"KHR_materials_transmission": {}}}], ["KHR_materials_transmission"]), indent=2))
+case("OPBR1211_transmission_empty.gltf", "OPBR1211", "\"KHR_materials_transmission\": {} beside a volume on a glass (the exporter never wrote transmissionFactor, default 0): neither acts.",
+     json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": _GLASS, "extensions": {"KHR_materials_transmission": {}, "KHR_materials_volume": {"thicknessFactor": 0.5}}}],
+                     ["KHR_materials_transmission", "KHR_materials_volume"]), indent=2))
 case("OPBR1211_diffuse_transmission_metal.gltf", "OPBR1211", "Diffuse transmission 1 on a lampshade left at metallicFactor 1 (no metallicRoughness texture): a metal has no diffuse lobe.",
      json.dumps(gltf([{"name": "M", "pbrMetallicRoughness": {"metallicFactor": 1.0},
                        "extensions": {"KHR_materials_diffuse_transmission": {"diffuseTransmissionFactor": 1.0}}}], ["KHR_materials_diffuse_transmission"]), indent=2),
