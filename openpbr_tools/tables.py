@@ -43,7 +43,6 @@ class Parameter:
     range_note: str | None = None
     soft_max_exceedable: bool = False  # the spec allows values above soft_max as such: no finding there
     default_geomprop: str | None = None
-    switches: str | None = None  # the prefix of the inputs this weight switches on (no effect while it is 0)
 
     def inside_low(self) -> float:
         """The nearest value inside an open lower bound (``hard_min_exclusive``): an IOR of 0 becomes 1e-6,
@@ -136,7 +135,6 @@ def table(model: str, version: str | None = None) -> ParameterTable:
             range_note=entry.get("range_note"),
             soft_max_exceedable=entry.get("soft_max_exceedable", False),
             default_geomprop=entry.get("default_geomprop"),
-            switches=entry.get("switches"),
         )
         for name, entry in raw["parameters"].items()
     }

@@ -125,16 +125,17 @@ def read_back_notes(source: Material, written: Material, where, context) -> list
 
 
 def _lobe_off(source: Material, table, name: str) -> bool:
-    """Whether ``name`` belongs to a lobe whose weight (the table's ``switches``) is 0 in ``source``."""
-    for weight, parameter in table.parameters.items():
-        if parameter.switches and name.startswith(parameter.switches) and name != weight:
-            entry = source.inputs.get(weight)
-            value = entry.value.value if entry is not None and isinstance(entry.value, Constant) else table[weight].default
-            try:
-                return not float(value) > 0
-            except (TypeError, ValueError):
-                return False
-    return False
+    """Whether ``name`` belongs to a lobe whose switch (:meth:`~openpbr_tools.tables.ParameterTable.lobe_switch`) is 0
+    in ``source``."""
+    weight = table.lobe_switch(name)
+    if weight is None:
+        return False
+    entry = source.inputs.get(weight)
+    value = entry.value.value if entry is not None and isinstance(entry.value, Constant) else table[weight].default
+    try:
+        return not float(value) > 0
+    except (TypeError, ValueError):
+        return False
 
 
 def _changed(authored, returned) -> bool:
