@@ -99,12 +99,13 @@ def test_an_image_file_bound_to_a_nodedef_input_is_read_from_the_instance():
     assert (texture.file, texture.colorspace) == ("resources/Images/grid.png", "srgb_texture")
 
 
-def test_tiled_coordinates_keep_the_graph_rather_than_drop_the_tiling():
-    # usd_normal_map.mtlx: UsdUVTexture's st is texcoord * 16; read as a plain texture the tiling was lost
+def test_tiled_coordinates_are_the_textures_transform_not_dropped():
+    # usd_normal_map.mtlx: UsdUVTexture's st is texcoord * 16; read as a plain texture the tiling was lost, so the
+    # graph was kept; since session 24 the multiply is the texture's UV transform (place2d's scale 1/16)
     (material,) = read_asset(str(SUITE / "pbrlib/surfaceshader/usd_normal_map.mtlx")).materials
     entry = material.inputs["normal"]
-    assert isinstance(entry.value, Connection) and "UsdUVTexture" in entry.value.graph_xml
-    assert "16, 16" in entry.value.graph_xml
+    assert isinstance(entry.value, Texture) and entry.value.uv is not None
+    assert entry.value.uv.scale == (1 / 16, 1 / 16)
 
 
 def test_a_usd_uv_texture_rgb_normal_map_is_written_as_a_vector3_image(write_mtlx, tmp_path):

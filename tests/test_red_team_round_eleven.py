@@ -291,3 +291,29 @@ def test_an_image_format_extension_on_an_image_is_out_of_place(tmp_path):
                               "materials": [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]},
                    name="placed.gltf")
     assert "OPBR1210" not in codes(placed)
+
+
+def _coloured_triangle(tmp_path, colours, name="colours.gltf"):
+    import base64
+
+    positions = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+    data = struct.pack("<9f", *positions) + struct.pack("<9f", *colours)
+    return _gltf(tmp_path, {
+        "buffers": [{"byteLength": len(data), "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}],
+        "bufferViews": [{"buffer": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 36}],
+        "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                      {"bufferView": 1, "componentType": 5126, "count": 3, "type": "VEC3"}],
+        "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "COLOR_0": 1}, "material": 0}]}],
+        "materials": [{"name": "M"}]}, name=name)
+
+
+def test_vertex_colours_above_one_are_an_error(tmp_path):
+    """glTF 2.0 (3.7.2.1): COLOR_0 multiplies the base colour; the Khronos validator calls a float colour outside
+    [0, 1] an error (ACCESSOR_NON_CLAMPED), which the red team's repaired colors_non_clamped case showed passing here."""
+    hot = _coloured_triangle(tmp_path, [1.0, 1.0, 1.0, 1.5, 0.0, 0.5, 0.2, 0.2, 0.2])
+    (code, severity, path, attribute), = [f for f in findings(hot) if f[0] == "OPBR1231"]
+    assert (severity, path, attribute) == ("error", "/meshes/0/primitives/0/attributes", "COLOR_0")
+    assert "1.5, 0, 0.5" in messages(hot, "OPBR1231")[0]
+    assert khronos_errors(hot, tmp_path) in (None, {"ACCESSOR_NON_CLAMPED"})
+    plain = _coloured_triangle(tmp_path, [1.0, 1.0, 1.0, 1.0, 0.0, 0.5, 0.2, 0.2, 0.2], name="plain.gltf")
+    assert "OPBR1231" not in codes(plain)

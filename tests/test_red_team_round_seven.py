@@ -499,14 +499,14 @@ def test_a_material_whose_surface_is_another_materials_shader_is_converted_too(t
 
 
 _GRAPH_NORMAL = ('<nodegraph name="NG">\n  <texcoord name="tc" type="vector2" />\n  <multiply name="tile" type="vector2">\n'
-                 '    <input name="in1" type="vector2" nodename="tc" />\n    <input name="in2" type="float" value="3" />\n'
+                 '    <input name="in1" type="vector2" nodename="tc" />\n    <input name="in2" type="vector2" nodename="tc" />\n'
                  '  </multiply>\n  <image name="nmap" type="vector3">\n    <input name="file" type="filename" '
                  'value="normal.png" />\n    <input name="texcoord" type="vector2" nodename="tile" />\n  </image>\n'
                  '  <normalmap name="nm" type="vector3">\n    <input name="in" type="vector3" nodename="nmap" />\n'
                  '  </normalmap>\n  <output name="out" type="vector3" nodename="nm" />\n</nodegraph>\n'
                  + _SHADED.format(inputs='<input name="normal" type="vector3" nodegraph="NG" output="out" />'))
 _PREVIEW_NORMAL = ('<texcoord name="tc" type="vector2" />\n<multiply name="tile" type="vector2">\n  <input name="in1" '
-                   'type="vector2" nodename="tc" />\n  <input name="in2" type="float" value="3" />\n</multiply>\n'
+                   'type="vector2" nodename="tc" />\n  <input name="in2" type="vector2" nodename="tc" />\n</multiply>\n'
                    '<image name="nmap" type="vector3">\n  <input name="file" type="filename" value="normal.png" />\n'
                    '  <input name="texcoord" type="vector2" nodename="tile" />\n</image>\n<multiply name="n2" '
                    'type="vector3">\n  <input name="in1" type="vector3" nodename="nmap" />\n  <input name="in2" '

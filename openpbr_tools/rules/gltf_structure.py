@@ -139,14 +139,16 @@ def _triangle_uvs(v: float) -> str:
 
 VERTEX_VALUES = Rule(
     "OPBR1231", "gltf-vertex-values-invalid", Severity.ERROR,
-    "A vertex attribute of a primitive with a material holds values glTF forbids: a NaN or infinite float, or a "
-    "NORMAL (a TANGENT's xyz) that is not of unit length.",
+    "A vertex attribute of a primitive with a material holds values glTF forbids: a NaN or infinite float, a "
+    "NORMAL (a TANGENT's xyz) that is not of unit length, or a float COLOR_n outside [0, 1].",
     "glTF 2.0: float accessor values \"of NaN, +Infinity, and -Infinity MUST NOT be present\" (3.6.2.2), and NORMAL "
     "is a \"normalized\" vector, TANGENT's xyz \"normalized\" (3.7.2.1). A NaN texture coordinate samples garbage or "
     "black (a degenerate unwrap), a NaN normal or position drops or blackens the triangles; a normal of length 2.5 "
     "(an object scale baked into the normals) brightens or darkens the lighting by that factor in viewers that do "
     "not renormalise, and tilts a normal map's basis. The Khronos glTF-Validator reports both as errors "
     f"(ACCESSOR_INVALID_FLOAT, ACCESSOR_VECTOR3_NON_UNIT, with its tolerance: |length - 1| > {UNIT_TOLERANCE:g}). "
+    "COLOR_n multiplies the base colour (3.7.2.1), and the validator calls a float colour outside [0, 1] an error "
+    "(ACCESSOR_NON_CLAMPED): the albedo exceeds 1 there. "
     "Only POSITION, NORMAL, TANGENT, TEXCOORD_n and COLOR_n accessors of primitives with a material are read, each "
     "once and its first four million or so elements; a TANGENT's w is OPBR1227.",
     passing=_triangle_uvs(1.0), failing=_triangle_uvs(float("nan")),
@@ -278,13 +280,22 @@ def _non_unit(p):
             "normalise the vectors (an object scale baked into them?)")
 
 
+def _non_clamped(p):
+    effect = ("COLOR_0 multiplies the base colour, which then exceeds 1 (or goes negative)" if p["attribute"] == "COLOR_0"
+              else f"glTF requires {p['attribute']} in [0, 1]")
+    return (f"{p['count']} of {p['checked']} colours of accessor {p['accessor']} lie outside [0, 1] (first: element "
+            f"{p['first']}, {', '.join(f'{v:g}' for v in p['value'])}): {effect}",
+            "clamp the vertex colours to [0, 1] (HDR colours baked into them?)")
+
+
 _MESSAGES = {"stride_not_multiple": _stride_not_multiple, "stride_out_of_range": _stride_out_of_range,
              "stride_too_big": _stride_too_big, "vertex_unaligned": _vertex_unaligned,
              "offset_alignment": _offset_alignment, "total_offset_alignment": _total_offset_alignment,
              "small_stride": _small_stride, "too_long": _too_long, "sparse_not_increasing": _sparse_not_increasing,
              "sparse_out_of_range": _sparse_out_of_range, "unequal_count": _unequal_count,
-             "index_out_of_range": _index_out_of_range, "non_finite": _non_finite, "non_unit": _non_unit}
-_VALUE_KINDS = ("non_finite", "non_unit")
+             "index_out_of_range": _index_out_of_range, "non_finite": _non_finite, "non_unit": _non_unit,
+             "non_clamped": _non_clamped}
+_VALUE_KINDS = ("non_finite", "non_unit", "non_clamped")
 
 
 def check(asset, context):

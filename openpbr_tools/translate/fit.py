@@ -49,6 +49,7 @@ from .fit_metal import (  # re-exported: the translation modules call every fit 
     f82_tint_of_edge_color,
     fitted_metal,
     metal_from_schlick_clips,
+    metal_from_schlick_out_of_range,
     openpbr_metal_from_constant,
     openpbr_metal_from_schlick,
     schlick_metal_f0,

@@ -120,9 +120,17 @@ def openpbr_metal_from_schlick(fitted, metalness, tint, weight, alpha):
 def metal_from_schlick_clips(fitted, metalness, tint, weight, alpha) -> bool:
     """Whether :func:`openpbr_metal_from_schlick` had to clip (no OpenPBR base colour in [0, 1]
     gives glTF's metal: the tint or weight darkens it more than a base colour of 1 makes up for)."""
+    return bool(np.any(metal_from_schlick_out_of_range(fitted, metalness, tint, weight, alpha)))
+
+
+def metal_from_schlick_out_of_range(fitted, metalness, tint, weight, alpha) -> np.ndarray:
+    """:func:`metal_from_schlick_clips` texel by texel (any channel out of [0, 1], or a metal no base colour reaches:
+    a weight of 0 under a colour that is not black)."""
+    gain, offset = _affine_metal(tint, weight, alpha, "schlick")
     with np.errstate(all="ignore"):
         raw = _unblend_metal(fitted, metalness, tint, weight, alpha, "schlick")
-    return bool(np.any((raw < -1e-6) | (raw > 1.0 + 1e-6)))
+        unreachable = (np.abs(1.0 + metalness * (gain - 1.0)) <= _TINY) & (fitted - metalness * offset > 1e-6)
+    return np.any((raw < -1e-6) | (raw > 1.0 + 1e-6) | unreachable, axis=-1)
 
 
 def constant_metal_reflectance(color, metalness, tint, weight, alpha):

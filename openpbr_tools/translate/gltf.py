@@ -332,14 +332,44 @@ def _unmixed(color, metallic, transmission, attenuation_distance, thickness, att
     return np.clip(target, 0.0, 1.0), np.where(k > 0, metallic / safe, metallic)
 
 
+def openpbr_metal_weight(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
+                         coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0,
+                         attenuation_color=WHITE):
+    """OpenPBR's ``specular_weight`` (:func:`openpbr_specular_weight`), except where glTF's material is all metal
+    and its colour does not fit under that weight. glTF's specular scales "the specular reflection of the dielectric"
+    only (KHR_materials_specular); OpenPBR's weight dims its metal too (open_pbr_surface.mtlx scales the metal's
+    F82 Fresnel by it), so a metal's base colour is solved as glTF's colour over the weight. Where the weight
+    holds it (a material written from OpenPBR, whose metal was dimmed by the weight: the round trip's), it is kept;
+    where it cannot (glTF's specular 0 on a metal: black, the red team's F1), it is 1, which glTF's metal is.
+    Texel by texel."""
+    weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior,
+                                     transmission=transmission)
+    full = np.asarray(metallic, dtype=float) >= 1.0
+    if not np.any(full):
+        return weight
+    target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness, attenuation_color)
+    clipped = fit.metal_from_schlick_out_of_range(target, metalness, specular_color, weight,
+                                                  average_alpha_gltf(roughness, anisotropy_strength))
+    if np.ndim(full) == np.ndim(clipped) + 1:  # (a metalness texture with its channel axis)
+        clipped = clipped[..., None]
+    whole = full & clipped
+    if np.ndim(weight) < np.ndim(whole):  # a constant weight over a textured colour stays one constant
+        return np.where(np.any(whole), 1.0, weight)
+    if np.ndim(whole) and np.ndim(weight) == np.ndim(whole) + 1:  # (a weight with its channel axis)
+        whole = whole[..., None]
+    return np.where(whole, 1.0, weight)
+
+
 def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
                        coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0,
                        attenuation_color=WHITE):
     """Inverse of :func:`gltf_metal_split`'s metal fit and transmission mix: OpenPBR's base colour (F0
     under an F82 edge tint of ``specular_color``) whose fitted Schlick metal, mixed with the transmitting
-    dielectric, is glTF's base colour."""
-    specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior,
-                                              transmission=transmission)
+    dielectric, is glTF's base colour, under :func:`openpbr_metal_weight`."""
+    specular_weight = openpbr_metal_weight(color, metallic, specular_color, roughness, anisotropy_strength,
+                                           *weight_sources, coat_ior=coat_ior, transmission=transmission,
+                                           attenuation_distance=attenuation_distance, thickness=thickness,
+                                           attenuation_color=attenuation_color)
     target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness, attenuation_color)
     return fit.openpbr_metal_from_schlick(target, metalness, specular_color, specular_weight,
                                           average_alpha_gltf(roughness, anisotropy_strength))
@@ -348,8 +378,10 @@ def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_st
 def _metal_inverse_clips(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
                          coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0,
                          attenuation_color=WHITE):
-    specular_weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior,
-                                              transmission=transmission)
+    specular_weight = openpbr_metal_weight(color, metallic, specular_color, roughness, anisotropy_strength,
+                                           *weight_sources, coat_ior=coat_ior, transmission=transmission,
+                                           attenuation_distance=attenuation_distance, thickness=thickness,
+                                           attenuation_color=attenuation_color)
     target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness, attenuation_color)
     return fit.metal_from_schlick_clips(target, metalness, specular_color, specular_weight,
                                         average_alpha_gltf(roughness, anisotropy_strength))
@@ -667,13 +699,19 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
                     note="a metal's base colour solved for OpenPBR's F82 edge tint and specular weight (glTF's metals "
                          "ignore KHR_materials_specular, OpenPBR's do not) leaves [0, 1] and is clipped: the metal "
                          "renders darker or differently tinted"),
-            Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES + ("transmission", "specular_color"),
-                    lambda *v: openpbr_specular_weight(*v[:-2], coat_ior=coat_ior, transmission=v[-2])
-                    * scale(v[-1], v[1]), exact=False,
-                    matters=lambda s, m, n, w, f, t, c: m < 1 and (s != 1.0 or w > 0 or np.any(scale(c, m) > 1)),
+            Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES + ("transmission", "specular_color", "base_color",
+                                                                  "roughness", "anisotropy_strength")
+                    + TRANSMISSION_MIX_SOURCES[1:],
+                    lambda s, m, n, w, f, t, c, b, r, a, d, k, ac: openpbr_metal_weight(
+                        b, m, c, r, a, s, n, w, f, coat_ior=coat_ior, transmission=t, attenuation_distance=d, thickness=k,
+                        attenuation_color=ac) * scale(c, m), exact=False,
+                    matters=lambda s, m, n, w, f, t, c, *_: m < 1 and (s != 1.0 or w > 0 or np.any(scale(c, m) > 1)),
                     note="KHR_materials_specular scales F0 and F90, OpenPBR's specular_weight F0 only (under a coat, of "
                          "the base relative to the coat): equal at normal incidence; a specular colour above 1 raises "
-                         "the weight by its largest component"),
+                         "the weight by its largest component",
+                    converted="glTF's specular scales the dielectric only, so on an all-metal material it has no effect; "
+                              "OpenPBR's weight, which dims the metal too, is 1 where the metal's colour does not fit "
+                              "under it", converted_to_default=True),
             Mapping("specular_ior", ("ior", "specular", "metallic", "clearcoat", "iridescence", "transmission"),
                     lambda n, s, m, c, f, t: openpbr_specular_ior(s, m, n, c, f, t, coat_ior=coat_ior), exact=False,
                     matters=lambda n, s, m, c, f, t: bool(np.any(relative_base(s, m, n, c, f, t, coat_ior=coat_ior))),

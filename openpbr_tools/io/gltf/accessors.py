@@ -139,7 +139,8 @@ def primitive_problems(document: GltfDocument, pointer: str, primitive: dict, ca
     """What the data of one mesh primitive holds that glTF forbids, as the layout facts are written
     (:func:`.layout.accessor_problems`: ``{"kind", "pointer", "property", ...}``): ``non_finite`` (a NaN or infinite
     float in a :data:`MATERIAL_ATTRIBUTES` accessor, at the accessor; a TANGENT's w is :func:`tangent_signs`'),
-    ``non_unit`` (a NORMAL or TANGENT xyz not of unit length, at the attribute) and ``index_out_of_range`` (an index
+    ``non_unit`` (a NORMAL or TANGENT xyz not of unit length, at the attribute), ``non_clamped`` (a float COLOR_n
+    outside [0, 1], at the attribute) and ``index_out_of_range`` (an index
     not below the vertex count, 3.7.2.1, at ``indices``). Each accessor's values are judged once (``cache``, by
     accessor; the indices by accessor and vertex count), and at most :data:`MAX_ELEMENTS` elements of each are read."""
     attributes = primitive.get("attributes") if isinstance(primitive.get("attributes"), dict) else {}
@@ -172,6 +173,14 @@ def _vertex_values(document: GltfDocument, index, name: str, where: str, cache: 
             yield {"kind": "non_finite", "pointer": f"/accessors/{index}", "property": None, "accessor": index,
                    "attribute": name, "count": int(bad.sum()), "checked": _checked(document, index, bad.size), "first": first,
                    "value": float(judged[first][~numpy.isfinite(judged[first])][0])}
+    if values is not None and name.startswith("COLOR_"):  # a multiplier of the base colour: [0, 1] (3.7.2.1)
+        with numpy.errstate(invalid="ignore"):
+            bad = numpy.isfinite(values[0]).all(axis=1) & ((values[0] < 0.0) | (values[0] > 1.0)).any(axis=1)
+        if bad.any():
+            first = int(bad.argmax())
+            yield {"kind": "non_clamped", "pointer": where, "property": name, "accessor": index, "attribute": name,
+                   "count": int(bad.sum()), "checked": _checked(document, index, bad.size), "first": first,
+                   "value": [float(v) for v in values[0][first]]}
     if not unit:
         return
     found = _elements(document, index, _FORMATS)

@@ -198,9 +198,12 @@ class TextureWriting:
 
     def conversion(self, slot: slots.Slot, space: str | None) -> tuple[str | None, bool]:
         """(colour space to decode from, whether to encode sRGB) so texels reach glTF's encoding:
-        sRGB for colour slots, linear for data. An unknown name is taken as already right (noted). A name
+        sRGB for colour slots, linear for data; a colour texture without a colour space (nor its document) is linear,
+        as MaterialX reads it. An unknown name is taken as already right (noted). A name
         of another scheme (a UsdUVTexture's ``raw``, a USD colour space) is read as its MaterialX equivalent."""
         space = colorspaces.materialx_name(space)
+        if slot.colour and space is None:  # no colour space anywhere: MaterialX reads the texels as they are (linear)
+            return "lin_rec709", True
         if space is None or colorspaces.is_data(space) or (slot.colour and space == slots.SRGB):
             return None, False
         if space not in colorspaces.materialx_names():
@@ -217,7 +220,7 @@ class TextureWriting:
             return False
         space = colorspaces.materialx_name(texture.colorspace)
         if slot.colour:
-            if space not in (None, slots.SRGB):
+            if space != slots.SRGB:  # (untagged in a document without a colour space: linear texels, re-encoded)
                 return False
         elif colorspaces.encoded(space):
             return False

@@ -197,6 +197,11 @@ class _MaterialWriter(TextureWriting, DraftWriting):
             self.note(NOT_CARRIED, f"attenuation_distance {value:g} is not above 0 (glTF requires > 0; absent means infinite); "
                       "not written", slot.parameter)
             return
+        if slot.factor is None:  # a texture-only slot (occlusion: glTF has no constant; 1 is no occlusion)
+            if value != tables.table("gltf_pbr")[slot.parameter].default:
+                self.note(NOT_CARRIED, f"{slot.parameter} {value!r}: glTF holds it only as a texture "
+                          f"({slot.texture}); not written", slot.parameter)
+            return
         self.container(slot)[slot.factor] = self.clamped(slot, _json_value(value))
 
     def pin_node_defaults(self) -> None:

@@ -187,3 +187,26 @@ def read_output(port) -> str:
     if output is not None and output.getParent().getCategory() in ("nodegraph", "materialx"):
         return output.getOutputString()
     return port.getOutputString() if not port.getNodeGraphString() else ""
+
+
+def select_output(graph_xml: str, node_name: str, output_name: str, type_name: str) -> tuple[str, str]:
+    """(the capture with a ``dot`` node of ``type_name`` reading output ``output_name`` of multi-output node
+    ``node_name``, the dot's name): a kept graph then ends in one typed node, so a writer's plain ``nodename``
+    connection (and an expression appended after it) reads the output the source read. Without it the connection
+    to a multi-output node names no output: MaterialX validates it, and its GLSL does not compile."""
+    # lazy: as in capture_graph
+    import MaterialX as mx
+
+    from .writer import document_text  # lazy: as in capture_graph
+
+    document = mx.createDocument()
+    mx.readFromXmlString(document, graph_xml)
+    name, count = f"{node_name}_{output_name}", 1
+    while document.getChild(name) is not None:
+        count += 1
+        name = f"{node_name}_{output_name}{count}"
+    dot = document.addNode("dot", name, type_name)
+    port = dot.addInput("in", type_name)
+    port.setNodeName(node_name)
+    port.setOutputString(output_name)
+    return document_text(document), name

@@ -14,11 +14,13 @@ decides whether it is a Texture or the graph is kept whole, and each step calls 
 
 from __future__ import annotations
 
+import math
+
 from ...model import Connection, Constant, Location, Texture, UVTransform, normal_strength
 from ...values import ValueSyntaxError, parse_value
 from . import gltf_nodes
 from .arithmetic import ScaleBias, connected as _connected
-from .capture import capture_graph, interface_input, read_output
+from .capture import capture_graph, interface_input, read_output, select_output
 from .library import standard_library
 
 #: The geometric node categories whose world-space output is a shading model's default (defaultgeomprop).
@@ -108,10 +110,12 @@ class GraphFollower:
         texture = self.texture_chain(node, read_output(port))
         if texture is not None:
             return texture
+        graph_xml, output = capture_graph(node, binding=self.binding), node.getName()
+        if graph_xml and node.getType() == "multioutput" and read_output(port):  # (which output: a dot reads it)
+            graph_xml, output = select_output(graph_xml, output, read_output(port), port.getType())
         return Connection(
             node.getNamePath(), node.getCategory(), f"{node.getCategory()} node is not a texture lookup",
-            graph_xml=capture_graph(node, binding=self.binding), output=node.getName(),
-            varying=self.varies(node, read_output(port), self.binding),
+            graph_xml=graph_xml, output=output, varying=self.varies(node, read_output(port), self.binding),
         )
 
     def varies(self, node, output_name: str = "", binding=None, depth: int = 0) -> bool:
@@ -303,6 +307,8 @@ class GraphFollower:
         place = self.upstream_node(port)
         if place is None:
             return not port.hasAttribute("value") and not _connected(port)
+        if self.uv_tiling(place) is not None:
+            return True
         if place.getCategory() == "place2d":
             if any(_connected(p) for p in place.getInputs() if p.getName() != "texcoord"):
                 return False
@@ -313,6 +319,32 @@ class GraphFollower:
             if place is None:
                 return not _connected(inner)
         return place.getCategory() == "texcoord" and not any(_connected(p) for p in place.getInputs())
+
+    def uv_tiling(self, node):
+        """((k_u, k_v), the ``texcoord`` node) where ``node`` multiplies texture coordinates by a constant (a value,
+        a ``constant`` node or a graph input holding one; a float scales both): the UV tiling exporters write as
+        ``texcoord * 2`` instead of a ``place2d``, which a Texture holds as a transform. ``None`` otherwise."""
+        if node is None or node.getCategory() != "multiply" or node.getType() != "vector2":
+            return None
+        ports = [node.getInput("in1"), node.getInput("in2")]
+        for uv_port, k_port in (ports, ports[::-1]):
+            uv = self.upstream_node(uv_port) if uv_port is not None else None
+            if uv is None or uv.getCategory() != "texcoord" or any(_connected(p) for p in uv.getInputs()):
+                continue
+            held, _ = _held_by_interface(k_port, self.binding) if k_port is not None else (None, None)
+            if held is None:
+                continue
+            if _connected(held):
+                upstream = self.upstream_node(held)
+                constant = _constant_value(self, upstream, held.getType()) if upstream is not None else None
+                value = constant[0].value if constant is not None else None
+                k = (float(value), float(value)) if isinstance(value, (int, float)) and not isinstance(value, bool) \
+                    else tuple(float(v) for v in value) if isinstance(value, tuple) and len(value) == 2 else None
+            else:
+                k = _broadcast(held) if held.hasAttribute("value") else None
+            if k is not None and all(v != 0.0 and math.isfinite(v) for v in k):
+                return k, uv
+        return None
 
     def constant_placement(self, node) -> bool:
         """Whether the image's coordinates come from a ``place2d`` whose own ``texcoord`` is not
@@ -344,6 +376,10 @@ class GraphFollower:
                 transform.offset = tuple(o * r for o, r in zip(offset, ratio))
         texcoord = _coordinates(node)
         place = self.upstream_node(texcoord) if texcoord is not None else None
+        tiling = self.uv_tiling(place)
+        if tiling is not None:  # UVs times k: place2d's scale 1 / k (composed with a tiledimage's own tiling)
+            (k_u, k_v), place = tiling
+            transform.scale = (transform.scale[0] / k_u, transform.scale[1] / k_v)
         if place is not None and place.getCategory() == "place2d":
             transform.scale = _vector2(place.getInput("scale")) or transform.scale
             transform.offset = _vector2(place.getInput("offset")) or transform.offset
