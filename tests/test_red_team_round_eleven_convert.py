@@ -220,3 +220,64 @@ def test_a_height_map_in_a_kept_graph_is_still_found(tmp_path):
     broken = mtlx(tmp_path, computed.format(file="height.png"), name="broken.mtlx")
     assert [f[:2] for f in findings(broken) if f[0] == "OPBR709"] == [("OPBR709", "warning")]
     assert "NG/decode decodes 'height.png'" in messages(broken, "OPBR709")[0]
+
+
+# -- the review of the diff (/tmp/review24/REVIEW.md) ----------------------------------------------------------------
+
+def test_a_nearly_whole_metal_at_specular_zero_is_not_black(tmp_path):
+    """Review 2: the fix held at metallic 1 exactly; a texel of 254/255 metal (0.996) was as black as before."""
+    for metallic in (0.999, 0.95):
+        source = mtlx(tmp_path, _GLTF_METAL.format(metallic=metallic), name=f"m{metallic}.mtlx")
+        _, (mean,) = _converted(source, tmp_path / f"out{metallic}.mtlx", "open_pbr_surface")
+        assert mean < 1.0, (metallic, mean)
+
+
+def test_a_tiling_multiply_under_a_gltf_images_own_transform_is_not_dropped(tmp_path):
+    """Review 1: a gltf_colorimage with its own offset, read at texcoord * 4, came out with the offset alone (the
+    tiling silently lost). One transform cannot compose both, so the graph is kept, as before."""
+    from openpbr_tools.io import read_asset
+    from openpbr_tools.model import Connection
+
+    Image.new("RGB", (4, 4), (200, 120, 40)).save(tmp_path / "albedo.png")
+    source = mtlx(tmp_path, '''
+        <texcoord name="uv" type="vector2" />
+        <multiply name="tiled" type="vector2">
+          <input name="in1" type="vector2" nodename="uv" /><input name="in2" type="float" value="4" />
+        </multiply>
+        <gltf_colorimage name="albedo" type="multioutput">
+          <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />
+          <input name="texcoord" type="vector2" nodename="tiled" />
+          <input name="offset" type="vector2" value="0.25, 0" />
+        </gltf_colorimage>
+        <gltf_pbr name="S" type="surfaceshader">
+          <input name="base_color" type="color3" nodename="albedo" output="outcolor" />
+        </gltf_pbr>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>''')
+    assert isinstance(read_asset(str(source)).materials[0].inputs["base_color"].value, Connection)
+
+
+def test_a_uniform_input_fed_through_a_definitions_geometric_default_varies(tmp_path):
+    """Review 4: a custom node whose definition defaults an input to the object position (defaultgeomprop Pobject),
+    left unset on the instance, read that input as the inner node's (no default) and was judged constant."""
+    from redteam_support import findings
+
+    source = mtlx(tmp_path, '''
+        <nodedef name="ND_side" node="side">
+          <input name="pos" type="vector3" defaultgeomprop="Pobject" />
+          <output name="out" type="boolean" />
+        </nodedef>
+        <nodegraph name="NG_side" nodedef="ND_side">
+          <extract name="x" type="float"><input name="in" type="vector3" interfacename="pos" /></extract>
+          <ifgreater name="g" type="boolean">
+            <input name="value1" type="float" nodename="x" /><input name="value2" type="float" value="0" />
+          </ifgreater>
+          <output name="out" type="boolean" nodename="g" />
+        </nodegraph>
+        <side name="m" type="boolean" />
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="geometry_thin_walled" type="boolean" nodename="m" />
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>''')
+    assert ("OPBR204", "error") in [f[:2] for f in findings(source)]

@@ -335,16 +335,17 @@ def _unmixed(color, metallic, transmission, attenuation_distance, thickness, att
 def openpbr_metal_weight(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
                          coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0,
                          attenuation_color=WHITE):
-    """OpenPBR's ``specular_weight`` (:func:`openpbr_specular_weight`), except where glTF's material is all metal
-    and its colour does not fit under that weight. glTF's specular scales "the specular reflection of the dielectric"
+    """OpenPBR's ``specular_weight`` (:func:`openpbr_specular_weight`), except where glTF's material is metal and the
+    metal's colour does not fit under that weight. glTF's specular scales "the specular reflection of the dielectric"
     only (KHR_materials_specular); OpenPBR's weight dims its metal too (open_pbr_surface.mtlx scales the metal's
     F82 Fresnel by it), so a metal's base colour is solved as glTF's colour over the weight. Where the weight
     holds it (a material written from OpenPBR, whose metal was dimmed by the weight: the round trip's), it is kept;
-    where it cannot (glTF's specular 0 on a metal: black, the red team's F1), it is 1, which glTF's metal is.
-    Texel by texel."""
+    where it cannot (glTF's specular 0 on a metal: black, the red team's F1), it is 1, which glTF's metal is: on a
+    partial metal the dielectric's reflection then rises to OpenPBR's whole weight (a small error: F0 0.04 against a
+    metal's colour lost). Texel by texel."""
     weight = openpbr_specular_weight(weight_sources[0], metallic, *weight_sources[1:], coat_ior=coat_ior,
                                      transmission=transmission)
-    full = np.asarray(metallic, dtype=float) >= 1.0
+    full = np.asarray(metallic, dtype=float) > 0.0  # (a texel of 254/255 metal is as black as one of 1)
     if not np.any(full):
         return weight
     target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness, attenuation_color)
@@ -709,9 +710,9 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
                     note="KHR_materials_specular scales F0 and F90, OpenPBR's specular_weight F0 only (under a coat, of "
                          "the base relative to the coat): equal at normal incidence; a specular colour above 1 raises "
                          "the weight by its largest component",
-                    converted="glTF's specular scales the dielectric only, so on an all-metal material it has no effect; "
-                              "OpenPBR's weight, which dims the metal too, is 1 where the metal's colour does not fit "
-                              "under it", converted_to_default=True),
+                    converted="glTF's specular scales the dielectric only, so on a metal it has no effect; OpenPBR's "
+                              "weight, which dims the metal too, is 1 where the metal's colour does not fit under it",
+                    converted_to_default=True),
             Mapping("specular_ior", ("ior", "specular", "metallic", "clearcoat", "iridescence", "transmission"),
                     lambda n, s, m, c, f, t: openpbr_specular_ior(s, m, n, c, f, t, coat_ior=coat_ior), exact=False,
                     matters=lambda n, s, m, c, f, t: bool(np.any(relative_base(s, m, n, c, f, t, coat_ior=coat_ior))),

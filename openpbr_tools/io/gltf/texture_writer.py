@@ -196,13 +196,21 @@ class TextureWriting:
         self.note(CONVERTED, f"{prop}: {why}, from {read} into {self.builder.image_name(index)}", members[0].parameter)
         return index
 
+    @property
+    def untagged_linear(self) -> bool:
+        """Whether a colour texture without a colour space holds linear texels: in a MaterialX document (no colour
+        space on the image or the document: no transform), not in USD, whose renderers decode an untagged 8-bit
+        image as sRGB (UsdUVTexture's sourceColorSpace auto)."""
+        location = self.material.location
+        return bool(location and location.file and str(location.file).lower().endswith(".mtlx"))
+
     def conversion(self, slot: slots.Slot, space: str | None) -> tuple[str | None, bool]:
         """(colour space to decode from, whether to encode sRGB) so texels reach glTF's encoding:
-        sRGB for colour slots, linear for data; a colour texture without a colour space (nor its document) is linear,
-        as MaterialX reads it. An unknown name is taken as already right (noted). A name
+        sRGB for colour slots, linear for data; a colour texture without a colour space (nor its document) is linear
+        where MaterialX reads it (:attr:`untagged_linear`). An unknown name is taken as already right (noted). A name
         of another scheme (a UsdUVTexture's ``raw``, a USD colour space) is read as its MaterialX equivalent."""
         space = colorspaces.materialx_name(space)
-        if slot.colour and space is None:  # no colour space anywhere: MaterialX reads the texels as they are (linear)
+        if slot.colour and space is None and self.untagged_linear:  # MaterialX reads such texels as they are (linear)
             return "lin_rec709", True
         if space is None or colorspaces.is_data(space) or (slot.colour and space == slots.SRGB):
             return None, False
@@ -220,8 +228,8 @@ class TextureWriting:
             return False
         space = colorspaces.materialx_name(texture.colorspace)
         if slot.colour:
-            if space != slots.SRGB:  # (untagged in a document without a colour space: linear texels, re-encoded)
-                return False
+            if space not in ((slots.SRGB,) if self.untagged_linear else (None, slots.SRGB)):
+                return False  # (untagged in a MaterialX document without a colour space: linear texels, re-encoded)
         elif colorspaces.encoded(space):
             return False
         if slot.texture_kind == "normalTextureInfo":

@@ -139,8 +139,11 @@ class GraphFollower:
         for declared in nodedef.getActiveInputs():
             held, held_binding = _held_by_interface(node.getInput(declared.getName()), binding)
             if held is None or not _connected(held):
-                held = held if held is not None and held.hasAttribute("value") else declared
-                if held.getType() == "filename" or held.hasDefaultGeomPropString():
+                # an authored value holds; else the default of the definition the port (or the interface) reads: an
+                # outer nodedef's input reached through interfacename, or this node's own
+                sources = [held] if held is not None and held.hasAttribute("value") else \
+                    [s for s in (held, declared) if s is not None]
+                if any(s.getType() == "filename" or s.hasDefaultGeomPropString() for s in sources):
                     return True
                 continue
             upstream = self.upstream_node(held)
@@ -201,8 +204,12 @@ class GraphFollower:
             if channel is not None and channels is None:
                 channels = (channel,)
         own_transform = gltf_nodes.transform(node)  # (a glTF image node's own inputs)
-        if not self.plain_coordinates(node) or own_transform is False or gltf_nodes.connected_factor(node):
-            return None  # coordinates a Texture cannot hold: the graph is kept whole, not read without them
+        if not self.plain_coordinates(node) or own_transform is False or gltf_nodes.connected_factor(node) \
+                or own_transform and self.uv_tiling(self.upstream_node(_coordinates(node)) if _coordinates(node) is not None
+                                                    else None) is not None:
+            # coordinates a Texture cannot hold (also a tiling multiply under a glTF image's own transform, which one
+            # transform cannot compose with): the graph is kept whole, not read without them
+            return None
         texture = self.image(node, channels, normal_scale, image_type)
         arithmetic.multiply(gltf_nodes.factor(node, channels if node.getType() == "multioutput" else None))
         texture.scale, texture.bias = arithmetic.values()
