@@ -317,3 +317,18 @@ def test_vertex_colours_above_one_are_an_error(tmp_path):
     assert khronos_errors(hot, tmp_path) in (None, {"ACCESSOR_NON_CLAMPED"})
     plain = _coloured_triangle(tmp_path, [1.0, 1.0, 1.0, 1.0, 0.0, 0.5, 0.2, 0.2, 0.2], name="plain.gltf")
     assert "OPBR1231" not in codes(plain)
+
+
+def test_a_lone_empty_extension_object_is_still_a_warning(tmp_path):
+    """Set s17 B's glass: "KHR_materials_transmission": {} as the material's one extension (its factor never
+    written: the glass renders opaque) stays OPBR1211; kwokcb's files write every extension empty (ior, specular,
+    sheen, iridescence...), boilerplate for lobes at 0, and get OPBR1251."""
+    glass = _gltf(tmp_path, {"extensionsUsed": ["KHR_materials_transmission"],
+                             "materials": [{"name": "Glass", "pbrMetallicRoughness": {"metallicFactor": 0.0},
+                                            "extensions": {"KHR_materials_transmission": {}}}]}, name="glass.gltf")
+    assert codes(glass) == {"OPBR1211": 1} and "OPBR1251" not in codes(glass, ("info",))
+    blanket = _gltf(tmp_path, {"extensionsUsed": ["KHR_materials_transmission", "KHR_materials_ior"],
+                               "materials": [{"name": "Paint", "extensions": {"KHR_materials_transmission": {},
+                                                                              "KHR_materials_ior": {}}}]},
+                    name="blanket.gltf")
+    assert "OPBR1211" not in codes(blanket) and codes(blanket, ("info",)).get("OPBR1251") == 1

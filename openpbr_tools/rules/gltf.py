@@ -269,7 +269,8 @@ NO_EFFECT = Rule(
     "A material extension is set where the glTF extension texts say it has no effect: transmission "
     "or diffuse transmission on a fully metallic material, a volume without a transmission extension, dispersion "
     "without a volume, iridescence with zero thickness, a volume beside an empty transmission "
-    "object; a texture whose factor is left at its "
+    "object, an empty extension object that is the material's only empty one (\"KHR_materials_transmission\": {}; "
+    "OPBR1251 where the material writes several empty); a texture whose factor is left at its "
     "default 0 (emissiveTexture without emissiveFactor), a normal map at scale 0, or a texture without the "
     "channel its slot reads (an RGB specularTexture, sheenRoughnessTexture or diffuseTransmissionTexture, which read "
     "alpha alone, an anisotropyTexture whose blue strength is 0 everywhere, an "
@@ -302,17 +303,20 @@ EMPTY_EXTENSION = Rule(
     "OPBR1251", "gltf-extension-empty", Severity.INFO,
     "A material extension object is empty where the factor that carries its effect defaults to 0 "
     "(\"KHR_materials_sheen\": {}, likewise transmission, clearcoat, iridescence, anisotropy and diffuse "
-    "transmission): the extension does nothing.",
+    "transmission), in a material that writes other extensions empty too: the extension does nothing. (A lone empty "
+    "extension is OPBR1211's.)",
     "Valid glTF, and the material renders as it would without the object: every property is optional, and "
     "each extension's README gives its factor the default 0 (\"If sheenColorFactor is zero, the whole sheen "
     "layer is disabled\"). The Khronos glTF-Validator does not report it. Exporters write such objects for a "
     "feature switched off (MaterialX's standard_surface_to_gltf_pbr graph, baked to glTF, writes one for each "
-    "lobe at 0), so it is a note, not a warning; an extension that authors a texture or a setting but no factor "
-    "is OPBR1211's.",
+    "lobe at 0, ior, specular and emissive strength empty beside them), so where a material writes several empty "
+    "extension objects it is a note, not a warning. A lone empty object is more likely a set-up lost in export (a "
+    "glass whose transmissionFactor was never written): OPBR1211, a warning, as an extension that authors a "
+    "texture or a setting but no factor.",
     passing=_gltf('"extensionsUsed": ["KHR_materials_sheen"]',
                   '"materials": [{"name": "M", "extensions": {"KHR_materials_sheen": {"sheenColorFactor": [1, 1, 1]}}}]'),
-    failing=_gltf('"extensionsUsed": ["KHR_materials_sheen"]',
-                  '"materials": [{"name": "M", "extensions": {"KHR_materials_sheen": {}}}]'),
+    failing=_gltf('"extensionsUsed": ["KHR_materials_sheen", "KHR_materials_ior"]',
+                  '"materials": [{"name": "M", "extensions": {"KHR_materials_sheen": {}, "KHR_materials_ior": {}}}]'),
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
@@ -574,6 +578,9 @@ def _no_effect(material, context):
         elif value["metallic"] == 1.0 and isinstance(factor, (int, float)) and factor > 0:
             found.append((slots.DIFFUSE_TRANSMISSION, "diffuse transmission on a fully metallic material (metallicFactor "
                                                       "1, the default) has no effect: a metal has no diffuse lobe"))
+    blanket = sum(not _authors_anything(material, name) for name in present) >= 2  # (several written empty)
+    if not blanket:  # a lone empty object is a set-up lost in export (a glass whose factor was never written)
+        found, empty = found + [(e, why.replace("does nothing", "has no effect")) for e, why in empty], []
     for rule, listed in ((NO_EFFECT, found), (EMPTY_EXTENSION, empty)):
         for extension, why in listed:
             yield context.diagnostic(rule, f"{material.name}: {why}",
