@@ -281,3 +281,23 @@ def test_a_uniform_input_fed_through_a_definitions_geometric_default_varies(tmp_
         <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" />
         </surfacematerial>''')
     assert ("OPBR204", "error") in [f[:2] for f in findings(source)]
+
+
+def test_a_metalness_mask_is_judged_on_its_texels_not_their_mean(tmp_path):
+    """Review 3: a 0/1 metalness mask under a constant gold at specular 0 solves cleanly texel by texel, but the
+    "base colour clipped" warning was judged at the mask's mean (0.5, a partial metal that clipped under glTF's
+    specular 0): a false warning. With the weight solved for partial metals too (review 2), the mean clips no more."""
+    mask = np.zeros((4, 4), dtype=np.uint8)
+    mask[:, 2:] = 255
+    Image.fromarray(mask, "L").save(tmp_path / "metal.png")
+    source = mtlx(tmp_path, '''
+        <image name="mi" type="float"><input name="file" type="filename" value="metal.png" /></image>
+        <gltf_pbr name="S" type="surfaceshader">
+          <input name="metallic" type="float" nodename="mi" />
+          <input name="base_color" type="color3" value="0.9, 0.6, 0.3" />
+          <input name="specular" type="float" value="0" />
+        </gltf_pbr>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>''')
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings())
+    assert not [d for d in conversion.diagnostics if "clipped" in d.message and d.location.input == "base_color"]
