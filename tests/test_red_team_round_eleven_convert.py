@@ -301,3 +301,32 @@ def test_a_metalness_mask_is_judged_on_its_texels_not_their_mean(tmp_path):
         </surfacematerial>''')
     conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings())
     assert not [d for d in conversion.diagnostics if "clipped" in d.message and d.location.input == "base_color"]
+
+
+def test_a_place2d_under_a_tiledimage_composes_with_its_tiling(tmp_path):
+    """Review 5 (older than the session): NG_tiledimage tiles its texcoord input, so a place2d's scale s there and a
+    tiling t give uv / s * t, a transform of scale s / t; the place2d's scale replaced the tiling. A place2d that also
+    rotates or offsets is kept as a graph (one transform cannot hold both)."""
+    from openpbr_tools.io import read_asset
+    from openpbr_tools.model import Connection, Texture
+
+    Image.new("RGB", (4, 4), (200, 120, 40)).save(tmp_path / "c.png")
+    body = '''
+        <texcoord name="uv" type="vector2" />
+        <place2d name="p" type="vector2">
+          <input name="scale" type="vector2" value="0.5, 0.5" />{extra}
+          <input name="texcoord" type="vector2" nodename="uv" />
+        </place2d>
+        <tiledimage name="img" type="color3">
+          <input name="file" type="filename" value="c.png" colorspace="srgb_texture" />
+          <input name="texcoord" type="vector2" nodename="p" />
+          <input name="uvtiling" type="vector2" value="4, 4" />
+        </tiledimage>
+        <open_pbr_surface name="S" type="surfaceshader"><input name="base_color" type="color3" nodename="img" />
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>'''
+    scaled = read_asset(str(mtlx(tmp_path, body.format(extra=""), name="s.mtlx"))).materials[0].inputs["base_color"]
+    assert isinstance(scaled.value, Texture) and scaled.value.uv.scale == (0.125, 0.125)
+    rotated = mtlx(tmp_path, body.format(extra='\n          <input name="rotate" type="float" value="30" />'), name="r.mtlx")
+    assert isinstance(read_asset(str(rotated)).materials[0].inputs["base_color"].value, Connection)

@@ -319,6 +319,9 @@ class GraphFollower:
         if place.getCategory() == "place2d":
             if any(_connected(p) for p in place.getInputs() if p.getName() != "texcoord"):
                 return False
+            if node.getCategory() == "tiledimage" and any(
+                    p.getName() in ("rotate", "offset", "pivot") and p.hasAttribute("value") for p in place.getInputs()):
+                return False  # a place2d's rotation or offset under a tiling: no one transform holds both (kept whole)
             inner = place.getInput("texcoord")
             if inner is None:
                 return True
@@ -388,7 +391,10 @@ class GraphFollower:
             (k_u, k_v), place = tiling
             transform.scale = (transform.scale[0] / k_u, transform.scale[1] / k_v)
         if place is not None and place.getCategory() == "place2d":
-            transform.scale = _vector2(place.getInput("scale")) or transform.scale
+            # a tiledimage tiles the place2d's output: (uv / s) * tiling, so the scales compose (a product)
+            placed = _vector2(place.getInput("scale"))
+            transform.scale = (placed[0] * transform.scale[0], placed[1] * transform.scale[1]) if placed \
+                else transform.scale
             transform.offset = _vector2(place.getInput("offset")) or transform.offset
             transform.pivot = _vector2(place.getInput("pivot")) or transform.pivot
             rotate = place.getInput("rotate")
