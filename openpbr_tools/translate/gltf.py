@@ -361,31 +361,27 @@ def openpbr_metal_weight(color, metallic, specular_color, roughness, anisotropy_
     return np.where(whole, 1.0, weight)
 
 
-def openpbr_base_color(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
-                       coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0,
-                       attenuation_color=WHITE):
+def openpbr_base_color(*values, **options):
     """Inverse of :func:`gltf_metal_split`'s metal fit and transmission mix: OpenPBR's base colour (F0
     under an F82 edge tint of ``specular_color``) whose fitted Schlick metal, mixed with the transmitting
-    dielectric, is glTF's base colour, under :func:`openpbr_metal_weight`."""
+    dielectric, is glTF's base colour, under :func:`openpbr_metal_weight` (whose arguments it takes)."""
+    return _metal_inverse(fit.openpbr_metal_from_schlick, *values, **options)
+
+
+def _metal_inverse_clips(*values, **options):
+    """Whether :func:`openpbr_base_color` clips (no base colour in [0, 1] gives glTF's metal)."""
+    return _metal_inverse(fit.metal_from_schlick_clips, *values, **options)
+
+
+def _metal_inverse(solve, color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
+                   coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0,
+                   attenuation_color=WHITE):
     specular_weight = openpbr_metal_weight(color, metallic, specular_color, roughness, anisotropy_strength,
                                            *weight_sources, coat_ior=coat_ior, transmission=transmission,
                                            attenuation_distance=attenuation_distance, thickness=thickness,
                                            attenuation_color=attenuation_color)
     target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness, attenuation_color)
-    return fit.openpbr_metal_from_schlick(target, metalness, specular_color, specular_weight,
-                                          average_alpha_gltf(roughness, anisotropy_strength))
-
-
-def _metal_inverse_clips(color, metallic, specular_color, roughness, anisotropy_strength, *weight_sources,
-                         coat_ior=GLTF_CLEARCOAT_IOR, transmission=0.0, attenuation_distance=np.inf, thickness=0.0,
-                         attenuation_color=WHITE):
-    specular_weight = openpbr_metal_weight(color, metallic, specular_color, roughness, anisotropy_strength,
-                                           *weight_sources, coat_ior=coat_ior, transmission=transmission,
-                                           attenuation_distance=attenuation_distance, thickness=thickness,
-                                           attenuation_color=attenuation_color)
-    target, metalness = _unmixed(color, metallic, transmission, attenuation_distance, thickness, attenuation_color)
-    return fit.metal_from_schlick_clips(target, metalness, specular_color, specular_weight,
-                                        average_alpha_gltf(roughness, anisotropy_strength))
+    return solve(target, metalness, specular_color, specular_weight, average_alpha_gltf(roughness, anisotropy_strength))
 
 
 def _base_color_matters(weight, color, transmission, transmission_color, depth, subsurface, subsurface_color,

@@ -107,15 +107,16 @@ class GraphFollower:
             self.followed_space = held.getActiveColorSpace() or None  # the colour space the value is in
             self.followed_unit = (held.getUnitType() or None, held.getUnit() or None)  # and the unit MaterialX converts
             return constant
-        texture = self.texture_chain(node, read_output(port))
+        read = read_output(port)
+        texture = self.texture_chain(node, read)
         if texture is not None:
             return texture
         graph_xml, output = capture_graph(node, binding=self.binding), node.getName()
-        if graph_xml and node.getType() == "multioutput" and read_output(port):  # (which output: a dot reads it)
-            graph_xml, output = select_output(graph_xml, output, read_output(port), port.getType())
+        if graph_xml and node.getType() == "multioutput" and read:  # (which output: a dot reads it)
+            graph_xml, output = select_output(graph_xml, output, read, port.getType())
         return Connection(
             node.getNamePath(), node.getCategory(), f"{node.getCategory()} node is not a texture lookup",
-            graph_xml=graph_xml, output=output, varying=self.varies(node, read_output(port), self.binding),
+            graph_xml=graph_xml, output=output, varying=self.varies(node, read, self.binding),
         )
 
     def varies(self, node, output_name: str = "", binding=None, depth: int = 0) -> bool:
@@ -490,8 +491,23 @@ def _implementation_output(node, output_name: str):
     graph is read with) for a node whose nodedef a node graph implements; ``None`` for any other node."""
     try:
         nodedef = node.getNodeDef()
-        implementation = nodedef.getImplementation() if nodedef is not None else None
     except Exception:  # noqa: BLE001 - MaterialX raises on some broken definitions (reported elsewhere)
+        return None
+    return _graph_output(node, nodedef, output_name)
+
+
+def _library_implementation_output(node, nodedef, output_name: str):
+    """:func:`_implementation_output` through MaterialX's standard libraries, for a standard node whose graph the
+    reader's document does not hold (it imports node definitions only: MaterialX's translation graphs)."""
+    return _graph_output(node, standard_library().getNodeDef(nodedef.getName()), output_name)
+
+
+def _graph_output(node, nodedef, output_name: str):
+    """(the node behind ``output_name`` of ``nodedef``'s implementation graph, the binding (``node``, ``nodedef``)),
+    or ``None`` where no node graph implements it or the output is not found."""
+    try:
+        implementation = nodedef.getImplementation() if nodedef is not None else None
+    except Exception:  # noqa: BLE001 - as in _implementation_output
         return None
     if implementation is None or implementation.getCategory() != "nodegraph":
         return None
@@ -499,19 +515,6 @@ def _implementation_output(node, output_name: str):
     output = implementation.getOutput(output_name) if output_name else (outputs[0] if len(outputs) == 1 else None)
     inner = output.getConnectedNode() if output is not None else None
     return (inner, (node, nodedef)) if inner is not None else None
-
-
-def _library_implementation_output(node, nodedef, output_name: str):
-    """:func:`_implementation_output` through MaterialX's standard libraries, for a standard node whose graph the
-    reader's document does not hold (it imports node definitions only: MaterialX's translation graphs)."""
-    definition = standard_library().getNodeDef(nodedef.getName())
-    implementation = definition.getImplementation() if definition is not None else None
-    if implementation is None or implementation.getCategory() != "nodegraph":
-        return None
-    outputs = implementation.getOutputs()
-    output = implementation.getOutput(output_name) if output_name else (outputs[0] if len(outputs) == 1 else None)
-    inner = output.getConnectedNode() if output is not None else None
-    return (inner, (node, definition)) if inner is not None else None
 
 
 def _real_world_ratio(node) -> tuple[float, float]:
