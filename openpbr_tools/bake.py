@@ -40,7 +40,7 @@ import numpy as np
 
 from . import bake_cache, colorspaces
 from .io.images import ImageLocator, ImageRefused, ImageUnavailable, load_pixels, resample
-from .model import Constant, Input, Texture
+from .model import Connection, Constant, Input, Texture
 from .translate.common import BakeError
 from .translate.target import WorkingSpace
 
@@ -172,6 +172,9 @@ class Baker:
         textured = [s for s in mapping.sources if not values.is_constant(s)]
         entries = [values.entry(s) for s in textured]
         for name, entry in zip(textured, entries):
+            if isinstance(entry.value, Connection) and entry.value.dangling:  # (not a graph: nothing is there)
+                raise BakeError(f"{name} is connected to {entry.value.target}, which cannot be followed "
+                                f"({entry.value.reason or 'connection target not found'})")
             if not isinstance(entry.value, Texture):
                 raise BakeError(f"{name} is a procedural input, which is not baked")
         first = entries[0].value

@@ -33,10 +33,11 @@ from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .bake import Baker
 from .translate.common import Settings, Values, lobe_off
 from .translate import candidates, past_hub
-from .translate.convert import MODELS, convert
+from .translate.convert import MODELS, convert, unknown_inputs_translated
 from .translate.upgrade import upgrade
 from .validate import composed_documents
-from .convert_textures import rebase_textures as _rebase_textures, unpack_packaged_images as _unpack_packaged_images
+from .convert_textures import missing_textures, rebase_textures as _rebase_textures, \
+    unpack_packaged_images as _unpack_packaged_images
 
 OUTPUT_KINDS = {".mtlx": "mtlx", ".usda": "usd", ".usdc": "usd", ".usd": "usd", ".usdz": "usd",
                 ".gltf": "gltf", ".glb": "gltf"}
@@ -190,7 +191,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 continue
             notes, step_settings, unique, name, _, _ = state
             translation = next(chosen)
-            notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context)
+            notes += translation.diagnostics + _unreadable_inputs(material, translation.material, kind, context) \
+                + unknown_inputs_translated(material, target, step_settings)
             translated_state = translation.material.extra.get("gltf")
             notes += gltf_state.notes(material, kind, context,
                                       translated_state if isinstance(translated_state, dict) else None)
@@ -348,6 +350,7 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside,
     if kind == "mtlx":
         from .io.mtlx.writer import write_mtlx  # lazy: see the docstring
 
+        notes += missing_textures(result.materials, asset.path)
         _rebase_textures(result.materials, asset.path, output_path)
         if asset.format in ("gltf", "usd"):  # (a MaterialX source's lengths are written as authored)
             _tag_length_units(result.pairs, asset)
@@ -357,6 +360,8 @@ def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside,
         from .io.usd.writer import write_usd  # lazy: see the docstring
 
         _tag_length_units(result.pairs, asset)  # a MaterialX source's too: USD's stage has a unit of its own
+        if not output_path.lower().endswith(".usdz"):  # (a .usdz output's writer says so as it packages)
+            notes += missing_textures(result.materials, asset.path)
         return notes + write_usd(result.materials, output_path, source=asset, allow_outside=allow_outside)
     try:
         from .io.gltf.writer import write_gltf  # lazy: see the docstring

@@ -98,3 +98,31 @@ def unpack_packaged_images(materials: list[Material], asset: Asset, output_path:
             if written[texture.file] is not None:
                 texture.file, texture.packaged = written[texture.file], False
     return notes
+
+
+def missing_textures(materials: list[Material], source_path: str) -> list[Diagnostic]:
+    """A note at each texture a .mtlx or USD output references (the reference is written as authored,
+    rebased) whose file is not on disk: the output names an image no renderer can read, as the source did
+    (validate: OPBR701), and a glTF output, which embeds or copies images, says the same of the same
+    texture. URLs, UDIM/UVTILE sets (their tiles are other files) and packaged images are not looked up."""
+    source_dir = os.path.dirname(os.path.abspath(source_path))
+    notes, said = [], set()
+    for material in materials:
+        for name, entry in material.inputs.items():
+            texture = entry.value
+            if not isinstance(texture, Texture) or texture.packaged or "<UDIM>" in texture.file \
+                    or "<UVTILE>" in texture.file:
+                continue
+            kind = classify(texture.file)
+            if kind not in (Kind.RELATIVE, Kind.ABSOLUTE):
+                continue
+            absolute = texture.file if kind is Kind.ABSOLUTE else os.path.join(source_dir, texture.file)
+            key = (material.name, name)
+            if os.path.isfile(absolute) or key in said:
+                continue
+            said.add(key)
+            notes.append(NOT_CARRIED.note(
+                f"{material.name}: {name} reads {texture.file!r}, which does not exist: the reference is written as "
+                "authored, and renderers find no image there", entry.location.with_material(material.material_name
+                                                                                          or material.name)))
+    return notes

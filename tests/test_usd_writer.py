@@ -288,15 +288,32 @@ def test_usd_lengths_follow_a_change_of_stage_unit(wood, tmp_path):
     assert openpbr.inputs["transmission_depth"].constant == pytest.approx(200.0)
 
 
-def test_an_opaque_procedural_connection_is_reported_not_dropped_silently(tmp_path):
-    text = ('#usda 1.0\n\ndef Material "M"\n{\n    token outputs:mtlx:surface.connect = </M/S.outputs:surface>\n'
-            '    def Shader "S"\n    {\n        uniform token info:id = "ND_open_pbr_surface_surfaceshader"\n'
-            "        color3f inputs:base_color.connect = </M/noise.outputs:out>\n        token outputs:surface\n    }\n"
-            '    def Shader "noise"\n    {\n        uniform token info:id = "ND_noise2d_color3"\n        color3f outputs:out\n    }\n}\n')
-    (tmp_path / "p.usda").write_text(text)
+_PROCEDURAL = ('#usda 1.0\n\ndef Material "M"\n{\n    token outputs:mtlx:surface.connect = </M/S.outputs:surface>\n'
+               '    def Shader "S"\n    {\n        uniform token info:id = "ND_open_pbr_surface_surfaceshader"\n'
+               "        color3f inputs:base_color.connect = </M/noise.outputs:out>\n        token outputs:surface\n    }\n"
+               '    def Shader "noise"\n    {\n        uniform token info:id = "{node}"\n        color3f outputs:out\n    }\n}\n')
+
+
+def test_a_procedural_network_of_materialx_nodes_is_written_again(tmp_path):
+    from pxr import Usd, UsdShade
+
+    (tmp_path / "p.usda").write_text(_PROCEDURAL.replace("{node}", "ND_noise2d_color3"))
     original = read_asset(tmp_path / "p.usda")
     notes = write_usd(original.materials, tmp_path / "q.usda", source=original)
-    assert len(notes) == 1 and "ND_noise2d_color3" in notes[0].message
+    assert notes == []
+    stage = Usd.Stage.Open(str(tmp_path / "q.usda"))
+    shader = next(UsdShade.Shader(p) for p in stage.Traverse()
+                  if UsdShade.Shader(p).GetShaderId() == "ND_open_pbr_surface_surfaceshader")
+    upstream, output, _ = shader.GetInput("base_color").GetConnectedSource()
+    assert str(UsdShade.Shader(upstream.GetPrim()).GetShaderId()) == "ND_noise2d_color3" and output == "out"
+
+
+def test_an_opaque_procedural_connection_is_reported_not_dropped_silently(tmp_path):
+    # a shader no MaterialX definition describes: not captured, so not written, and said so
+    (tmp_path / "p.usda").write_text(_PROCEDURAL.replace("{node}", "MyStudioNoise"))
+    original = read_asset(tmp_path / "p.usda")
+    notes = write_usd(original.materials, tmp_path / "q.usda", source=original)
+    assert len(notes) == 1 and "MyStudioNoise" in notes[0].message
 
 
 def test_packaged_textures_are_not_reported_missing(wood, tmp_path):

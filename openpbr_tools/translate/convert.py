@@ -83,12 +83,30 @@ def _step(translator, material: Material, settings: Settings) -> Translation:
     return with_folded_notes(translator(material, settings))
 
 
+def _unknown_names(material: Material) -> list[str]:
+    """The inputs of ``material`` its model (at its version, where that is known) does not define."""
+    table = tables.table(material.model, material.version if material.version in tables.versions(material.model) else None)
+    return [name for name in material.inputs if table.get(name) is None]
+
+
+def unknown_inputs_translated(material: Material, target: str, settings: Settings) -> list:
+    """A note at each input the source's model does not define (a typo, OPBR101 on the source) when the
+    material goes to another model: no mapping reads it, so it reaches no output (the red team's F6: such
+    inputs vanished unannounced). A material carried as is says so in :func:`_without_unknown_inputs`. Kept
+    apart from :func:`convert`'s notes, which decide whether a material's candidates are searched."""
+    if material.model == target:
+        return []
+    return [settings.context.diagnostic(
+        NOT_CARRIED, f"{material.name}: {name} is no input of {material.model}, so no mapping to {target} reads it; "
+        "it is not carried", material.inputs[name].location or material.location.with_input(name))
+        for name in _unknown_names(material)]
+
+
 def _without_unknown_inputs(material: Material, settings: Settings) -> list:
     """Inputs the model does not define (a typo, OPBR101 on the source) are left out of a material carried
     as is, each with a note: written back, MaterialX rejects the whole document ("Node interface error")."""
-    table = tables.table(material.model, material.version if material.version in tables.versions(material.model) else None)
     notes = []
-    for name in [n for n in material.inputs if table.get(n) is None]:
+    for name in _unknown_names(material):
         entry = material.inputs.pop(name)
         notes.append(settings.context.diagnostic(
             NOT_CARRIED, f"{material.name}: {name} is no input of {material.model}, so it is not written",

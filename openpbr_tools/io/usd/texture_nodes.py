@@ -16,6 +16,7 @@ import math
 
 from ...model import Connection, Input, Texture, UVTransform, normal_strength
 from .attributes import constant_of, shortest_float32, unconnected
+from .graph_capture import capture_network
 from .sdr import materialx_nodedef
 from .types import PRIMVAR_READER_PREFIX, TRANSFORM_2D_ID, UV_TEXTURE_ID, UV_TEXTURE_OUTPUTS, is_eight_bit
 
@@ -81,8 +82,10 @@ class TextureNodeReader:
             prim, output_name, _ = found
         node, out = first
         shader_id = str(self.UsdShade.Shader(node).GetShaderId() or "") or None
+        captured = capture_network(self, node, out) if shader_id and shader_id.startswith("ND_") else None
         return Connection(f"{node.GetPath()}.outputs:{out}", shader_id,
-                          f"{shader_id or 'a shader without info:id'} is not a texture lookup")
+                          f"{shader_id or 'a shader without info:id'} is not a texture lookup",
+                          graph_xml=captured[0] if captured else None, output=captured[1] if captured else None)
 
     def materialx_image(self, prim, nodedef, channels, normal_scale, scale, bias) -> Texture:
         path = str(prim.GetPath())

@@ -40,6 +40,7 @@ from ..image_files import damage
 from ..paths import Kind, PathGuard, classify
 from .reader import CUSTOM_DATA_VERSION_KEY
 from .errors import quiet, require_pxr
+from .graph_networks import GraphNetworkWriter
 from .texture_networks import TextureNetworkWriter, identifier
 from .types import MATERIALX_TO_USD, OPACITY_MODE_TOKENS, PREVIEW_SURFACE_USD_TYPES
 
@@ -139,7 +140,7 @@ def _package(path: str, layer_path: str, files: dict[str, str]) -> None:
     writer.Save()
 
 
-class _Writer(TextureNetworkWriter):
+class _Writer(TextureNetworkWriter, GraphNetworkWriter):
     def __init__(self, stage, notes, source_dir, target_dir, package, meters_per_unit, source_unit):
         from pxr import Sdf, UsdShade  # lazy: pxr only once write_usd has required it
 
@@ -244,10 +245,21 @@ class _Writer(TextureNetworkWriter):
             output = (self.uv_texture if preview else self.materialx_image)(usd_material, entry, value, usd_type)
             shader_input.ConnectToSource(output)
         elif isinstance(value, Connection):
-            if value.target.startswith("/") and self.Sdf.Path.IsValidPathString(value.target):
+            kept = self.materialx_graph(usd_material, entry, value) if value.graph_xml and not preview else None
+            if kept is not None:  # the graph written as the UsdShade network of its MaterialX nodes
+                shader_input.ConnectToSource(kept)
+                return
+            # kept only where it names a prim of the output (a USD source's own path, once its network is
+            # written there): a connection to a path the output lacks would dangle
+            pointed = not preview and value.target.startswith("/") and self.Sdf.Path.IsValidPathString(value.target) \
+                and bool(self.stage.GetPrimAtPath(self.Sdf.Path(value.target).GetPrimPath()))
+            if pointed:
                 shader_input.GetAttr().AddConnection(self.Sdf.Path(value.target))
+            why = " (a UsdPreviewSurface reads no MaterialX graph)" if preview and value.graph_xml else ""
             self.note(NOT_CARRIED, f"{material.name}.{entry.name}: the {value.category or 'procedural'} network at "
-                                   f"{value.target!r} is not written; the connection points at it")
+                                   f"{value.target!r} is not written{why}; " + (
+                                       "the connection points at it" if pointed else
+                                       "the input has no value, so the shader's default applies"))
 
     def convert_length(self, entry, parameter, value, material):
         """A length in the stage's unit: from its own MaterialX unit, else from the source's scene

@@ -1,0 +1,151 @@
+"""A USD shading network of MaterialX nodes kept whole: the shader prims upstream of an input that are
+no texture lookup (a ``ND_noise2d_float``, a ``ND_ramplr_color3`` fed by ``ND_texcoord_vector2``...) captured as
+one flat MaterialX document, the form :mod:`openpbr_tools.io.mtlx.capture` gives a MaterialX source's graphs
+(``Connection.graph_xml``), so that a .mtlx output rewires the graph instead of dropping it (the red team's F4:
+it was dropped even for a .mtlx output, with a note).
+
+Each prim becomes the node its ``info:id`` names (``ND_multiply_color3FA`` -> a ``multiply`` of type color3
+with that ``nodedef``); an input connected to another prim's output (through node-graph and material
+interfaces, as the reader follows them) becomes a ``nodename`` connection (with ``output`` for a
+multi-output node), an unconnected authored value its MaterialX value string, a file its path relative to
+the asset's folder (as the reader gives a texture's) with the colour space authored on it. A network that
+holds anything else (a ``UsdUVTexture``, a shader without a MaterialX definition, a packaged image, a
+dangling connection, a value that does not read as its type) is not captured: the caller keeps its
+:class:`~openpbr_tools.model.Connection` without a graph, reported as not carried.
+"""
+
+from __future__ import annotations
+
+import MaterialX as mx
+
+from ...values import parse_value
+from ..mtlx.library import standard_library
+from .attributes import shortest_float32
+from .sdr import materialx_nodedef
+
+LIMIT = 256  # nodes: a larger network is not captured (as capture_graph's limit)
+
+
+class _Uncapturable(Exception):
+    pass
+
+
+def capture_network(reader, prim, output_name: str) -> tuple[str, str] | None:
+    """(the flat MaterialX document, the name of the node that feeds the input) for the network upstream of
+    ``prim``'s output ``output_name``, or ``None`` when it cannot be captured whole. ``reader`` is the USD
+    network reader (``UsdShade``, ``source``, ``file_of``, ``attribute_colorspace``)."""
+    document = mx.createDocument()
+    names: dict[str, str] = {}
+    pending = []
+
+    def enqueue(node_prim) -> str:
+        path = str(node_prim.GetPath())
+        if path not in names:
+            name = mx.createValidName(node_prim.GetName())
+            while document.getChild(name) is not None or name in names.values():
+                name = document.createValidChildName(name + "_")
+            names[path] = name
+            pending.append(node_prim)
+            if len(names) > LIMIT:
+                raise _Uncapturable("too many nodes")
+        return names[path]
+
+    try:
+        first = enqueue(prim)
+        while pending:
+            _capture_node(reader, document, pending.pop(), names, enqueue)
+        final = document.getNode(first)
+        if final.getType() == "multioutput":  # a dot reads the output the input read (see capture.select_output)
+            output = materialx_nodedef(final.getNodeDefString()).getOutput(output_name)
+            if output is None:
+                raise _Uncapturable(f"no output {output_name}")
+            dot = document.addNode("dot", document.createValidChildName(f"{first}_{output_name}"), output.getType())
+            port = dot.addInput("in", output.getType())
+            port.setNodeName(first)
+            port.setOutputString(output_name)
+            first = dot.getName()
+    except (_Uncapturable, LookupError, ValueError, TypeError, mx.Exception):
+        return None
+    document.setDataLibrary(standard_library())  # (validated with the definitions, as a renderer reads it)
+    valid, _ = document.validate()
+    if not valid:
+        return None
+    from ..mtlx.writer import document_text  # lazy: io.mtlx.writer is not needed by a reader otherwise
+
+    document.setDataLibrary(None)
+    return document_text(document), first
+
+
+def _capture_node(reader, document, prim, names, enqueue) -> None:
+    shader_id = str(reader.UsdShade.Shader(prim).GetShaderId() or "") if prim.IsA(reader.UsdShade.Shader) else ""
+    nodedef = materialx_nodedef(shader_id) if shader_id else None
+    if nodedef is None or nodedef.getNodeString() in ("open_pbr_surface", "standard_surface", "gltf_pbr",
+                                                      "UsdPreviewSurface", "surface", "displacement"):
+        raise _Uncapturable(f"{prim.GetPath()}: {shader_id or 'no info:id'} is no MaterialX pattern node")
+    node = document.addNode(nodedef.getNodeString(), names[str(prim.GetPath())], nodedef.getType())
+    node.setNodeDefString(nodedef.getName())
+    for attribute in prim.GetAttributes():
+        full = attribute.GetName()
+        if not full.startswith("inputs:"):
+            continue
+        name = full[len("inputs:"):]
+        declared = nodedef.getActiveInput(name)
+        if declared is None:
+            raise _Uncapturable(f"{prim.GetPath()}: {name} is no input of {nodedef.getName()}")
+        type_name = declared.getType()
+        kind, *found = reader.source(attribute)
+        if kind == "dangling":
+            raise _Uncapturable(f"{prim.GetPath()}: {name} is dangling")
+        if kind == "shader":
+            upstream, output, _ = found
+            port = node.addInput(name, type_name)
+            port.setNodeName(enqueue(upstream))
+            upstream_id = str(reader.UsdShade.Shader(upstream).GetShaderId() or "")
+            upstream_def = materialx_nodedef(upstream_id)
+            if upstream_def is not None and upstream_def.getType() == "multioutput":
+                port.setOutputString(output)
+            continue
+        origin = found[0]
+        if type_name == "filename":
+            file, packaged = reader.file_of(attribute)
+            if packaged:
+                raise _Uncapturable(f"{prim.GetPath()}: a packaged image")
+            if not file:
+                continue
+            port = node.addInput(name, type_name)
+            port.setValueString(file)
+            space = reader.attribute_colorspace(origin, "materialx") if origin is not None and origin.HasColorSpace() \
+                else None
+            if space:
+                port.setColorSpace(space)
+            continue
+        value = origin.Get() if origin is not None else None
+        if value is None:
+            continue  # declared without a value: the definition's default
+        port = node.addInput(name, type_name)
+        port.setValueString(_value_string(value, type_name))
+
+
+def _value_string(value, type_name: str) -> str:
+    """``value`` (as usd-core returns it) as MaterialX writes a ``type_name``."""
+    if type_name == "boolean":
+        return "true" if bool(value) else "false"
+    if type_name == "integer":
+        return str(int(value))
+    if type_name in ("string", "filename"):
+        return str(value)
+    if isinstance(value, (int, float)):
+        components = [float(value)]
+    else:
+        try:  # Gf vectors iterate; Gf matrices iterate by rows; VtArrays by element
+            components = [float(c) for row in value for c in (row if hasattr(row, "__len__") else (row,))]
+        except TypeError:
+            raise ValueError(f"{value!r} is no {type_name}") from None
+    text = ", ".join(_number(c) for c in components)
+    parse_value(text, type_name)  # ValueSyntaxError (a ValueError) when the shape is not the type's
+    return text
+
+
+def _number(x: float) -> str:
+    x = shortest_float32(x)
+    return str(int(x)) if float(x).is_integer() and abs(x) < 1e15 else repr(x)
