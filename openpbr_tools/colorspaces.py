@@ -167,11 +167,17 @@ def to_lin_rec709(rgb, colorspace: str | None):
 
 
 def to_lin_rec709_as_materialx(rgb, colorspace: str | None):
-    """:func:`to_lin_rec709`, except that a name MaterialX does not know (a vendor or OCIO name: the validator
-    reports it, OPBR502) converts nothing, as MaterialX's colour management applies no transform for it."""
+    """:func:`to_lin_rec709`, except that a USD colour-space name (a ``Usd.ColorSpaceAPI`` space such as
+    ``lin_ap1_scene``, which a USD reader gives an input that inherits it) converts as its MaterialX equivalent, as
+    UsdMtlx hands it to MaterialX (the audit's F6: an ACEScg material written to USD and read back was judged 2.4
+    CIEDE2000 off itself), and a name neither knows (a vendor or OCIO name: the validator reports it, OPBR502)
+    converts nothing, as MaterialX's colour management applies no transform for it."""
     try:
         return to_lin_rec709(rgb, colorspace)
     except KeyError:
+        equivalent = materialx_equivalent(colorspace) if colorspace else None
+        if equivalent is not None:
+            return to_lin_rec709(rgb, equivalent)
         import numpy as np  # lazy: as in to_lin_rec709
 
         return np.asarray(rgb, dtype=np.float64)

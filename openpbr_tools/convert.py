@@ -29,6 +29,7 @@ from .model import Asset, Connection, Location, Material, Texture
 from .outputs import NEVER_MODIFIED, InputOverwrite, files_read, overwritten_input
 from .resources import load_json
 from .rules import Context
+from .rules.document import materialx_invalid
 from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .bake import Baker
 from .translate.common import Settings, Values, lobe_off
@@ -123,6 +124,9 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                   tuple(allow_outside), png_only=kind == "gltf")
     result.baker = baker
     used_names: set[str] = set()
+    # a source MaterialX rejects (the red team's F5: converted with exit 0 and no word): what other notes do not
+    # cover (unknown inputs, dangling connections, unreadable values are said at their inputs)
+    result.diagnostics += list(materialx_invalid(asset, context))
     for observation in asset.observations:
         if observation.kind == "unsupported_shader":  # a custom or renderer-specific shader: never silent
             detail = observation.detail
@@ -206,7 +210,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             done.append((material, before, (notes, step_settings, translated)))
         # a USD output's UsdPreviewSurface fallbacks: their searches at once too
         previews = iter(candidates.choose_many([
-            (state[2], convert(state[2], "UsdPreviewSurface", state[1]), "UsdPreviewSurface", state[1])
+            (state[2], convert(state[2], "UsdPreviewSurface", dataclasses.replace(state[1], unseen_notes=False)),
+             "UsdPreviewSurface", state[1])
             for _, _, state in done if state is not None]) if kind == "usd" else [])
         for material, before, state in done:
             result.diagnostics += before
@@ -218,7 +223,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             fallback = None
             if kind == "usd":
                 preview = next(previews)
-                notes += preview.diagnostics
+                notes += [past_hub.fallback_only(note, context, material) for note in preview.diagnostics]
                 fallback = preview.material
                 fallback.name = f"{translated.name}_preview"
                 fallback.material_name = translated.material_name
@@ -227,8 +232,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             result.diagnostics += _at_material(notes, material)
         looks, look_notes = convert_looks.looks(asset, result.pairs, kind, context)
         result.diagnostics += look_notes
-        if not result.materials and (not result.diagnostics or _broken_include(asset)):
-            _nothing_to_write(asset)
+        if not result.materials and not looks:
+            _nothing_to_write(asset, [d for d in result.diagnostics if d.code == NOT_CARRIED.code])
         written = _write_baked(baker, result.materials)
         try:
             allowed = tuple(allow_outside) + ((staging,) if staging else ())
@@ -250,17 +255,23 @@ def _broken_include(asset: Asset):
     return next((o for o in asset.observations if o.kind == "xinclude_broken"), None)
 
 
-def _nothing_to_write(asset: Asset) -> None:
-    """Raise the :class:`ReadError` of an input with no material to write and nothing said about it (an
-    empty output would pass for a conversion; one whose notes say what was left out, such as a custom
-    shader or a look's outside material, is written with them): a broken or circular XInclude when there is
-    one (the reason MaterialX reads nothing, whatever else was said), else no material of a model the toolkit
-    converts."""
+def _nothing_to_write(asset: Asset, left_out: list[Diagnostic] = ()) -> None:
+    """Raise the :class:`ReadError` of an input with no material (and no look) to write: an empty output would
+    pass for a conversion (the red team's F9: a document of custom shaders was written empty, exit 0, where
+    ``convert --help`` promises exit 2 for "no material to convert"). The reason: a broken or circular XInclude
+    when there is one (why MaterialX reads nothing, whatever else was said), else what was left out
+    (``left_out``: the notes of the materials not written, such as a custom shader's), else no material of a
+    model the toolkit converts."""
     broken = _broken_include(asset)
     if broken:
         detail = broken.detail
         raise ReadError("xinclude_broken", f"includes {detail.get('href')!r}, which {detail.get('reason')}; MaterialX "
                         "cannot read this document, and no material was found: nothing is written", broken.location)
+    if left_out:
+        reasons = "; ".join(d.message for d in left_out[:3]) + (f"; and {len(left_out) - 3} more" if len(left_out) > 3
+                                                                  else "")
+        raise ReadError("no_material", f"no material the toolkit converts ({reasons}): nothing is written",
+                        Location(asset.path))
     documents = composed_documents(asset)
     elsewhere = f" (its materials are in the MaterialX documents it references: convert {', '.join(documents)})" \
         if documents else ""

@@ -109,20 +109,29 @@ def missing_textures(materials: list[Material], source_path: str) -> list[Diagno
     notes, said = [], set()
     for material in materials:
         for name, entry in material.inputs.items():
-            texture = entry.value
-            if not isinstance(texture, Texture) or texture.packaged or "<UDIM>" in texture.file \
-                    or "<UVTILE>" in texture.file:
+            value = entry.value
+            if isinstance(value, Texture) and not value.packaged:
+                files, what = [value.file], f"{name} reads"
+            elif isinstance(value, Connection) and value.graph_xml:  # a kept graph's images (the red team's F10)
+                from .io.mtlx.capture import rewrite_files  # lazy: MaterialX, for a graph only
+
+                files, what = [], f"the graph on {name} reads"
+                rewrite_files(value.graph_xml, lambda file: files.append(file))
+            else:
                 continue
-            kind = classify(texture.file)
-            if kind not in (Kind.RELATIVE, Kind.ABSOLUTE):
-                continue
-            absolute = texture.file if kind is Kind.ABSOLUTE else os.path.join(source_dir, texture.file)
-            key = (material.name, name)
-            if os.path.isfile(absolute) or key in said:
-                continue
-            said.add(key)
-            notes.append(NOT_CARRIED.note(
-                f"{material.name}: {name} reads {texture.file!r}, which does not exist: the reference is written as "
-                "authored, and renderers find no image there", entry.location.with_material(material.material_name
-                                                                                          or material.name)))
+            for file in files:
+                if any(token in file for token in ("<UDIM>", "<UVTILE>", "%")):  # tiles, or a token filled in later
+                    continue
+                kind = classify(file)
+                if kind not in (Kind.RELATIVE, Kind.ABSOLUTE):
+                    continue
+                absolute = file if kind is Kind.ABSOLUTE else os.path.join(source_dir, file)
+                key = (material.name, name, file)
+                if os.path.isfile(absolute) or key in said:
+                    continue
+                said.add(key)
+                notes.append(NOT_CARRIED.note(
+                    f"{material.name}: {what} {file!r}, which does not exist: the reference is written as authored, and "
+                    "renderers find no image there", entry.location.with_material(material.material_name
+                                                                                  or material.name)))
     return notes

@@ -18,7 +18,7 @@ from click.testing import CliRunner
 
 from cli.group import cli
 from openpbr_tools.convert import convert_file
-from openpbr_tools.io import read_asset
+from openpbr_tools.io import ReadError, read_asset
 from openpbr_tools.model import Constant
 
 WRAPPER = """<?xml version="1.0"?>
@@ -133,5 +133,15 @@ def test_an_unreadable_shader_is_reported_by_validate_and_convert(tmp_path):
 """)
     report = CliRunner().invoke(cli, ["validate", str(path), "--format", "json"])
     assert "OPBR805" in {d["code"] for d in json.loads(report.output)["diagnostics"]}
-    result = convert_file(str(path), str(tmp_path / "out.usda"))
+    # nothing else to write: refused (exit 2, as convert --help says of "no material to convert"), never an
+    # empty output (the red team's F9), with the reason
+    with pytest.raises(ReadError) as refused:
+        convert_file(str(path), str(tmp_path / "out.usda"))
+    assert refused.value.kind == "no_material" and "toon shader" in refused.value.message
+    assert not (tmp_path / "out.usda").exists()
+    beside = path.read_text().replace("</materialx>", '<open_pbr_surface name="P" type="surfaceshader" />\n'
+                                      '<surfacematerial name="N" type="material"><input name="surfaceshader" '
+                                      'type="surfaceshader" nodename="P" /></surfacematerial>\n</materialx>')
+    path.write_text(beside)
+    result = convert_file(str(path), str(tmp_path / "out.usda"))  # beside a material it converts: written, said
     assert [d.code for d in result.diagnostics if "toon shader" in d.message] == ["OPBR1104"]

@@ -6,6 +6,8 @@
   it, as "a procedural input, which is not baked": the reason was wrong, and the user went looking for a graph.
 * A texture whose file does not exist was written into a .mtlx or .usda output without a word (a glTF or .usdz
   output, which embed or package images, said so).
+* F5: a source MaterialX's Document.validate() rejects converted with exit 0 and no word; its .mtlx output can carry
+  the same defect. Convert now reports MaterialX's verdict (OPBR004) as validate does.
 * F4: a USD shading network of MaterialX nodes that is no texture lookup (a ramp on scaled texture coordinates, a
   separate3's channel, an image times a ramp) was dropped even for a .mtlx output, which can hold it: the reader
   now captures it as the MaterialX graph it is (openpbr_tools/io/usd/graph_capture.py).
@@ -308,9 +310,10 @@ def test_a_kept_graph_is_written_to_usd_as_its_materialx_nodes_and_read_back(tmp
     source = mtlx(tmp_path, _NOISE)
     out = tmp_path / f"out.{suffix}"
     conversion = convert_file(str(source), str(out), None, Settings())
-    lost = [(d.location.input, d.message) for d in _notes(conversion)]
-    # only the UsdPreviewSurface fallback, which reads no MaterialX graph, loses it
-    assert lost and all("UsdPreviewSurface reads no MaterialX graph" in m for _, m in lost), lost
+    assert not _notes(conversion), [d.message for d in _notes(conversion)]
+    # only the UsdPreviewSurface fallback, which reads no MaterialX graph, loses it: a warning that says so
+    lost = [d.message for d in _notes(conversion, "OPBR1103") if d.location.input == "specular_roughness"]
+    assert lost and all("UsdPreviewSurface reads no MaterialX graph" in m and "fallback only" in m for m in lost)
     stage = Usd.Stage.Open(str(out))
     ids = sorted(str(UsdShade.Shader(p).GetShaderId()) for p in stage.Traverse() if p.IsA(UsdShade.Shader))
     assert ids == ["ND_multiply_vector2FA", "ND_noise2d_float", "ND_open_pbr_surface_surfaceshader",
@@ -327,3 +330,222 @@ def test_a_kept_graph_is_written_to_usd_as_its_materialx_nodes_and_read_back(tmp
     for line in ('type="float" nodedef="ND_noise2d_float"', 'name="amplitude" type="float" value="0.3"',
                  'name="in2" type="float" value="8"', '<texcoord '):
         assert line in written, written
+
+
+def test_a_source_materialx_rejects_is_reported_by_convert(tmp_path):
+    from glsupport import validation
+
+    source = mtlx(tmp_path, """
+        <nodegraph name="NG">
+          <image name="img" type="color3">
+            <input name="file" type="filename" value="c.png" />
+            <input name="texcoord" type="vector2" nodename="nowhere" />
+          </image>
+          <output name="out" type="color3" nodename="img" />
+        </nodegraph>
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="base_color" type="color3" nodegraph="NG" output="out" />
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+    """)
+    _, valid, message = validation(source)
+    assert not valid and "nowhere" in message  # MaterialX's own verdict on the source
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), "standard_surface", Settings())
+    found = [d for d in conversion.diagnostics if d.code == "OPBR004"]
+    assert len(found) == 1 and "nowhere" in found[0].message and found[0].location.line == 6
+    clean = mtlx(tmp_path, _TYPO.format(model="open_pbr_surface").replace("base_colour", "coat_color"), name="ok.mtlx")
+    assert not [d for d in convert_file(str(clean), str(tmp_path / "ok_out.mtlx"), None, Settings()).diagnostics
+                if d.code == "OPBR004"]
+
+
+# Session 25's red team, set G: MaterialX graphs through USD (the capture and writing above), on published and
+# hand-made networks. Each finding below failed on the frozen CLI (9f65429).
+_GRAPH_FEATURES = '''#usda 1.0
+def Scope "Looks"
+{
+    def Material "M" (
+        prepend apiSchemas = ["ColorSpaceAPI"]
+    )
+    {
+        uniform token colorSpace:name = "srgb_rec709_scene"
+        float2 inputs:tile = (3, 3)
+        token outputs:mtlx:surface.connect = </Looks/M/S.outputs:out>
+        def Shader "S"
+        {
+            uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+            color3f inputs:base_color.connect = </Looks/M/mix.outputs:out>
+            color3f inputs:coat_color.connect = </Looks/M/v.outputs:out>
+            float inputs:specular_roughness.connect = </Looks/M/n.outputs:out>
+            color3f inputs:fuzz_color.connect = </Looks/M/img2.outputs:out>
+            token outputs:out
+        }
+        def Shader "img"
+        {
+            uniform token info:id = "ND_image_color3"
+            asset inputs:file = @tex/c.png@
+            color3f outputs:out
+        }
+        def Shader "n"
+        {
+            uniform token info:id = "ND_noise2d_float"
+            float inputs:amplitude.timeSamples = { 1: 0.1, 24: 0.9 }
+            float outputs:out
+        }
+        def Shader "mix"
+        {
+            uniform token info:id = "ND_mix_color3"
+            color3f inputs:fg.connect = </Looks/M/img.outputs:out>
+            color3f inputs:bg = (0.5, 0.25, 0.125) (
+                colorSpace = "lin_ap1_scene"
+            )
+            float inputs:mix.connect = </Looks/M/n.outputs:out>
+            color3f outputs:out
+        }
+        def Shader "v"
+        {
+            uniform token info:id = "ND_noise2d_vector3FA"
+            float3 outputs:out
+        }
+        def Shader "tc"
+        {
+            uniform token info:id = "ND_texcoord_vector2"
+            float2 outputs:out
+        }
+        def Shader "p2d"
+        {
+            uniform token info:id = "ND_place2d_vector2"
+            float2 inputs:texcoord.connect = </Looks/M/tc.outputs:out>
+            float2 inputs:scale.connect = </Looks/M.inputs:tile>
+            float2 outputs:out
+        }
+        def Shader "img2"
+        {
+            uniform token info:id = "ND_image_color3"
+            asset inputs:file = @tex/c.png@
+            float2 inputs:texcoord.connect = </Looks/M/p2d.outputs:out>
+            color3f outputs:out
+        }
+    }
+}
+'''
+
+
+def test_a_captured_usd_graph_keeps_colour_spaces_samples_types_and_coordinates(tmp_path):
+    import MaterialX.PyMaterialXGenShader as gs
+    from glsupport import shader_generator, validated
+    from redteam_support import png
+
+    png(tmp_path / "tex" / "c.png")
+    source = tmp_path / "g.usda"
+    source.write_text(_GRAPH_FEATURES, encoding="utf-8")
+    out = tmp_path / "out.mtlx"
+    conversion = convert_file(str(source), str(out), None, Settings())
+    assert not [d for d in conversion.diagnostics if d.severity.name == "ERROR"], conversion.diagnostics
+    document = validated(out)  # F7: a float3 noise into color3 coat_color failed validate() ("Mismatched types")
+    _, generator, context = shader_generator()
+    for element in gs.findRenderableElements(document):
+        assert generator.generate("check", element, context).getSourceCode(gs.PIXEL_STAGE)
+    nodes = {node.getCategory(): node for node in document.getNodes()}
+    # F2: the image inherits the Material's ColorSpaceAPI space (sRGB), as usd-core's ComputeColorSpaceName says
+    images = [n for n in document.getNodes() if n.getCategory() == "image"]
+    assert images and all(n.getInput("file").getColorSpace() == "srgb_texture" for n in images)
+    # F3: a colour value's own colorSpace (ACEScg) is kept, in MaterialX's name
+    assert nodes["mix"].getInput("bg").getColorSpace() == "acescg"
+    # F5: an animated amplitude is its first sample, not the definition's default (1)
+    assert abs(nodes["noise2d"].getInputValue("amplitude") - 0.1) < 1e-6
+    # F7: MaterialX's convert makes the float3 a color3
+    assert document.getNode("S").getInput("coat_color").getConnectedNode().getCategory() == "convert"
+    # F6: a place2d whose scale comes through the Material's interface keeps that scale
+    placements = [n for n in document.getNodes() if n.getCategory() == "place2d"]
+    assert [tuple(n.getInputValue("scale")) for n in placements] == [(3.0, 3.0)]
+
+
+def test_a_uv_tiling_by_multiplication_is_the_textures_uv_transform(tmp_path):
+    from redteam_support import png
+
+    png(tmp_path / "tex" / "c.png")
+    source = tmp_path / "t.usda"
+    source.write_text(_GRAPH_FEATURES.replace('float2 inputs:scale.connect = </Looks/M.inputs:tile>', '')
+                      .replace('def Shader "p2d"', 'def Shader "unused"')
+                      .replace('</Looks/M/p2d.outputs:out>', '</Looks/M/tile.outputs:out>')
+                      .replace('def Shader "img2"', '''def Shader "tile"
+        {
+            uniform token info:id = "ND_multiply_vector2FA"
+            float2 inputs:in1.connect = </Looks/M/tc.outputs:out>
+            float inputs:in2 = 4
+            float2 outputs:out
+        }
+        def Shader "img2"'''), encoding="utf-8")
+    from openpbr_tools.io import read_asset
+
+    texture = read_asset(str(source)).materials[0].inputs["fuzz_color"].value
+    assert texture.uv is not None and texture.uv.scale == (0.25, 0.25)  # texcoord * 4 is place2d's scale 1/4
+
+
+def test_a_cyclic_usd_network_is_not_written_as_a_cyclic_graph(tmp_path):
+    source = tmp_path / "c.usda"
+    source.write_text('''#usda 1.0
+def Material "M"
+{
+    token outputs:mtlx:surface.connect = </M/S.outputs:out>
+    def Shader "S"
+    {
+        uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+        float inputs:specular_roughness.connect = </M/a.outputs:out>
+        token outputs:out
+    }
+    def Shader "a"
+    {
+        uniform token info:id = "ND_add_float"
+        float inputs:in1.connect = </M/b.outputs:out>
+        float outputs:out
+    }
+    def Shader "b"
+    {
+        uniform token info:id = "ND_add_float"
+        float inputs:in1.connect = </M/a.outputs:out>
+        float outputs:out
+    }
+}
+''', encoding="utf-8")
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), None, Settings())
+    assert [d.code for d in _notes(conversion) if d.location.input == "specular_roughness"] == ["OPBR1104"]
+    assert "add" not in (tmp_path / "out.mtlx").read_text(encoding="utf-8")
+
+
+def test_a_kept_graph_with_a_matrix_or_a_valueless_input_is_written_to_usd(tmp_path):
+    source = mtlx(tmp_path, '''
+        <nodegraph name="NG">
+          <texcoord name="uv" type="vector2" />
+          <transformmatrix name="tm" type="vector2">
+            <input name="in" type="vector2" nodename="uv" />
+            <input name="mat" type="matrix33" value="2, 0, 0, 0, 2, 0, 0.5, 0, 1" />
+          </transformmatrix>
+          <noise2d name="n" type="float">
+            <input name="texcoord" type="vector2" nodename="tm" />
+            <input name="pivot" type="float" />
+          </noise2d>
+          <output name="out" type="float" nodename="n" />
+        </nodegraph>
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="specular_roughness" type="float" nodegraph="NG" output="out" />
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+    ''')
+    out = tmp_path / "out.usda"
+    convert_file(str(source), str(out), None, Settings())  # F1: TypeError, F9: KeyError (exit 2, nothing written)
+    back = tmp_path / "back.mtlx"
+    convert_file(str(out), str(back), None, Settings())
+    written = back.read_text(encoding="utf-8")
+    assert 'type="matrix33" value="2, 0, 0, 0, 2, 0, 0.5, 0, 1"' in written and "<noise2d" in written
+
+
+def test_a_missing_image_inside_a_kept_graph_is_reported(tmp_path):
+    source = tmp_path / "g.usda"
+    source.write_text(_GRAPH_FEATURES, encoding="utf-8")  # tex/c.png not made
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), None, Settings())
+    assert any("graph on base_color reads 'tex/c.png', which does not exist" in d.message for d in _notes(conversion))

@@ -175,9 +175,9 @@ READ_ERROR_RULES = {
 }
 
 
-def check(asset, context):
-    if not asset.materials and not asset.extra.get("included_materials"):  # a look file's come from includes
-        yield context.diagnostic(NO_MATERIAL, "no supported surface shader found", Location(asset.path))
+def materialx_invalid(asset, context):
+    """OPBR004 for each line of MaterialX's ``Document.validate()`` message no other rule covers, at the element
+    it names (``convert`` reports them too: an output read from an invalid source may carry the same defect)."""
     message = asset.extra.get("materialx_validate")
     if message:
         sites = asset.extra.get("materialx_validate_sites", {})
@@ -185,6 +185,12 @@ def check(asset, context):
             path, name = sites.get(line, (None, None))  # the element the message names, where it is in the document
             line_number = asset.line_of.get(f"{path}/{name}" if name else path) if path else None
             yield context.diagnostic(MATERIALX_INVALID, f"MaterialX: {line}", Location(asset.path, line_number, path, name))
+
+
+def check(asset, context):
+    if not asset.materials and not asset.extra.get("included_materials"):  # a look file's come from includes
+        yield context.diagnostic(NO_MATERIAL, "no supported surface shader found", Location(asset.path))
+    yield from materialx_invalid(asset, context)
     for observation in asset.observations:
         if observation.kind == "xinclude":
             yield context.diagnostic(XINCLUDE, f"includes {observation.detail['href']!r}, which "

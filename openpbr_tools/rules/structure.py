@@ -29,8 +29,9 @@ DANGLING = Rule(
 UNINTERPRETED = Rule(
     "OPBR803", "procedural-input", Severity.INFO,
     "An input is driven by a node graph the toolkit does not interpret (not an image lookup).",
-    "Its values cannot be range-checked, and a conversion to glTF or UsdPreviewSurface must bake or "
-    "drop it; it is reported rather than silently lost.",
+    "Its values cannot be range-checked. A conversion to a .mtlx or USD output keeps the graph for MaterialX "
+    "shaders (rewired, with a mapping written after it as MaterialX nodes where one is needed); glTF and "
+    "UsdPreviewSurface hold no graph, so a conversion to them drops it, reported rather than silently lost.",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" value="0.5, 0.5, 0.5" />\n</open_pbr_surface>',
     failing='<noise3d name="n" type="color3" />\n<open_pbr_surface name="S" type="surfaceshader">\n  <input name="base_color" type="color3" nodename="n" />\n</open_pbr_surface>',
 )
@@ -115,7 +116,9 @@ def check(asset, context):
                 )
             else:
                 what = f"{value.category} node {value.target!r}" if value.category else repr(value.target)
+                kept = "kept by a conversion to .mtlx or USD (MaterialX shaders), dropped by one to glTF or " \
+                    "UsdPreviewSurface" if value.graph_xml else "dropped on conversion"
                 yield context.diagnostic(
-                    UNINTERPRETED, f"{entry.name} is driven by {what}: not checked, and baked or dropped on conversion",
+                    UNINTERPRETED, f"{entry.name} is driven by {what}: not checked, and {kept}",
                     entry.location,
                 )

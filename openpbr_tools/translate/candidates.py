@@ -203,6 +203,9 @@ def _reading(source: Material, translation: Translation, alternative: Translatio
     ours, theirs = figures[0].score, figures[1].score
     where = next((d.location for d in translation.diagnostics if d.code in (APPROXIMATED.code, NOT_CARRIED.code)),
                  source.location)
+    colour = source.inputs.get("specularColor") if source.model == "UsdPreviewSurface" else None
+    if colour is not None and colour.location is not None:  # the reading concerns the F0 colour (the audit's F5)
+        where = colour.location
     second, read = SECOND_READING.get(source.model, SECOND_READING["UsdPreviewSurface"])
     both = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: split into metal and dielectric shares "
             f"{ours:.2f}, {second} {theirs:.2f}")

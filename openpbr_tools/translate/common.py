@@ -88,6 +88,11 @@ class Translation:
     # (source input, note) for each input a noted mapping folded in: added by :func:`with_folded_notes` where
     # nothing else the translator reported stands at that input
     folded: list[tuple[str, Diagnostic]] = field(default_factory=list)
+    # what :func:`translate` applied: the source inputs its mappings and drops read (None: no mapping table ran),
+    # and for each target input the source inputs its mappings read (where a later step's note belongs)
+    read: frozenset[str] | None = None
+    origins: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    quiet_drops: tuple = ()  # drops whose value is lost but renders nothing here (unread_notes says so)
 
 
 def with_folded_notes(translation: Translation) -> Translation:
@@ -368,6 +373,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         folded.append((name, report.pop(start)))
 
     dropped_lobes = []
+    quiet_drops: list[Dropped] = []
     for drop in dropped:
         if not values.authored(drop.source):
             continue
@@ -383,6 +389,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             say(NOT_CARRIED, f"{drop.source} has no equivalent: {drop.why}", drop.source)
             handled.add(drop.source)
             dropped_lobes.append(drop.source)
+        elif _off_default(drop.source, values, source_table):  # lost, but invisible here: said (as an info) by
+            quiet_drops.append(drop)  # unread_notes, once the translator's own notes are in (one may stand there)
     probes.unreached(material, mappings, handled, failed, source_table, say)
     read = {name for mapping in mappings for name in mapping.sources} | {drop.source for drop in dropped}
     for switch in dropped_lobes:  # a lobe dropped whole: its other inputs go with it (fuzz_color with fuzz_weight)
@@ -392,7 +400,53 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 fold(NOT_CARRIED, f"{name}: not carried: it goes with its lobe ({switch} has no equivalent)", name)
     _companions(noted, mappings, values, source_table, fold)
     report.sort(key=Diagnostic.sort_key)
-    return Translation(result, report, material, folded)
+    origins: dict[str, tuple[str, ...]] = {}
+    for mapping in mappings:
+        origins[mapping.target] = tuple(dict.fromkeys(origins.get(mapping.target, ()) + mapping.sources))
+    return Translation(result, report, material, folded, frozenset(read), origins, tuple(quiet_drops))
+
+
+def unread_notes(translation: Translation, target_model: str, context, unseen: bool = True) -> list[Diagnostic]:
+    """A note at each authored source input, off its default, that no mapping of the translator read, no drop
+    named and no note of the whole translation stands at (the audit's F1: OpenPBR's transmission_depth, Abbe
+    number, coat anisotropy and scatter vanished on their way to UsdPreviewSurface without a word): an error where
+    its lobe is on, an info where its lobe's switch is 0 (its value renders nothing; ``unseen`` False: nothing), as
+    for a drop whose value renders nothing (``quiet_drops``). Run on a translator's final report (:func:`translate`
+    records what it read; a translator that ran none records nothing)."""
+    material = translation.source
+    if translation.read is None or material is None:
+        return []
+    table = tables.table(material.model, material.version if material.version in tables.versions(material.model)
+                         else None)
+    values = Values(material, table)
+    sites = {d.location.input for d in translation.diagnostics}
+    notes = []
+    for drop in translation.quiet_drops if unseen else ():
+        entry = material.inputs.get(drop.source)
+        where = entry.location if entry is not None and entry.location is not None else \
+            material.location.with_input(drop.source)
+        if drop.source not in sites and where.input not in sites:
+            notes.append(context.diagnostic(CONVERTED, f"{material.name}: {drop.source} has no equivalent ({drop.why}), "
+                                            "so it is not carried: it has no effect with the other inputs at their "
+                                            "values", where))
+    for name in sorted(material.inputs):
+        if name in translation.read or name in sites or table.get(name) is None or not values.authored(name) \
+                or not _off_default(name, values, table):
+            continue
+        entry = material.inputs[name]
+        where = entry.location if entry.location is not None else material.location.with_input(name)
+        if where.input in sites:  # (an input a first step made stands at its source's input: a note is there)
+            continue
+        if lobe_off(name, values, table):
+            if not unseen:
+                continue
+            notes.append(context.diagnostic(CONVERTED, f"{material.name}: {name} has no equivalent in {target_model}, "
+                                            f"so it is not carried: it has no effect while {table.lobe_switch(name)} "
+                                            "is 0", where))
+        else:
+            notes.append(context.diagnostic(NOT_CARRIED, f"{material.name}: {name} has no equivalent in "
+                                            f"{target_model}; no mapping reads it, so it is not carried", where))
+    return notes
 
 
 def _companions(noted, mappings, values: Values, source_table, say) -> None:

@@ -10,10 +10,11 @@ import copy
 import dataclasses
 
 from .. import tables
+from ..diagnostics import Diagnostic, Severity
 from ..model import Material
 from ..rules.translation import CONVERTED, NOT_CARRIED
 from . import spec_gloss
-from .common import Settings, Translation, with_folded_notes
+from .common import Settings, Translation, unread_notes, with_folded_notes
 from .gltf import gltf_to_openpbr, openpbr_to_gltf, unlit_restored, unlit_state
 from .standard_surface import openpbr_to_standard_surface, standard_surface_to_openpbr
 from .upgrade import upgrade
@@ -62,13 +63,14 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
             upgraded = upgrade(current, context=settings.context)
             diagnostics += upgraded.diagnostics
             current = upgraded.material
-    elif current.model != target:
-        step = _step(TO_OPENPBR[current.model], current, settings)
+    first = None
+    if current.model not in ("open_pbr_surface", target):
+        first = step = _step(TO_OPENPBR[current.model], current, settings)
         diagnostics += step.diagnostics
         current = step.material
     if current.model != target:
         step = _step(FROM_OPENPBR[target], current, settings)
-        diagnostics += step.diagnostics
+        diagnostics += step.diagnostics if first is None else _at_source_inputs(step.diagnostics, material, first, settings.context)
         current = step.material
     if current is material:  # nothing to translate: a copy, so that what happens to the result (textures
         current = copy.copy(material)  # rebased beside the output, say) never reaches the source
@@ -78,9 +80,72 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
     return Translation(current, diagnostics, material)
 
 
+def _at_source_inputs(notes: list, source: Material, first: Translation, context) -> list:
+    """The second step's notes of a conversion through the OpenPBR hub, at the source's inputs (the audit's F2: they
+    stood at OpenPBR names the source does not have, such as a Standard Surface's ``fuzz_roughness``). A note at a hub
+    input made from an authored source input already stands there (its entry keeps the source's location); one at a
+    hub input the first step made from the source's defaults goes to the first authored source input its mapping
+    read, else to the material; an info there is dropped (it concerns no value the source holds)."""
+    authored = {entry.location.input for entry in source.inputs.values() if entry.location is not None} | set(source.inputs)
+    kept = []
+    for note in notes:
+        name = note.location.input
+        if name is None or name in authored:
+            kept.append(note)
+            continue
+        origin = next((s for s in first.origins.get(name, ()) if s in source.inputs), None)
+        if origin is not None:
+            entry = source.inputs[origin]
+            kept.append(dataclasses.replace(note, location=entry.location or source.location.with_input(origin)))
+        elif note.severity > Severity.INFO:
+            kept.append(dataclasses.replace(note, location=dataclasses.replace(note.location, input=None)))
+    return kept + _hub_companions(kept, source, first, context)
+
+
+def _hub_companions(notes: list, source: Material, first: Translation, context) -> list:
+    """A note at each authored source input (off its default) that the first step folded into a hub input the second
+    step reported, where nothing stands at that source input yet (the audit's F2: a Standard Surface's
+    ``subsurface_scale``, folded into OpenPBR's ``subsurface_radius_scale``, vanished on its way to glTF while the note
+    stood at ``subsurface_radius``, the hub input's first source). Info, pointing at that note, but for a value not
+    carried at all (as :func:`.common._companions` within one step)."""
+    from .common import Values, _off_default  # lazy: keeps this module's imports to the translators'
+
+    table = tables.table(source.model, source.version if source.version in tables.versions(source.model) else None)
+    values = Values(source, table)
+    sites = {d.location.input for d in notes} | {d.location.input for d in first.diagnostics}
+    strongest: dict[str, Diagnostic] = {}
+    for note in notes:
+        held = strongest.get(note.location.input)
+        if held is None or note.severity > held.severity:
+            strongest[note.location.input] = note
+    companions = []
+    for name, entry in first.material.inputs.items():
+        site = entry.location.input if entry.location is not None else name
+        note = strongest.get(site)
+        if note is None:
+            continue
+        for origin in first.origins.get(name, ()):
+            feeding = source.inputs.get(origin)
+            where = feeding.location if feeding is not None and feeding.location is not None else None
+            if feeding is None or where is None or where.input in sites or table.get(origin) is None \
+                    or not _off_default(origin, values, table):
+                continue
+            sites.add(where.input)
+            rule = NOT_CARRIED if note.code == NOT_CARRIED.code else CONVERTED
+            companions.append(context.diagnostic(rule, (
+                f"{source.name}: {origin}: folded into OpenPBR's {name} with the other inputs, which the next step "
+                f"does not carry exactly (see the note at {site})"), where))
+    return companions
+
+
 def _step(translator, material: Material, settings: Settings) -> Translation:
-    """One translator's result, with a note at each input its mappings folded into another (common.with_folded_notes)."""
-    return with_folded_notes(translator(material, settings))
+    """One translator's result, with a note at each input its mappings folded into another (common.with_folded_notes)
+    and at each authored input it did not read at all (common.unread_notes)."""
+    translation = with_folded_notes(translator(material, settings))
+    unread = unread_notes(translation, translation.material.model, settings.context, settings.unseen_notes)
+    if unread:
+        translation.diagnostics = sorted(translation.diagnostics + unread, key=Diagnostic.sort_key)
+    return translation
 
 
 def _unknown_names(material: Material) -> list[str]:

@@ -661,6 +661,8 @@ DROPPED_TO_GLTF = (
     Dropped("subsurface_scatter_anisotropy", "glTF has no subsurface scattering", matters=lambda g, w: w > 0 and g != 0,
             needs=("subsurface_weight",)),
     Dropped("geometry_coat_tangent", "glTF uses the mesh's tangents"),
+    Dropped("transmission_scatter_anisotropy", "glTF has no volume scattering (not ratified)",
+            matters=lambda g, scatter: g != 0 and np.max(scatter) > 0, needs=("transmission_scatter",)),
 )
 
 

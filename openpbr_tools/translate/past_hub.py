@@ -27,10 +27,13 @@ the note says so instead (OPBR1103).
 from __future__ import annotations
 
 import copy
+import dataclasses
 
+from .. import tables
 from ..diagnostics import Diagnostic
 from ..model import Material, Texture
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
+from .common import Values
 
 SHARED = ("occlusion",)
 HOLDERS = frozenset(("gltf_pbr", "UsdPreviewSurface"))
@@ -115,3 +118,24 @@ def carry_roughness(source: Material, result: Material, notes: list[Diagnostic],
         CONVERTED, f"{source.name}: {name} carried as it is to {result.model}'s {target}: neither model's coat roughens "
                    "the base (OpenPBR's does: through it, the roughness would be unroughened and clamped)", entry.location))
     return kept
+
+
+def fallback_only(note: Diagnostic, context, source: Material) -> Diagnostic:
+    """A USD output's UsdPreviewSurface fallback losing or approximating a value the file's MaterialX shader holds (the
+    audit's F4: reported as an error at the source's input, as if the output had lost it): a warning that says which
+    shader lost it. The MaterialX shader's own losses are reported by its translation."""
+    if note.code not in (NOT_CARRIED.code, APPROXIMATED.code):
+        return note
+    entry = source.inputs.get(note.location.input or "")
+    if entry is not None and (entry.value is None or not _fits(source, entry.name)):
+        return note  # a value the source cannot give (unreadable, or of another shape): no shader holds it
+    return dataclasses.replace(context.diagnostic(
+        APPROXIMATED, f"{note.message} (in the UsdPreviewSurface fallback only: the output's MaterialX shader, which "
+                      "renderers reading MaterialX use, holds it)", note.location), hint=note.hint)
+
+
+def _fits(material: Material, name: str) -> bool:
+    """Whether ``material``'s input ``name`` holds a value of its type's shape (an unknown input: yes)."""
+    table = tables.table(material.model, material.version if material.version in tables.versions(material.model)
+                         else None)
+    return table.get(name) is None or Values(material, table).fits(name)

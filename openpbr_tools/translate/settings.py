@@ -37,3 +37,6 @@ class Settings:
     search: bool = False  # also search the target's parameters where the result is visibly off (translate.search; --verify)
     node_graphs: bool = True  # the output holds MaterialX node graphs (.mtlx): a mapping of a procedural input is written as nodes
     specular_split: bool = True  # a specular-workflow preview as metal + dielectric (translate.specular_workflow), else by luminance
+    # say (as infos) what is not carried but renders nothing (common.unread_notes); off for a USD output's preview
+    # fallback, whose MaterialX shader holds those values
+    unseen_notes: bool = True

@@ -193,6 +193,29 @@ DROPPED_TO_USD = (
             needs=("subsurface_weight",)),
     Dropped("geometry_coat_normal", "UsdPreviewSurface's coat uses the base normal"),
     Dropped("geometry_tangent", "UsdPreviewSurface has no tangent input"),
+    # (the audit's F1: these were read by no mapping and named by no drop, so they vanished without a word)
+    Dropped("geometry_coat_tangent", "UsdPreviewSurface has no tangent input"),
+    Dropped("coat_roughness_anisotropy", "UsdPreviewSurface's clear coat is isotropic",
+            matters=lambda a, w: a > 0 and w > 0, needs=("coat_weight",)),
+    Dropped("geometry_thin_walled", "UsdPreviewSurface has no thin-walled mode: a thin wall's subsurface "
+                                    "translucency is lost (its transparency refracts nothing either way)",
+            matters=lambda thin, w: bool(thin) and w > 0, needs=("subsurface_weight",)),
+    Dropped("transmission_depth", "UsdPreviewSurface has no volume: the medium's absorption and scattering over this "
+                                  "depth are lost", needs=("transmission_weight", "transmission_color", "transmission_scatter"),
+            matters=lambda d, w, c, scatter: w > 0 and d > 0 and (differs(c, WHITE) or np.max(scatter) > 0)),
+    Dropped("transmission_scatter", "UsdPreviewSurface has no volume scattering",
+            matters=lambda scatter, w, d: w > 0 and d > 0 and np.max(scatter) > 0,
+            needs=("transmission_weight", "transmission_depth")),
+    Dropped("transmission_scatter_anisotropy", "UsdPreviewSurface has no volume scattering",
+            matters=lambda g, w, d, scatter: w > 0 and d > 0 and np.max(scatter) > 0 and g != 0,
+            needs=("transmission_weight", "transmission_depth", "transmission_scatter")),
+    Dropped("transmission_dispersion_abbe_number", "UsdPreviewSurface has no dispersion",
+            matters=lambda v, scale, w: scale > 0 and w > 0,
+            needs=("transmission_dispersion_scale", "transmission_weight")),
+    Dropped("subsurface_radius", "UsdPreviewSurface has no subsurface scattering", matters=lambda r, w: w > 0,
+            needs=("subsurface_weight",)),
+    Dropped("subsurface_scatter_anisotropy", "UsdPreviewSurface has no subsurface scattering",
+            matters=lambda g, w: w > 0 and g != 0, needs=("subsurface_weight",)),
 )
 
 
@@ -254,7 +277,7 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
                 exact=False, matters=lambda s, d, m, w: split and w >= 1 and _coloured(s), note=SPLIT_NOTE),
         Mapping("specular_roughness", ("roughness",)),
         Mapping("specular_ior", ("useSpecularWorkflow", "specularColor", "diffuseColor", "ior", "clearcoat"), specular_ior,
-                exact=False, matters=lambda w, s, d, i, c: w >= 1 or c > 0,
+                exact=False, matters=lambda w, s, d, i, c: w >= 1 or c > 0, site="specularColor",
                 note="the base's F0 (specular workflow: " + ("the F0 of the dielectric share, the specular colour's "
                      "smallest channel; the dielectric's Fresnel curve is not quite Schlick's" if split else
                      "the F0 colour's luminance, with a tint") + ") is OpenPBR's base relative to the clear coat, whose "

@@ -167,13 +167,16 @@ def _resolve_files(copy, original) -> None:
     """Filename inputs of a captured node as they resolve where the node stood: the enclosing
     elements' ``fileprefix`` applied (MaterialX's examples put ``../../../Images/`` on the document or
     the node graph; without it a kept marble's or brick's images would be looked up beside the output),
-    and the colour space an enclosing element gives them written on the input itself."""
+    and the colour space an enclosing element gives them (and colour values) written on the input itself."""
     root = original.getDocument()
     for port in original.getInputs():
-        if port.getType() != "filename" or not port.hasAttribute("value"):
+        if port.getType() not in ("filename", "color3", "color4") or not port.hasAttribute("value"):
             continue
         target = copy.getInput(port.getName())
-        target.setValueString(port.getResolvedValueString())
+        if port.getType() == "filename":
+            target.setValueString(port.getResolvedValueString())
+        # a colour value is colour-managed as a file is (the MaterialX specification: colorspace applies to both,
+        # inherited from the nearest enclosing element); the red team's F4: a node graph's space was dropped
         space = port.getActiveColorSpace()
         if not port.getColorSpace() and space and space != root.getColorSpace():
             target.setColorSpace(space)

@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import MaterialX as mx
 
+from ... import colorspaces
 from ...values import parse_value
 from ..mtlx.library import standard_library
 from .attributes import shortest_float32
@@ -30,10 +31,12 @@ class _Uncapturable(Exception):
     pass
 
 
-def capture_network(reader, prim, output_name: str) -> tuple[str, str] | None:
+def capture_network(reader, prim, output_name: str, consumer_type: str | None = None) -> tuple[str, str] | None:
     """(the flat MaterialX document, the name of the node that feeds the input) for the network upstream of
     ``prim``'s output ``output_name``, or ``None`` when it cannot be captured whole. ``reader`` is the USD
-    network reader (``UsdShade``, ``source``, ``file_of``, ``attribute_colorspace``)."""
+    network reader (``UsdShade``, ``source``, ``file_of``, ``attribute_colorspace``, ``inherited_colorspace``).
+    ``consumer_type``: the MaterialX type of the input it feeds; an output of another type UsdShade connects
+    (a ``float3`` noise to a ``color3f`` colour) ends in MaterialX's ``convert`` node, which MaterialX requires."""
     document = mx.createDocument()
     names: dict[str, str] = {}
     pending = []
@@ -64,6 +67,17 @@ def capture_network(reader, prim, output_name: str) -> tuple[str, str] | None:
             port.setNodeName(first)
             port.setOutputString(output_name)
             first = dot.getName()
+        final = document.getNode(first)
+        if consumer_type and final.getType() != consumer_type:
+            convert = materialx_nodedef(f"ND_convert_{final.getType()}_{consumer_type}")
+            if convert is None:
+                raise _Uncapturable(f"no conversion from {final.getType()} to {consumer_type}")
+            node = document.addNode("convert", document.createValidChildName(f"{first}_{consumer_type}"), consumer_type)
+            node.setNodeDefString(convert.getName())
+            node.addInput("in", final.getType()).setNodeName(first)
+            first = node.getName()
+        if _cyclic(document):  # (UsdShade lets a network loop; MaterialX's graphs are acyclic)
+            raise _Uncapturable("a cycle")
     except (_Uncapturable, LookupError, ValueError, TypeError, mx.Exception):
         return None
     document.setDataLibrary(standard_library())  # (validated with the definitions, as a renderer reads it)
@@ -114,16 +128,62 @@ def _capture_node(reader, document, prim, names, enqueue) -> None:
                 continue
             port = node.addInput(name, type_name)
             port.setValueString(file)
-            space = reader.attribute_colorspace(origin, "materialx") if origin is not None and origin.HasColorSpace() \
-                else None
+            space = _colorspace(reader, attribute, origin, prim)
             if space:
                 port.setColorSpace(space)
             continue
         value = origin.Get() if origin is not None else None
+        if value is None and origin is not None and origin.GetNumTimeSamples():  # animated: its first sample, as the
+            from pxr import Usd  # lazy: pxr is loaded (a stage is open)   reader takes a shader's own input's
+
+            value = origin.Get(Usd.TimeCode.EarliestTime())
         if value is None:
             continue  # declared without a value: the definition's default
         port = node.addInput(name, type_name)
         port.setValueString(_value_string(value, type_name))
+        if type_name in ("color3", "color4"):  # MaterialX manages a colour value's space as a file's
+            space = _colorspace(reader, attribute, origin, prim)
+            if space:
+                port.setColorSpace(space)
+
+
+def _colorspace(reader, attribute, origin, prim) -> str | None:
+    """The MaterialX name of the colour space a colour value or file of ``prim`` is in: ``colorSpace`` authored on
+    the input, else on the interface input it reads (``origin``), else the ``Usd.ColorSpaceAPI`` space it inherits
+    (the spec: a prim's colour space applies to its descendants), as the texture reader gives an image's."""
+    for holder in (attribute, origin):
+        if holder is not None and holder.HasColorSpace():
+            name = reader.attribute_colorspace(holder, "materialx")
+            break
+    else:
+        name = reader.inherited_colorspace(prim)
+    if not name:
+        return None
+    return colorspaces.materialx_equivalent(name) or name
+
+
+def _cyclic(document) -> bool:
+    """Whether the captured nodes' connections loop."""
+    edges = {node.getName(): [port.getNodeName() for port in node.getInputs() if port.getNodeName()]
+             for node in document.getNodes()}
+    state: dict[str, int] = {}  # 1 on the path, 2 done
+    for start in edges:
+        if state.get(start):
+            continue
+        stack = [(start, iter(edges[start]))]
+        state[start] = 1
+        while stack:
+            name, pending = stack[-1]
+            upstream = next(pending, None)
+            if upstream is None:
+                state[name] = 2
+                stack.pop()
+            elif state.get(upstream) == 1:
+                return True
+            elif not state.get(upstream) and upstream in edges:
+                state[upstream] = 1
+                stack.append((upstream, iter(edges[upstream])))
+    return False
 
 
 def _value_string(value, type_name: str) -> str:
@@ -142,6 +202,10 @@ def _value_string(value, type_name: str) -> str:
         except TypeError:
             raise ValueError(f"{value!r} is no {type_name}") from None
     text = ", ".join(_number(c) for c in components)
+    if type_name in ("matrix33", "matrix44"):  # (parse_value does not check matrices)
+        if len(components) != (9 if type_name == "matrix33" else 16):
+            raise ValueError(f"{value!r} is no {type_name}")
+        return text
     parse_value(text, type_name)  # ValueSyntaxError (a ValueError) when the shape is not the type's
     return text
 

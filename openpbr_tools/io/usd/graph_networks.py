@@ -79,6 +79,8 @@ class GraphNetworkWriter:
                 usd_type = MATERIALX_TO_USD.get(port.getType())
                 if usd_type is None:
                     continue
+                if not port.getNodeName() and not port.hasAttribute("value"):
+                    continue  # declared without a value (MaterialX calls that invalid): the definition's default
                 target = shader.CreateInput(port.getName(), self.Sdf.ValueTypeNames.Find(usd_type))
                 if port.getNodeName():
                     upstream = nodes[port.getNodeName()]
@@ -89,6 +91,11 @@ class GraphNetworkWriter:
                     file = port.getValueString()
                     target.Set(self.Sdf.AssetPath(self.texture_path(Texture(file=file), f"{entry.location.path}."
                                                                      f"{entry.name}")))
+                elif port.getType() in ("matrix33", "matrix44"):  # (set_value takes flat tuples)
+                    from pxr import Gf  # lazy: pxr only once write_usd has required it
+
+                    matrix = Gf.Matrix3d if port.getType() == "matrix33" else Gf.Matrix4d
+                    target.Set(matrix(*[v for row in values[(name, port.getName())] for v in row]))
                 else:
                     self.set_value(target.GetAttr(), usd_type, values[(name, port.getName())])
                 space = self.colorspace_name(port.getColorSpace(), "materialx") if port.getColorSpace() else None

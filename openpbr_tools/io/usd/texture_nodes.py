@@ -15,12 +15,13 @@ from __future__ import annotations
 import math
 
 from ...model import Connection, Input, Texture, UVTransform, normal_strength
-from .attributes import constant_of, shortest_float32, unconnected
+from .attributes import constant_of, read_constant, shortest_float32, unconnected
 from .graph_capture import capture_network
 from .sdr import materialx_nodedef
 from .types import PRIMVAR_READER_PREFIX, TRANSFORM_2D_ID, UV_TEXTURE_ID, UV_TEXTURE_OUTPUTS, is_eight_bit
 
 DEFAULT_UV_PRIMVAR = "st"  # the conventional UV primvar: read as the default UV set (texcoord None)
+_CONNECTED = object()  # an input a shader feeds (TextureNodeReader._uv_constant)
 _CHANNEL_OUTPUTS = {"outr": 0, "outg": 1, "outb": 2, "outa": 3, "outx": 0, "outy": 1, "outz": 2, "outw": 3}
 
 
@@ -40,7 +41,10 @@ class TextureNodeReader:
             nodedef = materialx_nodedef(shader_id)
             category = nodedef.getNodeString() if nodedef is not None else None
             if category in ("image", "tiledimage"):
-                return self.materialx_image(prim, nodedef, channels, normal_scale, scale, bias)
+                texture = self.materialx_image(prim, nodedef, channels, normal_scale, scale, bias)
+                if texture is not None:
+                    return texture
+                break  # coordinates no Texture holds: the network is kept whole where it can be (below)
             if category is not None and category.startswith("separate") and output_name in _CHANNEL_OUTPUTS:
                 channels = (_CHANNEL_OUTPUTS[output_name],)
                 step = "in"
@@ -82,12 +86,12 @@ class TextureNodeReader:
             prim, output_name, _ = found
         node, out = first
         shader_id = str(self.UsdShade.Shader(node).GetShaderId() or "") or None
-        captured = capture_network(self, node, out) if shader_id and shader_id.startswith("ND_") else None
+        captured = capture_network(self, node, out, entry.type) if shader_id and shader_id.startswith("ND_") else None
         return Connection(f"{node.GetPath()}.outputs:{out}", shader_id,
                           f"{shader_id or 'a shader without info:id'} is not a texture lookup",
                           graph_xml=captured[0] if captured else None, output=captured[1] if captured else None)
 
-    def materialx_image(self, prim, nodedef, channels, normal_scale, scale, bias) -> Texture:
+    def materialx_image(self, prim, nodedef, channels, normal_scale, scale, bias) -> Texture | None:
         path = str(prim.GetPath())
         file_attribute = prim.GetAttribute("inputs:file")
         file, packaged = self.file_of(file_attribute)
@@ -111,6 +115,7 @@ class TextureNodeReader:
                 transform.scale = (float(tiling[0]), float(tiling[1]))
             if offset is not None:
                 transform.offset = (float(offset[0]), float(offset[1]))
+        placed = not transform.is_identity  # one placement a Texture holds; a second is the graph's to keep
         kind, *found = self.upstream(prim, "texcoord")
         for _ in range(4):
             if kind != "shader":
@@ -119,15 +124,32 @@ class TextureNodeReader:
             nodedef_upstream = materialx_nodedef(str(self.UsdShade.Shader(node).GetShaderId() or ""))
             category = nodedef_upstream.getNodeString() if nodedef_upstream is not None else None
             if category == "place2d":
-                for field, key in (("scale", "scale"), ("offset", "offset"), ("pivot", "pivot")):
-                    value = constant_of(node, key)
+                if placed:
+                    return None
+                placed = True
+                for field, key in (("scale", "scale"), ("offset", "offset"), ("pivot", "pivot"), ("rotate", "rotate")):
+                    value = self._uv_constant(node, key)
+                    if value is _CONNECTED:  # (the red team's F6: a scale from a network was dropped unannounced)
+                        return None
                     if value is not None:
-                        setattr(transform, field, (float(value[0]), float(value[1])))
-                rotate = constant_of(node, "rotate")
-                if rotate is not None:
-                    transform.rotate = float(rotate)
+                        setattr(transform, field, float(value) if field == "rotate" else (float(value[0]), float(value[1])))
                 kind, *found = self.upstream(node, "texcoord")
                 continue
+            if category == "multiply" and nodedef_upstream.getType() == "vector2":
+                # texcoord times a constant k is place2d's scale 1 / k (as the MaterialX reader reads it)
+                factor = self._uv_constant(node, "in2")
+                if placed or factor is _CONNECTED or factor is None:
+                    return None
+                factor = (float(factor), float(factor)) if isinstance(factor, (int, float)) else \
+                    (float(factor[0]), float(factor[1]))
+                if 0.0 in factor:
+                    return None
+                placed = True
+                transform.scale = (1.0 / factor[0], 1.0 / factor[1])
+                kind, *found = self.upstream(node, "in1")
+                continue
+            if category not in ("texcoord", "geompropvalue"):
+                return None  # coordinates from a network no Texture holds
             if category == "texcoord":
                 index = constant_of(node, "index")
                 if isinstance(index, int) and index != 0:
@@ -140,6 +162,15 @@ class TextureNodeReader:
             break
         texture.uv = None if transform.is_identity and transform.pivot == (0.0, 0.0) else transform
         return texture
+
+    def _uv_constant(self, node, name: str):
+        """The constant on ``node``'s input ``name`` (through interface inputs), ``None`` when unset, or
+        :data:`_CONNECTED` when a shader feeds it."""
+        kind, *found = self.upstream(node, name)
+        if kind == "shader" or kind == "dangling":
+            return _CONNECTED
+        constant = read_constant(found[0]) if found and found[0] is not None else None
+        return constant.value if constant is not None else None
 
     def uv_texture(self, prim, output_name: str, entry: Input, consumer) -> Texture | Connection:
         path = str(prim.GetPath())

@@ -35,7 +35,7 @@ from ...atomic import default_mode
 from ...diagnostics import Diagnostic
 from ...model import Asset, Connection, Constant, Location, Material, Texture
 from ...resources import load_json
-from ...rules.translation import NOT_CARRIED
+from ...rules.translation import APPROXIMATED, NOT_CARRIED
 from ..image_files import damage
 from ..paths import Kind, PathGuard, classify
 from .reader import CUSTOM_DATA_VERSION_KEY
@@ -152,6 +152,7 @@ class _Writer(TextureNetworkWriter, GraphNetworkWriter):
         self.meters_per_unit, self.source_unit = meters_per_unit, source_unit
         self.material_prims: dict[str, object] = {}
         self.packaged_files: dict[str, str] = {}
+        self.written_graphs: set[str] = set()  # kept graphs written as networks (a fallback's loss is its own)
         # what a .usdz may read and package: the source's folder (and allowed ones), links resolved
         self.guard = PathGuard(source_dir)
         # how a reference is spelled from the output's folder: as written, no link resolved
@@ -248,6 +249,7 @@ class _Writer(TextureNetworkWriter, GraphNetworkWriter):
             kept = self.materialx_graph(usd_material, entry, value) if value.graph_xml and not preview else None
             if kept is not None:  # the graph written as the UsdShade network of its MaterialX nodes
                 shader_input.ConnectToSource(kept)
+                self.written_graphs.add(value.graph_xml)
                 return
             # kept only where it names a prim of the output (a USD source's own path, once its network is
             # written there): a connection to a path the output lacks would dangle
@@ -256,10 +258,14 @@ class _Writer(TextureNetworkWriter, GraphNetworkWriter):
             if pointed:
                 shader_input.GetAttr().AddConnection(self.Sdf.Path(value.target))
             why = " (a UsdPreviewSurface reads no MaterialX graph)" if preview and value.graph_xml else ""
-            self.note(NOT_CARRIED, f"{material.name}.{entry.name}: the {value.category or 'procedural'} network at "
-                                   f"{value.target!r} is not written{why}; " + (
-                                       "the connection points at it" if pointed else
-                                       "the input has no value, so the shader's default applies"))
+            kept = preview and value.graph_xml in self.written_graphs  # the output's MaterialX shader holds it
+            self.note(APPROXIMATED if kept else NOT_CARRIED,
+                      f"{material.name}.{entry.name}: the {value.category or 'procedural'} network at "
+                      f"{value.target!r} is not written{why}; " + (
+                          "the connection points at it" if pointed else
+                          "the input has no value, so the shader's default applies")
+                      + (" (in the UsdPreviewSurface fallback only: the output's MaterialX shader holds it)"
+                         if kept else ""))
 
     def convert_length(self, entry, parameter, value, material):
         """A length in the stage's unit: from its own MaterialX unit, else from the source's scene
@@ -301,6 +307,7 @@ class _Writer(TextureNetworkWriter, GraphNetworkWriter):
         if name in uv_tokens and scheme != "usd_uvtexture":
             return uv_tokens[name][0 if scheme == "materialx" else 1]
         if scheme == "materialx":
+            name = colorspaces.materialx_remapped(name)  # a legacy name MaterialX renames (gamma18: g18_rec709)
             if name in colorspaces.materialx_names():
                 return name
             return colorspaces.materialx_equivalent(name) or ("none" if colorspaces.is_data(name, "usd") else name)
