@@ -128,6 +128,14 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     # cover (unknown inputs, dangling connections, unreadable values are said at their inputs)
     result.diagnostics += list(materialx_invalid(asset, context))
     for observation in asset.observations:
+        if observation.kind in ("usd_time_samples", "usd_graph_time_samples") and (
+                observation.detail.get("samples") or observation.detail.get("attributes")):
+            what = observation.detail.get("input") or "the graph on " + (observation.location.input or "an input")
+            owner = next((m for m in asset.materials if m.location.path == observation.location.path), None)
+            result.diagnostics.append(context.diagnostic(  # (the red team's G-F5: an animation vanished unannounced)
+                APPROXIMATED, f"{what} is animated (time samples); the output holds one value, its value at the "
+                              "default time, else its first sample", observation.location if owner is None
+                else observation.location.with_material(display_name(owner))))
         if observation.kind == "unsupported_shader":  # a custom or renderer-specific shader: never silent
             detail = observation.detail
             result.diagnostics.append(context.diagnostic(

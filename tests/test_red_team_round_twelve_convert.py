@@ -549,3 +549,33 @@ def test_a_missing_image_inside_a_kept_graph_is_reported(tmp_path):
     source.write_text(_GRAPH_FEATURES, encoding="utf-8")  # tex/c.png not made
     conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), None, Settings())
     assert any("graph on base_color reads 'tex/c.png', which does not exist" in d.message for d in _notes(conversion))
+
+
+def test_an_animated_value_is_reported_as_one_value_in_the_output(tmp_path):
+    # G-F5: a shader's animated input and an animated node inside its graph became their first samples, unannounced
+    source = tmp_path / "a.usda"
+    source.write_text('''#usda 1.0
+def Material "M"
+{
+    token outputs:mtlx:surface.connect = </M/S.outputs:out>
+    def Shader "S"
+    {
+        uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+        float inputs:base_weight.timeSamples = { 1: 0.2, 24: 0.9 }
+        float inputs:specular_roughness.connect = </M/n.outputs:out>
+        token outputs:out
+    }
+    def Shader "n"
+    {
+        uniform token info:id = "ND_noise2d_float"
+        float inputs:amplitude.timeSamples = { 1: 0.1, 24: 0.9 }
+        float outputs:out
+    }
+}
+''', encoding="utf-8")
+    for output in ("out.mtlx", "out.gltf", "out.usda"):
+        conversion = convert_file(str(source), str(tmp_path / output), None, Settings())
+        animated = {d.location.input for d in conversion.diagnostics if d.code == "OPBR1103" and "animated" in d.message}
+        assert {"base_weight"} <= animated, (output, conversion.diagnostics)
+        if output == "out.mtlx":
+            assert animated == {"base_weight", "specular_roughness"}

@@ -245,6 +245,12 @@ def _unknown_names(asset, context):
             texture = entry.texture
             if texture is not None and texture.colorspace and texture.colorspace != asset.colorspace:
                 candidates.append((texture.colorspace, texture.location or entry.location))
+    for observation in asset.observations:  # a node graph's, a pattern node's input's (the reader's)
+        name = observation.detail.get("name") if observation.kind == "node_colorspace" else None
+        # a name MaterialX remaps (gamma18), or one it leaves unconverted that means its working space anyway
+        # (lin_rec709_scene: MaterialX's colour-management test suite uses it), renders as meant
+        if name and colorspaces.materialx_remapped(name) not in known and colorspaces.materialx_name(name) != "lin_rec709":
+            candidates.append((name, observation.location))
     for name, location in candidates:
         if name in known or (name, location) in seen:
             continue

@@ -176,6 +176,8 @@ class _Reader(GraphFollower):
             if element.hasAttribute("doc"):
                 self._doc_suppression(element.getNamePath(), element.getDocString())
             if not element.isA(mx.Node):
+                if element.getCategory() == "nodegraph" and element.hasAttribute("colorspace"):
+                    self.asset.observe("node_colorspace", self.location(element), name=element.getAttribute("colorspace"))
                 continue
             category = element.getCategory()
             if category in SHADER_CATEGORIES and in_definition(element):
@@ -188,6 +190,10 @@ class _Reader(GraphFollower):
                 if not self.document.getMatchingNodeDefs(category):
                     self.asset.observe("unknown_category", self.location(element), category=category, type=element.getType())
             elif category not in MATERIAL_CATEGORIES:
+                for port in element.getInputs():  # a graph's colour spaces: checked by name as a shader's are
+                    if port.hasAttribute("colorspace"):
+                        self.asset.observe("node_colorspace", self.location(element, port.getName()),
+                                           name=port.getAttribute("colorspace"))
                 for name, value, allowed in library.enum_violations(element):
                     self.asset.observe("node_enum_value", self.location(element, name), value=value, allowed=allowed)
                 tagged = interface_colorspace(element)

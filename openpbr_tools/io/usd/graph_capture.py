@@ -31,12 +31,15 @@ class _Uncapturable(Exception):
     pass
 
 
-def capture_network(reader, prim, output_name: str, consumer_type: str | None = None) -> tuple[str, str] | None:
+def capture_network(reader, prim, output_name: str, consumer_type: str | None = None,
+                    where=None) -> tuple[str, str] | None:
     """(the flat MaterialX document, the name of the node that feeds the input) for the network upstream of
     ``prim``'s output ``output_name``, or ``None`` when it cannot be captured whole. ``reader`` is the USD
     network reader (``UsdShade``, ``source``, ``file_of``, ``attribute_colorspace``, ``inherited_colorspace``).
     ``consumer_type``: the MaterialX type of the input it feeds; an output of another type UsdShade connects
-    (a ``float3`` noise to a ``color3f`` colour) ends in MaterialX's ``convert`` node, which MaterialX requires."""
+    (a ``float3`` noise to a ``color3f`` colour) ends in MaterialX's ``convert`` node, which MaterialX requires.
+    An animated value is captured at its first time sample, observed (``usd_graph_time_samples``) at ``where``, the
+    input the graph feeds, so a conversion can say the animation is not carried."""
     document = mx.createDocument()
     names: dict[str, str] = {}
     pending = []
@@ -55,8 +58,9 @@ def capture_network(reader, prim, output_name: str, consumer_type: str | None = 
 
     try:
         first = enqueue(prim)
+        animated: list[str] = []
         while pending:
-            _capture_node(reader, document, pending.pop(), names, enqueue)
+            _capture_node(reader, document, pending.pop(), names, enqueue, animated)
         final = document.getNode(first)
         if final.getType() == "multioutput":  # a dot reads the output the input read (see capture.select_output)
             output = materialx_nodedef(final.getNodeDefString()).getOutput(output_name)
@@ -87,10 +91,12 @@ def capture_network(reader, prim, output_name: str, consumer_type: str | None = 
     from ..mtlx.writer import document_text  # lazy: io.mtlx.writer is not needed by a reader otherwise
 
     document.setDataLibrary(None)
+    if animated and where is not None:
+        reader.asset.observe("usd_graph_time_samples", where, attributes=sorted(animated))
     return document_text(document), first
 
 
-def _capture_node(reader, document, prim, names, enqueue) -> None:
+def _capture_node(reader, document, prim, names, enqueue, animated: list) -> None:
     shader_id = str(reader.UsdShade.Shader(prim).GetShaderId() or "") if prim.IsA(reader.UsdShade.Shader) else ""
     nodedef = materialx_nodedef(shader_id) if shader_id else None
     if nodedef is None or nodedef.getNodeString() in ("open_pbr_surface", "standard_surface", "gltf_pbr",
@@ -137,6 +143,8 @@ def _capture_node(reader, document, prim, names, enqueue) -> None:
             from pxr import Usd  # lazy: pxr is loaded (a stage is open)   reader takes a shader's own input's
 
             value = origin.Get(Usd.TimeCode.EarliestTime())
+        if origin is not None and origin.GetNumTimeSamples() > 1:
+            animated.append(str(origin.GetPath()))
         if value is None:
             continue  # declared without a value: the definition's default
         port = node.addInput(name, type_name)

@@ -86,7 +86,8 @@ class TextureNodeReader:
             prim, output_name, _ = found
         node, out = first
         shader_id = str(self.UsdShade.Shader(node).GetShaderId() or "") or None
-        captured = capture_network(self, node, out, entry.type) if shader_id and shader_id.startswith("ND_") else None
+        captured = capture_network(self, node, out, entry.type, entry.location) \
+            if shader_id and shader_id.startswith("ND_") else None
         return Connection(f"{node.GetPath()}.outputs:{out}", shader_id,
                           f"{shader_id or 'a shader without info:id'} is not a texture lookup",
                           graph_xml=captured[0] if captured else None, output=captured[1] if captured else None)
