@@ -32,9 +32,9 @@ from .rules import Context
 from .rules.document import materialx_invalid
 from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .bake import Baker
-from .translate.common import Settings, Values, lobe_off
+from .translate.common import Settings, Translation, Values, lobe_off
 from .translate import candidates, past_hub
-from .translate.convert import MODELS, convert, unknown_inputs_translated
+from .translate.convert import MODELS, at_source_inputs, convert, unknown_inputs_translated
 from .translate.upgrade import upgrade
 from .validate import composed_documents
 from .convert_textures import missing_textures, rebase_textures as _rebase_textures, \
@@ -136,6 +136,11 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 APPROXIMATED, f"{what} is animated (time samples); the output holds one value, its value at the "
                               "default time, else its first sample", observation.location if owner is None
                 else observation.location.with_material(display_name(owner))))
+        if observation.kind == "texture_coordinates_dropped":  # (the review's second)
+            result.diagnostics.append(context.diagnostic(
+                NOT_CARRIED, f"the coordinates of {observation.detail.get('node')} come from a network that neither a "
+                             "texture's UV transform nor a kept graph holds (a packaged image is not kept in a graph): "
+                             "the image is carried with the placement read up to it", observation.location))
         if observation.kind == "unsupported_shader":  # a custom or renderer-specific shader: never silent
             detail = observation.detail
             result.diagnostics.append(context.diagnostic(
@@ -215,7 +220,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             if unique != name and asset.format == "gltf" and isinstance(translated.extra.get("gltf"), dict):
                 # restored on glTF output while the material still bears the name it was written as
                 translated.extra["gltf"]["name"], translated.extra["gltf"]["renamed_to"] = name, unique
-            done.append((material, before, (notes, step_settings, translated)))
+            done.append((material, before, (notes, step_settings, translated, translation.origins)))
         # a USD output's UsdPreviewSurface fallbacks: their searches at once too
         previews = iter(candidates.choose_many([
             (state[2], convert(state[2], "UsdPreviewSurface", dataclasses.replace(state[1], unseen_notes=False)),
@@ -225,13 +230,16 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             result.diagnostics += before
             if state is None:
                 continue
-            notes, _, translated = state
+            notes, _, translated, origins = state
             result.materials.append(translated)
             result.pairs.append((material, translated))
             fallback = None
             if kind == "usd":
                 preview = next(previews)
-                notes += [past_hub.fallback_only(note, context, material) for note in preview.diagnostics]
+                fallback_notes = preview.diagnostics if material.model == "open_pbr_surface" else at_source_inputs(
+                    preview.diagnostics, material, Translation(translated, [], material, origins=origins), context,
+                    preview.about)
+                notes += [past_hub.fallback_only(note, context, material) for note in fallback_notes]
                 fallback = preview.material
                 fallback.name = f"{translated.name}_preview"
                 fallback.material_name = translated.material_name

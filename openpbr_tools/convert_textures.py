@@ -126,7 +126,7 @@ def missing_textures(materials: list[Material], source_path: str) -> list[Diagno
                 if kind not in (Kind.RELATIVE, Kind.ABSOLUTE):
                     continue
                 absolute = file if kind is Kind.ABSOLUTE else os.path.join(source_dir, file)
-                key = (material.name, name, file)
+                key = (entry.location, file)  # (a USD output's preview fallback reads the same file: said once)
                 if os.path.isfile(absolute) or key in said:
                     continue
                 said.add(key)

@@ -135,3 +135,116 @@ def test_verify_judges_an_exact_copy_in_an_acescg_usd_output_exact(tmp_path, suf
     conversion = convert_file(str(source), str(tmp_path / f"out.{suffix}"), None, Settings())
     figures = {comparison.model_b: comparison.worst.mean for _, comparison in compare(conversion)}
     assert figures["open_pbr_surface"] < 0.01, figures  # it was 2.38: the copy read back without its colour space
+
+
+# The session's review of these changes (each failed on the first cut):
+def test_a_hub_companion_never_claims_a_loss_for_a_value_carried_exactly(tmp_path):
+    # glTF PBR (metallic 0, roughness 0.4, transmission) -> OpenPBR -> UsdPreviewSurface: the transmission tint's
+    # error stood at base_color and was copied onto metallic and roughness, which the output holds exactly
+    source = mtlx(tmp_path, '''
+        <gltf_pbr name="G" type="surfaceshader">
+          <input name="base_color" type="color3" value="0.8, 0.2, 0.1" />
+          <input name="metallic" type="float" value="0" />
+          <input name="roughness" type="float" value="0.4" />
+          <input name="transmission" type="float" value="0.8" />
+        </gltf_pbr>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="G" />
+        </surfacematerial>
+    ''')
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), "UsdPreviewSurface", Settings())
+    errors = {d.location.input for d in conversion.diagnostics if d.severity.name == "ERROR"}
+    assert errors == {"base_color"}, errors  # the transmission tint, which the preview cannot hold
+
+
+def test_a_standard_surface_to_usd_fallback_reports_nothing_about_inputs_it_never_had(tmp_path):
+    source = _source(tmp_path, {"base_color": (0.8, 0.2, 0.1)}, model="standard_surface")
+    conversion = convert_file(str(source), str(tmp_path / "out.usda"), None, Settings())
+    assert {d.location.input for d in conversion.diagnostics} <= {"base_color", None}, conversion.diagnostics
+
+
+def test_a_packaged_image_whose_coordinates_no_texture_holds_is_kept_and_said(tmp_path):
+    from pxr import Sdf, UsdUtils
+
+    from redteam_support import png
+
+    png(tmp_path / "c.png")
+    layer = tmp_path / "rot.usda"
+    layer.write_text('''#usda 1.0
+def Material "M"
+{
+    token outputs:mtlx:surface.connect = </M/S.outputs:out>
+    def Shader "S"
+    {
+        uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+        color3f inputs:base_color.connect = </M/img.outputs:out>
+        token outputs:out
+    }
+    def Shader "tc"
+    {
+        uniform token info:id = "ND_texcoord_vector2"
+        float2 outputs:out
+    }
+    def Shader "off"
+    {
+        uniform token info:id = "ND_add_vector2"
+        float2 inputs:in1.connect = </M/tc.outputs:out>
+        float2 inputs:in2 = (0.5, 0)
+        float2 outputs:out
+    }
+    def Shader "img"
+    {
+        uniform token info:id = "ND_image_color3"
+        asset inputs:file = @c.png@
+        float2 inputs:texcoord.connect = </M/off.outputs:out>
+        color3f outputs:out
+    }
+}
+''', encoding="utf-8")
+    package = tmp_path / "rot.usdz"
+    assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(str(layer)), str(package))
+    conversion = convert_file(str(package), str(tmp_path / "out" / "rot.mtlx"), None, Settings())
+    assert "<image" in (tmp_path / "out" / "rot.mtlx").read_text(encoding="utf-8")  # (it was dropped whole)
+    notes = [d for d in _at(conversion, "base_color") if d.code == "OPBR1104"]
+    assert len(notes) == 1 and "coordinates" in notes[0].message
+    # the same network beside its image (not packaged) is kept whole as a graph
+    conversion = convert_file(str(layer), str(tmp_path / "out" / "plain.mtlx"), None, Settings())
+    assert not _at(conversion, "base_color") and "<add" in (tmp_path / "out" / "plain.mtlx").read_text(encoding="utf-8")
+
+
+def test_a_graph_interface_value_keeps_the_graphs_colour_space(tmp_path):
+    source = mtlx(tmp_path, '''
+        <nodegraph name="NG" colorspace="acescg">
+          <input name="tint" type="color3" value="0.9, 0.1, 0.1" />
+          <noise2d name="n" type="float" />
+          <mix name="m" type="color3">
+            <input name="fg" type="color3" interfacename="tint" />
+            <input name="bg" type="color3" value="0.1, 0.1, 0.9" />
+            <input name="mix" type="float" nodename="n" />
+          </mix>
+          <output name="out" type="color3" nodename="m" />
+        </nodegraph>
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="base_color" type="color3" nodegraph="NG" output="out" />
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+    ''')
+    convert_file(str(source), str(tmp_path / "out.mtlx"), None, Settings())
+    written = (tmp_path / "out.mtlx").read_text(encoding="utf-8")
+    assert written.count('colorspace="acescg"') == 2, written  # fg (through the interface) and bg
+
+
+def test_a_missing_texture_is_said_once_in_a_usd_output(tmp_path):
+    source = mtlx(tmp_path, '''
+        <image name="img" type="color3"><input name="file" type="filename" value="gone.png" /></image>
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="base_color" type="color3" nodename="img" />
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material">
+          <input name="surfaceshader" type="surfaceshader" nodename="S" />
+        </surfacematerial>
+    ''')
+    conversion = convert_file(str(source), str(tmp_path / "out.usda"), None, Settings())
+    assert len([d for d in conversion.diagnostics if "does not exist" in d.message]) == 1

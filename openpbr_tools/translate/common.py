@@ -93,6 +93,7 @@ class Translation:
     read: frozenset[str] | None = None
     origins: dict[str, tuple[str, ...]] = field(default_factory=dict)
     quiet_drops: tuple = ()  # drops whose value is lost but renders nothing here (unread_notes says so)
+    about: dict[int, str] = field(default_factory=dict)  # id(note) -> the source input it concerns (translate's own)
 
 
 def with_folded_notes(translation: Translation) -> Translation:
@@ -197,6 +198,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     if isinstance(material.extra.get("gltf"), dict):  # glTF state travels with the material (gltf_state)
         result.extra["gltf"] = copy.deepcopy(material.extra["gltf"])
     report: list[Diagnostic] = []
+    about: dict[int, str] = {}  # id(note) -> the source input it concerns
     working = WorkingSpace(material, source_table)
 
     noted: list[tuple[Any, Mapping, str | None]] = []  # (rule, mapping, input) of each note a mapping made
@@ -206,6 +208,8 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         entry = material.inputs.get(name) if name else None
         location = entry.location if entry is not None else material.location.with_input(name)
         report.append(context.diagnostic(rule, f"{material.name} ({label}): {message}", location))
+        if name:
+            about[id(report[-1])] = name
         if current[0] is not None:
             noted.append((rule, current[0], name))
 
@@ -378,7 +382,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         if not values.authored(drop.source):
             continue
         if lobe_off(drop.source, values, source_table):  # its value is lost, but renders nothing: a note, no error
-            if _off_default(drop.source, values, source_table):
+            if _off_default(drop.source, values, source_table) and settings.unseen_notes:
                 say(CONVERTED, f"{drop.source} has no equivalent ({drop.why}), so it is not carried: it has no "
                                f"effect while {source_table.lobe_switch(drop.source)} is 0", drop.source)
                 handled.add(drop.source)
@@ -403,7 +407,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     origins: dict[str, tuple[str, ...]] = {}
     for mapping in mappings:
         origins[mapping.target] = tuple(dict.fromkeys(origins.get(mapping.target, ()) + mapping.sources))
-    return Translation(result, report, material, folded, frozenset(read), origins, tuple(quiet_drops))
+    return Translation(result, report, material, folded, frozenset(read), origins, tuple(quiet_drops), about)
 
 
 def unread_notes(translation: Translation, target_model: str, context, unseen: bool = True) -> list[Diagnostic]:
@@ -429,6 +433,7 @@ def unread_notes(translation: Translation, target_model: str, context, unseen: b
             notes.append(context.diagnostic(CONVERTED, f"{material.name}: {drop.source} has no equivalent ({drop.why}), "
                                             "so it is not carried: it has no effect with the other inputs at their "
                                             "values", where))
+            translation.about[id(notes[-1])] = drop.source
     for name in sorted(material.inputs):
         if name in translation.read or name in sites or table.get(name) is None or not values.authored(name) \
                 or not _off_default(name, values, table):
@@ -446,6 +451,7 @@ def unread_notes(translation: Translation, target_model: str, context, unseen: b
         else:
             notes.append(context.diagnostic(NOT_CARRIED, f"{material.name}: {name} has no equivalent in "
                                             f"{target_model}; no mapping reads it, so it is not carried", where))
+        translation.about[id(notes[-1])] = name
     return notes
 
 

@@ -63,67 +63,76 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
             upgraded = upgrade(current, context=settings.context)
             diagnostics += upgraded.diagnostics
             current = upgraded.material
-    first = None
+    first, about = None, {}  # about: a one-step translation's (what each of its notes concerns)
     if current.model not in ("open_pbr_surface", target):
         first = step = _step(TO_OPENPBR[current.model], current, settings)
         diagnostics += step.diagnostics
         current = step.material
     if current.model != target:
         step = _step(FROM_OPENPBR[target], current, settings)
-        diagnostics += step.diagnostics if first is None else _at_source_inputs(step.diagnostics, material, first, settings.context)
+        diagnostics += step.diagnostics if first is None else at_source_inputs(step.diagnostics, material, first,
+                                                                               settings.context, step.about)
+        about = step.about if first is None else {}
         current = step.material
     if current is material:  # nothing to translate: a copy, so that what happens to the result (textures
         current = copy.copy(material)  # rebased beside the output, say) never reaches the source
         current.inputs = dict(material.inputs)
         current.extra = {k: dict(v) if isinstance(v, dict) else v for k, v in material.extra.items()}  # written into
         diagnostics += _without_unknown_inputs(current, settings)
-    return Translation(current, diagnostics, material)
+    return Translation(current, diagnostics, material, origins=first.origins if first is not None else {},
+                       about=about)
 
 
-def _at_source_inputs(notes: list, source: Material, first: Translation, context) -> list:
+def at_source_inputs(notes: list, source: Material, first: Translation, context, about: dict | None = None) -> list:
     """The second step's notes of a conversion through the OpenPBR hub, at the source's inputs (the audit's F2: they
     stood at OpenPBR names the source does not have, such as a Standard Surface's ``fuzz_roughness``). A note at a hub
     input made from an authored source input already stands there (its entry keeps the source's location); one at a
     hub input the first step made from the source's defaults goes to the first authored source input its mapping
-    read, else to the material; an info there is dropped (it concerns no value the source holds)."""
+    read, else to the material; an info there is dropped (it concerns no value the source holds). ``about``: for each
+    note (by id), the hub input it concerns, where the second step recorded it (:attr:`.common.Translation.about`)."""
     authored = {entry.location.input for entry in source.inputs.values() if entry.location is not None} | set(source.inputs)
-    kept = []
+    about = about or {}
+    kept, concerns = [], {}  # concerns: id(kept note) -> the hub input it is about
     for note in notes:
         name = note.location.input
         if name is None or name in authored:
             kept.append(note)
+            if id(note) in about:
+                concerns[id(note)] = about[id(note)]
             continue
         origin = next((s for s in first.origins.get(name, ()) if s in source.inputs), None)
         if origin is not None:
             entry = source.inputs[origin]
             kept.append(dataclasses.replace(note, location=entry.location or source.location.with_input(origin)))
+            concerns[id(kept[-1])] = about.get(id(note), name)
         elif note.severity > Severity.INFO:
             kept.append(dataclasses.replace(note, location=dataclasses.replace(note.location, input=None)))
-    return kept + _hub_companions(kept, source, first, context)
+    return kept + _hub_companions(kept, source, first, context, concerns)
 
 
-def _hub_companions(notes: list, source: Material, first: Translation, context) -> list:
+def _hub_companions(notes: list, source: Material, first: Translation, context, concerns: dict) -> list:
     """A note at each authored source input (off its default) that the first step folded into a hub input the second
     step reported, where nothing stands at that source input yet (the audit's F2: a Standard Surface's
     ``subsurface_scale``, folded into OpenPBR's ``subsurface_radius_scale``, vanished on its way to glTF while the note
-    stood at ``subsurface_radius``, the hub input's first source). Info, pointing at that note, but for a value not
-    carried at all (as :func:`.common._companions` within one step)."""
+    stood at ``subsurface_radius``, the hub input's first source). Only where the note can be told to concern that
+    hub input (no other stands at its site); an info pointing at the note, which carries the loss's severity."""
     from .common import Values, _off_default  # lazy: keeps this module's imports to the translators'
 
     table = tables.table(source.model, source.version if source.version in tables.versions(source.model) else None)
     values = Values(source, table)
     sites = {d.location.input for d in notes} | {d.location.input for d in first.diagnostics}
-    strongest: dict[str, Diagnostic] = {}
-    for note in notes:
-        held = strongest.get(note.location.input)
-        if held is None or note.severity > held.severity:
-            strongest[note.location.input] = note
+    strongest: dict[str, Diagnostic] = {}  # hub input -> its most severe note (paired by what the note concerns,
+    for note in notes:                     # not by where it stands: the review's first)
+        hub = concerns.get(id(note))
+        held = strongest.get(hub) if hub is not None else None
+        if hub is not None and (held is None or note.severity > held.severity):
+            strongest[hub] = note
     companions = []
-    for name, entry in first.material.inputs.items():
-        site = entry.location.input if entry.location is not None else name
-        note = strongest.get(site)
+    for name in first.material.inputs:
+        note = strongest.get(name)
         if note is None:
             continue
+        site = note.location.input
         for origin in first.origins.get(name, ()):
             feeding = source.inputs.get(origin)
             where = feeding.location if feeding is not None and feeding.location is not None else None
@@ -131,8 +140,7 @@ def _hub_companions(notes: list, source: Material, first: Translation, context) 
                     or not _off_default(origin, values, table):
                 continue
             sites.add(where.input)
-            rule = NOT_CARRIED if note.code == NOT_CARRIED.code else CONVERTED
-            companions.append(context.diagnostic(rule, (
+            companions.append(context.diagnostic(CONVERTED, (
                 f"{source.name}: {origin}: folded into OpenPBR's {name} with the other inputs, which the next step "
                 f"does not carry exactly (see the note at {site})"), where))
     return companions

@@ -31,7 +31,7 @@ import dataclasses
 
 from .. import tables
 from ..diagnostics import Diagnostic
-from ..model import Material, Texture
+from ..model import Connection, Material, Texture
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .common import Values
 
@@ -127,8 +127,10 @@ def fallback_only(note: Diagnostic, context, source: Material) -> Diagnostic:
     if note.code not in (NOT_CARRIED.code, APPROXIMATED.code):
         return note
     entry = source.inputs.get(note.location.input or "")
-    if entry is not None and (entry.value is None or not _fits(source, entry.name)):
-        return note  # a value the source cannot give (unreadable, or of another shape): no shader holds it
+    if entry is not None and (entry.value is None or not _fits(source, entry.name) or (
+            isinstance(entry.value, Connection) and (entry.value.dangling or not entry.value.graph_xml))):
+        return note  # a value the source cannot give (unreadable, of another shape, a connection to nothing the
+        # writers rebuild): the MaterialX shader does not hold it either
     return dataclasses.replace(context.diagnostic(
         APPROXIMATED, f"{note.message} (in the UsdPreviewSurface fallback only: the output's MaterialX shader, which "
                       "renderers reading MaterialX use, holds it)", note.location), hint=note.hint)

@@ -55,6 +55,10 @@ def capture_graph(node, limit: int = 256, binding=None) -> str | None:
                 for attribute in ("colorspace", "unit", "unittype"):
                     if found.hasAttribute(attribute) and not target.hasAttribute(attribute):
                         target.setAttribute(attribute, found.getAttribute(attribute))
+                space = found.getActiveColorSpace()  # (one its graph or document gives it: the review's seventh)
+                if target.getType() in ("color3", "color4") and not target.hasAttribute("colorspace") and space \
+                        and space != current.getDocument().getColorSpace():
+                    target.setColorSpace(space)
             elif kind == "node":
                 target.setNodeName(enqueue(found))
                 if output:

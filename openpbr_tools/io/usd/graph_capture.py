@@ -132,6 +132,8 @@ def _capture_node(reader, document, prim, names, enqueue, animated: list) -> Non
                 raise _Uncapturable(f"{prim.GetPath()}: a packaged image")
             if not file:
                 continue
+            if origin is not None and origin.GetNumTimeSamples() > 1:  # (file_of reads its first sample)
+                animated.append(str(origin.GetPath()))
             port = node.addInput(name, type_name)
             port.setValueString(file)
             space = _colorspace(reader, attribute, origin, prim)

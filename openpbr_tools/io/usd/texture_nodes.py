@@ -34,6 +34,7 @@ class TextureNodeReader:
         node (MaterialX) or a UsdUVTexture; anything else is a :class:`Connection`."""
         channels = normal_scale = scale = bias = None
         first = (prim, output_name)
+        unplaced = None
         for _ in range(8):
             shader_id = str(self.UsdShade.Shader(prim).GetShaderId() or "")
             if shader_id == UV_TEXTURE_ID:
@@ -44,6 +45,7 @@ class TextureNodeReader:
                 texture = self.materialx_image(prim, nodedef, channels, normal_scale, scale, bias)
                 if texture is not None:
                     return texture
+                unplaced = (prim, nodedef, channels, normal_scale, scale, bias)
                 break  # coordinates no Texture holds: the network is kept whole where it can be (below)
             if category is not None and category.startswith("separate") and output_name in _CHANNEL_OUTPUTS:
                 channels = (_CHANNEL_OUTPUTS[output_name],)
@@ -88,11 +90,14 @@ class TextureNodeReader:
         shader_id = str(self.UsdShade.Shader(node).GetShaderId() or "") or None
         captured = capture_network(self, node, out, entry.type, entry.location) \
             if shader_id and shader_id.startswith("ND_") else None
+        if captured is None and unplaced is not None:  # no graph holds it either: the image, its coordinates said
+            self.asset.observe("texture_coordinates_dropped", entry.location, node=str(unplaced[0].GetPath()))
+            return self.materialx_image(*unplaced, strict=False)
         return Connection(f"{node.GetPath()}.outputs:{out}", shader_id,
                           f"{shader_id or 'a shader without info:id'} is not a texture lookup",
                           graph_xml=captured[0] if captured else None, output=captured[1] if captured else None)
 
-    def materialx_image(self, prim, nodedef, channels, normal_scale, scale, bias) -> Texture | None:
+    def materialx_image(self, prim, nodedef, channels, normal_scale, scale, bias, strict: bool = True) -> Texture | None:
         path = str(prim.GetPath())
         file_attribute = prim.GetAttribute("inputs:file")
         file, packaged = self.file_of(file_attribute)
@@ -126,12 +131,12 @@ class TextureNodeReader:
             category = nodedef_upstream.getNodeString() if nodedef_upstream is not None else None
             if category == "place2d":
                 if placed:
-                    return None
+                    return None if strict else self._unplaced(texture, transform, prim)
                 placed = True
                 for field, key in (("scale", "scale"), ("offset", "offset"), ("pivot", "pivot"), ("rotate", "rotate")):
                     value = self._uv_constant(node, key)
                     if value is _CONNECTED:  # (the red team's F6: a scale from a network was dropped unannounced)
-                        return None
+                        return None if strict else self._unplaced(texture, transform, prim)
                     if value is not None:
                         setattr(transform, field, float(value) if field == "rotate" else (float(value[0]), float(value[1])))
                 kind, *found = self.upstream(node, "texcoord")
@@ -140,17 +145,19 @@ class TextureNodeReader:
                 # texcoord times a constant k is place2d's scale 1 / k (as the MaterialX reader reads it)
                 factor = self._uv_constant(node, "in2")
                 if placed or factor is _CONNECTED or factor is None:
-                    return None
+                    return None if strict else self._unplaced(texture, transform, prim)
                 factor = (float(factor), float(factor)) if isinstance(factor, (int, float)) else \
                     (float(factor[0]), float(factor[1]))
                 if 0.0 in factor:
-                    return None
+                    return None if strict else self._unplaced(texture, transform, prim)
                 placed = True
                 transform.scale = (1.0 / factor[0], 1.0 / factor[1])
                 kind, *found = self.upstream(node, "in1")
+                if kind != "shader":  # a constant times k is no texture coordinate (the review's eighth)
+                    return None if strict else self._unplaced(texture, transform, prim)
                 continue
             if category not in ("texcoord", "geompropvalue"):
-                return None  # coordinates from a network no Texture holds
+                return None if strict else self._unplaced(texture, transform, prim)  # a network no Texture holds
             if category == "texcoord":
                 index = constant_of(node, "index")
                 if isinstance(index, int) and index != 0:
@@ -161,6 +168,14 @@ class TextureNodeReader:
                     self.asset.extra.setdefault("usd_uv_reads", {}).setdefault(str(prim.GetPath()), {
                         "st": "primvar", "reader": str(node.GetPath()), "primvar": texture.texcoord, "input": "geomprop"})
             break
+        texture.uv = None if transform.is_identity and transform.pivot == (0.0, 0.0) else transform
+        return texture
+
+    def _unplaced(self, texture: Texture, transform: UVTransform, prim) -> Texture:  # noqa: ARG002
+        """A texture whose coordinates come from a network neither a Texture nor a captured graph holds (a packaged
+        image's, which no graph capture takes): the image with the placement read so far; the caller observes the
+        rest (``texture_coordinates_dropped``) so a conversion says it is not carried (the review's second: the
+        whole image was dropped)."""
         texture.uv = None if transform.is_identity and transform.pivot == (0.0, 0.0) else transform
         return texture
 
