@@ -130,7 +130,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     for observation in asset.observations:
         if observation.kind in ("usd_time_samples", "usd_graph_time_samples") and (
                 observation.detail.get("samples") or observation.detail.get("attributes")):
-            what = observation.detail.get("input") or "the graph on " + (observation.location.input or "an input")
+            what = observation.detail.get("what") or observation.detail.get("input") or \
+                "the graph on " + (observation.location.input or "an input")
             owner = next((m for m in asset.materials if m.location.path == observation.location.path), None)
             result.diagnostics.append(context.diagnostic(  # (the red team's G-F5: an animation vanished unannounced)
                 APPROXIMATED, f"{what} is animated (time samples); the output holds one value, its value at the "

@@ -579,3 +579,46 @@ def Material "M"
         assert {"base_weight"} <= animated, (output, conversion.diagnostics)
         if output == "out.mtlx":
             assert animated == {"base_weight", "specular_roughness"}
+
+
+def test_an_animated_texture_placement_or_file_is_reported(tmp_path):
+    # the review's third: a UV scroll (an animated place2d offset) and an image sequence became their first frame,
+    # unannounced (the offset was even dropped: an animated value has none at the default time)
+    from redteam_support import png
+
+    png(tmp_path / "tex" / "c.png")
+    source = tmp_path / "a.usda"
+    source.write_text('''#usda 1.0
+def Material "M"
+{
+    token outputs:mtlx:surface.connect = </M/S.outputs:out>
+    def Shader "S"
+    {
+        uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+        color3f inputs:base_color.connect = </M/img.outputs:out>
+        token outputs:out
+    }
+    def Shader "tc"
+    {
+        uniform token info:id = "ND_texcoord_vector2"
+        float2 outputs:out
+    }
+    def Shader "p"
+    {
+        uniform token info:id = "ND_place2d_vector2"
+        float2 inputs:texcoord.connect = </M/tc.outputs:out>
+        float2 inputs:offset.timeSamples = { 1: (0.25, 0), 24: (1, 0) }
+        float2 outputs:out
+    }
+    def Shader "img"
+    {
+        uniform token info:id = "ND_image_color3"
+        asset inputs:file = @tex/c.png@
+        float2 inputs:texcoord.connect = </M/p.outputs:out>
+        color3f outputs:out
+    }
+}
+''', encoding="utf-8")
+    conversion = convert_file(str(source), str(tmp_path / "out.mtlx"), None, Settings())
+    assert [d.location.input for d in conversion.diagnostics if "animated" in d.message] == ["base_color"]
+    assert 'name="offset" type="vector2" value="0.25, 0"' in (tmp_path / "out.mtlx").read_text(encoding="utf-8")

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 
 from ...model import Connection, Input, Texture, UVTransform, normal_strength
-from .attributes import constant_of, read_constant, shortest_float32, unconnected
+from .attributes import constant_of, read_constant, read_constant_at, shortest_float32, unconnected
 from .graph_capture import capture_network
 from .sdr import materialx_nodedef
 from .types import PRIMVAR_READER_PREFIX, TRANSFORM_2D_ID, UV_TEXTURE_ID, UV_TEXTURE_OUTPUTS, is_eight_bit
@@ -42,8 +42,12 @@ class TextureNodeReader:
             nodedef = materialx_nodedef(shader_id)
             category = nodedef.getNodeString() if nodedef is not None else None
             if category in ("image", "tiledimage"):
+                self.uv_animated = False
                 texture = self.materialx_image(prim, nodedef, channels, normal_scale, scale, bias)
                 if texture is not None:
+                    if self.uv_animated:  # (the review's third: a UV scroll became its first frame, unannounced)
+                        self.asset.observe("usd_graph_time_samples", entry.location, attributes=["texture"],
+                                           what=f"the texture on {entry.name} (its file or placement)")
                     return texture
                 unplaced = (prim, nodedef, channels, normal_scale, scale, bias)
                 break  # coordinates no Texture holds: the network is kept whole where it can be (below)
@@ -101,6 +105,8 @@ class TextureNodeReader:
         path = str(prim.GetPath())
         file_attribute = prim.GetAttribute("inputs:file")
         file, packaged = self.file_of(file_attribute)
+        if file_attribute and file_attribute.GetNumTimeSamples() > 1:  # an image sequence: its first file, said
+            self.uv_animated = True
         colorspace = None
         if file_attribute:
             colorspace = self.attribute_colorspace(file_attribute, "materialx", nodedef.getType() in ("color3", "color4")) \
@@ -185,7 +191,14 @@ class TextureNodeReader:
         kind, *found = self.upstream(node, name)
         if kind == "shader" or kind == "dangling":
             return _CONNECTED
-        constant = read_constant(found[0]) if found and found[0] is not None else None
+        attribute = found[0] if found else None
+        if attribute is None:
+            return None
+        if attribute.GetNumTimeSamples() > 1:  # an animated placement (a UV scroll): its first sample, said
+            self.uv_animated = True
+        constant = read_constant(attribute)
+        if constant is None and attribute.GetNumTimeSamples():
+            return read_constant_at(attribute, attribute.GetTimeSamples()[0])
         return constant.value if constant is not None else None
 
     def uv_texture(self, prim, output_name: str, entry: Input, consumer) -> Texture | Connection:
