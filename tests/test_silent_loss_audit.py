@@ -248,3 +248,13 @@ def test_a_missing_texture_is_said_once_in_a_usd_output(tmp_path):
     ''')
     conversion = convert_file(str(source), str(tmp_path / "out.usda"), None, Settings())
     assert len([d for d in conversion.diagnostics if "does not exist" in d.message]) == 1
+
+
+def test_a_source_folded_where_its_own_counterpart_is_not_written_has_a_note(tmp_path):
+    # a glass's transmission_color leads glTF's attenuation colour, which a volume of depth 0 does not write; folded
+    # into the base colour, it had no note of its own (the audit's glTF transmission_color candidates)
+    source = _source(tmp_path, {"base_color": (0.5, 0.5, 0.5), "transmission_weight": 0.7,
+                                "transmission_color": (0.2, 0.8, 0.3)})
+    conversion = convert_file(str(source), str(tmp_path / "out.gltf"), None, Settings())
+    notes = _at(conversion, "transmission_color")
+    assert [d.code for d in notes] == ["OPBR1102"] and "folded into base_color" in notes[0].message

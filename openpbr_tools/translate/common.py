@@ -402,7 +402,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             if source_table.lobe_switch(name) == switch and name not in read and name not in handled \
                     and values.authored(name) and _off_default(name, values, source_table):
                 fold(NOT_CARRIED, f"{name}: not carried: it goes with its lobe ({switch} has no equivalent)", name)
-    _companions(noted, mappings, values, source_table, fold)
+    _companions(noted, mappings, values, source_table, fold, result)
     report.sort(key=Diagnostic.sort_key)
     origins: dict[str, tuple[str, ...]] = {}
     for mapping in mappings:
@@ -455,17 +455,20 @@ def unread_notes(translation: Translation, target_model: str, context, unseen: b
     return notes
 
 
-def _companions(noted, mappings, values: Values, source_table, say) -> None:
+def _companions(noted, mappings, values: Values, source_table, say, result: Material | None = None) -> None:
     """A note at each other source a noted mapping folded in: every authored source off its default that no other
     mapping leads (its own counterpart, which speaks for it) and no note names gets one there, pointing at the
     mapping's most severe note (``coat_affect_roughness`` folded into specular_roughness; a preview's constant
     ``diffuseColor`` baked with a textured ``metallic`` into base_color), so a value that does not survive as itself
     is never without a note at its input (:func:`with_folded_notes` keeps those nothing else names). Info, as the
-    loss is reported once at its own note, but for a value not carried at all."""
+    loss is reported once at its own note, but for a value not carried at all. A counterpart speaks for its source
+    only where it was written (a glass's ``transmission_color`` leads glTF's attenuation colour, which a volume of
+    depth 0 does not write: folded into the base colour, it had no note; session 25's audit)."""
     sites = {name for _, _, name in noted}
     leads = {}
     for mapping in mappings:
-        leads.setdefault(mapping.sources[0], set()).add(id(mapping))
+        if result is None or mapping.target in result.inputs:
+            leads.setdefault(mapping.sources[0], set()).add(id(mapping))
     strongest: dict[int, tuple[Any, Mapping, str | None]] = {}
     for rule, mapping, name in noted:
         held = strongest.get(id(mapping))
