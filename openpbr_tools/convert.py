@@ -37,7 +37,7 @@ from .translate import candidates, past_hub
 from .translate.convert import MODELS, at_source_inputs, convert, unknown_inputs_translated
 from .translate.upgrade import upgrade
 from .validate import composed_documents
-from .convert_textures import missing_textures, rebase_textures as _rebase_textures, \
+from .convert_textures import graph_fallbacks, missing_textures, rebase_textures as _rebase_textures, \
     unpack_packaged_images as _unpack_packaged_images
 
 OUTPUT_KINDS = {".mtlx": "mtlx", ".usda": "usd", ".usdc": "usd", ".usd": "usd", ".usdz": "usd",
@@ -195,7 +195,9 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             if unitless:
                 notes.append(context.diagnostic(APPROXIMATED, f"{material.name}: {', '.join(unitless)} carry no unit; "
                                                 "taken as metres", material.inputs[unitless[0]].location))
-            translation = convert(material, target, step_settings)
+            translated_from, swapped = graph_fallbacks(material, context) if kind == "gltf" else (material, [])
+            notes += swapped
+            translation = convert(translated_from, target, step_settings)
             judged = material  # the search judges against the material the mapping translated: a legacy one upgraded
             if material.model == "open_pbr_surface" and material.version not in (None, tables.latest(material.model)):
                 judged = upgrade(material, context=context).material

@@ -135,3 +135,27 @@ def missing_textures(materials: list[Material], source_path: str) -> list[Diagno
                     "renderers find no image there", entry.location.with_material(material.material_name
                                                                                   or material.name)))
     return notes
+
+
+def graph_fallbacks(material: Material, context) -> tuple[Material, list[Diagnostic]]:
+    """``material`` for an output that holds no graph (glTF), with each input whose kept graph is an image on
+    coordinates only the graph holds (a USD ``ND_image`` behind a ``rotate2d``: ``Connection.fallback``) read as that
+    image with the placement read up to the network, and a note at each (the review of session 25: such a texture was
+    dropped whole from glTF, where before the graph was kept it was written without its coordinates, silently). The
+    source is never modified: a copy is returned when anything is swapped."""
+    swapped = {name: entry for name, entry in material.inputs.items()
+               if isinstance(entry.value, Connection) and entry.value.fallback is not None}
+    if not swapped:
+        return material, []
+    result = copy.copy(material)
+    result.inputs = dict(material.inputs)
+    notes = []
+    for name, entry in swapped.items():
+        carried = copy.copy(entry)
+        carried.value = entry.value.fallback
+        result.inputs[name] = carried
+        notes.append(context.diagnostic(
+            NOT_CARRIED, f"{material.name}: {name}: the coordinates of its image come from a network no texture "
+                         "transform holds (a .mtlx or USD output keeps it as a graph); the image is written with the "
+                         "placement read up to that network", entry.location))
+    return result, notes

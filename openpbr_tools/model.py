@@ -230,6 +230,9 @@ class Connection:
     graph_xml: str | None = None
     output: str | None = None
     varying: bool = True  # the graph may change over the surface (False: constants and arithmetic only)
+    # an image whose coordinates only the graph holds: the image with the placement read up to it, for an output
+    # that holds no graph (glTF: convert_textures.graph_fallbacks)
+    fallback: "Texture | None" = None
 
 
 ParameterValue = Union[Constant, Texture, Connection]

@@ -16,6 +16,8 @@ its material and input, and no note may claim a loss the output does not have. W
 
 from __future__ import annotations
 
+import json
+
 import pytest
 
 from openpbr_tools.convert import convert_file
@@ -201,6 +203,11 @@ def Material "M"
     }
 }
 ''', encoding="utf-8")
+    # glTF holds no graph: the image is written, with a note that its coordinate network is not (it was dropped whole)
+    conversion = convert_file(str(layer), str(tmp_path / "out" / "plain.gltf"), None, Settings())
+    written = json.loads((tmp_path / "out" / "plain.gltf").read_text(encoding="utf-8"))
+    assert "baseColorTexture" in written["materials"][0]["pbrMetallicRoughness"]
+    assert [d.code for d in _at(conversion, "base_color")] == ["OPBR1104"]
     package = tmp_path / "rot.usdz"
     assert UsdUtils.CreateNewUsdzPackage(Sdf.AssetPath(str(layer)), str(package))
     conversion = convert_file(str(package), str(tmp_path / "out" / "rot.mtlx"), None, Settings())

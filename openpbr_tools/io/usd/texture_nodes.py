@@ -97,9 +97,12 @@ class TextureNodeReader:
         if captured is None and unplaced is not None:  # no graph holds it either: the image, its coordinates said
             self.asset.observe("texture_coordinates_dropped", entry.location, node=str(unplaced[0].GetPath()))
             return self.materialx_image(*unplaced, strict=False)
+        fallback = self.materialx_image(*unplaced, strict=False) if captured and unplaced is not None \
+            and first[0] == unplaced[0] else None  # (the image itself feeds the input: a glTF output writes it)
         return Connection(f"{node.GetPath()}.outputs:{out}", shader_id,
                           f"{shader_id or 'a shader without info:id'} is not a texture lookup",
-                          graph_xml=captured[0] if captured else None, output=captured[1] if captured else None)
+                          graph_xml=captured[0] if captured else None, output=captured[1] if captured else None,
+                          fallback=fallback)
 
     def materialx_image(self, prim, nodedef, channels, normal_scale, scale, bias, strict: bool = True) -> Texture | None:
         path = str(prim.GetPath())
