@@ -87,8 +87,7 @@ def _meters_per_unit(material: Material, asset: Asset) -> tuple[float, list[str]
         return 1.0, []
     if asset.format == "usd":
         return load_json("units.json")["usd_default_meters_per_unit"], []
-    table = tables.table(material.model, material.version if material.version in tables.versions(material.model)
-                         else None)
+    table = tables.table_known(material.model, material.version)
     values = Values(material, table)  # (a length of a lobe switched off renders nothing: no unit to assume)
     return 1.0, [n for n in ("transmission_depth", "subsurface_radius") if n in material.inputs
                  and not lobe_off(n, values, table)]

@@ -149,6 +149,12 @@ def table(model: str, version: str | None = None) -> ParameterTable:
     )
 
 
+def table_known(model: str, version: str | None) -> ParameterTable:
+    """The table of ``model`` at ``version`` where the toolkit has one for it, else the latest (a material whose
+    version is unknown or has no table is read against the current inputs)."""
+    return table(model, version if version in versions(model) else None)
+
+
 def _freeze(value: Any) -> Any:
     return tuple(value) if isinstance(value, list) else value
 

@@ -420,8 +420,7 @@ def unread_notes(translation: Translation, target_model: str, context, unseen: b
     material = translation.source
     if translation.read is None or material is None:
         return []
-    table = tables.table(material.model, material.version if material.version in tables.versions(material.model)
-                         else None)
+    table = tables.table_known(material.model, material.version)
     values = Values(material, table)
     sites = {d.location.input for d in translation.diagnostics}
     notes = []

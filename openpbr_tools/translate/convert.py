@@ -14,7 +14,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..model import Material
 from ..rules.translation import CONVERTED, NOT_CARRIED
 from . import spec_gloss
-from .common import Settings, Translation, unread_notes, with_folded_notes
+from .common import Settings, Translation, Values, _off_default, unread_notes, with_folded_notes
 from .gltf import gltf_to_openpbr, openpbr_to_gltf, unlit_restored, unlit_state
 from .standard_surface import openpbr_to_standard_surface, standard_surface_to_openpbr
 from .upgrade import upgrade
@@ -114,11 +114,10 @@ def _hub_companions(notes: list, source: Material, first: Translation, context, 
     """A note at each authored source input (off its default) that the first step folded into a hub input the second
     step reported, where nothing stands at that source input yet (the audit's F2: a Standard Surface's
     ``subsurface_scale``, folded into OpenPBR's ``subsurface_radius_scale``, vanished on its way to glTF while the note
-    stood at ``subsurface_radius``, the hub input's first source). Only where the note can be told to concern that
-    hub input (no other stands at its site); an info pointing at the note, which carries the loss's severity."""
-    from .common import Values, _off_default  # lazy: keeps this module's imports to the translators'
-
-    table = tables.table(source.model, source.version if source.version in tables.versions(source.model) else None)
+    stood at ``subsurface_radius``, the hub input's first source). A note is paired with the hub input it concerns
+    (``concerns``, from :attr:`.common.Translation.about`), never with another standing at the same site; the
+    companion is an info pointing at it, which carries the loss's severity."""
+    table = tables.table_known(source.model, source.version)
     values = Values(source, table)
     sites = {d.location.input for d in notes} | {d.location.input for d in first.diagnostics}
     strongest: dict[str, Diagnostic] = {}  # hub input -> its most severe note (paired by what the note concerns,
@@ -158,7 +157,7 @@ def _step(translator, material: Material, settings: Settings) -> Translation:
 
 def _unknown_names(material: Material) -> list[str]:
     """The inputs of ``material`` its model (at its version, where that is known) does not define."""
-    table = tables.table(material.model, material.version if material.version in tables.versions(material.model) else None)
+    table = tables.table_known(material.model, material.version)
     return [name for name in material.inputs if table.get(name) is None]
 
 

@@ -138,6 +138,5 @@ def fallback_only(note: Diagnostic, context, source: Material) -> Diagnostic:
 
 def _fits(material: Material, name: str) -> bool:
     """Whether ``material``'s input ``name`` holds a value of its type's shape (an unknown input: yes)."""
-    table = tables.table(material.model, material.version if material.version in tables.versions(material.model)
-                         else None)
+    table = tables.table_known(material.model, material.version)
     return table.get(name) is None or Values(material, table).fits(name)

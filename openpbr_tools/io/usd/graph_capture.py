@@ -19,9 +19,9 @@ from __future__ import annotations
 import MaterialX as mx
 
 from ... import colorspaces
-from ...values import parse_value
+from ...values import format_value, parse_value
 from ..mtlx.library import standard_library
-from .attributes import shortest_float32
+from .attributes import python_value, single_precision
 from .sdr import materialx_nodedef
 
 LIMIT = 256  # nodes: a larger network is not captured (as capture_graph's limit)
@@ -150,7 +150,7 @@ def _capture_node(reader, document, prim, names, enqueue, animated: list) -> Non
         if value is None:
             continue  # declared without a value: the definition's default
         port = node.addInput(name, type_name)
-        port.setValueString(_value_string(value, type_name))
+        port.setValueString(_value_string(value, type_name, single_precision(origin.GetTypeName())))
         if type_name in ("color3", "color4"):  # MaterialX manages a colour value's space as a file's
             space = _colorspace(reader, attribute, origin, prim)
             if space:
@@ -196,30 +196,15 @@ def _cyclic(document) -> bool:
     return False
 
 
-def _value_string(value, type_name: str) -> str:
-    """``value`` (as usd-core returns it) as MaterialX writes a ``type_name``."""
-    if type_name == "boolean":
-        return "true" if bool(value) else "false"
-    if type_name == "integer":
-        return str(int(value))
-    if type_name in ("string", "filename"):
-        return str(value)
-    if isinstance(value, (int, float)):
-        components = [float(value)]
-    else:
-        try:  # Gf vectors iterate; Gf matrices iterate by rows; VtArrays by element
-            components = [float(c) for row in value for c in (row if hasattr(row, "__len__") else (row,))]
-        except TypeError:
-            raise ValueError(f"{value!r} is no {type_name}") from None
-    text = ", ".join(_number(c) for c in components)
+def _value_string(value, type_name: str, single: bool) -> str:
+    """``value`` (as usd-core returns it; ``single``: of a single-precision type) as MaterialX writes a ``type_name``:
+    the reader's plain value (:func:`.attributes.python_value`) in MaterialX's text (:func:`~openpbr_tools.values.
+    format_value`); ``ValueError`` where its shape is not the type's."""
+    plain = python_value(value, single)
+    text = format_value(plain, type_name)
     if type_name in ("matrix33", "matrix44"):  # (parse_value does not check matrices)
-        if len(components) != (9 if type_name == "matrix33" else 16):
+        if not isinstance(plain, tuple) or len(plain) != (9 if type_name == "matrix33" else 16):
             raise ValueError(f"{value!r} is no {type_name}")
         return text
     parse_value(text, type_name)  # ValueSyntaxError (a ValueError) when the shape is not the type's
     return text
-
-
-def _number(x: float) -> str:
-    x = shortest_float32(x)
-    return str(int(x)) if float(x).is_integer() and abs(x) < 1e15 else repr(x)

@@ -130,6 +130,15 @@ class TextureNodeReader:
                 transform.scale = (float(tiling[0]), float(tiling[1]))
             if offset is not None:
                 transform.offset = (float(offset[0]), float(offset[1]))
+        if not self._placement(prim, texture, transform) and strict:
+            return None  # a network no Texture holds: the caller keeps it as a graph where one can
+        texture.uv = None if transform.is_identity and transform.pivot == (0.0, 0.0) else transform
+        return texture
+
+    def _placement(self, prim, texture: Texture, transform: UVTransform) -> bool:
+        """Read the coordinates of ``prim``'s image into ``texture`` and ``transform`` (place2d, a texcoord times a
+        constant, texcoord or geompropvalue); False where they come from a network no Texture holds (a second
+        placement, one fed by a shader, any other node), with what was read up to it kept."""
         placed = not transform.is_identity  # one placement a Texture holds; a second is the graph's to keep
         kind, *found = self.upstream(prim, "texcoord")
         for _ in range(4):
@@ -140,12 +149,12 @@ class TextureNodeReader:
             category = nodedef_upstream.getNodeString() if nodedef_upstream is not None else None
             if category == "place2d":
                 if placed:
-                    return None if strict else self._unplaced(texture, transform, prim)
+                    return False
                 placed = True
                 for field, key in (("scale", "scale"), ("offset", "offset"), ("pivot", "pivot"), ("rotate", "rotate")):
                     value = self._uv_constant(node, key)
                     if value is _CONNECTED:  # (the red team's F6: a scale from a network was dropped unannounced)
-                        return None if strict else self._unplaced(texture, transform, prim)
+                        return False
                     if value is not None:
                         setattr(transform, field, float(value) if field == "rotate" else (float(value[0]), float(value[1])))
                 kind, *found = self.upstream(node, "texcoord")
@@ -154,19 +163,19 @@ class TextureNodeReader:
                 # texcoord times a constant k is place2d's scale 1 / k (as the MaterialX reader reads it)
                 factor = self._uv_constant(node, "in2")
                 if placed or factor is _CONNECTED or factor is None:
-                    return None if strict else self._unplaced(texture, transform, prim)
+                    return False
                 factor = (float(factor), float(factor)) if isinstance(factor, (int, float)) else \
                     (float(factor[0]), float(factor[1]))
                 if 0.0 in factor:
-                    return None if strict else self._unplaced(texture, transform, prim)
+                    return False
                 placed = True
                 transform.scale = (1.0 / factor[0], 1.0 / factor[1])
                 kind, *found = self.upstream(node, "in1")
                 if kind != "shader":  # a constant times k is no texture coordinate (the review's eighth)
-                    return None if strict else self._unplaced(texture, transform, prim)
+                    return False
                 continue
             if category not in ("texcoord", "geompropvalue"):
-                return None if strict else self._unplaced(texture, transform, prim)  # a network no Texture holds
+                return False  # a network no Texture holds
             if category == "texcoord":
                 index = constant_of(node, "index")
                 if isinstance(index, int) and index != 0:
@@ -177,16 +186,7 @@ class TextureNodeReader:
                     self.asset.extra.setdefault("usd_uv_reads", {}).setdefault(str(prim.GetPath()), {
                         "st": "primvar", "reader": str(node.GetPath()), "primvar": texture.texcoord, "input": "geomprop"})
             break
-        texture.uv = None if transform.is_identity and transform.pivot == (0.0, 0.0) else transform
-        return texture
-
-    def _unplaced(self, texture: Texture, transform: UVTransform, prim) -> Texture:  # noqa: ARG002
-        """A texture whose coordinates come from a network neither a Texture nor a captured graph holds (a packaged
-        image's, which no graph capture takes): the image with the placement read so far; the caller observes the
-        rest (``texture_coordinates_dropped``) so a conversion says it is not carried (the review's second: the
-        whole image was dropped)."""
-        texture.uv = None if transform.is_identity and transform.pivot == (0.0, 0.0) else transform
-        return texture
+        return True
 
     def _uv_constant(self, node, name: str):
         """The constant on ``node``'s input ``name`` (through interface inputs), ``None`` when unset, or

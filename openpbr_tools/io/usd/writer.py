@@ -258,14 +258,14 @@ class _Writer(TextureNetworkWriter, GraphNetworkWriter):
             if pointed:
                 shader_input.GetAttr().AddConnection(self.Sdf.Path(value.target))
             why = " (a UsdPreviewSurface reads no MaterialX graph)" if preview and value.graph_xml else ""
-            kept = preview and value.graph_xml in self.written_graphs  # the output's MaterialX shader holds it
-            self.note(APPROXIMATED if kept else NOT_CARRIED,
+            held = preview and value.graph_xml in self.written_graphs  # the output's MaterialX shader holds it
+            self.note(APPROXIMATED if held else NOT_CARRIED,
                       f"{material.name}.{entry.name}: the {value.category or 'procedural'} network at "
                       f"{value.target!r} is not written{why}; " + (
                           "the connection points at it" if pointed else
                           "the input has no value, so the shader's default applies")
                       + (" (in the UsdPreviewSurface fallback only: the output's MaterialX shader holds it)"
-                         if kept else ""))
+                         if held else ""))
 
     def convert_length(self, entry, parameter, value, material):
         """A length in the stage's unit: from its own MaterialX unit, else from the source's scene
