@@ -24,7 +24,8 @@ film's thickness (:func:`refine_thin_film`), which costs a render of 26 thicknes
 (``--verify``) searches the target's parameters where the kept result still renders visibly off (:mod:`.search`).
 
 Where the toolkit has two readings of a source (a specular-workflow UsdPreviewSurface: split into metal
-and dielectric shares, or its F0 colour's luminance with a tint; :func:`alternative_reading`), both are
+and dielectric shares, or its F0 colour's luminance with a tint; a full metal's ``specular_weight`` to Standard
+Surface: its coat's tint, or folded into its base colour; :func:`alternative_reading`), both are
 rendered in the same evaluation and the second kept only when it wins by more than :data:`MARGIN`, reported
 with both figures, before the graphs' candidate is weighed.
 
@@ -45,11 +46,12 @@ import dataclasses
 
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
-from . import appearance, spec_gloss, ss_rotation
+from .. import tables
+from . import appearance, spec_gloss, ss_metal_weight, ss_rotation
 from .anchor import graph_candidates_of, read_back_notes
 from .judging import RIG_SIZE, Figure, Judge, constant_values, figures_many, scores_many
 from .search import search as parameter_search
-from .common import Settings, Translation
+from .common import Settings, Translation, Values
 
 VISIBLE = 2.3  # mean CIEDE2000, just noticeable: a kept result further off is reported as a warning
 MARGIN = 0.25  # mean CIEDE2000: a smaller win does not pay for what the graphs drop (thin-walled, subsurface)
@@ -178,6 +180,11 @@ def alternative_reading(source: Material, target: str, settings: Settings) -> Tr
     constants read as a dielectric of its F0 colour's largest channel tinted by the colour (:mod:`.spec_gloss`)."""
     from .convert import convert  # lazy: translate.convert imports the translators, which this module serves
 
+    if source.model == "open_pbr_surface":
+        if target != "standard_surface" or not settings.metal_weight_tint or ss_metal_weight.coat_tint(
+                source, Values(source, tables.table_known(source.model, source.version))) is None:
+            return None
+        return convert(source, target, dataclasses.replace(settings, metal_weight_tint=False, candidates=False))
     entry = source.inputs.get("useSpecularWorkflow") if source.model == "UsdPreviewSurface" else None
     glossy = spec_gloss.constant(source)  # glTF's KHR_materials_pbrSpecularGlossiness
     if not settings.specular_split or (not glossy and (entry is None or not isinstance(entry.value, Constant))):
@@ -190,11 +197,18 @@ def alternative_reading(source: Material, target: str, settings: Settings) -> Tr
         return None
 
 
-#: Per source model, the second reading of a specular workflow (:func:`alternative_reading`).
-SECOND_READING = {"UsdPreviewSurface": ("the F0 colour's luminance with a tint",
-                                        "read by its F0 colour's luminance with a tint"),
-                  "gltf_pbr": ("a dielectric of the F0 colour's largest channel tinted by the colour",
-                               "read as a dielectric of its F0 colour's largest channel tinted by the colour")}
+#: Per source model: the input the readings concern, what they are about, the first reading and its short name, the
+#: second (:func:`alternative_reading`), and what is said where the second is kept.
+SECOND_READING = {
+    "UsdPreviewSurface": ("specularColor", "specular workflow", "split into metal and dielectric shares", "the split",
+                          "the F0 colour's luminance with a tint",
+                          "the specular workflow read by its F0 colour's luminance with a tint"),
+    "gltf_pbr": (None, "specular workflow", "split into metal and dielectric shares", "the split",
+                 "a dielectric of the F0 colour's largest channel tinted by the colour",
+                 "the specular workflow read as a dielectric of its F0 colour's largest channel tinted by the colour"),
+    "open_pbr_surface": ("specular_weight", "a full metal's specular_weight", "as the coat's tint", "the coat's tint",
+                         "folded into the base colour and the edge colour's target",
+                         "the metal's specular_weight folded into the base colour and the edge colour's target")}
 
 
 def _reading(source: Material, translation: Translation, alternative: Translation, figures: list, settings: Settings):
@@ -203,19 +217,17 @@ def _reading(source: Material, translation: Translation, alternative: Translatio
     ours, theirs = figures[0].score, figures[1].score
     where = next((d.location for d in translation.diagnostics if d.code in (APPROXIMATED.code, NOT_CARRIED.code)),
                  source.location)
-    colour = source.inputs.get("specularColor") if source.model == "UsdPreviewSurface" else None
-    if colour is not None and colour.location is not None:  # the reading concerns the F0 colour (the audit's F5)
-        where = colour.location
-    second, read = SECOND_READING.get(source.model, SECOND_READING["UsdPreviewSurface"])
-    both = (f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: split into metal and dielectric shares "
-            f"{ours:.2f}, {second} {theirs:.2f}")
+    concerns, about, first, short, second, read = SECOND_READING[source.model]
+    entry = source.inputs.get(concerns) if concerns else None
+    if entry is not None and entry.location is not None:  # the reading concerns that input (the audit's F5)
+        where = entry.location
+    both = f"mean CIEDE2000 on the evaluator's {RIG_SIZE}-pixel sphere: {first} {ours:.2f}, {second} {theirs:.2f}"
     if theirs < ours - MARGIN:
         alternative.diagnostics.append(settings.context.diagnostic(
-            APPROXIMATED, f"{source.name}: the specular workflow {read}, which renders closer than the split ({both})",
-            where))
+            APPROXIMATED, f"{source.name}: {read}, which renders closer than {short} ({both})", where))
         return alternative, [figures[1]] + figures[2:]
     translation.diagnostics.append(settings.context.diagnostic(
-        CONVERTED, f"{source.name}: specular workflow: {both}; kept the split", where))
+        CONVERTED, f"{source.name}: {about}: {both}; kept {short}", where))
     return translation, [figures[0]] + figures[2:]
 
 
@@ -274,7 +286,7 @@ def _decide(source, translation, target, settings, candidate, judge, scores, our
                            if visible else ""), where))
         return _with_fit(source, translation, ours, ours_fit, settings)
     candidate.extra = dict(translation.material.extra)  # glTF state, drafts: the material's, not the mapping's
-    notes = [d for d in translation.diagnostics if d.code != APPROXIMATED.code]
+    notes = [d for d in translation.diagnostics if d.code != APPROXIMATED.code and id(d) not in translation.pointers]
     notes.append(context.diagnostic(
         APPROXIMATED, f"{source.name}: converted to {target} by MaterialX's translation graphs, which render "
                       f"closer than the toolkit's mapping ({figures})", where))

@@ -94,6 +94,9 @@ class Translation:
     origins: dict[str, tuple[str, ...]] = field(default_factory=dict)
     quiet_drops: tuple = ()  # drops whose value is lost but renders nothing here (unread_notes says so)
     about: dict[int, str] = field(default_factory=dict)  # id(note) -> the source input it concerns (translate's own)
+    # ids of the notes that point at another ("see the note at X", :func:`_companions`): a result MaterialX's graphs
+    # give instead drops them, with the notes they point at (translate.candidates)
+    pointers: frozenset[int] = frozenset()
 
 
 def with_folded_notes(translation: Translation) -> Translation:
@@ -107,6 +110,7 @@ def with_folded_notes(translation: Translation) -> Translation:
             translation.diagnostics.append(note)
     translation.folded = []
     translation.diagnostics.sort(key=Diagnostic.sort_key)
+    translation.pointers = translation.pointers & {id(d) for d in translation.diagnostics}  # (those left out are gone)
     return translation
 
 
@@ -402,12 +406,22 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             if source_table.lobe_switch(name) == switch and name not in read and name not in handled \
                     and values.authored(name) and _off_default(name, values, source_table):
                 fold(NOT_CARRIED, f"{name}: not carried: it goes with its lobe ({switch} has no equivalent)", name)
-    _companions(noted, mappings, values, source_table, fold, result)
+    def shown(name: str | None) -> str:  # where the report shows the note at ``name`` (a hub's: the source's input)
+        if not name:
+            return "the material"
+        entry = material.inputs.get(name)
+        at = entry.location.input if entry is not None and entry.location is not None and entry.location.input \
+            else name
+        return settings.hub_sites.get(at, at)
+
+    start = len(folded)
+    _companions(noted, mappings, values, source_table, fold, shown, result)
+    pointers = frozenset(id(note) for _, note in folded[start:])
     report.sort(key=Diagnostic.sort_key)
     origins: dict[str, tuple[str, ...]] = {}
     for mapping in mappings:
         origins[mapping.target] = tuple(dict.fromkeys(origins.get(mapping.target, ()) + mapping.sources))
-    return Translation(result, report, material, folded, frozenset(read), origins, tuple(quiet_drops), about)
+    return Translation(result, report, material, folded, frozenset(read), origins, tuple(quiet_drops), about, pointers)
 
 
 def unread_notes(translation: Translation, target_model: str, context, unseen: bool = True) -> list[Diagnostic]:
@@ -454,7 +468,7 @@ def unread_notes(translation: Translation, target_model: str, context, unseen: b
     return notes
 
 
-def _companions(noted, mappings, values: Values, source_table, say, result: Material | None = None) -> None:
+def _companions(noted, mappings, values: Values, source_table, say, shown, result: Material | None = None) -> None:
     """A note at each other source a noted mapping folded in: every authored source off its default that no other
     mapping leads (its own counterpart, which speaks for it) and no note names gets one there, pointing at the
     mapping's most severe note (``coat_affect_roughness`` folded into specular_roughness; a preview's constant
@@ -462,7 +476,8 @@ def _companions(noted, mappings, values: Values, source_table, say, result: Mate
     is never without a note at its input (:func:`with_folded_notes` keeps those nothing else names). Info, as the
     loss is reported once at its own note, but for a value not carried at all. A counterpart speaks for its source
     only where it was written (a glass's ``transmission_color`` leads glTF's attenuation colour, which a volume of
-    depth 0 does not write: folded into the base colour, it had no note; session 25's audit)."""
+    depth 0 does not write: folded into the base colour, it had no note; session 25's audit). The pointer names
+    where the report shows that note (``shown``): through the OpenPBR hub, the source's input it was moved to."""
     sites = {name for _, _, name in noted}
     leads = {}
     for mapping in mappings:
@@ -483,7 +498,7 @@ def _companions(noted, mappings, values: Values, source_table, say, result: Mate
             sites.add(source)
             how = {NOT_CARRIED: "not carried", APPROXIMATED: "approximated"}.get(rule, "converted")
             say(NOT_CARRIED if rule is NOT_CARRIED else CONVERTED,  # the loss's severity stands at its own note
-                f"{source}: folded into {mapping.target} with the other inputs ({how}: see the note at {name})", source)
+                f"{source}: folded into {mapping.target} with the other inputs ({how}: see the note at {shown(name)})", source)
 
 
 def _off_default(name: str, values: Values, source_table) -> bool:

@@ -41,7 +41,8 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         # comes back with them: they reference the source's textures, so they cannot be copied as JSON
         step = _step(gltf_to_openpbr, material, settings)
         back = _step(openpbr_to_gltf, step.material, dataclasses.replace(settings, gltf_drafts=True))
-        return Translation(back.material, step.diagnostics + back.diagnostics, material)
+        return Translation(back.material, step.diagnostics + back.diagnostics, material,
+                           pointers=step.pointers | back.pointers)
     if material.model == target == "gltf_pbr" and settings.gltf_file and (restored := unlit_restored(material)):
         return Translation(restored, [settings.context.diagnostic(
             CONVERTED, f"{material.name}: the unlit reading (emission over a black base) is KHR_materials_unlit again",
@@ -52,26 +53,37 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         # references the source's textures: the extension read as OpenPBR, as metal-rough (textures per texel)
         step = _step(gltf_to_openpbr, material, settings)
         back = _step(openpbr_to_gltf, step.material, settings)
-        return Translation(back.material, step.diagnostics + back.diagnostics, material)
+        return Translation(back.material, step.diagnostics + back.diagnostics, material,
+                           pointers=step.pointers | back.pointers)
     if material.model == target == "gltf_pbr" and unlit_state(state) and not settings.gltf_file:
         # MaterialX's gltf_pbr has no unlit mode: the unlit reading (emission over a black base) renders as one
         step = _step(gltf_to_openpbr, material, settings)
         back = _step(openpbr_to_gltf, step.material, settings)
-        return Translation(back.material, step.diagnostics + back.diagnostics, material)
+        return Translation(back.material, step.diagnostics + back.diagnostics, material,
+                           pointers=step.pointers | back.pointers)
     if current.model == "open_pbr_surface":
         if current.version and current.version != tables.latest("open_pbr_surface"):
             upgraded = upgrade(current, context=settings.context)
             diagnostics += upgraded.diagnostics
             current = upgraded.material
     first, about = None, {}  # about: a one-step translation's (what each of its notes concerns)
+    pointers: frozenset[int] = frozenset()  # (Translation.pointers)
     if current.model not in ("open_pbr_surface", target):
         first = step = _step(TO_OPENPBR[current.model], current, settings)
         diagnostics += step.diagnostics
+        pointers |= step.pointers
         current = step.material
     if current.model != target:
-        step = _step(FROM_OPENPBR[target], current, settings)
-        diagnostics += step.diagnostics if first is None else at_source_inputs(step.diagnostics, material, first,
-                                                                               settings.context, step.about)
+        step = _step(FROM_OPENPBR[target], current, settings if first is None else
+                     dataclasses.replace(settings, hub_sites=hub_sites(material, first)))
+        if first is None:
+            diagnostics += step.diagnostics
+            pointers |= step.pointers
+        else:
+            moved, moved_pointers = _relocated(step.diagnostics, material, first, settings.context, step.about,
+                                               step.pointers)
+            diagnostics += moved
+            pointers |= moved_pointers
         about = step.about if first is None else {}
         current = step.material
     if current is material:  # nothing to translate: a copy, so that what happens to the result (textures
@@ -80,7 +92,7 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         current.extra = {k: dict(v) if isinstance(v, dict) else v for k, v in material.extra.items()}  # written into
         diagnostics += _without_unknown_inputs(current, settings)
     return Translation(current, diagnostics, material, origins=first.origins if first is not None else {},
-                       about=about)
+                       about=about, pointers=pointers)
 
 
 def at_source_inputs(notes: list, source: Material, first: Translation, context, about: dict | None = None) -> list:
@@ -90,24 +102,64 @@ def at_source_inputs(notes: list, source: Material, first: Translation, context,
     hub input the first step made from the source's defaults goes to the first authored source input its mapping
     read, else to the material; an info there is dropped (it concerns no value the source holds). ``about``: for each
     note (by id), the hub input it concerns, where the second step recorded it (:attr:`.common.Translation.about`)."""
-    authored = {entry.location.input for entry in source.inputs.values() if entry.location is not None} | set(source.inputs)
+    return _relocated(notes, source, first, context, about)[0]
+
+
+def _relocated(notes: list, source: Material, first: Translation, context, about: dict | None = None,
+               pointers: frozenset[int] = frozenset()) -> tuple[list, frozenset[int]]:
+    """:func:`at_source_inputs`, with the ids of those notes that point at another (``pointers``, the second step's:
+    :attr:`.common.Translation.pointers`) among them, and of the companions it adds."""
+    authored = _authored(source)
     about = about or {}
-    kept, concerns = [], {}  # concerns: id(kept note) -> the hub input it is about
+    kept, concerns, moved = [], {}, set()  # concerns: id(kept note) -> the hub input it is about
     for note in notes:
         name = note.location.input
         if name is None or name in authored:
             kept.append(note)
             if id(note) in about:
                 concerns[id(note)] = about[id(note)]
-            continue
-        origin = next((s for s in first.origins.get(name, ()) if s in source.inputs), None)
-        if origin is not None:
+        elif (origin := _origin(name, source, first)) is not None:
             entry = source.inputs[origin]
             kept.append(dataclasses.replace(note, location=entry.location or source.location.with_input(origin)))
             concerns[id(kept[-1])] = about.get(id(note), name)
         elif note.severity > Severity.INFO:
             kept.append(dataclasses.replace(note, location=dataclasses.replace(note.location, input=None)))
-    return kept + _hub_companions(kept, source, first, context, concerns)
+        else:
+            continue
+        if id(note) in pointers:
+            moved.add(id(kept[-1]))
+    companions = _hub_companions(kept, source, first, context, concerns)
+    return kept + companions, frozenset(moved | {id(note) for note in companions})
+
+
+def _authored(source: Material) -> set[str]:
+    """The names the notes at ``source``'s authored inputs stand at: the inputs', and their locations' (a glTF
+    property)."""
+    return {entry.location.input for entry in source.inputs.values() if entry.location is not None} | set(source.inputs)
+
+
+def _origin(name: str, source: Material, first: Translation) -> str | None:
+    """The first authored source input the first step's mapping to hub input ``name`` read."""
+    return next((s for s in first.origins.get(name, ()) if s in source.inputs), None)
+
+
+def hub_sites(source: Material, first: Translation) -> dict[str, str]:
+    """For each OpenPBR input the source does not hold, where :func:`at_source_inputs` shows a note at it: the
+    source input that fed it (as its location names it), else the material. The second step names these in a note
+    that points at another (the review's tenth: "see the note at specular_ior", a warning moved to
+    ``useSpecularWorkflow``)."""
+    if source.model == "open_pbr_surface":
+        return {}  # (no hub: the notes stand where they are)
+    authored = _authored(source)
+    sites = {}
+    for name in tables.table("open_pbr_surface").parameters:
+        if name in authored:
+            continue
+        origin = _origin(name, source, first)
+        entry = source.inputs.get(origin) if origin is not None else None
+        sites[name] = (entry.location.input if entry.location is not None and entry.location.input else origin) \
+            if entry is not None else "the material"
+    return sites
 
 
 def _hub_companions(notes: list, source: Material, first: Translation, context, concerns: dict) -> list:

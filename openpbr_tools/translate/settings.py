@@ -37,6 +37,11 @@ class Settings:
     search: bool = False  # also search the target's parameters where the result is visibly off (translate.search; --verify)
     node_graphs: bool = True  # the output holds MaterialX node graphs (.mtlx): a mapping of a procedural input is written as nodes
     specular_split: bool = True  # a specular-workflow preview as metal + dielectric (translate.specular_workflow), else by luminance
+    # a full metal's specular_weight as Standard Surface's coat tint (translate.ss_metal_weight), else in its base colour
+    metal_weight_tint: bool = True
     # say (as infos) what is not carried but renders nothing (common.unread_notes); off for a USD output's preview
     # fallback, whose MaterialX shader holds those values
     unseen_notes: bool = True
+    # a conversion's second step through the OpenPBR hub: where the report shows the notes at each OpenPBR input
+    # the source does not hold (translate.convert.hub_sites), so that a note pointing at another names where it stands
+    hub_sites: dict = field(default_factory=dict)

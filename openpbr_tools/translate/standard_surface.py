@@ -39,9 +39,10 @@ evaluator's lit sphere, before -> after the fits of :mod:`.fit`, from ``openpbr 
     Fresnel at 82 degrees is OpenPBR's (:func:`.fit.edge_color_for_f82_tint`), which makes the
     evaluator's albedos equal; a tint the conductor cannot reach (a deep dip on a bright metal)
     gets the nearest edge colour. OpenPBR's ``specular_weight`` scales its metal, Standard
-    Surface's conductor ignores ``specular``: the weight goes into the base colour (F0) and the
-    82-degree target. Tinted metals 0.0-0.3 (0.1-1.3), an unreachable tint 1.6 (1.7), specular
-    weight 0.6-0.8 on metals 0.5-0.9 (4.7-9.0);
+    Surface's conductor ignores ``specular``: on a full metal the weight becomes the tint of a coat
+    that reflects nothing (:mod:`.ss_metal_weight`, exact), elsewhere it goes into the base colour
+    (F0) and the 82-degree target. Tinted metals 0.0-0.3 (0.1-1.3), an unreachable tint 1.6 (1.7),
+    specular weight 0.6-0.8 on partly metallic bases 0.5-0.9 (4.7-9.0), on full metals 0.0 (0.2-2.4);
   * fuzz (Zeltner) <-> sheen (Conty-Kulla): the sheen weight and roughness are fitted to the
     fuzz's albedo (:func:`.fit.sheen_fit`), the weight clamped to 1 where rough fuzz reflects more
     than a sheen can. Velvets 0.8-1.9 (5.2-10.6), the roughest 3.4 (3.5), a 0.6-weight grey dust
@@ -72,12 +73,13 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import tables
 from ..evaluate import fresnel
 from ..evaluate.coat import coat_darkening_factor, coat_roughened
 from ..model import Material
-from . import fit, ss_rotation
+from . import fit, ss_metal_weight, ss_rotation
 from .coat_facts import DARKENING_SOURCES
-from .common import Dropped, Mapping, Settings, Translation, differs, translate
+from .common import Dropped, Mapping, Settings, Translation, Values, differs, translate
 
 WHITE = np.ones(3)
 #: Measured residuals, mean CIEDE2000 on the evaluator's lit sphere (module docstring).
@@ -569,8 +571,14 @@ def _emission(mappings, settings: Settings, to_ss: bool):
 
 def openpbr_to_standard_surface(material: Material, settings: Settings | None = None) -> Translation:
     settings = settings or Settings()
-    return translate(material, "standard_surface", _emission(TO_SS, settings, True), DROPPED_TO_SS, settings,
-                     "OpenPBR -> Standard Surface")
+    label = "OpenPBR -> Standard Surface"
+    values = Values(material, tables.table_known(material.model, material.version))
+    tint = ss_metal_weight.coat_tint(material, values) if settings.metal_weight_tint else None
+    if tint is None:
+        return translate(material, "standard_surface", _emission(TO_SS, settings, True), DROPPED_TO_SS, settings, label)
+    translation = translate(ss_metal_weight.undimmed(material), "standard_surface", _emission(TO_SS, settings, True),
+                            DROPPED_TO_SS, settings, label)
+    return ss_metal_weight.dimmed(translation, material, values, tint, settings.context, label)
 
 
 def standard_surface_to_openpbr(material: Material, settings: Settings | None = None) -> Translation:
