@@ -34,7 +34,7 @@ from .rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .bake import Baker
 from .translate.common import Settings, Translation, Values, lobe_off
 from .translate import candidates, past_hub
-from .translate.convert import MODELS, at_source_inputs, convert, hub_sites, unknown_inputs_translated
+from .translate.convert import MODELS, at_source_inputs, convert, unknown_inputs_translated
 from .translate.upgrade import upgrade
 from .validate import composed_documents
 from .convert_textures import graph_fallbacks, missing_textures, rebase_textures as _rebase_textures, \
@@ -224,11 +224,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
                 translated.extra["gltf"]["name"], translated.extra["gltf"]["renamed_to"] = name, unique
             done.append((material, before, (notes, step_settings, translated, translation.origins)))
         # a USD output's UsdPreviewSurface fallbacks: their searches at once too
-        previews = iter(candidates.choose_many([
-            (state[2], convert(state[2], "UsdPreviewSurface", dataclasses.replace(state[1], unseen_notes=False,
-                               hub_sites=hub_sites(material, Translation(state[2], [], material, origins=state[3])))),
-             "UsdPreviewSurface", state[1])
-            for material, _, state in done if state is not None]) if kind == "usd" else [])
+        previews = iter(candidates.choose_many(past_hub.fallback_jobs(done)) if kind == "usd" else [])
         for material, before, state in done:
             result.diagnostics += before
             if state is None:
@@ -239,7 +235,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             fallback = None
             if kind == "usd":
                 preview = next(previews)
-                fallback_notes = preview.diagnostics if material.model == "open_pbr_surface" else at_source_inputs(
+                fallback_notes = preview.diagnostics if material.model in past_hub.OWN_FALLBACK else at_source_inputs(
                     preview.diagnostics, material, Translation(translated, [], material, origins=origins), context,
                     preview.about)
                 notes += [past_hub.fallback_only(note, context, material) for note in fallback_notes]

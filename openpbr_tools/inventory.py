@@ -6,6 +6,7 @@ from .model import Asset, Connection
 
 
 def describe(asset: Asset) -> dict:
+    not_converted = _not_converted(asset) if asset.format == "gltf" else set()  # (once: linear in the materials)
     return {
         "file": asset.path,
         "format": asset.format,
@@ -28,7 +29,7 @@ def describe(asset: Asset) -> dict:
                     for name, t in m.textures()
                 ],
                 "procedural_inputs": sorted(n for n, i in m.inputs.items() if isinstance(i.value, Connection)),
-                "extensions": _extensions(m, _not_converted(asset)) if asset.format == "gltf" else [],
+                "extensions": _extensions(m, not_converted) if asset.format == "gltf" else [],
             }
             for m in asset.materials
         ],

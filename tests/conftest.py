@@ -49,7 +49,8 @@ def internal_errors_raise(request, monkeypatch):
 
 
 def example_image(name: str) -> bytes:
-    """A 4 x 4 RGB image in the format ``name``'s suffix names (Pillow; OpenImageIO for EXR and HDR)."""
+    """A 4 x 4 RGB image in the format ``name``'s suffix names (Pillow; OpenImageIO for EXR and HDR); a PNG mask
+    (``mask`` in its name) RGBA, its mask in the alpha channel."""
     import io
 
     from PIL import Image
@@ -67,6 +68,9 @@ def example_image(name: str) -> bytes:
             return handle.read()
     buffer = io.BytesIO()
     colour = (128, 128, 255) if "normal" in os.path.basename(name).lower() else (200, 120, 40)  # a flat normal map
+    if "mask" in os.path.basename(name).lower() and suffix == ".png":  # a cut-out mask: in its alpha channel
+        Image.new("RGBA", (4, 4), colour + (255,)).save(buffer, format="PNG")
+        return buffer.getvalue()
     Image.new("RGB", (4, 4), colour).save(buffer, format=Image.registered_extensions().get(suffix, "PNG"))
     return buffer.getvalue()
 

@@ -274,7 +274,8 @@ def test_a_tga_texture_in_a_usdz_is_an_entry_the_package_may_not_hold(tmp_path):
 
 @pytest.mark.parametrize("opacity, code_expected", [("0.35", True), ("0.6", True), ("1", True), (None, False)])
 def test_a_preview_threshold_over_a_constant_opacity_cuts_all_or_nothing(tmp_path, opacity, code_expected):
-    _png(tmp_path / "mask.png", "L", colour=128)
+    _png(tmp_path / "mask.png", "LA", colour=(128, 128))  # (a mask in alpha: an "L" image's a reads 1, which cuts
+    # nothing, OPBR1007 since session 26)
     value = (f"            float inputs:opacity = {opacity}\n" if opacity is not None else
              "            float inputs:opacity.connect = </M/mask.outputs:a>\n")
     path = tmp_path / "preview.usda"

@@ -242,7 +242,9 @@ INVALID_PROPERTY = Rule(
     "an image in a bufferView with a byteStride or a target, or in one a mesh primitive draws with; a "
     "KHR_draco_mesh_compression object without its bufferView or attributes; an empty array at the root "
     "(\"samplers\": []), an extensionsUsed item that is no string, or an image or buffer uri that is no URI "
-    "(http://[::1/a.png); JSON text that starts with a byte-order mark (\"glTF exporters MUST NOT add a byte "
+    "(http://[::1/a.png); a node hierarchy that is not a set of disjoint trees (a loop, a node with two parents, a "
+    "scene listing a child node) or a POSITION accessor without min and max (the data the material is drawn with); "
+    "JSON text that starts with a byte-order mark (\"glTF exporters MUST NOT add a byte "
     "order mark\"; clients may ignore it, JSON.parse on the raw text does not: the validator's INVALID_JSON).",
     "The glTF schema rejects the file; lenient loaders skip the property, so the texture or extension "
     "silently disappears. A bufferView of image data \"MUST NOT\" define byteStride (glTF 2.0, 3.6.1.1; the "

@@ -331,6 +331,9 @@ def _check_path(asset, texture, where, context, checked_files):
         return
     checked_files.add(key)
     if texture.packaged:  # inside the asset's own package (USDZ): look there, not on disk
+        if not _gltf(texture) and classify(file) in _NOT_RELATIVE:  # (the red team's B19: as for a .usda's)
+            yield context.diagnostic(UNSAFE_PATH, f"texture path {file!r} points outside the package", where,
+                                     hint="package the texture and name it relative to the layer")
         if file not in asset.extra.get("package_files", ()):
             yield context.diagnostic(MISSING_TEXTURE, f"the embedded image {file!r} has no data to read: its bufferView "
                                      "or buffer is missing or broken (reported at the buffer)" if _gltf(texture)

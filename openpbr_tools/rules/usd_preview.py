@@ -20,6 +20,7 @@ from __future__ import annotations
 from .. import colorspaces, tables
 from ..diagnostics import Severity
 from ..io.image_content import channel_largest
+from ..io.images import channel_count
 from ..io.usd.types import UV_TEXTURE_ID, is_eight_bit
 from ..model import Location, rgb_components
 from . import Rule, constant_or_default
@@ -197,7 +198,9 @@ _CUT_TOLERANCE = 1e-6  # an opacity equal to the threshold is drawn ("greater or
 def _mask_cuts_everything(asset, material, context):
     """OPBR1034: an 8-bit or 16-bit image's largest value in the channel ``opacity`` reads (full resolution),
     times a non-negative scale plus the bias, below a positive ``opacityThreshold``. Not claimed for UDIM sets
-    (other tiles), a negative scale (the smallest texel would decide), or an image that cannot be read."""
+    (other tiles), a negative scale (the smallest texel would decide), or an image that cannot be read. OPBR1007:
+    the alpha of an image that has none (an RGB PNG or JPEG), which UsdUVTexture gives as 1, at or above the
+    threshold: nothing is cut (the red team's B14; glTF's counterpart is OPBR1211)."""
     threshold = constant_or_default(material, "opacityThreshold")
     entry = material.inputs.get("opacity")
     texture = entry.texture if entry is not None else None
@@ -210,6 +213,14 @@ def _mask_cuts_everything(asset, material, context):
     if not isinstance(scale, (int, float)) or not isinstance(bias, (int, float)) or scale < 0:
         return
     image = image_of(asset, texture, context, {})
+    where = Location(texture.location.file if texture.location else material.location.file, None, texture.node, "file")
+    if texture.channels[0] == 3 and image is not None and scale + bias >= threshold and _channels(image) in (1, 3):
+        yield context.diagnostic(
+            OPACITY_THRESHOLD, f"{material.name}: opacity reads the alpha of {texture.file!r}, which has no alpha "
+            f"channel (UsdUVTexture gives 1): with opacityThreshold {threshold:g} nothing is cut, and the surface "
+            "renders fully opaque", where, hint="save the mask in the image's alpha channel, or read the channel that "
+                                               "holds it")
+        return
     largest = channel_largest(image, texture.channels[0], MAX_INSPECTED_PIXELS) if image is not None else None
     if largest is None or not largest * scale + bias < threshold - _CUT_TOLERANCE:
         return
@@ -219,9 +230,15 @@ def _mask_cuts_everything(asset, material, context):
         OPACITY_TEXTURE_CUTS_EVERYTHING,
         f"{material.name}: opacity reads channel {channel} of {texture.file!r}, whose largest value is {largest:.3g}{scaled}: below "
         f"opacityThreshold {threshold:g} everywhere, so every fragment is discarded and the material is invisible",
-        Location(texture.location.file if texture.location else material.location.file, None, texture.node, "file"),
-        hint="read the channel that holds the mask (an RGB image has no alpha: a is 1), repaint its alpha, or lower "
-             "opacityThreshold")
+        where, hint="read the channel that holds the mask (an RGB image has no alpha: a is 1), repaint its alpha, or "
+                    "lower opacityThreshold")
+
+
+def _channels(image) -> int | None:
+    try:
+        return channel_count(image)
+    except Exception:  # noqa: BLE001 - not an image Pillow opens: OPBR707/OPBR708 say so where it matters
+        return None
 
 
 def _preview_conventions(material, context):

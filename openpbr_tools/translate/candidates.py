@@ -286,7 +286,7 @@ def _decide(source, translation, target, settings, candidate, judge, scores, our
                            if visible else ""), where))
         return _with_fit(source, translation, ours, ours_fit, settings)
     candidate.extra = dict(translation.material.extra)  # glTF state, drafts: the material's, not the mapping's
-    notes = [d for d in translation.diagnostics if d.code != APPROXIMATED.code and id(d) not in translation.pointers]
+    notes = [d for d in translation.diagnostics if d.code != APPROXIMATED.code and id(d) not in translation.mapping_only]
     notes.append(context.diagnostic(
         APPROXIMATED, f"{source.name}: converted to {target} by MaterialX's translation graphs, which render "
                       f"closer than the toolkit's mapping ({figures})", where))

@@ -94,9 +94,10 @@ class Translation:
     origins: dict[str, tuple[str, ...]] = field(default_factory=dict)
     quiet_drops: tuple = ()  # drops whose value is lost but renders nothing here (unread_notes says so)
     about: dict[int, str] = field(default_factory=dict)  # id(note) -> the source input it concerns (translate's own)
-    # ids of the notes that point at another ("see the note at X", :func:`_companions`): a result MaterialX's graphs
-    # give instead drops them, with the notes they point at (translate.candidates)
-    pointers: frozenset[int] = frozenset()
+    # ids of the notes that only describe the mapping's own result (how a mapping rewrote a value; a pointer at
+    # another note, "see the note at X", :func:`_companions`): a result MaterialX's graphs give instead drops them
+    # (translate.candidates), as it drops the mapping's approximations
+    mapping_only: frozenset[int] = frozenset()
 
 
 def with_folded_notes(translation: Translation) -> Translation:
@@ -110,7 +111,7 @@ def with_folded_notes(translation: Translation) -> Translation:
             translation.diagnostics.append(note)
     translation.folded = []
     translation.diagnostics.sort(key=Diagnostic.sort_key)
-    translation.pointers = translation.pointers & {id(d) for d in translation.diagnostics}  # (those left out are gone)
+    translation.mapping_only = translation.mapping_only & {id(d) for d in translation.diagnostics}  # (those left out are gone)
     return translation
 
 
@@ -208,10 +209,14 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     noted: list[tuple[Any, Mapping, str | None]] = []  # (rule, mapping, input) of each note a mapping made
     current: list[Mapping | None] = [None]  # the mapping being applied
 
-    def say(rule, message: str, name: str | None) -> None:
+    own: set[int] = set()  # (Translation.mapping_only)
+
+    def say(rule, message: str, name: str | None, describes: bool = False) -> None:
         entry = material.inputs.get(name) if name else None
         location = entry.location if entry is not None else material.location.with_input(name)
         report.append(context.diagnostic(rule, f"{material.name} ({label}): {message}", location))
+        if describes:
+            own.add(id(report[-1]))
         if name:
             about[id(report[-1])] = name
         if current[0] is not None:
@@ -294,7 +299,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
                 if not mapping.exact and _matters(mapping, arrays):
                     say(APPROXIMATED, f"{mapping.target}: {mapping.note}", _site(mapping, values))
                 elif mapping.converted_to_default and authored and _changed(arrays[0], value):
-                    say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0])  # folded elsewhere
+                    say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0], True)  # folded elsewhere
                 continue
             clamped = ""
             if sources_valid:  # a source already out of range is the validator's to report
@@ -305,7 +310,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             if not mapping.exact and _matters(mapping, arrays):
                 say(APPROXIMATED, f"{mapping.target}: {mapping.note}", _site(mapping, values))
             elif mapping.converted and authored and _changed(arrays[0], value):
-                say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0])
+                say(CONVERTED, f"{mapping.target}: {mapping.converted}", mapping.sources[0], True)
             continue
         if mapping.when is not None and not probes.needed(mapping, textured, values):
             continue  # not needed whatever the textures hold (an emission colour without luminance)
@@ -416,12 +421,13 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
 
     start = len(folded)
     _companions(noted, mappings, values, source_table, fold, shown, result)
-    pointers = frozenset(id(note) for _, note in folded[start:])
+    own.update(id(note) for _, note in folded[start:])
     report.sort(key=Diagnostic.sort_key)
     origins: dict[str, tuple[str, ...]] = {}
     for mapping in mappings:
         origins[mapping.target] = tuple(dict.fromkeys(origins.get(mapping.target, ()) + mapping.sources))
-    return Translation(result, report, material, folded, frozenset(read), origins, tuple(quiet_drops), about, pointers)
+    return Translation(result, report, material, folded, frozenset(read), origins, tuple(quiet_drops), about,
+                       frozenset(own))
 
 
 def unread_notes(translation: Translation, target_model: str, context, unseen: bool = True) -> list[Diagnostic]:

@@ -42,7 +42,7 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         step = _step(gltf_to_openpbr, material, settings)
         back = _step(openpbr_to_gltf, step.material, dataclasses.replace(settings, gltf_drafts=True))
         return Translation(back.material, step.diagnostics + back.diagnostics, material,
-                           pointers=step.pointers | back.pointers)
+                           mapping_only=step.mapping_only | back.mapping_only)
     if material.model == target == "gltf_pbr" and settings.gltf_file and (restored := unlit_restored(material)):
         return Translation(restored, [settings.context.diagnostic(
             CONVERTED, f"{material.name}: the unlit reading (emission over a black base) is KHR_materials_unlit again",
@@ -54,36 +54,36 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         step = _step(gltf_to_openpbr, material, settings)
         back = _step(openpbr_to_gltf, step.material, settings)
         return Translation(back.material, step.diagnostics + back.diagnostics, material,
-                           pointers=step.pointers | back.pointers)
+                           mapping_only=step.mapping_only | back.mapping_only)
     if material.model == target == "gltf_pbr" and unlit_state(state) and not settings.gltf_file:
         # MaterialX's gltf_pbr has no unlit mode: the unlit reading (emission over a black base) renders as one
         step = _step(gltf_to_openpbr, material, settings)
         back = _step(openpbr_to_gltf, step.material, settings)
         return Translation(back.material, step.diagnostics + back.diagnostics, material,
-                           pointers=step.pointers | back.pointers)
+                           mapping_only=step.mapping_only | back.mapping_only)
     if current.model == "open_pbr_surface":
         if current.version and current.version != tables.latest("open_pbr_surface"):
             upgraded = upgrade(current, context=settings.context)
             diagnostics += upgraded.diagnostics
             current = upgraded.material
     first, about = None, {}  # about: a one-step translation's (what each of its notes concerns)
-    pointers: frozenset[int] = frozenset()  # (Translation.pointers)
+    own: frozenset[int] = frozenset()  # (Translation.mapping_only)
     if current.model not in ("open_pbr_surface", target):
         first = step = _step(TO_OPENPBR[current.model], current, settings)
         diagnostics += step.diagnostics
-        pointers |= step.pointers
+        own |= step.mapping_only
         current = step.material
     if current.model != target:
         step = _step(FROM_OPENPBR[target], current, settings if first is None else
                      dataclasses.replace(settings, hub_sites=hub_sites(material, first)))
         if first is None:
             diagnostics += step.diagnostics
-            pointers |= step.pointers
+            own |= step.mapping_only
         else:
-            moved, moved_pointers = _relocated(step.diagnostics, material, first, settings.context, step.about,
-                                               step.pointers)
+            moved, moved_own = _relocated(step.diagnostics, material, first, settings.context, step.about,
+                                          step.mapping_only)
             diagnostics += moved
-            pointers |= moved_pointers
+            own |= moved_own
         about = step.about if first is None else {}
         current = step.material
     if current is material:  # nothing to translate: a copy, so that what happens to the result (textures
@@ -92,7 +92,7 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         current.extra = {k: dict(v) if isinstance(v, dict) else v for k, v in material.extra.items()}  # written into
         diagnostics += _without_unknown_inputs(current, settings)
     return Translation(current, diagnostics, material, origins=first.origins if first is not None else {},
-                       about=about, pointers=pointers)
+                       about=about, mapping_only=own)
 
 
 def at_source_inputs(notes: list, source: Material, first: Translation, context, about: dict | None = None) -> list:
@@ -106,9 +106,9 @@ def at_source_inputs(notes: list, source: Material, first: Translation, context,
 
 
 def _relocated(notes: list, source: Material, first: Translation, context, about: dict | None = None,
-               pointers: frozenset[int] = frozenset()) -> tuple[list, frozenset[int]]:
-    """:func:`at_source_inputs`, with the ids of those notes that point at another (``pointers``, the second step's:
-    :attr:`.common.Translation.pointers`) among them, and of the companions it adds."""
+               own: frozenset[int] = frozenset()) -> tuple[list, frozenset[int]]:
+    """:func:`at_source_inputs`, with the ids of those notes that only describe the mapping's result (``own``, the
+    second step's: :attr:`.common.Translation.mapping_only`) among them, and of the companions it adds."""
     authored = _authored(source)
     about = about or {}
     kept, concerns, moved = [], {}, set()  # concerns: id(kept note) -> the hub input it is about
@@ -126,7 +126,7 @@ def _relocated(notes: list, source: Material, first: Translation, context, about
             kept.append(dataclasses.replace(note, location=dataclasses.replace(note.location, input=None)))
         else:
             continue
-        if id(note) in pointers:
+        if id(note) in own:
             moved.add(id(kept[-1]))
     companions = _hub_companions(kept, source, first, context, concerns)
     return kept + companions, frozenset(moved | {id(note) for note in companions})

@@ -33,9 +33,12 @@ from .. import tables
 from ..diagnostics import Diagnostic
 from ..model import Connection, Material, Texture
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
-from .common import Values
+from .common import Translation, Values
 
 SHARED = ("occlusion",)
+#: sources whose own notes are a USD output's fallback's: an OpenPBR one (the fallback is its only translation), and a
+#: UsdPreviewSurface one (the fallback is the source itself)
+OWN_FALLBACK = ("open_pbr_surface", "UsdPreviewSurface")
 HOLDERS = frozenset(("gltf_pbr", "UsdPreviewSurface"))
 
 
@@ -140,3 +143,22 @@ def _fits(material: Material, name: str) -> bool:
     """Whether ``material``'s input ``name`` holds a value of its type's shape (an unknown input: yes)."""
     table = tables.table_known(material.model, material.version)
     return table.get(name) is None or Values(material, table).fits(name)
+
+
+def fallback_jobs(done: list) -> list:
+    """For each converted material of a USD output (``done``: the pipeline's (source, notes before, (notes, settings,
+    translated OpenPBR, origins) or None)), the candidate search's job for its UsdPreviewSurface fallback: the OpenPBR
+    translation translated on, whose notes stand at the source's inputs (:func:`.convert.hub_sites`); for a
+    UsdPreviewSurface source the source itself, exactly (the red team's P: OpenUSD's nativeClearcoat, a preview written
+    to .usda, came back with a roughness of 0.01 for 0.5, through OpenPBR and MaterialX's graphs)."""
+    from .convert import convert, hub_sites  # lazy: translate.convert imports the translators this module serves
+
+    jobs = []
+    for material, _, state in done:
+        if state is None:
+            continue
+        settings = dataclasses.replace(state[1], unseen_notes=False, hub_sites=hub_sites(
+            material, Translation(state[2], [], material, origins=state[3])))
+        source = material if material.model == "UsdPreviewSurface" else state[2]
+        jobs.append((source, convert(source, "UsdPreviewSurface", settings), "UsdPreviewSurface", state[1]))
+    return jobs

@@ -108,7 +108,8 @@ def dimmed(translation: Translation, source: Material, values: Values, tint, con
         f"grazing edge included; Standard Surface's conductor ignores its specular, so the weight is written as {how}"),
         entry.location)
     return Translation(result, translation.diagnostics + [note] + notes, source, translation.folded, translation.read,
-                       translation.origins, translation.quiet_drops, translation.about, translation.pointers)
+                       translation.origins, translation.quiet_drops, translation.about,
+                       translation.mapping_only | {id(note) for note in [note] + notes})
 
 
 def _at_default(values: Values, name: str) -> bool:

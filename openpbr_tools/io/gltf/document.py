@@ -280,7 +280,9 @@ def load_document(path: str) -> GltfDocument:
     """Read and decode the container; :class:`ReadError` when it is not glTF at all."""
     data = read_bytes(path)
     trailing = 0
-    if data[:4] == b"glTF" or path.lower().endswith(".glb"):
+    json_text = data[:64].lstrip(b" \t\r\n").removeprefix(b"\xef\xbb\xbf").lstrip(b" \t\r\n")[:1] == b"{"
+    if data[:4] == b"glTF" or path.lower().endswith(".glb") and not json_text:  # (JSON named .glb is read as the
+        # JSON it is, as a GLB named .gltf is read as a GLB, and as the Khronos glTF-Validator reads both)
         if len(data) >= 12 and data[:4] == b"glTF" and 12 <= struct.unpack_from("<I", data, 8)[0] < len(data):
             trailing = len(data) - struct.unpack_from("<I", data, 8)[0]  # the Khronos validator's GLB_EXTRA_DATA
             data = data[:len(data) - trailing]

@@ -49,7 +49,7 @@ import re
 from ... import tables, versioning
 from ...model import Asset, Constant, Input, Location, Material, Texture
 from .. import ReadError
-from . import accessors, animation_pointers, drafts, geometry, layout, schema, slots
+from . import accessors, animation_pointers, drafts, geometry, layout, references, schema, slots
 from .document import GltfDocument, ResourceError, load_document
 from .extension_reader import ExtensionReading, thin_diffuse_transmission
 from .textures import TextureReading, json_float, json_index, json_numbers, json_text
@@ -149,12 +149,13 @@ class _Reader(TextureReading, ExtensionReading):
         """Buffers, GLB chunks, Draco objects, the default scene, accessor and texture-source facts (:mod:`.layout`);
         the root's arrays and images in bufferViews of mesh data (:mod:`.schema`); texture objects' properties."""
         for kind, pointer, message, name in (*layout.buffer_problems(self.document), *layout.compression_problems(self.document),
-                                             *schema.root_problems(self.document), *schema.image_view_problems(self.document)):
+                                             *schema.root_problems(self.document), *schema.image_view_problems(self.document),
+                                             *references.invalid(self.document)):
             self.observe_once(kind, pointer, message, name)
         self.unexpected_texture_properties()
-        scene = layout.missing_scene(self.document)
-        if scene is not None:
-            self.asset.observe("dangling_reference", self.location("/scene"), attribute="scene", target=scene)
+        for pointer, name, index, why in references.dangling(self.document):  # (the root's scene: name None)
+            self.asset.observe("dangling_reference", self.location(pointer, name), attribute=name or "scene",
+                               target=index, ends=why)
         self.facts["accessor_problems"] = layout.accessor_problems(self.document)
         self.facts["extension_sources"] = layout.extension_sources(self.document)
         self.facts["animation_pointers"] = animation_pointers.material_pointer_problems(self.document)

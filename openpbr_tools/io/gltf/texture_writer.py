@@ -208,9 +208,13 @@ class TextureWriting:
         """(colour space to decode from, whether to encode sRGB) so texels reach glTF's encoding:
         sRGB for colour slots, linear for data; a colour texture without a colour space (nor its document) is linear
         where MaterialX reads it (:attr:`untagged_linear`). An unknown name is taken as already right (noted). A name
-        of another scheme (a UsdUVTexture's ``raw``, a USD colour space) is read as its MaterialX equivalent."""
+        of another scheme (a UsdUVTexture's ``raw``, a USD colour space) is read as its MaterialX equivalent; a colour
+        texture tagged as data (``raw``, ``none``) holds linear colour, as its renderers read it."""
         space = colorspaces.materialx_name(space)
-        if slot.colour and space is None and self.untagged_linear:  # MaterialX reads such texels as they are (linear)
+        if slot.colour and (space is None and self.untagged_linear or space is not None and colorspaces.is_data(space)):
+            # MaterialX reads such texels as they are, and a UsdUVTexture's raw as they are: linear colour in the
+            # renderer's working space, which glTF's colour slots hold sRGB-encoded (the red team's P-F3: a raw
+            # base colour was copied as it was, and read 15.7 mean CIEDE2000 off)
             return "lin_rec709", True
         if space is None or colorspaces.is_data(space) or (slot.colour and space == slots.SRGB):
             return None, False

@@ -156,6 +156,8 @@ def normal_to_tangent(graph_xml: str, output: str) -> tuple[str, str]:
         raise ExpressionError("the normalmap decodes in a tangent frame of its own")
     scale = node.getInput("scale")
     strength = scale.getValue() if scale is not None and scale.hasValueString() else 1.0
+    if not isinstance(strength, (int, float)) or isinstance(strength, bool):  # (text MaterialX cannot parse: OPBR004)
+        raise ExpressionError(f"the normalmap's scale {scale.getValueString()!r} is no number")
     builder = _Builder(document, output)
     doubled = builder.node("multiply", "vector3", in1=source.getNodeName(), in2=(2.0, "float"))
     decoded = builder.node("subtract", "vector3", in1=doubled, in2=(1.0, "float"))

@@ -169,9 +169,8 @@ class GraphFollower:
             if category in IMAGE_CATEGORIES:
                 break
             if category == "extract":
-                index_input = node.getInput("index")
-                index = int(index_input.getValue()) if index_input is not None and index_input.hasAttribute("value") else 0
-                channels = (index,)
+                index = _number(node.getInput("index"))
+                channels = (int(index) if index is not None else 0,)
             elif category in ("multiply", "add"):
                 if not arithmetic.take(node, channels):
                     return None
@@ -398,15 +397,15 @@ class GraphFollower:
                 else transform.scale
             transform.offset = _vector2(place.getInput("offset")) or transform.offset
             transform.pivot = _vector2(place.getInput("pivot")) or transform.pivot
-            rotate = place.getInput("rotate")
-            if rotate is not None and rotate.hasAttribute("value"):
-                transform.rotate = float(rotate.getValue())
+            rotate = _number(place.getInput("rotate"))
+            if rotate is not None:  # (text MaterialX cannot parse, "-nan(ind)": its default, 0, as MaterialX reads it)
+                transform.rotate = rotate
             texcoord = place.getInput("texcoord")
             place = self.upstream_node(texcoord) if texcoord is not None else None
         if place is not None and place.getCategory() == "texcoord":
-            index = place.getInput("index")
-            if index is not None and index.hasAttribute("value") and int(index.getValue()) != 0:
-                uv_set = int(index.getValue())
+            index = _number(place.getInput("index"))
+            if index is not None and int(index) != 0:
+                uv_set = int(index)
         return (None if transform.is_identity else transform), uv_set
 
 
@@ -423,6 +422,15 @@ def in_definition(element) -> bool:
 def _coordinates(node):
     """An image node's coordinates input: UsdUVTexture's ``st``, the others' ``texcoord``."""
     return node.getInput("st" if node.getCategory() == "UsdUVTexture" else "texcoord")
+
+
+def _number(port) -> float | None:
+    """A float or integer input's authored value, or None where it has none or MaterialX cannot parse it (its
+    ``getValue`` gives None; the validator reports the text: OPBR004)."""
+    if port is None or not port.hasAttribute("value"):
+        return None
+    value = port.getValue()
+    return float(value) if isinstance(value, (int, float)) and not isinstance(value, bool) else None
 
 
 def _normal_scale(port) -> float | None:

@@ -187,7 +187,9 @@ class _Reader(GraphFollower):
                 shaders[element.getNamePath()] = material
                 self.asset.materials.append(material)
             elif category not in MATERIAL_CATEGORIES and not is_known_category(category):
-                if not self.document.getMatchingNodeDefs(category):
+                if not self.document.getMatchingNodeDefs(category) and not (  # (a node of a namespaced definition
+                        element.hasNamespace()  # names its namespace: the red team's P-F1, OpenUSD's custom nodes)
+                        and self.document.getMatchingNodeDefs(f"{element.getNamespace()}:{category}")):
                     self.asset.observe("unknown_category", self.location(element), category=category, type=element.getType())
             elif category not in MATERIAL_CATEGORIES:
                 for port in element.getInputs():  # a graph's colour spaces: checked by name as a shader's are
@@ -256,6 +258,9 @@ class _Reader(GraphFollower):
                 )
             else:
                 self.asset.observe("material_without_shader", location, material=node.getName())
+            return
+        if not shader.getType().endswith("shader"):  # a colour or value, no shader (the red team's B18: "a constant
+            self.asset.observe("material_without_shader", location, material=node.getName())  # shader")
             return
         material = shaders.get(shader.getNamePath()) or self.expand_custom_shader(shader)
         if material is None:

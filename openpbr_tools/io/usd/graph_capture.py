@@ -81,6 +81,10 @@ def capture_network(reader, prim, output_name: str, consumer_type: str | None = 
             node.addInput("in", final.getType()).setNodeName(first)
             first = node.getName()
         if _cyclic(document):  # (UsdShade lets a network loop; MaterialX's graphs are acyclic)
+            if where is not None:  # (the red team's B5: reported as MaterialX reports a .mtlx's, an error)
+                reader.asset.observe("dangling_reference", where, attribute=where.input, target=str(prim.GetPath()),
+                                     ends="leads into a cycle: a node upstream feeds itself, which no renderer evaluates "
+                                          "(MaterialX: \"Cycle in upstream path\")")
             raise _Uncapturable("a cycle")
     except (_Uncapturable, LookupError, ValueError, TypeError, mx.Exception):
         return None

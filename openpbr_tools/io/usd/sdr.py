@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import MaterialX as mx
 
-from ...resources import data_dir
+from ...resources import data_dir, load_json
 from ..mtlx.library import standard_library
 from .errors import quiet
 from .types import MATERIALX_TO_USD
@@ -49,8 +49,12 @@ def materialx_nodedef_names() -> list[str]:
 
 def materialx_nodedef(name: str):
     """The MaterialX node definition called ``name`` (standard libraries or the toolkit's legacy
-    OpenPBR definitions), or ``None``."""
-    return _materialx_nodedefs().get(name)
+    OpenPBR definitions), or ``None``. A definition MaterialX renamed is found by its earlier name too
+    (schemas/materialx_nodedef_renames.json: ``ND_normalmap``, 1.38's, is ``ND_normalmap_float``), as OpenUSD's
+    hdMtlx finds it (the red team's P-F2: OpenUSD's own mxNormalMap.usda was reported as an unknown id, and its
+    normal maps were dropped on conversion)."""
+    definitions = _materialx_nodedefs()
+    return definitions.get(name) or definitions.get(load_json("materialx_nodedef_renames.json")["renamed"].get(name))
 
 
 def defined_output_type(shader_id: str, output_name: str) -> str | None:
@@ -93,26 +97,26 @@ def register_materialx_nodes(ids) -> list[str]:
         with quiet():
             known = registry.GetShaderNodeByIdentifier(shader_id)
         if not known:
-            wanted.append(nodedef)
+            wanted.append((shader_id, nodedef))  # (an earlier name of a renamed definition: under that name)
     if not wanted:
         return []
     layer = Sdf.Layer.CreateAnonymous("openpbr_tools_materialx_defs.usda")
-    for nodedef in wanted:
-        _define_shader(layer, nodedef)
+    for shader_id, nodedef in wanted:
+        _define_shader(layer, shader_id, nodedef)
     _definition_layers.append(layer)
-    for nodedef in wanted:
+    for shader_id, nodedef in wanted:
         result = Sdr.NodeDiscoveryResult(
-            nodedef.getName(), Sdr.Version(1).GetAsDefault(), nodedef.getName(), nodedef.getNodeString(),
+            shader_id, Sdr.Version(1).GetAsDefault(), shader_id, nodedef.getNodeString(),
             "usda", "mtlx", layer.identifier, layer.identifier,
         )
         registry.AddDiscoveryResult(result)
-    return [nd.getName() for nd in wanted]
+    return [shader_id for shader_id, _ in wanted]
 
 
-def _define_shader(layer, nodedef) -> None:
+def _define_shader(layer, name: str, nodedef) -> None:
     from pxr import Sdf  # lazy: as in register_materialx_nodes
 
-    prim = Sdf.PrimSpec(layer, nodedef.getName(), Sdf.SpecifierDef, "Shader")
+    prim = Sdf.PrimSpec(layer, name, Sdf.SpecifierDef, "Shader")
     uniform = Sdf.VariabilityUniform
 
     def attribute(name: str, type_name, value=None, variability=Sdf.VariabilityVarying):

@@ -141,6 +141,8 @@ class TextureNodeReader:
         placement, one fed by a shader, any other node), with what was read up to it kept."""
         placed = not transform.is_identity  # one placement a Texture holds; a second is the graph's to keep
         kind, *found = self.upstream(prim, "texcoord")
+        if kind == "dangling":
+            self._dangling_coordinates(prim, "texcoord", *found)
         for _ in range(4):
             if kind != "shader":
                 break
@@ -158,6 +160,8 @@ class TextureNodeReader:
                     if value is not None:
                         setattr(transform, field, float(value) if field == "rotate" else (float(value[0]), float(value[1])))
                 kind, *found = self.upstream(node, "texcoord")
+                if kind == "dangling":
+                    self._dangling_coordinates(node, "texcoord", *found)
                 continue
             if category == "multiply" and nodedef_upstream.getType() == "vector2":
                 # texcoord times a constant k is place2d's scale 1 / k (as the MaterialX reader reads it)
@@ -242,13 +246,23 @@ class TextureNodeReader:
         st = prim.GetAttribute("inputs:st")
         if kind == "value" and not (st and (st.HasAuthoredValue() or st.HasAuthoredConnections())):
             reads.setdefault(path, {"st": "unconnected"})
+        consumer_of = (prim, "st")
         for _ in range(4):
+            if kind == "dangling":
+                self._dangling_coordinates(*consumer_of, *found)
             if kind != "shader":
                 break
             node = found[0]
             node_id = str(self.UsdShade.Shader(node).GetShaderId() or "")
+            if node_id.startswith(PRIMVAR_READER_PREFIX) and node_id != PRIMVAR_READER_PREFIX + "float2":
+                # (the red team's B6: a float3 reader into st, whose float2 it cannot line up with)
+                self.asset.observe("usd_connection_type_mismatch", self.location(consumer_of[0].GetPath(),
+                                                                                 consumer_of[1]),
+                                   input=consumer_of[1], input_type="float2",
+                                   source=f"{node.GetPath()}.outputs:{found[1]}", source_type=node_id[len(PRIMVAR_READER_PREFIX):])
             if node_id == TRANSFORM_2D_ID:
                 texture.uv = _transform2d_as_place2d(node)
+                consumer_of = (node, "in")
                 kind, *found = self.upstream(node, "in")
                 coordinates = node.GetAttribute("inputs:in")
                 if kind == "value" and not (coordinates and (coordinates.HasAuthoredValue() or
@@ -267,6 +281,12 @@ class TextureNodeReader:
                 reads.setdefault(path, {"st": "primvar", "reader": str(node.GetPath()), "primvar": varname, "input": "varname"})
             break
         return texture
+
+    def _dangling_coordinates(self, prim, name: str, target: str, reason: str) -> None:
+        """A texture's coordinates input connected to nothing (the red team's B2-B4: every point then samples the
+        texel at (0, 0), and nothing said so)."""
+        self.asset.observe("dangling_reference", self.location(prim.GetPath(), name), attribute=f"inputs:{name}",
+                           target=target, ends=f"is dangling ({reason}): the texture samples one texel everywhere")
 
     def varname(self, reader) -> str | None:
         """The primvar a UsdPrimvarReader reads: its ``varname``, or the value of the Material
