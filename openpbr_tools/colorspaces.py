@@ -242,3 +242,32 @@ def from_lin_rec709(rgb, colorspace: str | None):
     elif isinstance(transfer, dict):
         values = np.sign(values) * np.abs(values) ** (1.0 / transfer["gamma"])
     return np.asarray(values, dtype=np.float64)
+
+
+#: Linear Rec.709's luminance weights (ITU-R BT.709-6, item 3.2), by which :func:`into_gamut` keeps a colour's luminance.
+REC709_LUMINANCE = (0.2126, 0.7152, 0.0722)
+#: How far :func:`into_gamut` may pull a colour towards its grey, in steps (0: the colour clipped as it is).
+GAMUT_STEPS = 20
+
+
+def into_gamut(rgb, low: float = 0.0, high: float | None = 1.0) -> tuple[float, ...]:
+    """A linear Rec.709 colour brought inside [``low``, ``high``] per channel (``high`` None: no upper bound, an
+    emission's), where a target's file can hold only that: of the colours on the way from ``rgb`` to the grey of its
+    luminance (clipped into the range itself), each clipped, the one closest to ``rgb`` in CIEDE2000. Clipping alone
+    adds light and turns the hue where a wide-gamut colour (an ACEScg or Display P3 document's) is negative in
+    Rec.709; a little desaturation first keeps both (its luminance in the weights :data:`REC709_LUMINANCE`). A colour
+    already inside is returned as it is."""
+    import numpy as np  # lazy: as in to_lin_rec709
+
+    from .evaluate.difference import delta_e_2000  # lazy: colour-science is imported only for a colour outside
+
+    colour = np.asarray(rgb, dtype=np.float64)
+    top = np.inf if high is None else high
+    if colour.shape != (3,) or not np.all(np.isfinite(colour)) or (np.all(colour >= low) and np.all(colour <= top)):
+        return tuple(float(c) for c in colour)
+    grey = float(np.clip(colour @ np.asarray(REC709_LUMINANCE), low, top))
+    steps = np.linspace(1.0, 0.0, GAMUT_STEPS + 1)[:, None]
+    candidates = np.clip(grey + steps * (colour - grey), low, top)
+    white = max(1.0, float(np.max(np.abs(colour))))
+    differences = delta_e_2000(np.broadcast_to(colour, candidates.shape), candidates, white)
+    return tuple(float(c) for c in candidates[int(np.argmin(differences))])

@@ -382,3 +382,68 @@ def test_json_named_glb_is_read_as_json(tmp_path):
     path.write_text(json.dumps(document), encoding="utf-8")
     codes = _codes(path)
     assert ("OPBR301", "error") in codes and not any(code == "OPBR002" for code, _ in codes)
+
+
+# -- set D (the second round) ------------------------------------------------------------------------------------
+
+def test_a_rotation_in_radians_is_read_in_degrees(tmp_path):
+    """place2d's rotate is in degrees; an input of unit="radian" is converted by MaterialX's unit system, so 1.5708
+    radians is 90 degrees: no OPBR719 ("90 degrees written in radians?"), and a glTF output rotates by pi / 2."""
+    import math
+
+    Image.new("RGB", (4, 4), (200, 100, 50)).save(tmp_path / "albedo.png")
+    path = tmp_path / "m.mtlx"
+    path.write_text("""<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <texcoord name="tc" type="vector2" />
+  <place2d name="p2d" type="vector2">
+    <input name="texcoord" type="vector2" nodename="tc" />
+    <input name="rotate" type="float" value="1.5708" unittype="angle" unit="radian" />
+  </place2d>
+  <image name="img" type="color3">
+    <input name="file" type="filename" value="albedo.png" colorspace="srgb_texture" />
+    <input name="texcoord" type="vector2" nodename="p2d" />
+  </image>
+  <open_pbr_surface name="S" type="surfaceshader">
+    <input name="base_color" type="color3" nodename="img" />
+  </open_pbr_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="S" />
+  </surfacematerial>
+</materialx>
+""")
+    assert not any(code == "OPBR719" for code, _ in _codes(path))
+    assert read_asset(str(path)).materials[0].inputs["base_color"].texture.uv.rotate == pytest.approx(90.0, abs=1e-3)
+
+
+_PREVIEW_TEXTURED = """            token outputs:surface.connect = </Root/Looks/Mat/Preview.outputs:surface>
+            def Shader "Preview"
+            {{
+                uniform token info:id = "UsdPreviewSurface"
+                color3f inputs:diffuseColor.connect = </Root/Looks/Mat/Tex.outputs:rgb>
+                token outputs:surface
+            }}
+            def Shader "Tex"
+            {{
+                uniform token info:id = "UsdUVTexture"
+{file}
+                float2 inputs:st.connect = </Root/Looks/Mat/Reader.outputs:result>
+                float3 outputs:rgb
+            }}
+""" + _READER.format(type="float2", suffix="").replace("{", "{{").replace("}", "}}")
+
+
+def test_usd_core_errors_are_errors_here_too(tmp_path):
+    """usd-core reports, as errors: a texture file that does not resolve at a time sample (the readers read the
+    default's), and a UsdUVTexture fallback of another shape than its float4 declaration. They were OPBR1010
+    warnings (exit 0)."""
+    Image.new("RGB", (4, 4), (64, 128, 200)).save(tmp_path / "albedo.png")
+    sampled = ('                asset inputs:file = @./albedo.png@\n'
+               '                asset inputs:file.timeSamples = {\n                    1: @./albedo.png@,\n'
+               '                    2: @./albedo_v002.png@,\n                }')
+    path = tmp_path / "t.usda"
+    path.write_text(_STAGE.format(body=_PREVIEW_TEXTURED.format(file=sampled)))
+    assert ("OPBR701", "error") in _codes(path)
+    fallback = '                asset inputs:file = @./albedo.png@\n                float3 inputs:fallback = (1, 0, 1)'
+    path.write_text(_STAGE.format(body=_PREVIEW_TEXTURED.format(file=fallback)))
+    assert ("OPBR201", "error") in _codes(path)

@@ -39,6 +39,7 @@ from __future__ import annotations
 
 import difflib
 import io
+import os
 import re
 
 from ..diagnostics import Severity
@@ -56,13 +57,16 @@ from . import Rule, for_each_input
 from .ranges import ENUM_VALUE
 from .document import NOT_MATERIALX
 from .structure import NO_SHADER
+from .textures import MISSING_TEXTURE
 from .units import LENGTH_WITHOUT_UNIT
+from .values import TYPE_MISMATCH
 from .usd_colorspaces import COLORSPACE_SCHEME, REMAPPED_NAME, colorspace_name, colour_managed_textures, colour_policies
 from .usd_examples import openpbr_example
 
 MISSING_SHADER_ID = Rule(
     "OPBR1001", "usd-missing-shader-id", Severity.ERROR,
-    "A USD Shader prim has no info:id (and no sourceAsset or sourceCode implementation).",
+    "A USD Shader prim has no info:id (and no sourceAsset or sourceCode implementation, or a sourceAsset that does "
+    "not resolve).",
     "Without info:id no renderer knows which node the prim is: a surface shader without one renders "
     "as the fallback material, a texture node without one as its input's default. usd-core's "
     "validators do not report it.",
@@ -538,6 +542,37 @@ _SOURCE_TYPE = re.compile(r"sourceType '([^']*)'")
 _DEPENDENCY = re.compile(r"unresolvable external dependency '([^']*)'")
 
 
+_IMAGE_FILE = re.compile(r"\.(png|jpe?g|exr|hdr|tiff?|tx|tga|bmp|gif|webp|ktx2?|dds|psd)$", re.IGNORECASE)
+_SHADER_SOURCE = re.compile(r"\.(glslfx|osl|oso)$", re.IGNORECASE)  # (not MDL: a renderer's module search path)
+_TYPES = re.compile(r"Expected '([^']+)'; got '([^']+)'")
+
+
+def _as_rule(finding: dict):
+    """The rule that says what a usd-core error means for the materials (the red team's D3-D5: an error of the anchor
+    must not be a warning here): an image that does not resolve (a time sample's file, which the readers do not
+    follow) is a missing texture, OPBR701; a shader's source file that does not resolve leaves it without a
+    definition, OPBR1001; a value of another shape than its declaration (float3 for UsdUVTexture's float4 fallback),
+    OPBR201. Else None."""
+    found = _DEPENDENCY.search(finding["message"]) if finding["name"] == "UnresolvableDependency" else None
+    if found is not None:
+        return MISSING_TEXTURE if _IMAGE_FILE.search(found.group(1)) else \
+            MISSING_SHADER_ID if _SHADER_SOURCE.search(found.group(1)) else None
+    types = _TYPES.search(finding["message"]) if finding["name"] == "MismatchedPropertyType" else None
+    if types is not None and _width(types.group(1)) != _width(types.group(2)):
+        return TYPE_MISMATCH
+    return None
+
+
+def _width(usd_type: str) -> int:
+    """How many numbers a USD value type holds (float3, color3f, texCoord2f: 3 or 2; float, int64, token: 1; matrix4d:
+    16); an array's, per element."""
+    name = usd_type.removesuffix("[]").lower()
+    if name.startswith("matrix"):
+        return int(name[6]) ** 2 if name[6:7].isdigit() else 1
+    found = re.search(r"(\d)[a-z]*$", name) if not re.search(r"int64$|int$|uint$", name) else None
+    return int(found.group(1)) if found else 1
+
+
 def _environmental(finding: dict) -> bool:
     """A usd-core finding about the machine rather than the file: a shader's sourceType (mdl, osl) for which this
     usd-core has no parser plugin (pip's knows glslfx and USD's own definitions), or an MDL module named without a folder
@@ -589,6 +624,9 @@ def _usd_core(asset, context):
         if name in ("UnresolvableDependency", "InvalidFile") and any(
                 f"@{file}@" in finding["message"] or f"'{file}'" in finding["message"] for file in texture_files):
             continue  # OPBR701 reports missing textures
+        dependency = _DEPENDENCY.search(finding["message"]) if name == "UnresolvableDependency" else None
+        if dependency and os.path.basename(dependency.group(1)) in {os.path.basename(f) for f in texture_files}:
+            continue  # (the same texture, which usd-core names as it resolved it: OPBR701/OPBR704 report it)
         site = sites[0] if sites else ""
         prim, _, attribute = site.partition(".")
         validator = finding["identifier"].rsplit(":", 1)[-1].split(".")[0]
@@ -600,7 +638,7 @@ def _usd_core(asset, context):
         elif finding["severity"] == "error":  # usd-core's errors where the stage then renders wrong: as the anchor says
             binding = validator in BINDING_VALIDATORS or (validator == "SubsetsMaterialBindFamily" and finding.get("authored"))
             rule = (USD_CORE_BINDING if binding else PACKAGE_ENTRY if validator in PACKAGE_VALIDATORS
-                    else NOT_MATERIALX if validator in COMPOSITION_VALIDATORS else USD_CORE)
+                    else NOT_MATERIALX if validator in COMPOSITION_VALIDATORS else _as_rule(finding) or USD_CORE)
         yield context.diagnostic(
             rule, f"usd-core {finding['identifier']}: {finding['message']}",
             Location(asset.path, None, prim or None, (attribute.removeprefix("inputs:")) or None),

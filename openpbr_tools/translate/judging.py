@@ -11,6 +11,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from .. import colorspaces
 from ..model import Constant, Material
 
 RIG_SIZE = 16  # pixels of the evaluator's sphere for the candidate search
@@ -73,20 +74,27 @@ class Judge:
 
 
 #: Per target, the colours its files hold in linear Rec.709 within [0, 1] whatever the document's space
-#: (glTF's writer converts and clamps them; its emissive goes past 1 into emissiveStrength).
+#: (glTF's writer converts them and brings them inside: colorspaces.into_gamut), and those it holds at or above 0
+#: (its emissive goes past 1 into emissiveStrength).
 CLAMPED_IN_FILE = {"gltf_pbr": ("base_color", "sheen_color", "attenuation_color")}
+NON_NEGATIVE_IN_FILE = {"gltf_pbr": ("emissive",)}
 
 
 def as_written(material: Material) -> dict:
-    """The resolved values of ``material`` as its file will hold them (:data:`CLAMPED_IN_FILE`): a
-    wide-gamut colour the glTF writer clamps is judged clamped (a gold whose graphs' result scored 0.22
-    unclamped measured 1.42 in the file)."""
+    """The resolved values of ``material`` as its file will hold them (:data:`CLAMPED_IN_FILE`,
+    :data:`NON_NEGATIVE_IN_FILE`): a wide-gamut colour the glTF writer brings inside glTF's range is judged so (a gold
+    whose graphs' result scored 0.22 unclamped measured 1.42 in the file; an ACEScg emission, 17 mean CIEDE2000 off
+    in its file, was judged as it was)."""
     from ..evaluate import resolve  # lazy: as in Judge
 
     values = resolve(material).values
-    for name in CLAMPED_IN_FILE.get(material.model, ()):
-        if name in values:
-            values[name] = np.clip(np.asarray(values[name], dtype=float), 0.0, 1.0)
+    for names, high in ((CLAMPED_IN_FILE, 1.0), (NON_NEGATIVE_IN_FILE, None)):
+        for name in names.get(material.model, ()):
+            value = np.asarray(values[name], dtype=float) if name in values else None
+            if value is not None and value.shape == (3,):
+                values[name] = np.asarray(colorspaces.into_gamut(value, high=high))
+            elif value is not None:  # (per texel: clipped)
+                values[name] = np.clip(value, 0.0, np.inf if high is None else high)
     return values
 
 

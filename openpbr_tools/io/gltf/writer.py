@@ -227,6 +227,8 @@ class _MaterialWriter(TextureWriting, DraftWriting):
         lows = parameter.hard_min if isinstance(parameter.hard_min, tuple) else (parameter.hard_min,) * count
         highs = parameter.hard_max if isinstance(parameter.hard_max, tuple) else (parameter.hard_max,) * count
         fixed = clamp(value, lows, highs)
+        if parameter.type == "color3" and count == 3 and set(lows) == {0.0} and set(highs) == {1.0} and fixed != value:
+            fixed = list(colorspaces.into_gamut(value))  # (a wide-gamut colour: its hue and lightness kept)
         moved = max(abs(a - b) for a, b in zip(fixed if isinstance(fixed, list) else [fixed],
                                                 value if isinstance(value, list) else [value]))
         if moved > ROUNDING:  # (a colour taken through a document's colour space and back lands 1e-16 past 1)
@@ -260,7 +262,7 @@ class _MaterialWriter(TextureWriting, DraftWriting):
         KHR_materials_emissive_strength (the product is what renders)."""
         factor = self.out.get("emissiveFactor")
         if factor and min(factor) < 0.0:  # an emission colour outside Rec.709's gamut (from acescg, P3)
-            clipped = [max(c, 0.0) for c in factor]
+            clipped = list(colorspaces.into_gamut(factor, high=None))
             self.note(NOT_CARRIED, f"emissiveFactor {factor} is outside glTF's range (negative in linear Rec.709); "
                                    f"clamped to {clipped}", "emissive")
             self.out["emissiveFactor"] = factor = clipped

@@ -399,7 +399,10 @@ class GraphFollower:
             transform.pivot = _vector2(place.getInput("pivot")) or transform.pivot
             rotate = _number(place.getInput("rotate"))
             if rotate is not None:  # (text MaterialX cannot parse, "-nan(ind)": its default, 0, as MaterialX reads it)
-                transform.rotate = rotate
+                # place2d's rotate is in degrees (its nodedef's unit); MaterialX converts an input in radians (the
+                # red team's D1: read as degrees, 1.5708 radians was a rotation of 1.57 degrees, and OPBR719 fired)
+                radians = place.getInput("rotate").getUnit() == "radian"
+                transform.rotate = math.degrees(rotate) if radians else rotate
             texcoord = place.getInput("texcoord")
             place = self.upstream_node(texcoord) if texcoord is not None else None
         if place is not None and place.getCategory() == "texcoord":
