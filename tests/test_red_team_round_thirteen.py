@@ -389,8 +389,6 @@ def test_json_named_glb_is_read_as_json(tmp_path):
 def test_a_rotation_in_radians_is_read_in_degrees(tmp_path):
     """place2d's rotate is in degrees; an input of unit="radian" is converted by MaterialX's unit system, so 1.5708
     radians is 90 degrees: no OPBR719 ("90 degrees written in radians?"), and a glTF output rotates by pi / 2."""
-    import math
-
     Image.new("RGB", (4, 4), (200, 100, 50)).save(tmp_path / "albedo.png")
     path = tmp_path / "m.mtlx"
     path.write_text("""<?xml version="1.0"?>
@@ -447,3 +445,61 @@ def test_usd_core_errors_are_errors_here_too(tmp_path):
     fallback = '                asset inputs:file = @./albedo.png@\n                float3 inputs:fallback = (1, 0, 1)'
     path.write_text(_STAGE.format(body=_PREVIEW_TEXTURED.format(file=fallback)))
     assert ("OPBR201", "error") in _codes(path)
+
+
+# -- set C (conversion fidelity on published assets) -------------------------------------------------------------
+
+def test_a_textured_preview_emission_keeps_its_brightness_per_texel_in_gltf(tmp_path):
+    """usd-wg's McUsd lava: a UsdPreviewSurface emissiveColor texture goes through OpenPBR as a colour and a luminance
+    per texel; glTF's emissive_strength holds one value, so its mean was written and the texture held the colours
+    normalised (7.16 mean CIEDE2000). An 8-bit texture fits glTF as it is: its texels come back, no strength."""
+    body = _PREVIEW.format(more="", space="sRGB", st="Reader.outputs:result",
+                           nodes=_READER.format(type="float2", suffix="")).replace(
+        "color3f inputs:diffuseColor.connect = </Root/Looks/Mat/Tex.outputs:rgb>",
+        "color3f inputs:emissiveColor.connect = </Root/Looks/Mat/Tex.outputs:rgb>\n"
+        "                color3f inputs:diffuseColor = (0, 0, 0)")
+    path = tmp_path / "e.usda"
+    path.write_text(_STAGE.format(body=body))
+    image = Image.new("RGB", (4, 4))
+    image.putdata([(255, 40, 0), (40, 10, 0), (200, 120, 30), (5, 5, 5)] * 4)
+    image.save(tmp_path / "albedo.png")
+    convert_file(str(path), str(tmp_path / "out.gltf"), None, Settings())
+    material = json.loads((tmp_path / "out.gltf").read_text())["materials"][0]
+    assert material.get("extensions", {}).get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1.0) == 1.0
+    written = json.loads((tmp_path / "out.gltf").read_text())
+    uri = written["images"][written["textures"][material["emissiveTexture"]["index"]]["source"]]["uri"]
+    texels = list(Image.open(tmp_path / uri).convert("RGB").getdata())
+    for got, wanted in zip(texels, image.getdata()):
+        assert got == pytest.approx(wanted, abs=2)
+
+
+def test_a_preview_ior_below_one_becomes_its_reciprocal(tmp_path):
+    """The preview's Fresnel F0 = ((n - 1) / (n + 1))^2 is the same for n and 1 / n (0.5 and 2: 1/9); OpenPBR's IOR
+    below 1 is a medium denser outside. OpenUSD's nativeClearcoat USD_Clearcoat_06 (ior 0.5, a clear coat) came out
+    as an OpenPBR coat and base of IOR 0.5, 14.4 mean CIEDE2000 off."""
+    more = "                float inputs:ior = 0.5\n                float inputs:clearcoat = 1"
+    path = _stage(tmp_path, more=more)
+    conversion = convert_file(str(path), str(tmp_path / "out.mtlx"), None, Settings())
+    material = conversion.materials[0]
+    coat = material.inputs["coat_ior"].value.value
+    assert ((coat - 1) / (coat + 1)) ** 2 == pytest.approx(((0.5 - 1) / (0.5 + 1)) ** 2)
+    assert coat > 1 and any("reciprocal" in d.message and d.location.input == "ior" for d in conversion.diagnostics)
+
+
+def test_fuzz_over_a_metal_is_said_to_vanish_in_standard_surface(tmp_path):
+    """Standard Surface's sheen lies over its dielectric base only (MaterialX's standard_surface.mtlx: sheen_layer is
+    on the dielectric side of metalness_mix): glTF's SheenChair fabric, a metal with sheen, had only the velvet fit's
+    note."""
+    from openpbr_tools.model import Constant, Input, Location, Material
+    from openpbr_tools import tables
+    from openpbr_tools.rules import Context
+    from openpbr_tools.translate.convert import convert
+
+    table = tables.table("open_pbr_surface")
+    where = Location("m.mtlx", 1, "S")
+    values = {"base_metalness": 1.0, "fuzz_weight": 1.0, "fuzz_color": (1.0, 0.0, 0.75)}
+    source = Material("S", "open_pbr_surface", where, {n: Input(n, table[n].type, Constant(v), where.with_input(n))
+                                                       for n, v in values.items()}, version=table.version)
+    notes = convert(source, "standard_surface", Settings(context=Context())).diagnostics
+    assert any(d.location.input == "fuzz_weight" and str(d.severity) == "warning" and "none of it shows" in d.message
+               for d in notes)

@@ -14,8 +14,9 @@ Exact:
     alpha_b = (1 - a) alpha_t give r_g = sqrt(alpha_b) and s = sqrt((alpha_t - alpha_b) / (1 - alpha_b));
   * the base colour of an opaque dielectric (``base_weight * base_color``: glTF has no base weight),
     and of an untinted metal of specular weight 1 (its F0 in both models);
-  * emission: colour normalised to glTF's [0, 1] factor with the rest moved to
-    KHR_materials_emissive_strength; ``emission_luminance`` / ``nits_per_unit``; under a coat, times
+  * emission: the radiance (``emission_color`` times ``emission_luminance`` / ``nits_per_unit``) as glTF's
+    emissive where at most 1, per texel; above 1, normalised to glTF's [0, 1] factor with the rest moved to
+    KHR_materials_emissive_strength (one value: a textured luminance above 1 gets its mean); under a coat, times
     what OpenPBR's coat does to emission (:func:`openpbr_tools.evaluate.coat.coat_emission_factor`;
     MaterialX's ``gltf_pbr`` adds its emission above the clearcoat, as this evaluator does; the
     KHR_materials_clearcoat text darkens it by the clearcoat's Fresnel, which a viewer following it
@@ -430,13 +431,20 @@ def _peak(color):
     return np.max(color, axis=-1, keepdims=True)
 
 
-def _emissive(color, luminance):
-    peak = _peak(color)
-    return np.where(peak > 1.0, color / np.where(peak > 1.0, peak, 1.0), color)
+def _emissive(radiance, luminance):
+    """glTF's emissiveFactor (or texture) for an emitted ``radiance`` (OpenPBR's colour times its luminance in units):
+    the radiance itself where it is at most 1, the per-texel brightness kept in the texture; divided by its peak
+    where brighter, the rest in KHR_materials_emissive_strength (:func:`_emissive_strength`). The luminance went into
+    the strength before session 26, which holds one value: a textured luminance (a UsdPreviewSurface's emissive
+    texture, split by the hub into colour and luminance) lost its brightness per texel (McUsd's lava: 7.16 mean
+    CIEDE2000, its texture back exactly now)."""
+    peak = _peak(radiance)
+    return np.where(peak > 1.0, radiance / np.where(peak > 1.0, peak, 1.0), radiance)
 
 
-def _emissive_strength(color, luminance, nits_per_unit=1.0):
-    return luminance / nits_per_unit * np.maximum(_peak(color), 1.0)
+def _emissive_strength(radiance, luminance, nits_per_unit=1.0):
+    """KHR_materials_emissive_strength: the radiance's peak where above 1, else 1 (:func:`_emissive`)."""
+    return np.maximum(_peak(radiance), 1.0)
 
 
 def _normalised(color):
@@ -619,11 +627,12 @@ def to_gltf_mappings(settings: Settings, specular_openpbr: bool = False,
         Mapping("iridescence_thickness", ("thin_film_thickness", "thin_film_weight"), lambda t, w: t * 1000.0,
                 when=lambda t, w: w > 0, converted="micrometres to nanometres"),
         Mapping("iridescence_ior", ("thin_film_ior", "thin_film_weight"), lambda n, w: n, when=lambda n, w: w > 0),
-        Mapping("emissive", EMISSION_UNDER_COAT, lambda c, l, w, cc, ci: _emissive(c * coat_emission_factor(cc, w, ci), l),
+        Mapping("emissive", EMISSION_UNDER_COAT,
+                lambda c, l, w, cc, ci: _emissive(c * coat_emission_factor(cc, w, ci) * (l / nits), l),
                 when=lambda c, l, *coat: l > 0, exact=False, matters=lambda c, l, w, *coat: l > 0 and w > 0,
                 note=COAT_EMISSION_NOTE),
         Mapping("emissive_strength", EMISSION_UNDER_COAT,
-                lambda c, l, w, cc, ci: _emissive_strength(c * coat_emission_factor(cc, w, ci), l, nits),
+                lambda c, l, w, cc, ci: _emissive_strength(c * coat_emission_factor(cc, w, ci) * (l / nits), l, nits),
                 when=lambda c, l, *coat: l > 0, converted=f"nits at {nits:g} nit(s) per unit"),
         Mapping("alpha", ("geometry_opacity",)),
         # A cut-out texture (every texel 0 or 1: a UsdPreviewSurface opacityThreshold read as OpenPBR, a leaf mask)

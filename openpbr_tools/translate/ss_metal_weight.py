@@ -39,7 +39,7 @@ import copy
 import numpy as np
 
 from ..model import Constant, Input, Material
-from ..rules.translation import CONVERTED
+from ..rules.translation import APPROXIMATED, CONVERTED
 from .common import Translation, Values
 
 #: Standard Surface's coat inputs the dimming writes, and what they are for a coat that only tints
@@ -116,3 +116,24 @@ def _at_default(values: Values, name: str) -> bool:
     value, default = values.constant(name), values.table[name].default
     return value is not None and np.allclose(np.asarray(value, dtype=np.float64), np.asarray(default, dtype=np.float64))
 
+
+
+def fuzz_over_metal(translation: Translation, source: Material, values: Values, context, label: str) -> Translation:
+    """``translation`` with a warning at ``fuzz_weight`` where the fuzz lies over metal: Standard Surface layers its
+    sheen over the dielectric base only (MaterialX's standard_surface.mtlx: ``sheen_layer`` is beneath
+    ``metalness_mix``'s dielectric side), so on a base of metalness m only (1 - m) of it shows (the red team's C4:
+    glTF's SheenChair fabric, a metal with sheen, came out 15.3 mean CIEDE2000 off with a note that implied the sheen
+    was kept; MaterialX's GLSL renders the written sheen as nothing)."""
+    if not (values.is_constant("fuzz_weight") and values.is_constant("base_metalness")):
+        return translation
+    fuzz = float(np.asarray(values.constant("fuzz_weight"), dtype=np.float64).reshape(-1)[0])
+    metalness = float(np.asarray(values.constant("base_metalness"), dtype=np.float64).reshape(-1)[0])
+    if not (fuzz > 0.0 and metalness > 0.0):
+        return translation
+    entry = source.inputs.get("fuzz_weight")
+    shown = "none of it shows" if metalness >= 1.0 else f"only {1.0 - metalness:.0%} of it shows"
+    translation.diagnostics.append(context.diagnostic(APPROXIMATED, (
+        f"{source.name} ({label}): fuzz_weight: Standard Surface's sheen lies over its dielectric base only, not over "
+        f"its metal: at base_metalness {metalness:g} {shown}"),
+        entry.location if entry is not None else source.location.with_input("fuzz_weight")))
+    return translation

@@ -575,10 +575,12 @@ def openpbr_to_standard_surface(material: Material, settings: Settings | None = 
     values = Values(material, tables.table_known(material.model, material.version))
     tint = ss_metal_weight.coat_tint(material, values) if settings.metal_weight_tint else None
     if tint is None:
-        return translate(material, "standard_surface", _emission(TO_SS, settings, True), DROPPED_TO_SS, settings, label)
-    translation = translate(ss_metal_weight.undimmed(material), "standard_surface", _emission(TO_SS, settings, True),
-                            DROPPED_TO_SS, settings, label)
-    return ss_metal_weight.dimmed(translation, material, values, tint, settings.context, label)
+        translation = translate(material, "standard_surface", _emission(TO_SS, settings, True), DROPPED_TO_SS, settings,
+                                label)
+    else:
+        translation = ss_metal_weight.dimmed(translate(ss_metal_weight.undimmed(material), "standard_surface", _emission(
+            TO_SS, settings, True), DROPPED_TO_SS, settings, label), material, values, tint, settings.context, label)
+    return ss_metal_weight.fuzz_over_metal(translation, material, values, settings.context, label)
 
 
 def standard_surface_to_openpbr(material: Material, settings: Settings | None = None) -> Translation:

@@ -124,6 +124,19 @@ SPLIT_NOTE = ("the specular workflow's F0 colour and diffuse colour become a met
               "dielectric F0 the specular colour's smallest channel; exact for a grey specular colour)")
 
 
+#: What the preview -> OpenPBR mappings say of an ior below 1 (the red team's C2: OpenUSD's nativeClearcoat with ior
+#: 0.5 became an OpenPBR coat and base of IOR 0.5, 14.4 mean CIEDE2000 off; with the reciprocal 0.29)
+BELOW_ONE = ("an ior below 1 is written as its reciprocal, which has the same F0: the preview's Fresnel is the same "
+             "for n and 1 / n, OpenPBR's below 1 is a medium denser outside (a bubble)")
+
+
+def _reciprocal_below_one(ior):
+    """1 / n for an IOR in (0, 1), else n."""
+    ior = np.asarray(ior, dtype=np.float64)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where((ior > 0.0) & (ior < 1.0), 1.0 / np.where(ior > 0.0, ior, 1.0), ior)
+
+
 def _metalness(metallic, workflow, diffuse, specular):
     """OpenPBR's metalness: the preview's in the metallic workflow, the split's in the specular one."""
     split_metalness, _, _ = specular_workflow.split(diffuse, specular, SPECULAR_STRENGTH)
@@ -230,6 +243,7 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
         # relative to its coat, whose IOR is the preview's ior.
         dielectric_f0 = specular_workflow.split(diffuse, specular, SPECULAR_STRENGTH)[2] if split else \
             np.sum(specular * REC709_LUMINANCE, axis=-1, keepdims=True)
+        ior = _reciprocal_below_one(ior)
         relative = np.where(workflow >= 1, ior_from_f0(dielectric_f0), ior)
         return fit.specular_ior_for_relative_ior(relative, ior, clearcoat)
 
@@ -276,8 +290,9 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
         Mapping("base_metalness", ("specularColor", "diffuseColor", "metallic", "useSpecularWorkflow"), metalness,
                 exact=False, matters=lambda s, d, m, w: split and w >= 1 and _coloured(s), note=SPLIT_NOTE),
         Mapping("specular_roughness", ("roughness",)),
-        Mapping("specular_ior", ("useSpecularWorkflow", "specularColor", "diffuseColor", "ior", "clearcoat"), specular_ior,
-                exact=False, matters=lambda w, s, d, i, c: w >= 1 or c > 0, site="specularColor",
+        Mapping("specular_ior", ("ior", "useSpecularWorkflow", "specularColor", "diffuseColor", "clearcoat"),
+                lambda i, w, s, d, c: specular_ior(w, s, d, i, c), converted=BELOW_ONE,
+                exact=False, matters=lambda i, w, s, d, c: w >= 1 or c > 0, site="specularColor",
                 note="the base's F0 (specular workflow: " + ("the F0 of the dielectric share, the specular colour's "
                      "smallest channel; the dielectric's Fresnel curve is not quite Schlick's" if split else
                      "the F0 colour's luminance, with a tint") + ") is OpenPBR's base relative to the clear coat, whose "
@@ -285,8 +300,8 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
         *(() if split else (Mapping("specular_color", ("useSpecularWorkflow", "specularColor"), specular_tint),)),
         Mapping("coat_weight", ("clearcoat",)),
         Mapping("coat_roughness", ("clearcoatRoughness",)),
-        Mapping("coat_ior", ("ior", "clearcoat"), lambda n, c: n, when=lambda n, c: c > 0,
-                converted="the preview's clear coat has the preview's ior"),
+        Mapping("coat_ior", ("ior", "clearcoat"), lambda n, c: _reciprocal_below_one(n), when=lambda n, c: c > 0,
+                converted="the preview's clear coat has the preview's ior; " + BELOW_ONE),
         Mapping("coat_darkening", ("clearcoat",), lambda c: 0.0, when=lambda c: c > 0,
                 converted="the preview does not darken under its clear coat"),
         Mapping("emission_color", ("emissiveColor", "clearcoat", "ior"),
