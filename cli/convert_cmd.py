@@ -136,7 +136,8 @@ def convert(inputs, output, batch_format, target, mesh, gltf_drafts, nits_per_un
         except Exception as error:  # noqa: BLE001 - as above; the output is written, its verification is not
             _internal_error(input_path, "verifying", error, result.diagnostics, len(result.pairs), output_format)
         if max_delta_e is not None:
-            too_far = sorted({display_name(source) for source, c in measured if c.worst.exceeds(max_delta_e)})
+            too_far = sorted({display_name(source) for source, c in measured if c.worst.exceeds(max_delta_e)
+                              and not c.unread})  # (not measured: verification.verify says why)
         read = files_read(result.asset)
         if delta_e_images:
             write_delta_e_images(delta_e_images, [(display_name(source), c) for source, c in measured], [input_path], read)

@@ -503,3 +503,34 @@ def test_fuzz_over_a_metal_is_said_to_vanish_in_standard_surface(tmp_path):
     notes = convert(source, "standard_surface", Settings(context=Context())).diagnostics
     assert any(d.location.input == "fuzz_weight" and str(d.severity) == "warning" and "none of it shows" in d.message
                for d in notes)
+
+
+def test_verify_does_not_blame_a_conversion_for_textures_it_could_not_read(tmp_path):
+    """A texture outside the asset's folder (MaterialX's examples name ../../../Images) is read by neither side
+    without --allow-outside: each renders its fallback, and a correct conversion was reported as OPBR1109, 22-29
+    mean CIEDE2000 off (the red team's C6). The figure is now an info that says it measures nothing."""
+    from openpbr_tools.verification import verify
+
+    (tmp_path / "images").mkdir()
+    Image.new("RGB", (4, 4), (30, 200, 40)).save(tmp_path / "images" / "albedo.png")
+    (tmp_path / "asset").mkdir()
+    path = tmp_path / "asset" / "m.mtlx"
+    path.write_text("""<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <image name="img" type="color3">
+    <input name="file" type="filename" value="../images/albedo.png" colorspace="srgb_texture" />
+  </image>
+  <open_pbr_surface name="S" type="surfaceshader">
+    <input name="base_color" type="color3" nodename="img" />
+  </open_pbr_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="S" />
+  </surfacematerial>
+</materialx>
+""")
+    conversion = convert_file(str(path), str(tmp_path / "asset" / "out.mtlx"), "UsdPreviewSurface", Settings())
+    notes = verify(conversion, 0.0)
+    assert notes and all(d.code == "OPBR1108" and "not a measure of the conversion" in d.message for d in notes)
+    allowed = convert_file(str(path), str(tmp_path / "asset" / "out2.mtlx"), "UsdPreviewSurface", Settings(),
+                           allow_outside=(str(tmp_path / "images"),))
+    assert not any("not a measure" in d.message for d in verify(allowed))

@@ -98,6 +98,9 @@ class MaterialComparison:
     notes: list[str] = field(default_factory=list)
     swatch: DeltaE | None = None  # per texel on the texture-space swatch, when either side is textured
     views: list[View] = field(default_factory=list)  # kept when asked (images for reports)
+    # the inputs, "A name" or "B name", whose textures could not be read (missing, outside the folders allowed): each
+    # rendered at its fallback, so the figures say nothing of the conversion there
+    unread: list[str] = field(default_factory=list)
 
     @property
     def worst(self) -> DeltaE:
@@ -113,6 +116,7 @@ class MaterialComparison:
             "preview": self.preview.as_dict(),
             "albedo": self.albedo.as_dict(),
             "notes": list(self.notes),
+            "unread": list(self.unread),
         }
         if self.swatch is not None:
             out["swatch"] = self.swatch.as_dict()
@@ -167,8 +171,9 @@ def compare_materials(material_a, material_b, rig: Rig = Rig(), sampler=None, ke
     albedo = compare_albedo(albedo_a[0] + albedo_a[1], albedo_b[0] + albedo_b[1])
     notes = [f"A {material_a.name}: {n}" for n in dict.fromkeys(notes_a)]
     notes += [f"B {material_b.name}: {n}" for n in dict.fromkeys(notes_b)]
+    unread = [f"A {name}" for name in sorted(resolved_a.why_not)] + [f"B {name}" for name in sorted(resolved_b.why_not)]
     return MaterialComparison(material_a.name, material_b.name, material_a.model, material_b.model,
-                              summarize(sphere_map[mask]), albedo, notes, swatch_delta, views)
+                              summarize(sphere_map[mask]), albedo, notes, swatch_delta, views, unread)
 
 
 def _delta_map(image_a, image_b, mask, white: float) -> np.ndarray:
