@@ -151,8 +151,11 @@ class GltfPbr(BSDFModel):
             0.0,
             np.zeros(3),
         )
+        # KHR_materials_iridescence replaces the Fresnel of fresnel_mix, whose base is the transmission: what the film
+        # reflects is not transmitted (a clear, thin-walled soap bubble reflects and transmits all it receives)
         _, trans = closures.dielectric_interface(
-            wi, wo, inside, ax, ay, f["ior"], thin_walled=self.thin_walled, energy_compensation=self.energy_compensation
+            wi, wo, inside, ax, ay, f["ior"], thin_walled=self.thin_walled, energy_compensation=self.energy_compensation,
+            thin_film=self.film,
         )
         trans = trans.scaled(base_colour * as_colour(w_t))
         return add(mix(opaque, spec_only, as_colour(w_t)), trans)

@@ -106,8 +106,10 @@ class StandardSurface(BSDFModel):
         w_t = f["transmission"]
         if any_nonzero(w_t):
             tx, ty = self.alpha_t
+            # (MaterialX's standard_surface.mtlx layers the filmed specular_bsdf over transmission_bsdf: what the
+            # film reflects is not transmitted, so a clear, thin-walled soap bubble reflects and transmits all)
             _, transmission = closures.dielectric_interface(
-                wi_s, wo_s, inside, tx, ty, f["specular_IOR"], thin_walled=self.thin_walled
+                wi_s, wo_s, inside, tx, ty, f["specular_IOR"], thin_walled=self.thin_walled, thin_film=self.film
             )
             transmission = transmission.scaled(self.transmission_tint * as_colour(w_t))
             dielectric = add(layer(reflection, diffuse.scaled(as_colour(1.0 - w_t))), transmission)

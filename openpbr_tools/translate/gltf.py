@@ -280,16 +280,22 @@ def _coated_base(specular, metallic, ior, clearcoat, iridescence, coat_ior, tran
 SPECULAR_WEIGHT_SOURCES = ("specular", "metallic", "ior", "clearcoat", "iridescence")
 
 
-def hdr_specular_scale(specular_color, metallic):
-    """The factor a dielectric's KHR_materials_specular colour exceeds 1 by (its largest component; 1 for a
-    colour within [0, 1] and for a full metal, whose specular colour is OpenPBR's F82 tint), texel by texel.
-    glTF's F0 is min(F0(ior) * colour, 1) * specular; OpenPBR's specular_color is at most 1, and its
-    specular_weight scales F0 (through the IOR, MaterialX's open_pbr_surface.mtlx ``scaled_specular_F0``,
-    clamped below 1): the colour divided by this factor, and the weight multiplied by it, give glTF's F0
-    (exactly for a grey colour; a coloured one keeps its hue, where glTF clamps each channel at 1)."""
+def hdr_specular_scale(specular_color, metallic, whole=False):
+    """The largest component of a dielectric's KHR_materials_specular colour above 1 (``whole``: any
+    colour's), texel by texel (1 elsewhere, for a black colour and for a full metal, whose specular
+    colour is OpenPBR's F82 tint). glTF's F0 is
+    min(F0(ior) * colour, 1) * specular and its F90 ``specular``: the colour scales F0 only. OpenPBR's
+    specular_color tints the whole Fresnel curve, grazing edge included, and stops at 1; its
+    specular_weight scales F0 only (through the IOR, MaterialX's open_pbr_surface.mtlx
+    ``scaled_specular_F0``, clamped below 1). So the colour divided by this factor, and the weight
+    multiplied by it, give glTF's F0 with the least tint at the edge: exactly for a grey colour (a colour
+    of 0.21 renders 5.3 mean CIEDE2000 from glTF's in MaterialX's GLSL written as a tint, 2.1 folded into
+    the weight); a coloured one keeps its hue in the divided colour, which still tints the edge, where
+    glTF clamps each channel at 1. A colour the toolkit wrote is OpenPBR's own tint (``whole`` False:
+    only its excess over 1 is folded), so that OpenPBR -> glTF -> OpenPBR gives back the source."""
     colour = np.asarray(specular_color, dtype=float)  # (3,), or (H, W, 3) beside floats (H, W, 1) when baked
     largest = np.max(colour, axis=-1, keepdims=colour.ndim > 1) if colour.ndim else colour
-    return np.where((np.asarray(metallic, dtype=float) < 1) & (largest > 1), largest, 1.0)
+    return np.where((np.asarray(metallic, dtype=float) < 1) & (largest > (0.0 if whole else 1.0)), largest, 1.0)
 
 
 def gltf_ior(specular_ior):
@@ -676,17 +682,21 @@ DROPPED_TO_GLTF = (
 
 
 def from_gltf_mappings(settings: Settings, found: dict | None = None,
-                       coat_ior: float = GLTF_CLEARCOAT_IOR, hdr: bool = True) -> tuple[Mapping, ...]:
+                       coat_ior: float = GLTF_CLEARCOAT_IOR, hdr: bool = True,
+                       whole: bool = False) -> tuple[Mapping, ...]:
     """The glTF -> OpenPBR mappings; ``found``: the material's draft extensions (see
-    :func:`gltf_to_openpbr`), ``coat_ior``: KHR_materials_coat's IOR where it replaces clearcoat's."""
+    :func:`gltf_to_openpbr`), ``coat_ior``: KHR_materials_coat's IOR where it replaces clearcoat's,
+    ``whole``: every constant specular colour's largest component folds into the weight (a file another
+    tool wrote, :func:`hdr_specular_scale`)."""
     found = found or {}
-    # ``hdr``: a constant specular colour above 1 folds its excess into the weight (hdr_specular_scale); a
+    # ``hdr``: a constant specular colour folds its excess over 1 (``whole``: its largest component) into the
+    # weight (hdr_specular_scale); a
     # textured one is kept as MaterialX nodes (texture times factor), which OpenPBR renders above 1 as glTF does;
     # a draft's colour is OpenPBR's own
     fold = hdr and drafts.SPECULAR_OPENPBR not in found
 
     def scale(colour, metallic):
-        return hdr_specular_scale(colour, metallic) if fold else 1.0
+        return hdr_specular_scale(colour, metallic, whole) if fold else 1.0
     mpu = settings.meters_per_unit or 1.0
     nits = settings.nits_per_unit
     overridden = {target for name in found for target in DRAFT_TARGETS.get(name, ())}
@@ -713,7 +723,7 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
                     lambda s, m, n, w, f, t, c, b, r, a, d, k, ac: openpbr_metal_weight(
                         b, m, c, r, a, s, n, w, f, coat_ior=coat_ior, transmission=t, attenuation_distance=d, thickness=k,
                         attenuation_color=ac) * scale(c, m), exact=False,
-                    matters=lambda s, m, n, w, f, t, c, *_: m < 1 and (s != 1.0 or w > 0 or np.any(scale(c, m) > 1)),
+                    matters=lambda s, m, n, w, f, t, c, *_: m < 1 and (s != 1.0 or w > 0 or np.any(scale(c, m) != 1)),
                     note="KHR_materials_specular scales F0 and F90, OpenPBR's specular_weight F0 only (under a coat, of "
                          "the base relative to the coat): equal at normal incidence; a specular colour above 1 raises "
                          "the weight by its largest component",
@@ -755,9 +765,14 @@ def from_gltf_mappings(settings: Settings, found: dict | None = None,
         Mapping("base_metalness", ("metallic",)),
         Mapping("specular_color", ("specular_color",)) if not fold else
         Mapping("specular_color", ("specular_color", "metallic"),
-                lambda c, m: np.asarray(c, dtype=float) / hdr_specular_scale(c, m), exact=False,
-                matters=lambda c, m: bool(np.any(hdr_specular_scale(c, m) > 1)),
-                note="a colour above 1 (KHR_materials_specular allows one; OpenPBR's stops at 1) is divided by its "
+                lambda c, m: np.asarray(c, dtype=float) / hdr_specular_scale(c, m, whole), exact=False,
+                matters=lambda c, m: bool(np.any(np.asarray(m) < 1) and differs(c, WHITE)) if whole else
+                bool(np.any(hdr_specular_scale(c, m) > 1)),
+                note="glTF's specular colour scales F0 only, OpenPBR's tints the grazing edge too (and stops at 1): "
+                     "the colour is divided by its largest component, which multiplies specular_weight (OpenPBR's "
+                     "weight scales F0 as glTF's colour does, the same at normal incidence); the divided colour "
+                     "still tints the edge where it is not white" if whole else
+                     "a colour above 1 (KHR_materials_specular allows one; OpenPBR's stops at 1) is divided by its "
                      "largest component, which multiplies specular_weight: OpenPBR raises F0 by the weight as glTF "
                      "by the colour, the same at normal incidence; the grazing tint is the divided colour"),
         Mapping("transmission_weight", ("transmission",)),
@@ -933,7 +948,8 @@ def gltf_to_openpbr(material: Material, settings: Settings | None = None) -> Tra
     unlit = _unlit_as_emission(source, state)
     specular_glossiness = unlit is None and spec_gloss.state_of(material) is not None
     colour = material.inputs.get("specular_color")
-    mappings = from_gltf_mappings(settings, found, coat_ior, hdr=colour is None or isinstance(colour.value, Constant))
+    mappings = from_gltf_mappings(settings, found, coat_ior, hdr=colour is None or isinstance(colour.value, Constant),
+                                  whole=state.get("toolkit_written") is False)
     if specular_glossiness:  # read as a viewer of the extension does: not its metallic-roughness fallback
         source = spec_gloss.without_fallback(source)
         mappings = tuple(m for m in mappings if m.target not in spec_gloss.DECIDED)  # (spec_gloss.read's)

@@ -31,8 +31,8 @@ class ChannelSource:
     decode: str | None = None
     encode_srgb: bool = False
     rgb_channels: tuple[int, int, int] | None = None  # the image's RGB, when decode needs a triple
-    scale: float = 1.0  # value * scale + bias, after decoding (a data texture's affine map, which no glTF
-    bias: float = 0.0   # factor holds where there is a bias: 1 - glossiness as a roughness, say)
+    scale: float = 1.0  # value * scale + bias, after decoding (an affine map no glTF factor holds where there is
+    bias: float = 0.0   # a bias: 1 - glossiness as a roughness, a UsdUVTexture's bias on a linear colour)
 
 
 def pack(channels: list[ChannelSource | float], note: Callable[[str], None] | None = None, label: str = "") -> bytes:
@@ -60,6 +60,11 @@ def pack(channels: list[ChannelSource | float], note: Callable[[str], None] | No
             continue
         pixels = loaded[entry.image]
         plane = _channel(pixels, entry)
+        if note is not None and (entry.scale != 1.0 or entry.bias != 0.0):
+            outside = int(np.count_nonzero((plane < -0.5 / 255.0) | (plane > 1.0 + 0.5 / 255.0)))
+            if outside:
+                note(f"{label}: the texture's scale {entry.scale:g} and bias {entry.bias:g} take {outside} of "
+                     f"{plane.size} texels of channel {entry.channel} outside [0, 1], where the 8-bit PNG clips them")
         if plane.shape != (height, width):
             if note is not None:
                 note(f"{label}: a {plane.shape[1]} x {plane.shape[0]} source is resampled to {width} x {height}")
@@ -84,6 +89,9 @@ def _channel(pixels, source: ChannelSource):
         return pixels[:, :, channel] * source.scale + source.bias
     rgb = pixels[:, :, :3]
     linear = colorspaces.to_lin_rec709(rgb, source.decode) if source.decode else rgb
+    if source.scale != 1.0 or source.bias != 0.0:  # (a colour texture's scale and bias: on the linear colour)
+        linear = np.array(linear, dtype=np.float64)
+        linear[:, :, channel] = linear[:, :, channel] * source.scale + source.bias
     if source.encode_srgb:
         linear = colorspaces.from_lin_rec709(np.clip(linear, 0.0, None), "srgb_texture")
     return np.asarray(linear)[:, :, channel]

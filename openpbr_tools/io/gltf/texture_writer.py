@@ -96,8 +96,13 @@ class TextureWriting:
             return
         if slot.factor is None:
             return
-        if _affine(slot, texture) is not None:
-            return  # baked into the texels (bake_plan): the factor's default, 1
+        affine = _affine(slot, texture)
+        if affine is not None:  # baked into the texels (bake_plan): the factor's default, 1
+            if slot.colour:
+                self.note(CONVERTED, f"{slot.parameter}: texture scale {_listed(affine[0])} and bias {_listed(affine[1])} "
+                                     "(which no glTF factor holds) baked into its texels, on the linear colour",
+                          slot.parameter)
+            return
         if texture.bias not in (None, 0.0, (0.0, 0.0, 0.0)) and slot.texture_kind == "textureInfo":
             self.note(NOT_CARRIED, f"{slot.parameter}: texture bias {texture.bias} has no glTF equivalent; dropped", slot.parameter)
         scale = texture.scale
@@ -271,7 +276,13 @@ class TextureWriting:
             else:
                 picked = index if slot.channels in (None, (0, 1, 2)) else 0
             decode, encode = self.conversion(slot, texture.colorspace)
-            scale, bias = _affine(slot, texture) or _normal_remap(slot, texture, index) or (1.0, 0.0)
+            affine = _affine(slot, texture)
+            if slot.colour and affine is not None:  # scale and bias act on linear colour: decode, map, encode
+                scale, bias = affine[0][min(index, 2)], affine[1][min(index, 2)]
+                if decode is None and not encode:  # (texels already sRGB-encoded, as glTF holds them)
+                    decode, encode = slots.SRGB, True
+            else:
+                scale, bias = affine or _normal_remap(slot, texture, index) or (1.0, 0.0)
             return ChannelSource(source.image, picked, decode=decode, encode_srgb=encode, scale=scale, bias=bias)
 
         by_name = {s.parameter: s for s in members}
@@ -302,15 +313,25 @@ class TextureWriting:
         return [channel(slot, 0)]  # grey: R = G = B = the value
 
 
-def _affine(slot: slots.Slot, texture: Texture) -> tuple[float, float] | None:
-    """(scale, bias) of a one-channel data texture with a bias (a glossiness read as roughness: 1 - g), which
-    glTF's factor cannot hold and the baked texels do; None for the others (a colour's bias stays a note)."""
+def _affine(slot: slots.Slot, texture: Texture) -> tuple | None:
+    """(scale, bias) of a texture with a bias that glTF's factor cannot hold and the baked texels do: a
+    one-channel data texture's as floats (a glossiness read as roughness: 1 - g), a colour texture's per
+    channel as triples (a UsdUVTexture's bias on a diffuse colour, applied to the decoded, linear texels as
+    its renderers apply it); None for the others."""
     def single(value):  # (a one-channel value, or the same in every channel)
         return value[0] if isinstance(value, tuple) and len(set(value)) == 1 else value
 
+    if slot.texture_kind != "textureInfo" or slot.parameter == "iridescence_thickness":
+        return None
+    if slot.colour:
+        bias, scale = texture.bias, texture.scale
+        if bias is None or not any(float(b) != 0.0 for b in (bias if isinstance(bias, tuple) else (bias,))):
+            return None
+        triple = lambda v, default: tuple(float(x) for x in (v if isinstance(v, tuple) else (v,) * 3))[:3] \
+            if v is not None else (default,) * 3  # noqa: E731
+        return triple(scale, 1.0), triple(bias, 0.0)
     bias, scale = single(texture.bias), single(texture.scale)
-    if slot.colour or slot.texture_kind != "textureInfo" or slot.parameter == "iridescence_thickness" \
-            or not isinstance(bias, (int, float)) or bias == 0.0:
+    if not isinstance(bias, (int, float)) or bias == 0.0:
         return None
     if scale is not None and not isinstance(scale, (int, float)):
         return None
