@@ -10,6 +10,8 @@ from __future__ import annotations
 import os
 import tempfile
 
+from .workers import raise_if_stopped
+
 
 def default_mode() -> int:
     """The permissions a newly created file gets (0666 minus the umask); ``mkstemp`` creates 0600."""
@@ -29,6 +31,7 @@ def write_bytes(path: str | os.PathLike, data: bytes) -> None:
             stream.write(data)
             stream.flush()
             os.fsync(stream.fileno())
+        raise_if_stopped()  # (a pool worker SIGTERM reached: nothing is renamed into place)
         os.replace(temporary, target)
     except BaseException:
         try:

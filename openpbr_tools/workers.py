@@ -10,7 +10,10 @@ writes, holding the parent's stdout and stderr (a CI job reading them hung). Her
   started it), and ignore SIGINT (Ctrl-C reaches the whole process group: the parent decides);
 - in a worker, SIGTERM raises :class:`Stopped` inside the task, so a write in progress removes its
   temporary file (:mod:`openpbr_tools.atomic`, the writers' ``except BaseException``) and nothing is
-  renamed into place, and the worker then exits; between tasks it exits at once;
+  renamed into place, and the worker then exits; between tasks it exits at once. Where the signal lands
+  in code whose exceptions Python drops (a weakref callback such as importlib's module-lock ``cb``: "Exception
+  ignored in ...", printed with a traceback), the stop is remembered: the drop is silent, the next rename into
+  place raises :class:`Stopped` again (:func:`raise_if_stopped`), and the worker exits when the task ends;
 - :func:`interruptible` turns SIGTERM to the parent into :class:`SystemExit` (status 143, as a shell
   reports a process ended by SIGTERM) while the pool runs, and :func:`stop` terminates the workers and
   waits for them before the interrupt goes on.
@@ -33,12 +36,29 @@ class Stopped(BaseException):
 
 
 _in_task = False  # whether this worker is inside run_task (a write may be in progress)
+_stopping = False  # whether SIGTERM has reached this worker (its Stopped may have been dropped)
 
 
 def _on_terminate(signum, frame):
+    global _stopping
     if not _in_task:  # idle, waiting on the pool's queue: nothing to clean up, and no traceback to print
         os._exit(143)
+    _stopping = True
     raise Stopped()
+
+
+def raise_if_stopped() -> None:
+    """Raise :class:`Stopped` if this process is a worker that SIGTERM has reached: called before an output is
+    renamed into place, so a stop Python dropped (see the module docstring) still writes nothing."""
+    if _stopping:
+        raise Stopped()
+
+
+def _unraisable(unraisable) -> None:
+    """A worker's ``sys.unraisablehook``: a :class:`Stopped` Python dropped is remembered (``_stopping``), not
+    printed; anything else as Python reports it."""
+    if not isinstance(unraisable.exc_value, Stopped):
+        sys.__unraisablehook__(unraisable)
 
 
 def _start_worker(parent: int | None) -> None:
@@ -48,6 +68,7 @@ def _start_worker(parent: int | None) -> None:
     _parent = os.getppid() if parent is None else parent
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, _on_terminate)
+    sys.unraisablehook = _unraisable
     if sys.platform.startswith("linux"):
         try:
             import ctypes  # lazy: only a pool worker on Linux needs it
@@ -66,11 +87,14 @@ def run_task(work, argument):
         os._exit(1)
     _in_task = True
     try:
-        return work(argument)
+        result = work(argument)
     except Stopped:  # the writes in progress have removed their temporary files on the way here
         os._exit(1)
     finally:
         _in_task = False
+    if _stopping:  # stopped where the exception was dropped: the task went on, but ends here
+        os._exit(1)
+    return result
 
 
 def pool(jobs: int):

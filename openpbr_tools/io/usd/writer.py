@@ -36,6 +36,7 @@ from ...diagnostics import Diagnostic
 from ...model import Asset, Connection, Constant, Location, Material, Texture
 from ...resources import load_json
 from ...rules.translation import APPROXIMATED, NOT_CARRIED
+from ...workers import raise_if_stopped
 from ..image_files import damage
 from ..paths import Kind, PathGuard, classify
 from .reader import CUSTOM_DATA_VERSION_KEY
@@ -103,6 +104,7 @@ def write_usd(materials: list[Material], path: str, *, source: Asset | str | Non
             _package(temporary, layer_path, writer.packaged_files)
         else:
             stage.GetRootLayer().Export(temporary)
+        raise_if_stopped()  # (a pool worker SIGTERM reached: nothing is renamed into place)
         os.replace(temporary, path)
     except BaseException:
         if os.path.exists(temporary):
