@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import colorspaces
 from . import closures, microfacet
 from .coat import coat_absorption
 from .fresnel import artistic_ior, ior_to_f0
@@ -31,7 +32,6 @@ from .layering import BSDFModel, Scatter, add, any_nonzero, as_colour, layer, mi
 from .volume import absorption_coefficient
 
 ALPHA_FLOOR = 1e-4
-REC709_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 
 
 def roughness_anisotropy(roughness, anisotropy):
@@ -77,7 +77,7 @@ class StandardSurface(BSDFModel):
         self.transmission_tint = np.where(has_depth, 1.0, f["transmission_color"])
         if np.any(depth > 0.0):
             self.volume_absorption = absorption_coefficient(f["transmission_color"], depth, f["transmission_scatter"])
-        self.opacity = np.clip(np.sum(f["opacity"] * REC709_LUMINANCE, axis=-1), 0.0, 1.0)
+        self.opacity = np.clip(np.sum(f["opacity"] * np.asarray(colorspaces.REC709_LUMINANCE), axis=-1), 0.0, 1.0)
         self.film = None
         if np.any(f["thin_film_thickness"] > 0.0):
             self.film = (np.where(f["thin_film_thickness"] > 0.0, 1.0, 0.0), f["thin_film_thickness"], f["thin_film_IOR"])

@@ -414,9 +414,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
     def shown(name: str | None) -> str:  # where the report shows the note at ``name`` (a hub's: the source's input)
         if not name:
             return "the material"
-        entry = material.inputs.get(name)
-        at = entry.location.input if entry is not None and entry.location is not None and entry.location.input \
-            else name
+        at = located_input(material.inputs.get(name), name)
         return settings.hub_sites.get(at, at)
 
     start = len(folded)
@@ -505,6 +503,12 @@ def _companions(noted, mappings, values: Values, source_table, say, shown, resul
             how = {NOT_CARRIED: "not carried", APPROXIMATED: "approximated"}.get(rule, "converted")
             say(NOT_CARRIED if rule is NOT_CARRIED else CONVERTED,  # the loss's severity stands at its own note
                 f"{source}: folded into {mapping.target} with the other inputs ({how}: see the note at {shown(name)})", source)
+
+
+def located_input(entry: Input | None, name: str) -> str:
+    """The input name a note at ``entry`` (the input ``name``) stands at: its location's (a glTF property,
+    ``baseColorFactor``), else ``name``."""
+    return entry.location.input if entry is not None and entry.location is not None and entry.location.input else name
 
 
 def _off_default(name: str, values: Values, source_table) -> bool:

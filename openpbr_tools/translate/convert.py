@@ -14,7 +14,7 @@ from ..diagnostics import Diagnostic, Severity
 from ..model import Material
 from ..rules.translation import CONVERTED, NOT_CARRIED
 from . import spec_gloss
-from .common import Settings, Translation, Values, _off_default, unread_notes, with_folded_notes
+from .common import Settings, Translation, Values, _off_default, located_input, unread_notes, with_folded_notes
 from .gltf import gltf_to_openpbr, openpbr_to_gltf, unlit_restored, unlit_state
 from .standard_surface import openpbr_to_standard_surface, standard_surface_to_openpbr
 from .upgrade import upgrade
@@ -39,10 +39,7 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
     if material.model == target == "gltf_pbr" and state.get("drafts"):
         # a glTF material with draft extensions goes through OpenPBR (where the drafts' values live) and
         # comes back with them: they reference the source's textures, so they cannot be copied as JSON
-        step = _step(gltf_to_openpbr, material, settings)
-        back = _step(openpbr_to_gltf, step.material, dataclasses.replace(settings, gltf_drafts=True))
-        return Translation(back.material, step.diagnostics + back.diagnostics, material,
-                           mapping_only=step.mapping_only | back.mapping_only)
+        return _through_openpbr(material, settings, dataclasses.replace(settings, gltf_drafts=True))
     if material.model == target == "gltf_pbr" and settings.gltf_file and (restored := unlit_restored(material)):
         return Translation(restored, [settings.context.diagnostic(
             CONVERTED, f"{material.name}: the unlit reading (emission over a black base) is KHR_materials_unlit again",
@@ -51,16 +48,10 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
             (not settings.gltf_file or spec_gloss.textured(material)):
         # MaterialX's gltf_pbr has no specular-glossiness mode, and a glTF output cannot copy an extension that
         # references the source's textures: the extension read as OpenPBR, as metal-rough (textures per texel)
-        step = _step(gltf_to_openpbr, material, settings)
-        back = _step(openpbr_to_gltf, step.material, settings)
-        return Translation(back.material, step.diagnostics + back.diagnostics, material,
-                           mapping_only=step.mapping_only | back.mapping_only)
+        return _through_openpbr(material, settings)
     if material.model == target == "gltf_pbr" and unlit_state(state) and not settings.gltf_file:
         # MaterialX's gltf_pbr has no unlit mode: the unlit reading (emission over a black base) renders as one
-        step = _step(gltf_to_openpbr, material, settings)
-        back = _step(openpbr_to_gltf, step.material, settings)
-        return Translation(back.material, step.diagnostics + back.diagnostics, material,
-                           mapping_only=step.mapping_only | back.mapping_only)
+        return _through_openpbr(material, settings)
     if current.model == "open_pbr_surface":
         if current.version and current.version != tables.latest("open_pbr_surface"):
             upgraded = upgrade(current, context=settings.context)
@@ -93,6 +84,14 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
         diagnostics += _without_unknown_inputs(current, settings)
     return Translation(current, diagnostics, material, origins=first.origins if first is not None else {},
                        about=about, mapping_only=own)
+
+
+def _through_openpbr(material: Material, settings: Settings, back: Settings | None = None) -> Translation:
+    """A glTF material to OpenPBR and back to glTF (``back``: the second step's settings), both steps' notes."""
+    step = _step(gltf_to_openpbr, material, settings)
+    again = _step(openpbr_to_gltf, step.material, back or settings)
+    return Translation(again.material, step.diagnostics + again.diagnostics, material,
+                       mapping_only=step.mapping_only | again.mapping_only)
 
 
 def at_source_inputs(notes: list, source: Material, first: Translation, context, about: dict | None = None) -> list:
@@ -156,9 +155,7 @@ def hub_sites(source: Material, first: Translation) -> dict[str, str]:
         if name in authored:
             continue
         origin = _origin(name, source, first)
-        entry = source.inputs.get(origin) if origin is not None else None
-        sites[name] = (entry.location.input if entry.location is not None and entry.location.input else origin) \
-            if entry is not None else "the material"
+        sites[name] = located_input(source.inputs[origin], origin) if origin is not None else "the material"
     return sites
 
 

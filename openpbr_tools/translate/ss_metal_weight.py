@@ -53,14 +53,13 @@ def coat_tint(material: Material, values: Values) -> tuple[float, tuple[float, f
     names = ("base_metalness", "specular_weight", "coat_weight", "coat_color", "coat_darkening", "emission_luminance")
     if not all(values.is_constant(name) for name in names):
         return None
-    metalness, weight, coat, luminance = (float(np.asarray(values.constant(name), dtype=np.float64).reshape(-1)[0])
-                                          for name in ("base_metalness", "specular_weight", "coat_weight",
-                                                       "emission_luminance"))
+    metalness, weight, coat, luminance = (_scalar(values, name) for name in ("base_metalness", "specular_weight",
+                                                                             "coat_weight", "emission_luminance"))
     if not (metalness >= 1.0 and 0.0 <= weight < 1.0 and luminance <= 0.0 and 0.0 <= coat <= 1.0):
         return None
     if coat <= 0.0:
         return weight, None
-    if float(np.asarray(values.constant("coat_darkening"), dtype=np.float64).reshape(-1)[0]) > 0.0:
+    if _scalar(values, "coat_darkening") > 0.0:
         return None  # (OpenPBR darkens the base under its coat by the base's albedo, which the weight changes)
     colour = np.asarray(values.constant("coat_color"), dtype=np.float64) * weight - (1.0 - weight) * (1.0 - coat) / coat
     if colour.shape != (3,) or np.any(colour < 0.0):
@@ -93,7 +92,7 @@ def dimmed(translation: Translation, source: Material, values: Values, tint, con
             written(name, "float", value)
         for name in ("coat_color", "coat_ior", "coat_roughness", "coat_roughness_anisotropy"):
             held = source.inputs.get(name)
-            if held is not None and values.authored(name) and not _at_default(values, name):
+            if held is not None and not _at_default(values, name):
                 notes.append(context.diagnostic(CONVERTED, (
                     f"{source.name} ({label}): {name} is not carried: Standard Surface's coat holds the metal's "
                     "specular_weight instead; it has no effect while coat_weight is 0"), held.location))
@@ -112,10 +111,14 @@ def dimmed(translation: Translation, source: Material, values: Values, tint, con
                        translation.mapping_only | {id(note) for note in [note] + notes})
 
 
+def _scalar(values: Values, name: str) -> float:
+    """A float input's constant (its default where unset; NaN where it holds none: every comparison then fails)."""
+    return float(np.asarray(values.constant(name), dtype=np.float64).reshape(-1)[0])
+
+
 def _at_default(values: Values, name: str) -> bool:
     value, default = values.constant(name), values.table[name].default
     return value is not None and np.allclose(np.asarray(value, dtype=np.float64), np.asarray(default, dtype=np.float64))
-
 
 
 def fuzz_over_metal(translation: Translation, source: Material, values: Values, context, label: str) -> Translation:
@@ -126,8 +129,7 @@ def fuzz_over_metal(translation: Translation, source: Material, values: Values, 
     was kept; MaterialX's GLSL renders the written sheen as nothing)."""
     if not (values.is_constant("fuzz_weight") and values.is_constant("base_metalness")):
         return translation
-    fuzz = float(np.asarray(values.constant("fuzz_weight"), dtype=np.float64).reshape(-1)[0])
-    metalness = float(np.asarray(values.constant("base_metalness"), dtype=np.float64).reshape(-1)[0])
+    fuzz, metalness = _scalar(values, "fuzz_weight"), _scalar(values, "base_metalness")
     if not (fuzz > 0.0 and metalness > 0.0):
         return translation
     entry = source.inputs.get("fuzz_weight")

@@ -49,6 +49,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import colorspaces
 from ..evaluate.coat import coat_absorption, coat_darkening_factor, coat_emission_factor
 from ..evaluate.microfacet import openpbr_alphas
 from ..model import Constant, Input, Material
@@ -58,7 +59,6 @@ from .coat_facts import COAT_EMISSION_NOTE, COAT_EMISSION_UNDONE, EMISSION_UNDER
 from .common import Dropped, Mapping, Settings, Translation, differs, translate
 
 WHITE = np.ones(3)
-REC709_LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 #: Measured residuals, mean CIEDE2000 on the evaluator's lit sphere (module docstring).
 COAT_RESIDUAL = "measured ΔE2000 0.3-1.3 on coated plastics, 2.5 on a coated car paint"
 METAL_RESIDUAL = "measured ΔE2000 up to 1.4 on tinted metals"
@@ -242,7 +242,7 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
         # luminance reading the specular colour's luminance; metallic: from ior) is the F0 of OpenPBR's base
         # relative to its coat, whose IOR is the preview's ior.
         dielectric_f0 = specular_workflow.split(diffuse, specular, SPECULAR_STRENGTH)[2] if split else \
-            np.sum(specular * REC709_LUMINANCE, axis=-1, keepdims=True)
+            np.sum(specular * np.asarray(colorspaces.REC709_LUMINANCE), axis=-1, keepdims=True)
         ior = _reciprocal_below_one(ior)
         relative = np.where(workflow >= 1, ior_from_f0(dielectric_f0), ior)
         return fit.specular_ior_for_relative_ior(relative, ior, clearcoat)
