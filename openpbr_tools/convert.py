@@ -252,7 +252,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
         written = _write_baked(baker, result.materials)
         try:
             allowed = tuple(allow_outside) + ((staging,) if staging else ())
-            notes = _write(kind, result, output_path, mesh, allowed, looks)
+            notes = _write(kind, result, output_path, mesh, allowed, looks, staging)
         except BaseException:
             for path in written:  # a failed conversion leaves no partial output behind
                 if os.path.exists(path):
@@ -365,14 +365,17 @@ def _tag_length_units(pairs: list[tuple[Material, Material]], asset: Asset) -> N
                 entry.unit, entry.unittype = names[0], "distance"
 
 
-def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside, looks=()) -> list[Diagnostic]:
+def _write(kind: str, result: Conversion, output_path: str, mesh, allow_outside, looks=(),
+           staging: str | None = None) -> list[Diagnostic]:
     """Write with the format's writer; returns its notes. Writers are imported here, when a
-    conversion writes that format: USD's pulls in pxr (~0.3 s), glTF's Pillow."""
+    conversion writes that format: USD's pulls in pxr (~0.3 s), glTF's Pillow. A glTF's embedded images
+    go beside a .mtlx/.usda/.usdc output, and into ``staging`` (allowed, removed afterwards) for a .usdz,
+    which packages them (the red team's F#17: a GLB to .usdz was refused its own extracted images)."""
     asset = result.asset
     notes = []
     if (kind != "gltf" and asset.format == "gltf") or (asset.path.lower().endswith(".usdz") and (
             kind == "mtlx" or (kind == "usd" and not output_path.lower().endswith(".usdz")))):
-        notes = _unpack_packaged_images(result.materials, asset, output_path)
+        notes = _unpack_packaged_images(result.materials, asset, output_path, staging)
     if kind == "mtlx":
         from .io.mtlx.writer import write_mtlx  # lazy: see the docstring
 

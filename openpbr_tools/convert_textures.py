@@ -56,13 +56,15 @@ def rebase_textures(materials: list[Material], source_path: str, output_path: st
             material.inputs[name] = rebased_entry
 
 
-def unpack_packaged_images(materials: list[Material], asset: Asset, output_path: str) -> list[Diagnostic]:
+def unpack_packaged_images(materials: list[Material], asset: Asset, output_path: str,
+                           folder: str | None = None) -> list[Diagnostic]:
     """Images inside the source's own container written beside an output that can only reference files
     (``<output stem>_textures/``): a glTF's embedded ``#/images/N`` as ``image_N.<ext>`` (for a .mtlx or
     USD output), a USDZ's members, nested packages' too, under their own file names (for a .mtlx, .usda or
-    .usdc output; a .usdz output copies them from the source package itself). A member that cannot be read stays as it is, with a note."""
+    .usdc output; a .usdz output copies them from the source package itself), or in ``folder`` (a .usdz output's
+    staging folder, from which it packages them). A member that cannot be read stays as it is, with a note."""
     extensions = {"image/png": ".png", "image/jpeg": ".jpg", "image/webp": ".webp", "image/ktx2": ".ktx2"}
-    folder = os.path.splitext(output_path)[0] + "_textures"
+    folder = folder or os.path.splitext(output_path)[0] + "_textures"
     document, written, notes, taken = None, {}, [], set()
     for material in materials:
         for name, entry in material.inputs.items():

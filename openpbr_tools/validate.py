@@ -143,7 +143,8 @@ def validate_file(path: str, context: Context | None = None, keep_asset: bool = 
         return FileResult(path, [internal_error(path, "reading", error)], unreadable=True)
     diagnostics = check_asset(asset, context)
     reads = files_read(asset)
-    count = sum(1 for m in asset.materials if not m.extra.get("fallback_of"))  # a USD preview fallback is not another material
+    # a USD preview fallback is not another material, nor an included document's shader (counted in its document)
+    count = sum(1 for m in asset.materials if not m.extra.get("fallback_of") and not m.extra.get("included_from"))
     documents = []
     within = composing | {os.path.abspath(path)}
     included = set(asset.extra.get("included_documents", ()))

@@ -23,6 +23,11 @@ COMPONENTS = {
 STRING_TYPES = ("string", "filename")
 
 
+#: The largest finite IEEE 754 single-precision float: MaterialX stores float values as 32-bit floats, and a
+#: string beyond it fails to convert (std::stof: out of range), so validate() says 'Invalid value'.
+FLOAT32_MAX = 3.4028234663852886e38
+
+
 class ValueSyntaxError(ValueError):
     """A value string that does not parse as its declared type."""
 
@@ -67,6 +72,9 @@ def parse_value(text: str, type_name: str):
             numbers.append(float(part))
         except ValueError:
             raise ValueSyntaxError(f"{part!r} in {text!r} is not a number") from None
+        if math.isfinite(numbers[-1]) and abs(numbers[-1]) > FLOAT32_MAX:  # (nan and inf as written parse)
+            raise ValueSyntaxError(f"{part!r}{'' if count == 1 else f' in {text!r}'} is beyond a 32-bit float (at most {FLOAT32_MAX:.7g}), which "
+                                   "MaterialX's values are: it reads no value (validate(): 'Invalid value')")
     return numbers[0] if count == 1 else tuple(numbers)
 
 

@@ -197,3 +197,252 @@ def test_a_filmed_clear_sheet_renders_as_openpbrs(model):
 
     source = _material("open_pbr_surface", _FILMED_CLEAR["open_pbr_surface"])
     assert compare_materials(source, _material(model, _FILMED_CLEAR[model])).preview.mean < 0.3
+
+
+# -- a shader in an XIncluded document, bound by a material here (D2) --------------------------------------------------
+
+_LIBRARY = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709"{namespace}>
+  <open_pbr_surface name="S" type="surfaceshader">
+    <input name="base_color" type="color3" value="0.5, 0.2, 0.1" />{more}
+  </open_pbr_surface>
+</materialx>
+"""
+_INCLUDER = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709" xmlns:xi="http://www.w3.org/2001/XInclude">
+  <xi:include href="lib.mtlx" />
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="{shader}" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def _included(tmp_path, namespace: str | None, more: str = ""):
+    (tmp_path / "lib.mtlx").write_text(_LIBRARY.format(namespace=f' namespace="{namespace}"' if namespace else "",
+                                                       more=more))
+    path = tmp_path / "main.mtlx"
+    path.write_text(_INCLUDER.format(shader=f"{namespace}:S" if namespace else "S"))
+    return path
+
+
+@pytest.mark.parametrize("namespace", [None, "acme"])
+def test_a_material_binding_an_included_shader_reads_and_converts(tmp_path, namespace):
+    """MaterialX composes an XIncluded document into its includer (a namespaced one's names qualified, "acme:S": the
+    specification's Namespaces), and its getShaderNodes() finds the shader the material binds. The toolkit said the
+    material 'uses a open_pbr_surface shader, which the toolkit does not read', that the shader was bound to no
+    material, and convert wrote nothing (exit 2)."""
+    import MaterialX as mx
+
+    from openpbr_tools.validate import validate_paths
+
+    path = _included(tmp_path, namespace)
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    assert document.validate()[0] and [s.getCategory() for s in mx.getShaderNodes(document.getMaterialNodes()[0])] \
+        == ["open_pbr_surface"]  # the anchor: valid, and the material has its shader
+    report = validate_paths([str(path)])
+    assert not {d.code for d in report.diagnostics} & {"OPBR804", "OPBR805"}, report.diagnostics
+    convert_file(str(path), str(tmp_path / "out.gltf"), None, Settings())
+    (material,) = json.loads((tmp_path / "out.gltf").read_text())["materials"]
+    assert material["name"] == "M"
+    assert material["pbrMetallicRoughness"]["baseColorFactor"][:3] == pytest.approx([0.5, 0.2, 0.1])
+
+
+def test_an_included_shaders_finding_is_reported_once_at_its_own_file(tmp_path):
+    """The included shader is checked in its own document (validated with its includer): an out-of-range input is
+    one finding, at lib.mtlx, not a second one at the includer that binds it."""
+    from openpbr_tools.validate import validate_paths
+
+    path = _included(tmp_path, "acme", more='\n    <input name="specular_roughness" type="float" value="2" />')
+    found = [d for d in validate_paths([str(path)]).diagnostics if d.code == "OPBR301"]
+    assert [(d.location.file.rsplit("/", 1)[-1], d.location.input) for d in found] == [("lib.mtlx", "specular_roughness")]
+
+
+# -- broken values the red team's set B found unreported (B13, B15, B16, B21) ------------------------------------------
+
+def _validate_codes(path) -> set[str]:
+    from openpbr_tools.validate import validate_paths
+
+    return {d.code for d in validate_paths([str(path)]).diagnostics}
+
+
+@pytest.mark.parametrize("weight, ior, saturated", [(100.0, 1.5, True), (25.5, 1.5, True), (24.0, 1.5, False),
+                                                    (1.5, 1.5, False), (4.0, 3.0, True), (3.5, 3.0, False)])
+def test_a_specular_weight_past_the_clamp_is_said_to_saturate(tmp_path, weight, ior, saturated):
+    """OpenPBR's specular_weight scales F0 = ((n - 1)/(n + 1))^2 and the product is clamped below 1 (MaterialX's
+    scaled_specular_F0): at IOR 1.5 (F0 0.04) a weight of 25 or more is a perfect mirror, at IOR 3 (F0 0.25) one of
+    4; a weight of 1.5 is the spec's convenience range and says nothing."""
+    path = tmp_path / "w.mtlx"
+    path.write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n  <open_pbr_surface name="S" type="surfaceshader">\n'
+                    f'    <input name="specular_weight" type="float" value="{weight}" />\n'
+                    f'    <input name="specular_ior" type="float" value="{ior}" />\n  </open_pbr_surface>\n'
+                    '  <surfacematerial name="M" type="material">\n    <input name="surfaceshader" type="surfaceshader" '
+                    'nodename="S" />\n  </surfacematerial>\n</materialx>\n')
+    assert ("OPBR911" in _validate_codes(path)) == saturated
+
+
+_UNITS_STAGE = """#usda 1.0
+(
+    defaultPrim = "Root"
+    metersPerUnit = UNIT
+    upAxis = "Y"
+)
+def Xform "Root"
+{
+    def Material "Mat"
+    {
+        token outputs:surface.connect = </Root/Mat/Preview.outputs:surface>
+        def Shader "Preview"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            float inputs:ior = IOR
+            token outputs:surface
+        }
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("unit, invalid", [("0", True), ("-1", True), ("0.01", False), ("1", False)])
+def test_a_stage_unit_that_is_no_length_is_an_error(tmp_path, unit, invalid):
+    """UsdGeom: metersPerUnit is the length of a scene unit in metres; 0 or a negative one makes every scene-unit length
+    meaningless. usd-core opens the stage silently (the anchor is silent: this goes beyond it)."""
+    path = tmp_path / "u.usda"
+    path.write_text(_UNITS_STAGE.replace("UNIT", unit).replace("IOR", "1.5"))
+    assert ("OPBR1041" in _validate_codes(path)) == invalid
+
+
+@pytest.mark.parametrize("ior, below", [("0", True), ("0.5", True), ("1", False), ("1.5", False)])
+def test_a_preview_ior_below_one_is_said_as_openpbrs_is(tmp_path, ior, below):
+    """UsdPreviewSurface's F0 is ((1 - ior)/(1 + ior))^2: an ior of 0 makes the surface a mirror; OpenPBR's specular_ior
+    below 1 was already OPBR905, the preview's was only a soft-range warning."""
+    path = tmp_path / "p.usda"
+    path.write_text(_UNITS_STAGE.replace("UNIT", "1").replace("IOR", ior))
+    assert ("OPBR905" in _validate_codes(path)) == below
+
+
+@pytest.mark.parametrize("scale, negative", [(-1.0, True), (-0.5, True), (1.0, False), (0.5, False)])
+def test_a_negative_gltf_normal_scale_is_said_to_invert_the_relief(tmp_path, scale, negative):
+    """glTF 2.0: scaledNormal = normalize((sampled * 2 - 1) * vec3(scale, scale, 1)): a negative scale flips x and y,
+    not only green (the DirectX "fix"), as MaterialX's ND_normalmap_float -1 does (OPBR720)."""
+    Image.new("RGB", (2, 2), (128, 128, 255)).save(tmp_path / "n.png")
+    document = {"asset": {"version": "2.0"}, "images": [{"uri": "n.png"}], "textures": [{"source": 0}],
+                "materials": [{"name": "M", "normalTexture": {"index": 0, "scale": scale}}]}
+    path = tmp_path / "n.gltf"
+    path.write_text(json.dumps(document))
+    assert ("OPBR1252" in _validate_codes(path)) == negative
+
+
+# -- session 27's set F: broken files the Khronos glTF-Validator and MaterialX reject, and false alarms -----------------
+
+def _textured_triangle(texture_info: dict, **material) -> dict:
+    from test_red_team_round_thirteen import _triangle
+
+    document = _triangle()
+    document["images"] = [{"uri": "albedo.png"}]
+    document["textures"] = [{"source": 0}]
+    document["materials"] = [{"name": "M", "pbrMetallicRoughness": {"baseColorTexture": texture_info}, **material}]
+    return document
+
+
+def _gltf_codes(tmp_path, document: dict, name: str = "t.gltf") -> set[str]:
+    Image.new("RGB", (2, 2), (200, 100, 50)).save(tmp_path / "albedo.png")
+    path = tmp_path / name
+    path.write_text(json.dumps(document))
+    return _validate_codes(path)
+
+
+def test_an_index_written_as_a_whole_float_is_the_integer(tmp_path):
+    """JSON has one number type and JSON Schema's integer is a number without a fraction: "index": 0.0 is texture 0
+    (the Khronos glTF-Validator: no issue). It was two errors and a dropped texture."""
+    assert not _gltf_codes(tmp_path, _textured_triangle({"index": 0.0})) & {"OPBR802", "OPBR1210"}
+    convert_file(str(tmp_path / "t.gltf"), str(tmp_path / "out.mtlx"), "open_pbr_surface", Settings())
+    assert "albedo.png" in (tmp_path / "out.mtlx").read_text()
+    assert "OPBR1210" in _gltf_codes(tmp_path, _textured_triangle({"index": 0.5}))  # (a fraction is no index)
+
+
+@pytest.mark.parametrize("field", ["extensions", "pbrMetallicRoughness"])
+def test_a_null_object_is_a_type_error(tmp_path, field):
+    """The glTF schema: a material's extensions and pbrMetallicRoughness are objects; null is the validator's
+    TYPE_MISMATCH error."""
+    document = _textured_triangle({"index": 0})
+    document["materials"][0][field] = None
+    assert "OPBR1210" in _gltf_codes(tmp_path, document)
+
+
+@pytest.mark.parametrize("material, variant", [(-1, 0), (0, 0.5)])
+def test_a_variant_mapping_index_that_names_nothing_is_an_error(tmp_path, material, variant):
+    """KHR_materials_variants: a mapping's material and variants are glTFids (whole numbers from 0): -1 and 0.5 are the
+    validator's INVALID_INDEX errors; a mapping of 0 and 0 is fine."""
+    document = _textured_triangle({"index": 0})
+    document["extensionsUsed"] = ["KHR_materials_variants"]
+    document["extensions"] = {"KHR_materials_variants": {"variants": [{"name": "a"}]}}
+    primitive = document["meshes"][0]["primitives"][0]
+    primitive["extensions"] = {"KHR_materials_variants": {"mappings": [{"material": material, "variants": [variant]}]}}
+    assert "OPBR1210" in _gltf_codes(tmp_path, document)
+    primitive["extensions"]["KHR_materials_variants"]["mappings"] = [{"material": 0, "variants": [0]}]
+    assert "OPBR1210" not in _gltf_codes(tmp_path, document)
+
+
+def test_nan_and_infinity_literals_are_not_json(tmp_path):
+    """RFC 8259 has no NaN or Infinity (Python's json writes and reads them; JSON.parse refuses the file, the Khronos
+    glTF-Validator says INVALID_JSON): an error where each stands. 1e400 is JSON (a number beyond a double)."""
+    Image.new("RGB", (2, 2)).save(tmp_path / "albedo.png")
+    text = json.dumps(_textured_triangle({"index": 0}, extras={"scale": 1.0}))
+    (tmp_path / "t.gltf").write_text(text.replace('"scale": 1.0', '"scale": Infinity'))
+    found = [d for d in __import__("openpbr_tools.validate", fromlist=["x"]).validate_paths([str(tmp_path / "t.gltf")])
+             .diagnostics if d.code == "OPBR1210"]
+    assert [d.location.path for d in found] == ["/materials/0/extras/scale"]
+    (tmp_path / "t.gltf").write_text(text.replace('"scale": 1.0', '"scale": 1e400'))
+    assert "OPBR1210" not in _validate_codes(tmp_path / "t.gltf")
+
+
+def test_a_gltf_uri_names_one_file_tile_tokens_and_all(tmp_path):
+    """glTF has no UDIM: an image URI is one file (the Khronos glTF-Validator: IO_ERROR for albedo.<UDIM>.png), so
+    tiles albedo.1001.png beside it do not make it found (the toolkit expanded the token as MaterialX and USD do)."""
+    for tile in ("1001", "1002"):
+        Image.new("RGB", (2, 2)).save(tmp_path / f"albedo.{tile}.png")
+    document = _textured_triangle({"index": 0})
+    document["images"] = [{"uri": "albedo.<UDIM>.png"}]
+    path = tmp_path / "t.gltf"
+    path.write_text(json.dumps(document))
+    assert "OPBR701" in _validate_codes(path)
+
+
+@pytest.mark.parametrize("value, invalid", [("1e40", True), ("3.5e38", True), ("3.4e38", False), ("-1e39", True)])
+def test_a_float_beyond_32_bits_is_no_materialx_value(tmp_path, value, invalid):
+    """MaterialX stores a float value in 32 bits: a string beyond 3.4028235e38 fails to convert and validate() says
+    'Invalid value' (the anchor, asserted here); the toolkit read it as a double and said nothing."""
+    import MaterialX as mx
+
+    path = tmp_path / "f.mtlx"
+    path.write_text('<?xml version="1.0"?>\n<materialx version="1.39">\n  <open_pbr_surface name="S" type="surfaceshader">\n'
+                    f'    <input name="emission_luminance" type="float" value="{value}" />\n  </open_pbr_surface>\n'
+                    '  <surfacematerial name="M" type="material">\n    <input name="surfaceshader" type="surfaceshader" '
+                    'nodename="S" />\n  </surfacematerial>\n</materialx>\n')
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    assert document.validate()[0] is not invalid
+    assert ("OPBR202" in _validate_codes(path)) == invalid
+
+
+def test_a_glb_with_embedded_images_converts_to_usdz(tmp_path):
+    """A GLB's embedded image is taken out of it and packaged into the .usdz (the red team's F#17: it was taken out
+    beside the output, then refused as outside the source's folder, exit 2, and the folder was left behind)."""
+    import zipfile
+
+    from openpbr_tools.io.gltf.writer import write_gltf
+
+    Image.new("RGB", (2, 2), (200, 100, 50)).save(tmp_path / "albedo.png")
+    (tmp_path / "src").mkdir()
+    (tmp_path / "src" / "t.gltf").write_text(json.dumps(_textured_triangle({"index": 0})))
+    (tmp_path / "src" / "albedo.png").write_bytes((tmp_path / "albedo.png").read_bytes())
+    glb = tmp_path / "src" / "t.glb"
+    convert_file(str(tmp_path / "src" / "t.gltf"), str(glb), None, Settings())  # (images embedded)
+    assert write_gltf and glb.read_bytes()[:4] == b"glTF"
+    out = tmp_path / "elsewhere" / "t.usdz"
+    convert_file(str(glb), str(out), None, Settings())
+    members = zipfile.ZipFile(out).namelist()
+    assert any(m.endswith(".png") for m in members), members
+    assert sorted(p.name for p in out.parent.iterdir()) == ["t.usdz"]

@@ -85,12 +85,21 @@ def _broken_files(folder):
     return ["corrupt.usdc", "syntax.usda", "missing.usdz"]
 
 
-@pytest.mark.parametrize("name", ["corrupt.usdc", "syntax.usda", "missing.usdz"])
+@pytest.mark.parametrize("name", ["corrupt.usdc", "syntax.usda"])
 def test_files_usd_cannot_open_exit_two_with_a_diagnostic(tmp_path, name):
     _broken_files(tmp_path)
     result = run("validate", tmp_path / name)
     assert result.exit_code == 2 and "Traceback" not in result.output
     assert "OPBR002" in result.output and ("USD cannot open" in result.output or "cannot be opened" in result.output)
+
+
+def test_a_missing_layer_is_a_finding_and_the_rest_is_checked(tmp_path):
+    """usd-core opens a stage whose sublayer is missing and composes the rest (a composition error): the missing layer
+    is an error (OPBR1042, exit 1), not an unreadable stage (the red team's F#7: exit 2 hid every other finding)."""
+    _broken_files(tmp_path)
+    result = run("validate", tmp_path / "missing.usdz")
+    assert result.exit_code == 1 and "Traceback" not in result.output
+    assert "OPBR1042" in result.output and "looks.usda" in result.output and "OPBR002" not in result.output
 
 
 def test_broken_usd_in_a_real_process_prints_no_usd_noise(tmp_path):
@@ -100,7 +109,7 @@ def test_broken_usd_in_a_real_process_prints_no_usd_noise(tmp_path):
                           capture_output=True, text=True)
     assert done.returncode == 2 and "Traceback" not in done.stdout + done.stderr
     assert "Warning" not in done.stderr and "Error in" not in done.stderr and "Error in" not in done.stdout
-    assert done.stdout.count("OPBR002") == 3
+    assert done.stdout.count("OPBR002") == 2 and done.stdout.count("OPBR1042") == 1
 
 
 def test_validating_only_materialx_never_imports_pxr(tmp_path):

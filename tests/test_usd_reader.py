@@ -283,12 +283,13 @@ def test_syntax_error_names_its_line(tmp_path):
     assert raised.value.location.line == 5
 
 
-def test_usdz_with_a_missing_layer_is_unreadable(tmp_path):
+def test_usdz_with_a_missing_layer_is_read_without_it(tmp_path):
+    """usd-core composes a stage whose sublayer is missing (a composition error): the missing layer is observed
+    (OPBR1042), the rest read."""
     path = tmp_path / "missing.usdz"
     _usdz(path, [("root.usda", '#usda 1.0\n(\n    subLayers = [@looks.usda@]\n)\n')])
-    with pytest.raises(ReadError) as raised:
-        read_asset(path)
-    assert "looks.usda" in raised.value.message and raised.value.kind == "not_usd"
+    missing = [o for o in read_asset(path).observations if o.kind == "usd_layer_missing"]
+    assert len(missing) == 1 and "looks.usda" in missing[0].detail["reason"]
 
 
 def test_missing_file_is_unreadable(tmp_path):

@@ -38,6 +38,7 @@ FAMILIES = (
     "usd_preview",
     "usd_texcoords",
     "usd_shading",
+    "usd_stage",
     "gltf",
     "gltf_meshes",
     "gltf_geometry",
@@ -49,7 +50,7 @@ FAMILIES = (
 )
 
 #: Families that check one input format only (their modules, and what they import, load only for it).
-FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "usd_shading": "usd", "gltf": "gltf",
+FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "usd_shading": "usd", "usd_stage": "usd", "gltf": "gltf",
                 "gltf_meshes": "gltf", "gltf_geometry": "gltf", "gltf_surfaces": "gltf", "gltf_images": "gltf",
                 "gltf_plausibility": "gltf", "gltf_structure": "gltf", "mtlx_document": "mtlx", "translation": None}
 
@@ -163,6 +164,9 @@ def check_asset(asset: Asset, context: Context | None = None) -> list[Diagnostic
     context = context or Context()
     found: list[Diagnostic] = []
     suppressions = asset.suppressions
+    if any(m.extra.get("included_from") for m in asset.materials):  # an included document's shader, bound here:
+        asset = dataclasses.replace(asset, materials=[  # checked in its own document, which is validated too
+            m for m in asset.materials if not m.extra.get("included_from")])
     for family in FAMILIES:
         if family in FAMILY_FORMATS and FAMILY_FORMATS[family] != asset.format:
             continue  # a family for another format (translation: notes of convert and upgrade, never found here)

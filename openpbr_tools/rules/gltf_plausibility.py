@@ -140,7 +140,24 @@ WHITE_EMISSION = Rule(
     passing_name="example.gltf", failing_name="example.gltf", formats=("gltf",),
 )
 
-RULES = (DOUBLE_TRANSPARENCY, LENGTH_UNIT, OPAQUE_VOLUME, INVERTED_RANGE, WHITE_EMISSION)
+def _normal(scale: float) -> str:
+    return _gltf('"images": [{"uri": "data:image/png;base64,iVBORw0KGgoAAAANSUhEUgAAAAQAAAAECAIAAAAmkwkpAAAAFElEQVR42mM8'
+                 'kWLEAANMDEgANwcARfYBZsiXQosAAAAASUVORK5CYII="}]', '"textures": [{"source": 0}]',
+                 f'"materials": [{{"name": "M", "normalTexture": {{"index": 0, "scale": {scale}}}}}]')
+
+
+NORMAL_SCALE_NEGATIVE = Rule(
+    "OPBR1252", "gltf-normal-scale-negative", Severity.WARNING,
+    "A normalTexture's scale is negative (-1 to \"fix\" a DirectX normal map).",
+    "glTF 2.0 (normalTextureInfo): scaledNormal = normalize((sampled * 2 - 1) * vec3(scale, scale, 1)), so a negative "
+    "scale flips red as well as green: the relief turns inside out instead of becoming glTF's convention (+Y up, "
+    "OpenGL's). A DirectX map needs only its green channel inverted in the image. The Khronos glTF-Validator checks "
+    "no sign. MaterialX's ND_normalmap_float -1 is the same mistake (OPBR720).",
+    passing=_normal(1.0), failing=_normal(-1.0), passing_name="example.gltf", failing_name="example.gltf",
+    formats=("gltf",),
+)
+
+RULES = (DOUBLE_TRANSPARENCY, LENGTH_UNIT, OPAQUE_VOLUME, INVERTED_RANGE, WHITE_EMISSION, NORMAL_SCALE_NEGATIVE)
 
 
 def check(asset, context):
@@ -155,6 +172,13 @@ def check(asset, context):
         present = set((material.extra.get("gltf") or {}).get("material_extensions") or ())
         yield from _double_transparency(material, present, context)
         yield from _white_emission(material, present, context)
+        normal = material.inputs.get("normal")
+        texture = normal.value if normal is not None and isinstance(normal.value, Texture) else None
+        if texture is not None and isinstance(texture.normal_map, float) and texture.normal_map < 0:
+            yield context.diagnostic(
+                NORMAL_SCALE_NEGATIVE, f"{material.name}: normalTexture scale {texture.normal_map:g} flips red as well "
+                "as green (glTF scales x and y by it): the relief turns inside out", normal.location,
+                hint="for a DirectX normal map, invert the image's green channel and keep a positive scale")
         if slots.IRIDESCENCE in present:
             yield from _iridescence(material, context)
         if slots.VOLUME in present:

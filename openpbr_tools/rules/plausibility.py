@@ -52,7 +52,7 @@ FILM_WITHOUT_THICKNESS = Rule(
 )
 IOR_BELOW_ONE = Rule(
     "OPBR905", "ior-below-one", Severity.WARNING,
-    "An index of refraction below 1 (specular, coat or thin film).",
+    "An index of refraction below 1 (OpenPBR's specular, coat or thin film; a UsdPreviewSurface's ior).",
     "No common material has an IOR below 1 relative to air; values like 0.5 usually come from a "
     "'specular level' slider exported as an IOR. The coat's IOR below 1 inverts its Fresnel behaviour.",
     passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="coat_weight" type="float" value="1" />\n  <input name="coat_ior" type="float" value="1.5" />\n</open_pbr_surface>',
@@ -122,8 +122,22 @@ LUMINANCE_FROM_MASK = Rule(
     failing=_LUMINANCE.format(scaled="", node="mask"), example_files=("mask.png",),
 )
 
+SPECULAR_SATURATED = Rule(
+    "OPBR911", "specular-weight-saturated", Severity.WARNING,
+    "A specular_weight so large that the dielectric's reflectivity reaches 1 (specular_weight times the F0 of "
+    "specular_ior, relative to the coat under a coat, at least 1): a mirror at every angle, past which more weight "
+    "changes nothing.",
+    "OpenPBR 1.1 (Specular): specular_weight scales the dielectric's normal-incidence reflectivity F0 = "
+    "((n - 1)/(n + 1))^2 through its IOR, and \"we also allow the specular_weight to exceed 1\" to raise it; the "
+    "scaled F0 is clamped below 1 (MaterialX's open_pbr_surface.mtlx, scaled_specular_F0). At 1 / F0 (25 at the "
+    "default IOR 1.5) the base is a perfect mirror that hides its colour, subsurface and transmission; weights like "
+    "100 are usually a percentage or an 8-bit level written into the weight.",
+    passing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_weight" type="float" value="1.5" />\n</open_pbr_surface>',
+    failing='<open_pbr_surface name="S" type="surfaceshader">\n  <input name="specular_weight" type="float" value="100" />\n</open_pbr_surface>',
+)
+
 RULES = (METAL_TOO_DARK, DIELECTRIC_OUT_OF_RANGE, TRANSMISSIVE_METAL, FILM_WITHOUT_THICKNESS,
-         IOR_BELOW_ONE, PARTIAL_METALNESS, EMISSION_OFF, INVISIBLE, METAL_BLACK, LUMINANCE_FROM_MASK)
+         IOR_BELOW_ONE, PARTIAL_METALNESS, EMISSION_OFF, INVISIBLE, METAL_BLACK, LUMINANCE_FROM_MASK, SPECULAR_SATURATED)
 
 
 class _Values:
@@ -183,6 +197,8 @@ def check(asset, context):
     for material in asset.materials:
         if material.model == "gltf_pbr" and material.version is not None:
             yield from _invisible_gltf(material, context)
+        if material.model == "UsdPreviewSurface" and material.version is not None:
+            yield from _preview_ior(material, context)
         if material.model in _OTHER_METALS and material.version is not None:
             yield from _black_metal(material, asset, weights, limits, context)
         if material.model != "open_pbr_surface" or material.version is None:
@@ -238,6 +254,7 @@ def check(asset, context):
             if value.authored(name) and isinstance(ior, float) and ior < 1.0 and isinstance(active, float) and active > 0:
                 yield context.diagnostic(IOR_BELOW_ONE, f"{material.name}: {name} = {ior:g} is below 1",
                                          material.inputs[name].location)
+        yield from _saturated(material, value, context)
         if (value.authored("base_metalness") and isinstance(metalness, float)
                 and limits["metalness_dielectric_below"] < metalness < limits["metalness_metal_above"]):
             yield context.diagnostic(PARTIAL_METALNESS, f"{material.name}: base_metalness {metalness:g} is neither metal nor dielectric",
@@ -286,3 +303,32 @@ def _invisible_gltf(material, context):
         yield context.diagnostic(INVISIBLE, f"{material.name}: alphaMode MASK with alpha {alpha:g} everywhere, below the "
                                  f"cutoff {cutoff:g}: every fragment is discarded (invisible)", entry.location,
                                  hint="raise baseColorFactor's alpha above alphaCutoff, or lower the cutoff")
+
+
+def _saturated(material, value, context):
+    """OPBR911: specular_weight x F0 at least 1 on a material with a dielectric share."""
+    weight, ior, metalness = value("specular_weight"), value("specular_ior"), value("base_metalness")
+    if not (value.authored("specular_weight") and isinstance(weight, float) and weight > 1.0
+            and isinstance(ior, float) and ior > 0 and isinstance(metalness, float) and metalness < 1.0):
+        return
+    coat, coat_ior = value("coat_weight"), value("coat_ior")
+    relative = ior / coat_ior if isinstance(coat, float) and coat > 0 and isinstance(coat_ior, float) and coat_ior > 0 \
+        else ior  # (under a coat the base reflects relative to it: a smaller F0, the larger bound of the two)
+    f0 = ((relative - 1.0) / (relative + 1.0)) ** 2
+    if f0 > 0 and weight * f0 >= 1.0:
+        yield context.diagnostic(
+            SPECULAR_SATURATED, f"{material.name}: specular_weight {weight:g} times the dielectric's F0 {f0:.3g} is "
+            f"{weight * f0:.3g}: the reflectivity is clamped at 1, a mirror at every angle (any weight past "
+            f"{1.0 / f0:.3g} changes nothing)", material.inputs["specular_weight"].location,
+            hint="a weight of 0-1 dims the reflection, a little above 1 brightens it; a percentage is divided by 100")
+
+
+def _preview_ior(material, context):
+    """OPBR905 for a UsdPreviewSurface ``ior`` below 1: its Fresnel ((1 - n)/(1 + n))^2 reaches 1 at 0."""
+    entry = material.inputs.get("ior")
+    ior = entry.constant if entry is not None else None
+    if isinstance(ior, float) and ior < 1.0:
+        f0 = ((1.0 - ior) / (1.0 + ior)) ** 2 if ior > -1.0 else 1.0
+        yield context.diagnostic(IOR_BELOW_ONE, f"{material.name}: ior = {ior:g} is below 1 (the preview's F0 "
+                                 f"((1 - ior)/(1 + ior))^2 is {f0:.3g}{': a mirror' if f0 >= 0.999 else ''})",
+                                 entry.location, hint="a glass or plastic is 1.4-1.6")

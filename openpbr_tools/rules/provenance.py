@@ -304,6 +304,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                 f"{khr('KHR_materials_anisotropy')}"),
     "OPBR910": ("An 8-bit image read as a luminance in nits emits at most 1 nit: the surface looks unlit.",
                 f"{OPENPBR}; {MX_OPENPBR}"),
+    "OPBR911": ("A dielectric whose scaled reflectivity reaches 1 is a mirror at every angle: its base, subsurface and "
+                "transmission vanish, and the weight beyond 1 / F0 changes nothing.", f"{OPENPBR}; {MX_OPENPBR}"),
     "OPBR1001": ("Without info:id (or a source asset/code) Sdr cannot find the shader's definition: Hydra "
                  "renders the material with its fallback.", f"{USD_SHADER}; {_USD}pxr/usd/sdr/shaderNode.h"),
     "OPBR1002": ("Hydra and UsdMtlx type MaterialX inputs from the USD type (role and precision): a wrong role "
@@ -389,6 +391,12 @@ PROVENANCE: dict[str, tuple[str, str]] = {
                  "UsdShadeConnectableAPI::CanConnect applies them.", _USD + "pxr/usd/usdShade/connectableAPI.h"),
     "OPBR1020": ("UsdGeom's metersPerUnit is the root layer's metadata; composition does not rescale the values of "
                  "a layer authored in another unit.", _USD + "pxr/usd/usdGeom/metrics.h"),
+    "OPBR1041": ("Every length in scene units is read through metersPerUnit: 0 or a negative unit makes them "
+                 "meaningless, and usd-core's StageMetadataChecker only asks that it be authored.",
+                 _USD + "pxr/usd/usdGeom/metrics.h"),
+    "OPBR1042": ("usd-core composes a stage without a sublayer, reference or payload it cannot find (a composition "
+                 "error): whatever that layer held is missing from every renderer.",
+                 _USD + "pxr/usd/pcp/errors.h"),
     "OPBR1021": ("UsdShade's material purposes are allPurpose, preview and full (UsdShadeTokens); a binding under "
                  "another purpose name is computed for no renderer.", _USD + "pxr/usd/usdShade/materialBindingAPI.h"),
     "OPBR1022": ("bindMaterialAs takes UsdShadeTokens weakerThanDescendants or strongerThanDescendants; any other "
@@ -448,6 +456,8 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1240": ("An untextured white emission on a textured material adds full white at every texel: the surface "
                  "renders flat white and its texture never shows (an exporter's default emission colour); the "
                  "glTF-Validator does not judge values.", GLTF),
+    "OPBR1252": ("glTF scales a normal map's x and y by normalTexture.scale: -1 inverts the relief instead of "
+                 "converting a DirectX map (green only); the glTF-Validator checks no sign.", GLTF),
     "OPBR1241": ("COLOR_0 multiplies the base colour in every glTF viewer: all zeros (an empty vertex-colour layer "
                  "exported by default) renders the material black; the glTF-Validator does not read vertex colours.", GLTF),
     "OPBR1242": ("A KHR_animation_pointer channel whose pointer names no defined property animates nothing (the "

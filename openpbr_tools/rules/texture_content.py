@@ -296,7 +296,7 @@ def _content(image, found, texture, where, context):
 
 def _first_tile(asset, texture, where, context):
     token = _TILE_TOKENS.search(texture.file)
-    if token is None or texture.packaged:
+    if token is None or texture.packaged or asset.format == "gltf":  # (a glTF URI names one file: rules.textures)
         return
     guard = context.guard(asset.path)
     pattern = guard.resolve(texture.file)

@@ -219,8 +219,14 @@ def resolve(asset_path: str, file: str) -> str:
     return os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(asset_path)), file))
 
 
-def exists(path: str, context) -> bool:
-    if not _TILE_TOKENS.search(path):
+def tiled(asset, file: str) -> bool:
+    """Whether ``file`` names tiles (``<UDIM>``, ``<UVTILE>``): in MaterialX and USD; a glTF URI names one file,
+    tokens and all (the Khronos glTF-Validator's IO_ERROR; the red team's F#16: its tiles were found)."""
+    return asset.format != "gltf" and bool(_TILE_TOKENS.search(file))
+
+
+def exists(path: str, context, tiles_named: bool = True) -> bool:
+    if not (tiles_named and _TILE_TOKENS.search(path)):
         return context.file_exists(path)
     return bool(tiles(path, context))
 
@@ -369,13 +375,13 @@ def _check_path(asset, texture, where, context, checked_files):
         return
     # A drive or UNC path names no file on this system (resolved.path is None): not found. Where it is
     # looked for is where the system opens it: symbolic links resolved before ".." (the guard's real path).
-    if resolved.path is None or not exists(resolved.real or resolve(asset.path, file), context):
-        what = "no UDIM tile matches" if _TILE_TOKENS.search(file) else "texture not found"
+    if resolved.path is None or not exists(resolved.real or resolve(asset.path, file), context, tiled(asset, file)):
+        what = "no UDIM tile matches" if tiled(asset, file) else "texture not found"
         miscased = [m.group(0) for m in _MISCASED_TOKEN.finditer(file) if not _TILE_TOKENS.fullmatch(m.group(0))]
         hint = (f"tile tokens are case-sensitive: {miscased[0]!r} is read as part of the file name; "
                 f"write {miscased[0].upper()!r}") if miscased else None
         yield context.diagnostic(MISSING_TEXTURE, f"{what}: {file!r}", where, hint=hint)
-    elif not _TILE_TOKENS.search(file) and os.path.isdir(resolved.real or resolve(asset.path, file)):
+    elif not tiled(asset, file) and os.path.isdir(resolved.real or resolve(asset.path, file)):
         # an empty file name under a fileprefix ("textures/" + ""), or a path cut short: a folder loads no image
         yield context.diagnostic(MISSING_TEXTURE, f"texture path {file!r} names a folder, not an image file", where,
                                  hint="name the image file (an image node without one renders its default)")
@@ -420,7 +426,7 @@ def _files(asset, file: str, context) -> tuple[list[tuple[str, str]], list[tuple
     split by the path guard. Only a readable one may be opened: its real path (symbolic links resolved
     before "..", as the system opens it) is a regular file inside the asset's folder or an allowed one."""
     guard = context.guard(asset.path)
-    if _TILE_TOKENS.search(file):
+    if tiled(asset, file):
         folder, pattern = os.path.dirname(file), guard.resolve(file)
         names = [(f"{file} (tile {os.path.basename(tile)})", os.path.join(folder, os.path.basename(tile)))
                  for tile in tiles(pattern.real or resolve(asset.path, file), context)]

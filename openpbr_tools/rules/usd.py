@@ -603,6 +603,7 @@ def _usd_core(asset, context):
     bound_prims = {o.location.path for o in asset.observations if o.kind == "usd_binding_invalid"}
     packaged = {o.detail["entry"] for o in asset.observations if o.kind == "usd_package_entry" and o.detail.get("file_type")}
     preview_roles = _preview_roles(asset)
+    missing_layers = [o for o in asset.observations if o.kind == "usd_layer_missing"]
     for finding in findings:
         name, sites = finding["name"], finding["sites"]
         prims = {site.split(".", 1)[0] for site in sites}
@@ -624,6 +625,10 @@ def _usd_core(asset, context):
         if name in ("UnresolvableDependency", "InvalidFile") and any(
                 f"@{file}@" in finding["message"] or f"'{file}'" in finding["message"] for file in texture_files):
             continue  # OPBR701 reports missing textures
+        if name in ("CompositionError", "UnresolvableDependency") and any(
+                o.detail["reason"] in finding["message"] or (o.detail.get("layer") and o.detail["layer"] in
+                                                             finding["message"]) for o in missing_layers):
+            continue  # OPBR1042 reports the missing layer (rules.usd_stage)
         dependency = _DEPENDENCY.search(finding["message"]) if name == "UnresolvableDependency" else None
         if dependency and os.path.basename(dependency.group(1)) in {os.path.basename(f) for f in texture_files}:
             continue  # (the same texture, which usd-core names as it resolved it: OPBR701/OPBR704 report it)

@@ -300,7 +300,8 @@ def load_document(path: str) -> GltfDocument:
     too_deep = ReadError("not_gltf", f"JSON nested more than {MAX_JSON_DEPTH} levels deep", Location(path))
     repeated: dict[int, tuple[dict, dict[str, int]]] = {}
     try:
-        document = json.loads(decoded, parse_int=_integer, object_pairs_hook=_object_keeping_repeats(repeated))
+        document = json.loads(decoded, parse_int=_integer, parse_constant=_NotJson,
+                              object_pairs_hook=_object_keeping_repeats(repeated))
     except json.JSONDecodeError as error:
         raise ReadError("not_gltf", f"not JSON: {error.msg} (line {error.lineno}, column {error.colno})",
                         Location(path, line=error.lineno)) from None
@@ -311,7 +312,7 @@ def load_document(path: str) -> GltfDocument:
     repairs: list[tuple[str, str]] = []
     duplicates: list[tuple[str, int]] = []
     if not _settle(document, repair=_SURROGATE_ESCAPE.search(text) is not None, repairs=repairs,
-                   repeated=repeated, duplicates=duplicates):
+                   repeated=repeated, duplicates=duplicates, literals=re.search(rb"NaN|Infinity", text) is not None):
         raise too_deep
     asset = document.get("asset")
     if not isinstance(asset, dict) or not isinstance(asset.get("version"), str):
@@ -345,15 +346,43 @@ def _integer(digits: str):
     return int(digits) if len(digits) <= MAX_INTEGER_DIGITS else float(digits)
 
 
+#: The glTF schema's integer properties (glTFid references, counts, enums) and arrays of them. JSON has one number type
+#: and JSON Schema's "integer" is any number without a fraction (0.0 is the integer 0: the Khronos glTF-Validator accepts
+#: it), so such a number written with a fraction of 0 is read as the integer (the red team's F#6: "index": 0.0 was two
+#: errors and a dropped texture).
+_INTEGER_PROPERTIES = frozenset((
+    "index", "texCoord", "source", "sampler", "material", "mesh", "node", "scene", "bufferView", "buffer", "camera",
+    "skin", "indices", "input", "output", "count", "byteOffset", "byteLength", "byteStride", "componentType", "mode",
+    "target", "skeleton", "inverseBindMatrices", "magFilter", "minFilter", "wrapS", "wrapT", "variant"))
+_INTEGER_ARRAYS = frozenset(("nodes", "children", "joints", "variants", "attributes"))
+
+
+def _integral(value):
+    """``value`` as an int where it is a float without a fraction (within what a float holds exactly)."""
+    return int(value) if isinstance(value, float) and value.is_integer() and abs(value) <= 2 ** 53 else value
+
+
+class _NotJson(float):
+    """A ``NaN``, ``Infinity`` or ``-Infinity`` literal, which Python's ``json`` reads and JSON (RFC 8259) has not:
+    :func:`_settle` notes where each stands and leaves the float."""
+
+    def __new__(cls, literal: str):
+        value = super().__new__(cls, literal)
+        value.literal = literal
+        return value
+
+
 def _settle(document: dict, repair: bool, repairs: list[tuple[str, str]],
-            repeated: dict[int, tuple[dict, dict[str, int]]], duplicates: list[tuple[str, int]]) -> bool:
+            repeated: dict[int, tuple[dict, dict[str, int]]], duplicates: list[tuple[str, int]],
+            literals: bool = False) -> bool:
     """Check the nesting depth (``False`` when above :data:`MAX_JSON_DEPTH`) and, when ``repair``,
     replace unpaired surrogates in keys and strings by U+FFFD, noting each repair; note the pointer of every
-    name the parse found ``repeated`` in an object of the document. Iterative: the document may be nested as
-    deeply as ``json`` allowed."""
+    name the parse found ``repeated`` in an object of the document, and (``literals``) of every NaN or Infinity
+    literal (:class:`_NotJson`). Iterative: the document may be nested as deeply as ``json`` allowed."""
     stack: list[tuple[dict | list, int, str]] = [(document, 1, "")]
     while stack:
         container, depth, pointer = stack.pop()
+        integers = pointer.rsplit("/", 1)[-1] in _INTEGER_ARRAYS
         if depth > MAX_JSON_DEPTH:
             return False
         if isinstance(container, dict):
@@ -375,6 +404,14 @@ def _settle(document: dict, repair: bool, repairs: list[tuple[str, str]],
         for key, value in list(items):
             if isinstance(value, (dict, list)):
                 stack.append((value, depth + 1, f"{pointer}/{_escape(key)}"))
+            elif isinstance(value, float) and (integers or key in _INTEGER_PROPERTIES) and value.is_integer() \
+                    and not isinstance(value, _NotJson):
+                container[key] = _integral(value)
+            elif literals and isinstance(value, _NotJson):
+                container[key] = float(value)
+                repairs.append((f"{pointer}/{_escape(key)}", f"{value.literal} is not JSON (RFC 8259 has no such number; "
+                                "the Khronos glTF-Validator's INVALID_JSON): JSON.parse, and with it every web viewer, "
+                                "refuses the whole file"))
             elif repair and isinstance(value, str) and _SURROGATE.search(value):
                 container[key] = _SURROGATE.sub("\ufffd", value)
                 repairs.append((f"{pointer}/{_escape(key)}",

@@ -162,13 +162,18 @@ class ExtensionReading:
                 if _index(target) and self.document.item("materials", target) is None:
                     self.asset.observe("dangling_reference", self.location(where, "material"),
                                        attribute="material", target=target)
+                elif not _index(target):  # (required, a glTFid: the validator's INVALID_INDEX / UNDEFINED_PROPERTY)
+                    self.invalid(where, f"this KHR_materials_variants mapping's material is {json_text(target)}, no "
+                                 "material index: its variants select no material", "material")
                 variants = mapping.get("variants") if isinstance(mapping.get("variants"), list) else []
                 if mapping.get("variants") == []:  # (the schema's minItems 1: the validator's EMPTY_ENTITY)
                     self.invalid(f"{where}/variants", "this KHR_materials_variants mapping lists no variant, so no "
                                  "selection ever shows its material (the schema requires at least one variant "
                                  "index): remove the mapping, or name the variants that should select it")
                 for position, variant in enumerate(variants):
-                    if not _index(variant):
+                    if not _index(variant):  # (the validator's INVALID_INDEX)
+                        self.invalid(f"{where}/variants/{position}", f"variant index {json_text(variant)} names no "
+                                     "variant (an index is a whole number from 0): it selects nothing")
                         continue
                     if variant >= len(listed):
                         self.asset.observe("dangling_reference", self.location(f"{where}/variants/{position}"),

@@ -264,7 +264,8 @@ class _Reader(TextureReading, ExtensionReading):
             found, where = raw.get(slots.PBR), f"{pointer}/{slots.PBR}"
         else:
             found, where = extensions.get(slot.container), f"{pointer}/extensions/{slot.container}"
-        if found is not None and not isinstance(found, dict):
+        present = slots.PBR in raw if slot.container == slots.PBR else slot.container in extensions
+        if present and not isinstance(found, dict):  # (null too: the Khronos glTF-Validator's TYPE_MISMATCH)
             if where not in self.reported:
                 self.reported.add(where)
                 self.invalid(where, f"{where.rsplit('/', 1)[-1]} is not an object")

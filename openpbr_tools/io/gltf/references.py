@@ -11,7 +11,8 @@ glTF-Validator makes (its code in brackets) that concern the data a material is 
   ancestor [NODE_LOOP], none is the child of two nodes [NODE_PARENT_OVERRIDE], and a scene lists only root nodes
   [SCENE_NON_ROOT_NODE];
 * 3.7.2.1 "Meshes": "POSITION accessor MUST have min and max properties defined"
-  [MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS].
+  [MESH_PRIMITIVE_POSITION_ACCESSOR_WITHOUT_BOUNDS];
+* the schema's ``extensions``, on every object, is an object [TYPE_MISMATCH]: null is not.
 
 Only the JSON is read. A reference that is no integer is a type error of the schema, not judged here.
 """
@@ -150,5 +151,22 @@ def unbounded_positions(document: GltfDocument) -> Iterator[tuple[str, str]]:
 def invalid(document: GltfDocument) -> Iterator[tuple[str, str, str, None]]:
     """:func:`hierarchy_problems` and :func:`unbounded_positions` as the reader observes :mod:`.layout`'s problems:
     ``("gltf_invalid", JSON pointer, message, None)``."""
-    for pointer, message in (*hierarchy_problems(document), *unbounded_positions(document)):
+    for pointer, message in (*hierarchy_problems(document), *unbounded_positions(document),
+                             *extensions_not_objects(document)):
         yield "gltf_invalid", pointer, message, None
+
+
+def extensions_not_objects(document: GltfDocument) -> Iterator[tuple[str, str]]:
+    """Every ``extensions`` property that is not an object (null, say), anywhere outside ``extras``."""
+    stack = [(document.json, "")]
+    found = []
+    while stack:
+        container, pointer = stack.pop()
+        items = container.items() if isinstance(container, dict) else enumerate(container)
+        for key, value in items:
+            if key == "extensions" and isinstance(container, dict) and not isinstance(value, dict):
+                found.append(f"{pointer}/extensions")
+            elif isinstance(value, (dict, list)) and key != "extras":
+                stack.append((value, f"{pointer}/{key}"))
+    for pointer in sorted(found):
+        yield pointer, "extensions is not an object (the Khronos glTF-Validator's TYPE_MISMATCH): viewers that read it fail"

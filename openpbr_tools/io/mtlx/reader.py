@@ -8,7 +8,12 @@ not a ``surfacematerial`` or a look reaches it, except inside a node graph that 
 definition (a definition, not a material). A material whose shader is a custom node defined by such
 a graph around one of those shaders is read as that shader with the node's values bound to its
 interface (:meth:`_Reader.expand_custom_shader`); any other shader is an ``unsupported_shader``
-observation (OPBR805; a conversion reports it).
+observation (OPBR805; a conversion reports it). A shader of an XIncluded document that a material here
+binds is read with that material (it converts with it) and checked in its own document, where the
+includer's material binds it (:meth:`_Reader.included_shader`, :meth:`_Reader.bound_by_includer`).
+
+One module because one walk over the composed document reads shaders, materials, looks and the bindings
+between them, which refer to one another; the graph walk behind an input is :mod:`.graph`'s.
 
 Each shader input becomes an :class:`~openpbr_tools.model.Input` whose value is
 
@@ -212,6 +217,7 @@ class _Reader(GraphFollower):
         for material_node in self.document.getMaterialNodes():
             if material_node.getActiveSourceUri():
                 self.asset.extra["included_materials"] = self.asset.extra.get("included_materials", 0) + 1
+                self.bound_by_includer(material_node, shaders)
                 continue
             self.read_material(material_node, shaders)
         for look in self.document.getLooks():
@@ -262,7 +268,8 @@ class _Reader(GraphFollower):
         if not shader.getType().endswith("shader"):  # a colour or value, no shader (the red team's B18: "a constant
             self.asset.observe("material_without_shader", location, material=node.getName())  # shader")
             return
-        material = shaders.get(shader.getNamePath()) or self.expand_custom_shader(shader)
+        material = shaders.get(shader.getNamePath()) or self.included_shader(shader, shaders) \
+            or self.expand_custom_shader(shader)
         if material is None:
             self.asset.observe(
                 "unsupported_shader", location, material=node.getName(), category=shader.getCategory()
@@ -322,6 +329,35 @@ class _Reader(GraphFollower):
         return material
 
     # -- shaders ---------------------------------------------------------------------------
+    def included_shader(self, shader, shaders: dict[str, Material]) -> Material | None:
+        """A shader of an XIncluded document that a material of this one binds (the red team's D2: a library of
+        shaders, namespaced or not, bound here): read as this document's material, so that it converts with its
+        material; marked ``included_from``, as it is checked in its own document (:func:`.rules.check_asset`)."""
+        source = shader.getActiveSourceUri()
+        if not source or shader.getCategory() not in SHADER_CATEGORIES or in_definition(shader):
+            return None
+        material = self.read_shader(shader)
+        material.location = Location(source, None, shader.getNamePath())
+        material.extra["included_from"] = source
+        shaders[shader.getNamePath()] = material
+        self.asset.materials.append(material)
+        return material
+
+    def bound_by_includer(self, node, shaders: dict[str, Material]) -> None:
+        """A material of the document including this one (read in its composition) that binds one of this
+        document's shaders: the shader is bound (a library of shaders is bound where it is included)."""
+        surface = node.getInput("surfaceshader")
+        shader = self.upstream_node(surface) if surface is not None and "included_by" in self.asset.extra else None
+        if shader is None:
+            return
+        name, namespace = shader.getNamePath(), shader.getNamespace()
+        if namespace and name.startswith(namespace + ":") and namespace == self.document.getNamespace():
+            name = name[len(namespace) + 1:]  # (the includer's copy of this namespaced document's shader)
+        material = shaders.get(name)
+        if material is not None and material.material_name is None:
+            material.material_name = node.getName()
+            material.material_location = Location(node.getActiveSourceUri(), None, node.getNamePath())
+
     def read_shader(self, node) -> Material:
         category = node.getCategory()
         location = self.location(node)

@@ -100,9 +100,9 @@ class StageGuard:
                 raise ReadError("not_usd", "USD cannot open the file", self.where(self.path))
             missing = [e for e in stage.GetCompositionErrors() if type(e).__name__ in _MISSING_LAYER_ERRORS]
         self.layers.clear()
-        if missing:
-            reasons = "; ".join(sorted({strip_stage_suffix(str(e)) for e in missing}))
-            raise ReadError("not_usd", f"a layer the stage needs cannot be opened: {reasons}", self.where(self.path))
+        for reason in sorted({strip_stage_suffix(str(e)) for e in missing}):  # (USD composes the rest: rules.usd_stage)
+            layer = re.search(r"@([^@]+)@", reason)
+            self.observe("usd_layer_missing", self.where(self.path), reason=reason, layer=layer.group(1) if layer else None)
         return stage
 
     def where(self, file: str, line: int | None = None, prim: str | None = None) -> Location:

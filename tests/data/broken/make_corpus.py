@@ -285,8 +285,8 @@ case("OPBR203_base_weight_nan.mtlx", "OPBR203", "base_weight is NaN (an uninitia
      opbr('<input name="base_weight" type="float" value="nan" />'))
 case("OPBR203_emission_inf.mtlx", "OPBR203", "emission_luminance is infinite.",
      opbr('<input name="emission_luminance" type="float" value="inf" />'))
-case("OPBR203_gltf_nan_roughness.gltf", "OPBR203", "roughnessFactor written as NaN by Python's json module (not strict JSON, but readers accept it).",
-     '{"asset": {"version": "2.0"}, "materials": [{"name": "M", "pbrMetallicRoughness": {"roughnessFactor": NaN}}]}\n')
+case("OPBR203_gltf_infinite_roughness.gltf", "OPBR203", "roughnessFactor written as 1e400, beyond a double: JSON, read as infinity.",
+     '{"asset": {"version": "2.0"}, "materials": [{"name": "M", "pbrMetallicRoughness": {"roughnessFactor": 1e400}}]}\n')
 case("OPBR204_thin_walled_from_texture.mtlx", "OPBR204", "The uniform geometry_thin_walled is driven by a mask texture.",
      opbr('<input name="geometry_thin_walled" type="boolean" nodename="mask" />',
           before='<image name="mask" type="boolean">\n  <input name="file" type="filename" value="textures/mask.png" />\n</image>'),
@@ -664,6 +664,9 @@ case("OPBR1009_preview_disagrees.usda", "OPBR1009", "The UsdPreviewSurface fallb
      usda('color3f inputs:base_color = (0.5, 0.4, 0.3)',
           'def Shader "P"\n{\n    uniform token info:id = "UsdPreviewSurface"\n    color3f inputs:diffuseColor = (0.05, 0.3, 0.8)\n    token outputs:surface\n}\n',
           material_body='token outputs:surface.connect = </M/P.outputs:surface>'))
+case("OPBR1041_usd_meters_per_unit_zero.usda", "OPBR1041", "A stage exported with metersPerUnit 0 (an unset unit written as zero): the transmission depth means nothing.",
+     usda('float inputs:transmission_weight = 1\nfloat inputs:transmission_depth = 2',
+          head='#usda 1.0\n(\n    defaultPrim = "M"\n    metersPerUnit = 0\n    upAxis = "Y"\n)\n\n'))
 
 # ================================================================ gltf
 case("OPBR1201_clearcoat_undeclared.gltf", "OPBR1201", "KHR_materials_clearcoat used but not listed in extensionsUsed.",
