@@ -165,11 +165,22 @@ class Baker:
         return float(flat[0]) if flat.size == 1 else tuple(float(v) for v in flat)
 
     # -- baking -----------------------------------------------------------------------------
-    def bake(self, material, mapping, values, target_type: str, label: str, texturable: bool = True) -> Baked:
-        """``mapping.formula`` over the textured sources of ``mapping`` (see the module docstring)."""
+    @staticmethod
+    def _bakeable(entry) -> bool:
+        """Whether ``entry`` is a texture this baker reads per texel (one file, not a UDIM set)."""
+        texture = entry.value if entry is not None else None
+        return isinstance(texture, Texture) and "<UDIM>" not in texture.file and "<UVTILE>" not in texture.file
+
+    def bake(self, material, mapping, values, target_type: str, label: str, texturable: bool = True,
+             ignored: dict | None = None) -> Baked:
+        """``mapping.formula`` over the textured sources of ``mapping`` (see the module docstring); a textured source
+        in ``ignored`` (one the formula does not read with the other inputs at their values: translate.probes) that
+        cannot be baked (UDIM tiles, a procedural graph) is held at its probe value instead (a cut-out's opacity beside
+        a diffuse colour of UDIM tiles, which its threshold decides alone: the red team's E#1)."""
         working = LINEAR_REC709  # where the target shades (translate.target.WorkingSpace): every formula runs there
         space = WorkingSpace(material, values.table)
-        textured = [s for s in mapping.sources if not values.is_constant(s)]
+        ignored = {name: probe for name, probe in (ignored or {}).items() if not self._bakeable(values.entry(name))}
+        textured = [s for s in mapping.sources if not values.is_constant(s) and s not in ignored]
         entries = [values.entry(s) for s in textured]
         for name, entry in zip(textured, entries):
             if isinstance(entry.value, Connection) and entry.value.dangling:  # (not a graph: nothing is there)
@@ -197,6 +208,8 @@ class Baker:
         for name in mapping.sources:
             if name in loaded:
                 arguments.append(loaded[name])
+            elif name in ignored:
+                arguments.append(space.into(name, ignored[name]))
             else:
                 constant = values.constant(name)
                 if constant is None:

@@ -37,6 +37,7 @@ from .translate import candidates, past_hub
 from .translate.convert import MODELS, at_source_inputs, convert, unknown_inputs_translated
 from .translate.upgrade import upgrade
 from .validate import composed_documents
+from .convert_sources import display_name, source_notes
 from .convert_textures import graph_fallbacks, missing_textures, rebase_textures as _rebase_textures, \
     unpack_packaged_images as _unpack_packaged_images
 
@@ -59,11 +60,6 @@ class Conversion:
 
 def output_kind(path: str) -> str | None:
     return OUTPUT_KINDS.get(os.path.splitext(path)[1].lower())
-
-
-def display_name(material: Material) -> str:
-    """The name a note gives a material: its material's, else its shader's."""
-    return material.material_name or material.name
 
 
 def _at_material(diagnostics: list[Diagnostic], material: Material) -> list[Diagnostic]:
@@ -126,26 +122,7 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
     # a source MaterialX rejects (the red team's F5: converted with exit 0 and no word): what other notes do not
     # cover (unknown inputs, dangling connections, unreadable values are said at their inputs)
     result.diagnostics += list(materialx_invalid(asset, context))
-    for observation in asset.observations:
-        if observation.kind in ("usd_time_samples", "usd_graph_time_samples") and (
-                observation.detail.get("samples") or observation.detail.get("attributes")):
-            what = observation.detail.get("what") or observation.detail.get("input") or \
-                "the graph on " + (observation.location.input or "an input")
-            owner = next((m for m in asset.materials if m.location.path == observation.location.path), None)
-            result.diagnostics.append(context.diagnostic(  # (the red team's G-F5: an animation vanished unannounced)
-                APPROXIMATED, f"{what} is animated (time samples); the output holds one value, its value at the "
-                              "default time, else its first sample", observation.location if owner is None
-                else observation.location.with_material(display_name(owner))))
-        if observation.kind == "texture_coordinates_dropped":  # (the review's second)
-            result.diagnostics.append(context.diagnostic(
-                NOT_CARRIED, f"the coordinates of {observation.detail.get('node')} come from a network that neither a "
-                             "texture's UV transform nor a kept graph holds (a packaged image is not kept in a graph): "
-                             "the image is carried with the placement read up to it", observation.location))
-        if observation.kind == "unsupported_shader":  # a custom or renderer-specific shader: never silent
-            detail = observation.detail
-            result.diagnostics.append(context.diagnostic(
-                NOT_CARRIED, f"{detail.get('material')}: its {detail.get('category')} shader is none of the shading "
-                             "models the toolkit converts; the material is not written", observation.location))
+    result.diagnostics += source_notes(asset, context)
     try:
         # First every material's mapping, then the candidate search of all of them at once (their renders
         # stacked: candidates.choose_many), then the rest in the file's order.

@@ -122,7 +122,13 @@ def verify(conversion: Conversion, threshold: float = 2.0, context: Context | No
         if comparison.swatch is not None:
             flat = comparison.swatch
             message += f"; mean {flat.mean:.2f}, p95 {flat.p95:.2f}, max {flat.max:.2f} (texture swatch, per texel)"
-        rule = VERIFY_THRESHOLD if comparison.worst.exceeds(threshold) and not comparison.unread else VERIFIED
+        rule = VERIFY_THRESHOLD if comparison.worst.exceeds(threshold) and not comparison.unread \
+            and not comparison.stand_ins else VERIFIED
+        if comparison.stand_ins:  # (the red team's E#2, E#4: a graph of interface inputs, a UV set other than st)
+            one = len(comparison.stand_ins) == 1
+            message += (f"; not a measure of the conversion: {', '.join(comparison.stand_ins)} "
+                        f"{'is a procedural graph' if one else 'are procedural graphs'} the evaluator renders as a "
+                        "stand-in on that side, while the other side reads its textures per texel")
         if comparison.unread:  # (the red team's C6: a correct conversion was reported 22-29 apart, each side's
             # unreadable texture rendered at its fallback)
             message += (f"; not a measure of the conversion: the textures of {', '.join(comparison.unread)} could not "

@@ -446,3 +446,219 @@ def test_a_glb_with_embedded_images_converts_to_usdz(tmp_path):
     members = zipfile.ZipFile(out).namelist()
     assert any(m.endswith(".png") for m in members), members
     assert sorted(p.name for p in out.parent.iterdir()) == ["t.usdz"]
+
+
+# -- session 27's set E: the reverse direction and round trips ---------------------------------------------------------
+
+def _mtlx(tmp_path, name: str, shader: str, body: str, before: str = "") -> str:
+    path = tmp_path / name
+    path.write_text(f'<?xml version="1.0"?>\n<materialx version="1.39" colorspace="lin_rec709">\n{before}'
+                    f'  <{shader} name="S" type="surfaceshader">\n{body}  </{shader}>\n'
+                    '  <surfacematerial name="M" type="material">\n    <input name="surfaceshader" type="surfaceshader" '
+                    'nodename="S" />\n  </surfacematerial>\n</materialx>\n')
+    return str(path)
+
+
+def _inputs(path) -> dict:
+    (material,) = read_asset(str(path)).materials
+    return {name: entry.value.value for name, entry in material.inputs.items() if hasattr(entry.value, "value")}
+
+
+@pytest.mark.parametrize("coat, coat_ior, ior, expected", [(1.0, 1.5, 1.5, 2.25), (1.0, 1.4, 1.5, 2.1), (0.5, 1.5, 1.5, 1.8)])
+def test_a_standard_surface_base_under_its_coat_keeps_its_highlight(tmp_path, coat, coat_ior, ior, expected):
+    """MaterialX's standard_surface.mtlx layers specular_bsdf (IOR specular_IOR, against air) under the coat; OpenPBR's
+    base reflects by its IOR relative to the coat (coat_weight w: mix(n, n / n_c, w)). A car paint's 1.5 under a 1.5
+    coat kept specular_ior 1.5, relative 1, and lost its highlight (MaterialX's GLSL: 3.99 mean CIEDE2000): the base IOR
+    is the one whose IOR relative to the coat is Standard Surface's, n_c n under a full coat, 2 n / (1 + 1 / n_c) under
+    half of one (the mix solved for n)."""
+    source = _mtlx(tmp_path, "ss.mtlx", "standard_surface",
+                   f'    <input name="coat" type="float" value="{coat}" />\n'
+                   f'    <input name="coat_IOR" type="float" value="{coat_ior}" />\n'
+                   f'    <input name="specular_IOR" type="float" value="{ior}" />\n'
+                   '    <input name="base_color" type="color3" value="0.1, 0.4, 0.8" />\n')
+    convert_file(source, str(tmp_path / "o.mtlx"), "open_pbr_surface", Settings())
+    values = _inputs(tmp_path / "o.mtlx")
+    assert values["specular_ior"] == pytest.approx(expected, rel=1e-6)
+    assert values.get("specular_weight", 1.0) == pytest.approx(1.0)
+    assert tuple(values["base_color"]) == pytest.approx((0.1, 0.4, 0.8))  # (no colour made up for a lost highlight)
+
+
+def test_an_uncoated_standard_surface_keeps_its_ior(tmp_path):
+    source = _mtlx(tmp_path, "ss.mtlx", "standard_surface", '    <input name="specular_IOR" type="float" value="1.6" />\n')
+    convert_file(source, str(tmp_path / "o.mtlx"), "open_pbr_surface", Settings())
+    assert _inputs(tmp_path / "o.mtlx")["specular_ior"] == pytest.approx(1.6)
+
+
+def test_a_textured_emission_keeps_its_luminance_in_gltf(tmp_path):
+    """An 8-bit emission colour texture times emission_luminance 5 (nits, one unit per nit): glTF's emission is the
+    texture times emissiveFactor times emissiveStrength, so the texels and a strength of 5 (the red team's E#10: each
+    texel was divided by its own peak and the strength was their mean, 3: 60% of the brightness)."""
+    texels = [(255, 40, 0), (40, 10, 0), (200, 120, 30), (5, 5, 5)]
+    image = Image.new("RGB", (2, 2))
+    image.putdata(texels)
+    image.save(tmp_path / "em.png")
+    source = _mtlx(tmp_path, "e.mtlx", "open_pbr_surface",
+                   '    <input name="emission_color" type="color3" nodename="em" />\n'
+                   '    <input name="emission_luminance" type="float" value="5" />\n',
+                   before='  <image name="em" type="color3">\n    <input name="file" type="filename" value="em.png" '
+                          'colorspace="srgb_texture" />\n  </image>\n')
+    convert_file(source, str(tmp_path / "o.gltf"), None, Settings())
+    written = json.loads((tmp_path / "o.gltf").read_text())
+    material = written["materials"][0]
+    assert material["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"] == pytest.approx(5.0)
+    uri = written["images"][written["textures"][material["emissiveTexture"]["index"]]["source"]]["uri"]
+    got = np.asarray(Image.open(tmp_path / uri).convert("RGB"), dtype=float).reshape(-1)
+    assert got == pytest.approx(np.asarray(texels, dtype=float).reshape(-1), abs=1)
+
+
+def test_a_length_in_a_centimetre_stage_is_judged_in_metres(tmp_path):
+    """MaterialX's honey (transmission_depth 2, untagged: metres) written to a .usda of metersPerUnit 0.01 holds 200:
+    the same depth. --verify warned it 17 mean CIEDE2000 off (the evaluator read 200 as 200 metres); read back it is
+    the source's, and so is a .mtlx of value 200 unit centimeter."""
+    from openpbr_tools.evaluate.verify import compare_materials
+
+    honey = ('    <input name="transmission_weight" type="float" value="1" />\n'
+             '    <input name="transmission_color" type="color3" value="0.85, 0.5, 0.1" />\n'
+             '    <input name="transmission_depth" type="float" value="{value}"{unit} />\n')
+    source = _mtlx(tmp_path, "h.mtlx", "open_pbr_surface", honey.format(value="2", unit=""))
+    tagged = _mtlx(tmp_path, "t.mtlx", "open_pbr_surface",
+                   honey.format(value="200", unit=' unit="centimeter" unittype="distance"'))
+    convert_file(source, str(tmp_path / "h.usda"), None, Settings(meters_per_unit=0.01))
+    (original,), (written,), (centimetres,) = ([m for m in read_asset(str(p)).materials if m.model == "open_pbr_surface"]
+                                                for p in (source, tmp_path / "h.usda", tagged))
+    assert written.inputs["transmission_depth"].value.value == pytest.approx(200.0)
+    assert compare_materials(original, written).preview.mean < 0.05
+    assert compare_materials(original, centimetres).preview.mean < 0.05
+
+
+_VARIANTS = """#usda 1.0
+(
+    defaultPrim = "World"
+    metersPerUnit = 1
+)
+def Xform "World"
+{
+    def Material "Paint" (
+        variants = {
+            string color = "red"
+        }
+        prepend variantSets = "color"
+    )
+    {
+        token outputs:surface.connect = </World/Paint/PS.outputs:surface>
+        def Shader "PS"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            token outputs:surface
+        }
+        variantSet "color" = {
+            "blue" {
+                over "PS"
+                {
+                    color3f inputs:diffuseColor = (0.1, 0.1, 0.8)
+                }
+            }
+            "red" {
+                over "PS"
+                {
+                    color3f inputs:diffuseColor = (0.8, 0.1, 0.1)
+                }
+            }
+        }
+    }
+}
+"""
+
+
+def test_values_in_variants_not_selected_are_said_to_be_left_out(tmp_path):
+    """A USD material's variant set (a colour per variant): the composed stage shows the selected one, which is what is
+    converted; the other variants' values are not carried, and that is an error at the input, naming the variant (the
+    red team's E#8: they vanished without a word)."""
+    path = tmp_path / "v.usda"
+    path.write_text(_VARIANTS)
+    result = convert_file(str(path), str(tmp_path / "o.mtlx"), "open_pbr_surface", Settings())
+    notes = [d for d in result.diagnostics if d.code == "OPBR1104" and "color=blue" in d.message]
+    assert len(notes) == 1 and notes[0].location.input == "diffuseColor"
+    assert tuple(_inputs(tmp_path / "o.mtlx")["base_color"]) == pytest.approx((0.8, 0.1, 0.1))
+
+
+def test_a_cutout_is_baked_beside_a_colour_it_does_not_read(tmp_path):
+    """A UsdPreviewSurface cut-out (opacity from an image's alpha, opacityThreshold 0.5) beside a diffuse colour of UDIM
+    tiles, which cannot be baked: the cut-out does not read the colour (the threshold decides it), so it is baked from
+    the alpha alone (the red team's E#1: no opacity was written, 19.45 mean CIEDE2000)."""
+    (tmp_path / "tex").mkdir()
+    for tile in ("1001", "1002"):
+        Image.new("RGB", (4, 4), (200, 50, 50)).save(tmp_path / "tex" / f"udim.{tile}.png")
+    alpha = Image.new("RGBA", (4, 4), (255, 255, 255, 255))
+    alpha.putpixel((0, 0), (255, 255, 255, 0))
+    alpha.save(tmp_path / "tex" / "rgba.png")
+    stage = tmp_path / "s.usda"
+    stage.write_text(_CUTOUT)
+    convert_file(str(stage), str(tmp_path / "o.mtlx"), "open_pbr_surface", Settings())
+    assert 'name="geometry_opacity"' in (tmp_path / "o.mtlx").read_text()
+
+
+_CUTOUT = """#usda 1.0
+(
+    defaultPrim = "World"
+)
+def Xform "World"
+{
+    def Material "MatB"
+    {
+        token outputs:surface.connect = </World/MatB/PS.outputs:surface>
+        def Shader "PS"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            color3f inputs:diffuseColor.connect = </World/MatB/TexU.outputs:rgb>
+            float inputs:opacity.connect = </World/MatB/TexA.outputs:a>
+            float inputs:opacityThreshold = 0.5
+            token outputs:surface
+        }
+        def Shader "UV"
+        {
+            uniform token info:id = "UsdPrimvarReader_float2"
+            string inputs:varname = "st"
+            float2 outputs:result
+        }
+        def Shader "TexU"
+        {
+            uniform token info:id = "UsdUVTexture"
+            asset inputs:file = @tex/udim.<UDIM>.png@
+            token inputs:sourceColorSpace = "sRGB"
+            float2 inputs:st.connect = </World/MatB/UV.outputs:result>
+            float3 outputs:rgb
+        }
+        def Shader "TexA"
+        {
+            uniform token info:id = "UsdUVTexture"
+            asset inputs:file = @tex/rgba.png@
+            float2 inputs:st.connect = </World/MatB/UV.outputs:result>
+            float outputs:a
+        }
+    }
+}
+"""
+
+
+def test_a_stand_in_on_one_side_only_is_no_measure(tmp_path):
+    """A node graph the evaluator cannot follow (interface inputs: a published 'tint' control) renders as a stand-in on
+    one side, while the converted material, its graph flattened, reads its texture per texel: the figure says nothing
+    of the conversion, so it is an info that says so, and no warning (the red team's E#4: 7.7 mean CIEDE2000, warned;
+    the same material with the values written in place compares at 0.2)."""
+    rows = np.tile(np.linspace(0, 255, 8, dtype=np.uint8)[:, None, None], (1, 8, 3))
+    Image.fromarray(rows, "RGB").save(tmp_path / "ramp.png")
+    graph = ('  <nodegraph name="NG">\n    <input name="tint" type="color3" value="0.9, 0.3, 0.2" />\n'
+             '    <image name="img" type="color3">\n      <input name="file" type="filename" value="ramp.png" '
+             'colorspace="srgb_texture" />\n    </image>\n    <multiply name="mul" type="color3">\n'
+             '      <input name="in1" type="color3" nodename="img" />\n      <input name="in2" type="color3" '
+             'interfacename="tint" />\n    </multiply>\n    <output name="out" type="color3" nodename="mul" />\n'
+             '  </nodegraph>\n')
+    source = _mtlx(tmp_path, "g.mtlx", "open_pbr_surface",
+                   '    <input name="base_color" type="color3" nodegraph="NG" output="out" />\n', before=graph)
+    from openpbr_tools.verification import verify
+
+    conversion = convert_file(source, str(tmp_path / "o.mtlx"), "standard_surface", Settings())
+    figures = [d for d in verify(conversion, threshold=0.5) if d.code in ("OPBR1108", "OPBR1109")]
+    assert [d.code for d in figures] == ["OPBR1108"], [d.message for d in figures]
+    assert "not a measure of the conversion: A base_color is a procedural graph" in figures[0].message

@@ -49,10 +49,11 @@ def build_model(model: str, values: dict | None = None) -> BSDFModel:
     return model_class(model)(resolved.values)
 
 
-def model_for_material(material, sampler=None, uvs=None) -> tuple[BSDFModel, ResolvedParameters]:
+def model_for_material(material, sampler=None, uvs=None, length_scale: float = 1.0) -> tuple[BSDFModel, ResolvedParameters]:
     """An evaluator for a :class:`~openpbr_tools.model.Material` and how its inputs resolved; with a
-    :class:`~.textures.TextureSampler` and ``uvs``, textures are read at those points."""
-    resolved = resolve(material, sampler, uvs)
+    :class:`~.textures.TextureSampler` and ``uvs``, textures are read at those points; lengths times
+    ``length_scale`` (:func:`.parameters.resolve`)."""
+    resolved = resolve(material, sampler, uvs, length_scale)
     return model_class(material.model)(resolved.values), resolved
 
 

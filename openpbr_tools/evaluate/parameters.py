@@ -154,9 +154,11 @@ COAT_NORMAL = {"open_pbr_surface": "geometry_coat_normal", "standard_surface": "
                "gltf_pbr": "clearcoat_normal"}
 
 
-def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
+def resolve(material: Material, sampler=None, uvs=None, length_scale: float = 1.0) -> ResolvedParameters:
     """Resolve ``material`` (see the module docstring); with ``sampler`` and ``uvs`` (a
-    :class:`~.textures.UVs` of N shading points) textures are read per point."""
+    :class:`~.textures.UVs` of N shading points) textures are read per point. Lengths in scene units are the
+    material's own (the rig's sphere is one scene unit across the volume, glTF's thickness its own), times
+    ``length_scale`` where a comparison reads them in another material's unit (:func:`scene_unit`)."""
     from .textures import TextureUnavailable  # lazy: circular (textures is a sibling only samplers need)
 
     resolved = defaults(material.model)
@@ -199,6 +201,8 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
         try:
             if isinstance(value, Constant):
                 converted = _convert(value.value, p.type, p.role, colorspace)
+                if p.unit == "scene_length" and length_scale != 1.0:
+                    converted = converted * length_scale
                 if p.type in _NUMERIC_TYPES and (np.shape(converted) not in _NUMERIC_TYPES[p.type] or
                                                  not np.all(np.isfinite(np.asarray(converted, dtype=float)))):
                     # NaN or infinity (OPBR203), or a colour where a float belongs (OPBR201): the default
@@ -214,7 +218,7 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
                     and (stand_in := procedural.value(value.graph_xml, value.output, p.type, colorspace)) is not None:
                 resolved.values[name] = _convert(stand_in, p.type, p.role, None)  # already linear Rec.709
                 resolved.approximated.append((name, f"procedural: its graph's closing arithmetic evaluated, every other "
-                                                    f"node at {procedural.STAND_IN} (the same stand-in on both sides)"))
+                                                    f"node at {procedural.STAND_IN} (a stand-in)"))
             elif isinstance(value, Connection) or value is None:
                 resolved.not_evaluated.append(name)
         except (TypeError, ValueError):
@@ -227,6 +231,28 @@ def resolve(material: Material, sampler=None, uvs=None) -> ResolvedParameters:
     if sampler is not None and uvs is not None and material.model == "gltf_pbr":
         _gltf_anisotropy_direction(material, resolved, sampler, uvs)
     return resolved
+
+
+def scene_unit(material: Material) -> float:
+    """Metres per scene unit of ``material``'s lengths: a MaterialX ``unit`` on one of them, else its USD stage's
+    (``extra["meters_per_unit"]``, the USD reader's), else 1 (an untagged MaterialX length is taken as metres, as the
+    converters take it; glTF's are metres). A comparison reads the second material's lengths in the first's unit, so
+    MaterialX's honey (a depth of 2, metres) and its .usda in a centimetre stage (200) are the same (the red team's
+    E#3: 17 mean CIEDE2000 apart)."""
+    units = _distance_units()
+    table = tables.table(material.model)
+    for name, entry in material.inputs.items():
+        parameter = table.get(name)
+        if parameter is not None and parameter.unit == "scene_length" and entry.unit in units:
+            return float(units[entry.unit])
+    scale = material.extra.get("meters_per_unit")
+    return float(scale) if isinstance(scale, (int, float)) and scale > 0 else 1.0
+
+
+def _distance_units() -> dict:
+    from ..resources import load_json  # lazy: the tables are loaded already; units only where a length is authored
+
+    return load_json("units.json")["distance"]
 
 
 def _open_bounds(table: dict, resolved: ResolvedParameters) -> None:

@@ -22,6 +22,7 @@ from . import model_for_material
 from .difference import DeltaE, compare_albedo, delta_e_2000, summarize
 from .measure import directional_albedo
 from .preview import Rig, geometry, perturbed, shade, turned
+from .parameters import scene_unit
 
 #: View cosines at which albedo curves are compared.
 ALBEDO_COSINES = np.linspace(0.05, 1.0, 16)
@@ -39,9 +40,9 @@ class Swatch:
     textured: bool = False  # some texture was read per pixel
 
 
-def _render(material, rig: Rig, sampler, shape: str, environment=None):
+def _render(material, rig: Rig, sampler, shape: str, environment=None, length_scale: float = 1.0):
     geo = geometry(shape, rig)
-    model, resolved = model_for_material(material, sampler, geo.uvs if sampler is not None else None)
+    model, resolved = model_for_material(material, sampler, geo.uvs if sampler is not None else None, length_scale)
     base_geo, coat_geo = _frames(material.model, geo, resolved)
     image, mask = shade(model, base_geo, rig, environment=environment, coat_geo=coat_geo)
     notes = resolved.notes()
@@ -101,6 +102,9 @@ class MaterialComparison:
     # the inputs, "A name" or "B name", whose textures could not be read (missing, outside the folders allowed): each
     # rendered at its fallback, so the figures say nothing of the conversion there
     unread: list[str] = field(default_factory=list)
+    # the inputs, "A name" or "B name", rendered as a procedural stand-in on that side while the other side reads
+    # per texel: the figures say nothing of the conversion there (the red team's E#2, E#4)
+    stand_ins: list[str] = field(default_factory=list)
 
     @property
     def worst(self) -> DeltaE:
@@ -117,6 +121,7 @@ class MaterialComparison:
             "albedo": self.albedo.as_dict(),
             "notes": list(self.notes),
             "unread": list(self.unread),
+            "stand_ins": list(self.stand_ins),
         }
         if self.swatch is not None:
             out["swatch"] = self.swatch.as_dict()
@@ -148,8 +153,9 @@ def compare_materials(material_a, material_b, rig: Rig = Rig(), sampler=None, ke
     texture-space swatches are compared too. ``keep_images`` keeps both renders and the ΔE map
     of each shape in ``views``."""
     sampler_b = sampler if sampler_b is None else sampler_b
+    scale_b = scene_unit(material_b) / scene_unit(material_a)  # (B's lengths in A's scene unit)
     image_a, mask, notes_a, resolved_a = _render(material_a, rig, sampler, "sphere")
-    image_b, _, notes_b, resolved_b = _render(material_b, rig, sampler_b, "sphere")
+    image_b, _, notes_b, resolved_b = _render(material_b, rig, sampler_b, "sphere", length_scale=scale_b)
     white = rig.white()
     sphere_map = _delta_map(image_a, image_b, mask, white)
     views = [View("sphere", image_a, image_b, sphere_map, white)] if keep_images else []
@@ -159,21 +165,29 @@ def compare_materials(material_a, material_b, rig: Rig = Rig(), sampler=None, ke
         size = max(swatch_size((material_a,), sampler, rig), swatch_size((material_b,), sampler_b, rig))
         flat = dataclasses.replace(rig, size=size)
         flat_a, flat_mask, _, _ = _render(material_a, flat, sampler, "swatch")
-        flat_b, _, _, _ = _render(material_b, flat, sampler_b, "swatch")
+        flat_b, _, _, _ = _render(material_b, flat, sampler_b, "swatch", length_scale=scale_b)
         flat_map = _delta_map(flat_a, flat_b, flat_mask, flat.white())
         swatch_delta = summarize(flat_map[flat_mask])
         if keep_images:
             views.append(View("swatch", flat_a, flat_b, flat_map, flat.white()))
     model_a, _ = model_for_material(material_a)
-    model_b, _ = model_for_material(material_b)
+    model_b, _ = model_for_material(material_b, length_scale=scale_b)
     albedo_a = directional_albedo(model_a, ALBEDO_COSINES)
     albedo_b = directional_albedo(model_b, ALBEDO_COSINES)
     albedo = compare_albedo(albedo_a[0] + albedo_a[1], albedo_b[0] + albedo_b[1])
     notes = [f"A {material_a.name}: {n}" for n in dict.fromkeys(notes_a)]
     notes += [f"B {material_b.name}: {n}" for n in dict.fromkeys(notes_b)]
     unread = [f"A {name}" for name in sorted(resolved_a.why_not)] + [f"B {name}" for name in sorted(resolved_b.why_not)]
+    stand_a, stand_b = _stand_ins(resolved_a), _stand_ins(resolved_b)
+    lopsided = ([f"A {name}" for name in stand_a] if resolved_b.sampled and not stand_b else []) + \
+        ([f"B {name}" for name in stand_b] if resolved_a.sampled and not stand_a else [])
     return MaterialComparison(material_a.name, material_b.name, material_a.model, material_b.model,
-                              summarize(sphere_map[mask]), albedo, notes, swatch_delta, views, unread)
+                              summarize(sphere_map[mask]), albedo, notes, swatch_delta, views, unread, lopsided)
+
+
+def _stand_ins(resolved) -> list[str]:
+    """The inputs a material renders with a procedural stand-in (parameters.resolve)."""
+    return sorted({name for name, why in resolved.approximated if why.startswith("procedural")})
 
 
 def _delta_map(image_a, image_b, mask, white: float) -> np.ndarray:

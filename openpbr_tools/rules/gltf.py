@@ -232,7 +232,10 @@ BROKEN_RESOURCE = Rule(
 INVALID_PROPERTY = Rule(
     "OPBR1210", "gltf-invalid-property", Severity.ERROR,
     "A material property has the wrong JSON type (a textureInfo without an integer index or null, an "
-    "extension that is not an object, a malformed KHR_texture_transform), a material extension on another "
+    "extension, an extensions property or pbrMetallicRoughness that is not an object (null), a malformed "
+    "KHR_texture_transform; a number written 0.0 is the integer it equals, as JSON Schema reads it), a NaN or "
+    "Infinity literal anywhere (not JSON: the validator's INVALID_JSON), a KHR_materials_variants mapping whose "
+    "material or variant index is no index (-1, 0.5), a material extension on another "
     "object (KHR_materials_emissive_strength inside pbrMetallicRoughness, KHR_texture_transform on a "
     "material), a sampler filter or wrap outside the schema's list, or a value out of range that no "
     "gltf_pbr parameter holds (texCoord, occlusion strength, iridescenceThicknessMinimum); an image with both "

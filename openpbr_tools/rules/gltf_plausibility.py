@@ -205,6 +205,8 @@ def _double_transparency(material, present, context):
             not isinstance(transmission, float) or transmission <= 0 or (alpha is not None and alpha.texture is not None):
         return
     shown = constant_or_default(material, "alpha")
+    if not isinstance(shown, (int, float)) or isinstance(shown, bool):  # (an alpha that is no number: OPBR201/202's)
+        return
     yield context.diagnostic(
         DOUBLE_TRANSPARENCY, f"{material.name}: transmission {transmission:g} and alphaMode BLEND with alpha "
         f"{shown:g} everywhere: the glass is transparent twice, and its reflections fade with the alpha",

@@ -338,7 +338,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         if settings.baker is not None and mapping.formula is not None:
             try:
                 baked = settings.baker.bake(material, mapping, values, parameter.type, f"{label} {mapping.target}",
-                                            texturable=_texturable(target_model, mapping.target))
+                                            texturable=_texturable(target_model, mapping.target), ignored=ignored)
             except BakeError as error:
                 kept = expressed_module.scaled_texture(material, mapping, textured, values, working, parameter, ignored,
                                                       settings.gltf_file)

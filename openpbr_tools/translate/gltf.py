@@ -439,18 +439,25 @@ def _peak(color):
 
 def _emissive(radiance, luminance):
     """glTF's emissiveFactor (or texture) for an emitted ``radiance`` (OpenPBR's colour times its luminance in units):
-    the radiance itself where it is at most 1, the per-texel brightness kept in the texture; divided by its peak
-    where brighter, the rest in KHR_materials_emissive_strength (:func:`_emissive_strength`). The luminance went into
-    the strength before session 26, which holds one value: a textured luminance (a UsdPreviewSurface's emissive
-    texture, split by the hub into colour and luminance) lost its brightness per texel (McUsd's lava: 7.16 mean
-    CIEDE2000, its texture back exactly now)."""
-    peak = _peak(radiance)
-    return np.where(peak > 1.0, radiance / np.where(peak > 1.0, peak, 1.0), radiance)
+    the radiance divided by :func:`_emissive_scale`, the one KHR_materials_emissive_strength every texel shares, so
+    that texture times strength is the radiance at every texel. Before session 26 the luminance went into the
+    strength and a textured luminance lost its brightness per texel (McUsd's lava: 7.16 mean CIEDE2000, its texture
+    back exactly now); before session 27 each texel was divided by its own peak and the strength was their mean, so
+    an 8-bit emission texture times a luminance of 5 came out at the mean peak, 3 (the red team's E#10: 6.42 mean
+    CIEDE2000; the source texture and a strength of 5 now)."""
+    return np.asarray(radiance, dtype=np.float64) / _emissive_scale(radiance)
+
+
+def _emissive_scale(radiance) -> float:
+    """The strength of :func:`_emissive`: the largest channel over every texel of the radiance, where above 1, else 1
+    (a texture is evaluated whole, so this is one value for it)."""
+    values = np.asarray(radiance, dtype=np.float64)
+    return max(1.0, float(np.max(values))) if values.size and np.all(np.isfinite(values)) else 1.0
 
 
 def _emissive_strength(radiance, luminance, nits_per_unit=1.0):
-    """KHR_materials_emissive_strength: the radiance's peak where above 1, else 1 (:func:`_emissive`)."""
-    return np.maximum(_peak(radiance), 1.0)
+    """KHR_materials_emissive_strength: :func:`_emissive_scale`, one value for every texel."""
+    return np.full(np.shape(_peak(radiance)), _emissive_scale(radiance))
 
 
 def _normalised(color):

@@ -206,8 +206,9 @@ def _ss_film(thickness):
     return np.where(thickness > 0, 1.0, 0.0)
 
 
-def openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thickness, color):
-    """Inverse of :func:`ss_specular` (Standard Surface does not darken: no darkening to undo).
+def openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thickness, color, transmission=0.0):
+    """Inverse of :func:`ss_specular` (Standard Surface does not darken: no darkening to undo); where the
+    base takes Standard Surface's IOR relative to the coat (:func:`relative_under_coat`), ``specular`` itself.
 
     Standard Surface's ``specular`` does not dim its metal; OpenPBR's ``specular_weight`` does, and
     the base colour is divided by ``1 + m (w - 1)`` to compensate (:func:`openpbr_base_color`). Where
@@ -216,7 +217,8 @@ def openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thick
     max(base_color)``: exact for a pure metal, and the dielectric share (1 - m) then reflects more
     than Standard Surface's (MaterialX's standard_surface_to_open_pbr graph sets the weight to 1
     for any metalness above 0, losing the dielectric dimming entirely)."""
-    weight = _coated_weight(specular, metalness, ior, coat_ior, coat, film_thickness)
+    weight = np.where(relative_under_coat(specular, metalness, ior, coat_ior, coat, film_thickness, color, transmission),
+                      specular, _coated_weight(specular, metalness, ior, coat_ior, coat, film_thickness))
     peak = np.max(color, axis=-1, keepdims=np.ndim(color) >= 3)
     with np.errstate(divide="ignore", invalid="ignore"):
         floor = np.where(metalness > 0, 1.0 - (1.0 - np.minimum(peak, 1.0)) / np.where(metalness > 0, metalness, 1.0), 0.0)
@@ -224,7 +226,28 @@ def openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thick
 
 
 SPECULAR_WEIGHT_SOURCES = ("specular", "metalness", "specular_IOR", "coat_IOR", "coat", "thin_film_thickness",
-                           "base_color")
+                           "base_color", "transmission")
+
+
+def relative_under_coat(specular, metalness, ior, coat_ior, coat, film_thickness, color=None, transmission=0.0):
+    """Where OpenPBR's base gets the IOR whose IOR relative to the coat is Standard Surface's ``specular_IOR``
+    (:func:`openpbr_specular_ior`), its weight Standard Surface's ``specular``: under a coat, Standard Surface's base
+    reflects by its IOR against air (MaterialX's standard_surface.mtlx layers specular_bsdf, of ``specular_IOR``,
+    under the coat), OpenPBR's relative to the coat. A weight scaled to the F0 under the coat (:func:`_coated_weight`)
+    gives the same reflection while it stays within 1; past it (a base of the coat's IOR reflects nothing in OpenPBR:
+    Standard Surface car paints, whose base and coat are both 1.5, lost their base highlight, 3.99 mean CIEDE2000 in
+    MaterialX's GLSL; the red team's E#9) the IOR carries it. Not on a transmissive base, whose IOR also refracts."""
+    scale = fit.dielectric_specular_scale(ior, coat_ior, coat, _ss_film(film_thickness))
+    return (np.asarray(coat) > 0) & (np.asarray(metalness) < 1) & (np.asarray(transmission) <= 0) & \
+        (np.asarray(specular) > scale + 1e-9)
+
+
+def openpbr_specular_ior(ior, *weight_sources):
+    """OpenPBR's ``specular_ior``: Standard Surface's, or where :func:`relative_under_coat`, the IOR whose IOR
+    relative to the coat is Standard Surface's (:func:`.fit.specular_ior_for_relative_ior`)."""
+    specular, metalness, _, coat_ior, coat = weight_sources[:5]
+    relative = relative_under_coat(weight_sources[0], metalness, ior, *weight_sources[3:])
+    return np.where(relative, fit.specular_ior_for_relative_ior(ior, coat_ior, coat), ior)
 
 
 def _coated_weight(specular, metalness, ior, coat_ior, coat, film_thickness):
@@ -233,11 +256,11 @@ def _coated_weight(specular, metalness, ior, coat_ior, coat, film_thickness):
     return fit.specular_weight_from_coated(specular, scale, metalness)
 
 
-def _weight_raised(specular, metalness, ior, coat_ior, coat, film_thickness, color) -> bool:
+def _weight_raised(specular, metalness, ior, coat_ior, coat, film_thickness, color, transmission=0.0) -> bool:
     """Whether :func:`openpbr_specular_weight` raised a metal's weight above the coated-F0 solve (its floor)."""
     plain = _coated_weight(specular, metalness, ior, coat_ior, coat, film_thickness)
-    return bool(np.any(openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thickness, color)
-                       > plain + 1e-9))
+    return bool(np.any(openpbr_specular_weight(specular, metalness, ior, coat_ior, coat, film_thickness, color,
+                                               transmission) > plain + 1e-9))
 
 
 def openpbr_base_color(color, metalness, *weight_sources):
@@ -450,8 +473,8 @@ FROM_SS = (
                  "same hemispherical albedo; the angular shapes still differ"),
     Mapping("base_metalness", ("metalness",)),
     Mapping("specular_weight", SPECULAR_WEIGHT_SOURCES, openpbr_specular_weight, exact=False,
-            matters=lambda s, m, n, nc, c, t, color: (c > 0 and m < 1) or (0 < m < 1 and _weight_raised(
-                s, m, n, nc, c, t, color)),
+            matters=lambda s, m, n, nc, c, t, color, tr: (c > 0 and m < 1 and not bool(np.any(relative_under_coat(
+                s, m, n, nc, c, t, color, tr)))) or (0 < m < 1 and _weight_raised(s, m, n, nc, c, t, color, tr)),
             note="OpenPBR's base reflects with its IOR relative to the coat's: its specular weight scaled to "
                  "Standard Surface's F0 under the coat; on a partly metallic base, raised so that the metal keeps "
                  "its reflectivity (OpenPBR's specular_weight dims metals, Standard Surface's specular does not), "
@@ -474,7 +497,12 @@ FROM_SS = (
                       "coat adds (Standard Surface's coat leaves its base as smooth as authored, but by "
                       "coat_affect_roughness)"),
     Mapping("specular_roughness_anisotropy", ("specular_anisotropy",)),
-    Mapping("specular_ior", ("specular_IOR",)),
+    Mapping("specular_ior", ("specular_IOR",) + SPECULAR_WEIGHT_SOURCES[:2] + SPECULAR_WEIGHT_SOURCES[3:],
+            lambda n, s, m, *rest: openpbr_specular_ior(n, s, m, n, *rest),
+            converted="Standard Surface's base reflects by its IOR against air under its coat, OpenPBR's relative to "
+                      "the coat: where a weight cannot carry it, the base IOR is set so that its IOR relative to the coat "
+                      "is Standard Surface's specular_IOR, the weight to its specular (an opaque base: the IOR refracts "
+                      "nothing)"),
     Mapping("transmission_weight", ("transmission",)),
     Mapping("transmission_color", ("transmission_color",)),
     Mapping("transmission_depth", ("transmission_depth",)),

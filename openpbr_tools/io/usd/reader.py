@@ -48,6 +48,7 @@ import os
 
 from ... import colorspaces, gltf_state, tables, versioning
 from ...model import Asset, Constant, Input, Location, Material
+from ...resources import load_json
 from .. import ReadError
 from .network import MAX_DEPTH, NetworkReader
 from .observations import observe_layer_units, observe_structure, observe_variant_values, scene_length_inputs
@@ -159,6 +160,9 @@ class _Reader(NetworkReader):
         for prim in shader_prims:
             self.observe_shader_id(prim)
         asset.extra["usd_renderer_context_shaders"] = tuple(sorted(self.renderer_context_shaders))
+        unit = asset.meters_per_unit or load_json("units.json")["usd_default_meters_per_unit"]
+        for material in asset.materials:  # (the evaluator reads scene-unit lengths in metres: parameters.resolve)
+            material.extra["meters_per_unit"] = unit
         if meshes and not self.stage.GetCompositionErrors() and not any(
                 o.kind in ("usd_arc_outside", "usd_mtlx_reference") for o in asset.observations):
             # (a stage composed without some of its layers may lack the primvars they carry: not judged)
