@@ -127,7 +127,10 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
         # First every material's mapping, then the candidate search of all of them at once (their renders
         # stacked: candidates.choose_many), then the rest in the file's order.
         pending = []  # (material, its notes so far, (notes, settings, unique, name, translation, judged) or None)
-        for material in asset.materials + convert_looks.included_materials(asset, tuple(allow_outside)):
+        sources = asset.materials + convert_looks.included_materials(asset, tuple(allow_outside))
+        names_seen: set[str] = set()
+        valid_names = {n for m in sources if m.model in MODELS and _name_as_written(n := m.material_name or m.name, kind) == n}
+        for material in sources:
             if material.model not in MODELS:
                 continue
             before: list[Diagnostic] = []
@@ -150,16 +153,23 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             step_settings = dataclasses.replace(settings, meters_per_unit=meters, context=context, baker=baker,
                                                 gltf_file=kind == "gltf", node_graphs=kind == "mtlx")
             name = unique = material.material_name or material.name
-            while unique in used_names and kind != "gltf":  # glTF keeps materials apart by index
-                unique = f"{name}_{len(used_names) + 1}"
-            used_names.add(unique)
             written = _name_as_written(unique, kind)
+            # unique as written: a name made valid ('Mat.1' -> 'Mat_1') takes neither a name written before nor one
+            # another material has already valid (the red team's E#6: the real 'Mat_1' was renamed, unannounced)
+            while kind != "gltf" and (written in used_names or (written != name and written in valid_names)):
+                unique = f"{name}_{len(used_names) + 1}"  # (glTF keeps materials apart by index)
+                written = _name_as_written(unique, kind)
+            used_names.add(written)
+            repeated = name in names_seen
+            names_seen.add(name)
             if written != unique:  # (the red team's F-08: 'Material #25' came back as 'Material__25', unannounced)
                 notes.append(context.diagnostic(CONVERTED, f"{unique}: written as {written!r}, a name {kind} allows "
                                                 "(letters, digits and underscores)", material.location))
             if unique != name:
-                notes.append(context.diagnostic(CONVERTED, f"{name}: an earlier material has the same name; written as "
-                                                f"{unique!r} so that no writer merges the two"
+                why = "an earlier material has the same name" if repeated else \
+                    f"another material has the name it would be written as ({_name_as_written(name, kind)!r})"
+                notes.append(context.diagnostic(CONVERTED, f"{name}: {why}; written as {unique!r} so that no writer "
+                                                "merges the two"
                                                 + (" (a glTF output restores the name)" if asset.format == "gltf" else ""),
                                                 material.location))
             if material.extra.get("displacement") and not (kind == "mtlx" and material.extra.get("displacement_graph")):
@@ -196,9 +206,9 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             translated.material_name = unique
             if kind == "mtlx" and material.extra.get("displacement_graph"):  # kept whole (its writer wires it)
                 translated.extra["displacement_graph"] = material.extra["displacement_graph"]
-            if unique != name and asset.format == "gltf" and isinstance(translated.extra.get("gltf"), dict):
-                # restored on glTF output while the material still bears the name it was written as
-                translated.extra["gltf"]["name"], translated.extra["gltf"]["renamed_to"] = name, unique
+            if _name_as_written(unique, kind) != name and asset.format == "gltf" and isinstance(
+                    translated.extra.get("gltf"), dict):  # restored on glTF output while the material bears its new name
+                translated.extra["gltf"]["name"], translated.extra["gltf"]["renamed_to"] = name, _name_as_written(unique, kind)
             done.append((material, before, (notes, step_settings, translated, translation.origins)))
         # a USD output's UsdPreviewSurface fallbacks: their searches at once too
         previews = iter(candidates.choose_many(past_hub.fallback_jobs(done)) if kind == "usd" else [])

@@ -662,3 +662,115 @@ def test_a_stand_in_on_one_side_only_is_no_measure(tmp_path):
     figures = [d for d in verify(conversion, threshold=0.5) if d.code in ("OPBR1108", "OPBR1109")]
     assert [d.code for d in figures] == ["OPBR1108"], [d.message for d in figures]
     assert "not a measure of the conversion: A base_color is a procedural graph" in figures[0].message
+
+
+# -- session 27's set F, second part: what the anchors say, and messages --------------------------------------------------
+
+_READER_STAGE = """#usda 1.0
+(
+    defaultPrim = "Root"
+    metersPerUnit = 1
+)
+def Xform "Root"
+{
+    def Material "Mat"
+    {
+        token outputs:surface.connect = </Root/Mat/Preview.outputs:surface>
+        def Shader "Preview"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            color3f inputs:diffuseColor.connect = </Root/Mat/Tex.outputs:rgb>
+            token outputs:surface
+        }
+        def Shader "Tex"
+        {
+            uniform token info:id = "UsdUVTexture"
+            asset inputs:file = @./albedo.png@
+            float2 inputs:st.connect = </Root/Mat/ST>
+            float3 outputs:rgb
+        }
+        SOURCE
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("source, code", [
+    ('def Shader "Reader"\n        {\n            uniform token info:id = "UsdPrimvarReader_float2"\n'
+     '            int inputs:varname = 0\n            float2 outputs:result\n        }', "OPBR201"),
+    ('def Shader "Other"\n        {\n            uniform token info:id = "UsdUVTexture"\n'
+     '            asset inputs:file = @./albedo.png@\n            float3 outputs:rgb\n        }', "OPBR1005"),
+])
+def test_what_renderers_cannot_read_as_coordinates_is_an_error(tmp_path, source, code):
+    """A primvar reader's varname of type int (usd-core: error MismatchedPropertyType, expected string: no primvar is
+    found) was a warning; another texture's float3 rgb into st (float2) was silent, where a float3 reader's was
+    OPBR1005 (Sdr and hdMtlx type the output by its definition)."""
+    target = "Reader.outputs:result" if "Reader" in source else "Other.outputs:rgb"
+    Image.new("RGB", (2, 2)).save(tmp_path / "albedo.png")
+    path = tmp_path / "s.usda"
+    path.write_text(_READER_STAGE.replace("SOURCE", source).replace("</Root/Mat/ST>", f"</Root/Mat/{target}>"))
+    assert code in _validate_codes(path)
+
+
+def test_a_zero_usd_uv_scale_is_quoted_as_authored(tmp_path):
+    """UsdTransform2d scale (1, 0): the message quoted (1, inf), the inverse place2d holds."""
+    from openpbr_tools.validate import validate_paths
+
+    Image.new("RGB", (2, 2)).save(tmp_path / "albedo.png")
+    transform = ('def Shader "T"\n        {\n            uniform token info:id = "UsdTransform2d"\n'
+                 '            float2 inputs:scale = (1, 0)\n            float2 outputs:result\n        }')
+    path = tmp_path / "s.usda"
+    path.write_text(_READER_STAGE.replace("SOURCE", transform).replace("</Root/Mat/ST>", "</Root/Mat/T.outputs:result>"))
+    messages = [d.message for d in validate_paths([str(path)]).diagnostics if d.code == "OPBR711"]
+    assert messages and "(1, 0)" in messages[0] and "inf" not in messages[0]
+
+
+def test_a_version_that_is_no_number_is_not_called_old(tmp_path):
+    from openpbr_tools.validate import validate_paths
+
+    path = tmp_path / "v.mtlx"
+    path.write_text(_mtlx(tmp_path, "x.mtlx", "open_pbr_surface", "") and
+                    (tmp_path / "x.mtlx").read_text().replace('version="1.39"', 'version="latest"'))
+    messages = [d.message for d in validate_paths([str(path)]).diagnostics if d.code == "OPBR005"]
+    assert messages and "older" not in messages[0] and "no version number" in messages[0]
+
+
+def test_a_name_made_valid_never_takes_another_materials_name(tmp_path):
+    """glTF materials 'Mat.1' and 'Mat_1': MaterialX's createValidName makes the first 'Mat_1', which is the second's
+    name as it is; the second was renamed 'Mat_1_2' without a word and a look binding 'Mat_1' got the first (the red
+    team's E#6). A valid name keeps itself, the one made valid moves, both said; back in glTF both names return."""
+    document = {"asset": {"version": "2.0"}, "materials": [
+        {"name": "Mat.1", "pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.1, 0.1, 1.0]}},
+        {"name": "Mat_1", "pbrMetallicRoughness": {"baseColorFactor": [0.1, 0.8, 0.1, 1.0]}}]}
+    source = tmp_path / "n.gltf"
+    source.write_text(json.dumps(document))
+    result = convert_file(str(source), str(tmp_path / "n.mtlx"), "open_pbr_surface", Settings())
+    materials = {m.material_name: m for m in read_asset(str(tmp_path / "n.mtlx")).materials}
+    green = materials["Mat_1"].inputs["base_color"].value.value
+    assert tuple(green) == pytest.approx((0.1, 0.8, 0.1))
+    assert any("Mat.1" in d.message and "written as" in d.message for d in result.diagnostics)
+    convert_file(str(tmp_path / "n.mtlx"), str(tmp_path / "back.gltf"), None, Settings())
+    assert [m["name"] for m in json.loads((tmp_path / "back.gltf").read_text())["materials"]] == ["Mat.1", "Mat_1"]
+
+
+def test_a_sparse_accessor_of_no_values_is_an_error(tmp_path):
+    """The accessor.sparse schema: count has a minimum of 1 (the Khronos glTF-Validator: VALUE_NOT_IN_RANGE)."""
+    import base64
+    import struct
+
+    from test_red_team_round_thirteen import _triangle
+
+    document = _triangle()
+    extra = struct.pack("<2H", 0, 0) + struct.pack("<4f", 0.5, 0.5, 0.5, 0.5)
+    data = base64.b64decode(document["buffers"][0]["uri"].split(",", 1)[1]) + extra
+    start = len(data) - len(extra)
+    document["buffers"][0] = {"byteLength": len(data),
+                              "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}
+    document["bufferViews"] += [{"buffer": 0, "byteOffset": start, "byteLength": 4},
+                                {"buffer": 0, "byteOffset": start + 4, "byteLength": 16}]
+    for count, wrong in ((0, True), (1, False)):
+        document["accessors"][1]["sparse"] = {"count": count, "indices": {"bufferView": 3, "componentType": 5123},
+                                              "values": {"bufferView": 4}}
+        path = tmp_path / f"s{count}.gltf"
+        path.write_text(json.dumps(document))
+        assert ("OPBR1228" in _validate_codes(path)) == wrong

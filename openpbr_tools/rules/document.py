@@ -212,8 +212,11 @@ def check(asset, context):
     elif asset.format == "mtlx" and any(m.model == "open_pbr_surface" for m in asset.materials):
         try:
             old = tuple(int(p) for p in version.split(".")[:2]) < (1, 39)
-        except ValueError:
-            old = True
+        except ValueError:  # (the red team's F#14: "version latest is older than 1.39")
+            yield context.diagnostic(
+                OLD_DOCUMENT, f"MaterialX document version {version!r} is no version number: MaterialX reads it as "
+                "unsupported", Location(asset.path, 1), hint="set version=\"1.39\" on <materialx>")
+            return
         if old and asset.extra.get("upgrade_changes_nothing"):
             yield context.diagnostic(
                 STALE_VERSION, f"MaterialX document version {version} is older than 1.39, but upgrading it changes "

@@ -250,6 +250,11 @@ def _sparse_out_of_range(p):
             f"(0 to {p['count'] - 1})", "drop the index or fix the accessor's count")
 
 
+def _sparse_count_zero(p):
+    return ("a sparse accessor substitutes 0 values: its count must be at least 1 (the schema's minimum; the Khronos "
+            "glTF-Validator's VALUE_NOT_IN_RANGE)", "remove the sparse object, or give it the values it substitutes")
+
+
 def _unequal_count(p):
     return (f"{p['property']} has {p['count']} elements but {p['reference']} has {p['expected']}: every attribute of "
             "a primitive needs one element per vertex", f"export {p['property']} with {p['expected']} elements, "
@@ -292,7 +297,8 @@ _MESSAGES = {"stride_not_multiple": _stride_not_multiple, "stride_out_of_range":
              "stride_too_big": _stride_too_big, "vertex_unaligned": _vertex_unaligned,
              "offset_alignment": _offset_alignment, "total_offset_alignment": _total_offset_alignment,
              "small_stride": _small_stride, "too_long": _too_long, "sparse_not_increasing": _sparse_not_increasing,
-             "sparse_out_of_range": _sparse_out_of_range, "unequal_count": _unequal_count,
+             "sparse_out_of_range": _sparse_out_of_range, "sparse_count_zero": _sparse_count_zero,
+             "unequal_count": _unequal_count,
              "index_out_of_range": _index_out_of_range, "non_finite": _non_finite, "non_unit": _non_unit,
              "non_clamped": _non_clamped}
 _VALUE_KINDS = ("non_finite", "non_unit", "non_clamped")

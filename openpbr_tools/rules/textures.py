@@ -284,10 +284,13 @@ def check(asset, context):
                     TEXTURE_TOO_LARGE, f"{entry.name}: {texture.file!r} is {size[0]} x {size[1]} pixels, beyond the "
                     f"{GPU_TEXTURE_LIMIT} a side GPUs load", where, hint=f"downscale it to {GPU_TEXTURE_LIMIT} or less")
         if texture.uv is not None and any(v in (0.0, math.inf) for v in texture.uv.scale) and not _gltf(texture):
-            tiled = texture.node_category == "tiledimage"  # (its tiling is read as place2d's dividing scale)
+            # (a tiledimage's tiling and a UsdTransform2d's scale multiply the coordinates: read as place2d's dividing
+            # scale, so the authored factor is its inverse; the red team's F#13 was told "(1, inf)" for a scale (1, 0))
+            tiled = texture.node_category in ("tiledimage", "UsdUVTexture")
             factors = tuple(1.0 / v for v in texture.uv.scale) if tiled else tuple(texture.uv.scale)
             yield context.diagnostic(
-                ZERO_UV_SCALE, f"{entry.name}: {texture.node!r} {'tiles' if tiled else 'scales'} its coordinates by "
+                ZERO_UV_SCALE, f"{entry.name}: {texture.node!r} "
+                f"{'tiles' if texture.node_category == 'tiledimage' else 'scales'} its coordinates by "
                 f"({factors[0]:g}, {factors[1]:g}): the texture collapses to one texel "
                 "(a tiling of 0) or divides by zero (a scale of 0)", where, hint="set the tiling or scale to 1 (no tiling)")
         if texture.constant_uv:

@@ -560,7 +560,13 @@ def _as_rule(finding: dict):
     types = _TYPES.search(finding["message"]) if finding["name"] == "MismatchedPropertyType" else None
     if types is not None and _width(types.group(1)) != _width(types.group(2)):
         return TYPE_MISMATCH
+    if types is not None and _textual(types.group(1)) != _textual(types.group(2)):
+        return TYPE_MISMATCH  # (a number where a name belongs: an int varname names no primvar; the red team's F#9)
     return None
+
+
+def _textual(usd_type: str) -> bool:
+    return usd_type.strip("'\" ").lower() in ("string", "token", "asset")
 
 
 def _width(usd_type: str) -> int:

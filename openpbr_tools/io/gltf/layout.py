@@ -225,7 +225,7 @@ def accessor_problems(document: GltfDocument) -> list[dict]:
     """The accessor layout facts glTF forbids, each ``{"kind", "pointer", "property", ...}`` with the numbers a
     message needs; kinds: ``stride_not_multiple``, ``stride_out_of_range``, ``stride_too_big`` (a bufferView's),
     ``offset_alignment``, ``total_offset_alignment``, ``vertex_unaligned``, ``small_stride``, ``too_long``,
-    ``sparse_not_increasing``, ``sparse_out_of_range``, ``unequal_count``. Every bufferView and accessor is judged
+    ``sparse_not_increasing``, ``sparse_out_of_range``, ``sparse_count_zero``, ``unequal_count``. Every bufferView and accessor is judged
     once, every primitive's attribute counts once."""
     found: list[dict] = []
     for index, view in enumerate(document.array("bufferViews")):
@@ -309,6 +309,8 @@ def _accessor(document: GltfDocument, index: int, accessor: dict, attribute: str
 
 def _sparse(document: GltfDocument, pointer: str, sparse: dict, count: int) -> Iterator[dict]:
     indices, number = sparse.get("indices"), sparse.get("count")
+    if json_index(number) and number == 0:  # (the schema's minimum 1: the validator's VALUE_NOT_IN_RANGE)
+        yield {"kind": "sparse_count_zero", "pointer": f"{pointer}/sparse", "property": "count"}
     if not isinstance(indices, dict) or not json_index(number) or number == 0:
         return
     dtype, offset = _INDEX_DTYPES.get(indices.get("componentType")), indices.get("byteOffset", 0)

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 
 from ...model import Connection, Input, Texture, UVTransform, normal_strength
-from .attributes import constant_of, read_constant, read_constant_at, shortest_float32, unconnected
+from .attributes import constant_of, read_constant, read_constant_at, shortest_float32, unconnected, value_shape
 from .graph_capture import capture_network
 from .sdr import materialx_nodedef
 from .types import PRIMVAR_READER_PREFIX, TRANSFORM_2D_ID, UV_TEXTURE_ID, UV_TEXTURE_OUTPUTS, is_eight_bit
@@ -254,12 +254,14 @@ class TextureNodeReader:
                 break
             node = found[0]
             node_id = str(self.UsdShade.Shader(node).GetShaderId() or "")
-            if node_id.startswith(PRIMVAR_READER_PREFIX) and node_id != PRIMVAR_READER_PREFIX + "float2":
-                # (the red team's B6: a float3 reader into st, whose float2 it cannot line up with)
+            source_type = self.declared_output_type(node, found[1]) if node_id != TRANSFORM_2D_ID else None
+            if source_type and value_shape(source_type) != value_shape("float2"):
+                # (a float3 reader, or a texture's rgb, into st, whose float2 it cannot line up with: the red team's
+                # B6 and F#10; the output's type as renderers take it, its definition's)
                 self.asset.observe("usd_connection_type_mismatch", self.location(consumer_of[0].GetPath(),
                                                                                  consumer_of[1]),
                                    input=consumer_of[1], input_type="float2",
-                                   source=f"{node.GetPath()}.outputs:{found[1]}", source_type=node_id[len(PRIMVAR_READER_PREFIX):])
+                                   source=f"{node.GetPath()}.outputs:{found[1]}", source_type=source_type)
             if node_id == TRANSFORM_2D_ID:
                 texture.uv = _transform2d_as_place2d(node)
                 consumer_of = (node, "in")
