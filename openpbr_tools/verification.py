@@ -128,7 +128,7 @@ def verify(conversion: Conversion, threshold: float = 2.0, context: Context | No
             one = len(comparison.stand_ins) == 1
             message += (f"; not a measure of the conversion: {', '.join(comparison.stand_ins)} "
                         f"{'is a procedural graph' if one else 'are procedural graphs'} the evaluator renders as a "
-                        "stand-in on that side, while the other side reads its textures per texel")
+                        "stand-in on that side only (textures read per texel, or a rotation rendered, on the other)")
         if comparison.unread:  # (the red team's C6: a correct conversion was reported 22-29 apart, each side's
             # unreadable texture rendered at its fallback)
             message += (f"; not a measure of the conversion: the textures of {', '.join(comparison.unread)} could not "

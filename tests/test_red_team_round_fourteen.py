@@ -774,3 +774,26 @@ def test_a_sparse_accessor_of_no_values_is_an_error(tmp_path):
         path = tmp_path / f"s{count}.gltf"
         path.write_text(json.dumps(document))
         assert ("OPBR1228" in _validate_codes(path)) == wrong
+
+
+def test_a_standard_surface_rotation_is_written_as_a_tangent_and_not_searched_away(tmp_path):
+    """specular_rotation 0.25 on an anisotropic metal: the mapping writes MaterialX's own rotated tangent (ss_rotation),
+    which the evaluator does not render; judged unrotated, it lost to MaterialX's graph candidate (no rotation) and a
+    search moved roughness 0.4 -> 0.15, metalness and base weight, while a note still said the tangent was written
+    (the red team's E#5: GLSL 8.79, against 0.17 for the rotated tangent). Not searched now: the tangent is written,
+    the inputs are the mapping's, and --verify says its figure measures nothing there."""
+    from openpbr_tools.verification import verify
+
+    source = _mtlx(tmp_path, "r.mtlx", "standard_surface",
+                   '    <input name="metalness" type="float" value="1" />\n'
+                   '    <input name="specular_roughness" type="float" value="0.4" />\n'
+                   '    <input name="specular_anisotropy" type="float" value="0.8" />\n'
+                   '    <input name="specular_rotation" type="float" value="0.25" />\n')
+    conversion = convert_file(source, str(tmp_path / "o.mtlx"), "open_pbr_surface", Settings(search=True))
+    written = (tmp_path / "o.mtlx").read_text()
+    assert "rotate3d" in written and 'name="geometry_tangent"' in written
+    assert _inputs(tmp_path / "o.mtlx").get("base_metalness", 0.0) == pytest.approx(1.0)
+    assert not [d for d in conversion.diagnostics if "searched" in d.message]
+    figures = [d for d in verify(conversion, threshold=2.0) if d.code in ("OPBR1108", "OPBR1109")]
+    assert [d.code for d in figures] == ["OPBR1108"] and "geometry_tangent" in figures[0].message
+

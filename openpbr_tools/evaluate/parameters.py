@@ -196,6 +196,10 @@ def resolve(material: Material, sampler=None, uvs=None, length_scale: float = 1.
         if p.role in _GEOMETRIC_ROLES:
             if isinstance(value, Texture):
                 resolved.textured.append(name)
+            elif p.role == "tangent" and isinstance(value, Connection) and value.graph_xml:
+                # (a rotated tangent written as MaterialX nodes, say: not rendered, the geometric tangent is used)
+                resolved.approximated.append((name, "procedural: a tangent graph, not rendered (the surface's own "
+                                                    "tangent is used)"))
             continue
         colorspace = entry.colorspace or material.colorspace
         try:

@@ -181,8 +181,23 @@ def compare_materials(material_a, material_b, rig: Rig = Rig(), sampler=None, ke
     stand_a, stand_b = _stand_ins(resolved_a), _stand_ins(resolved_b)
     lopsided = ([f"A {name}" for name in stand_a] if resolved_b.sampled and not stand_b else []) + \
         ([f"B {name}" for name in stand_b] if resolved_a.sampled and not stand_a else [])
+    lopsided += [f"{side} {name}" for side, resolved in (("A", resolved_a), ("B", resolved_b))  # (a tangent graph
+                 for name, why in resolved.approximated if why.startswith("procedural: a tangent")  # that turns an
+                 and f"{side} {name}" not in lopsided and _anisotropic(resolved, name)]  # anisotropy)
     return MaterialComparison(material_a.name, material_b.name, material_a.model, material_b.model,
                               summarize(sphere_map[mask]), albedo, notes, swatch_delta, views, unread, lopsided)
+
+
+#: The anisotropy a tangent turns, per tangent input (OpenPBR's base and coat, Standard Surface's one tangent).
+_ANISOTROPY_OF = {"geometry_tangent": ("specular_roughness_anisotropy",),
+                  "geometry_coat_tangent": ("coat_roughness_anisotropy",),
+                  "tangent": ("specular_anisotropy", "coat_anisotropy")}
+
+
+def _anisotropic(resolved, tangent: str) -> bool:
+    """Whether the anisotropy ``tangent`` turns is above 0 somewhere (a tangent turns nothing isotropic)."""
+    return any(np.any(np.asarray(resolved.values.get(name, 0.0), dtype=float) > 0)
+               for name in _ANISOTROPY_OF.get(tangent, ()))
 
 
 def _stand_ins(resolved) -> list[str]:

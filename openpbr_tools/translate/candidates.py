@@ -44,7 +44,9 @@ from __future__ import annotations
 import copy
 import dataclasses
 
-from ..model import Constant, Input, Material
+import numpy as np
+
+from ..model import Connection, Constant, Input, Material
 from ..rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from .. import tables
 from . import appearance, spec_gloss, ss_metal_weight, ss_rotation
@@ -124,7 +126,23 @@ def _searched(source: Material, translation: Translation, target: str, settings:
                                              target in ("open_pbr_surface", "gltf_pbr") and
                                              not spec_gloss.constant(source))
     return settings.candidates and not exact_inverse and constant_values(source) is not None and \
+        not tangent_graph(translation.material) and \
         any(d.code in (APPROXIMATED.code, NOT_CARRIED.code) for d in translation.diagnostics)
+
+
+def tangent_graph(material: Material) -> bool:
+    """Whether ``material`` takes its tangent from a node graph (a Standard Surface rotation written exactly as a
+    rotated tangent: ss_rotation), which the evaluator does not render: the mapping would be judged unrotated, and a
+    candidate without the rotation, searched besides, would win (the red team's E#5: roughness 0.4 -> 0.15, metalness
+    and base weight moved, the rotation lost, GLSL 8.79 against 0.17 for the rotated tangent)."""
+    anisotropy = {"geometry_tangent": "specular_roughness_anisotropy", "geometry_coat_tangent": "coat_roughness_anisotropy"}
+    for name, entry in material.inputs.items():
+        if name in anisotropy and isinstance(entry.value, Connection):
+            turned = material.inputs.get(anisotropy[name])
+            value = turned.value.value if turned is not None and isinstance(turned.value, Constant) else None
+            if turned is not None and (value is None or np.any(np.asarray(value, dtype=float) > 0)):
+                return True  # (an anisotropy it turns, textured or above 0)
+    return False
 
 
 def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> list[Translation]:
