@@ -797,3 +797,16 @@ def test_a_standard_surface_rotation_is_written_as_a_tangent_and_not_searched_aw
     figures = [d for d in verify(conversion, threshold=2.0) if d.code in ("OPBR1108", "OPBR1109")]
     assert [d.code for d in figures] == ["OPBR1108"] and "geometry_tangent" in figures[0].message
 
+
+
+def test_a_gltf_base_colour_is_not_said_to_be_left_out(tmp_path):
+    """Every glTF material converted to OpenPBR got an info "base_color: not written (as transmission_color): it has no
+    effect" (the red team's E#11: 115 of them), though its base colour is written as base_color: a source that a mapping
+    without a condition always carries is never "not written" because another mapping's condition is off."""
+    document = {"asset": {"version": "2.0"}, "materials": [
+        {"name": "M", "pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.3, 0.5, 1.0], "metallicFactor": 0.0}}]}
+    source = tmp_path / "m.gltf"
+    source.write_text(json.dumps(document))
+    result = convert_file(str(source), str(tmp_path / "o.mtlx"), "open_pbr_surface", Settings())
+    assert not [d for d in result.diagnostics if "not written (as" in d.message]
+    assert tuple(_inputs(tmp_path / "o.mtlx")["base_color"]) == pytest.approx((0.2, 0.3, 0.5))

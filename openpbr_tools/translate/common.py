@@ -252,6 +252,9 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             mapping.keep)
         return True
 
+    # sources a mapping without a condition always writes (glTF's base_color, also the colour a transmission takes
+    # when there is one): never "not written" because another mapping's condition is off (the red team's E#11)
+    carried_always = {m.sources[0] for m in mappings if m.when is None and m.sources}
     for mapping in mappings:
         current[0] = mapping
         parameter = target_table[mapping.target]
@@ -274,6 +277,7 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
             if mapping.when is not None and not mapping.when(*arrays):
                 primary = mapping.sources[0]
                 if values.authored(primary) and primary in source_table and primary not in handled \
+                        and primary not in carried_always \
                         and not _equal(arrays[0], np.asarray(working.into(primary, source_table[primary].default))):
                     handled.add(primary)  # (once, though several mappings read it)
                     current[0] = None  # (the target is not written: nothing is folded into it)
