@@ -169,7 +169,7 @@ class Baker:
     def _bakeable(entry) -> bool:
         """Whether ``entry`` is a texture this baker reads per texel (one file, not a UDIM set)."""
         texture = entry.value if entry is not None else None
-        return isinstance(texture, Texture) and "<UDIM>" not in texture.file and "<UVTILE>" not in texture.file
+        return isinstance(texture, Texture) and not texture.is_udim and "<UVTILE>" not in texture.file
 
     def bake(self, material, mapping, values, target_type: str, label: str, texturable: bool = True,
              ignored: dict | None = None) -> Baked:

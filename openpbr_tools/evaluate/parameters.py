@@ -19,6 +19,9 @@ geometry_tangent / geometry_coat_tangent, Standard Surface tangent) turns the fr
 read through a ``normalmap`` decode it is a tangent-space direction, otherwise a world-space
 vector, as MaterialX passes it to the BSDF.
 Defaults are never retyped here; they come from the tables.
+
+One module because resolving is one pass over a material's inputs (constants, textures, stand-ins, lengths and their
+unit, glTF's extension reads), which every evaluator model, the comparison and the candidate search share.
 """
 
 from __future__ import annotations
@@ -59,6 +62,8 @@ class ResolvedParameters:
     tangents: dict = field(default_factory=dict)  # tangent input -> ((N, 3) vectors, in tangent space?)
     approximated: list[tuple[str, str]] = field(default_factory=list)  # (parameter, why)
     why_not: dict = field(default_factory=dict)  # textured parameter -> why it was not sampled
+    stand_ins: list[str] = field(default_factory=list)  # parameters rendered by a stand-in for their graph
+    tangent_graphs: list[str] = field(default_factory=list)  # tangents from a node graph, not rendered
 
     def notes(self) -> list[str]:
         out = [f"{name}: textured (not evaluated{': ' + self.why_not[name] if name in self.why_not else ''})"
@@ -198,6 +203,8 @@ def resolve(material: Material, sampler=None, uvs=None, length_scale: float = 1.
                 resolved.textured.append(name)
             elif p.role == "tangent" and isinstance(value, Connection) and value.graph_xml:
                 # (a rotated tangent written as MaterialX nodes, say: not rendered, the geometric tangent is used)
+                resolved.tangent_graphs.append(name)
+                resolved.stand_ins.append(name)
                 resolved.approximated.append((name, "procedural: a tangent graph, not rendered (the surface's own "
                                                     "tangent is used)"))
             continue
@@ -221,6 +228,7 @@ def resolve(material: Material, sampler=None, uvs=None, length_scale: float = 1.
             elif isinstance(value, Connection) and value.graph_xml and p.type in ("float", "color3") \
                     and (stand_in := procedural.value(value.graph_xml, value.output, p.type, colorspace)) is not None:
                 resolved.values[name] = _convert(stand_in, p.type, p.role, None)  # already linear Rec.709
+                resolved.stand_ins.append(name)
                 resolved.approximated.append((name, f"procedural: its graph's closing arithmetic evaluated, every other "
                                                     f"node at {procedural.STAND_IN} (a stand-in)"))
             elif isinstance(value, Connection) or value is None:
@@ -235,6 +243,13 @@ def resolve(material: Material, sampler=None, uvs=None, length_scale: float = 1.
     if sampler is not None and uvs is not None and material.model == "gltf_pbr":
         _gltf_anisotropy_direction(material, resolved, sampler, uvs)
     return resolved
+
+
+#: The anisotropy each tangent input turns (OpenPBR's base and coat, Standard Surface's one tangent): a tangent turns
+#: nothing isotropic.
+TANGENT_ANISOTROPY = {"geometry_tangent": ("specular_roughness_anisotropy",),
+                      "geometry_coat_tangent": ("coat_roughness_anisotropy",),
+                      "tangent": ("specular_anisotropy", "coat_anisotropy")}
 
 
 def scene_unit(material: Material) -> float:

@@ -22,7 +22,7 @@ from . import model_for_material
 from .difference import DeltaE, compare_albedo, delta_e_2000, summarize
 from .measure import directional_albedo
 from .preview import Rig, geometry, perturbed, shade, turned
-from .parameters import scene_unit
+from .parameters import TANGENT_ANISOTROPY, scene_unit
 
 #: View cosines at which albedo curves are compared.
 ALBEDO_COSINES = np.linspace(0.05, 1.0, 16)
@@ -178,31 +178,19 @@ def compare_materials(material_a, material_b, rig: Rig = Rig(), sampler=None, ke
     notes = [f"A {material_a.name}: {n}" for n in dict.fromkeys(notes_a)]
     notes += [f"B {material_b.name}: {n}" for n in dict.fromkeys(notes_b)]
     unread = [f"A {name}" for name in sorted(resolved_a.why_not)] + [f"B {name}" for name in sorted(resolved_b.why_not)]
-    stand_a, stand_b = _stand_ins(resolved_a), _stand_ins(resolved_b)
+    stand_a, stand_b = sorted(set(resolved_a.stand_ins)), sorted(set(resolved_b.stand_ins))
     lopsided = ([f"A {name}" for name in stand_a] if resolved_b.sampled and not stand_b else []) + \
         ([f"B {name}" for name in stand_b] if resolved_a.sampled and not stand_a else [])
-    lopsided += [f"{side} {name}" for side, resolved in (("A", resolved_a), ("B", resolved_b))  # (a tangent graph
-                 for name, why in resolved.approximated if why.startswith("procedural: a tangent")  # that turns an
-                 and f"{side} {name}" not in lopsided and _anisotropic(resolved, name)]  # anisotropy)
+    lopsided += [f"{side} {name}" for side, resolved in (("A", resolved_a), ("B", resolved_b))
+                 for name in resolved.tangent_graphs if f"{side} {name}" not in lopsided and _anisotropic(resolved, name)]
     return MaterialComparison(material_a.name, material_b.name, material_a.model, material_b.model,
                               summarize(sphere_map[mask]), albedo, notes, swatch_delta, views, unread, lopsided)
-
-
-#: The anisotropy a tangent turns, per tangent input (OpenPBR's base and coat, Standard Surface's one tangent).
-_ANISOTROPY_OF = {"geometry_tangent": ("specular_roughness_anisotropy",),
-                  "geometry_coat_tangent": ("coat_roughness_anisotropy",),
-                  "tangent": ("specular_anisotropy", "coat_anisotropy")}
 
 
 def _anisotropic(resolved, tangent: str) -> bool:
     """Whether the anisotropy ``tangent`` turns is above 0 somewhere (a tangent turns nothing isotropic)."""
     return any(np.any(np.asarray(resolved.values.get(name, 0.0), dtype=float) > 0)
-               for name in _ANISOTROPY_OF.get(tangent, ()))
-
-
-def _stand_ins(resolved) -> list[str]:
-    """The inputs a material renders with a procedural stand-in (parameters.resolve)."""
-    return sorted({name for name, why in resolved.approximated if why.startswith("procedural")})
+               for name in TANGENT_ANISOTROPY.get(tangent, ()))
 
 
 def _delta_map(image_a, image_b, mask, white: float) -> np.ndarray:

@@ -135,10 +135,11 @@ def tangent_graph(material: Material) -> bool:
     rotated tangent: ss_rotation), which the evaluator does not render: the mapping would be judged unrotated, and a
     candidate without the rotation, searched besides, would win (the red team's E#5: roughness 0.4 -> 0.15, metalness
     and base weight moved, the rotation lost, GLSL 8.79 against 0.17 for the rotated tangent)."""
-    anisotropy = {"geometry_tangent": "specular_roughness_anisotropy", "geometry_coat_tangent": "coat_roughness_anisotropy"}
+    from ..evaluate.parameters import TANGENT_ANISOTROPY  # lazy: as Judge imports the evaluator
+
     for name, entry in material.inputs.items():
-        if name in anisotropy and isinstance(entry.value, Connection):
-            turned = material.inputs.get(anisotropy[name])
+        if name in ("geometry_tangent", "geometry_coat_tangent") and isinstance(entry.value, Connection):
+            turned = material.inputs.get(TANGENT_ANISOTROPY[name][0])
             value = turned.value.value if turned is not None and isinstance(turned.value, Constant) else None
             if turned is not None and (value is None or np.any(np.asarray(value, dtype=float) > 0)):
                 return True  # (an anisotropy it turns, textured or above 0)

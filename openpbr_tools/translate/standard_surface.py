@@ -242,11 +242,10 @@ def relative_under_coat(specular, metalness, ior, coat_ior, coat, film_thickness
         (np.asarray(specular) > scale + 1e-9)
 
 
-def openpbr_specular_ior(ior, *weight_sources):
+def openpbr_specular_ior(ior, specular, metalness, coat_ior, coat, film_thickness, color, transmission):
     """OpenPBR's ``specular_ior``: Standard Surface's, or where :func:`relative_under_coat`, the IOR whose IOR
     relative to the coat is Standard Surface's (:func:`.fit.specular_ior_for_relative_ior`)."""
-    specular, metalness, _, coat_ior, coat = weight_sources[:5]
-    relative = relative_under_coat(weight_sources[0], metalness, ior, *weight_sources[3:])
+    relative = relative_under_coat(specular, metalness, ior, coat_ior, coat, film_thickness, color, transmission)
     return np.where(relative, fit.specular_ior_for_relative_ior(ior, coat_ior, coat), ior)
 
 
@@ -498,7 +497,7 @@ FROM_SS = (
                       "coat_affect_roughness)"),
     Mapping("specular_roughness_anisotropy", ("specular_anisotropy",)),
     Mapping("specular_ior", ("specular_IOR",) + SPECULAR_WEIGHT_SOURCES[:2] + SPECULAR_WEIGHT_SOURCES[3:],
-            lambda n, s, m, *rest: openpbr_specular_ior(n, s, m, n, *rest),
+            openpbr_specular_ior,
             converted="Standard Surface's base reflects by its IOR against air under its coat, OpenPBR's relative to "
                       "the coat: where a weight cannot carry it, the base IOR is set so that its IOR relative to the coat "
                       "is Standard Surface's specular_IOR, the weight to its specular (an opaque base: the IOR refracts "

@@ -357,11 +357,6 @@ _INTEGER_PROPERTIES = frozenset((
 _INTEGER_ARRAYS = frozenset(("nodes", "children", "joints", "variants", "attributes"))
 
 
-def _integral(value):
-    """``value`` as an int where it is a float without a fraction (within what a float holds exactly)."""
-    return int(value) if isinstance(value, float) and value.is_integer() and abs(value) <= 2 ** 53 else value
-
-
 class _NotJson(float):
     """A ``NaN``, ``Infinity`` or ``-Infinity`` literal, which Python's ``json`` reads and JSON (RFC 8259) has not:
     :func:`_settle` notes where each stands and leaves the float."""
@@ -405,8 +400,8 @@ def _settle(document: dict, repair: bool, repairs: list[tuple[str, str]],
             if isinstance(value, (dict, list)):
                 stack.append((value, depth + 1, f"{pointer}/{_escape(key)}"))
             elif isinstance(value, float) and (integers or key in _INTEGER_PROPERTIES) and value.is_integer() \
-                    and not isinstance(value, _NotJson):
-                container[key] = _integral(value)
+                    and abs(value) <= 2 ** 53 and not isinstance(value, _NotJson):
+                container[key] = int(value)  # (within what a float holds exactly)
             elif literals and isinstance(value, _NotJson):
                 container[key] = float(value)
                 repairs.append((f"{pointer}/{_escape(key)}", f"{value.literal} is not JSON (RFC 8259 has no such number; "
