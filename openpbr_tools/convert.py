@@ -269,6 +269,12 @@ def _nothing_to_write(asset: Asset, left_out: list[Diagnostic] = ()) -> None:
         detail = broken.detail
         raise ReadError("xinclude_broken", f"includes {detail.get('href')!r}, which {detail.get('reason')}; MaterialX "
                         "cannot read this document, and no material was found: nothing is written", broken.location)
+    undefined = asset.extra.get("usd_undefined_materials")
+    if undefined:
+        raise ReadError("no_material", f"no defined material: {len(undefined)} Material prim(s) ({undefined[0]}"
+                        + (", ..." if len(undefined) > 1 else "") + ") sit under an 'over', which defines nothing "
+                        "until another layer composes it; convert the layer that does: nothing is written",
+                        Location(asset.path))
     if left_out:
         reasons = "; ".join(d.message for d in left_out[:3]) + (f"; and {len(left_out) - 3} more" if len(left_out) > 3
                                                                   else "")

@@ -11,9 +11,10 @@ import os
 from .atomic import write_bytes
 from .diagnostics import Diagnostic
 from .io import ReadError, package_member, packaged_image
+from .io.image_files import suffix_of
 from .io.gltf.document import load_document
 from .io.paths import Kind, PathGuard, classify
-from .model import Asset, Connection, Material, Texture
+from .model import Asset, Connection, Material, Texture, graph_key, kept, texture_key
 from .rules.translation import NOT_CARRIED
 
 def rebase_textures(materials: list[Material], source_path: str, output_path: str) -> None:
@@ -46,9 +47,17 @@ def rebase_textures(materials: list[Material], source_path: str, output_path: st
 
                 moved = copy.copy(value)
                 moved.graph_xml = rewrite_files(value.graph_xml, rebased)
+                if kept(value):  # (the graph kept whole is rebased alike: still the capture it stands for)
+                    moved.kept_graph = rewrite_files(value.kept_graph, rebased)
+                    moved.kept_for = graph_key(moved.graph_xml, moved.output)
             elif isinstance(value, Texture) and not value.packaged and (file := rebased(value.file)) is not None:
                 moved = copy.copy(value)
                 moved.file = file
+                if kept(value):
+                    from .io.mtlx.capture import rewrite_files  # lazy: as above
+
+                    moved.kept_graph = rewrite_files(value.kept_graph, rebased)
+                    moved.kept_for = texture_key(moved)
             else:
                 continue
             rebased_entry = copy.copy(entry)  # the entry may be the source's own (a value copied through): never mutated
@@ -76,7 +85,8 @@ def unpack_packaged_images(materials: list[Material], asset: Asset, output_path:
                     document = document or load_document(asset.path)
                     index = int(texture.file.rsplit("/", 1)[1])
                     data, mime = document.image_bytes(index)
-                    file_name = f"image_{index}{extensions.get(mime or '', '.bin')}"
+                    # (named by its bytes: a declared mimeType may be wrong, OPBR1214)
+                    file_name = f"image_{index}{suffix_of(bytes(data[:16])) or extensions.get(mime or '', '.bin')}"
                 else:
                     try:
                         data, _ = packaged_image(asset.path, texture.file)

@@ -15,6 +15,7 @@ Readers only record what they see; judging it is the rules' job.
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass, field
 from typing import Any, Union
 
@@ -193,6 +194,11 @@ class Texture:
     # whether ``colorspace`` is written on the image itself (its file input or node), not inherited from an
     # enclosing node graph or the document; None where the format has no inheritance
     colorspace_on_image: bool | None = None
+    # the source's node graph the image was read through, whole, as for Connection.kept_graph (kept_for: the
+    # texture_key of the texture as read)
+    kept_graph: str | None = None
+    kept_output: str | None = None
+    kept_for: str | None = None
 
     @property
     def reads_alpha(self) -> bool:
@@ -233,6 +239,32 @@ class Connection:
     # an image whose coordinates only the graph holds: the image with the placement read up to it, for an output
     # that holds no graph (glTF: convert_textures.graph_fallbacks)
     fallback: "Texture | None" = None
+    # the source's node graph the input read, whole (its interface, every output; capture.capture_nodegraph), the
+    # output read, and the capture it stands for (graph_key): a .mtlx writer puts the graph back as it was
+    # while ``graph_xml`` and ``output`` are still that capture (a mapping that changed them wrote its own nodes)
+    kept_graph: str | None = None
+    kept_output: str | None = None
+    kept_for: str | None = None
+
+
+def graph_key(graph_xml: str | None, output: str | None) -> str:
+    """What identifies a capture (:attr:`Connection.kept_for`): its output and text."""
+    return f"{output}\n{graph_xml}"
+
+
+def texture_key(texture: "Texture") -> str:
+    """What identifies a texture as read (:attr:`Texture.kept_for`): every field but the kept graph's."""
+    return repr(dataclasses.replace(texture, kept_graph=None, kept_output=None, kept_for=None))
+
+
+def kept(value) -> tuple[str, str] | None:
+    """(the source's node graph, the output read) a value still stands for: a Connection whose capture, or a
+    Texture which, no mapping or rebasing changed since it was read; else None."""
+    if isinstance(value, Connection) and value.kept_graph and value.kept_for == graph_key(value.graph_xml, value.output):
+        return value.kept_graph, value.kept_output
+    if isinstance(value, Texture) and value.kept_graph and value.kept_for == texture_key(value):
+        return value.kept_graph, value.kept_output
+    return None
 
 
 ParameterValue = Union[Constant, Texture, Connection]

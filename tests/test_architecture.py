@@ -18,7 +18,7 @@ NOT_CONTAINMENT = {
     ("baseline.py", "relpath"): "spells a file relative to the baseline's folder",
     ("rules/__init__.py", "realpath"): "the injectable real-path function handed to the path guard",
     ("reports/sarif.py", "://"): "the SARIF schema URI",
-    ("io/usd/writer.py", "relpath"): "spells a texture path relative to the output folder",
+    ("io/usd/texture_files.py", "relpath"): "spells a texture path relative to the output folder",
     ("io/usd/network.py", "relpath"): "spells an anchored asset path relative to the root layer",
     ("convert_textures.py", "relpath"): "spells a texture path relative to the output folder",
     ("batch.py", "relpath"): "places an output below the output folder as its input sits below its argument",

@@ -190,8 +190,8 @@ def test_kept_graphs_read_their_images_through_the_documents_fileprefix(tmp_path
     convert_file(str(source), str(out), "open_pbr_surface", Settings(), allow_outside=(str(tmp_path),))
     document = mx.createDocument()
     mx.readFromXmlFile(document, str(out))
-    files = [port.getResolvedValueString() for node in document.getNodes() for port in node.getInputs()
-             if port.getType() == "filename"]
+    files = [port.getResolvedValueString() for scope in [document] + document.getNodeGraphs()
+             for node in scope.getNodes() for port in node.getInputs() if port.getType() == "filename"]
     assert len(files) >= 4
     for file in files:
         assert (out.parent / file).resolve().is_file(), file

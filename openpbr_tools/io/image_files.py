@@ -4,7 +4,9 @@ all (:func:`damage`), and :class:`ResourceFile`, a file over bytes or a view tha
 Pillow reads PNG and JPEG (their data checked, not only their header: a PNG's chunks and the lengths the PNG
 specification fixes, a JPEG's marker segments); a WebP's header is checked by its bytes; formats Pillow does not open
 are known by their signature. Which files may be read at all is :mod:`openpbr_tools.io.paths`'s
-decision; decoding pixels is :mod:`openpbr_tools.io.images`'.
+decision; decoding pixels is :mod:`openpbr_tools.io.images`'. One module because every check here reads the same
+few bytes of a container (its signature, header and chunk layout) through :class:`ResourceFile`, and what a
+file is named by (:func:`suffix_of`) is the same signature question.
 """
 
 from __future__ import annotations
@@ -217,6 +219,15 @@ MAX_DECODED_PIXELS = 8192 * 8192
 def is_webp(head: bytes) -> bool:
     """Whether ``head`` begins a WebP file: a RIFF container of form ``WEBP``."""
     return head[:4] == b"RIFF" and head[8:12] == b"WEBP"
+
+
+def suffix_of(head: bytes) -> str | None:
+    """The file suffix the bytes ``head`` begins say (PNG, JPEG, WebP, KTX2), or ``None``: what a file extracted
+    from a container is named by, whatever MIME type the container declares."""
+    if is_webp(head):
+        return ".webp"
+    return next((suffix for signature, suffix in ((b"\x89PNG", ".png"), (b"\xff\xd8\xff", ".jpg"),
+                                                  (b"\xabKTX 20\xbb", ".ktx2")) if head.startswith(signature)), None)
 
 
 def webp_header_problem(head: bytes, size: int) -> str | None:

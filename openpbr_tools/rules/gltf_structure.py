@@ -255,6 +255,12 @@ def _sparse_count_zero(p):
             "glTF-Validator's VALUE_NOT_IN_RANGE)", "remove the sparse object, or give it the values it substitutes")
 
 
+def _sparse_index_type(p):
+    return (f"the sparse indices' componentType is {p['value']}: indices are unsigned integers, 5121 (UNSIGNED_BYTE), "
+            "5123 (UNSIGNED_SHORT) or 5125 (UNSIGNED_INT), so no reader knows which elements are substituted",
+            "write the indices as unsigned integers, with the componentType that names their size")
+
+
 def _unequal_count(p):
     return (f"{p['property']} has {p['count']} elements but {p['reference']} has {p['expected']}: every attribute of "
             "a primitive needs one element per vertex", f"export {p['property']} with {p['expected']} elements, "
@@ -298,7 +304,7 @@ _MESSAGES = {"stride_not_multiple": _stride_not_multiple, "stride_out_of_range":
              "offset_alignment": _offset_alignment, "total_offset_alignment": _total_offset_alignment,
              "small_stride": _small_stride, "too_long": _too_long, "sparse_not_increasing": _sparse_not_increasing,
              "sparse_out_of_range": _sparse_out_of_range, "sparse_count_zero": _sparse_count_zero,
-             "unequal_count": _unequal_count,
+             "sparse_index_type": _sparse_index_type, "unequal_count": _unequal_count,
              "index_out_of_range": _index_out_of_range, "non_finite": _non_finite, "non_unit": _non_unit,
              "non_clamped": _non_clamped}
 _VALUE_KINDS = ("non_finite", "non_unit", "non_clamped")

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 import os
+import posixpath
 import re
 
 from ..diagnostics import Severity
@@ -20,6 +21,7 @@ from ..io import ReadError, package_member, packaged_image
 from ..io.image_files import damage
 from ..io.images import channel_count, image_size
 from ..io.paths import Kind, classify, leaves
+from ..io.tiles import TILE_TOKENS, matching_tiles
 from ..io.usd.types import is_eight_bit
 from ..model import Texture
 from . import Rule, for_each_input
@@ -205,7 +207,7 @@ RULES = (MISSING_TEXTURE, IMAGE_TYPE_MISMATCH, NORMAL_WITHOUT_DECODE, UNSAFE_PAT
 
 # Case-sensitive, as MaterialX (UDIM_TOKEN, UV_TILE_TOKEN) and OpenUSD (UsdShadeUdimUtils) substitute them:
 # "<udim>" is read as part of a file name, so its tiles are never found.
-_TILE_TOKENS = re.compile(r"<UDIM>|<UVTILE>")
+_TILE_TOKENS = TILE_TOKENS
 _MISCASED_TOKEN = re.compile(r"<(udim|uvtile)>", re.IGNORECASE)
 # Not portable whatever they resolve to: a URL, or a path not relative to the asset (io.paths).
 _NOT_RELATIVE = (Kind.URL, Kind.ABSOLUTE, Kind.DRIVE, Kind.UNC)
@@ -229,6 +231,17 @@ def exists(path: str, context, tiles_named: bool = True) -> bool:
     if not (tiles_named and _TILE_TOKENS.search(path)):
         return context.file_exists(path)
     return bool(tiles(path, context))
+
+
+def _in_package(asset, texture) -> bool:
+    """Whether the packaged ``texture`` is an entry of the asset's package: one of its tiles at least, for a
+    tile set (a .usdz packages a <UDIM> set as its tiles, as UsdUtils.CreateNewUsdzPackage does)."""
+    members = asset.extra.get("package_files", ())
+    if not tiled(asset, texture.file):
+        return texture.file in members
+    folder, pattern = posixpath.split(texture.file)
+    names = [posixpath.basename(m) for m in members if posixpath.dirname(m) == folder]
+    return bool(matching_tiles(pattern, names))
 
 
 def tiles(path: str, context) -> list[str]:
@@ -343,7 +356,7 @@ def _check_path(asset, texture, where, context, checked_files):
         if not _gltf(texture) and classify(file) in _NOT_RELATIVE:  # (the red team's B19: as for a .usda's)
             yield context.diagnostic(UNSAFE_PATH, f"texture path {file!r} points outside the package", where,
                                      hint="package the texture and name it relative to the layer")
-        if file not in asset.extra.get("package_files", ()):
+        if not _in_package(asset, texture):
             yield context.diagnostic(MISSING_TEXTURE, f"the embedded image {file!r} has no data to read: its bufferView "
                                      "or buffer is missing or broken (reported at the buffer)" if _gltf(texture)
                                      else f"texture not found in the package: {file!r}", where)

@@ -293,10 +293,10 @@ def from_usd_mappings(settings: Settings) -> tuple[Mapping, ...]:
         Mapping("specular_ior", ("ior", "useSpecularWorkflow", "specularColor", "diffuseColor", "clearcoat"),
                 lambda i, w, s, d, c: specular_ior(w, s, d, i, c), converted=BELOW_ONE,
                 exact=False, matters=lambda i, w, s, d, c: w >= 1 or c > 0, site="specularColor",
-                note="the base's F0 (specular workflow: " + ("the F0 of the dielectric share, the specular colour's "
-                     "smallest channel; the dielectric's Fresnel curve is not quite Schlick's" if split else
-                     "the F0 colour's luminance, with a tint") + ") is OpenPBR's base relative to the clear coat, whose "
-                     "IOR is the preview's ior"),
+                note="the base's F0 (metallic workflow: from the preview's ior; specular workflow: " + (
+                     "the F0 of the dielectric share, the specular colour's smallest channel; the dielectric's Fresnel "
+                     "curve is not quite Schlick's" if split else "the F0 colour's luminance, with a tint")
+                     + ") is OpenPBR's base relative to the clear coat, whose IOR is the preview's ior"),
         *(() if split else (Mapping("specular_color", ("useSpecularWorkflow", "specularColor"), specular_tint),)),
         Mapping("coat_weight", ("clearcoat",)),
         Mapping("coat_roughness", ("clearcoatRoughness",)),

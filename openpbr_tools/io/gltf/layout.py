@@ -314,6 +314,9 @@ def _sparse(document: GltfDocument, pointer: str, sparse: dict, count: int) -> I
     if not isinstance(indices, dict) or not json_index(number) or number == 0:
         return
     dtype, offset = _INDEX_DTYPES.get(indices.get("componentType")), indices.get("byteOffset", 0)
+    if dtype is None and json_index(indices.get("componentType")):  # (the validator's VALUE_NOT_IN_LIST)
+        yield {"kind": "sparse_index_type", "pointer": f"{pointer}/sparse/indices", "property": "componentType",
+               "value": indices["componentType"]}
     if dtype is None or not json_index(offset):
         return
     try:

@@ -21,6 +21,9 @@ class ScaleBias:
 
     def take(self, node, channels) -> bool:
         first, second = node.getInput("in1"), node.getInput("in2")
+        if second is not None and second.hasAttribute("interfacename") and not any(
+                second.hasAttribute(a) for a in ("nodename", "nodegraph", "output")):
+            second = _interface_value(node, second)  # a published graph's control ('tint'): its value
         if first is None or second is None or not second.hasAttribute("value") or connected(second):
             return False
         try:
@@ -50,6 +53,16 @@ class ScaleBias:
         def shown(v):
             return None if v is None else (v[0] if len(v) == 1 else tuple(v))
         return shown(self.scale), shown(self.bias)
+
+
+def _interface_value(node, port):
+    """The interface input of a document-level node graph that ``port`` reads, where it holds a value of its own
+    (not connected); ``None`` otherwise, and inside a nodedef's implementation (whose instance gives the value)."""
+    graph = node.getParent()
+    if graph is None or graph.getCategory() != "nodegraph" or graph.getNodeDefString():
+        return None
+    interface = graph.getInput(port.getInterfaceName())
+    return interface if interface is not None and not connected(interface) else None
 
 
 def combine(a: list[float], b: list[float], operation) -> list[float]:

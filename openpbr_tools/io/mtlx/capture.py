@@ -79,6 +79,58 @@ def capture_graph(node, limit: int = 256, binding=None) -> str | None:
     return document_text(captured)
 
 
+def capture_nodegraph(port, limit: int = 256) -> tuple[str, str] | None:
+    """The document-level node graph a top-level shader's ``port`` reads (``nodegraph=``, ``output=``), copied
+    whole as a one-graph MaterialX document, and the name of the output read: its interface (the inputs
+    artists edit, with their ``uiname``/``uifolder``/soft ranges), every output and node, so a .mtlx output
+    keeps it as the source had it (the red team's E#7: a marble's six controls were inlined, and its output,
+    read by two inputs, written twice). The copy stands alone: file names resolved where they stood
+    (``fileprefix`` applied, then dropped) and the graph's colour space written on it, which its nodes and
+    values inherit, as they did. ``None`` for a graph that does not stand alone (an interface input connected
+    elsewhere, a node reading another graph or a node outside, a custom node, more than ``limit`` nodes),
+    which the flat capture (:func:`capture_graph`) carries instead."""
+    import MaterialX as mx  # lazy: as in capture_graph
+
+    from .library import known_categories  # lazy: as in _add_definitions
+
+    name, shader = port.getNodeGraphString(), port.getParent()
+    document = port.getDocument()
+    if not name or shader is None or shader.getParent() != document:
+        return None
+    graph = document.getNodeGraph(name)
+    if graph is None or graph.getNodeDefString() or any(c.getCategory() == "nodegraph" for c in graph.getChildren()):
+        return None
+    outputs = graph.getOutputs()
+    output = graph.getOutput(port.getOutputString()) if port.getOutputString() else \
+        (outputs[0] if len(outputs) == 1 else None)
+    nodes = graph.getNodes()
+    if output is None or len(nodes) > limit:
+        return None
+    if any(any(i.hasAttribute(a) for a in ("nodename", "nodegraph", "interfacename")) for i in graph.getInputs()):
+        return None
+    standard = known_categories(complete=True)
+    for node in nodes:
+        if node.getCategory() not in standard:
+            return None
+        for inner in node.getInputs():
+            if inner.hasAttribute("nodegraph") or inner.hasAttribute("nodename") and graph.getNode(inner.getNodeName()) is None:
+                return None
+    captured = mx.createDocument()
+    copy = captured.addNodeGraph(name)
+    copy.copyContentFrom(graph)
+    space = graph.getActiveColorSpace()
+    if space:
+        copy.setColorSpace(space)
+    for original, copied in [(graph, copy)] + [(node, copy.getNode(node.getName())) for node in nodes]:
+        copied.removeAttribute("fileprefix")
+        for inner in original.getInputs():
+            if inner.getType() == "filename" and inner.hasAttribute("value"):
+                copied.getInput(inner.getName()).setValueString(inner.getResolvedValueString())
+    from .writer import document_text  # lazy: as in capture_graph
+
+    return document_text(captured), output.getName()
+
+
 def _add_definitions(captured, originals) -> None:
     """The document's own node definitions the captured nodes instantiate (custom nodes, not the data
     library's), each with its implementation graph, and those that graph's nodes need in turn: without
@@ -157,7 +209,8 @@ def rewrite_files(graph_xml: str, rewrite) -> str:
     document = mx.createDocument()
     mx.readFromXmlString(document, graph_xml)
     changed = False
-    for node in document.getNodes():
+    kept = [graph for graph in document.getNodeGraphs() if not graph.getNodeDefString()]  # capture_nodegraph's
+    for node in document.getNodes() + [element for graph in kept for element in [graph] + graph.getNodes()]:
         for port in node.getInputs():
             if port.getType() == "filename" and port.hasAttribute("value"):
                 new = rewrite(port.getValueString())

@@ -14,13 +14,14 @@ decides whether it is a Texture or the graph is kept whole, and each step calls 
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
-from ...model import Connection, Constant, Location, Texture, UVTransform, normal_strength
+from ...model import Connection, Constant, Location, Texture, UVTransform, graph_key, normal_strength, texture_key
 from ...values import ValueSyntaxError, parse_value
 from . import gltf_nodes
 from .arithmetic import ScaleBias, connected as _connected
-from .capture import capture_graph, interface_input, read_output, select_output
+from .capture import capture_graph, capture_nodegraph, interface_input, read_output, select_output
 from .library import standard_library
 
 #: The geometric node categories whose world-space output is a shading model's default (defaultgeomprop).
@@ -110,13 +111,20 @@ class GraphFollower:
         read = read_output(port)
         texture = self.texture_chain(node, read)
         if texture is not None:
-            return texture
+            graph = capture_nodegraph(port) if self.binding is None else None
+            if graph is None:
+                return texture
+            texture = dataclasses.replace(texture, kept_graph=graph[0], kept_output=graph[1])
+            return dataclasses.replace(texture, kept_for=texture_key(texture))
         graph_xml, output = capture_graph(node, binding=self.binding), node.getName()
         if graph_xml and node.getType() == "multioutput" and read:  # (which output: a dot reads it)
             graph_xml, output = select_output(graph_xml, output, read, port.getType())
+        kept = capture_nodegraph(port) if graph_xml and self.binding is None else None
         return Connection(
             node.getNamePath(), node.getCategory(), f"{node.getCategory()} node is not a texture lookup",
             graph_xml=graph_xml, output=output, varying=self.varies(node, read, self.binding),
+            kept_graph=kept[0] if kept else None, kept_output=kept[1] if kept else None,
+            kept_for=graph_key(graph_xml, output) if kept else None,
         )
 
     def varies(self, node, output_name: str = "", binding=None, depth: int = 0) -> bool:

@@ -15,7 +15,7 @@ import MaterialX as mx
 
 from ... import colorspaces, gltf_state, tables
 from ...atomic import write_text
-from ...model import Connection, Constant, Material, Texture, normal_decode, normal_encoding
+from ...model import Connection, Constant, Material, Texture, graph_key, kept, normal_decode, normal_encoding
 from ...values import COMPONENTS, format_value
 from ..usd.types import MATERIALX_ADDRESS_MODES, WRAP_TO_ADDRESS_MODE
 from .looks import add_look
@@ -35,8 +35,9 @@ def to_mtlx_string(materials: list[Material], colorspace: str | None = "lin_rec7
     for material in materials:
         names.append(_unique(material.material_name or f"{material.name}_material", taken))
     used = set(taken)
+    written: dict[str, tuple[str, str | None]] = {}  # graphs written, by what they are (_write_connection)
     for material, name in zip(materials, names):
-        _write_material(document, material, colorspace, used, name)
+        _write_material(document, material, colorspace, used, name, written)
     for text, renames, left_out in looks:
         add_look(document, text, renames, left_out)
     return document_text(document)
@@ -66,7 +67,8 @@ def _unique(name: str, used: set[str]) -> str:
     return candidate
 
 
-def _write_material(document, material: Material, colorspace: str | None, used: set[str], material_name: str) -> None:
+def _write_material(document, material: Material, colorspace: str | None, used: set[str], material_name: str,
+                    written: dict) -> None:
     table = tables.table(material.model, material.version) if material.version and tables.versions(material.model) else None
     short = material.name.rsplit("/", 1)[-1] or material.name  # a USD shader's prim path: its name
     if short == material.material_name:  # a USD shader named as its Material: the Material keeps the name
@@ -98,12 +100,12 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
                 port.setColorSpace(colorspaces.materialx_name(entry.colorspace))
         elif isinstance(value, Texture):
             tangent_vector = material.model == "UsdPreviewSurface" and parameter is not None and parameter.role == "normal"
-            port.setNodeName(_write_texture(document, shader_name, name, type_name, value, used, tangent_vector))
+            if tangent_vector or not _write_kept(document, port, value, used, written):  # (a graph gives world space)
+                port.setNodeName(_write_texture(document, shader_name, name, type_name, value, used, tangent_vector))
         elif isinstance(value, Connection):
-            node_name = _write_connection(document, shader_name, name, value, used)
-            if node_name:
-                port.setNodeName(node_name)
-            else:
+            if _write_kept(document, port, value, used, written):
+                pass
+            elif not _connect(port, _write_connection(document, shader_name, name, value, used, written)):
                 shader.removeInput(name)  # nothing to connect (convert reported the dangling connection)
                 continue
         elif entry.raw is not None:
@@ -116,9 +118,9 @@ def _write_material(document, material: Material, colorspace: str | None, used: 
     node.setType("material")
     displacement = material.extra.get("displacement_graph")  # the source material's, kept whole (.mtlx to .mtlx)
     if isinstance(displacement, Connection):
-        displaced = _write_connection(document, material_name, "displacement", displacement, used)
+        displaced = _write_connection(document, material_name, "displacement", displacement, used, written)
         if displaced:
-            node.addInput("displacementshader", "displacementshader").setNodeName(displaced)
+            _connect(node.addInput("displacementshader", "displacementshader"), displaced)
     state = gltf_state.travelling(material)
     if state:
         node.setAttribute(gltf_state.MTLX_ATTRIBUTE, gltf_state.encode(state))
@@ -235,10 +237,59 @@ def _write_placement(document, image, prefix: str, texture: Texture, used) -> No
     image.addInput("texcoord", "vector2").setNodeName(target.getName())
 
 
-def _write_connection(document, shader_name: str, input_name: str, connection: Connection, used) -> str | None:
-    """Re-create the procedural graph the reader captured; ``None`` when there is nothing to write."""
+def _connect(port, written: tuple[str, str | None] | None) -> bool:
+    """Connect ``port`` to what :func:`_write_connection` wrote: a node, or a node graph's output."""
+    if written is None:
+        return False
+    name, graph_output = written
+    if graph_output is None:
+        port.setNodeName(name)
+    else:
+        port.setNodeGraphString(name)
+        port.setOutputString(graph_output)
+    return True
+
+
+def _write_kept(document, port, value, used, written: dict) -> bool:
+    """Connect ``port`` to the source's node graph ``value`` was read from, written whole once per document
+    (:func:`openpbr_tools.model.kept`), where no mapping changed the value and the graph's output has the port's
+    type; ``False`` (nothing written) otherwise."""
+    found = kept(value)
+    if found is None:
+        return False
+    text, output_name = found
+    key = f"graph\n{text}"
+    if key not in written:
+        source = mx.createDocument()
+        mx.readFromXmlString(source, text)
+        graph = source.getNodeGraphs()[0]
+        output = graph.getOutput(output_name)
+        if output is None or output.getType() != port.getType():
+            return False
+        name = _unique(graph.getName(), used)
+        copy = document.addNodeGraph(name)
+        copy.copyContentFrom(graph)
+        if copy.getColorSpace() == document.getColorSpace():  # (the space it would inherit: said once)
+            copy.removeAttribute("colorspace")
+        written[key] = (name, None)
+    name = written[key][0]
+    graph = document.getNodeGraph(name)
+    if graph.getOutput(output_name) is None or graph.getOutput(output_name).getType() != port.getType():
+        return False
+    return _connect(port, (name, output_name))
+
+
+def _write_connection(document, shader_name: str, input_name: str, connection: Connection, used,
+                      written: dict) -> tuple[str, str | None] | None:
+    """Re-create the procedural graph the reader captured: (the node feeding the input, None), or (a node
+    graph, its output) for the source's graph kept whole (Connection.kept_graph, while the mapping left the
+    capture as it was); ``None`` when there is nothing to write. A graph already written for another input
+    (a marble's output read by base_color and subsurface_color) is connected again, not copied."""
     if not connection.graph_xml:
         return None
+    key = graph_key(connection.graph_xml, connection.output)
+    if key in written:
+        return written[key]
     source = mx.createDocument()
     mx.readFromXmlString(source, connection.graph_xml)
     for definition in list(source.getNodeDefs()) + list(source.getNodeGraphs()):  # custom nodes' (capture.py)
@@ -254,4 +305,7 @@ def _write_connection(document, shader_name: str, input_name: str, connection: C
         for port in copy.getInputs():
             if port.getNodeName() in renamed:
                 port.setNodeName(renamed[port.getNodeName()])
-    return renamed.get(connection.output or "")
+    if renamed.get(connection.output or "") is None:
+        return None
+    written[key] = (renamed[connection.output], None)
+    return written[key]

@@ -105,3 +105,19 @@ def _ancestor_uvs(UsdGeom, prim, cache: dict) -> dict[str, tuple[str, str]]:
                 found.pop(name, None)  # a constant one of that name is inherited instead
         cache[ancestor.GetPath()] = found
     return cache.get(chain[0].GetPath(), found) if chain else found
+
+
+def primvar_type_problem(primvar) -> str | None:
+    """Why a primvar a UsdPrimvarReader_float2 reads as texture coordinates cannot give them: its type has
+    other than two components (a ``color3f[] primvars:st``), so the reader finds no float2 primvar of that name
+    and returns its fallback; ``None`` for a two-component type (texCoord2f, float2, double2, half2)."""
+    if not primvar:
+        return None
+    type_name = primvar.GetTypeName()
+    try:
+        components = len(type_name.scalarType.defaultValue)
+    except TypeError:  # a scalar (float, int, token)
+        components = 1
+    if components == 2:
+        return None
+    return f"is {type_name}, not a two-component type (texCoord2f[]), so a float2 reader does not find it"

@@ -52,7 +52,7 @@ from ...resources import load_json
 from .. import ReadError
 from .network import MAX_DEPTH, NetworkReader
 from .observations import observe_layer_units, observe_structure, observe_variant_values, scene_length_inputs
-from .primvars import observe_textured_uvs, primvar_problem
+from .primvars import observe_textured_uvs, primvar_problem, primvar_type_problem
 from .errors import quiet, tf_error_text, usd_error_message
 from .guard import StageGuard
 from .sdr import materialx_nodedef
@@ -159,6 +159,11 @@ class _Reader(NetworkReader):
                 meshes.append(prim)
         for prim in shader_prims:
             self.observe_shader_id(prim)
+        if not asset.materials:  # (a layer meant to be composed: its materials under an 'over' are not defined)
+            undefined = [str(p.GetPath()) for p in stage.TraverseAll() if p.IsA(self.UsdShade.Material)
+                         and not p.IsDefined()]
+            if undefined:
+                asset.extra["usd_undefined_materials"] = undefined
         asset.extra["usd_renderer_context_shaders"] = tuple(sorted(self.renderer_context_shaders))
         unit = asset.meters_per_unit or load_json("units.json")["usd_default_meters_per_unit"]
         for material in asset.materials:  # (the evaluator reads scene-unit lengths in metres: parameters.resolve)
@@ -209,7 +214,8 @@ class _Reader(NetworkReader):
                 names = {p.GetPrimvarName() for p in api.GetPrimvarsWithValues()}
                 names |= {p.GetPrimvarName() for p in api.FindInheritablePrimvars() if p.HasValue()}
                 for name in sorted(read_names & {str(n) for n in names}):
-                    problem = primvar_problem(self.UsdGeom, mesh, api.GetPrimvar(name))
+                    primvar = api.GetPrimvar(name) or api.FindPrimvarWithInheritance(name)
+                    problem = primvar_problem(self.UsdGeom, mesh, primvar) or primvar_type_problem(primvar)
                     if problem:  # Hydra drops a primvar of the wrong size (the reader gets its fallback, as without it);
                         # a constant or uniform one gives no coordinates across a face
                         names.discard(name)
@@ -363,8 +369,11 @@ class _Reader(NetworkReader):
                 material.extra["gltf"] = state
             material.extra["usd_render_context"] = context
             material.extra["usd_surface_output"] = where.input
+            # a UsdPreviewSurface's own displacement input is translated (or its loss noted) with its other inputs
             displaced = [f"outputs:{o.GetBaseName()}" for o in self.UsdShade.Material(material_prim).GetOutputs()
-                         if str(o.GetBaseName()).endswith("displacement") and o.GetAttr().GetConnections()]
+                         if str(o.GetBaseName()).endswith("displacement")
+                         and any(c.GetPrimPath() != shader_prim.GetPath() or material.model != "UsdPreviewSurface"
+                                 for c in o.GetAttr().GetConnections())]
             if displaced:  # a displacement shader: no conversion carries it (convert notes it)
                 material.extra["displacement"] = displaced[0]
             space = self.inherited_colorspace(material_prim)  # under MaterialX's name, for colour maths elsewhere

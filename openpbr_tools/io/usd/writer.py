@@ -37,19 +37,15 @@ from ...model import Asset, Connection, Constant, Location, Material, Texture
 from ...resources import load_json
 from ...rules.translation import APPROXIMATED, NOT_CARRIED
 from ...workers import raise_if_stopped
-from ..image_files import damage
-from ..paths import Kind, PathGuard, classify
+from ..paths import PathGuard
 from .reader import CUSTOM_DATA_VERSION_KEY
 from .errors import quiet, require_pxr
 from .graph_networks import GraphNetworkWriter
+from .texture_files import TextureFiles
 from .texture_networks import TextureNetworkWriter, identifier
 from .types import MATERIALX_TO_USD, OPACITY_MODE_TOKENS, PREVIEW_SURFACE_USD_TYPES
 
 LOOKS = "/Looks"
-
-
-class UsdWriteError(ValueError):
-    """The USD cannot be written as asked (a texture to package from outside the allowed folders)."""
 
 
 def write_usd(materials: list[Material], path: str, *, source: Asset | str | None = None,
@@ -142,7 +138,7 @@ def _package(path: str, layer_path: str, files: dict[str, str]) -> None:
     writer.Save()
 
 
-class _Writer(TextureNetworkWriter, GraphNetworkWriter):
+class _Writer(TextureNetworkWriter, GraphNetworkWriter, TextureFiles):
     def __init__(self, stage, notes, source_dir, target_dir, package, meters_per_unit, source_unit):
         from pxr import Sdf, UsdShade  # lazy: pxr only once write_usd has required it
 
@@ -323,50 +319,6 @@ class _Writer(TextureNetworkWriter, GraphNetworkWriter):
             return "raw"
         return "sRGB" if colorspaces.encoded(colorspaces.materialx_equivalent(name) or name) else "raw"
 
-    # -- texture files -----------------------------------------------------------------------
-    def texture_path(self, texture: Texture, owner: str) -> str:
-        file = texture.file
-        kind = classify(file) if file else Kind.EMPTY
-        if kind is Kind.URL and self.package and file[:5].lower() == "file:":  # a local file outside, as an
-            raise UsdWriteError(f"{owner}: texture {file!r} is a file URL, a file outside the source asset's folder "
-                                "by another name; a .usdz carries its textures, and this one is not packaged "
-                                "(an absolute path is refused alike)")  # absolute path; a web or data URL stays named
-        if kind in (Kind.EMPTY, Kind.URL):
-            return file
-        if texture.packaged and kind is Kind.RELATIVE:
-            self.note(NOT_CARRIED, f"{owner}: {file!r} is inside the source package and is not copied")
-            return file
-        if not self.package:
-            if kind is Kind.RELATIVE:  # re-anchored at the output's folder (only referenced, never read)
-                absolute = os.path.normpath(os.path.join(self.source_dir, file))
-                return os.path.relpath(absolute, self.target_dir).replace(os.sep, "/")
-            return self.target.resolve(file).relative or file
-        if "<UDIM>" in file:
-            self.note(NOT_CARRIED, f"{owner}: UDIM tiles of {file!r} are not packaged")
-            return file
-        resolved = self.guard.resolve(file)
-        if not resolved.inside:
-            where = f"resolves to {resolved.real}" if resolved.real else \
-                "is not a path (it holds a NUL byte)" if kind is Kind.NUL else f"is a {kind.value} path"
-            raise UsdWriteError(
-                f"{owner}: texture {file!r} {where}, outside the source asset's folder {self.guard.own_root}; "
-                "it is not packaged into the .usdz unless its folder is allowed (allow_outside / --allow-outside)")
-        real = resolved.real
-        if not os.path.isfile(real):
-            self.note(NOT_CARRIED, f"{owner}: {file!r} does not exist and is not packaged")
-            return file
-        found = damage(real)
-        if found is not None:
-            self.note(NOT_CARRIED, f"{owner}: {file!r} is {found.detail} and is not packaged")
-            return file
-        inside = resolved.relative if resolved.root == self.guard.own_root else f"textures/{os.path.basename(real)}"
-        stem, suffix = os.path.splitext(inside)
-        count = 1
-        while self.packaged_files.get(inside, real) != real:
-            count += 1
-            inside = f"{stem}_{count}{suffix}"
-        self.packaged_files[inside] = real
-        return inside
 
 def _scene_unit(asset: Asset) -> float | None:
     """Metres per scene unit of the asset the materials came from, when its format defines one."""

@@ -1,0 +1,364 @@
+"""Session 27's red-team findings left open then (sets E and F), closed in session 28: a .mtlx output keeps the
+source's node graphs whole (E#7), no false displacement loss (E#12), an 'over'-only layer said to be one (E#16),
+UDIM and UVTILE sets packaged into a .usdz (F#18, F#19), an extracted image named by its bytes (F#20), a
+texture-coordinate primvar of the wrong type (F#11) and sparse indices of no index type (F#15). Expected values
+come from the formats' definitions (MaterialX's <UVTILE> and <UDIM> tokens, UsdPrimvarReader's fallback, the glTF
+schema's sparse.indices.componentType list) and the anchors (MaterialX's validate() and GLSL generation,
+usd-core's validators, the Khronos glTF-Validator)."""
+
+from __future__ import annotations
+
+import base64
+import json
+import struct
+import zipfile
+from pathlib import Path
+
+import MaterialX as mx
+import pytest
+from PIL import Image
+
+from openpbr_tools.convert import convert_file
+from openpbr_tools.io import ReadError, read_asset
+from openpbr_tools.model import Connection, Texture
+from openpbr_tools.translate.common import Settings
+from redteam_support import codes, khronos_warnings, messages, png
+
+PUBLISHED = Path(__file__).resolve().parent / "data" / "published" / "materialx" / "resources"
+EXAMPLES = PUBLISHED / "Materials" / "Examples" / "StandardSurface"
+
+
+def _loads_and_generates(path: Path) -> mx.Document:
+    import MaterialX.PyMaterialXGenGlsl as gg
+    import MaterialX.PyMaterialXGenShader as gs
+
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    document.importLibrary(library)
+    valid, message = document.validate()
+    assert valid, message
+    generator = gg.GlslShaderGenerator.create()
+    context = gs.GenContext(generator)
+    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
+    for element in gs.findRenderableElements(document):
+        assert generator.generate("check", element, context).getSourceCode(gs.PIXEL_STAGE)
+    written = mx.createDocument()  # (without the library: the document's own elements)
+    mx.readFromXmlFile(written, str(path))
+    return written
+
+
+# -- E#7: a .mtlx output keeps the source's node graphs -----------------------------------------------------------------
+
+def _graph_interface(document, name: str) -> dict:
+    graph = document.getNodeGraph(name)
+    assert graph is not None, f"{name} was not kept"
+    return {i.getName(): (i.getValueString(), i.getAttribute("uiname"), i.getAttribute("uifolder"))
+            for i in graph.getInputs()}
+
+
+@pytest.mark.parametrize("example, graph, inputs", [
+    ("standard_surface_marble_solid.mtlx", "NG_marble1", {"base_color": "out", "subsurface_color": "out"}),
+    ("standard_surface_brick_procedural.mtlx", "NG_BrickPattern",
+     {"base_color": "base_color_output", "specular_roughness": "specular_roughness_output",
+      "geometry_normal": "normal_output"}),
+])
+def test_a_node_graph_is_kept_with_its_interface(tmp_path, example, graph, inputs):
+    """MaterialX's published marble and brick: Standard Surface -> OpenPBR, .mtlx to .mtlx. The graph's published
+    interface (its inputs with uiname/uifolder: 'Color 1', 'UV Tiling'...) was inlined into copies of its nodes, the
+    marble's output (read by base_color and subsurface_color) written twice and the brick's uvtiling hard-coded in
+    three places. Now the graph is written once, as the source has it, and each input reads its output."""
+    source = mx.createDocument()
+    mx.readFromXmlFile(source, str(EXAMPLES / example))
+    out = tmp_path / "out.mtlx"
+    convert_file(str(EXAMPLES / example), str(out), "open_pbr_surface",
+                 Settings(candidates=False),
+                 allow_outside=(str(PUBLISHED / "Images"),))
+    document = _loads_and_generates(out)
+    assert _graph_interface(document, graph) == _graph_interface(source, graph)
+    assert len(document.getNodeGraphs()) == 1
+    assert sorted(n.getName() for n in document.getNodeGraph(graph).getNodes()) == \
+        sorted(n.getName() for n in source.getNodeGraph(graph).getNodes())
+    (shader,) = [n for n in document.getNodes() if n.getCategory() == "open_pbr_surface"]
+    for name, output in inputs.items():
+        port = shader.getInput(name)
+        assert (port.getNodeGraphString(), port.getOutputString()) == (graph, output), name
+    assert [n.getCategory() for n in document.getNodes()] == ["open_pbr_surface", "surfacematerial"]
+
+
+def test_a_kept_graph_reads_as_the_source_did(tmp_path):
+    """The kept graph reads back as the same procedural inputs (the evaluator's reading: the same images, the same
+    constants), and its images still resolve from the output's folder (the document's fileprefix applied)."""
+    example = EXAMPLES / "standard_surface_brick_procedural.mtlx"
+    out = tmp_path / "sub" / "out.mtlx"
+    out.parent.mkdir()
+    convert_file(str(example), str(out), "open_pbr_surface",
+                 Settings(candidates=False),
+                 allow_outside=(str(PUBLISHED / "Images"),))
+    (source,) = read_asset(str(example)).materials
+    (written,) = read_asset(str(out)).materials
+    assert isinstance(written.inputs["base_color"].value, Connection)
+    texture = written.inputs["specular_roughness"].value
+    assert isinstance(texture, Connection | Texture)
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(out))
+    files = [port.getValueString() for node in document.getNodeGraph("NG_BrickPattern").getNodes()
+             for port in node.getInputs() if port.getType() == "filename"]
+    assert files and all((out.parent / f).resolve().is_file() for f in files), files
+    assert source.inputs["base_color"].value.graph_xml.count("<tiledimage") == \
+        written.inputs["base_color"].value.graph_xml.count("<tiledimage")
+
+
+def test_a_mapping_that_changes_a_graph_writes_its_own_nodes(tmp_path):
+    """To UsdPreviewSurface in a .mtlx, the brick's world-space normal takes a tangent-space form (normal_graphs) and
+    its base colour an affine map (expressed): not the source's graph output, which would give world space and the
+    unmapped colour; the roughness, mapped as it is, reads the graph kept whole."""
+    out = tmp_path / "out.mtlx"
+    convert_file(str(EXAMPLES / "standard_surface_brick_procedural.mtlx"), str(out), "UsdPreviewSurface",
+                 Settings(candidates=False),
+                 allow_outside=(str(PUBLISHED / "Images"),))
+    document = _loads_and_generates(out)
+    (shader,) = [n for n in document.getNodes() if n.getCategory() == "UsdPreviewSurface"]
+    assert (shader.getInput("roughness").getNodeGraphString(), shader.getInput("roughness").getOutputString()) == \
+        ("NG_BrickPattern", "specular_roughness_output")
+    for name in ("diffuseColor", "normal"):
+        assert shader.getInput(name).getNodeName() and not shader.getInput(name).getNodeGraphString(), name
+
+
+def test_a_graph_reading_outside_itself_is_written_as_nodes(tmp_path):
+    """A graph whose interface input is connected to a node outside it does not stand alone: the flat capture
+    carries it (as before), and the output still loads and generates."""
+    from redteam_support import mtlx
+
+    path = mtlx(tmp_path, """
+        <constant name="outside" type="color3"><input name="value" type="color3" value="0.2, 0.4, 0.6" /></constant>
+        <nodegraph name="NG">
+          <input name="tint" type="color3" nodename="outside" />
+          <position name="p" type="vector3" />
+          <noise3d name="n" type="color3"><input name="position" type="vector3" nodename="p" /></noise3d>
+          <multiply name="m" type="color3">
+            <input name="in1" type="color3" nodename="n" /><input name="in2" type="color3" interfacename="tint" />
+          </multiply>
+          <output name="out" type="color3" nodename="m" />
+        </nodegraph>
+        <standard_surface name="S" type="surfaceshader"><input name="base_color" type="color3" nodegraph="NG" output="out" /></standard_surface>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+    """)
+    out = tmp_path / "out.mtlx"
+    convert_file(str(path), str(out), "open_pbr_surface", Settings(candidates=False))
+    document = _loads_and_generates(out)
+    assert document.getNodeGraphs() == []
+    assert any(n.getCategory() == "noise3d" for n in document.getNodes())
+
+
+# -- E#12, E#16: no false loss, a clear reason ------------------------------------------------------------------------------
+
+_PREVIEW_DISPLACED = """#usda 1.0
+def Scope "Scene"
+{
+    def Material "M"
+    {
+        token outputs:surface.connect = </Scene/M/P.outputs:surface>
+        token outputs:displacement.connect = </Scene/M/P.outputs:displacement>
+        def Shader "P"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            color3f inputs:diffuseColor = (0.2, 0.4, 0.6)
+            DISPLACEMENT
+            token outputs:surface
+            token outputs:displacement
+        }
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("displacement, lost", [("", False), ("float inputs:displacement = 0.5", True)])
+def test_a_preview_surfaces_own_displacement_output_is_lost_only_when_it_displaces(tmp_path, displacement, lost):
+    """Pixar's testPreviewSurfacePrimvarFallback.usda connects the Material's outputs:displacement to the
+    UsdPreviewSurface itself, whose displacement input is not authored (0: the specification's default, no
+    displacement). Converting it said its displacement shader was not written; an authored displacement is."""
+    path = tmp_path / "d.usda"
+    path.write_text(_PREVIEW_DISPLACED.replace("DISPLACEMENT", displacement))
+    conversion = convert_file(str(path), str(tmp_path / "o.mtlx"), "open_pbr_surface", Settings(candidates=False))
+    said = [d for d in conversion.diagnostics if d.code == "OPBR1104" and "displacement" in d.message]
+    assert bool(said) == lost, [d.message for d in said]
+
+
+def test_materials_under_an_over_are_said_to_be_undefined(tmp_path):
+    """usd-wg's StandardShaderBall example_materials.usda: Materials under an 'over' root prim are not defined until
+    the layer is composed (UsdPrim.IsDefined is false; Usd.Stage.Traverse skips them), so there is nothing to
+    convert; the message said there was no material of a convertible model."""
+    path = tmp_path / "layer.usda"
+    path.write_text('#usda 1.0\nover "Scene"\n{\n    def Material "M"\n    {\n'
+                    '        token outputs:surface.connect = </Scene/M/P.outputs:surface>\n'
+                    '        def Shader "P"\n        {\n            uniform token info:id = "UsdPreviewSurface"\n'
+                    '            token outputs:surface\n        }\n    }\n}\n')
+    with pytest.raises(ReadError) as raised:
+        convert_file(str(path), str(tmp_path / "o.mtlx"), "open_pbr_surface", Settings(candidates=False))
+    assert "under an 'over'" in raised.value.message and "/Scene/M" in raised.value.message
+
+
+# -- F#18, F#19: tile sets into a .usdz ----------------------------------------------------------------------------------
+
+def _tiled_material(tmp_path, token: str, tiles: list[str]) -> Path:
+    from redteam_support import mtlx
+
+    for name in tiles:
+        png(tmp_path / "textures" / name)
+    return mtlx(tmp_path, f"""
+        <image name="img" type="color3"><input name="file" type="filename" value="textures/albedo.{token}.png" colorspace="srgb_texture" /></image>
+        <open_pbr_surface name="S" type="surfaceshader"><input name="base_color" type="color3" nodename="img" /></open_pbr_surface>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+    """.replace("<UDIM>", "&lt;UDIM&gt;").replace("<UVTILE>", "&lt;UVTILE&gt;"))
+
+
+@pytest.mark.parametrize("token, tiles, packaged", [
+    ("<UDIM>", ["albedo.1001.png", "albedo.1002.png"], ["albedo.1001.png", "albedo.1002.png"]),
+    # MaterialX's <UVTILE> is u<U>_v<V>, one-based (u1_v1 is UDIM 1001, u2_v1 1002, u1_v2 1011)
+    ("<UVTILE>", ["albedo.u1_v1.png", "albedo.u2_v1.png", "albedo.u1_v2.png"],
+     ["albedo.1001.png", "albedo.1002.png", "albedo.1011.png"]),
+])
+def test_a_tile_set_is_packaged_into_a_usdz(tmp_path, token, tiles, packaged):
+    """A .usdz carries its textures: a <UDIM> set's tiles were left out (OPBR1104 and a package usd-core called
+    unresolvable), a <UVTILE> set was called missing. Both are packaged, under their UDIM numbers (USD substitutes
+    <UDIM> only), and the package validates: no finding of the toolkit's, no error of usd-core's validators."""
+    from pxr import Usd, UsdValidation
+
+    source = _tiled_material(tmp_path, token, tiles)
+    out = tmp_path / "out" / "m.usdz"
+    out.parent.mkdir()
+    conversion = convert_file(str(source), str(out), "open_pbr_surface", Settings(candidates=False))
+    assert not [d.message for d in conversion.diagnostics if d.code == "OPBR1104"]
+    names = zipfile.ZipFile(out).namelist()
+    assert sorted(n.rsplit("/", 1)[-1] for n in names if n.endswith(".png")) == packaged
+    assert not codes(out)
+    stage = Usd.Stage.Open(str(out))
+    context = UsdValidation.ValidationContext(UsdValidation.ValidationRegistry().GetOrLoadAllValidators())
+    errors = [e for e in context.Validate(stage) if e.GetType() == UsdValidation.ValidationErrorType.Error
+              and "MissingShaderIdInRegistry" not in e.GetName()]
+    assert not errors, [e.GetMessage() for e in errors]
+
+
+def test_a_uvtile_set_in_a_layer_is_said_to_be_unreadable_by_usd(tmp_path):
+    """A .usda only references its textures: a <UVTILE> path, which USD does not substitute, is reported."""
+    source = _tiled_material(tmp_path, "<UVTILE>", ["albedo.u1_v1.png"])
+    conversion = convert_file(str(source), str(tmp_path / "m.usda"), "open_pbr_surface", Settings(candidates=False))
+    assert any(d.code == "OPBR1104" and "<UVTILE>" in d.message for d in conversion.diagnostics)
+
+
+def test_a_tile_set_with_no_tile_is_said_to_be_missing(tmp_path):
+    source = _tiled_material(tmp_path, "<UDIM>", [])
+    conversion = convert_file(str(source), str(tmp_path / "m.usdz"), "open_pbr_surface", Settings(candidates=False))
+    assert any(d.code == "OPBR1104" and "no tile" in d.message for d in conversion.diagnostics)
+
+
+# -- F#20: an extracted image is named by its bytes -------------------------------------------------------------------------
+
+def test_an_extracted_image_is_named_by_its_bytes_not_its_declared_type(tmp_path):
+    """A data-URI PNG declared image/webp (OPBR1214): extracted beside a .usda, it was named image_0.webp."""
+    from test_red_team_round_thirteen import _triangle
+
+    png_path = png(tmp_path / "a.png")
+    document = _triangle()
+    document["images"] = [{"uri": "data:image/webp;base64," + base64.b64encode(png_path.read_bytes()).decode(),
+                           "mimeType": "image/webp"}]
+    document["textures"] = [{"source": 0}]
+    document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": 0}
+    path = tmp_path / "t.gltf"
+    path.write_text(json.dumps(document))
+    convert_file(str(path), str(tmp_path / "o.usda"), "open_pbr_surface", Settings(candidates=False))
+    extracted = sorted(p.name for p in (tmp_path / "o_textures").iterdir())
+    assert extracted == ["image_0.png"]
+    assert Image.open(tmp_path / "o_textures" / "image_0.png").format == "PNG"
+
+
+# -- F#11, F#15: what a reader cannot read -------------------------------------------------------------------------------
+
+_ST_STAGE = """#usda 1.0
+(
+    metersPerUnit = 1
+)
+def Xform "Root"
+{
+    def Mesh "Quad" (
+        prepend apiSchemas = ["MaterialBindingAPI"]
+    )
+    {
+        int[] faceVertexCounts = [4]
+        int[] faceVertexIndices = [0, 1, 2, 3]
+        point3f[] points = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1)]
+        PRIMVAR
+        rel material:binding = </Root/Mat>
+    }
+    def Material "Mat"
+    {
+        token outputs:surface.connect = </Root/Mat/Preview.outputs:surface>
+        def Shader "Preview"
+        {
+            uniform token info:id = "UsdPreviewSurface"
+            color3f inputs:diffuseColor.connect = </Root/Mat/Tex.outputs:rgb>
+            token outputs:surface
+        }
+        def Shader "Tex"
+        {
+            uniform token info:id = "UsdUVTexture"
+            asset inputs:file = @./albedo.png@
+            token inputs:sourceColorSpace = "sRGB"
+            float2 inputs:st.connect = </Root/Mat/Reader.outputs:result>
+            float3 outputs:rgb
+        }
+        def Shader "Reader"
+        {
+            uniform token info:id = "UsdPrimvarReader_float2"
+            string inputs:varname = "st"
+            float2 outputs:result
+        }
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("primvar, wrong", [
+    ("color3f[] primvars:st = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)] (interpolation = \"vertex\")", True),
+    ("float[] primvars:st = [0, 1, 1, 0] (interpolation = \"vertex\")", True),
+    ("texCoord2f[] primvars:st = [(0, 0), (1, 0), (1, 1), (0, 1)] (interpolation = \"vertex\")", False),
+    ("float2[] primvars:st = [(0, 0), (1, 0), (1, 1), (0, 1)] (interpolation = \"vertex\")", False),
+])
+def test_a_texture_coordinate_primvar_of_another_type_is_not_read(tmp_path, primvar, wrong):
+    """UsdPrimvarReader_float2 returns its fallback when the primvar is not found or is not of its type (Pixar's
+    OSL reader: getattribute into a float[2] fails on a colour), so a color3f st gives every texel (0, 0): OPBR1015,
+    as for a missing st. A texCoord2f or float2 st is read."""
+    image = Image.new("RGB", (8, 8), (255, 255, 255))
+    image.paste((0, 0, 0), (0, 0, 4, 8))  # two halves: the coordinates matter
+    image.save(tmp_path / "albedo.png")
+    path = tmp_path / "s.usda"
+    path.write_text(_ST_STAGE.replace("PRIMVAR", primvar))
+    assert ("OPBR1015" in codes(path)) == wrong
+    if wrong:
+        assert any("not a two-component type" in m for m in messages(path, "OPBR1015"))
+
+
+@pytest.mark.parametrize("component_type, wrong", [(5126, True), (5123, False)])
+def test_sparse_indices_of_no_index_type_are_an_error(tmp_path, component_type, wrong):
+    """glTF 2.0's accessor.sparse.indices.componentType: 5121, 5123 or 5125 (the Khronos glTF-Validator:
+    VALUE_NOT_IN_LIST for a float's 5126); it was silent."""
+    from test_red_team_round_thirteen import _triangle
+
+    document = _triangle()
+    extra = struct.pack("<2H", 0, 0) + struct.pack("<2f", 0.5, 0.5)
+    data = base64.b64decode(document["buffers"][0]["uri"].split(",", 1)[1]) + extra
+    start = len(data) - len(extra)
+    document["buffers"][0] = {"byteLength": len(data),
+                              "uri": "data:application/octet-stream;base64," + base64.b64encode(data).decode()}
+    document["bufferViews"] += [{"buffer": 0, "byteOffset": start, "byteLength": 4},
+                                {"buffer": 0, "byteOffset": start + 4, "byteLength": 8}]
+    document["accessors"][1]["sparse"] = {"count": 1, "indices": {"bufferView": 3, "componentType": component_type},
+                                          "values": {"bufferView": 4}}
+    path = tmp_path / "s.gltf"
+    path.write_text(json.dumps(document))
+    assert ("OPBR1228" in codes(path)) == wrong
+    khronos = khronos_warnings(path, tmp_path)
+    if khronos is not None:
+        assert ("VALUE_NOT_IN_LIST" in khronos) == wrong
