@@ -2,13 +2,13 @@
 
 from __future__ import annotations
 
-import json
 import sys
 
 import click
 
 from cli.validate_run import SEVERITIES, UsageProblem, run_validate, severity
 from openpbr_tools.reports import FORMATS
+from openpbr_tools.reports.json_report import dumps
 
 
 def _severity(_ctx, _param, value):
@@ -102,7 +102,7 @@ def info(files, output_format):
             failed = True
             click.echo(f"{path}: {error.message}", err=True)
     if output_format == "json":
-        click.echo(json.dumps(entries, indent=2, ensure_ascii=False))
+        click.echo(dumps(entries, indent=2))
     else:
         click.echo(describe_text(entries), nl=False)
     sys.exit(2 if failed else 0)

@@ -24,4 +24,7 @@ def run_on_cluster(tasks, address: str, validate_chunk, make_chunks, workers_hin
             results = client.gather(futures)
     except OSError as error:
         raise ClusterError(f"cannot reach the Dask scheduler at {address}: {error}") from None
+    except ValueError as error:  # an address Dask cannot parse ("localhost": no port; the red team's H#11)
+        raise ClusterError(f"--scheduler {address!r} is not a scheduler address ({error}); give host:port, "
+                           "tcp://host:8786 say") from None
     return [result for chunk in results for result in chunk]

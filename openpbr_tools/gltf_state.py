@@ -105,6 +105,10 @@ def notes(source, kind: str, context, state: dict | None = None) -> list:
                                             "carried", replace(
                                    source.location, path=f"{source.location.path}/extensions/{parent}/extensions/{sub}"))
             for parent, sub, read in state.get("nested_extensions") or () if not read]
+    lost += [context.diagnostic(NOT_CARRIED, f"{source.name}: {name} on {pointer} is not read by the toolkit (its "
+                                             "texture's own image, a fallback, stands in); not carried",
+                                replace(source.location, path=f"{pointer}/extensions/{name}"))
+             for pointer, name in state.get("texture_extensions") or ()]
     variants = state.get("variants") or []
     if kind == "gltf":
         lost += [context.diagnostic(NOT_CARRIED, f"{source.name}: selected by the KHR_materials_variants variants "

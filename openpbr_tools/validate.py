@@ -16,6 +16,7 @@ from . import io as readers
 from .config import ConfigError, context_for, find_config, matching_overrides
 from .diagnostics import Diagnostic, Severity
 from .distributed import run_on_cluster
+from .io.paths import PathGuard
 from .model import Asset, Location
 from .outputs import files_read
 from .rules import Context, check_asset
@@ -76,8 +77,9 @@ def discover(paths, suffixes: tuple[str, ...] | None = None) -> tuple[list[str],
     for raw in paths:
         path = os.fspath(raw)
         if os.path.isdir(path):
-            found = _walk(path, suffixes)
-            if not found:
+            before = len(problems)
+            found = _walk(path, suffixes, problems)
+            if not found and len(problems) == before:
                 problems.append(Diagnostic(
                     UNREADABLE.code, Severity.ERROR,
                     f"no {', '.join(suffixes)} files in folder", Location(path),
@@ -92,13 +94,24 @@ def discover(paths, suffixes: tuple[str, ...] | None = None) -> tuple[list[str],
             files.update(matched)
         else:
             problems.append(Diagnostic(UNREADABLE.code, Severity.ERROR, "no such file or folder", Location(path)))
-    return sorted(files), problems
+    # one file named twice (``a.mtlx`` and ``./a.mtlx``, or a file and its folder) is checked and reported once
+    unique = {os.path.normpath(os.path.abspath(f)): f for f in sorted(files, key=len, reverse=True)}
+    return sorted(unique.values()), problems
 
 
-def _walk(folder: str, suffixes: tuple[str, ...]) -> list[str]:
+def _walk(folder: str, suffixes: tuple[str, ...], problems: list[Diagnostic]) -> list[str]:
+    """The files of ``suffixes`` below ``folder``, following links to folders that stay inside it (a link to a
+    parent would walk what was not named); a subfolder that cannot be listed is an OPBR001 error in ``problems``
+    (its files are not checked, and the run must not pass for a check of them)."""
     found = []
     seen_dirs: set[tuple[int, int]] = set()
-    for root, dirs, names in os.walk(folder, followlinks=True):
+    guard = PathGuard(folder)
+
+    def unlisted(error: OSError) -> None:
+        problems.append(Diagnostic(UNREADABLE.code, Severity.ERROR, f"cannot list folder: {error.strerror or error}",
+                                   Location(error.filename or folder)))
+
+    for root, dirs, names in os.walk(folder, followlinks=True, onerror=unlisted):
         try:
             stat = os.stat(root)
         except OSError:
@@ -109,7 +122,8 @@ def _walk(folder: str, suffixes: tuple[str, ...]) -> list[str]:
             dirs[:] = []
             continue
         seen_dirs.add(key)
-        dirs.sort()
+        dirs[:] = sorted(d for d in dirs if not os.path.islink(os.path.join(root, d))
+                         or guard.resolve(os.path.abspath(os.path.join(root, d))).inside)
         found.extend(os.path.join(root, n) for n in names if n.lower().endswith(suffixes))
     return found
 

@@ -47,6 +47,20 @@ def _on_terminate(signum, frame):
     raise Stopped()
 
 
+_interrupted = False  # whether the command was interrupted (SIGINT, said by the command line: note_interrupt)
+
+
+def note_interrupt() -> None:
+    """The command was interrupted: an error met on the way out (an import SIGINT broke: ImportError,
+    "initialization failed") is then the interrupt, not a defect for a file's report (internal_error)."""
+    global _interrupted
+    _interrupted = True
+
+
+def interrupted() -> bool:
+    return _interrupted
+
+
 def raise_if_stopped() -> None:
     """Raise :class:`Stopped` if this process is a worker that SIGTERM has reached: called before an output is
     renamed into place, so a stop Python dropped (see the module docstring) still writes nothing."""

@@ -362,3 +362,336 @@ def test_sparse_indices_of_no_index_type_are_an_error(tmp_path, component_type, 
     khronos = khronos_warnings(path, tmp_path)
     if khronos is not None:
         assert ("VALUE_NOT_IN_LIST" in khronos) == wrong
+
+
+# -- session 28's set H: what crashed, and what the anchors reject that was silent ---------------------------------------
+
+def _gltf_file(tmp_path, document: dict, name: str = "t.gltf") -> Path:
+    path = tmp_path / name
+    path.write_text(json.dumps(document))
+    return path
+
+
+@pytest.mark.parametrize("where, value", [
+    (("accessors", 1, "type"), ["VEC2"]),
+    (("accessors", 1, "componentType"), "s"),
+    (("meshes", 0, "primitives", 0, "attributes", "TEXCOORD_0"), "s"),
+    (("bufferViews", 0, "buffer"), {"a": 1}),
+    (("materials", 0, "pbrMetallicRoughness", "baseColorTexture", "extensions", "KHR_texture_transform"), "s"),
+])
+def test_a_property_of_the_wrong_json_type_anywhere_is_an_error(tmp_path, where, value):
+    """Red team H's type sweep (945 files, each one JSON value of the wrong type): 320 files the Khronos
+    glTF-Validator rejects were silent, and an accessor type or a variants mapping written as a list crashed the
+    reader (exit 2, every other check lost). The glTF schema is now checked over the whole document (Khronos' own
+    schema files, jsonschema): the file's other findings are still made (here metallicFactor 5)."""
+    from test_red_team_round_thirteen import _triangle
+
+    document = _triangle()
+    png(tmp_path / "albedo.png")
+    document["images"], document["textures"] = [{"uri": "albedo.png"}], [{"source": 0}]
+    document["materials"][0]["pbrMetallicRoughness"].update(baseColorTexture={"index": 0}, metallicFactor=5)
+    target = document
+    for key in where[:-1]:
+        target = target.setdefault(key, {}) if isinstance(key, str) else target[key]
+    target[where[-1]] = value
+    path = _gltf_file(tmp_path, document)
+    found = codes(path)
+    assert "OPBR011" not in found and "OPBR301" in found
+    assert found.keys() & {"OPBR1253", "OPBR1210", "OPBR1228"}, found
+    khronos = __import__("redteam_support").khronos_errors(path, tmp_path)
+    if khronos is not None:
+        assert khronos, "the anchor accepts it: not a defect"
+
+
+def test_the_schema_is_said_once_where_a_rule_says_more(tmp_path):
+    """A textureInfo index that is a string is OPBR1210 (with what it does: the texture is dropped); the schema's
+    TYPE_MISMATCH at the same property is not said again."""
+    from test_red_team_round_thirteen import _triangle
+
+    document = _triangle()
+    document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {"index": "0"}
+    path = _gltf_file(tmp_path, document)
+    assert codes(path).get("OPBR1210") == 1 and "OPBR1253" not in codes(path)
+
+
+def test_the_published_gltf_samples_break_no_schema(tmp_path):
+    """No false alarm: every glTF and GLB vendored from Khronos' sample assets passes the schema check."""
+    published = sorted(p for p in (Path(__file__).resolve().parent / "data" / "published").rglob("*")
+                       if p.suffix in (".gltf", ".glb"))
+    assert len(published) > 20
+    from openpbr_tools.validate import Options, validate_paths
+
+    report = validate_paths([str(p) for p in published], options=Options(use_config=False))
+    assert not [(d.location.file, d.message) for d in report.diagnostics if d.code == "OPBR1253"]
+
+
+@pytest.mark.parametrize("stage, code", [
+    ('int[] faceVertexCounts = </Nope>', None),  # (usd-core opens it; the topology is not judged)
+    ('float4 inputs:scale = </Nope>', "OPBR1006"),
+])
+def test_a_path_where_a_usd_value_is_no_crash(tmp_path, stage, code):
+    """A path authored where an array or a float4 is: the reader crashed (OPBR011, exit 2), hiding the file's
+    base_metalness 3 (OPBR301)."""
+    png(tmp_path / "albedo.png")
+    normal = png(tmp_path / "normal.png", colour=(128, 128, 255))
+    body = f'''#usda 1.0
+def Xform "Root"
+{{
+    def Mesh "Quad" (prepend apiSchemas = ["MaterialBindingAPI"])
+    {{
+        {stage if "faceVertexCounts" in stage else "int[] faceVertexCounts = [4]"}
+        int[] faceVertexIndices = [0, 1, 2, 3]
+        point3f[] points = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1)]
+        texCoord2f[] primvars:st = [(0, 0), (1, 0), (1, 1), (0, 1)] (interpolation = "vertex")
+        rel material:binding = </Root/Mat>
+    }}
+    def Material "Mat"
+    {{
+        token outputs:surface.connect = </Root/Mat/Preview.outputs:surface>
+        token outputs:mtlx:surface.connect = </Root/Mat/O.outputs:surface>
+        def Shader "O"
+        {{
+            uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+            float inputs:base_metalness = 3
+            token outputs:surface
+        }}
+        def Shader "Preview"
+        {{
+            uniform token info:id = "UsdPreviewSurface"
+            normal3f inputs:normal.connect = </Root/Mat/N.outputs:rgb>
+            token outputs:surface
+        }}
+        def Shader "N"
+        {{
+            uniform token info:id = "UsdUVTexture"
+            asset inputs:file = @./{normal.name}@
+            token inputs:sourceColorSpace = "raw"
+            {stage if "scale" in stage else "float4 inputs:scale = (2, 2, 2, 2)"}
+            float4 inputs:bias = (-1, -1, -1, -1)
+            float2 inputs:st.connect = </Root/Mat/R.outputs:result>
+            float3 outputs:rgb
+        }}
+        def Shader "R"
+        {{
+            uniform token info:id = "UsdPrimvarReader_float2"
+            string inputs:varname = "st"
+            float2 outputs:result
+        }}
+    }}
+}}
+'''
+    path = tmp_path / "s.usda"
+    path.write_text(body)
+    found = codes(path)
+    assert "OPBR011" not in found and "OPBR301" in found, found
+    if code:
+        assert code in found
+
+
+def test_an_input_without_a_type_is_an_error(tmp_path):
+    """<input name="coat_roughness" value="0.1"/>: MaterialX's validate() fails ("doesn't match declaration") and no
+    code is generated for the shader; it was silent."""
+    from redteam_support import mtlx
+
+    path = mtlx(tmp_path, """
+        <open_pbr_surface name="S" type="surfaceshader"><input name="coat_roughness" value="0.1" /></open_pbr_surface>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+    """)
+    document = mx.createDocument()
+    mx.readFromXmlFile(document, str(path))
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    document.importLibrary(library)
+    assert not document.validate()[0]  # the anchor rejects it
+    assert any("declares no type" in m for m in messages(path, "OPBR201"))
+
+
+# -- session 28's set G: conversions of published assets -------------------------------------------------------------------
+
+def test_a_texture_extension_the_toolkit_does_not_read_is_said(tmp_path):
+    """glTF-MaterialX-Converter's checkerboard: baseColorTexture's KHR_texture_procedurals names a procedural graph;
+    the texture's own image is a 1 x 1 magenta fallback. Converted, the fallback stood in with no word: now validate
+    says the extension is not converted (OPBR1212) and convert that it is not carried (OPBR1104)."""
+    from test_red_team_round_thirteen import _triangle
+
+    document = _triangle()
+    png(tmp_path / "fallback.png", size=(1, 1), colour=(255, 0, 255))
+    document.update(images=[{"uri": "fallback.png"}], textures=[{"source": 0}],
+                    extensionsUsed=["KHR_texture_procedurals"])
+    document["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {
+        "index": 0, "extensions": {"KHR_texture_procedurals": {"index": 0, "output": "out"}}}
+    path = _gltf_file(tmp_path, document)
+    from openpbr_tools.validate import Options, validate_paths
+
+    said = [d for d in validate_paths([str(path)], options=Options(use_config=False)).diagnostics if d.code == "OPBR1212"]
+    assert said and "KHR_texture_procedurals" in said[0].message
+    conversion = convert_file(str(path), str(tmp_path / "o.mtlx"), "open_pbr_surface", Settings(candidates=False))
+    assert any(d.code == "OPBR1104" and "KHR_texture_procedurals" in d.message for d in conversion.diagnostics)
+
+
+@pytest.mark.parametrize("mode", ["CMYK", "I;16"])
+def test_an_image_glTF_does_not_take_is_re_encoded(tmp_path, mode):
+    """usd-wg's TextureFileFormatTests to glTF: a CMYK JPEG and a 16-bit PNG were copied as the base colour image,
+    which glTF forbids (3.9.2: 8-bit sRGB; JFIF: one or three components; the toolkit's own OPBR1219 on the output,
+    the Khronos glTF-Validator's IMAGE_DATA_INVALID). They are re-encoded as 8-bit PNG, and the output is clean."""
+    import numpy as np
+
+    from redteam_support import preview_stage, uv_texture
+
+    if mode == "CMYK":
+        name = "albedo.jpg"
+        Image.new("CMYK", (4, 4), (0, 128, 255, 0)).save(tmp_path / name)
+    else:  # a 16-bit PNG (greyscale: Pillow writes 16 bits per channel for mode I;16)
+        name = "albedo.png"
+        Image.fromarray(np.full((4, 4), 40000, dtype=np.uint16)).save(tmp_path / name)
+        assert Image.open(tmp_path / name).mode.startswith("I")
+    source = preview_stage(tmp_path, "color3f inputs:diffuseColor.connect = </M/T.outputs:rgb>",
+                           extra=uv_texture("T", name))
+    out = tmp_path / "out" / "o.gltf"
+    out.parent.mkdir()
+    convert_file(str(source), str(out), None, Settings(candidates=False))
+    written = json.loads(out.read_text())["images"][0]["uri"]
+    with Image.open(out.parent / written) as image:
+        assert image.format == "PNG" and image.mode in ("RGB", "RGBA", "L", "LA")
+    assert "OPBR1219" not in codes(out)
+
+
+# -- session 28's set H: the command line's contract ----------------------------------------------------------------------
+
+def _run_cli(*args, env=None, cwd=None):
+    import os
+    import subprocess
+    import sys
+
+    return subprocess.run([sys.executable, "-m", "cli.main", *args], capture_output=True, cwd=cwd,
+                          env={**os.environ, **(env or {})}, timeout=300)
+
+
+def test_a_folder_that_cannot_be_listed_is_an_error(tmp_path, monkeypatch):
+    """A subfolder the user cannot read was skipped in silence (exit 0, its broken file never checked): now OPBR001
+    at the folder, and the run is not clean (root reads every folder, so the refusal is the operating system's,
+    simulated here)."""
+    import os
+
+    from openpbr_tools import validate as validation
+    from redteam_support import mtlx
+
+    mtlx(tmp_path, "", name="a.mtlx")
+    (tmp_path / "sub").mkdir()
+    real = os.scandir
+
+    def refusing(path="."):
+        if os.path.basename(os.fspath(path)) == "sub":
+            raise PermissionError(13, "Permission denied", os.fspath(path))
+        return real(path)
+
+    monkeypatch.setattr(os, "scandir", refusing)
+    files, problems = validation.discover([str(tmp_path)])
+    assert [p.code for p in problems] == ["OPBR001"] and "cannot list folder" in problems[0].message
+    assert [os.path.basename(f) for f in files] == ["a.mtlx"]
+
+
+def test_a_link_to_a_parent_folder_is_not_walked(tmp_path):
+    """contract/loop/up -> ..: validating 'loop' walked its parent (19 files checked for a folder holding none)."""
+    import os
+
+    from openpbr_tools import validate as validation
+    from redteam_support import mtlx
+
+    mtlx(tmp_path, "", name="outside.mtlx")
+    (tmp_path / "loop").mkdir()
+    os.symlink("..", tmp_path / "loop" / "up")
+    files, problems = validation.discover([str(tmp_path / "loop")])
+    assert files == [] and [p.code for p in problems] == ["OPBR001"]  # (no supported file in the folder)
+
+
+def test_a_file_named_twice_is_checked_once(tmp_path):
+    import os
+
+    from openpbr_tools import validate as validation
+    from redteam_support import mtlx
+
+    mtlx(tmp_path, "", name="a.mtlx")
+    files, _ = validation.discover([str(tmp_path / "a.mtlx"), str(tmp_path), os.path.join(str(tmp_path), ".", "a.mtlx")])
+    assert len(files) == 1
+
+
+def test_a_json_report_of_a_file_name_that_is_not_utf8_is_utf8(tmp_path):
+    """A file named with the bytes 0xFF 0xFE: the JSON report held them raw, which no JSON parser reads (RFC 8259:
+    UTF-8). The name is written with \\udcXX escapes, as Python reads such a name."""
+    import os
+
+    from redteam_support import mtlx
+
+    source = mtlx(tmp_path, "", name="a.mtlx")
+    odd = os.path.join(os.fsencode(str(tmp_path)), b"odd_\xff\xfe.mtlx")
+    os.rename(str(source), odd)
+    completed = _run_cli("validate", "--no-config", "--format", "json", os.fsdecode(odd))
+    report = json.loads(completed.stdout.decode("utf-8"))
+    assert report["files"][0]["path"] == os.fsdecode(odd)
+
+
+@pytest.mark.parametrize("args, env, said", [
+    (("validate", "--no-config", "--scheduler", "localhost"), None, "not a scheduler address"),
+    (("validate", "--no-config"), {"OPENPBR_MAX_FILE_MB": "-1"}, "positive number"),
+    (("validate", "--no-config"), {"OPENPBR_MAX_FILE_MB": "abc"}, "positive number"),
+])
+def test_a_usage_error_is_exit_2_with_a_message(tmp_path, args, env, said):
+    """--scheduler localhost (no port) printed Dask's traceback and exited 1 ("findings"); OPENPBR_MAX_FILE_MB=-1
+    made every file "0 MiB above the -1 MiB limit", and "abc" was ignored."""
+    from redteam_support import mtlx
+
+    source = mtlx(tmp_path, "", name="a.mtlx")
+    if "--scheduler" in args:
+        pytest.importorskip("distributed")
+    completed = _run_cli(*args, str(source), env=env)
+    assert completed.returncode == 2, completed.stderr.decode()
+    assert said in completed.stderr.decode() and b"Traceback" not in completed.stderr
+
+
+# -- session 28's set G: no alarm where nothing is wrong -------------------------------------------------------------------
+
+_SHADER_BALL = """#usda 1.0
+def Material "M"
+{
+    token outputs:surface.connect = </M/P.outputs:surface>
+    token outputs:mtlx:surface.connect = </M/O.outputs:surface>
+    def Shader "O"
+    {
+        uniform token info:id = "ND_open_pbr_surface_surfaceshader"
+        color3f inputs:base_color = (0.5, 0.5, 0.5)
+        float inputs:specular_weight = WEIGHT
+        float inputs:specular_roughness = 0.3
+        token outputs:surface
+    }
+    def Shader "P"
+    {
+        uniform token info:id = "UsdPreviewSurface"
+        color3f inputs:diffuseColor = (0.5, 0.5, 0.5)
+        float inputs:roughness = 1
+        token outputs:surface
+    }
+}
+"""
+
+
+@pytest.mark.parametrize("weight, alarm", [("0", False), ("1", True)])
+def test_a_roughness_that_renders_nothing_is_not_compared(tmp_path, weight, alarm):
+    """usd-wg's StandardShaderBall: 20 OPBR1009 warnings ('roughness 1 is far from the OpenPBR specular_roughness
+    0.3') on materials whose specular_weight is 0, where the roughness has nothing to roughen."""
+    path = tmp_path / "ball.usda"
+    path.write_text(_SHADER_BALL.replace("WEIGHT", weight))
+    assert ("OPBR1009" in codes(path)) == alarm
+
+
+def test_a_data_image_that_cannot_be_opened_is_not_judged_srgb(tmp_path):
+    """The converter's own .usda read a 16-bit greyscale roughness map on auto (raw, by UsdUVTexture's rule) beside
+    the folder; validated without --allow-outside, the suffix decided it was 8-bit RGB: a false OPBR504 error."""
+    from redteam_support import preview_stage, uv_texture
+
+    folder = tmp_path / "asset"
+    folder.mkdir()
+    Image.new("I;16", (4, 4)).save(tmp_path / "rough.png")
+    path = preview_stage(folder, "float inputs:roughness.connect = </M/T.outputs:r>",
+                         extra=uv_texture("T", "../rough.png", "r", "float"))
+    assert "OPBR504" not in codes(path)

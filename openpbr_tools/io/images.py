@@ -65,6 +65,27 @@ class ImageSource:
     def passes_through(self) -> bool:
         return self.mime in ("image/png", "image/jpeg")
 
+    def gltf_ready(self, colour: bool) -> bool:
+        """Whether a glTF may reference the image's bytes as they are: a PNG or JPEG (:attr:`passes_through`), not a
+        four-component (CMYK) JPEG, nor a 16-bit PNG in a colour slot (glTF 2.0 3.9.2: 8-bit sRGB), nor a PNG with
+        what glTF says it SHOULD NOT hold (an ICC profile, gamma, chromaticities, non-square pixels): OPBR1219 and
+        OPBR1233 on the output otherwise. The others are re-encoded as 8-bit PNG."""
+        if not self.passes_through:
+            return False
+        from .gltf.image_features import png_features, png_header_chunks  # lazy: the glTF writer's question only
+        from .image_files import png_bit_depth  # lazy: as above
+
+        data = self.data()
+        if self.mime == "image/png":
+            return not ((colour and (png_bit_depth(data[:32]) or 8) > 8) or png_features(png_header_chunks(memoryview(data))))
+        try:
+            from PIL import Image  # lazy: as channel_count's
+
+            with Image.open(io.BytesIO(data)) as opened:
+                return opened.mode != "CMYK"
+        except Exception:  # noqa: BLE001 - not decodable: the writer's bake says so
+            return False
+
     def data(self) -> bytes:
         if isinstance(self.image, bytes):
             return self.image

@@ -46,13 +46,14 @@ FAMILIES = (
     "gltf_images",
     "gltf_plausibility",
     "gltf_structure",
+    "gltf_schema",
     "translation",
 )
 
 #: Families that check one input format only (their modules, and what they import, load only for it).
 FAMILY_FORMATS = {"usd": "usd", "usd_preview": "usd", "usd_texcoords": "usd", "usd_shading": "usd", "usd_stage": "usd", "gltf": "gltf",
                 "gltf_meshes": "gltf", "gltf_geometry": "gltf", "gltf_surfaces": "gltf", "gltf_images": "gltf",
-                "gltf_plausibility": "gltf", "gltf_structure": "gltf", "mtlx_document": "mtlx", "translation": None}
+                "gltf_plausibility": "gltf", "gltf_structure": "gltf", "gltf_schema": "gltf", "mtlx_document": "mtlx", "translation": None}
 
 
 @dataclass(frozen=True, slots=True)
@@ -167,19 +168,42 @@ def check_asset(asset: Asset, context: Context | None = None) -> list[Diagnostic
     if any(m.extra.get("included_from") for m in asset.materials):  # an included document's shader, bound here:
         asset = dataclasses.replace(asset, materials=[  # checked in its own document, which is validated too
             m for m in asset.materials if not m.extra.get("included_from")])
+    floors: list[tuple[Diagnostic, frozenset]] = []  # (finding, the codes that say it already): ONLY_WHERE_UNSAID
     for family in FAMILIES:
         if family in FAMILY_FORMATS and FAMILY_FORMATS[family] != asset.format:
             continue  # a family for another format (translation: notes of convert and upgrade, never found here)
+        module = _family_module(family)
+        floor = getattr(module, "ONLY_WHERE_UNSAID", None)  # the codes whose finding at a property says the same
         try:
-            for diagnostic in _family_module(family).check(asset, context):
+            for diagnostic in module.check(asset, context):
                 if diagnostic.code not in context.disabled and not (suppressions and _suppressed(diagnostic, suppressions)):
-                    found.append(diagnostic)
+                    if floor is None:
+                        found.append(diagnostic)
+                    else:
+                        floors.append((diagnostic, floor))
         except Exception as error:  # noqa: BLE001 - a defect of a check: reported at the file, the other families run
             from .document import internal_error  # lazy: the rules package's own family module (a cycle at import)
 
             found.append(internal_error(asset.path, f"the {family} checks", error))
+    if floors:  # (said: a finding of one of the codes at the same property, at an object holding it, or inside it)
+        said = {(d.code, _element(d)) for d in found}
+        found += [d for d, codes in floors if not any(
+            (code, element) in said for code in codes for element in _enclosing(_element(d))) and not any(
+            code in codes and element.startswith(_element(d) + "/") for code, element in said)]
     found.sort(key=Diagnostic.sort_key)
     return found
+
+
+def _enclosing(element: str) -> list[str]:
+    """``element`` and every element holding it (``a/b/c``: itself, ``a/b``, ``a``)."""
+    parts = element.split("/")
+    return ["/".join(parts[:n]) for n in range(len(parts), 0, -1)]
+
+
+def _element(diagnostic: Diagnostic) -> str:
+    """The property a finding names: its path and input, as one pointer."""
+    location = diagnostic.location
+    return "/".join(p.strip("/") for p in (location.path or "", location.input or "") if p and p.strip("/"))
 
 
 

@@ -158,6 +158,10 @@ def internal_error(path: str, step: str, error: Exception) -> Diagnostic:
     says the file was not fully checked). Re-raises ``error`` when :data:`RAISE_INTERNAL_ERRORS` is set."""
     if os.environ.get(RAISE_INTERNAL_ERRORS):
         raise error
+    from ..workers import interrupted  # lazy: the worker machinery, only on this rare path
+
+    if interrupted():  # (the error is how an interrupt surfaced: the command says it was interrupted)
+        raise KeyboardInterrupt from error
     detail = str(error).strip().splitlines()[0][:200] if str(error).strip() else ""
     return Diagnostic(INTERNAL_ERROR.code, INTERNAL_ERROR.severity,
                       f"{step} failed on this file ({type(error).__name__}{': ' + detail if detail else ''}); "

@@ -456,6 +456,9 @@ PROVENANCE: dict[str, tuple[str, str]] = {
     "OPBR1240": ("An untextured white emission on a textured material adds full white at every texel: the surface "
                  "renders flat white and its texture never shows (an exporter's default emission colour); the "
                  "glTF-Validator does not judge values.", GLTF),
+    "OPBR1253": ("Khronos' JSON schema for glTF 2.0 and for each Khronos extension defines every property's type, "
+                 "range and list; the glTF-Validator rejects a file that breaks it (TYPE_MISMATCH, UNDEFINED_PROPERTY, "
+                 "VALUE_NOT_IN_RANGE).", f"{_GLTF}specification/2.0/schema; {GLTF}"),
     "OPBR1252": ("glTF scales a normal map's x and y by normalTexture.scale: -1 inverts the relief instead of "
                  "converting a DirectX map (green only); the glTF-Validator checks no sign.", GLTF),
     "OPBR1241": ("COLOR_0 multiplies the base colour in every glTF viewer: all zeros (an empty vertex-colour layer "

@@ -196,19 +196,24 @@ def _auto_decodes_srgb(texture: Texture, asset, context) -> bool:
     readers (pxr/imaging/hio/stbImage.cpp and plugin/hioOiio/oiioImage.cpp, IsColorSpaceSRGB) decide
     from the file: a PNG ``gAMA`` of 1/2.2 means sRGB and 1.0 linear (stb); otherwise only images
     with 3 or 4 channels are sRGB, read as 8 bits (stb reads every PNG and JPEG at 8 bits, so a
-    16-bit RGB PNG is decoded as sRGB too). A greyscale roughness map is therefore read raw. When
-    the file cannot be opened here (packaged, outside the folder, missing), its suffix decides."""
+    16-bit RGB PNG is decoded as sRGB too). A greyscale roughness map is therefore read raw. The suffix
+    decides for a packaged image and for one that does not decode; one that cannot be opened here (outside
+    the folders allowed, missing) is not judged: its channels are unknown (the red team's G/F7: 16-bit
+    greyscale maps beside the folder, a false error)."""
     if not texture.packaged and texture.file:
         resolved = context.guard(asset.path).resolve(texture.file)
         real = resolved.real if resolved.inside else None  # the file the system opens (links before "..")
-        layout = image_layout(real) if real and os.path.isfile(real) else None
-        if layout is not None:
-            channels, _, gamma = layout
-            if gamma is not None and abs(gamma - 0.45455) < 0.1:
-                return True
-            if gamma is not None and abs(gamma - 1.0) < 0.1:
-                return False
-            return channels in (3, 4)
+        if not (real and os.path.isfile(real)):
+            return False
+        layout = image_layout(real)
+        if layout is None:
+            return is_eight_bit(texture.file)
+        channels, _, gamma = layout
+        if gamma is not None and abs(gamma - 0.45455) < 0.1:
+            return True
+        if gamma is not None and abs(gamma - 1.0) < 0.1:
+            return False
+        return channels in (3, 4)
     return is_eight_bit(texture.file)
 
 

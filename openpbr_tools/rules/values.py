@@ -79,7 +79,12 @@ def check(asset, context):
                                      hint=f"set a finite value (default {parameter.default!r})" if parameter else None)
         if parameter is None:
             continue
-        if entry.type and entry.type != parameter.type:
+        if entry.type is None and asset.format == "mtlx" and entry.raw is not None:
+            yield context.diagnostic(
+                TYPE_MISMATCH, f"{entry.name} declares no type; {material.model} {material.version} defines it as "
+                f"{parameter.type}: MaterialX matches no node definition to the shader ('doesn't match declaration') "
+                "and generates no code for it", entry.location, hint=f"declare type=\"{parameter.type}\"")
+        elif entry.type and entry.type != parameter.type:
             shown = entry.source_type or entry.type
             if entry.source_type:
                 hint = f"author it as {MATERIALX_TO_USD.get(parameter.type, parameter.type)} inputs:{entry.name}"

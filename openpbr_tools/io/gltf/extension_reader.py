@@ -154,6 +154,10 @@ class ExtensionReading:
             mappings = extension.get("mappings") if isinstance(extension, dict) else None
             pointer = f"{primitive_pointer}/extensions/{slots.VARIANTS}/mappings"
             used = []  # (mapping pointer, variant index) in order, for the rules
+            if isinstance(extension, dict) and not isinstance(mappings, list):  # (required: the validator's
+                self.invalid(pointer.rsplit("/", 1)[0], f"this primitive's {slots.VARIANTS} mappings are "  # TYPE_MISMATCH)
+                             f"{json_text(mappings)}, not an array of mappings: no variant selects a material here",
+                             "mappings")
             for number, mapping in enumerate(mappings if isinstance(mappings, list) else []):
                 if not isinstance(mapping, dict):
                     continue
@@ -180,7 +184,7 @@ class ExtensionReading:
                                            attribute="variant", target=variant)
                         continue
                     used.append((where, variant))
-                    material = by_index.get(target)
+                    material = by_index.get(target) if _index(target) else None
                     chosen = material.extra["gltf"].setdefault("variants", []) if material is not None else None
                     if chosen is not None and names[variant] not in chosen:
                         chosen.append(names[variant])

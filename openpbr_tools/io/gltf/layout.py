@@ -284,7 +284,8 @@ def _accessor(document: GltfDocument, index: int, accessor: dict, attribute: str
         elif json_index(view_offset) and (offset + view_offset) % size:
             yield {"kind": "total_offset_alignment", "pointer": pointer, "property": "byteOffset", "offset": offset,
                    "view_offset": view_offset, "view": accessor["bufferView"], "size": size}
-        stride, width = view.get("byteStride"), VECTOR_WIDTHS.get(accessor.get("type"))
+        kind = accessor.get("type")  # (a list or object there is the schema's to report: no width)
+        stride, width = view.get("byteStride"), VECTOR_WIDTHS.get(kind) if isinstance(kind, str) else None
         if attribute is not None and not offset % size:
             # 3.6.2.4 names the accessor's own offset and the stride (a tightly packed view's is the element's size;
             # the validator judges no more: a bufferView.byteOffset of 2 under a 2-byte component passes there)
@@ -313,7 +314,8 @@ def _sparse(document: GltfDocument, pointer: str, sparse: dict, count: int) -> I
         yield {"kind": "sparse_count_zero", "pointer": f"{pointer}/sparse", "property": "count"}
     if not isinstance(indices, dict) or not json_index(number) or number == 0:
         return
-    dtype, offset = _INDEX_DTYPES.get(indices.get("componentType")), indices.get("byteOffset", 0)
+    dtype = _INDEX_DTYPES.get(indices["componentType"]) if json_index(indices.get("componentType")) else None
+    offset = indices.get("byteOffset", 0)
     if dtype is None and json_index(indices.get("componentType")):  # (the validator's VALUE_NOT_IN_LIST)
         yield {"kind": "sparse_index_type", "pointer": f"{pointer}/sparse/indices", "property": "componentType",
                "value": indices["componentType"]}

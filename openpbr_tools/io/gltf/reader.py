@@ -39,7 +39,8 @@ format) from its header through a view, never copied. Every step is linear in th
 document, so thousands of materials, textures or primitives cost milliseconds each.
 
 This module reads the document, its resources and materials (factors, which slot lives where);
-images, textures and samplers are :mod:`.textures`'s.
+images, textures and samplers are :mod:`.textures`'s. One module because the reading is one pass over the document
+whose order matters (resources and layout before the materials that sample them, variants after the materials).
 """
 
 from __future__ import annotations
@@ -49,7 +50,7 @@ import re
 from ... import tables, versioning
 from ...model import Asset, Constant, Input, Location, Material, Texture
 from .. import ReadError
-from . import accessors, animation_pointers, drafts, geometry, layout, references, schema, slots
+from . import accessors, animation_pointers, drafts, geometry, json_schema, layout, references, schema, slots
 from .document import GltfDocument, ResourceError, load_document
 from .extension_reader import ExtensionReading, thin_diffuse_transmission
 from .textures import TextureReading, json_float, json_index, json_numbers, json_text
@@ -85,6 +86,7 @@ class _Reader(TextureReading, ExtensionReading):
         self.bad_samplers: set = set()
         self.observed: set = set()  # (kind, pointer, message): the same problem reached twice is reported once
         self.texture_pointers: set[str] = set()
+        self.reading, self.reading_name = {}, ""  # the state of the material being read (read_material), its name
         self.tangent_cache: dict[int, dict | None] = {}
         self.data_cache: dict = {}  # the accessors whose values accessors.primitive_problems and geometry judged
         self.package_files: set[str] = set()  # embedded images that decode: the textures rule looks them up here
@@ -156,7 +158,8 @@ class _Reader(TextureReading, ExtensionReading):
         for pointer, name, index, why in references.dangling(self.document):  # (the root's scene: name None)
             self.asset.observe("dangling_reference", self.location(pointer, name), attribute=name or "scene",
                                target=index, ends=why)
-        self.facts["accessor_problems"] = layout.accessor_problems(self.document)
+        self.facts["accessor_problems"], self.facts["schema_errors"] = (layout.accessor_problems(self.document),
+                                                                        json_schema.errors(self.document.json))
         self.facts["extension_sources"] = layout.extension_sources(self.document)
         self.facts["animation_pointers"] = animation_pointers.material_pointer_problems(self.document)
 
@@ -234,7 +237,7 @@ class _Reader(TextureReading, ExtensionReading):
                                    extension=recorded, material=name)
         self.unknown_sub_extensions(extensions, pointer, name, extra)
         self.unexpected_properties(raw, extensions, pointer)
-        self.index, self.reported = index, set()
+        self.index, self.reported, self.reading, self.reading_name = index, set(), extra, name
         # glTF ignores alpha in OPAQUE mode (specification 3.9.4): only MASK and BLEND read the
         # base colour texture's A channel, so only they get an alpha texture input.
         self.reads_alpha = raw.get("alphaMode") in ("MASK", "BLEND")

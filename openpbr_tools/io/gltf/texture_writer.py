@@ -188,7 +188,7 @@ class TextureWriting:
         same_image = len({sources[s.parameter].key for s in members}) == 1
         fitting = all(self.fits(s, textures[s.parameter], sources[s.parameter]) for s in members)
         covered = self.covers(prop, members, source)
-        if same_image and fitting and covered and source.passes_through:
+        if same_image and fitting and covered and source.gltf_ready(any(s.colour for s in members)):
             return self.builder.add_image(source.key, source.data, source.mime, source.name)
         plan = self.bake_plan(prop, members, textures, sources)
         label = f"{self.material.name}.{prop}"

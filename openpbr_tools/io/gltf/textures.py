@@ -137,6 +137,7 @@ class TextureReading:
         result.wrap = self.sampler(sampler, index)
         result.filter = _magnification_filter(self.document.item("samplers", sampler)) if sampler is not None else None
         result.minification = _minification_filter(self.document.item("samplers", sampler)) if sampler is not None else None
+        self.other_texture_extensions(info, pointer)
         transform = _transform(info)
         if transform is not None:
             texcoord = transform.get("texCoord", texcoord)
@@ -154,6 +155,18 @@ class TextureReading:
                                                "image": source})
         self.apply_factor(slot, result, info, factor, container, pointer)
         return result
+
+    def other_texture_extensions(self, info: dict, pointer: str) -> None:
+        """Extensions of a textureInfo other than KHR_texture_transform (KHR_texture_procedurals: a procedural graph
+        whose texture's own image is only its fallback) are not read: observed for validate (OPBR1212) and listed
+        in the material's state (``texture_extensions``: [pointer, name]), which convert reports as not carried."""
+        extensions = info.get("extensions")
+        for name in sorted(extensions) if isinstance(extensions, dict) else ():
+            if name == slots.TEXTURE_TRANSFORM or [pointer, name] in self.reading.get("texture_extensions", []):
+                continue
+            self.reading.setdefault("texture_extensions", []).append([pointer, name])
+            self.asset.observe("gltf_not_converted", self.location(f"{pointer}/extensions/{name}"), extension=name,
+                               material=self.reading_name)
 
     def apply_factor(self, slot: slots.Slot, texture: Texture, info: dict, factor, container: dict, pointer: str) -> None:
         if slot.texture_kind in ("normalTextureInfo", "occlusionTextureInfo"):

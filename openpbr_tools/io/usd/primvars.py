@@ -15,7 +15,7 @@ def primvar_problem(UsdGeom, mesh, primvar) -> str | None:
         return None
     geometry = UsdGeom.Mesh(mesh)
     counts, points = geometry.GetFaceVertexCountsAttr().Get(), geometry.GetPointsAttr().Get()
-    if counts is None or points is None:
+    if not (_array(counts) and _array(points)):  # (none authored, or a value of another type: the validators')
         return None
     interpolation = str(primvar.GetInterpolation())
     if interpolation in ("constant", "uniform"):  # one UV for the mesh, or per face: no texture coordinates
@@ -121,3 +121,8 @@ def primvar_type_problem(primvar) -> str | None:
     if components == 2:
         return None
     return f"is {type_name}, not a two-component type (texCoord2f[]), so a float2 reader does not find it"
+
+
+def _array(value) -> bool:
+    """Whether a topology attribute's value is an array (not None, nor a path or token authored in its place)."""
+    return value is not None and not isinstance(value, (str, bytes)) and hasattr(value, "__len__")

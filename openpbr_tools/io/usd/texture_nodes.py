@@ -317,7 +317,11 @@ def _transform2d_as_place2d(prim) -> UVTransform:
 def _for_output(value, channels: tuple[int, ...] | None):
     """UsdUVTexture's float4 scale or bias (one per image channel, RGBA) as the model keeps it: in
     the width of what the output delivers (``rgb``: three components; ``r``/``g``/``b``/``a``: the
-    one of that channel)."""
+    one of that channel). A value that is no number (a path authored on the float4: usd-core's
+    NonCompliantBiasAndScale, reported by the validators) is none: the shader's default applies."""
+    numbers = value if isinstance(value, tuple) else (value,)
+    if value is not None and not all(isinstance(v, (int, float)) and not isinstance(v, bool) for v in numbers):
+        return None
     if not isinstance(value, tuple) or len(value) != 4:
         return value
     if channels is None:

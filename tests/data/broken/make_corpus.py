@@ -206,7 +206,7 @@ case("OPBR002_glb_length_mismatch.glb", "OPBR002", "A GLB whose header length fi
 case("OPBR003_only_nodegraph.mtlx", "OPBR003", "A 'material library' export that holds only a node graph and no surface shader.",
      mtlx('<nodegraph name="NG">\n  <constant name="c" type="color3">\n    <input name="value" type="color3" value="0.5, 0.5, 0.5" />\n  </constant>\n  <output name="out" type="color3" nodename="c" />\n</nodegraph>', material=False))
 case("OPBR003_gltf_no_materials.gltf", "OPBR003", "A glTF exported with materials disabled: geometry only, no material at all.",
-     json.dumps({"asset": {"version": "2.0"}, "scenes": [{"nodes": []}]}, indent=2))
+     json.dumps({"asset": {"version": "2.0"}, "scenes": [{"name": "empty"}]}, indent=2))
 case("OPBR004_texcoord_to_nowhere.mtlx", "OPBR004", "An image's texcoord input is connected to a node the exporter did not write, which MaterialX's Document.validate() rejects.",
      opbr('<input name="base_color" type="color3" nodename="albedo" />',
           before='<image name="albedo" type="color3">\n  <input name="file" type="filename" value="textures/albedo.png" colorspace="srgb_texture" />\n  <input name="texcoord" type="vector2" nodename="uvset1" />\n</image>'))
@@ -964,6 +964,10 @@ case("OPBR1210_draco_without_bufferview.gltf", "OPBR1210", "KHR_draco_mesh_compr
      json.dumps(dict(_attributes(), extensionsUsed=["KHR_draco_mesh_compression"],
                      meshes=[{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "material": 0, "extensions": {
                          "KHR_draco_mesh_compression": {"attributes": {"POSITION": 0, "TEXCOORD_0": 1}}}}]}]), indent=2))
+case("OPBR1253_accessor_type_list.gltf", "OPBR1253", "A TEXCOORD_0 accessor whose type is written as a list ([\"VEC2\"], a "
+     "serialiser's slip): the glTF schema wants a string; the Khronos glTF-Validator: TYPE_MISMATCH.",
+     json.dumps(dict(_attributes(), accessors=[dict(a, type=["VEC2"]) if a.get("type") == "VEC2" else a
+                                               for a in _attributes()["accessors"]]), indent=2))
 
 EXTRA_FILES = {
     "OPBR1209_buffers/uv_short.bin": _UV_DATA[:44],  # 16 bytes short of the 60 its buffer declares
