@@ -229,6 +229,12 @@ class Baker:
         averages = {name: _average(loaded[name]) for name in textured}
         sources = ", ".join(f"{n} ({os.path.basename(values.entry(n).value.file)})" for n in textured)
         entry = values.entry(textured[0])
+        same = next((n for n in textured if n not in resampled and _same_texels(loaded[n], result, target_type)), None)
+        if same is not None:  # (the red team's E#14: a copy of the artist's texture replaced the reference to it)
+            kept = values.entry(same)
+            made = Input(mapping.target, target_type, kept.value, kept.location, colorspace=kept.colorspace)
+            return Baked(made, f"{mapping.target}: from {sources} evaluated per texel; every texel is {same}'s own "
+                               "(to the 8-bit level), so its texture is kept", averages=averages)
         if np.ptp(result, axis=(0, 1)).max() <= 1e-7 or not texturable:
             # A mode or switch (glTF alpha_mode, a boolean) takes the largest per-texel value: one
             # translucent texel needs blending. Anything else takes the mean.
@@ -293,6 +299,16 @@ class Baker:
         if colour:
             return _png16_oiio(values), working, clipped, ".png"
         return _png16_grey(values[:, :, 0]), None, clipped, ".png"
+
+
+def _same_texels(texels, result, target_type: str) -> bool:
+    """Whether the formula left ``texels`` (one source's, in linear Rec.709) as they were: the same shape, and the
+    same 8-bit level in every texel as the baked image would encode it (a colour sRGB-encoded, a float linear)."""
+    if texels.shape != result.shape or target_type not in ("color3", "float"):
+        return False
+    if target_type == "color3":
+        texels, result = (colorspaces.from_lin_rec709(np.clip(v, 0.0, 1.0), "srgb_texture") for v in (texels, result))
+    return bool(np.array_equal(np.round(np.clip(texels, 0.0, 1.0) * 255), np.round(np.clip(result, 0.0, 1.0) * 255)))
 
 
 def _occupied(path: str, data: bytes) -> bool:

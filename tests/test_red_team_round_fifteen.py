@@ -695,3 +695,103 @@ def test_a_data_image_that_cannot_be_opened_is_not_judged_srgb(tmp_path):
     path = preview_stage(folder, "float inputs:roughness.connect = </M/T.outputs:r>",
                          extra=uv_texture("T", "../rough.png", "r", "float"))
     assert "OPBR504" not in codes(path)
+
+
+# -- session 28's set H: misses -------------------------------------------------------------------------------------------
+
+def test_a_nan_time_sample_is_not_finite(tmp_path):
+    """A static NaN is OPBR203 and an out-of-range time sample OPBR301 'at time 24'; a NaN time sample passed."""
+    path = tmp_path / "s.usda"
+    path.write_text('#usda 1.0\ndef Material "M"\n{\n    token outputs:mtlx:surface.connect = </M/O.outputs:surface>\n'
+                    '    def Shader "O"\n    {\n        uniform token info:id = "ND_open_pbr_surface_surfaceshader"\n'
+                    '        color3f inputs:base_color.timeSamples = {1: (0.8, 0.3, 0.2), 2: (nan, 0, 0)}\n'
+                    '        token outputs:surface\n    }\n}\n')
+    assert any("at time 2" in m for m in messages(path, "OPBR203"))
+
+
+def test_an_empty_varname_reads_no_primvar(tmp_path):
+    """UsdPrimvarReader_float2 with varname "": no primvar is read, the texture samples (0, 0) everywhere."""
+    image = Image.new("RGB", (8, 8), (255, 255, 255))
+    image.paste((0, 0, 0), (0, 0, 4, 8))
+    image.save(tmp_path / "albedo.png")
+    path = tmp_path / "s.usda"
+    path.write_text(_ST_STAGE.replace("PRIMVAR", 'texCoord2f[] primvars:st = [(0, 0), (1, 0), (1, 1), (0, 1)] '
+                                                 '(interpolation = "vertex")')
+                    .replace('string inputs:varname = "st"', 'string inputs:varname = ""'))
+    assert any("varname is empty" in m for m in messages(path, "OPBR1015"))
+
+
+@pytest.mark.parametrize("coat, saturated", [(0.25, True), (1.0, False)])
+def test_a_saturated_specular_weight_under_a_partial_coat(tmp_path, coat, saturated):
+    """specular_weight 100: under a whole coat of IOR 1.6 the base's F0 relative to it is 0.001 (100 x 0.001 < 1),
+    but a coat of 0.25 leaves three quarters of the base against air, F0 0.04: 4, clamped to a mirror (OPBR911)."""
+    from redteam_support import mtlx
+
+    path = mtlx(tmp_path, f"""
+        <open_pbr_surface name="S" type="surfaceshader">
+          <input name="specular_weight" type="float" value="100" />
+          <input name="coat_weight" type="float" value="{coat}" />
+          <input name="coat_ior" type="float" value="1.6" />
+        </open_pbr_surface>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+    """)
+    assert ("OPBR911" in codes(path)) == saturated
+
+
+def test_a_buffer_view_past_its_buffer_is_an_error(tmp_path):
+    """bufferView 160 + 4000 bytes of a 204-byte buffer: the Khronos glTF-Validator's BUFFER_VIEW_TOO_LONG; silent."""
+    from test_red_team_round_thirteen import _triangle
+
+    document = _triangle()
+    document["bufferViews"].append({"buffer": 0, "byteOffset": 8, "byteLength": 4000})
+    path = _gltf_file(tmp_path, document)
+    assert messages(path, "OPBR1209") == ["bufferView 3 lies outside its buffer"]
+    khronos = __import__("redteam_support").khronos_errors(path, tmp_path)
+    if khronos is not None:
+        assert "BUFFER_VIEW_TOO_LONG" in khronos
+
+
+# -- session 28's set G and session 27's E#14: what a conversion writes ------------------------------------------------------
+
+def test_an_extension_of_weight_0_is_not_written(tmp_path):
+    """Every glTF output carried KHR_materials_clearcoat {clearcoatRoughnessFactor} with no clearcoatFactor (0): an
+    extension that does nothing, which the toolkit's own OPBR1211 reports. Omitted, with a note."""
+    from redteam_support import mtlx
+
+    source = mtlx(tmp_path, """
+        <open_pbr_surface name="S" type="surfaceshader"><input name="coat_roughness" type="float" value="0.3" /></open_pbr_surface>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+    """)
+    out = tmp_path / "o.gltf"
+    conversion = convert_file(str(source), str(out), None, Settings(candidates=False))
+    material = json.loads(out.read_text())["materials"][0]
+    assert "KHR_materials_clearcoat" not in (material.get("extensions") or {})
+    assert any("KHR_materials_clearcoat omitted" in d.message for d in conversion.diagnostics)
+    assert "OPBR1211" not in codes(out)
+
+
+def test_a_formula_that_leaves_a_texture_as_it_is_keeps_its_reference(tmp_path):
+    """Standard Surface with a metalness map (specular 1): base_color was 'baked per texel' into a PNG byte-identical
+    to the source's, so a later repaint of the artist's texture no longer reached the material. The reference is
+    kept where every texel comes out at its own 8-bit level."""
+    import numpy as np
+
+    from redteam_support import mtlx
+
+    rng = np.random.default_rng(7)
+    Image.fromarray(rng.integers(0, 256, (8, 8, 3), dtype=np.uint8), "RGB").save(tmp_path / "bc.png")
+    Image.fromarray(np.where(rng.random((8, 8)) > 0.5, 255, 0).astype(np.uint8), "L").save(tmp_path / "metal.png")
+    source = mtlx(tmp_path, """
+        <image name="bc" type="color3"><input name="file" type="filename" value="bc.png" colorspace="srgb_texture" /></image>
+        <image name="mt" type="float"><input name="file" type="filename" value="metal.png" /></image>
+        <standard_surface name="S" type="surfaceshader">
+          <input name="base_color" type="color3" nodename="bc" /><input name="metalness" type="float" nodename="mt" />
+        </standard_surface>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+    """)
+    out = tmp_path / "out" / "o.mtlx"
+    out.parent.mkdir()
+    convert_file(str(source), str(out), "open_pbr_surface", Settings(candidates=False))
+    (material,) = read_asset(str(out)).materials
+    texture = material.inputs["base_color"].value
+    assert isinstance(texture, Texture) and Path(texture.file).name == "bc.png"

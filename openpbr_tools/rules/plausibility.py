@@ -312,8 +312,10 @@ def _saturated(material, value, context):
             and isinstance(ior, float) and ior > 0 and isinstance(metalness, float) and metalness < 1.0):
         return
     coat, coat_ior = value("coat_weight"), value("coat_ior")
-    relative = ior / coat_ior if isinstance(coat, float) and coat > 0 and isinstance(coat_ior, float) and coat_ior > 0 \
-        else ior  # (under a coat the base reflects relative to it: a smaller F0, the larger bound of the two)
+    # (under a whole coat the base reflects relative to it: a smaller F0; a partial coat leaves a share of the base
+    # uncoated, which reflects against air: the red team's H#20, specular_weight 100 under coat 0.25 was silent)
+    relative = ior / coat_ior if isinstance(coat, float) and coat >= 1.0 and isinstance(coat_ior, float) \
+        and coat_ior > 0 else ior
     f0 = ((relative - 1.0) / (relative + 1.0)) ** 2
     if f0 > 0 and weight * f0 >= 1.0:
         yield context.diagnostic(

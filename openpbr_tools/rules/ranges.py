@@ -195,8 +195,14 @@ def _time_samples(asset, context):
         if parameter is None or parameter.enum is not None or parameter.type in ("boolean", "string", "filename"):
             continue
         for where, value in values_at:
-            if value is None or isinstance(value, (bool, str)) or not is_finite(value):
+            if value is None or isinstance(value, (bool, str)):
                 continue
+            if not is_finite(value):  # (as a static NaN is: the red team's H#17, a NaN time sample passed)
+                from .values import NON_FINITE  # lazy: a sibling rule module, as in _specular_glossiness
+
+                yield context.diagnostic(NON_FINITE, f"{detail['input']} is {_fmt(value)} {where}",
+                                         observation.location, hint="fix the value there")
+                break
             values = _components(value)
             if _outside(values, parameter.hard_min, below=True, exclusive=parameter.hard_min_exclusive) or \
                     _outside(values, parameter.hard_max, below=False):

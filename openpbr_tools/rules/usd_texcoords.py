@@ -175,10 +175,12 @@ def check(asset, context):
         if read["st"] == "no_varname":
             if not _varies(asset, texture, context, containers):
                 continue
+            said = "varname is empty" if read.get("empty") else \
+                f"varname is connected to {read.get('source') or 'an input'}, which has no value"
             yield context.diagnostic(
                 PRIMVAR_MISSING, f"{entry.name}: {texture.node} reads its coordinates through {read['reader']}, whose "
-                f"varname is connected to {read.get('source') or 'an input'}, which has no value: no primvar is read, "
-                "so it reads the texel at (0, 0) everywhere", Location(asset.path, None, read["reader"], "varname"),
+                f"{said}: no primvar is read, so it reads the texel at (0, 0) everywhere",
+                Location(asset.path, None, read["reader"], "varname"),
                 hint="give the interface input the mesh's UV primvar name (st), or set varname itself")
             continue
         name = read.get("primvar")

@@ -95,6 +95,13 @@ def buffer_problems(document: GltfDocument) -> Iterator[tuple[str, str, str, str
         elif json_index(length) and len(document.binary) < length:
             yield ("gltf_resource", pointer, f"the GLB binary chunk holds {len(document.binary)} bytes, fewer than the "
                    f"buffer's byteLength {length}: the data at its end is missing", None)
+    for index, view in enumerate(document.array("bufferViews")):  # (3.6.1.1; the validator's BUFFER_VIEW_TOO_LONG)
+        buffer = document.item("buffers", view.get("buffer")) if isinstance(view, dict) else None
+        offset, size = (view.get("byteOffset", 0), view.get("byteLength")) if isinstance(view, dict) else (None, None)
+        total = buffer.get("byteLength") if isinstance(buffer, dict) else None
+        if json_index(offset) and json_index(size) and json_index(total) and offset + size > total:
+            yield "gltf_resource", f"/bufferViews/{index}", f"bufferView {index} lies outside its buffer", None
+            # (the words document.buffer_view says when a reader loads it: the finding is made once)
 
 
 def _read_buffers(document: GltfDocument) -> set[int]:

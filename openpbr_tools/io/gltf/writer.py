@@ -276,9 +276,21 @@ class _MaterialWriter(TextureWriting, DraftWriting):
                              f"{peak:g}", "emissive")
 
     def omit_inert(self) -> None:
-        """KHR_materials_volume acts only through transmission (KHR_materials_transmission or
+        """An extension whose weight is 0 with no texture does nothing (a clear coat of clearcoatFactor 0 with only
+        its roughness written: the red team's G/F11, on every glTF output; the toolkit's own OPBR1211 on them);
+        KHR_materials_volume acts only through transmission (KHR_materials_transmission or
         diffuse_transmission), and KHR_materials_dispersion only through a volume (their READMEs; the
         Khronos validator warns VOLUME_NO_TRANSMISSION / DISPERSION_NO_VOLUME): inert ones are omitted."""
+        for name, (factor, texture) in _WEIGHTS.items():
+            found = self.containers.get(name)
+            if not isinstance(found, dict):  # (absent, or a source's hostile value passed through: not judged here)
+                continue
+            weight = found.get(factor)
+            if texture not in found and not (any(weight) if isinstance(weight, list) else weight):
+                del self.containers[name]
+                if any(key != factor for key in found):
+                    self.note(CONVERTED, f"{name} omitted: its {factor} is 0 (no texture), so it has no effect "
+                                         f"({', '.join(sorted(k for k in found if k != factor))} not written)")
         transmission = self.containers.get(slots.TRANSMISSION, {})
         transmits = transmission.get("transmissionFactor", 0.0) > 0 or "transmissionTexture" in transmission \
             or slots.DIFFUSE_TRANSMISSION in self.containers
@@ -311,6 +323,16 @@ class _MaterialWriter(TextureWriting, DraftWriting):
                 self.note(NOT_CARRIED, f"{name} holds a number JSON cannot (NaN or infinity); not written")
                 continue
             self.containers[name] = value
+
+
+#: The extensions a weight switches on, with that weight's factor and texture (their READMEs: default 0, the layer
+#: absent). KHR_materials_sheen's weight is its colour (sheenColorFactor, default black).
+_WEIGHTS = {slots.CLEARCOAT: ("clearcoatFactor", "clearcoatTexture"),
+            slots.TRANSMISSION: ("transmissionFactor", "transmissionTexture"),
+            slots.IRIDESCENCE: ("iridescenceFactor", "iridescenceTexture"),
+            slots.ANISOTROPY: ("anisotropyStrength", "anisotropyTexture"),
+            slots.DIFFUSE_TRANSMISSION: ("diffuseTransmissionFactor", "diffuseTransmissionTexture"),
+            slots.SHEEN: ("sheenColorFactor", "sheenColorTexture")}
 
 
 def _display_name(material: Material) -> str:

@@ -280,6 +280,9 @@ class TextureNodeReader:
                     reads.setdefault(path, {"st": "no_varname", "reader": str(node.GetPath()), "input": "varname",
                                             "source": f"{sources[0].source.GetPath()}.inputs:{sources[0].sourceName}"
                                             if sources else None})
+                elif varname is None and named and named.GetAttr().HasAuthoredValue():  # varname = "": no primvar
+                    reads.setdefault(path, {"st": "no_varname", "reader": str(node.GetPath()), "input": "varname",
+                                            "empty": True})
                 reads.setdefault(path, {"st": "primvar", "reader": str(node.GetPath()), "primvar": varname, "input": "varname"})
             break
         return texture
