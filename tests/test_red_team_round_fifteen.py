@@ -29,22 +29,12 @@ EXAMPLES = PUBLISHED / "Materials" / "Examples" / "StandardSurface"
 
 
 def _loads_and_generates(path: Path) -> mx.Document:
-    import MaterialX.PyMaterialXGenGlsl as gg
-    import MaterialX.PyMaterialXGenShader as gs
+    """The document at ``path`` (without the library) once MaterialX has validated it and generated GLSL for every
+    renderable element (test_procedural_graphs' check)."""
+    from test_procedural_graphs import _loads_and_generates as check
 
-    document = mx.createDocument()
-    mx.readFromXmlFile(document, str(path))
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
-    document.importLibrary(library)
-    valid, message = document.validate()
-    assert valid, message
-    generator = gg.GlslShaderGenerator.create()
-    context = gs.GenContext(generator)
-    context.registerSourceCodeSearchPath(mx.getDefaultDataSearchPath())
-    for element in gs.findRenderableElements(document):
-        assert generator.generate("check", element, context).getSourceCode(gs.PIXEL_STAGE)
-    written = mx.createDocument()  # (without the library: the document's own elements)
+    check(path)
+    written = mx.createDocument()
     mx.readFromXmlFile(written, str(path))
     return written
 
@@ -795,3 +785,30 @@ def test_a_formula_that_leaves_a_texture_as_it_is_keeps_its_reference(tmp_path):
     (material,) = read_asset(str(out)).materials
     texture = material.inputs["base_color"].value
     assert isinstance(texture, Texture) and Path(texture.file).name == "bc.png"
+
+
+@pytest.mark.parametrize("geomprop, texcoord", [("st", None), ("UV0", None), ("uv2", "uv2")])
+def test_an_image_on_a_geompropvalue_uv_set_is_a_texture(tmp_path, geomprop, texcoord):
+    """The Digital Production Example Library's OpenPBR Shader Playground reads every image through
+    <geompropvalue geomprop="st"> (UsdMtlx's, Houdini's and Omniverse's way to the UV primvar): the image was a
+    procedural input, dropped from glTF ('which glTF cannot hold') and from the preview fallback. It is a texture on
+    the UV set the primvar names: st (USD's default) and UV0 (MaterialX's) are set 0."""
+    from redteam_support import mtlx
+
+    png(tmp_path / "mask.png", mode="L", colour=128)
+    source = mtlx(tmp_path, f"""
+        <geompropvalue name="uv" type="vector2"><input name="geomprop" type="string" value="{geomprop}" /></geompropvalue>
+        <image name="mask" type="float">
+          <input name="file" type="filename" value="mask.png" /><input name="texcoord" type="vector2" nodename="uv" />
+        </image>
+        <open_pbr_surface name="S" type="surfaceshader"><input name="geometry_opacity" type="float" nodename="mask" /></open_pbr_surface>
+        <surfacematerial name="M" type="material"><input name="surfaceshader" type="surfaceshader" nodename="S" /></surfacematerial>
+    """)
+    (material,) = read_asset(str(source)).materials
+    texture = material.inputs["geometry_opacity"].value
+    assert isinstance(texture, Texture) and texture.texcoord == texcoord
+    if texcoord is None:
+        out = tmp_path / "o.gltf"
+        convert_file(str(source), str(out), None, Settings(candidates=False))
+        written = json.loads(out.read_text())["materials"][0]
+        assert written.get("alphaMode") == "BLEND" and "baseColorTexture" in written["pbrMetallicRoughness"]

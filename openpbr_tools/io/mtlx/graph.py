@@ -336,6 +336,8 @@ class GraphFollower:
             place = self.upstream_node(inner)
             if place is None:
                 return not _connected(inner)
+        if _uv_primvar(place) is not None:
+            return True
         return place.getCategory() == "texcoord" and not any(_connected(p) for p in place.getInputs())
 
     def uv_tiling(self, node):
@@ -417,6 +419,8 @@ class GraphFollower:
             index = _number(place.getInput("index"))
             if index is not None and int(index) != 0:
                 uv_set = int(index)
+        elif _uv_primvar(place) not in (None, *DEFAULT_UV_NAMES):
+            uv_set = _uv_primvar(place)  # a UV set named by its primvar, as the USD reader keeps one
         return (None if transform.is_identity else transform), uv_set
 
 
@@ -428,6 +432,22 @@ def in_definition(element) -> bool:
             return True
         parent = parent.getParent()
     return False
+
+
+#: The geometric properties a ``geompropvalue`` names for the default UV set: USD's conventional primvar (UsdMtlx,
+#: Houdini and Omniverse read UVs so: the red team's G/F6, every Shader Playground material) and MaterialX's UV0.
+DEFAULT_UV_NAMES = ("st", "UV0")
+
+
+def _uv_primvar(node) -> str | None:
+    """The primvar a ``geompropvalue`` of type vector2 reads as texture coordinates, where it names one constant
+    (not connected) and has no default of its own (which a missing primvar would show); ``None`` otherwise."""
+    if node is None or node.getCategory() != "geompropvalue" or node.getType() != "vector2":
+        return None
+    name, default = node.getInput("geomprop"), node.getInput("default")
+    if name is None or _connected(name) or not name.getValueString() or default is not None:
+        return None
+    return name.getValueString()
 
 
 def _coordinates(node):
