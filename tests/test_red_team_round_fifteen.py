@@ -812,3 +812,31 @@ def test_an_image_on_a_geompropvalue_uv_set_is_a_texture(tmp_path, geomprop, tex
         convert_file(str(source), str(out), None, Settings(candidates=False))
         written = json.loads(out.read_text())["materials"][0]
         assert written.get("alphaMode") == "BLEND" and "baseColorTexture" in written["pbrMetallicRoughness"]
+
+
+# -- session 27's E#15: a procedural colour in an output that holds no graph -------------------------------------------------
+
+@pytest.mark.parametrize("suffix", [".gltf", ".usda"])
+def test_a_procedural_colour_is_written_as_its_midpoint_where_no_graph_goes(tmp_path, suffix):
+    """MaterialX's marble to glTF or to a USD output's UsdPreviewSurface fallback: its base colour, a mix of
+    (0.8, 0.8, 0.8) and (0.1, 0.1, 0.3) by a noise, was left to the output's default (glTF's white, the preview's
+    0.18 grey: 17.5 mean CIEDE2000 for the preview, by the red team). It is written as the mix at the noise's
+    midpoint, 0.5: (0.45, 0.45, 0.55), with a note; --verify says its figure measures the stand-in, nothing more."""
+    from openpbr_tools.verification import verify
+
+    example = EXAMPLES / "standard_surface_marble_solid.mtlx"
+    out = tmp_path / f"o{suffix}"
+    conversion = convert_file(str(example), str(out), None, Settings(candidates=False),
+                              allow_outside=(str(PUBLISHED / "Images"),))
+    expected = (0.45, 0.45, 0.55)  # 0.5 x (0.8, 0.8, 0.8) + 0.5 x (0.1, 0.1, 0.3): MaterialX's mix
+    if suffix == ".gltf":
+        assert json.loads(out.read_text())["materials"][0]["pbrMetallicRoughness"]["baseColorFactor"][:3] == \
+            pytest.approx(expected, abs=1e-6)
+    else:
+        preview = next(m for m in read_asset(str(out)).materials if m.model == "UsdPreviewSurface")
+        assert preview.inputs["diffuseColor"].value.value == pytest.approx(expected, abs=1e-6)
+    said = "base_color" if suffix == ".gltf" else "diffuseColor"
+    assert any(d.code == "OPBR1103" and "midpoint" in d.message and said in d.message for d in conversion.diagnostics)
+    figures = [d for d in verify(conversion, threshold=0.5) if d.code in ("OPBR1108", "OPBR1109")]
+    assert all(d.code == "OPBR1108" for d in figures if "not a measure" in d.message)
+    assert any("not a measure" in d.message for d in figures)

@@ -37,6 +37,33 @@ def value(graph_xml: str, output: str | None, type_name: str, colorspace: str | 
     return None if found is None else np.array(found)
 
 
+def stand_in(graph_xml: str, output: str | None, type_name: str, colorspace: str | None, into: str | None = None):
+    """The one value an output that holds no graph writes for a float or colour input the graph drives (glTF, a
+    UsdPreviewSurface fallback: session 27's E#15, where the output's default stood in for a marble): :func:`value`
+    (``colorspace``: the document's, for the graph's colour constants), a colour in linear Rec.709 or converted
+    ``into`` another space, as a float or a tuple; ``None`` when the graph cannot be read or gives no finite value."""
+    if type_name not in ("float", "color3"):
+        return None
+    found = value(graph_xml, output, type_name, colorspace)
+    if found is None or not np.all(np.isfinite(found)):
+        return None
+    if type_name == "float":
+        return float(found)
+    if into not in (None, "lin_rec709"):
+        from ..colorspaces import from_lin_rec709  # lazy: colour-science, only for a colour in another space
+
+        found = from_lin_rec709(found, into)
+    return tuple(float(v) for v in found)
+
+
+def said(name: str, category: str | None, written) -> str:
+    """The note of :func:`stand_in`'s value written for input ``name``."""
+    shown = ", ".join(f"{v:.4g}" for v in written) if isinstance(written, tuple) else f"{written:.4g}"
+    return (f"{name}: its procedural graph ({category or 'nodes'}), which this output cannot hold, is written as one "
+            f"value, {shown}: the graph's arithmetic with its procedural nodes (noise, patterns, images) at "
+            f"{STAND_IN}, their midpoint")
+
+
 @lru_cache(maxsize=256)
 def _value(graph_xml: str, output: str, type_name: str, colorspace: str | None):
     # lazy: MaterialX (~10 ms) is loaded only for a material with a procedural input

@@ -179,8 +179,10 @@ def compare_materials(material_a, material_b, rig: Rig = Rig(), sampler=None, ke
     notes += [f"B {material_b.name}: {n}" for n in dict.fromkeys(notes_b)]
     unread = [f"A {name}" for name in sorted(resolved_a.why_not)] + [f"B {name}" for name in sorted(resolved_b.why_not)]
     stand_a, stand_b = sorted(set(resolved_a.stand_ins)), sorted(set(resolved_b.stand_ins))
-    lopsided = ([f"A {name}" for name in stand_a] if resolved_b.sampled and not stand_b else []) + \
-        ([f"B {name}" for name in stand_b] if resolved_a.sampled and not stand_a else [])
+    # (one side's stand-in against the other's texels, or against the value a glTF output writes for the graph:
+    # convert_textures.graph_fallbacks, session 27's E#15; either way the figure measures the stand-in)
+    lopsided = ([f"A {name}" for name in stand_a] if not stand_b else []) + \
+        ([f"B {name}" for name in stand_b] if not stand_a else [])
     lopsided += [f"{side} {name}" for side, resolved in (("A", resolved_a), ("B", resolved_b))
                  for name in resolved.tangent_graphs if f"{side} {name}" not in lopsided and _anisotropic(resolved, name)]
     return MaterialComparison(material_a.name, material_b.name, material_a.model, material_b.model,

@@ -25,13 +25,14 @@ shortest round-trip float text) and written atomically. Returns notes on anythin
 
 from __future__ import annotations
 
+import dataclasses
 import os
 
 from ... import colorspaces, tables
 from ...atomic import write_bytes
 from ...diagnostics import Diagnostic
 from ...model import Asset, Connection, Constant, Location, Material, Texture
-from ...rules.translation import CONVERTED, NOT_CARRIED
+from ...rules.translation import APPROXIMATED, CONVERTED, NOT_CARRIED
 from . import slots
 from .document_writer import DocumentBuilder
 from .draft_writer import DraftWriting
@@ -140,8 +141,7 @@ class _MaterialWriter(TextureWriting, DraftWriting):
             if isinstance(entry.value, Constant):
                 self.constant(slot, entry)
             elif isinstance(entry.value, Connection):
-                self.note(NOT_CARRIED, f"{slot.parameter} is driven by {entry.value.category or entry.value.target!r}, "
-                                       "which glTF cannot hold; not written", slot.parameter)
+                self.procedural(slot, entry)
             else:
                 self.note(NOT_CARRIED, f"{slot.parameter} has no usable value ({entry.error or 'unset'}); not written",
                           slot.parameter)
@@ -168,6 +168,22 @@ class _MaterialWriter(TextureWriting, DraftWriting):
             ordered.setdefault("extensions", {}).update(extensions)
         return ordered
 
+    def procedural(self, slot: slots.Slot, entry) -> None:
+        """A graph-driven input: its value at the graph's stand-in (evaluate.procedural.stand_in, linear Rec.709 as
+        glTF holds colours), with a note; else not written, with a note."""
+        from ...evaluate import procedural  # lazy: only for a graph-driven input
+
+        connection = entry.value
+        type_name = entry.type or ("color3" if isinstance(slot.default, tuple) else "float")
+        written = None if connection.dangling or not connection.graph_xml else procedural.stand_in(
+            connection.graph_xml, connection.output, type_name, self.material.colorspace)
+        if written is None:
+            self.note(NOT_CARRIED, f"{slot.parameter} is driven by {connection.category or connection.target!r}, "
+                                   "which glTF cannot hold; not written", slot.parameter)
+            return
+        self.constant(slot, dataclasses.replace(entry, value=Constant(written), colorspace="lin_rec709"))
+        self.note(APPROXIMATED, procedural.said(slot.parameter, connection.category, written), slot.parameter)
+
     # -- constants ---------------------------------------------------------------------------
     def constant(self, slot: slots.Slot, entry) -> None:
         value = entry.value.value
@@ -181,7 +197,7 @@ class _MaterialWriter(TextureWriting, DraftWriting):
             self.note(NOT_CARRIED, f"{slot.parameter} = {value!r} is not a finite number; not written", slot.parameter)
             return
         if slot.parameter in ("base_color", "alpha"):
-            self.base_color_factor(slot, value)
+            self.base_color_factor(slot, value, entry)
             return
         if self.material.inputs[slot.parameter].type and isinstance(value, tuple) != isinstance(slot.default, tuple):
             self.note(NOT_CARRIED, f"{slot.parameter} = {value!r} does not have the parameter's type; not written",
@@ -248,11 +264,11 @@ class _MaterialWriter(TextureWriting, DraftWriting):
             return value
         return tuple(float(c) for c in converted)
 
-    def base_color_factor(self, slot: slots.Slot, value) -> None:
+    def base_color_factor(self, slot: slots.Slot, value, entry) -> None:
         pbr = self.containers[slots.PBR]
         factor = list(pbr.get("baseColorFactor", [1.0, 1.0, 1.0, 1.0]))
         if slot.parameter == "base_color":
-            factor[:3] = self.clamped(slot, _json_value(self.linear(value, self.material.inputs["base_color"])))
+            factor[:3] = self.clamped(slot, _json_value(self.linear(value, entry)))
         else:
             factor[3] = self.clamped(slot, float(value))
         pbr["baseColorFactor"] = factor

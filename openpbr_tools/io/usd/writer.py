@@ -249,6 +249,16 @@ class _Writer(TextureNetworkWriter, GraphNetworkWriter, TextureFiles):
                 shader_input.ConnectToSource(kept)
                 self.written_graphs.add(value.graph_xml)
                 return
+            written = self.stand_in(material, entry, value, usd_type) if preview else None
+            if written is not None:  # (its midpoint, not the shader's default: session 27's E#15)
+                from ...evaluate.procedural import said  # lazy: as in stand_in
+
+                self.set_value(shader_input.GetAttr(), usd_type, written)
+                held = value.graph_xml in self.written_graphs
+                self.note(APPROXIMATED, f"{material.name}.{said(entry.name, value.category, written)}"
+                          + (" (in the UsdPreviewSurface fallback only: the output's MaterialX shader holds the graph)"
+                             if held else ""))
+                return
             # kept only where it names a prim of the output (a USD source's own path, once its network is
             # written there): a connection to a path the output lacks would dangle
             pointed = not preview and value.target.startswith("/") and self.Sdf.Path.IsValidPathString(value.target) \
@@ -264,6 +274,18 @@ class _Writer(TextureNetworkWriter, GraphNetworkWriter, TextureFiles):
                           "the input has no value, so the shader's default applies")
                       + (" (in the UsdPreviewSurface fallback only: the output's MaterialX shader holds it)"
                          if held else ""))
+
+    def stand_in(self, material: Material, entry, connection: Connection, usd_type: str):
+        """A preview input's value for the graph that drives it (evaluate.procedural.stand_in), in the material's
+        colour space, or None."""
+        if connection.dangling or not connection.graph_xml or usd_type not in ("float", "color3f"):
+            return None
+        from ...evaluate.procedural import stand_in  # lazy: only for a graph-driven input of a preview
+
+        found = stand_in(connection.graph_xml, connection.output, "float" if usd_type == "float" else "color3",
+                         material.colorspace, into=colorspaces.materialx_name(material.colorspace))
+        # (a colour outside the material's gamut has negative components: the preview's colours are 0 to 1)
+        return tuple(min(max(v, 0.0), 1.0) for v in found) if isinstance(found, tuple) else found
 
     def convert_length(self, entry, parameter, value, material):
         """A length in the stage's unit: from its own MaterialX unit, else from the source's scene
