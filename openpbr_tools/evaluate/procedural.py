@@ -37,14 +37,15 @@ def value(graph_xml: str, output: str | None, type_name: str, colorspace: str | 
     return None if found is None else np.array(found)
 
 
-def stand_in(graph_xml: str, output: str | None, type_name: str, colorspace: str | None, into: str | None = None):
-    """The one value an output that holds no graph writes for a float or colour input the graph drives (glTF, a
-    UsdPreviewSurface fallback: session 27's E#15, where the output's default stood in for a marble): :func:`value`
-    (``colorspace``: the document's, for the graph's colour constants), a colour in linear Rec.709 or converted
-    ``into`` another space, as a float or a tuple; ``None`` when the graph cannot be read or gives no finite value."""
-    if type_name not in ("float", "color3"):
+def stand_in(connection, type_name: str, colorspace: str | None, into: str | None = None):
+    """The one value an output that holds no graph writes for a float or colour input ``connection`` (a
+    :class:`~openpbr_tools.model.Connection`) drives (glTF, a UsdPreviewSurface fallback: session 27's E#15, where the
+    output's default stood in for a marble): :func:`value` of its captured graph (``colorspace``: the document's, for
+    the graph's colour constants), a colour in linear Rec.709 or converted ``into`` another space, as a float or a
+    tuple; ``None`` for a dangling connection, one with no graph, or a graph that gives no finite value."""
+    if type_name not in ("float", "color3") or connection.dangling or not connection.graph_xml:
         return None
-    found = value(graph_xml, output, type_name, colorspace)
+    found = value(connection.graph_xml, connection.output, type_name, colorspace)
     if found is None or not np.all(np.isfinite(found)):
         return None
     if type_name == "float":

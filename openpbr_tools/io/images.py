@@ -73,15 +73,17 @@ class ImageSource:
         if not self.passes_through:
             return False
         from .gltf.image_features import png_features, png_header_chunks  # lazy: the glTF writer's question only
-        from .image_files import png_bit_depth  # lazy: as above
+        from .image_files import head_of, png_bit_depth  # lazy: as above
 
-        data = self.data()
+        # (headers only: the writer reads the bytes it copies once, after this)
+        image = memoryview(self.image) if isinstance(self.image, bytes) else self.image
         if self.mime == "image/png":
-            return not ((colour and (png_bit_depth(data[:32]) or 8) > 8) or png_features(png_header_chunks(memoryview(data))))
+            head = bytes(image[:32]) if isinstance(image, memoryview) else head_of(image, 32)
+            return not ((colour and (png_bit_depth(head) or 8) > 8) or png_features(png_header_chunks(image)))
         try:
             from PIL import Image  # lazy: as channel_count's
 
-            with Image.open(io.BytesIO(data)) as opened:
+            with Image.open(io.BytesIO(self.image) if isinstance(self.image, bytes) else self.image) as opened:
                 return opened.mode != "CMYK"
         except Exception:  # noqa: BLE001 - not decodable: the writer's bake says so
             return False

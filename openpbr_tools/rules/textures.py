@@ -21,7 +21,7 @@ from ..io import ReadError, package_member, packaged_image
 from ..io.image_files import damage
 from ..io.images import channel_count, image_size
 from ..io.paths import Kind, classify, leaves
-from ..io.tiles import TILE_TOKENS, matching_tiles
+from ..io.tiles import TILE_TOKENS, matching_tiles, name_regex
 from ..io.usd.types import is_eight_bit
 from ..model import Texture
 from . import Rule, for_each_input
@@ -247,8 +247,7 @@ def _in_package(asset, texture) -> bool:
 def tiles(path: str, context) -> list[str]:
     """The files a ``<UDIM>``/``<UVTILE>`` path names on disk, in name order."""
     folder, pattern = os.path.split(path)
-    regex = re.compile("^" + _TILE_TOKENS.sub(lambda m: r"\d{4}" if m.group(0) == "<UDIM>" else r"u\d+_v\d+",
-                                               re.escape(pattern).replace(r"\<", "<").replace(r"\>", ">")) + "$")
+    regex = name_regex(pattern)
     try:
         return [os.path.join(folder, name) for name in sorted(context.list_dir(folder or ".")) if regex.match(name)]
     except OSError:

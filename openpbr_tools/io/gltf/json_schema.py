@@ -55,11 +55,17 @@ def _validator(name: str):
 
 def _extension_schema(name: str, holder: str) -> str | None:
     """The schema file of extension ``name`` on the object at pointer ``holder`` ('' for the root)."""
+    extended = "glTF" if holder == "" else next((kind for marker, kind in _EXTENDED if marker in holder + "/"), None)
+    return _schema_file(name, extended)
+
+
+@lru_cache(maxsize=256)
+def _schema_file(name: str, extended: str | None) -> str | None:
+    """The schema file of extension ``name`` on an object of kind ``extended`` (its only one, when it has one)."""
     _, files = _registry()
     candidates = [f for f in files if f.endswith(f".{name}.schema.json")]
     if len(candidates) <= 1:
         return candidates[0] if candidates else None
-    extended = "glTF" if holder == "" else next((kind for marker, kind in _EXTENDED if marker in holder + "/"), None)
     return f"{extended}.{name}.schema.json" if f"{extended}.{name}.schema.json" in files else None
 
 

@@ -175,8 +175,7 @@ class _MaterialWriter(TextureWriting, DraftWriting):
 
         connection = entry.value
         type_name = entry.type or ("color3" if isinstance(slot.default, tuple) else "float")
-        written = None if connection.dangling or not connection.graph_xml else procedural.stand_in(
-            connection.graph_xml, connection.output, type_name, self.material.colorspace)
+        written = procedural.stand_in(connection, type_name, self.material.colorspace)
         if written is None:
             self.note(NOT_CARRIED, f"{slot.parameter} is driven by {connection.category or connection.target!r}, "
                                    "which glTF cannot hold; not written", slot.parameter)

@@ -13,7 +13,7 @@ import os
 from ...model import Texture
 from ...rules.translation import CONVERTED, NOT_CARRIED
 from ..image_files import damage
-from ..paths import Kind, classify
+from ..paths import Kind, Resolved, classify
 from ..tiles import TILE_TOKENS, matching_tiles, tile_name
 
 
@@ -48,7 +48,8 @@ class TextureFiles:
             return self.target.resolve(file).relative or file
         if TILE_TOKENS.search(file):
             return self.packaged_tiles(file, kind, owner)
-        real = self.inside_or_refused(file, kind, owner)
+        resolved = self.inside_or_refused(file, kind, owner)
+        real = resolved.real
         if not os.path.isfile(real):
             self.note(NOT_CARRIED, f"{owner}: {file!r} does not exist and is not packaged")
             return file
@@ -56,11 +57,11 @@ class TextureFiles:
         if found is not None:
             self.note(NOT_CARRIED, f"{owner}: {file!r} is {found.detail} and is not packaged")
             return file
-        return self.packaged_as(real, os.path.basename(real))
+        return self.packaged_as(resolved, os.path.basename(real))
 
-    def inside_or_refused(self, file: str, kind: Kind, owner: str) -> str:
-        """The real path of ``file``, which a .usdz output packages: inside the source asset's folder or an
-        allowed one, else :class:`UsdWriteError` (a package carries what it names)."""
+    def inside_or_refused(self, file: str, kind: Kind, owner: str) -> Resolved:
+        """``file`` resolved, which a .usdz output packages: inside the source asset's folder or an allowed one,
+        else :class:`UsdWriteError` (a package carries what it names)."""
         resolved = self.guard.resolve(file)
         if not resolved.inside:
             where = f"resolves to {resolved.real}" if resolved.real else \
@@ -68,14 +69,14 @@ class TextureFiles:
             raise UsdWriteError(
                 f"{owner}: texture {file!r} {where}, outside the source asset's folder {self.guard.own_root}; "
                 "it is not packaged into the .usdz unless its folder is allowed (allow_outside / --allow-outside)")
-        return resolved.real
+        return resolved
 
     def packaged_tiles(self, file: str, kind: Kind, owner: str) -> str:
         """A UDIM or UVTILE set packaged into the .usdz: every tile on disk (each inside the allowed folders,
         as a single texture), named by its UDIM number, as UsdUtils.CreateNewUsdzPackage packages a <UDIM>
         path; a <UVTILE> set is renamed so (USD substitutes <UDIM> only). The package path of the set."""
         folder, pattern = os.path.split(file.replace("\\", "/"))
-        real_folder = self.inside_or_refused(folder or ".", kind, owner)
+        real_folder = self.inside_or_refused(folder or ".", kind, owner).real
         try:
             names = [n for n in os.listdir(real_folder) if os.path.isfile(os.path.join(real_folder, n))]
         except OSError:
@@ -84,12 +85,12 @@ class TextureFiles:
         packaged = None
         for name, number in matching_tiles(pattern, names):
             tile = f"{folder}/{name}" if folder else name
-            real = self.inside_or_refused(tile, kind, owner)  # (a tile may be a link out of the folder)
-            found = damage(real)
+            resolved = self.inside_or_refused(tile, kind, owner)  # (a tile may be a link out of the folder)
+            found = damage(resolved.real)
             if found is not None:
                 self.note(NOT_CARRIED, f"{owner}: tile {tile!r} is {found.detail} and is not packaged")
                 continue
-            packaged = self.packaged_as(real, tile_name(named, number), pattern=named)
+            packaged = self.packaged_as(resolved, tile_name(named, number), pattern=named)
         if packaged is None:
             self.note(NOT_CARRIED, f"{owner}: no tile of {file!r} exists, so none is packaged")
             return file
@@ -98,11 +99,11 @@ class TextureFiles:
                       f"({packaged}), as USD substitutes <UDIM> only")
         return packaged
 
-    def packaged_as(self, real: str, name: str, pattern: str | None = None) -> str:
-        """Package ``real`` as ``name`` in the .usdz: at its place in the source asset's folder, else in
-        ``textures/``, renamed when another file already has that name; the package path (of the tile set,
+    def packaged_as(self, resolved: Resolved, name: str, pattern: str | None = None) -> str:
+        """Package the file ``resolved`` names as ``name`` in the .usdz: at its place in the source asset's folder,
+        else in ``textures/``, renamed when another file already has that name; the package path (of the tile set,
         ``pattern``, for a tile)."""
-        resolved = self.guard.resolve(real)
+        real = resolved.real
         folder = os.path.dirname(resolved.relative) if resolved.root == self.guard.own_root else "textures"
         inside = f"{folder}/{name}" if folder else name
         stem, suffix = os.path.splitext(inside)

@@ -278,12 +278,12 @@ class _Writer(TextureNetworkWriter, GraphNetworkWriter, TextureFiles):
     def stand_in(self, material: Material, entry, connection: Connection, usd_type: str):
         """A preview input's value for the graph that drives it (evaluate.procedural.stand_in), in the material's
         colour space, or None."""
-        if connection.dangling or not connection.graph_xml or usd_type not in ("float", "color3f"):
+        if usd_type not in ("float", "color3f"):
             return None
         from ...evaluate.procedural import stand_in  # lazy: only for a graph-driven input of a preview
 
-        found = stand_in(connection.graph_xml, connection.output, "float" if usd_type == "float" else "color3",
-                         material.colorspace, into=colorspaces.materialx_name(material.colorspace))
+        found = stand_in(connection, "float" if usd_type == "float" else "color3", material.colorspace,
+                         into=colorspaces.materialx_name(material.colorspace))
         # (a colour outside the material's gamut has negative components: the preview's colours are 0 to 1)
         return tuple(min(max(v, 0.0), 1.0) for v in found) if isinstance(found, tuple) else found
 
