@@ -37,7 +37,10 @@ OUTPUT_FORMATS = ("gltf", "glb", "usda", "usdc", "usdz", "mtlx")  # openpbr_tool
               help="Where the mapping approximates a constant OpenPBR or Standard Surface material, also weigh MaterialX's "
                    "translation graphs' result and keep whichever the lobe evaluator renders closer (reported).")
 @click.option("--verify", is_flag=True, help="Render original and result with the lobe evaluator and report CIEDE2000; "
-                                            "also fits a thin film's thickness where the target's film model differs.")
+                                            "also fits a thin film's thickness where the target's film model differs, "
+                                            "and where a result still renders visibly off, searches the target's "
+                                            "colours, weights and roughnesses for a closer one: the written material "
+                                            "can differ from the default conversion's (every change is noted).")
 @click.option("--threshold", type=click.FloatRange(min=0), default=2.0, show_default=True,
               help="With --verify: warn when a material's mean CIEDE2000 exceeds this.")
 @click.option("--max-delta-e", type=click.FloatRange(min=0), default=None, metavar="X",

@@ -143,10 +143,46 @@ def write_sphere_obj(path: Path, segments_u: int = 256, segments_v: int = 128) -
     return path
 
 
-class MaterialXRenderer:
-    """MaterialX GLSL rendering of single materials under a preview ``Rig``."""
+def studio_environment(width: int = 256, height: int = 128) -> np.ndarray:
+    """A structured latitude-longitude environment (linear RGB, row 0 at one pole): a sky whose radiance falls
+    from 0.45 to 0.25 towards the horizon, striped (12 bands of +0.06), a dark ground (0.04) and two bright
+    windows (6 and 3), slightly warm. Unlike the rig's uniform environment it shows how sharply a surface
+    reflects or refracts: a mirror shows the windows and the horizon, a rough lobe blurs them."""
+    v = (np.arange(height) + 0.5) / height
+    u = (np.arange(width) + 0.5) / width
+    uu, vv = np.meshgrid(u, v)
+    sky = vv < 0.5
+    radiance = np.where(sky, 0.25 + 0.4 * (0.5 - vv), 0.04) + 0.06 * (np.sin(uu * 24.0 * np.pi) > 0) * sky
+    radiance = np.where((np.abs(uu - 0.62) < 0.05) & (np.abs(vv - 0.35) < 0.07), 6.0, radiance)
+    radiance = np.where((np.abs(uu - 0.2) < 0.08) & (np.abs(vv - 0.42) < 0.03), 3.0, radiance)
+    return np.stack([radiance, radiance * 0.97, radiance * 0.9], axis=-1)
 
-    def __init__(self, rig):
+
+def irradiance_environment(radiance: np.ndarray) -> np.ndarray:
+    """The cosine-weighted convolution of a latitude-longitude ``radiance`` map divided by pi (what MaterialX's
+    irradiance map holds: a uniform radiance L gives L), by nine spherical harmonics (Ramamoorthi and Hanrahan,
+    "An efficient representation for irradiance environment maps", SIGGRAPH 2001: the order-2 projection, its
+    cosine-lobe factors pi, 2 pi / 3, pi / 4). Rows are polar angle, columns azimuth; the same parameterisation
+    is used to project and to evaluate, so the map agrees with the radiance map whatever MaterialX's orientation."""
+    height, width, _ = radiance.shape
+    theta = np.pi * (np.arange(height) + 0.5) / height
+    phi = 2.0 * np.pi * (np.arange(width) + 0.5) / width
+    th, ph = np.meshgrid(theta, phi, indexing="ij")
+    x, y, z = np.sin(th) * np.cos(ph), np.sin(th) * np.sin(ph), np.cos(th)
+    basis = np.stack([0.282095 * np.ones_like(x), 0.488603 * y, 0.488603 * z, 0.488603 * x, 1.092548 * x * y,
+                      1.092548 * y * z, 0.315392 * (3.0 * z * z - 1.0), 1.092548 * x * z,
+                      0.546274 * (x * x - y * y)], axis=-1)
+    weight = np.sin(th) * (np.pi / height) * (2.0 * np.pi / width)
+    coefficients = np.einsum("hwk,hwc,hw->kc", basis, radiance, weight)
+    bands = np.array([np.pi] + [2.0 * np.pi / 3.0] * 3 + [np.pi / 4.0] * 5)
+    return np.einsum("hwk,kc->hwc", basis, coefficients * bands[:, None]) / np.pi
+
+
+class MaterialXRenderer:
+    """MaterialX GLSL rendering of single materials under a preview ``Rig`` (``environment``: the rig's
+    uniform environment, or a latitude-longitude radiance map such as :func:`studio_environment`)."""
+
+    def __init__(self, rig, environment: np.ndarray | None = None):
         import MaterialX as mx
         import MaterialX.PyMaterialXGenGlsl as gg
         import MaterialX.PyMaterialXGenShader as gs
@@ -178,10 +214,8 @@ class MaterialXRenderer:
         handler = mr.LightHandler.create()
         handler.registerLights(self._light_doc, [light], self.context)
         handler.setLightSources([light])
-        e = float(rig.environment_radiance)
-        self._environment = mr.createUniformImage(64, 32, 4, mr.BaseType.FLOAT, mx.Color4(e, e, e, 1.0))
-        handler.setEnvRadianceMap(self._environment)
-        handler.setEnvIrradianceMap(self._environment)
+        self._handler = handler
+        self.use_environment(environment)
         handler.setDirectLighting(True)
         handler.setIndirectLighting(True)
         self.renderer.setLightHandler(handler)
@@ -198,6 +232,32 @@ class MaterialXRenderer:
         camera.setProjectionMatrix(mr.Camera.createOrthographicMatrix(-ex, ex, -ex, ex, 1.0, 100.0))
         self._documents = {}
         self._current = None
+
+    def use_environment(self, environment: np.ndarray | None) -> None:
+        """Light the following renders with the rig's uniform environment (None) or the latitude-longitude
+        radiance map ``environment`` (and its irradiance: :func:`irradiance_environment`)."""
+        mx, mr = self.mx, self.mr
+        if environment is None:
+            e = float(self.rig.environment_radiance)
+            self._environment = mr.createUniformImage(64, 32, 4, mr.BaseType.FLOAT, mx.Color4(e, e, e, 1.0))
+            self._irradiance = self._environment
+        else:
+            self._environment = self._image(environment)
+            self._irradiance = self._image(irradiance_environment(environment))
+        self._handler.setEnvRadianceMap(self._environment)
+        self._handler.setEnvIrradianceMap(self._irradiance)
+
+    def _image(self, pixels: np.ndarray):
+        """A float RGBA MaterialX image of linear RGB ``pixels`` (row 0 first)."""
+        mx, mr = self.mx, self.mr
+        height, width, _ = pixels.shape
+        image = mr.Image.create(width, height, 4, mr.BaseType.FLOAT)
+        image.createResourceBuffer()
+        for row in range(height):
+            for column in range(width):
+                r, g, b = (float(c) for c in pixels[row, column])
+                image.setTexelColor(column, row, mx.Color4(r, g, b, 1.0))
+        return image
 
     def _program(self, model: str):
         mx = self.mx
@@ -288,7 +348,8 @@ class MaterialXRenderer:
 
 @lru_cache(maxsize=2)
 def materialx_renderer(rig) -> MaterialXRenderer:
-    """A shared renderer for ``rig`` (skips the calling test when GL is unavailable)."""
+    """A shared renderer for ``rig`` (skips the calling test when GL is unavailable), lit by the rig's uniform
+    environment (a test that calls :meth:`MaterialXRenderer.use_environment` puts it back)."""
     require_gl()
     return MaterialXRenderer(rig)
 

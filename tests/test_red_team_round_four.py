@@ -549,7 +549,7 @@ def test_a_displacement_shader_is_kept_in_mtlx_and_noted_elsewhere(tmp_path):
     assert displaced.getCategory() == "displacement" and displaced.getInputValue("displacement") == pytest.approx(0.1)
     conversion = _convert(source, tmp_path / "out" / "m.gltf")
     assert [m for m in _notes(conversion, "OPBR1104") if "displacement" in m] == [
-        "M: its displacementshader (a displacement shader) is not written: only a .mtlx output carries one"]
+        "M: its displacementshader (a displacement shader) is not written: only a .mtlx or USD output carries one"]
 
 
 @pytest.mark.parametrize("target, written", [("standard_surface", True), ("gltf_pbr", False)])

@@ -62,6 +62,7 @@ from .units import LENGTH_WITHOUT_UNIT
 from .values import TYPE_MISMATCH
 from .usd_colorspaces import COLORSPACE_SCHEME, REMAPPED_NAME, colorspace_name, colour_managed_textures, colour_policies
 from .usd_examples import openpbr_example
+from .usd_normal_maps import other_normal_encodings
 
 MISSING_SHADER_ID = Rule(
     "OPBR1001", "usd-missing-shader-id", Severity.ERROR,
@@ -327,6 +328,9 @@ RULES = (MISSING_SHADER_ID, TYPE_ROLE_MISMATCH, UNKNOWN_SHADER_ID, COLORSPACE_SC
          OUTPUT_TYPE_DIFFERS, USD_CORE, USD_CORE_BINDING, ARC_OUTSIDE, ARC_SHARED_FOLDER, PACKAGE_ENTRY, MTLX_REFERENCE,
          REMAPPED_NAME, USD_CORE_CONVENTION)
 
+# usd-core's findings on a normal map's scale and bias: said by OPBR1006 where it judges the encoding wrong, by usd-core
+# where OPBR1006 accepts an encoding usd-core's validator does not (usd_preview.other_normal_encodings)
+_NORMAL_ENCODING = {"NonCompliantBiasAndScale", "NonCompliantScaleValues", "NonCompliantBiasValues"}
 # usd-core findings the rules above (or generic ones) report more precisely.
 _COVERED_USD_CORE = {
     "NonCompliantBiasAndScale", "NonCompliantScaleValues", "NonCompliantBiasValues", "InvalidSourceColorSpace",
@@ -609,11 +613,13 @@ def _usd_core(asset, context):
     bound_prims = {o.location.path for o in asset.observations if o.kind == "usd_binding_invalid"}
     packaged = {o.detail["entry"] for o in asset.observations if o.kind == "usd_package_entry" and o.detail.get("file_type")}
     preview_roles = _preview_roles(asset)
+    other_encodings = other_normal_encodings(asset)  # (OPBR1006 accepts them; usd-core's validator does not)
     missing_layers = [o for o in asset.observations if o.kind == "usd_layer_missing"]
     for finding in findings:
         name, sites = finding["name"], finding["sites"]
         prims = {site.split(".", 1)[0] for site in sites}
-        if name in _COVERED_USD_CORE and sites and sites[0].split(".", 1)[0] in read_shaders:
+        if name in _COVERED_USD_CORE and sites and sites[0].split(".", 1)[0] in read_shaders and \
+                not (name in _NORMAL_ENCODING and prims & other_encodings):
             continue  # the rules judge the read shaders' normal maps (a preview not wired to a Material's output: usd-core's)
         if name == "UnsupportedFileExtensionInPackage" and any(f"'{entry}'" in finding["message"] for entry in packaged):
             continue  # OPBR1012 reports the image

@@ -27,6 +27,7 @@ from . import Rule, constant_or_default
 from .texture_pixels import MAX_INSPECTED_PIXELS
 from .textures import image_of
 from .usd_examples import stage_example
+from .usd_normal_maps import decodes_unit_normals
 
 
 def _preview(*inputs: str, extra: str = "") -> str:
@@ -257,7 +258,7 @@ def _preview_conventions(material, context):
     texture = normal.texture if normal is not None else None
     if texture is not None and texture.node_category == UV_TEXTURE_ID and is_eight_bit(texture.file):
         scale, bias = rgb_components(texture.scale, 1.0), rgb_components(texture.bias, 0.0)
-        if not _decodes_unit_normals(scale, bias):
+        if not decodes_unit_normals(scale, bias):
             yield context.diagnostic(
                 NORMAL_MAP_ENCODING,
                 f"normal reads the 8-bit image {texture.file!r} with scale {_fmt(scale)} and bias {_fmt(bias)}, "
@@ -300,23 +301,6 @@ def _preview_conventions(material, context):
                 entry.location,
                 hint="set useSpecularWorkflow = 1" if workflow == 0 else "set useSpecularWorkflow = 0, or remove metallic",
             )
-
-
-def _decodes_unit_normals(scale: tuple, bias: tuple) -> bool:
-    """Whether scale and bias map an image's [0, 1] to tangent-space normal components: x and y
-    symmetrically about 0 (0.5 -> 0) in either direction, so -2 and 1 reverse an axis (a normal map
-    authored with the other green convention) and 2s and -s carry a strength s (glTF's
-    normalTexture.scale, MaterialX's normalmap scale: Storm normalises the result); z onto [-1, 1]
-    or [0, 1] (a tangent-space normal never points inwards; some encoders store z so), or z scaled as x
-    (all three 2s and -s: Adobe's USD writer's glTF strength, (2c - 1) s, which Storm's normalisation turns
-    back into the unit decode, its strength lost but no normal bent). A valid encoding passes, not only the
-    specification's (2, -1)."""
-    def symmetric(i):
-        return scale[i] != 0.0 and abs(bias[i] + scale[i] / 2.0) < 1e-6
-
-    z = sorted((round(bias[2], 6), round(bias[2] + scale[2], 6)))
-    uniform = symmetric(2) and scale[2] > 0 and abs(scale[2] - scale[0]) < 1e-6 and abs(scale[2] - scale[1]) < 1e-6
-    return symmetric(0) and symmetric(1) and (z in ([-1.0, 1.0], [0.0, 1.0]) or uniform)
 
 
 def _srgb_encode(linear: float) -> float:

@@ -16,7 +16,10 @@ exact mapping (no OPBR1103 note) is kept without a search. The candidates are re
 one stacked evaluation on the evaluator's lit sphere at a small size (:data:`RIG_SIZE` pixels, films
 on a coarse cosine table: a few milliseconds; ``--verify`` measures the result at full size), CIEDE2000
 mean against the source; the graph's result wins only by more than :data:`MARGIN`, since it drops
-structure the mapping keeps (a thin-walled flag, a subsurface lobe) for small gains. The report says
+structure the mapping keeps (a thin-walled flag, a subsurface lobe) for small gains. A graphs' result that wins
+keeps the mapping's roughnesses and anisotropies (:func:`mapping_sharpness`, :data:`.judging.SHARPNESS`) where that
+costs it no more than :data:`MARGIN` on the sphere, whose uniform surroundings cannot show how sharply a lobe
+reflects or refracts (the graphs give a coated base its coat's roughness). The report says
 which was kept and both figures (OPBR1102); when the graph's is kept, the mapping's approximation
 notes are replaced by one naming the graph and one at every authored input the graph's result does
 not carry exactly (:func:`read_back_notes`). ``Settings.fit_films`` (``--verify``) also fits a thin
@@ -52,9 +55,13 @@ from .. import tables
 from . import appearance, spec_gloss, ss_metal_weight, ss_rotation
 from .anchor import graph_candidates_of, read_back_notes
 from .judging import RIG_SIZE, Figure, Judge, constant_values, figures_many, scores_many
+from .sharpness import mapping_sharpness, sharpness_note
 from .search import search as parameter_search
 from .common import Settings, Translation, Values
 
+#: a graphs' result that wins keeps the mapping's roughnesses (:func:`mapping_sharpness`); off only to measure it
+#: (tests/benchmarks/bench_glsl_environment.py)
+KEEP_MAPPING_SHARPNESS = True
 VISIBLE = 2.3  # mean CIEDE2000, just noticeable: a kept result further off is reported as a warning
 MARGIN = 0.25  # mean CIEDE2000: a smaller win does not pay for what the graphs drop (thin-walled, subsurface)
 
@@ -163,23 +170,38 @@ def choose_many(items: list[tuple[Material, Translation, str, Settings]]) -> lis
             for index, candidate in zip(searched, graphs)]
     if not work:
         return out
+    sharp = [mapping_sharpness(candidate, out[index].material) if KEEP_MAPPING_SHARPNESS else None
+             for index, candidate, _ in work]
     try:
         judges = Judge.many([items[index][0] for index, *_ in work])
         figures = figures_many(judges, [[out[index].material] + ([a.material] if a is not None else [])
-                                        + ([c] if c is not None else []) for index, c, a in work])
+                                        + ([c] if c is not None else []) + ([s[0]] if s is not None else [])
+                                        for (index, c, a), s in zip(work, sharp)])
     except (ValueError, KeyError, TypeError, IndexError, FloatingPointError):
         for index, candidate, _ in work:  # one by one: a material the evaluator cannot take loses only its own search
             source, _, target, settings = items[index]
             out[index] = _choose_one(source, out[index], target, settings, candidate)
         return out
+    kept_sharpness = {}
     for position, (index, candidate, alternative) in enumerate(work):
         if alternative is not None:
             out[index], figures[position] = _reading(items[index][0], out[index], alternative, figures[position],
                                                      items[index][3])
+        if sharp[position] is not None:
+            ours, theirs, kept = figures[position]
+            if theirs.score < ours.score - MARGIN and kept.score <= theirs.score + MARGIN:
+                candidate = sharp[position][0]
+                kept_sharpness[index] = (sharp[position][1], theirs.score, kept.score)
+                figures[position] = [ours, kept]
+            else:
+                figures[position] = [ours, theirs]
         work[position] = (index, candidate)
     decided = _decide_many([(items[index][0], out[index], items[index][2], items[index][3], candidate, judge, score)
                             for (index, candidate), judge, score in zip(work, judges, figures)])
-    for position, ((index, _), translation) in enumerate(zip(work, decided)):
+    for position, ((index, candidate), translation) in enumerate(zip(work, decided)):
+        if index in kept_sharpness and translation.material is candidate:
+            translation.diagnostics.append(sharpness_note(items[index][0], translation, *kept_sharpness[index],
+                                                          items[index][3]))
         out[index] = translation
         source, _, _, settings = items[index]
         if settings.search:  # --verify: the target's parameters searched where the result is still visibly off

@@ -263,6 +263,13 @@ def translate(material: Material, target_model: str, mappings: tuple[Mapping, ..
         # a textured source the formula ignores here (a metal-only term of a dielectric) leaves it constant
         ignored = {name: probe for name in textured if (probe := probes.ignored_probe(mapping, name, values)) is not None}
         textured = [name for name in textured if name not in ignored]
+        if textured and parameter.type == "boolean":  # a flag (uniform in MaterialX) holds no texture: decided
+            for name in textured:  # where the textures reach their largest (glTF's thin wall: transmission at all)
+                ignored[name] = probes.probe_value(values, name, probes.largest(material.inputs[name].value))
+            say(CONVERTED, f"{mapping.target}: a flag, which holds no texture: decided where "
+                           f"{', '.join(textured)} reach{'es its' if len(textured) == 1 else ' their'} largest"
+                           + (f" ({mapping.converted})" if mapping.converted else ""), textured[0])
+            textured = []
         if not textured:
             arrays = [ignored[s] if s in ignored else values.constant(s) for s in mapping.sources]
             if any(a is None for a in arrays):

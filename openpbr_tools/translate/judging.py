@@ -73,6 +73,23 @@ class Judge:
         return [float(block.mean()) for block in np.split(delta, len(images))]
 
 
+#: Per model, the inputs whose effect is the sharpness of reflections and refractions: how much a lobe blurs what
+#: it reflects or lets through. The judges' lit sphere sees them only in the key light's highlight and through
+#: energy, since its environment is uniform: a mirror and a frosted glass of the same albedo look alike on it,
+#: while any real surrounding shows the difference (red team G's F2: the OpenPBR Shader Playground's bubbles,
+#: whose graphs' result sets Standard Surface's specular_roughness to its coat's 0, measured 2.15 against the
+#: mapping's 2.91 on the evaluator and 8.76 against 2.66 in MaterialX's GLSL under an HDR environment). A
+#: candidate is therefore not chosen for a change of these (candidates.py).
+SHARPNESS = {
+    "standard_surface": ("specular_roughness", "specular_anisotropy", "transmission_extra_roughness",
+                         "coat_roughness", "coat_anisotropy", "coat_affect_roughness"),
+    "gltf_pbr": ("roughness", "clearcoat_roughness", "anisotropy_strength"),
+    "UsdPreviewSurface": ("roughness", "clearcoatRoughness"),
+    "open_pbr_surface": ("specular_roughness", "specular_roughness_anisotropy", "coat_roughness",
+                         "coat_roughness_anisotropy"),
+}
+
+
 #: Per target, the colours its files hold in linear Rec.709 within [0, 1] whatever the document's space
 #: (glTF's writer converts them and brings them inside: colorspaces.into_gamut), and those it holds at or above 0
 #: (its emissive goes past 1 into emissiveStrength).

@@ -18,6 +18,16 @@ def probe_value(values, name: str, level: float):
     return np.full(width, level) if width > 1 else np.asarray(level)
 
 
+def largest(value) -> float:
+    """The largest number a textured or procedural ``value`` can give: a texture's scale plus bias at a texel of 1 (or
+    of 0, for a negative scale), a graph's 1."""
+    if isinstance(value, Texture):
+        scale = np.atleast_1d(np.asarray(value.scale if value.scale is not None else 1.0, dtype=float))
+        bias = np.atleast_1d(np.asarray(value.bias if value.bias is not None else 0.0, dtype=float))
+        return float(np.max(np.maximum(scale, 0.0) + bias))
+    return 1.0
+
+
 #: Unequal components, probed besides the greys for a colour or vector: a formula can treat a grey
 #: specially (a glTF emissive normalised by its largest component is white for every grey).
 UNEQUAL = ((0.2, 0.5, 0.9), (0.9, 0.1, 0.4))

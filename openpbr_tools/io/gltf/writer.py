@@ -293,6 +293,7 @@ class _MaterialWriter(TextureWriting, DraftWriting):
     def omit_inert(self) -> None:
         """An extension whose weight is 0 with no texture does nothing (a clear coat of clearcoatFactor 0 with only
         its roughness written: the red team's G/F11, on every glTF output; the toolkit's own OPBR1211 on them);
+        KHR_materials_emissive_strength of 0 leaves nothing of an untextured emissiveFactor (both omitted);
         KHR_materials_volume acts only through transmission (KHR_materials_transmission or
         diffuse_transmission), and KHR_materials_dispersion only through a volume (their READMEs; the
         Khronos validator warns VOLUME_NO_TRANSMISSION / DISPERSION_NO_VOLUME): inert ones are omitted."""
@@ -306,6 +307,16 @@ class _MaterialWriter(TextureWriting, DraftWriting):
                 if any(key != factor for key in found):
                     self.note(CONVERTED, f"{name} omitted: its {factor} is 0 (no texture), so it has no effect "
                                          f"({', '.join(sorted(k for k in found if k != factor))} not written)")
+        strength = self.containers.get(slots.EMISSIVE_STRENGTH)
+        if isinstance(strength, dict) and strength.get("emissiveStrength", 1.0) == 0 and \
+                "emissiveTexture" not in self.out:
+            # (MaterialX's graphs give a non-emissive material emissive (1, 1, 1) at strength 0: a viewer without the
+            # extension renders a white glow, the red team's I/F7)
+            del self.containers[slots.EMISSIVE_STRENGTH]
+            factor = self.out.pop("emissiveFactor", None)
+            self.note(CONVERTED, f"{slots.EMISSIVE_STRENGTH} omitted: its emissiveStrength is 0, so the material emits "
+                                 "nothing" + (f" (emissiveFactor {factor} not written: glTF's black)" if factor else ""),
+                      "emissive")
         transmission = self.containers.get(slots.TRANSMISSION, {})
         transmits = transmission.get("transmissionFactor", 0.0) > 0 or "transmissionTexture" in transmission \
             or slots.DIFFUSE_TRANSMISSION in self.containers

@@ -1,5 +1,6 @@
-"""``multiply``/``add`` by constants between an image and the input it feeds, read as the texture's
-scale and bias (as a UsdUVTexture's: the writer puts them there)."""
+"""``multiply``/``add`` by constants, and a ``mix`` of two constants by the image (bg + (fg - bg) * t: an
+affine map, as GPUOpen's MaterialX library writes a roughness range over a mask), between an image and the input
+it feeds, read as the texture's scale and bias (as a UsdUVTexture's: the writer puts them there)."""
 
 from __future__ import annotations
 
@@ -44,6 +45,24 @@ class ScaleBias:
             self.scale = combine(scale, operand, lambda a, b: a * b)
         return True
 
+    def take_mix(self, node, channels) -> bool:
+        """A ``mix`` whose ``fg`` and ``bg`` are constants (values, ``constant`` nodes or a graph's controls) and whose
+        ``mix`` is the walk's path: bg + (fg - bg) * t, composed as a multiply by fg - bg then an add of bg."""
+        ends = [constant_operand(node.getInput(name)) for name in ("fg", "bg")]
+        if any(end is None for end in ends) or node.getInput("mix") is None:
+            return False
+        fg, bg = ends
+        if channels is not None and (len(fg) > 1 or len(bg) > 1):
+            if channels[0] >= max(len(fg), len(bg)):
+                return False
+            fg, bg = ([v[channels[0]]] if len(v) > 1 else v for v in (fg, bg))
+        self.seen = True
+        scale = self.scale if self.scale is not None else [1.0]
+        bias = self.bias if self.bias is not None else [0.0]
+        self.bias = combine(bias, combine(bg, scale, lambda a, b: a * b), lambda a, b: a + b)
+        self.scale = combine(scale, combine(fg, bg, lambda a, b: a - b), lambda a, b: a * b)
+        return True
+
     def multiply(self, operand: list[float] | None) -> None:
         """An image's own factor, which applies before every operation met above it."""
         if operand is not None and operand != [1.0] * len(operand):
@@ -63,6 +82,29 @@ def _interface_value(node, port):
         return None
     interface = graph.getInput(port.getInterfaceName())
     return interface if interface is not None and not connected(interface) else None
+
+
+def constant_operand(port) -> list[float] | None:
+    """The numbers ``port`` holds as a constant: its own value, a graph control's (:func:`_interface_value`) or a
+    ``constant`` node's; None where it is connected to anything else, holds a colour in a colour space of its own, or
+    cannot be parsed."""
+    if port is None:
+        return None
+    holder = port
+    if port.hasAttribute("interfacename") and not any(port.hasAttribute(a) for a in ("nodename", "nodegraph", "output")):
+        holder = _interface_value(port.getParent(), port)
+    elif port.hasAttribute("nodename") and not any(port.hasAttribute(a) for a in ("nodegraph", "output")):
+        node = port.getConnectedNode()
+        holder = node.getInput("value") if node is not None and node.getCategory() == "constant" else None
+    if holder is None or not holder.hasAttribute("value") or connected(holder) or holder.hasAttribute("colorspace"):
+        return None
+    try:
+        value = parse_value(holder.getValueString(), holder.getType())
+    except ValueSyntaxError:
+        return None
+    if isinstance(value, bool) or not isinstance(value, (int, float, tuple, list)):
+        return None
+    return [float(v) for v in value] if isinstance(value, (tuple, list)) else [float(value)]
 
 
 def combine(a: list[float], b: list[float], operation) -> list[float]:

@@ -182,6 +182,9 @@ class GraphFollower:
             elif category in ("multiply", "add"):
                 if not arithmetic.take(node, channels):
                     return None
+            elif category == "mix":
+                if not arithmetic.take_mix(node, channels):
+                    return None
             elif category == "normalmap":
                 if arithmetic.seen:  # arithmetic after the decode: not a texture's scale and bias
                     return None
@@ -196,7 +199,7 @@ class GraphFollower:
             elif category == "convert" and channels is None and node.getType()[-1:] == "3" and \
                     (source := node.getInput("in")) is not None and source.getType() == node.getType()[:-1] + "4":
                 channels = (0, 1, 2)  # color4 to color3 (vector4 to vector3): the fourth channel dropped
-            upstream = node.getInput("in1" if category in ("multiply", "add") else "in")
+            upstream = node.getInput("in1" if category in ("multiply", "add") else "mix" if category == "mix" else "in")
             node = self.upstream_node(upstream) if upstream is not None else None
             # which output of the next node this step reads (a multi-output UsdUVTexture's rgb, say)
             output_name = read_output(upstream) if upstream is not None else ""

@@ -43,7 +43,7 @@ class GraphNetworkWriter:
             if nodedef is None or materialx_nodedef(nodedef.getName()) is None:
                 return None  # a custom definition: no USD renderer has it
             outputs = [(o.getName(), o.getType()) for o in nodedef.getActiveOutputs()]
-            if any(t not in MATERIALX_TO_USD for _, t in outputs):
+            if any(t not in OUTPUT_TYPES for _, t in outputs):
                 return None
             definitions[name] = (nodedef, outputs)
         if connection.output not in nodes:
@@ -71,7 +71,7 @@ class GraphNetworkWriter:
             shader = self.UsdShade.Shader.Define(self.stage, self.unique_child(parent, f"{entry.name}_{name}"))
             shader.CreateIdAttr(nodedef.getName())
             for output_name, output_type in outputs:
-                shader.CreateOutput(output_name, self.Sdf.ValueTypeNames.Find(MATERIALX_TO_USD[output_type]))
+                shader.CreateOutput(output_name, self.Sdf.ValueTypeNames.Find(OUTPUT_TYPES[output_type]))
             prims[name] = shader
         for name, node in nodes.items():
             shader = prims[name]
@@ -103,6 +103,11 @@ class GraphNetworkWriter:
                     target.GetAttr().SetColorSpace(space)
         final = connection.output
         return prims[final].GetOutput(definitions[final][1][0][0])
+
+
+#: the USD types of node outputs: MaterialX's value types, and a displacement shader's result (a token, as UsdMtlx gives
+#: it: a material's outputs:mtlx:displacement connects to it)
+OUTPUT_TYPES = {**MATERIALX_TO_USD, "displacementshader": "token"}
 
 
 def _value(text: str, type_name: str):

@@ -241,12 +241,40 @@ class _Reader(NetworkReader):
                 self.asset.observe("usd_missing_shader_id", self.location(path, "info:implementationSource"),
                                    mtlx_context=path in self.mtlx_context_shaders, implementation=source)
             return
-        if shader_id in surface_shader_ids() or materialx_nodedef(shader_id) is not None:
+        nodedef = materialx_nodedef(shader_id)
+        if nodedef is not None:
+            self.observe_enums(shader, nodedef, path)
+        if shader_id in surface_shader_ids() or nodedef is not None:
             return
         if shader_id in self.asset.extra["usd_sdr_ids"]:
             return
         self.asset.observe("usd_unknown_shader_id", self.location(path, "info:id"), id=shader_id,
                            mtlx_context=path in self.mtlx_context_shaders)
+
+    def observe_enums(self, shader, nodedef, path: str) -> None:
+        """An input of a MaterialX node (an ``ND_`` id) whose value is outside the list its node definition declares,
+        as the .mtlx reader observes one (library.enum_violations): hdMtlx builds the same MaterialX node, whose
+        shader generation refuses it (the red team's I/F2: Adobe's USD writer authors an ND_UsdUVTexture_23 wrapS of
+        'constant', MaterialX's list being black, clamp, periodic, mirror)."""
+        for port in shader.GetInputs():
+            if port.HasConnectedSource():
+                continue
+            declared = nodedef.getActiveInput(port.GetBaseName())
+            if declared is None or not declared.hasAttribute("enum"):
+                continue
+            value = port.Get()
+            if declared.getType() == "string" and not declared.hasAttribute("enumvalues") and isinstance(value, str):
+                allowed = tuple(e.strip() for e in declared.getAttribute("enum").split(","))
+                shown = value
+            elif declared.getType() == "integer" and declared.hasAttribute("enumvalues") and isinstance(value, int) \
+                    and not isinstance(value, bool):
+                allowed = tuple(e.strip() for e in declared.getAttribute("enumvalues").split(","))
+                shown = str(value)
+            else:
+                continue
+            if shown.strip() not in allowed:
+                self.asset.observe("node_enum_value", self.location(path, port.GetBaseName()), value=shown,
+                                   allowed=allowed)
 
     # -- materials --------------------------------------------------------------------------
     def read_material(self, prim) -> None:

@@ -135,6 +135,11 @@ class TextureNetworkWriter:
             # normalmap's 2 t - 1 and strength (x, y) folded into any scale and bias before it
             decoded_scale, decoded_bias = normal_decode(texture)
             scale, bias = decoded_scale + (1.0,), decoded_bias + (0.0,)  # alpha untouched
+            if tuple(decoded_scale) != (2.0, 2.0, 2.0) or tuple(decoded_bias) != (-1.0, -1.0, -1.0):
+                self.note(CONVERTED, f"{owner}: the normal map is decoded by the UsdUVTexture's scale "
+                                     f"{_shown(decoded_scale)} and bias {_shown(decoded_bias)} (its strength or axis "
+                                     "convention: Storm renders it); usd-core's NormalMapTextureValidator takes only "
+                                     "(2, 2, 2) and (-1, -1, -1) for an 8-bit image and warns")
             if not source and texture.scale is None and texture.bias is None:
                 reader.CreateInput("sourceColorSpace", Sdf.ValueTypeNames.Token).Set("raw")
         for name, value in (("scale", scale), ("bias", bias), ("fallback", texture.fallback)):
@@ -213,3 +218,7 @@ def _place2d_as_transform2d(uv: UVTransform) -> tuple[tuple, float, tuple]:
     translation = (uv.pivot[0] - uv.offset[0] - rotated[0], uv.pivot[1] - uv.offset[1] - rotated[1])
     scale = tuple(1.0 / s if s else 0.0 for s in uv.scale)
     return scale, -uv.rotate + 0.0, tuple(t + 0.0 for t in translation)
+
+
+def _shown(values) -> str:
+    return "(" + ", ".join(f"{float(v):.4g}" for v in values) + ")"

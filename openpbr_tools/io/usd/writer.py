@@ -33,7 +33,7 @@ import time
 from ... import colorspaces, gltf_state, tables
 from ...atomic import default_mode
 from ...diagnostics import Diagnostic
-from ...model import Asset, Connection, Constant, Location, Material, Texture
+from ...model import Asset, Connection, Constant, Input, Location, Material, Texture
 from ...resources import load_json
 from ...rules.translation import APPROXIMATED, NOT_CARRIED
 from ...workers import raise_if_stopped
@@ -189,6 +189,25 @@ class _Writer(TextureNetworkWriter, GraphNetworkWriter, TextureFiles):
         for name, entry in material.inputs.items():
             parameter = table.get(name) if table is not None else None
             self.write_input(material, usd_material, shader, entry, parameter, preview)
+        if not preview:
+            self.write_displacement(material, usd_material)
+
+    def write_displacement(self, material: Material, usd_material) -> None:
+        """A MaterialX source's displacement shader, kept whole (its graph: reader.capture_graph), written as the
+        UsdShade network of its MaterialX nodes on the material's ``outputs:mtlx:displacement`` (UsdMtlx's
+        terminal), beside the OpenPBR shader; a graph USD cannot carry is noted, not written."""
+        graph = material.extra.get("displacement_graph")
+        if not isinstance(graph, Connection) or not graph.graph_xml:
+            return
+        where = material.material_location or material.location
+        self.at = (where, None)
+        entry = Input("displacement", "displacementshader", graph, where)
+        output = self.materialx_graph(usd_material, entry, graph)
+        if output is None:
+            self.note(NOT_CARRIED, f"{material.material_name or material.name}: its displacement shader is not "
+                                   "written: its graph holds a node or value USD cannot carry")
+            return
+        usd_material.CreateDisplacementOutput("mtlx").ConnectToSource(output)
 
     def shader_id(self, material: Material) -> str:
         current = tables.table(material.model).nodedef
