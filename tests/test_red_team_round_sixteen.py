@@ -472,3 +472,81 @@ def test_a_draft_fuzz_is_judged_as_its_openpbr_reading(tmp_path):
     for name in ("base_color", "sheen", "sheen_color", "sheen_roughness"):
         assert np.allclose([float(v) for v in direct[name].split(",")], [float(v) for v in through[name].split(",")],
                            atol=1e-4), name
+
+
+# -- red team J (session 29): realistic ACEScg materials judged by MaterialX's GLSL ------------------------------------
+
+def test_a_conductor_of_negative_n_reflects_as_materialx_computes_it():
+    """Gulbrandsen's artistic IOR extrapolates n below 0 for an edge colour above 1 (a measured metal's F82 tint in
+    ACEScg): n = mix(n_max, n_min, g). MaterialX's mx_fresnel_conductor depends on n^2 and k^2 only, so at normal
+    incidence it gives ((|n| - 1)^2 + k^2) / ((|n| + 1)^2 + k^2) (Born & Wolf); the evaluator's complex form gave 1.22
+    for such a copper's red, and scored MaterialX's graphs' Standard Surface copper 1.68 where GLSL measured 11.98."""
+    from openpbr_tools.evaluate.fresnel import artistic_ior, fresnel_conductor, fresnel_conductor_real
+
+    n, k = artistic_ior(np.array([1.25, 0.617, 0.444]), np.array([1.05, 0.92, 0.89]))
+    assert n[0] < 0  # the premise: an extrapolated n
+    normal = ((np.abs(n) - 1.0) ** 2 + k ** 2) / ((np.abs(n) + 1.0) ** 2 + k ** 2)
+    assert np.allclose(fresnel_conductor(1.0, n, k), normal, atol=1e-9)
+    for cosine in (0.9, 0.5, 0.1):
+        assert np.allclose(fresnel_conductor(cosine, n, k), fresnel_conductor_real(cosine, n, k), atol=1e-9)
+    assert np.all(fresnel_conductor(np.linspace(0.0, 1.0, 11)[:, None], n, k) <= 1.0)
+
+
+COPPER = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="acescg">
+  <open_pbr_surface name="SR_copper" type="surfaceshader">
+    <input name="base_metalness" type="float" value="1" />
+    <input name="base_color" type="color3" value="1.01, 0.66, 0.48" />
+    <input name="specular_color" type="color3" value="1, 0.93, 0.9" />
+    <input name="specular_roughness" type="float" value="0.3" />
+  </open_pbr_surface>
+  <surfacematerial name="copper" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="SR_copper" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def test_an_acescg_copper_is_not_given_the_graphs_extrapolated_edge(tmp_path):
+    """J/F1: a copper with an ACEScg base colour slightly above 1, to Standard Surface. The graphs pass the edge colour
+    through (1.05 in Rec.709's red): MaterialX's GLSL renders it 11.98 off, the toolkit's mapping 5.98; the evaluator
+    chose the graphs' (1.68 against 6.13). Judged by MaterialX's GLSL on the rig's sphere, the kept result is closer
+    than the graphs' by far."""
+    from openpbr_tools.evaluate.difference import compare_images
+    from openpbr_tools.evaluate.preview import Rig
+
+    (tmp_path / "copper.mtlx").write_text(COPPER)
+    material = read_asset(str(tmp_path / "copper.mtlx")).materials[0]
+    convert_file(str(tmp_path / "copper.mtlx"), str(tmp_path / "out.mtlx"), "standard_surface")
+    kept = read_asset(str(tmp_path / "out.mtlx")).materials[0]
+    chain = anchor.graph_candidate(material, "standard_surface")
+    rig = Rig(size=64)
+    renderer = materialx_renderer(rig)
+    reference = renderer.render("open_pbr_surface", _numbers(as_written(material)))
+    mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
+    kept_delta, chain_delta = (compare_images(reference, renderer.render("standard_surface", _numbers(as_written(m))),
+                                              mask, rig.white()).mean for m in (kept, chain))
+    assert kept_delta < chain_delta - 3.0, (kept_delta, chain_delta)
+
+
+def test_a_gold_to_usd_preview_is_the_same_from_any_document_space(tmp_path):
+    """J/F2: physicallybased.info's gold (linear Rec.709 (1.059, 0.773, 0.307), F82 (0.99, 0.93, 0.77)) re-expressed
+    in an ACEScg document: the graphs pass its base colour to diffuseColor, 1.059 in red, which MaterialX's
+    UsdPreviewSurface renders as an artistic-IOR conductor clamped at 0.99 and extrapolated (GLSL 4.70 against 1.64
+    from the lin_rec709 document). The results agree now: within 0.5 (#13's invariance), both held to 1."""
+    rec709 = {"base_color": (1.059, 0.773, 0.307), "specular_color": (0.99, 0.93, 0.77)}
+    from openpbr_tools import colorspaces
+
+    written = {}
+    for space in ("lin_rec709", "acescg"):
+        values = {k: colorspaces.from_lin_rec709(v, space) for k, v in rec709.items()}
+        text = COPPER.replace("acescg", space).replace("SR_copper", "SR_gold").replace("copper", "gold")
+        text = text.replace("1.01, 0.66, 0.48", ", ".join(f"{v:.6f}" for v in values["base_color"]))
+        text = text.replace("1, 0.93, 0.9", ", ".join(f"{v:.6f}" for v in values["specular_color"]))
+        text = text.replace('"0.3"', '"0.2"')
+        (tmp_path / f"{space}.mtlx").write_text(text)
+        convert_file(str(tmp_path / f"{space}.mtlx"), str(tmp_path / f"{space}_out.mtlx"), "UsdPreviewSurface")
+        out = read_asset(str(tmp_path / f"{space}_out.mtlx")).materials[0]
+        written[space] = np.asarray(colorspaces.to_lin_rec709(as_written(out)["diffuseColor"], None))
+    assert np.all(written["acescg"] <= 1.0 + 1e-6)
+    assert np.allclose(written["acescg"], written["lin_rec709"], atol=0.01), written

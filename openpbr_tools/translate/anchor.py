@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import tables
+from .. import colorspaces, tables
 from ..model import Constant, Input, Material
 from ..rules.translation import APPROXIMATED
 from ..values import is_finite
@@ -50,6 +50,14 @@ def graph_candidates(sources: list[Material], target: str) -> list[Material | No
     return out
 
 
+#: Per target, the colours of the graphs' result held to [0, 1] in linear Rec.709, as the toolkit's mapping holds its
+#: own (Mapping.clips): beyond 1, renderers part. A UsdPreviewSurface metal's diffuseColor above 1 (the graphs pass an
+#: OpenPBR gold's ACEScg base colour through: (1.059, 0.773, 0.307) in Rec.709) is Schlick's F0 above 1 in Storm and
+#: the evaluator, and in MaterialX's graph an artistic-IOR conductor whose reflectivity is clamped to 0.99 and whose
+#: edge colour extrapolates: the red team's J/F2, 0.08 on the evaluator and 6.03 in MaterialX's GLSL.
+HELD_TO_ONE = {"UsdPreviewSurface": ("diffuseColor", "specularColor")}
+
+
 def _graph_material(source: Material, target: str, produced: dict) -> Material | None:
     """The ``target`` material of the graphs' ``produced`` values for ``source``, brought inside the
     target's ranges (module docstring), or None."""
@@ -68,6 +76,9 @@ def _graph_material(source: Material, target: str, produced: dict) -> Material |
         value, moved = inside(value, parameter)
         if moved and not is_finite(value):
             return None
+        if name in HELD_TO_ONE.get(target, ()) and isinstance(value, tuple) and len(value) == 3:
+            value = tuple(colorspaces.from_lin_rec709(colorspaces.into_gamut(
+                colorspaces.to_lin_rec709(value, source.colorspace), high=1.0), source.colorspace))
         entry = source.inputs.get(name)
         candidate.inputs[name] = Input(name, parameter.type, Constant(value),
                                        entry.location if entry is not None else source.location.with_input(name),
