@@ -113,8 +113,8 @@ def unpack_packaged_images(materials: list[Material], asset: Asset, output_path:
 
 
 def missing_textures(materials: list[Material], source_path: str) -> list[Diagnostic]:
-    """A note at each texture a .mtlx or USD output references (the reference is written as authored,
-    rebased) whose file is not on disk: the output names an image no renderer can read, as the source did
+    """A note at each texture a .mtlx or USD output references (the reference is written to the same file,
+    rebased against the output's folder) whose file is not on disk: the output names an image no renderer can read, as the source did
     (validate: OPBR701), and a glTF output, which embeds or copies images, says the same of the same
     texture. URLs, UDIM/UVTILE sets (their tiles are other files) and packaged images are not looked up."""
     source_dir = os.path.dirname(os.path.abspath(source_path))
@@ -143,9 +143,10 @@ def missing_textures(materials: list[Material], source_path: str) -> list[Diagno
                     continue
                 said.add(key)
                 notes.append(NOT_CARRIED.note(
-                    f"{material.name}: {what} {file!r}, which does not exist: the reference is written as authored, and "
-                    "renderers find no image there", entry.location.with_material(material.material_name
-                                                                                  or material.name)))
+                    f"{material.name}: {what} {file!r}, which does not exist beside the source: the reference is "
+                    "written to the same place (rebased against the output's folder), where renderers find no image "
+                    "either (one found through an application's search path, as MaterialX's test suite's are, "
+                    "is not looked up)", entry.location.with_material(material.material_name or material.name)))
     return notes
 
 

@@ -143,6 +143,21 @@ def write_sphere_obj(path: Path, segments_u: int = 256, segments_v: int = 128) -
     return path
 
 
+def uniforms(values: dict) -> dict:
+    """Resolved values (NumPy arrays and numbers) as :meth:`MaterialXRenderer.render` takes them: booleans, integers,
+    floats and lists of floats."""
+    out = {}
+    for name, value in values.items():
+        array = np.asarray(value)
+        if array.dtype.kind == "b":
+            out[name] = bool(array)
+        elif array.ndim == 0:
+            out[name] = int(array) if array.dtype.kind in "iu" else float(array)
+        else:
+            out[name] = [float(v) for v in array]
+    return out
+
+
 def studio_environment(width: int = 256, height: int = 128) -> np.ndarray:
     """A structured latitude-longitude environment (linear RGB, row 0 at one pole): a sky whose radiance falls
     from 0.45 to 0.25 towards the horizon, striped (12 bands of +0.06), a dark ground (0.04) and two bright

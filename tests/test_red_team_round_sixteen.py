@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from glsupport import comparison_mask, irradiance_environment, materialx_renderer, studio_environment
+from glsupport import comparison_mask, irradiance_environment, materialx_renderer, studio_environment, uniforms
 from openpbr_tools.convert import convert_file
 from openpbr_tools.io import read_asset
 from openpbr_tools.rules import Context
@@ -88,16 +88,6 @@ def test_a_graphs_result_that_wins_keeps_the_mappings_roughness(tmp_path):
     assert notes and "specular_roughness" in notes[0].message
 
 
-def _numbers(values: dict) -> dict:
-    """Resolved values as the GLSL renderer's uniforms take them (floats, lists, booleans)."""
-    out = {}
-    for name, value in values.items():
-        array = np.asarray(value)
-        out[name] = bool(array) if array.dtype.kind == "b" else (
-            (int(array) if array.dtype.kind in "iu" else float(array)) if array.ndim == 0 else [float(v) for v in array])
-    return out
-
-
 def test_the_kept_roughness_renders_closer_under_a_structured_environment(tmp_path):
     """Judged by MaterialX's GLSL renderer under the studio environment (a striped sky, a dark ground, two
     windows), where a clear and a frosted transmission differ: the kept result is closer to the source than the
@@ -114,9 +104,9 @@ def test_the_kept_roughness_renders_closer_under_a_structured_environment(tmp_pa
     renderer = materialx_renderer(rig)
     renderer.use_environment(studio_environment())
     try:
-        reference = renderer.render("open_pbr_surface", _numbers(as_written(material)))
+        reference = renderer.render("open_pbr_surface", uniforms(as_written(material)))
         mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
-        delta = {name: compare_images(reference, renderer.render("standard_surface", _numbers(as_written(m))), mask,
+        delta = {name: compare_images(reference, renderer.render("standard_surface", uniforms(as_written(m))), mask,
                                       rig.white()).mean for name, m in (("kept", kept), ("chain", chain),
                                                                         ("mapped", mapped))}
     finally:
@@ -522,9 +512,9 @@ def test_an_acescg_copper_is_not_given_the_graphs_extrapolated_edge(tmp_path):
     chain = anchor.graph_candidate(material, "standard_surface")
     rig = Rig(size=64)
     renderer = materialx_renderer(rig)
-    reference = renderer.render("open_pbr_surface", _numbers(as_written(material)))
+    reference = renderer.render("open_pbr_surface", uniforms(as_written(material)))
     mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
-    kept_delta, chain_delta = (compare_images(reference, renderer.render("standard_surface", _numbers(as_written(m))),
+    kept_delta, chain_delta = (compare_images(reference, renderer.render("standard_surface", uniforms(as_written(m))),
                                               mask, rig.white()).mean for m in (kept, chain))
     assert kept_delta < chain_delta - 3.0, (kept_delta, chain_delta)
 
@@ -550,3 +540,19 @@ def test_a_gold_to_usd_preview_is_the_same_from_any_document_space(tmp_path):
         written[space] = np.asarray(colorspaces.to_lin_rec709(as_written(out)["diffuseColor"], None))
     assert np.all(written["acescg"] <= 1.0 + 1e-6)
     assert np.allclose(written["acescg"], written["lin_rec709"], atol=0.01), written
+
+
+def test_a_missing_texture_is_said_to_be_rebased_as_it_is(tmp_path):
+    """I/F9 (MaterialX's TestSuite reads resources/Images/... through the application's search path): a missing
+    texture's reference is rebased against the output's folder, so it names the same file; the note said 'written as
+    authored', which the output contradicted."""
+    (tmp_path / "m.mtlx").write_text(
+        '<?xml version="1.0"?>\n<materialx version="1.39">\n  <image name="i" type="color3">\n'
+        '    <input name="file" type="filename" value="resources/Images/grid.png" />\n  </image>\n'
+        '  <open_pbr_surface name="S" type="surfaceshader">\n'
+        '    <input name="base_color" type="color3" nodename="i" />\n  </open_pbr_surface>\n</materialx>\n')
+    (tmp_path / "out").mkdir()
+    report = convert_file(str(tmp_path / "m.mtlx"), str(tmp_path / "out" / "m.mtlx"))
+    notes = [d.message for d in report.diagnostics if "does not exist" in d.message]
+    assert notes and "rebased" in notes[0] and "written as authored" not in notes[0]
+    assert "../resources/Images/grid.png" in (tmp_path / "out" / "m.mtlx").read_text()

@@ -21,40 +21,24 @@ from __future__ import annotations
 import argparse
 import os
 import sys
-import tempfile
 
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from generated_materials import COLORSPACES, archetype_document, document  # noqa: E402
 from glsupport import comparison_mask, materialx_renderer, studio_environment  # noqa: E402
 from openpbr_tools.evaluate.difference import compare_images  # noqa: E402
 from openpbr_tools.evaluate.preview import Rig  # noqa: E402
-from openpbr_tools.io import read_asset  # noqa: E402
 from openpbr_tools.rules import Context  # noqa: E402
 from openpbr_tools.translate import anchor, candidates, search  # noqa: E402
 from openpbr_tools.translate.common import Settings  # noqa: E402
 from openpbr_tools.translate.convert import convert  # noqa: E402
-from openpbr_tools.translate.judging import SHARPNESS, as_written  # noqa: E402
+from openpbr_tools.translate.judging import SHARPNESS  # noqa: E402
+from bench_glsl_sample import generated_sample, values_of  # noqa: E402
 
 TARGETS = ("standard_surface", "gltf_pbr", "UsdPreviewSurface")
 COLUMNS = ("kept roughness", "graphs whole", "mapping", "chain")
 VERIFY_COLUMNS = ("--verify", "--verify, roughness fixed")
-
-
-def values_of(material) -> dict:
-    """Linear Rec.709 numbers of every parameter as the material's file holds them (judging.as_written)."""
-    out = {}
-    for name, value in as_written(material).items():
-        array = np.asarray(value)
-        if array.dtype.kind == "b":
-            out[name] = bool(array)
-        elif array.ndim == 0:
-            out[name] = int(array) if array.dtype.kind in "iu" else float(array)
-        else:
-            out[name] = [float(v) for v in array]
-    return out
 
 
 def searched(material, target: str, free_sharpness: bool):
@@ -99,15 +83,8 @@ def main() -> None:
     rig = Rig(size=64)
     renderer = materialx_renderer(rig)
     renderer.use_environment(studio_environment())
-    materials = []
-    per_space = -(-arguments.count // len(COLORSPACES))
-    for space in COLORSPACES:
-        path = os.path.join(tempfile.mkdtemp(prefix="openpbr-glsl-env-"), f"{space}.mtlx")
-        with open(path, "w", encoding="utf-8") as handle:
-            handle.write(archetype_document(space, arguments.seed, per_space)[0] if arguments.corpus == "archetypes"
-                         else document("open_pbr_surface", space, arguments.seed, per_space))
-        materials += [(space, m) for m in read_asset(path).materials]
-    materials = [(s, m) for s, m in materials[: arguments.count] if values_of(m)["geometry_opacity"] >= 1.0]
+    materials = generated_sample(arguments.corpus, arguments.seed, arguments.count)
+    materials = [(s, m) for s, m in materials if values_of(m)["geometry_opacity"] >= 1.0]
     print(f"{len(materials)} materials judged under the studio environment")
     rows = {target: [] for target in TARGETS}
     for space, material in materials:

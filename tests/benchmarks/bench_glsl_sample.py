@@ -34,7 +34,7 @@ import numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
 from generated_materials import COLORSPACES, archetype_document, document  # noqa: E402
-from glsupport import comparison_mask, materialx_renderer  # noqa: E402
+from glsupport import comparison_mask, materialx_renderer, uniforms  # noqa: E402
 from openpbr_tools.evaluate.difference import compare_images  # noqa: E402
 from openpbr_tools.evaluate.preview import Rig  # noqa: E402
 from openpbr_tools.io import read_asset  # noqa: E402
@@ -47,20 +47,25 @@ from openpbr_tools.translate.convert import convert  # noqa: E402
 TARGETS = ("standard_surface", "gltf_pbr", "UsdPreviewSurface")
 
 
-def _values(material) -> dict:
+def values_of(material) -> dict:
     """Linear Rec.709 numbers of every parameter (the document's colour space converted, defaults
     filled), as the material's file holds them (judging.as_written: a glTF writer clamps wide-gamut
     colours, for the chain's result as for the toolkit's)."""
-    out = {}
-    for name, value in as_written(material).items():
-        array = np.asarray(value)
-        if array.dtype.kind == "b":
-            out[name] = bool(array)
-        elif array.ndim == 0:
-            out[name] = int(array) if array.dtype.kind in "iu" else float(array)
-        else:
-            out[name] = [float(v) for v in array]
-    return out
+    return uniforms(as_written(material))
+
+
+def generated_sample(corpus: str, seed: int, count: int) -> list:
+    """(document colour space, material) of ``count`` generated OpenPBR materials, a third in each of the
+    colour spaces (generated_materials.COLORSPACES)."""
+    materials = []
+    per_space = -(-count // len(COLORSPACES))
+    for space in COLORSPACES:
+        path = os.path.join(tempfile.mkdtemp(prefix="openpbr-glsl-"), f"{space}.mtlx")
+        with open(path, "w", encoding="utf-8") as handle:
+            handle.write(archetype_document(space, seed, per_space)[0] if corpus == "archetypes"
+                         else document("open_pbr_surface", space, seed, per_space))
+        materials += [(space, m) for m in read_asset(path).materials]
+    return materials[:count]
 
 
 def _judges_differ(material) -> str | None:
@@ -70,7 +75,7 @@ def _judges_differ(material) -> str | None:
     why = appearance.untrusted(material)
     if why is not None:
         return f"evaluator: {why}"
-    values = _values(material)
+    values = values_of(material)
     if values.get("geometry_thin_walled") and values.get("subsurface_weight", 0.0) > 0.0:
         return "MaterialX GLSL: thin-walled subsurface"
     return None
@@ -86,21 +91,13 @@ def main() -> None:
     arguments = parser.parse_args()
     rig = Rig(size=64)
     renderer = materialx_renderer(rig)
-    materials = []
-    per_space = -(-arguments.count // len(COLORSPACES))
-    for space in COLORSPACES:
-        path = os.path.join(tempfile.mkdtemp(prefix="openpbr-glsl-"), f"{space}.mtlx")
-        with open(path, "w", encoding="utf-8") as handle:
-            handle.write(archetype_document(space, arguments.seed, per_space)[0] if arguments.corpus == "archetypes"
-                         else document("open_pbr_surface", space, arguments.seed, per_space))
-        materials += [(space, m) for m in read_asset(path).materials]
-    materials = materials[: arguments.count]
-    cut_out = [m for _, m in materials if _values(m)["geometry_opacity"] < 1.0]
-    materials = [(space, m) for space, m in materials if _values(m)["geometry_opacity"] >= 1.0]
+    materials = generated_sample(arguments.corpus, arguments.seed, arguments.count)
+    cut_out = [m for _, m in materials if values_of(m)["geometry_opacity"] < 1.0]
+    materials = [(space, m) for space, m in materials if values_of(m)["geometry_opacity"] >= 1.0]
     print(f"{len(materials)} materials judged; {len(cut_out)} with geometry_opacity < 1 left out (no blending in GL)")
     rows = {target: [] for target in TARGETS}
     for space, material in materials:
-        reference = renderer.render("open_pbr_surface", _values(material))
+        reference = renderer.render("open_pbr_surface", values_of(material))
         mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
         for target in TARGETS:
             settings = Settings(context=Context())
@@ -117,7 +114,7 @@ def main() -> None:
             if arguments.verify:
                 searching = Settings(context=Context(), fit_films=True, search=True)
                 judged.append(candidates.choose(material, convert(material, target, searching), target, searching).material)
-            deltas = [compare_images(reference, renderer.render(target, _values(m)), mask, rig.white()).mean
+            deltas = [compare_images(reference, renderer.render(target, values_of(m)), mask, rig.white()).mean
                       for m in judged]
             rows[target].append((*deltas[:3], f"{space}:{material.name}", *deltas[3:], _judges_differ(material)))
     for target in TARGETS:
