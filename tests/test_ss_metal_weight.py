@@ -145,7 +145,7 @@ def test_materialx_glsl_agrees(tmp_path):
     """MaterialX's GLSL renders the source and both results: the tint within 1 mean CIEDE2000 of the source, the
     fold more than 1 further (bench_ss_metal_weight_glsl.py: 0.21 against 2.30 for such a metal)."""
     from glsupport import comparison_mask, materialx_renderer
-    from bench_glsl_sample import _values
+    from bench_glsl_sample import values_of as _values
 
     from openpbr_tools.evaluate.difference import compare_images
     from openpbr_tools.evaluate.preview import Rig

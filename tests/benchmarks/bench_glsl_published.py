@@ -23,7 +23,7 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, ".."))
 sys.path.insert(0, HERE)
 
-from bench_glsl_sample import _values  # noqa: E402
+from bench_glsl_sample import values_of as _values  # noqa: E402
 from glsupport import comparison_mask, materialx_renderer  # noqa: E402
 from openpbr_tools.evaluate.difference import compare_images  # noqa: E402
 from openpbr_tools.evaluate.preview import Rig  # noqa: E402

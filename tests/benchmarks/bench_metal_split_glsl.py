@@ -15,7 +15,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import numpy as np
 from glsupport import comparison_mask, materialx_renderer
-from bench_glsl_sample import _values
+from bench_glsl_sample import values_of as _values
 from openpbr_tools.evaluate.difference import compare_images
 from openpbr_tools.evaluate.preview import Rig
 from openpbr_tools.evaluate.verify import compare_materials

@@ -14,12 +14,12 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import numpy as np
 from glsupport import comparison_mask, materialx_renderer
-from bench_glsl_sample import _values
+from bench_glsl_sample import values_of as _values
 from openpbr_tools.evaluate.difference import compare_images
 from openpbr_tools.evaluate.preview import Rig
 from openpbr_tools.evaluate.verify import compare_materials
 from openpbr_tools.rules import Context
-from openpbr_tools.translate import candidates, ss_metal_weight
+from openpbr_tools.translate import candidates
 from openpbr_tools.translate.common import Settings
 from openpbr_tools.translate.convert import convert
 from openpbr_tools import tables
@@ -36,7 +36,6 @@ def mat(**values):
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--count", type=int, default=30)
 arguments = parser.parse_args()
-chosen = ss_metal_weight.closer
 rig = Rig(size=64)
 renderer = materialx_renderer(rig)
 rng = random.Random(26)
@@ -53,11 +52,9 @@ for i in range(arguments.count):
     reference = renderer.render("open_pbr_surface", _values(source))
     mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
     out = []
-    for pick in (0, 1):  # the coat's tint, the fold
-        ss_metal_weight.closer = lambda source, values, options, pick=pick: options[pick]
-        s = Settings(context=Context())
+    for tint in (True, False):  # the coat's tint, the fold (Settings.metal_weight_tint: the candidate search's readings)
+        s = Settings(context=Context(), metal_weight_tint=tint)
         r = candidates.choose(source, convert(source, "standard_surface", s), "standard_surface", s).material
-        ss_metal_weight.closer = chosen
         out.append((compare_images(reference, renderer.render("standard_surface", _values(r)), mask, rig.white()).mean,
                     compare_materials(source, r).preview.mean))
     rows.append(out)
