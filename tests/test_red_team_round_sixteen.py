@@ -556,3 +556,50 @@ def test_a_missing_texture_is_said_to_be_rebased_as_it_is(tmp_path):
     notes = [d.message for d in report.diagnostics if "does not exist" in d.message]
     assert notes and "rebased" in notes[0] and "written as authored" not in notes[0]
     assert "../resources/Images/grid.png" in (tmp_path / "out" / "m.mtlx").read_text()
+
+
+TWO_TONE = """<?xml version="1.0"?>
+<materialx version="1.39" colorspace="lin_rec709">
+  <nodegraph name="NG">
+    <image name="mask" type="float">
+      <input name="file" type="filename" value="mask.png" />
+    </image>
+    <mix name="two_tone" type="color3">
+      <input name="fg" type="color3" value="0.8, 0.1, 0.1" />
+      <input name="bg" type="color3" value="0.1, 0.1, 0.8" />
+      <input name="mix" type="float" nodename="mask" />
+    </mix>
+    <output name="out" type="color3" nodename="two_tone" />
+  </nodegraph>
+  <open_pbr_surface name="S" type="surfaceshader">
+    <input name="base_color" type="color3" nodegraph="NG" output="out" />
+  </open_pbr_surface>
+  <surfacematerial name="M" type="material">
+    <input name="surfaceshader" type="surfaceshader" nodename="S" />
+  </surfacematerial>
+</materialx>
+"""
+
+
+def test_a_colour_mix_by_a_float_mask_is_not_read_as_the_mask(tmp_path):
+    """The control of the float mix above: a two-tone colour, mix(blue, red, mask) with a float mask, is a colour the
+    image alone cannot be (a Texture is one image's channels); read as the mask with a colour scale, validate called
+    the valid document a type mismatch (OPBR702) and the .mtlx and USD outputs wired the float image to base_color.
+    MaterialX validates the document and the outputs."""
+    import MaterialX as mx
+
+    from redteam_support import findings, png
+
+    png(tmp_path / "mask.png", mode="L", colour=128)
+    (tmp_path / "m.mtlx").write_text(TWO_TONE)
+    library = mx.createDocument()
+    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    assert not [f for f in findings(tmp_path / "m.mtlx") if f[1] == "error"]
+    for output in ("out.mtlx", "out.usda"):
+        convert_file(str(tmp_path / "m.mtlx"), str(tmp_path / output))
+        assert not [f for f in findings(tmp_path / output) if f[1] == "error"], output
+    written = mx.createDocument()
+    mx.readFromXmlFile(written, str(tmp_path / "out.mtlx"))
+    written.importLibrary(library)
+    valid, message = written.validate()
+    assert valid, message

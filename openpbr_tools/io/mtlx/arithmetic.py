@@ -1,4 +1,4 @@
-"""``multiply``/``add`` by constants, and a ``mix`` of two constants by the image (bg + (fg - bg) * t: an
+"""``multiply``/``add`` by constants, and a float ``mix`` of two constants by the image (bg + (fg - bg) * t: an
 affine map, as GPUOpen's MaterialX library writes a roughness range over a mask), between an image and the input
 it feeds, read as the texture's scale and bias (as a UsdUVTexture's: the writer puts them there)."""
 
@@ -49,8 +49,8 @@ class ScaleBias:
         """A ``mix`` whose ``fg`` and ``bg`` are constants (values, ``constant`` nodes or a graph's controls) and whose
         ``mix`` is the walk's path: bg + (fg - bg) * t, composed as a multiply by fg - bg then an add of bg."""
         ends = [constant_operand(node.getInput(name)) for name in ("fg", "bg")]
-        if any(end is None for end in ends) or node.getInput("mix") is None:
-            return False
+        if node.getType() != "float" or any(end is None for end in ends) or node.getInput("mix") is None:
+            return False  # (a colour mix by a float mask makes a colour of a float image: no Texture holds that)
         fg, bg = ends
         if channels is not None and (len(fg) > 1 or len(bg) > 1):
             if channels[0] >= max(len(fg), len(bg)):
