@@ -603,3 +603,18 @@ def test_a_colour_mix_by_a_float_mask_is_not_read_as_the_mask(tmp_path):
     written.importLibrary(library)
     valid, message = written.validate()
     assert valid, message
+
+
+def test_a_materialx_image_address_mode_in_usd_is_said_once(tmp_path):
+    """A MaterialX image node in USD (ND_image_color3) with uaddressmode 'repeat' (USD's UsdUVTexture word; MaterialX's
+    list is constant, clamp, periodic, mirror): the enum check of every MaterialX node and the texture's own check said
+    it twice."""
+    from redteam_support import findings, png
+
+    png(tmp_path / "grid.png")
+    stage = WRAPPED.replace('"ND_UsdUVTexture_23"', '"ND_image_float"').replace(
+        '        string inputs:wrapS = "WRAP"\n        string inputs:wrapT = "periodic"\n',
+        '        string inputs:uaddressmode = "repeat"\n').replace("outputs:r", "outputs:out")
+    (tmp_path / "m.usda").write_text(stage)
+    found = [(f[2], f[3]) for f in findings(tmp_path / "m.usda") if f[0] == "OPBR303"]
+    assert found == [("/M/tex", "uaddressmode")]

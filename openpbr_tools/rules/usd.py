@@ -44,7 +44,6 @@ import re
 
 from ..diagnostics import Severity
 from ..io.usd.types import (
-    MATERIALX_ADDRESS_MODES,
     OPACITY_MODE_TOKENS,
     UV_TEXTURE_ID,
     UV_TEXTURE_WRAP_TOKENS,
@@ -527,15 +526,15 @@ def _tokens(asset, context):
                 entry.location, hint="use \"transparent\" or \"presence\"",
             )
         texture = entry.texture
-        if texture is None or texture.wrap is None or texture.node in seen:
+        # (a MaterialX image node's address modes are its node definition's enum, which the reader observes for every
+        # MaterialX node of the stage: said there, once, as OPBR303)
+        if texture is None or texture.wrap is None or texture.node in seen or texture.node_category != UV_TEXTURE_ID:
             continue
         seen.add(texture.node)
-        allowed = UV_TEXTURE_WRAP_TOKENS if texture.node_category == UV_TEXTURE_ID else MATERIALX_ADDRESS_MODES
-        names = ("wrapS", "wrapT") if texture.node_category == UV_TEXTURE_ID else ("uaddressmode", "vaddressmode")
-        for name, value in zip(names, texture.wrap):
-            if value not in allowed:
+        for name, value in zip(("wrapS", "wrapT"), texture.wrap):
+            if value not in UV_TEXTURE_WRAP_TOKENS:
                 yield context.diagnostic(
-                    ENUM_VALUE, f"{name} = {value!r} is not one of {list(allowed)}",
+                    ENUM_VALUE, f"{name} = {value!r} is not one of {list(UV_TEXTURE_WRAP_TOKENS)}",
                     Location(asset.path, None, texture.node, name),
                 )
 
