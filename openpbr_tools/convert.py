@@ -34,7 +34,7 @@ from .bake import Baker
 from .translate.common import Settings, Translation
 from .convert_units import meters_per_unit, tag_length_units
 from .translate import candidates, past_hub
-from .translate.convert import MODELS, at_source_inputs, convert, unknown_inputs_translated
+from .translate.convert import MODELS, at_source_inputs, convert, judged_as, unknown_inputs_translated
 from .translate.upgrade import upgrade
 from .validate import composed_documents
 from .convert_sources import display_name, source_notes
@@ -170,12 +170,8 @@ def convert_file(input_path: str, output_path: str, target: str | None = None, s
             judged = material  # the search judges against the material the mapping translated: a legacy one upgraded
             if material.model == "open_pbr_surface" and material.version not in (None, tables.latest(material.model)):
                 judged = upgrade(material, context=context).material
-            elif material.model == "gltf_pbr" and material.gltf_state().get("drafts") and target != "gltf_pbr":
-                # draft extensions (KHR_materials_fuzz, _coat...) live in the OpenPBR reading, which glTF's shading
-                # model does not render: judged against it (the red team's I/F4: a fuzz judged absent, so the fit
-                # turned a grey cloth's base blue to cancel the orange fuzz MaterialX renders)
-                judged = convert(material, "open_pbr_surface", dataclasses.replace(step_settings, candidates=False,
-                                                                                     search=False)).material
+            else:
+                judged = judged_as(material, target, step_settings)  # (a draft-extension glTF: its OpenPBR reading)
             pending.append((material, before, (notes, step_settings, unique, name, translation, judged)))
         chosen = iter(candidates.choose_many([(state[5], state[4], target, state[1])
                                               for _, _, state in pending if state is not None]))

@@ -12,6 +12,7 @@ import tempfile
 
 from .bake import Baker
 from .convert import Conversion, display_name
+from .translate.convert import judged_as
 from .diagnostics import Diagnostic
 from .model import Material
 from .rules import Context
@@ -50,18 +51,19 @@ def compare(conversion: Conversion, keep_images: bool = False) -> list[tuple[Mat
     repeated = collections.Counter(display_name(result) for _, result in conversion.pairs)
     seen: collections.Counter = collections.Counter()
     for source, result in conversion.pairs:
+        judged = judged_as(source, result.model)  # (a draft-extension glTF: its OpenPBR reading)
         name = display_name(result)
         targets = _own(written.get(name, []) if written is not None else [], repeated[name], seen[name])
         seen[name] += 1
         if not targets:
-            comparison = compare_materials(source, result, sampler=source_sampler, keep_images=keep_images,
+            comparison = compare_materials(judged, result, sampler=source_sampler, keep_images=keep_images,
                                            sampler_b=in_memory)
             comparison.notes.append(f"the output {why or 'has no material ' + repr(display_name(result))}: "
                                     "the in-memory result was compared")
             found.append((source, comparison))
             continue
         for target in targets:
-            comparison = compare_materials(source, target, sampler=source_sampler, sampler_b=output_sampler,
+            comparison = compare_materials(judged, target, sampler=source_sampler, sampler_b=output_sampler,
                                            keep_images=keep_images)
             if len(targets) > 1:
                 comparison.name_b = f"{display_name(target)} ({target.model})"

@@ -618,3 +618,33 @@ def test_a_materialx_image_address_mode_in_usd_is_said_once(tmp_path):
     (tmp_path / "m.usda").write_text(stage)
     found = [(f[2], f[3]) for f in findings(tmp_path / "m.usda") if f[0] == "OPBR303"]
     assert found == [("/M/tex", "uaddressmode")]
+
+
+def test_verify_judges_a_draft_fuzz_as_its_openpbr_reading(tmp_path):
+    """I/F5's figure: --verify compared the Standard Surface result with the glTF material, whose shading model has no
+    fuzz, and said 4.59 mean CIEDE2000; MaterialX's GLSL, against the OpenPBR reading of the same glTF, measures the
+    result about 1. Both judges agree now (within 1)."""
+    from openpbr_tools.evaluate.difference import compare_images
+    from openpbr_tools.evaluate.preview import Rig
+    from openpbr_tools.verification import measure
+
+    document = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_fuzz"],
+                "materials": [{"name": "FuzzMaterial",
+                               "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0,
+                                                        "roughnessFactor": 0.8},
+                               "extensions": {"KHR_materials_fuzz": {"fuzzFactor": 0.8,
+                                                                     "fuzzColorFactor": [0.9, 0.5, 0.2],
+                                                                     "fuzzRoughnessFactor": 0.6}}}]}
+    (tmp_path / "fuzz.gltf").write_text(json.dumps(document))
+    conversion = convert_file(str(tmp_path / "fuzz.gltf"), str(tmp_path / "out.mtlx"), "standard_surface")
+    (_, statistics), = measure(conversion)
+    convert_file(str(tmp_path / "fuzz.gltf"), str(tmp_path / "reading.mtlx"))
+    reading = read_asset(str(tmp_path / "reading.mtlx")).materials[0]
+    written = read_asset(str(tmp_path / "out.mtlx")).materials[0]
+    rig = Rig(size=64)
+    renderer = materialx_renderer(rig)
+    reference = renderer.render("open_pbr_surface", uniforms(as_written(reading)))
+    mask = comparison_mask(rig) & np.isfinite(reference).all(axis=-1)
+    glsl = compare_images(reference, renderer.render("standard_surface", uniforms(as_written(written))), mask,
+                          rig.white()).mean
+    assert statistics.mean < 2.3 and abs(statistics.mean - glsl) < 1.0, (statistics.mean, glsl)

@@ -86,6 +86,18 @@ def convert(material: Material, target: str, settings: Settings | None = None) -
                        about=about, mapping_only=own)
 
 
+def judged_as(material: Material, target: str, settings: Settings | None = None) -> Material:
+    """The material a conversion of ``material`` to ``target`` is judged against (the candidate search, --verify):
+    itself, but for a glTF material with draft extensions (KHR_materials_fuzz, _coat...) to another model, its OpenPBR
+    reading, where the drafts' values live and glTF's shading model does not render them (the red team's I/F4: a fuzz
+    judged absent, the appearance fit turned a grey cloth's base blue, and --verify said 4.59 where MaterialX's GLSL
+    measures 1.07)."""
+    if material.model != "gltf_pbr" or target == "gltf_pbr" or not material.gltf_state().get("drafts"):
+        return material
+    settings = settings or Settings()
+    return convert(material, "open_pbr_surface", dataclasses.replace(settings, candidates=False, search=False)).material
+
+
 def _through_openpbr(material: Material, settings: Settings, back: Settings | None = None) -> Translation:
     """A glTF material to OpenPBR and back to glTF (``back``: the second step's settings), both steps' notes."""
     step = _step(gltf_to_openpbr, material, settings)
