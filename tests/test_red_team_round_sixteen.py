@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from glsupport import comparison_mask, irradiance_environment, materialx_renderer, studio_environment, uniforms
+from glsupport import (comparison_mask, irradiance_environment, materialx_renderer, shader_generator,
+                       studio_environment, uniforms, validated)
 from openpbr_tools.convert import convert_file
 from openpbr_tools.io import read_asset
 from openpbr_tools.rules import Context
@@ -232,7 +233,6 @@ def test_a_displacement_shader_is_written_to_usd(tmp_path):
     """A .usda output holds the OpenPBR shader as MaterialX nodes on outputs:mtlx:surface; UsdMtlx gives a
     MaterialX material's displacement shader the outputs:mtlx:displacement terminal the same way. It was dropped
     ('only a .mtlx output carries one'), with an error-level note."""
-    import MaterialX as mx
     from pxr import Usd, UsdShade
 
     from redteam_support import png
@@ -246,8 +246,7 @@ def test_a_displacement_shader_is_written_to_usd(tmp_path):
     material = UsdShade.Material(stage.GetPrimAtPath("/Looks/M"))
     source = material.GetDisplacementOutput("mtlx").GetConnectedSources()[0][0]
     shader = UsdShade.Shader(source.source.GetPrim())
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    library = shader_generator()[0]  # MaterialX's standard libraries
     assert library.getNodeDef(shader.GetShaderId()).getNodeString() == "displacement"
     assert shader.GetInput("scale").Get() == pytest.approx(0.05)
     image = UsdShade.Shader(shader.GetInput("displacement").GetConnectedSources()[0][0].source.GetPrim())
@@ -266,8 +265,6 @@ def test_a_thin_wall_is_a_flag_not_a_texture(tmp_path):
     glTF's transmission without KHR_materials_volume is thin-walled everywhere; the thin-wall flag was baked per texel
     into an image and connected to geometry_thin_walled, a uniform boolean MaterialX's validate() rejects ('Mismatched
     types in port connection')."""
-    import MaterialX as mx
-
     Image.frombytes("L", (4, 1), bytes([0, 0, 255, 255])).save(tmp_path / "tx.png")  # transmissive on one half
     document = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_transmission"],
                 "images": [{"uri": "tx.png"}], "textures": [{"source": 0}],
@@ -278,13 +275,7 @@ def test_a_thin_wall_is_a_flag_not_a_texture(tmp_path):
     for target, flag in (("open_pbr_surface", "geometry_thin_walled"), ("standard_surface", "thin_walled")):
         out = tmp_path / f"{target}.mtlx"
         convert_file(str(tmp_path / "t.gltf"), str(out), target)
-        written = mx.createDocument()
-        mx.readFromXmlFile(written, str(out))
-        library = mx.createDocument()
-        mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
-        written.importLibrary(library)
-        valid, message = written.validate()
-        assert valid, message  # the anchor
+        written = validated(out)  # the anchor
         shader = next(n for n in written.getNodes() if n.getCategory() == target)
         assert shader.getInput(flag).getConnectedNode() is None and shader.getInputValue(flag) is True
 
@@ -363,7 +354,6 @@ def test_a_graph_a_mapping_changes_is_written_as_nodes_to_usd_too(tmp_path):
     float geometry_opacity by an affine map a .mtlx output writes after the kept graph as MaterialX nodes; a .usda
     output, whose OpenPBR shader is MaterialX nodes too (outputs:mtlx:surface), dropped the cut-out (OPBR1104). Its
     network's every shader is a MaterialX node definition, and the opacity input is connected."""
-    import MaterialX as mx
     from pxr import Usd, UsdShade
 
     from redteam_support import png
@@ -376,8 +366,7 @@ def test_a_graph_a_mapping_changes_is_written_as_nodes_to_usd_too(tmp_path):
     shader = next(UsdShade.Shader(p) for p in stage.Traverse() if p.IsA(UsdShade.Shader)
                   and str(UsdShade.Shader(p).GetShaderId()).startswith("ND_open_pbr_surface"))
     assert shader.GetInput("geometry_opacity").HasConnectedSource()
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    library = shader_generator()[0]  # MaterialX's standard libraries
     preview = {"UsdPreviewSurface", "UsdUVTexture", "UsdPrimvarReader_float2", "UsdTransform2d"}  # (the fallback's)
     ids = {str(UsdShade.Shader(p).GetShaderId()) for p in stage.Traverse() if p.IsA(UsdShade.Shader)} - preview
     assert ids and all(library.getNodeDef(i) is not None for i in ids), ids
@@ -418,18 +407,24 @@ def test_an_enum_of_a_materialx_node_in_usd_is_checked(tmp_path, wrap, wrong):
     """I/F2 (Adobe's USD-Fileformat-plugins baseline_writeOpenPBR.usda): an ND_UsdUVTexture_23 node with wrapS
     'constant' validated clean in USD, though the same node in a .mtlx is OPBR303; MaterialX's definition lists black,
     clamp, periodic, mirror, and its shader generation refuses another ('not a valid enum value')."""
-    import MaterialX as mx
-
     from redteam_support import findings, png
 
     png(tmp_path / "grid.png")
     (tmp_path / "m.usda").write_text(WRAPPED.replace("WRAP", wrap))
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
+    library = shader_generator()[0]  # MaterialX's standard libraries
     allowed = library.getNodeDef("ND_UsdUVTexture_23").getActiveInput("wrapS").getAttribute("enum").split(",")
     assert (wrap not in allowed) is wrong  # the anchor's list
     found = [f for f in findings(tmp_path / "m.usda") if f[0] == "OPBR303"]
     assert [(f[2], f[3]) for f in found] == ([("/M/tex", "wrapS")] if wrong else [])
+
+
+#: Adobe's USD-Fileformat-plugins gltf/tests/ExtFuzz.gltf, its material: a grey base, KHR_materials_fuzz 0.8 orange
+EXT_FUZZ = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_fuzz"],
+            "materials": [{"name": "FuzzMaterial",
+                           "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0,
+                                                    "roughnessFactor": 0.8},
+                           "extensions": {"KHR_materials_fuzz": {"fuzzFactor": 0.8, "fuzzColorFactor": [0.9, 0.5, 0.2],
+                                                                 "fuzzRoughnessFactor": 0.6}}}]}
 
 
 def test_a_draft_fuzz_is_judged_as_its_openpbr_reading(tmp_path):
@@ -439,14 +434,7 @@ def test_a_draft_fuzz_is_judged_as_its_openpbr_reading(tmp_path):
     0.26 through the OpenPBR document the toolkit writes from the same glTF). The two paths now agree."""
     import MaterialX as mx
 
-    document = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_fuzz"],
-                "materials": [{"name": "FuzzMaterial",
-                               "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0,
-                                                        "roughnessFactor": 0.8},
-                               "extensions": {"KHR_materials_fuzz": {"fuzzFactor": 0.8,
-                                                                     "fuzzColorFactor": [0.9, 0.5, 0.2],
-                                                                     "fuzzRoughnessFactor": 0.6}}}]}
-    (tmp_path / "fuzz.gltf").write_text(json.dumps(document))
+    (tmp_path / "fuzz.gltf").write_text(json.dumps(EXT_FUZZ))
     convert_file(str(tmp_path / "fuzz.gltf"), str(tmp_path / "direct.mtlx"), "standard_surface")
     convert_file(str(tmp_path / "fuzz.gltf"), str(tmp_path / "openpbr.mtlx"))
     convert_file(str(tmp_path / "openpbr.mtlx"), str(tmp_path / "through.mtlx"), "standard_surface")
@@ -586,23 +574,15 @@ def test_a_colour_mix_by_a_float_mask_is_not_read_as_the_mask(tmp_path):
     image alone cannot be (a Texture is one image's channels); read as the mask with a colour scale, validate called
     the valid document a type mismatch (OPBR702) and the .mtlx and USD outputs wired the float image to base_color.
     MaterialX validates the document and the outputs."""
-    import MaterialX as mx
-
     from redteam_support import findings, png
 
     png(tmp_path / "mask.png", mode="L", colour=128)
     (tmp_path / "m.mtlx").write_text(TWO_TONE)
-    library = mx.createDocument()
-    mx.loadLibraries(mx.getDefaultDataLibraryFolders(), mx.getDefaultDataSearchPath(), library)
     assert not [f for f in findings(tmp_path / "m.mtlx") if f[1] == "error"]
     for output in ("out.mtlx", "out.usda"):
         convert_file(str(tmp_path / "m.mtlx"), str(tmp_path / output))
         assert not [f for f in findings(tmp_path / output) if f[1] == "error"], output
-    written = mx.createDocument()
-    mx.readFromXmlFile(written, str(tmp_path / "out.mtlx"))
-    written.importLibrary(library)
-    valid, message = written.validate()
-    assert valid, message
+    validated(tmp_path / "out.mtlx")
 
 
 def test_a_materialx_image_address_mode_in_usd_is_said_once(tmp_path):
@@ -628,14 +608,7 @@ def test_verify_judges_a_draft_fuzz_as_its_openpbr_reading(tmp_path):
     from openpbr_tools.evaluate.preview import Rig
     from openpbr_tools.verification import measure
 
-    document = {"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_materials_fuzz"],
-                "materials": [{"name": "FuzzMaterial",
-                               "pbrMetallicRoughness": {"baseColorFactor": [0.5, 0.5, 0.5, 1.0], "metallicFactor": 0.0,
-                                                        "roughnessFactor": 0.8},
-                               "extensions": {"KHR_materials_fuzz": {"fuzzFactor": 0.8,
-                                                                     "fuzzColorFactor": [0.9, 0.5, 0.2],
-                                                                     "fuzzRoughnessFactor": 0.6}}}]}
-    (tmp_path / "fuzz.gltf").write_text(json.dumps(document))
+    (tmp_path / "fuzz.gltf").write_text(json.dumps(EXT_FUZZ))
     conversion = convert_file(str(tmp_path / "fuzz.gltf"), str(tmp_path / "out.mtlx"), "standard_surface")
     (_, statistics), = measure(conversion)
     convert_file(str(tmp_path / "fuzz.gltf"), str(tmp_path / "reading.mtlx"))

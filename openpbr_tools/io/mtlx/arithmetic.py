@@ -45,17 +45,13 @@ class ScaleBias:
             self.scale = combine(scale, operand, lambda a, b: a * b)
         return True
 
-    def take_mix(self, node, channels) -> bool:
-        """A ``mix`` whose ``fg`` and ``bg`` are constants (values, ``constant`` nodes or a graph's controls) and whose
-        ``mix`` is the walk's path: bg + (fg - bg) * t, composed as a multiply by fg - bg then an add of bg."""
+    def take_mix(self, node) -> bool:
+        """A float ``mix`` whose ``fg`` and ``bg`` are constants (values, ``constant`` nodes or a graph's controls) and
+        whose ``mix`` is the walk's path: bg + (fg - bg) * t, composed as a multiply by fg - bg then an add of bg."""
         ends = [constant_operand(node.getInput(name)) for name in ("fg", "bg")]
-        if node.getType() != "float" or any(end is None for end in ends) or node.getInput("mix") is None:
+        if node.getType() != "float" or any(end is None or len(end) != 1 for end in ends) or node.getInput("mix") is None:
             return False  # (a colour mix by a float mask makes a colour of a float image: no Texture holds that)
         fg, bg = ends
-        if channels is not None and (len(fg) > 1 or len(bg) > 1):
-            if channels[0] >= max(len(fg), len(bg)):
-                return False
-            fg, bg = ([v[channels[0]]] if len(v) > 1 else v for v in (fg, bg))
         self.seen = True
         scale = self.scale if self.scale is not None else [1.0]
         bias = self.bias if self.bias is not None else [0.0]

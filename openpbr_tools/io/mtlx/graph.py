@@ -183,7 +183,7 @@ class GraphFollower:
                 if not arithmetic.take(node, channels):
                     return None
             elif category == "mix":
-                if not arithmetic.take_mix(node, channels):
+                if not arithmetic.take_mix(node):
                     return None
             elif category == "normalmap":
                 if arithmetic.seen:  # arithmetic after the decode: not a texture's scale and bias

@@ -193,18 +193,23 @@ def enum_violations(node) -> list[tuple[str, str, tuple[str, ...]]]:
         value = port.getValueString()
         if not value or port.hasInterfaceName() or port.getConnectedNode() is not None:
             continue
-        declared = nodedef.getActiveInput(port.getName())
-        if declared is None or not declared.hasAttribute("enum"):
-            continue
-        if declared.getType() == "string" and not declared.hasAttribute("enumvalues"):
-            allowed = tuple(e.strip() for e in declared.getAttribute("enum").split(","))
-        elif declared.getType() == "integer" and declared.hasAttribute("enumvalues"):
-            allowed = tuple(e.strip() for e in declared.getAttribute("enumvalues").split(","))
-        else:
-            continue
-        if value.strip() not in allowed:
+        allowed = declared_enum(nodedef.getActiveInput(port.getName()))
+        if allowed is not None and value.strip() not in allowed:
             found.append((port.getName(), value, allowed))
     return found
+
+
+def declared_enum(declared) -> tuple[str, ...] | None:
+    """The values a node definition's input ``declared`` is restricted to: a string input's ``enum``, an integer
+    input's ``enumvalues`` (as text); None for any other input (a colour's presets are suggestions, not a list).
+    The .mtlx reader (:func:`enum_violations`) and the USD reader (its MaterialX nodes) judge by it."""
+    if declared is None or not declared.hasAttribute("enum"):
+        return None
+    if declared.getType() == "string" and not declared.hasAttribute("enumvalues"):
+        return tuple(e.strip() for e in declared.getAttribute("enum").split(","))
+    if declared.getType() == "integer" and declared.hasAttribute("enumvalues"):
+        return tuple(e.strip() for e in declared.getAttribute("enumvalues").split(","))
+    return None
 
 
 @lru_cache(maxsize=2)

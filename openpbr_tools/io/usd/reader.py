@@ -55,6 +55,7 @@ from .observations import observe_layer_units, observe_structure, observe_varian
 from .primvars import observe_textured_uvs, primvar_problem, primvar_type_problem
 from .errors import quiet, tf_error_text, usd_error_message
 from .guard import StageGuard
+from ..mtlx.library import declared_enum
 from .sdr import materialx_nodedef
 from .validators import usd_core_findings
 from .types import (
@@ -257,23 +258,15 @@ class _Reader(NetworkReader):
         shader generation refuses it (the red team's I/F2: Adobe's USD writer authors an ND_UsdUVTexture_23 wrapS of
         'constant', MaterialX's list being black, clamp, periodic, mirror)."""
         for port in shader.GetInputs():
-            if port.HasConnectedSource():
+            declared = None if port.HasConnectedSource() else nodedef.getActiveInput(port.GetBaseName())
+            allowed = declared_enum(declared)
+            if allowed is None:
                 continue
-            declared = nodedef.getActiveInput(port.GetBaseName())
-            if declared is None or not declared.hasAttribute("enum"):
+            value = port.Get()  # (text for a string input, a number for an integer's: another is OPBR201's)
+            if isinstance(value, bool) or not isinstance(value, str if declared.getType() == "string" else int):
                 continue
-            value = port.Get()
-            if declared.getType() == "string" and not declared.hasAttribute("enumvalues") and isinstance(value, str):
-                allowed = tuple(e.strip() for e in declared.getAttribute("enum").split(","))
-                shown = value
-            elif declared.getType() == "integer" and declared.hasAttribute("enumvalues") and isinstance(value, int) \
-                    and not isinstance(value, bool):
-                allowed = tuple(e.strip() for e in declared.getAttribute("enumvalues").split(","))
-                shown = str(value)
-            else:
-                continue
-            if shown.strip() not in allowed:
-                self.asset.observe("node_enum_value", self.location(path, port.GetBaseName()), value=shown,
+            if str(value).strip() not in allowed:
+                self.asset.observe("node_enum_value", self.location(path, port.GetBaseName()), value=str(value),
                                    allowed=allowed)
 
     # -- materials --------------------------------------------------------------------------
